@@ -1,0 +1,59 @@
+"""ilocalg: the algorithms of the iLoc toolkit for smartphone indoor positioning research.
+
+The package computes; it never draws (plots live in :mod:`ilocviz`) and importing it has no
+side effects and does not import matplotlib.
+
+Subpackages
+-----------
+``io``          loaders for real recordings and the schemas below
+``sim``         the simulators that make the embedded default data (seeded, documented)
+``wifi``        fingerprint estimators (Simplified-RADAR, Simplified-Horus, KNN)
+``pdr``         step detection, step length, heading, dead reckoning
+``fusion``      Kalman fusion of steps with Wi-Fi fixes, smoothers
+``ins``         strapdown mechanisation and error-state EKFs
+``optim``       particle swarm optimisation
+``photo``       photo positioning from points of interest
+``experiments`` each reproduced experiment as a function ``run(seed, fast, **params)``
+``metrics``     positioning error statistics; ``units``: unit conversions; ``reporting``: report tables
+
+Data types
+----------
+Defined once here; the column-name constants live in :mod:`ilocalg.io.schema`.
+
+Time
+    Seconds as float64, named ``t_s``. Every time-indexed frame is strictly increasing in time.
+IMU log
+    ``DataFrame`` indexed by ``t_s`` with any subset of the columns ``acc_x_mps2``, ``acc_y_mps2``,
+    ``acc_z_mps2`` (specific force, m/s^2), ``gyr_x_radps`` ... (angular rate, rad/s) and
+    ``mag_x_ut`` ... (magnetic field, microtesla), all in the phone's sensor frame (Android
+    convention: x right, y up the screen, z out of the screen).
+Wi-Fi scans
+    Long ``DataFrame`` with columns ``t_s``, ``scan_id`` (int), ``bssid`` (str), ``rssi_dbm``
+    (float) and optionally ``freq_mhz``; one row per access point heard in a scan.
+Fingerprint set
+    :class:`ilocalg.io.schema.FingerprintSet`: an RSSI matrix ``rssi_dbm`` of shape
+    (n_samples, n_aps), float, ``NaN`` meaning "not heard"; the access point ids ``ap_ids``;
+    positions ``x_m``, ``y_m`` and optionally ``floor`` and ``building`` per sample.
+Ground-truth waypoints
+    ``DataFrame`` with columns ``t_s``, ``x_m``, ``y_m`` and optionally ``floor``.
+Trajectories / results
+    ``DataFrame`` with ``x_m``, ``y_m`` (and ``t_s`` or ``step`` as the index); summaries are
+    ``DataFrame`` objects or frozen dataclasses.
+
+Frames and units
+----------------
+Positions are metres in a local, planar map frame ``(x_m, y_m)`` (x east, y north for the
+simulated sets; the data set's own map frame for real sets). Headings ``theta_rad`` are measured
+from the map x axis, counter-clockwise; compass yaw ``psi_rad`` from north, clockwise, is
+converted explicitly by :func:`ilocalg.units.yaw_to_theta`. The inertial navigation frame is a
+local-level east-north-up frame (``_n``); the body frame is ``_b``; ``mat_nb`` rotates body to nav.
+
+Randomness
+----------
+Every stochastic function takes ``rng: numpy.random.Generator | int | None`` (see
+:func:`ilocalg.units.as_rng`): the same seed gives the same bytes.
+"""
+
+__version__ = "0.1.0"
+
+__all__ = ["__version__"]

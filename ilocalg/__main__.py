@@ -1,0 +1,5 @@
+import sys
+
+from ilocalg.cli import main
+
+sys.exit(main())

@@ -1,0 +1,113 @@
+"""Positioning error metrics: horizontal error, error CDF, summary tables, floor/building hits.
+
+References
+----------
+IPIN / EvAAL competition rules: penalised error = 2-D error + 15 m per wrong floor + 50 m per
+wrong building.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "horizontal_error_m",
+    "error_cdf",
+    "summary",
+    "hit_rate",
+    "penalised_error_m",
+    "SUMMARY_COLUMNS",
+]
+
+SUMMARY_COLUMNS = ("n", "mean_m", "median_m", "p75_m", "p80_m", "p95_m", "rms_m", "std_m", "max_m")
+
+
+def _as_xy(a, name: str) -> np.ndarray:
+    arr = np.asarray(a, dtype=np.float64)
+    if arr.ndim == 1 and arr.shape[0] == 2:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] < 2:
+        raise ValueError(f"{name} must have shape (n, 2) (x_m, y_m), got {arr.shape}")
+    return arr[:, :2]
+
+
+def horizontal_error_m(est_xy, true_xy) -> np.ndarray:
+    """Euclidean 2-D error per sample.
+
+    Parameters
+    ----------
+    est_xy, true_xy : array_like, shape (n, 2)
+        Estimated and true positions, metres.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Error in metres; NaN where an estimate is NaN (a missing fix stays visible).
+    """
+    est = _as_xy(est_xy, "est_xy")
+    true = _as_xy(true_xy, "true_xy")
+    if est.shape != true.shape:
+        raise ValueError(f"est_xy has shape {est.shape} but true_xy has shape {true.shape}")
+    if np.isnan(true).any():
+        raise ValueError("true_xy contains NaN: ground truth must be complete")
+    return np.hypot(est[:, 0] - true[:, 0], est[:, 1] - true[:, 1])
+
+
+def error_cdf(err_m) -> pd.DataFrame:
+    """Empirical CDF of errors: columns ``error_m`` (sorted) and ``fraction`` in (0, 1]."""
+    e = np.asarray(err_m, dtype=np.float64).ravel()
+    if np.isnan(e).any():
+        raise ValueError("error_cdf got NaN errors; drop or count missing fixes explicitly first")
+    if e.size == 0:
+        raise ValueError("error_cdf got no errors")
+    e = np.sort(e)
+    return pd.DataFrame({"error_m": e, "fraction": np.arange(1, e.size + 1) / e.size})
+
+
+def summary(err_m, name: str | None = None) -> pd.Series:
+    """Mean, median, p75, p80, p95, RMS, STD (population) and max of errors in metres.
+
+    NaN errors raise: decide explicitly how missing estimates are counted.
+    """
+    e = np.asarray(err_m, dtype=np.float64).ravel()
+    if e.size == 0:
+        raise ValueError("summary got no errors")
+    if np.isnan(e).any():
+        raise ValueError(f"summary got {int(np.isnan(e).sum())} NaN errors of {e.size}")
+    vals = [
+        e.size,
+        e.mean(),
+        np.median(e),
+        np.percentile(e, 75),
+        np.percentile(e, 80),
+        np.percentile(e, 95),
+        np.sqrt(np.mean(e**2)),
+        e.std(),
+        e.max(),
+    ]
+    return pd.Series(vals, index=list(SUMMARY_COLUMNS), name=name, dtype=np.float64)
+
+
+def hit_rate(pred, true) -> float:
+    """Fraction of samples whose predicted label (floor, building) equals the true one."""
+    p = np.asarray(pred)
+    t = np.asarray(true)
+    if p.shape != t.shape:
+        raise ValueError(f"pred has shape {p.shape} but true has shape {t.shape}")
+    if p.size == 0:
+        raise ValueError("hit_rate got no samples")
+    return float(np.mean(p == t))
+
+
+def penalised_error_m(est_xy, true_xy, floor_pred=None, floor_true=None, building_pred=None,
+                      building_true=None, floor_penalty_m: float = 15.0,
+                      building_penalty_m: float = 50.0) -> np.ndarray:
+    """IPIN-style error: 2-D error + ``floor_penalty_m`` per wrong floor + ``building_penalty_m``
+    per wrong building (floor difference counted in floors, as in the EvAAL rules)."""
+    e = horizontal_error_m(est_xy, true_xy)
+    if floor_pred is not None:
+        e = e + floor_penalty_m * np.abs(np.asarray(floor_pred) - np.asarray(floor_true))
+    if building_pred is not None:
+        e = e + building_penalty_m * (np.asarray(building_pred) != np.asarray(building_true))
+    return e

@@ -1,0 +1,269 @@
+"""Report tables: paper-vs-reproduced comparisons, table files, reports/README.md, provenance.
+
+A notebook writes its result tables with a :class:`Report`; comparison tables (one row per
+paper result) share the columns :data:`COMPARISON_COLUMNS` and are what ``reports/README.md``
+is built from, so nothing in that README is typed in by hand.
+
+Paper values enter only through :func:`paper_ref` / :func:`comparison_table`, labelled as the
+reference they are.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import platform
+import subprocess
+from dataclasses import dataclass
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "COMPARISON_COLUMNS",
+    "paper_ref",
+    "agreement",
+    "comparison_table",
+    "Report",
+    "write_table",
+    "build_readme",
+    "write_provenance",
+    "sha256_file",
+]
+
+#: Columns of a comparison table (one row per paper result).
+COMPARISON_COLUMNS = (
+    "paper",
+    "item",
+    "quantity",
+    "unit",
+    "paper_value",
+    "reproduced_value",
+    "agreement",
+)
+
+#: Relative differences below these bounds count as "agrees" and "close".
+AGREE_REL = 0.10
+CLOSE_REL = 0.35
+
+
+def paper_ref(paper: str, item: str, quantity: str, paper_value: float, reproduced_value: float,
+              unit: str = "", note: str = "") -> dict:
+    """One comparison row: the paper's published value (a reference) beside the reproduced one.
+
+    Parameters
+    ----------
+    paper : str
+        Short paper label, e.g. ``"i-Loc thesis"``.
+    item : str
+        The figure or table, e.g. ``"Fig 3"``.
+    quantity : str
+        What is compared, e.g. ``"RADAR median error (k=5)"``.
+    paper_value : float
+        The published value (reference only; never used to compute anything).
+    reproduced_value : float
+        The value this toolkit computed from data.
+    unit, note : str
+    """
+    return {
+        "paper": paper,
+        "item": item,
+        "quantity": quantity,
+        "unit": unit,
+        "paper_value": float(paper_value),
+        "reproduced_value": float(reproduced_value),
+        "note": note,
+    }
+
+
+def agreement(paper_value: float, reproduced_value: float) -> str:
+    """Classify a reproduced value against the paper's.
+
+    ``agrees`` when the relative difference is within 10 %, ``close`` within 35 %, otherwise
+    ``differs``; the relative difference in percent follows in brackets.
+    """
+    p = float(paper_value)
+    r = float(reproduced_value)
+    if not (math.isfinite(p) and math.isfinite(r)):
+        return "n/a"
+    if p == 0.0:
+        return "agrees" if r == 0.0 else "differs (paper 0)"
+    rel = (r - p) / abs(p)
+    label = "agrees" if abs(rel) <= AGREE_REL else "close" if abs(rel) <= CLOSE_REL else "differs"
+    return f"{label} ({rel * 100:+.0f} %)"
+
+
+def comparison_table(rows: list[dict]) -> pd.DataFrame:
+    """DataFrame of :func:`paper_ref` rows with the ``agreement`` column computed."""
+    if not rows:
+        raise ValueError("comparison_table needs at least one row")
+    df = pd.DataFrame(rows)
+    missing = [c for c in ("paper", "item", "quantity", "paper_value", "reproduced_value") if c not in df]
+    if missing:
+        raise ValueError(f"comparison rows lack {missing}; build them with paper_ref()")
+    if "unit" not in df:
+        df["unit"] = ""
+    if "note" not in df:
+        df["note"] = ""
+    df["agreement"] = [agreement(p, r) for p, r in zip(df["paper_value"], df["reproduced_value"], strict=True)]
+    extra = [c for c in df.columns if c not in COMPARISON_COLUMNS and c != "note"]
+    return df[list(COMPARISON_COLUMNS) + extra + ["note"]]
+
+
+def _fmt(x) -> str:
+    if isinstance(x, (float, np.floating)):
+        if not math.isfinite(x):
+            return str(x)
+        return f"{x:.4g}"
+    return str(x)
+
+
+def _markdown(df: pd.DataFrame, index: bool) -> str:
+    d = df.reset_index() if index else df
+    cols = [str(c) for c in d.columns]
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for row in d.itertuples(index=False):
+        lines.append("| " + " | ".join(_fmt(v).replace("|", "\\|") for v in row) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def write_table(df: pd.DataFrame, path_stem: Path, index: bool = False) -> Path:
+    """Write ``df`` as ``<stem>.csv`` (10 significant digits, LF line ends) and ``<stem>.md``."""
+    path_stem = Path(path_stem)
+    path_stem.parent.mkdir(parents=True, exist_ok=True)
+    csv = path_stem.with_suffix(".csv")
+    df.to_csv(csv, index=index, float_format="%.10g", lineterminator="\n")
+    path_stem.with_suffix(".md").write_text(_markdown(df, index))
+    return csv
+
+
+@dataclass
+class Report:
+    """Where a notebook writes its tables.
+
+    Parameters
+    ----------
+    out_dir : path or None
+        The reports folder (``reports/``); ``None`` writes nothing (interactive exploration).
+    notebook : str
+        The notebook's stem, prefixed to every table name.
+
+    Tables go to ``<out_dir>/tables/<notebook>__<name>.csv`` and ``.md``. Tables whose content
+    depends on timing (queries per second ...) are written with ``deterministic=False`` to
+    ``tables/timing/`` so the byte-for-byte reproducibility check can leave them out.
+    """
+
+    out_dir: str | Path | None
+    notebook: str
+
+    def table(self, df: pd.DataFrame, name: str, index: bool = False,
+              deterministic: bool = True) -> pd.DataFrame:
+        if self.out_dir is not None:
+            sub = "tables" if deterministic else "tables/timing"
+            write_table(df, Path(self.out_dir) / sub / f"{self.notebook}__{name}", index=index)
+        return df
+
+    def record_input(self, path: str | Path) -> None:
+        """Note a real input file (or every file of a folder) for provenance.json."""
+        if self.out_dir is None:
+            return
+        p = Path(path)
+        files = sorted(f for f in p.rglob("*") if f.is_file()) if p.is_dir() else [p]
+        d = Path(self.out_dir) / ".inputs"
+        d.mkdir(parents=True, exist_ok=True)
+        with open(d / f"{self.notebook}.txt", "a") as fh:
+            for f in files:
+                fh.write(f"{f.resolve()}\n")
+
+    def compare(self, rows: list[dict], name: str = "paper_vs_reproduced") -> pd.DataFrame:
+        """Build a comparison table from :func:`paper_ref` rows, write it and return it."""
+        df = comparison_table(rows)
+        return self.table(df, name)
+
+
+def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = False) -> Path:
+    """Write ``<out_dir>/README.md`` from every comparison table under ``<out_dir>/tables``."""
+    out_dir = Path(out_dir)
+    frames = []
+    for csv in sorted((out_dir / "tables").glob("*.csv")):
+        df = pd.read_csv(csv, keep_default_na=False, na_values=[""])
+        if all(c in df.columns for c in COMPARISON_COLUMNS):
+            df.insert(0, "table", csv.stem)
+            frames.append(df)
+    lines = [
+        "# Reproduced results",
+        "",
+        "Written by `python -m ilocalg reproduce`; every row comes from a comparison table a notebook",
+        "wrote under `tables/`. `paper_value` is the published reference; `reproduced_value` is computed",
+        f"by ilocalg from data. Agreement: within {AGREE_REL:.0%} = agrees, within {CLOSE_REL:.0%} = close.",
+        "",
+        f"Seed: {seed}. Mode: {'fast (reduced data)' if fast else 'full'}.",
+        "",
+    ]
+    if frames:
+        allrows = pd.concat(frames, ignore_index=True)
+        cols = ["paper", "item", "quantity", "unit", "paper_value", "reproduced_value", "agreement", "table"]
+        for c in ("n", "mean", "ci95_low", "ci95_high"):
+            if c in allrows.columns:
+                cols.insert(cols.index("agreement"), c)
+        lines.append(_markdown(allrows[cols], index=False))
+    else:
+        lines.append("No comparison tables were written.\n")
+    path = out_dir / "README.md"
+    path.write_text("\n".join(lines))
+    return path
+
+
+def sha256_file(path: str | Path) -> str:
+    """Hex sha256 of a file's bytes."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _git_commit(repo: Path) -> str | None:
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=repo, capture_output=True, text=True,
+                             check=True, timeout=10)
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=repo,
+                               capture_output=True, text=True, timeout=10).stdout.strip()
+        return out.stdout.strip() + ("-dirty" if dirty else "")
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+PROVENANCE_PACKAGES = ("numpy", "pandas", "scipy", "scikit-learn", "filterpy", "matplotlib", "papermill",
+                       "pyarrow", "opencv-python-headless", "dask", "iloc-toolkit")
+
+
+def write_provenance(out_dir: str | Path, repo: str | Path, seed: int, fast: bool,
+                     inputs: list[str | Path], notebooks: list[str]) -> Path:
+    """Write ``provenance.json``: git commit, seed, mode, package versions, input sha256s."""
+    versions = {}
+    for p in PROVENANCE_PACKAGES:
+        try:
+            versions[p] = metadata.version(p)
+        except metadata.PackageNotFoundError:
+            versions[p] = None
+    files = {}
+    for f in sorted({str(Path(f)) for f in inputs}):
+        fp = Path(f)
+        if fp.is_file():
+            files[f] = sha256_file(fp)
+    prov = {
+        "git_commit": _git_commit(Path(repo)),
+        "seed": seed,
+        "fast": fast,
+        "python": platform.python_version(),
+        "packages": versions,
+        "notebooks": notebooks,
+        "input_files_sha256": files,
+    }
+    path = Path(out_dir) / "provenance.json"
+    path.write_text(json.dumps(prov, indent=2, sort_keys=True) + "\n")
+    return path
