@@ -78,8 +78,8 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(_jsonable(result), sort_keys=False))
         return 0
     if args.command == "notebooks":
-        from ilocalg.runner import NOTEBOOK_DIR
         from ilocalg import notebook_sync
+        from ilocalg.runner import NOTEBOOK_DIR
 
         if args.sync:
             for p in notebook_sync.sync(NOTEBOOK_DIR):

@@ -15,9 +15,7 @@ OUT_DIR = None
 DATA_DIR = None
 
 # %%
-import matplotlib.pyplot as plt
 
-import ilocviz
 from ilocalg.experiments import data_tour
 from ilocalg.reporting import Report
 

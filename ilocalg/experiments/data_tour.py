@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.paths import DATASETS, data_dir as default_data_dir
+from ilocalg.io.paths import DATASETS
+from ilocalg.io.paths import data_dir as default_data_dir
 
 __all__ = ["run", "availability"]
 
