@@ -83,16 +83,17 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
     return a_perp, np.sqrt(np.einsum("ij,ij->i", horiz, horiz))
 
 
-def _window_sizes(rate_hz: float, w_peak_s: float, w_wave_s: float):
+def _window_sizes(rate_hz: float, w_peak_s: float, w_wave_s: float, valley_s: float):
     half_peak = max(int(round(0.5 * w_peak_s * rate_hz)), 1)
-    half_wave = max(int(round(0.5 * w_wave_s * rate_hz)), 1)
+    half_wave = max(int(round(valley_s * rate_hz)), 1)
     n_dft = int(np.floor(0.5 * w_wave_s * rate_hz)) - 1
     if n_dft < 1:
         raise ValueError(f"sample rate {rate_hz:.3g} Hz is too low for W_wave = {w_wave_s} s (N = {n_dft} < 1)")
     return half_peak, half_wave, n_dft
 
 
-def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: float = 0.5) -> pd.DataFrame:
+def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: float = 0.5,
+              valley_s: float | None = None) -> pd.DataFrame:
     """All candidate waves of a log with their eight SAM features.
 
     Parameters
@@ -105,6 +106,12 @@ def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: flo
         Gravity at rest (see :func:`vertical_horizontal_mps2`).
     w_peak_s, w_wave_s : float
         W_peak (0.25 s) and W_wave (0.5 s) of the thesis.
+    valley_s : float, optional
+        How far either side of the peak the valleys are searched, s. Default ``w_wave_s``: read
+        literally, sec. 4.1 searches ``W_wave / 2`` either side, which bounds T by W_wave = 0.5 s,
+        yet Table 1 reports T up to 0.62 s and T2 up to 0.40 s, so the thesis's valleys must lie
+        further out; searching ``W_wave`` either side reproduces such waves. Pass
+        ``w_wave_s / 2`` for the literal reading.
 
     Returns
     -------
@@ -120,10 +127,10 @@ def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: flo
     a = check_acc(acc_mps2, min_samples=3)
     t = check_times(t_s, n=a.shape[0])
     rate = sample_rate_hz(t)
-    hp, hw, N = _window_sizes(rate, w_peak_s, w_wave_s)
+    hp, hw, N = _window_sizes(rate, w_peak_s, w_wave_s, w_wave_s if valley_s is None else valley_s)
     if a.shape[0] < 2 * hw + 1:
         raise ValueError(f"acc_mps2 is too short: {a.shape[0]} samples, need at least {2 * hw + 1} "
-                         f"(one W_wave = {w_wave_s} s at {rate:.3g} Hz)")
+                         f"(two valley windows at {rate:.3g} Hz)")
     v, h = vertical_horizontal_mps2(a, g0_mps2)
     n = v.size
     # peak: no larger value within W_peak/2 either side; ties resolved to the first sample
