@@ -6,8 +6,7 @@ their lengths by the quadratic SLM fitted on the same training steps, their head
 gravity (1 s mean of the accelerometer) and the magnetic field (0.5 s mean) at each step; the
 track is dead-reckoned from the true start. Scored: the per-step heading error (Fig 16, thesis
 13.87 deg mean) and the position error when the walker passes each test point (Figs 17-18, thesis
-5.2 m mean). Beside the thesis's pipeline: gyro-integrated heading (bias taken as the mean rate over the standing
-second before the walk), and true steps with WDM
+5.2 m mean). Beside the thesis's pipeline: gyro-integrated heading (uncalibrated bias), and true steps with WDM
 headings (isolating the heading error).
 """
 
@@ -46,11 +45,11 @@ def sample_headings(sw, g_window_s: float = 1.0, m_window_s: float = 0.5) -> dic
     g = np.column_stack([moving_mean(acc[:, j], ng) for j in range(3)])
     m = np.column_stack([moving_mean(mag[:, j], nm) for j in range(3)])
     wdm = heading_theta_rad(g, m)
-    # gyro: bias = mean rate over the standing second; started from the WDM heading there
+    # gyro: started from the WDM heading averaged over the standing second; the bias is not
+    # estimated (over one second of hand jitter its estimate is worse than the bias itself)
     rest = t < sw.config.stand_s
     th0 = float(np.angle(np.mean(np.exp(1j * wdm[rest])))) if rest.any() else float(wdm[0])
-    bias = gyr[rest].mean(axis=0) if rest.any() else np.zeros(3)
-    return {"WDM": wdm, "gyro": gyro_heading_theta_rad(gyr - bias, g, t, th0)}
+    return {"WDM": wdm, "gyro": gyro_heading_theta_rad(gyr, g, t, th0)}
 
 
 def _times_at_arc(sw, s_m: np.ndarray) -> np.ndarray:
