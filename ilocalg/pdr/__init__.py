@@ -13,9 +13,12 @@ Modules
 ``heading``        i-Loc WDM (eq. 18-19) and gyro-integrated heading
 ``dead_reckoning`` position update (i-Loc eq. 22, 004 eq. 5-6)
 ``signals``        input checks, resampling, sliding extrema
+``filters``        moving average and Savitzky-Golay (003 eq. 3.5-3.6; written in the PSO slice)
+``sign_change``    003's slope-sign-change detector with the +-RMS band (Fig 3.9; PSO slice)
 """
 
 from ilocalg.pdr.dead_reckoning import PDR, dead_reckon
+from ilocalg.pdr.filters import moving_average, rms, savitzky_golay, savitzky_golay_coeffs
 from ilocalg.pdr.heading import WDM, axis_yaw_rad, gyro_heading_theta_rad, heading_theta_rad, wdm_rotation, wdm_yaw_rad
 from ilocalg.pdr.peak_window import PeakWindowDetector, detect_steps_peak_window
 from ilocalg.pdr.robust import ROBUST_DEFAULTS, RobustStepDetector, detect_steps_robust
@@ -28,6 +31,7 @@ from ilocalg.pdr.sam import (
     sam_waves,
     vertical_horizontal_mps2,
 )
+from ilocalg.pdr.sign_change import STEP_COLUMNS, detect_steps_sign_change, slope_sign_extrema
 from ilocalg.pdr.signals import magnitude_mps2, resample_uniform
 from ilocalg.pdr.step_length import (
     SLM,
@@ -49,6 +53,7 @@ __all__ = [
     "SAM_FEATURES",
     "SAM_RANGES_PAPER",
     "SLM",
+    "STEP_COLUMNS",
     "StepLengthFit",
     "PeakWindowDetector",
     "WDM",
@@ -57,6 +62,7 @@ __all__ = [
     "detect_steps_peak_window",
     "detect_steps_robust",
     "detect_steps_sam",
+    "detect_steps_sign_change",
     "fit_slm",
     "fit_weinberg_k",
     "gyro_heading_theta_rad",
@@ -65,10 +71,15 @@ __all__ = [
     "learn_feature_ranges",
     "luo_length_m",
     "magnitude_mps2",
+    "moving_average",
     "resample_uniform",
+    "rms",
     "sam_waves",
+    "savitzky_golay",
+    "savitzky_golay_coeffs",
     "slm_design",
     "slm_length_m",
+    "slope_sign_extrema",
     "vertical_horizontal_mps2",
     "wdm_rotation",
     "wdm_yaw_rad",
