@@ -41,13 +41,17 @@ from ilocalg.pdr.sign_change import detect_steps_sign_change
 from ilocalg.pdr.signals import magnitude_mps2, moving_mean, resample_uniform
 from ilocalg.reporting import paper_ref
 
-__all__ = ["run", "Prepared", "prepare", "DETECTORS", "count_steps", "loro_cv", "accuracy", "load"]
+__all__ = ["run", "Prepared", "prepare", "DETECTORS", "count_steps", "loro_cv", "accuracy", "load", "truth_artefacts",
+           "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN"]
 
 OXFORD_REPORT = "Oxford step counter report"
 #: The data set's own report for its windowed peak detector on the 48 recordings (reference values).
 OXFORD_MEAN_PAPER = 0.937  # reference (paper-like): data set report, mean accuracy
 OXFORD_MEDIAN_PAPER = 0.968  # reference (paper-like): data set report, median accuracy
 RATE_HZ = 100.0
+#: The toolkit's goal for its best detector (issue 7): mean accuracy and worst recording.
+GOAL_MEAN = 0.993
+GOAL_MIN = 0.98
 SAM_RATE_HZ = 50.0
 ARCHIVE = "optimisation_data.tar.xz"
 
@@ -243,6 +247,38 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
             "comparison": pd.DataFrame(comp)}
+
+
+def truth_artefacts(recordings, min_interval_s: float = 0.25) -> pd.DataFrame:
+    """True steps that follow the previous true step by less than ``min_interval_s`` (sensor double triggers)."""
+    rows = []
+    for r in recordings:
+        d = np.diff(np.asarray(r.step_t_s))
+        k = int((d < min_interval_s).sum())
+        rows.append({"recording": r.name, "true_steps": r.true_steps, f"intervals_below_{min_interval_s:g}s": k,
+                     "share_of_steps": k / r.true_steps if r.true_steps else float("nan")})
+    return pd.DataFrame(rows)
+
+
+def missing_table(path) -> pd.DataFrame:
+    """The one-row table a notebook writes when the data set is absent."""
+    return pd.DataFrame([{"dataset": "oxford_step_counter", "path": str(path), "present": False}])
+
+
+def worst(tables: dict, n: int = 5) -> pd.DataFrame:
+    """The ``n`` recordings the best detector counts worst."""
+    det = tables["summary"].iloc[0]["detector"]
+    cols = ["recording", "true_steps", f"{det}_steps", f"{det}_accuracy"]
+    return tables["per_recording"].nsmallest(n, f"{det}_accuracy")[cols].reset_index(drop=True)
+
+
+def headline(tables: dict) -> str:
+    """One sentence with the best detector's measured accuracy against the goal."""
+    b = tables["summary"].iloc[0]
+    met = b["mean_accuracy"] >= GOAL_MEAN and b["min_accuracy"] >= GOAL_MIN
+    return (f"best detector {b['detector']}: mean {b['mean_accuracy']:.2%}, median {b['median_accuracy']:.2%}, "
+            f"worst {b['min_accuracy']:.2%}, {b['n_below_98pct']} of {b['n_recordings']} recordings below 98 % "
+            f"(goal mean >= {GOAL_MEAN:.1%} and none below {GOAL_MIN:.0%}: {'met' if met else 'NOT met'})")
 
 
 def _fmt(par: dict) -> str:

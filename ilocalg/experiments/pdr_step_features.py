@@ -24,7 +24,7 @@ from ilocalg.reporting import paper_ref
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 
-__all__ = ["run", "training_walks", "fixed_length_features", "PAPER"]
+__all__ = ["run", "training_walks", "fixed_length_features", "headline", "PAPER"]
 
 PAPER = "i-Loc thesis"
 #: Fig 12 of the thesis: SAM step-count error on 8 walkers x 100 steps (paper value).
@@ -120,3 +120,12 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
                               note="ranges = 5/95 % points of simulated training steps"))
     return {"features": feats, "ranges": rtab, "counts": counts, "summary": summary,
             "comparison": pd.DataFrame(comp)}
+
+
+def headline(tables: dict) -> str:
+    """One sentence with the measured SAM count errors (for the notebook's conclusion)."""
+    s = tables["summary"].set_index(["test_set", "ranges"])["mean_error"]
+    return (f"SAM with the thesis's 5/95 % ranges: mean step-count error "
+            f"{s.loc[('training walkers', 'learned q0.05-0.95')]:.1%} on the training walkers' new walks, "
+            f"{s.loc[('new walkers', 'learned q0.05-0.95')]:.1%} on new walkers; with 0/100 % ranges "
+            f"{s.loc[('training walkers', 'learned q0-1')]:.1%} and {s.loc[('new walkers', 'learned q0-1')]:.1%}.")
