@@ -1,6 +1,6 @@
 """WDM heading and the pedestrian trajectory system on simulated walks (i-Loc thesis sec. 4.3-4.4, Figs 16-18).
 
-Walkers carry the phone around a closed loop of 28 test points 4.11 m apart (sec. 4.4). Steps are
+Walkers carry the phone around the thesis's closed loop of 28 test points 4.11 m apart (sec. 4.4). Steps are
 found by SAM (ranges learned from fixed-length training walks, experiment ``pdr_step_features``),
 their lengths by the quadratic SLM fitted on the same training steps, their headings by WDM from
 gravity (1 s mean of the accelerometer) and the magnetic field (0.5 s mean) at each step; the
@@ -67,7 +67,7 @@ def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarra
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8, q_range=(0.01, 0.99),
-        n_points: int = 28, spacing_m: float = 4.11) -> dict[str, pd.DataFrame]:
+        n_points: int = 28, spacing_m: float = 4.11) -> dict[str, pd.DataFrame]:  # thesis test loop
     """Heading errors beside Fig 16 and test-point position errors beside Figs 17-18.
 
     Returns

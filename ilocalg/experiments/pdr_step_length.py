@@ -107,7 +107,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
                                              for f in SAM_FEATURES],
                          "corr_paper": [CORR_PAPER[f] for f in SAM_FEATURES]})
     models, fits = fit_models(feats)
-    # Kim: the scale c fitted on the training walks' mean |a_perp| (0.98 for the original foot sensor)
+    # Kim: the scale c fitted on the training walks' mean |a_perp| (0.98 in the thesis's eq. 2.1, for a foot sensor)
     tw = training_walks(train_walkers[:2], rng)
     ranges = learn_feature_ranges(feats, *q_range)
     kim_x, kim_y = [], []

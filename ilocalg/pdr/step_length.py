@@ -80,10 +80,10 @@ def luo_length_m(a_max_mps2, a_min_mps2, k: float):
     Fingerprint+PDR paper (004), sec. 3.4.2 (3), eq. (4).
     """
     d = _range(a_max_mps2, a_min_mps2)
-    return float(k) * (d * 3.5 + d ** 0.25)
+    return float(k) * (d * 3.5 + d ** 0.25)  # the paper's eq. (4)
 
 
-def kim_length_m(acc_abs_mean_mps2, c: float = 0.98):
+def kim_length_m(acc_abs_mean_mps2, c: float = 0.98):  # 0.98: paper eq. (2.1)
     """Kim step length ``c (mean |A|)^(1/3)`` with the step's mean absolute acceleration.
 
     Parameters
@@ -92,7 +92,7 @@ def kim_length_m(acc_abs_mean_mps2, c: float = 0.98):
         Mean of ``|A_k|`` over the samples of each step, m/s^2 (for a handheld phone use the
         gravity-removed acceleration; the original used a foot-mounted sensor).
     c : float
-        Scale, m / (m/s^2)^(1/3); 0.98 in the original.
+        Scale, m / (m/s^2)^(1/3); 0.98 in the original (the PSO thesis's eq. 2.1).
 
     References
     ----------

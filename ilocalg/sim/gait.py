@@ -155,11 +155,11 @@ def straight_route(length_m: float, theta_rad: float = 0.0) -> np.ndarray:
     return np.array([[0.0, 0.0], [length_m * np.cos(theta_rad), length_m * np.sin(theta_rad)]])
 
 
-def loop_route(n_points: int = 28, spacing_m: float = 4.11, nx: int = 9) -> np.ndarray:
+def loop_route(n_points: int = 28, spacing_m: float = 4.11, nx: int = 9) -> np.ndarray:  # thesis sec. 4.4
     """A closed rectangular loop of ``n_points`` test points ``spacing_m`` apart, shape (n_points + 1, 2).
 
-    ``nx`` segments along x and ``n_points / 2 - nx`` along y (the i-Loc test loop: 28 points
-    4.11 m apart, sec. 4.4). The last row repeats the first point.
+    ``nx`` segments along x and ``n_points / 2 - nx`` along y (the i-Loc thesis's test loop: 28
+    points 4.11 m apart, thesis sec. 4.4). The last row repeats the first point.
     """
     ny = n_points // 2 - nx
     if n_points % 2 or ny < 1:
