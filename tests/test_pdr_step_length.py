@@ -44,3 +44,23 @@ def test_bad_input():
         sl.fit_slm([1, 2], [1, 2], [0.5, 0.6])
     with pytest.raises(ValueError, match="not fitted"):
         sl.SLM().predict([1.0], [1.0])
+
+
+def test_models_on_simulated_fixed_length_walks():
+    from ilocalg.experiments.pdr_step_features import fixed_length_features, training_walks
+    from ilocalg.sim import gait
+
+    rng = np.random.default_rng(4)
+    ws = gait.make_walkers(4, 8)
+    train = fixed_length_features(training_walks(ws, rng))
+    test = fixed_length_features(training_walks(ws, rng))
+    quad = sl.fit_slm(train["A"], train["X1"], train["length_m"], "quadratic")
+    k = sl.fit_weinberg_k(train["a_max_mps2"], train["a_min_mps2"], train["length_m"])
+    L = test["length_m"].to_numpy()
+    err_slm = np.abs(sl.slm_length_m(test["A"], test["X1"], quad.p) - L) / L
+    err_w = np.abs(sl.weinberg_length_m(test["a_max_mps2"], test["a_min_mps2"], k) - L) / L
+    assert 0.3 < k < 0.6
+    assert err_slm.mean() < 0.25 and err_w.mean() < 0.25
+    # both beat a constant guess of the mean training length
+    err_const = np.abs(train["length_m"].mean() - L) / L
+    assert err_slm.mean() < err_const.mean() and err_w.mean() < err_const.mean()
