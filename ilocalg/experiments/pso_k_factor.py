@@ -433,7 +433,8 @@ def _pso_repeat(walks: list[Walk], prefilter: str, fitness: str, seed: int, n_re
             ks.append(s["k_pso"])
             iters.append(s["iters"])
         ks = np.asarray(ks)
-        rows.append({"walker": w.walker, "prefilter": prefilter, "fitness": fitness, "n_runs": n_rep, "k_closed": s["k_closed"],
+        rows.append({"walker": w.walker, "prefilter": prefilter, "fitness": fitness, "n_runs": n_rep,
+                     "k_closed": s["k_closed"],
                      "k_pso_mean": ks.mean(), "k_pso_sd": ks.std(ddof=1) if n_rep > 1 else 0.0,
                      "max_abs_dev_from_closed": float(np.max(np.abs(ks - s["k_closed"]))),
                      "iters_mean": float(np.mean(iters)), "iters_max": int(np.max(iters)),
