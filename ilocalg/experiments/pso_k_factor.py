@@ -456,7 +456,8 @@ def _comparison(t52: pd.DataFrame, p2: pd.DataFrame, compass: pd.DataFrame, labe
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} k (PSO)", p["k"], r.k_pso))
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} detected steps", p["det_steps"], r.det_steps,
                               note=f"true steps {r.true_steps} (walk design, from the paper)"))
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} PSO distance", p["pso_m"], r.pso_m, "m"))
+        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} PSO distance", p["pso_m"], r.pso_m, "m",
+                              note="the simulated route length is set from the paper's GPS distance"))
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} accuracy vs GPS", p["acc_pct"], r.acc_pct, "%"))
     for place in ("park", "hall"):
         sel = p2[(p2["walker"] == "A1") & (p2["place"] == place)]
@@ -541,6 +542,10 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
         "PSO_diff_gps_rel": abs(r1["gps_m"] - r1["pso_m"]) / r1["gps_m"],
     }])
     compass = compass_filter_study(seed, fast)
+    log = simulate_static_compass(np.random.default_rng([seed, 53]))
+    y = log["yaw_deg"].to_numpy()
+    out_log = pd.DataFrame({"t_s": log["t_s"], "raw_deg": y, "ma_deg": moving_average(y, 2, 2),
+                            "sg_deg": savitzky_golay(y, 2, 2, 2)})
     t52 = _paper_table(p1)
     t52_alt = _paper_table(p1_alt)
     rows = _comparison(t52, p2, compass, f"(prefilter {prefilter})")
@@ -550,7 +555,7 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
         "table_5_2": t52, "phase1": p1, "phase2": p2, "table_5_2_alt": t52_alt, "phase1_alt": p1_alt,
         "phase2_alt": p2_alt, "fitness_variants": variants, "pso_repeat": rep,
         "pso_a1_swarm": a1.swarm_table(), "pso_a1_history": a1.history_table(), "pso_a1_result": a1_block,
-        "compass": compass,
+        "compass": compass, "compass_example": out_log,
     }
     # paths for the maps (not result tables)
     out["tracks_phase1"] = pd.concat([t.assign(walker=w) for w, t in tracks1.items()], ignore_index=True)

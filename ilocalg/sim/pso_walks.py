@@ -212,7 +212,7 @@ def loop_route(perimeter_m: float, aspect: float = 2.0, corner_frac: float = 0.1
     d = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
     si = np.linspace(0, d[-1], n + 1)
     out = np.c_[np.interp(si, d, xy[:, 0]), np.interp(si, d, xy[:, 1])]
-    return out * (perimeter_m / d[-1])
+    return out * (perimeter_m / _arc(out)[-1])
 
 
 def line_route(length_m: float, bearing_deg: float = 30.0) -> np.ndarray:
