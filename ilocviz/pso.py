@@ -7,7 +7,8 @@ import pandas as pd
 
 from ilocviz.core import new_axes
 
-__all__ = ["swarm_iterations", "gbest_convergence", "step_detection", "walk_paths", "compass_filters", "k_factors"]
+__all__ = ["phase2_grid", "swarm_iterations", "gbest_convergence", "step_detection", "walk_paths",
+           "compass_filters", "k_factors"]
 
 
 def swarm_iterations(swarm: pd.DataFrame, ax=None, max_iter: int | None = None, dim: int = 0):
@@ -105,3 +106,24 @@ def k_factors(table: pd.DataFrame, ax=None, columns: dict | None = None):
     ax.set_ylabel("k [m / (m/s$^2$)$^{1/4}$]")
     ax.legend(loc="best")
     return ax
+
+
+def phase2_grid(tracks: pd.DataFrame, max_walks: int | None = None, ncols: int = 4):
+    """One :func:`walk_paths` panel per walk of a long table (``walk``, ``kind``, ``x_m``, ``y_m``).
+
+    Returns the Figure (it makes its own grid of Axes).
+    """
+    import matplotlib.pyplot as plt
+
+    walks = list(dict.fromkeys(tracks["walk"]))[:max_walks]
+    ncols = min(ncols, len(walks))
+    nrows = -(-len(walks) // ncols)
+    fig, axs = plt.subplots(nrows, ncols, figsize=(3.8 * ncols, 3.8 * nrows), squeeze=False)
+    labels = {"truth": "truth", "gps": "GPS", "pso": "PSO k", "tar": "TAR k=0.5"}
+    for ax, w in zip(axs.ravel(), walks, strict=False):
+        d = tracks[tracks["walk"] == w]
+        walk_paths({lab: d[d["kind"] == kind] for kind, lab in labels.items()}, ax=ax, title=w)
+    for ax in axs.ravel()[len(walks):]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    return fig

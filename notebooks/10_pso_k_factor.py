@@ -108,20 +108,14 @@ report.table(res["pso_repeat"], "pso_repeat")
 report.table(res["phase2"], "phase2")
 report.table(res["phase2_alt"], "phase2_no_prefilter")
 
+# %% [markdown]
+# Paths of every phase-2 walk (top: thesis pipeline; bottom figure: no pre-filter). FAST draws A1's two walks only.
+
 # %%
-tr = res["tracks_phase2"]
-# FAST draws A1's two walks only
-walks = list(dict.fromkeys(tr["walk"]))[: 2 if FAST else None]
-with ilocviz.style():
-    fig, axs = plt.subplots(1 if FAST else 2, 2 if FAST else 4, figsize=(8, 4) if FAST else (15, 7.5), squeeze=False)
-    for ax, w in zip(axs.ravel(), walks, strict=False):
-        d = tr[tr["walk"] == w]
-        vpso.walk_paths({"truth": d[d.kind == "truth"], "GPS": d[d.kind == "gps"], "PSO k": d[d.kind == "pso"],
-                         "TAR k=0.5": d[d.kind == "tar"]}, ax=ax, title=w)
-    for ax in axs.ravel()[len(walks):]:
-        ax.set_visible(False)
-    fig.tight_layout()
-    ilocviz.savefig(fig, "10_pso_k_factor_phase2_paths", OUT_DIR)
+for key, tag in (("tracks_phase2", "phase2_paths"), ("tracks_phase2_alt", "phase2_paths_no_prefilter")):
+    with ilocviz.style():
+        fig = vpso.phase2_grid(res[key], max_walks=2 if FAST else None)
+        ilocviz.savefig(fig, f"10_pso_k_factor_{tag}", OUT_DIR)
 
 # %% [markdown]
 # ## MA vs Savitzky-Golay on a static compass log (sec. 5.1.3, Figs 5.3-5.5)

@@ -300,7 +300,7 @@ def ilc_vertical_acc(imu: pd.DataFrame, gravity_halfwidth: int = 25) -> np.ndarr
 
 def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_halfwidth: int = 6,
                 min_dist_m: float = 5.0) -> dict[str, pd.DataFrame]:
-    """Learn k on half of the ILC site2/F4 walks and apply it to the other half.
+    """Learn k on half of the ILC site2/F4 walks and apply it to the other half (fast: 10 walks).
 
     The ILC traces do not say who walked; they were all recorded with the same phone model, so they
     are treated as one surveyor. Traces sorted by start time alternate between learning (even) and
@@ -317,9 +317,10 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
         ``walks``: one row per walk; ``summary``: learned k (PSO, closed form), mean absolute and
         relative distance error on the test walks with the learned k and with k = 0.5.
     """
-    from ilocalg.io.ilc import load_ilc_floor
+    from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
 
-    floor = load_ilc_floor(data_dir, duplicate_bssid="keep_latest")
+    names = list_ilc_traces(data_dir)
+    floor = load_ilc_floor(data_dir, names=names[:10] if fast else None, duplicate_bssid="keep_latest")
     traces = sorted(floor.traces.values(), key=lambda tr: float(tr.imu.index[0]))
     rows, step_tabs = [], []
     for tr in traces:
@@ -518,7 +519,7 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
     k_by = dict(zip(p1["walker"], p1["k_pso"], strict=True))
     p2, tracks2 = _phase2(walks["2"], k_by, prefilter)
     p1_alt, _, _ = _phase1(walks["1"], other, fitness, seed)
-    p2_alt, _ = _phase2(walks["2"], dict(zip(p1_alt["walker"], p1_alt["k_pso"], strict=True)), other)
+    p2_alt, tracks2_alt = _phase2(walks["2"], dict(zip(p1_alt["walker"], p1_alt["k_pso"], strict=True)), other)
     other_fit = "per_step" if fitness == "total" else "total"
     p1_fit, _, _ = _phase1(walks["1"], prefilter, other_fit, seed)
     variants = pd.concat([
@@ -559,11 +560,12 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
     }
     # paths for the maps (not result tables)
     out["tracks_phase1"] = pd.concat([t.assign(walker=w) for w, t in tracks1.items()], ignore_index=True)
-    tr2 = []
-    for key, d in tracks2.items():
-        for kind, t in d.items():
-            tr2.append(t[["x_m", "y_m"]].assign(walk=key, kind=kind))
-    out["tracks_phase2"] = pd.concat(tr2, ignore_index=True)
+    for name, trs in (("tracks_phase2", tracks2), ("tracks_phase2_alt", tracks2_alt)):
+        tr2 = []
+        for key, d in trs.items():
+            for kind, t in d.items():
+                tr2.append(t[["x_m", "y_m"]].assign(walk=key, kind=kind))
+        out[name] = pd.concat(tr2, ignore_index=True)
     gps1 = []
     for w in walks["1"]:
         gps1.append(_gps_local(w).assign(walker=w.walker))
