@@ -10,7 +10,7 @@ deterministically from a seed; nothing in it is tuned to the thesis's outcome ta
 Walk design (what the walkers did, taken from the thesis; marked "paper" in the code)
     Leg lengths (Table 5-1); the number of steps counted on each phase-1 walk and that walk's length
     (the only length the thesis gives is its GPS distance, Table 5-2), hence each walker's mean step
-    length; A1's phase-2 step counts (250 and 408, the file names in Fig. 5.14). Other phase-2 walks:
+    length; A1's phase-2 step counts (250 and 408, thesis Fig. 5.14 file names). Other phase-2 walks:
     300 steps (assumption). Phase-1 routes: A1 a playground lap (stadium oval), the others a straight
     line (the thesis asks for straight phase-1 walks, sec. 5.2.2). Phase-2 routes: closed loops
     (rounded rectangles, aspect 2:1) that start and end at the same point, as the thesis's walks do.
@@ -28,11 +28,11 @@ Gait (literature, not the thesis)
 
 Sensors (thesis where it says, else typical values of the MEMS parts of the time)
     Accelerometer (z vertical): 8 Hz (thesis sec. 5.1.1), quantised to the thesis's scale, 244.25
-    counts per g (0 g at 417.57 counts, 1 g at 661.82, sec. 5.1.3), white noise 0.10 m/s^2
+    counts per g (thesis sec. 5.1.3: 0 g at 417.57 counts, 1 g at 661.82), white noise 0.10 m/s^2
     (assumption), no anti-alias filter (samples of the continuous signal).
     Compass: 8 Hz, static noise RMS 0.716 deg (thesis sec. 5.1.3, raw signal) made of AR(1) noise
     (lag-1 correlation 0.6, assumption) plus rare spikes (the thesis notes occasional spikes; 0.5 %
-    of samples, sd 4 deg, assumption), scaled so the total static RMS is 0.716 deg; while walking a
+    of samples, sd 4 deg, assumption), scaled to the thesis's total static RMS 0.716 deg; while walking a
     residual calibration bias ~ N(0, 2 deg) per walk and trunk yaw sway of 2 deg at half the step rate
     (assumptions).
     GPS: 1 Hz (thesis sec. 5.1.1). Open sky: per-axis first-order Gauss-Markov error, sd 0.6 m,
