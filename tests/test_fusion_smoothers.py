@@ -101,3 +101,14 @@ def test_fixed_lag_error_between_filter_and_rts():
             e[name].append(np.linalg.norm(x - w.truth_xy_m, axis=1).mean())
     m = {k: np.mean(v) for k, v in e.items()}
     assert m["rts"] <= m["lag5"] < m["kf"]
+
+
+def test_fixed_lag_batched_equals_per_walk():
+    walks = [fu.straight_walk(40, rng=s, fix_every=3) for s in range(4)]
+    res = fu.filter_walks(np.stack([w.z_m[0] for w in walks]), 9 * np.eye(2), np.stack([w.theta_rad for w in walks]),
+                          np.stack([w.step_m for w in walks]), 0.2, np.stack([w.z_m for w in walks]), r_var_m2=9.0)
+    fl = fu.fixed_lag_smooth(res, 4)
+    for i, w in enumerate(walks):
+        one = fu.fixed_lag_smooth(_filter(w), 4)
+        np.testing.assert_allclose(fl.x[i], one.x, atol=1e-12)
+        np.testing.assert_allclose(fl.P[i], one.P, atol=1e-12)

@@ -18,6 +18,11 @@ record type                            values                                   
 ``TYPE_BEACON``, ``TYPE_BLUE``, ...    (iBeacon / Bluetooth / others)                      skipped, counted
 =====================================  ==================================================  ==========
 
+The sensors' ``accuracy`` column is checked for presence but not kept. Besides the documented
+types, the site2/F4 traces also hold ``TYPE_BLUE``, ``TYPE_BLU4``, ``TYPE_DIST1``, ``TYPE_DIST2``
+and ``TYPE_SENSOR_MAGNETIC_FIELD_ACCURACY_CHANGED`` records: skipped and counted like any
+unknown type (:attr:`IlcTrace.skipped`).
+
 Lines starting with ``#`` carry the header: ``startTime``, site and floor ids and names, phone
 brand/model/Android version, one line per sensor (type, name, vendor, resolution, range) and
 ``endTime`` at the end. Header key/value pairs are returned in :attr:`IlcTrace.header`.
