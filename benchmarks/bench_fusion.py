@@ -19,8 +19,8 @@ import numpy as np
 
 from ilocalg import fusion as fu
 
-N_WALKS = 64
-N_STEPS = 500
+N_WALKS = 128
+N_STEPS = 300
 TARGET_SPEEDUP = 10.0
 
 

@@ -233,10 +233,9 @@ def kf_update(x, P, z, R):
     x = np.asarray(x, dtype=np.float64)
     P = np.asarray(P, dtype=np.float64)
     R = np.asarray(R, dtype=np.float64)
-    y, S, _ = innovation(x, P, z, R)
-    K = P @ _inv2(S)
+    K = P @ _inv2(P + R)  # eq. (25) with H = I
     ikh = np.eye(2) - K
-    return x + _mv(K, y), ikh @ P @ np.swapaxes(ikh, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
+    return x + _mv(K, z - x), ikh @ P @ np.swapaxes(ikh, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
 
 
 # ----------------------------------------------------------------------------------------------
