@@ -21,6 +21,8 @@ University, 2008 (the PSO thesis), eq. 3.1-3.3 and ref. [25]; E. Williams, "Avia
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 
@@ -132,16 +134,30 @@ def dead_reckon(lat0_deg: float, lon0_deg: float, bearing_deg, step_m):
     ----------
     PSO thesis, sec. 3.2.1 (dead reckoning, Fig. 3.4) with eq. 3.1-3.3.
     """
-    b = np.asarray(bearing_deg, dtype=float)
-    s = np.asarray(step_m, dtype=float)
+    b = _finite("bearing_deg", bearing_deg)
+    s = _finite("step_m", step_m)
     if b.ndim != 1 or b.shape != s.shape:
         raise ValueError(f"bearing_deg and step_m must be 1-D of equal length, got {b.shape} and {s.shape}")
+    if np.any(s < 0):
+        raise ValueError("step_m must be >= 0")
+    _check_lat("lat0_deg", lat0_deg)
+    _finite("lon0_deg", lon0_deg)
+    th = np.deg2rad(b)
+    sin_t, cos_t = np.sin(th), np.cos(th)
+    d = s / EARTH_RADIUS_M
+    sin_d, cos_d = np.sin(d), np.cos(d)
     lat = np.empty(b.size + 1)
     lon = np.empty(b.size + 1)
-    lat[0], lon[0] = float(lat0_deg), float(lon0_deg)
-    for i in range(b.size):
-        lat[i + 1], lon[i + 1] = destination(lat[i], lon[i], b[i], s[i])
-    return lat, lon
+    p1, l1 = math.radians(float(lat0_deg)), math.radians(float(lon0_deg))
+    lat[0], lon[0] = p1, l1
+    for i in range(b.size):  # eq. 3.1-3.3, scalar maths (same formulas as destination())
+        sp1, cp1 = math.sin(p1), math.cos(p1)
+        p2 = math.asin(max(-1.0, min(1.0, sp1 * cos_d[i] + cp1 * sin_d[i] * cos_t[i])))
+        dl = math.atan2(sin_t[i] * sin_d[i] * cp1, cos_d[i] - sp1 * math.sin(p2))
+        l1 = (l1 + dl + math.pi) % (2 * math.pi) - math.pi
+        p1 = p2
+        lat[i + 1], lon[i + 1] = p2, l1
+    return np.rad2deg(lat), np.rad2deg(lon)
 
 
 def path_length_m(lat_deg, lon_deg) -> float:

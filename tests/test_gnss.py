@@ -43,6 +43,16 @@ def test_dead_reckon_closed_square_returns_home():
     assert gnss.path_length_m(lat, lon) == pytest.approx(160.0, rel=1e-9)
 
 
+def test_dead_reckon_matches_chained_destination():
+    rng = np.random.default_rng(0)
+    b, d = rng.uniform(0, 360, 50), rng.uniform(0.5, 1.0, 50)
+    lat, lon = gnss.dead_reckon(24.18, 120.60, b, d)
+    la, lo = 24.18, 120.60
+    for i in range(50):
+        la, lo = gnss.destination(la, lo, b[i], d[i])
+        assert (lat[i + 1], lon[i + 1]) == (pytest.approx(la, abs=1e-12), pytest.approx(lo, abs=1e-12))
+
+
 def test_dateline_wrap():
     lat, lon = gnss.destination(0.0, 179.9999, 90.0, 100.0)
     assert -180 <= lon < -179.99

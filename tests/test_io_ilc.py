@@ -212,3 +212,39 @@ def test_folder_missing_raises(tmp_path):
         ilc.load_ilc_floor(tmp_path / "nope")
     with pytest.raises(ValueError, match="expected path_data_files/ or exactly one"):
         ilc.list_ilc_traces(tmp_path)
+
+
+# ---------------------------------------------------------------------------- waypoint interpolation, fingerprints
+
+def test_interpolate_waypoints(tmp_path):
+    tr = ilc.load_ilc_trace(_write(tmp_path, _good_lines()))
+    xy = ilc.interpolate_waypoints(tr.waypoints, [1.0, 1.05, 1.1])
+    np.testing.assert_allclose(xy, [[10, 20], [11.5, 22], [13, 24]])
+    with pytest.raises(ValueError, match=r"t_s\[1\] = 1.2 is outside the waypoint time span"):
+        ilc.interpolate_waypoints(tr.waypoints, [1.05, 1.2])
+    assert np.isnan(ilc.interpolate_waypoints(tr.waypoints, [0.9], outside="nan")).all()
+
+
+def test_fingerprints_from_crafted_trace(tmp_path):
+    tr = ilc.load_ilc_trace(_write(tmp_path, _good_lines()))
+    fp = ilc.ilc_fingerprints([tr])
+    f = fp.fingerprints
+    assert f.n_samples == 2 and f.ap_ids == ("aa:bb:cc:dd:ee:01", "aa:bb:cc:dd:ee:02")
+    np.testing.assert_allclose(f.rssi_dbm, [[-50, -70], [-52, np.nan]])
+    np.testing.assert_allclose(f.xy_m, [[11.5, 22.0], [12.7, 23.6]])
+    # AP 02 was last seen 5 ms before its scan, AP 01 10 ms and 5 ms before
+    old = ilc.ilc_fingerprints([tr], max_age_s=0.007)
+    assert old.n_stale_dropped == 1
+    assert np.isnan(old.fingerprints.rssi_dbm[0, 0]) and old.fingerprints.rssi_dbm[0, 1] == -70
+
+
+def test_fingerprints_outside_policy_on_real_walks(shared_data):
+    floor = _floor(str(shared_data("ilc2020_site2_F4")))
+    with pytest.raises(ValueError, match="outside the waypoint time span.*outside='drop'"):
+        ilc.ilc_fingerprints(floor.traces)
+    fp = ilc.ilc_fingerprints(floor.traces, outside="drop")
+    assert len(fp.scans) == 268 and fp.n_outside == 9
+    assert fp.fingerprints.n_samples == 268 - 9 == fp.scans["used"].sum()
+    assert floor.floor_map.walkable(fp.fingerprints.x_m, fp.fingerprints.y_m).mean() > 0.9
+    heard = np.isfinite(fp.fingerprints.rssi_dbm).sum(axis=1)
+    assert (heard >= 1).all() and np.median(heard) > 50

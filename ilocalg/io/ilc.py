@@ -18,6 +18,11 @@ record type                            values                                   
 ``TYPE_BEACON``, ``TYPE_BLUE``, ...    (iBeacon / Bluetooth / others)                      skipped, counted
 =====================================  ==================================================  ==========
 
+The sensors' ``accuracy`` column is checked for presence but not kept. Besides the documented
+types, the site2/F4 traces also hold ``TYPE_BLUE``, ``TYPE_BLU4``, ``TYPE_DIST1``, ``TYPE_DIST2``
+and ``TYPE_SENSOR_MAGNETIC_FIELD_ACCURACY_CHANGED`` records: skipped and counted like any
+unknown type (:attr:`IlcTrace.skipped`).
+
 Lines starting with ``#`` carry the header: ``startTime``, site and floor ids and names, phone
 brand/model/Android version, one line per sensor (type, name, vendor, resolution, range) and
 ``endTime`` at the end. Header key/value pairs are returned in :attr:`IlcTrace.header`.
@@ -45,6 +50,12 @@ Duplicate BSSIDs within one scan
 Sensor timestamps
     Must be strictly increasing per sensor type (true in all 19 traces inspected); duplicates or
     decreasing times raise a ValueError naming the line. Waypoint times likewise.
+
+Fingerprints from walks
+-----------------------
+:func:`ilc_fingerprints` positions every scan by linear interpolation of its walk's waypoints
+in time (:func:`interpolate_waypoints`, no extrapolation: scans outside the waypoint span raise
+or are left out and counted) and optionally leaves out stale AP readings (``max_age_s``).
 
 Floor map
 ---------
@@ -84,6 +95,7 @@ from ilocalg.io.schema import (
     T_S,
     X_M,
     Y_M,
+    FingerprintSet,
     check_imu,
     check_waypoints,
     check_wifi_scans,
@@ -100,6 +112,9 @@ __all__ = [
     "load_ilc_floor",
     "load_ilc_floor_map",
     "points_in_polygon",
+    "interpolate_waypoints",
+    "IlcFingerprints",
+    "ilc_fingerprints",
 ]
 
 ROTVEC_COLS = ("rv_x", "rv_y", "rv_z")
@@ -589,3 +604,135 @@ def load_ilc_floor(root, names=None, duplicate_bssid: str = "error") -> IlcFloor
         raise ValueError(f"{r}: no trace files (path_data_files/*.txt)")
     traces = {k: parse_ilc_trace(t, src, duplicate_bssid=duplicate_bssid) for k, (t, src) in sorted(texts.items())}
     return IlcFloor(traces=traces, floor_map=fmap, source=str(r))
+
+
+# ----------------------------------------------------------------------------------------------
+# positions at arbitrary times, fingerprints from walks
+# ----------------------------------------------------------------------------------------------
+
+def interpolate_waypoints(waypoints: pd.DataFrame, t_s, outside: str = "error") -> np.ndarray:
+    """Positions at times ``t_s`` by linear interpolation between the surveyor's waypoints.
+
+    Parameters
+    ----------
+    waypoints : DataFrame
+        ``t_s, x_m, y_m`` (strictly increasing times, at least 2 rows).
+    t_s : array_like, shape (n,)
+    outside : {"error", "nan"}
+        Times before the first or after the last waypoint raise (``"error"``) or give NaN rows
+        (``"nan"``); nothing is extrapolated.
+
+    Returns
+    -------
+    ndarray, shape (n, 2), metres
+    """
+    if outside not in ("error", "nan"):
+        raise ValueError(f"outside must be 'error' or 'nan', got {outside!r}")
+    check_waypoints(waypoints, "waypoints")
+    if len(waypoints) < 2:
+        raise ValueError(f"need at least 2 waypoints to interpolate, got {len(waypoints)}")
+    tw = waypoints[T_S].to_numpy(dtype=np.float64)
+    t = np.asarray(t_s, dtype=np.float64)
+    out = (t < tw[0]) | (t > tw[-1]) | ~np.isfinite(t)
+    if outside == "error" and out.any():
+        i = int(np.flatnonzero(out)[0])
+        raise ValueError(f"t_s[{i}] = {float(t[i])!r} is outside the waypoint time span "
+                         f"[{float(tw[0])!r}, {float(tw[-1])!r}] "
+                         "(pass outside='nan' to get NaN there)")
+    xy = np.column_stack([np.interp(t, tw, waypoints[X_M].to_numpy(dtype=np.float64)),
+                          np.interp(t, tw, waypoints[Y_M].to_numpy(dtype=np.float64))])
+    xy[out] = np.nan
+    return xy
+
+
+@dataclass(frozen=True)
+class IlcFingerprints:
+    """Wi-Fi fingerprints made from ILC walks.
+
+    Attributes
+    ----------
+    fingerprints : FingerprintSet
+        One sample per used scan; ``meta`` has ``trace, scan_id, t_s``.
+    scans : DataFrame
+        Every scan of the given traces: ``trace, scan_id, t_s, x_m, y_m, n_aps, n_stale, used`` and
+        ``reason`` (``""``, ``"outside waypoint span"`` or ``"no AP left"``).
+    n_outside, n_stale_dropped : int
+        Scans left out for lying outside their walk's waypoint span; AP readings left out for being
+        older than ``max_age_s``.
+    """
+
+    fingerprints: FingerprintSet
+    scans: pd.DataFrame
+    n_outside: int
+    n_stale_dropped: int
+
+
+def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = None) -> IlcFingerprints:
+    """Build a fingerprint set from ILC walks: each scan positioned by interpolating its walk's waypoints.
+
+    Parameters
+    ----------
+    traces : dict[str, IlcTrace] or iterable of IlcTrace
+    outside : {"error", "drop"}
+        Scans before the first / after the last waypoint of their walk raise, or are left out
+        and counted (``n_outside``). In the 19 site2/F4 traces 9 of 268 scans lie after the
+        last waypoint.
+    max_age_s : float or None
+        Leave out (and count) AP readings whose last-seen time is more than this before the
+        scan (Android reports cached results, often tens of seconds old); ``None`` keeps all.
+
+    Returns
+    -------
+    IlcFingerprints
+    """
+    if outside not in ("error", "drop"):
+        raise ValueError(f"outside must be 'error' or 'drop', got {outside!r}")
+    if max_age_s is not None and not max_age_s >= 0:
+        raise ValueError(f"max_age_s must be >= 0 or None, got {max_age_s!r}")
+    items = list(traces.values() if isinstance(traces, dict) else traces)
+    if not items:
+        raise ValueError("ilc_fingerprints: no traces given")
+    scan_rows, samples = [], []
+    n_stale_total = 0
+    for tr in items:
+        w = tr.wifi
+        if not len(w):
+            continue
+        st = w.groupby(SCAN_ID, sort=True)[T_S].first()
+        xy = interpolate_waypoints(tr.waypoints, st.to_numpy(), outside="nan")
+        if outside == "error" and np.isnan(xy[:, 0]).any():
+            i = int(np.flatnonzero(np.isnan(xy[:, 0]))[0])
+            raise ValueError(f"{tr.source}: scan {int(st.index[i])} at t_s={float(st.iloc[i])!r} lies outside the "
+                             "waypoint time span (pass outside='drop' to leave such scans out, counted)")
+        stale = np.zeros(len(w), dtype=bool)
+        if max_age_s is not None:
+            stale = (w[T_S] - w["last_seen_s"]).to_numpy() > max_age_s
+        for i, (sid, t) in enumerate(st.items()):
+            rows = (w[SCAN_ID] == sid).to_numpy()
+            n_st = int((rows & stale).sum())
+            keep = rows & ~stale
+            reason = ""
+            if np.isnan(xy[i, 0]):
+                reason = "outside waypoint span"
+            elif not keep.any():
+                reason = "no AP left"
+            else:
+                n_stale_total += n_st
+                samples.append((tr.name, int(sid), float(t), xy[i], w.loc[keep, [BSSID, RSSI_DBM]]))
+            scan_rows.append({"trace": tr.name, SCAN_ID: int(sid), T_S: float(t), X_M: xy[i, 0], Y_M: xy[i, 1],
+                              "n_aps": int(rows.sum()), "n_stale": n_st, "used": reason == "", "reason": reason})
+    scans = pd.DataFrame(scan_rows)
+    if not samples:
+        raise ValueError("ilc_fingerprints: no usable scan in the given traces")
+    ap_ids = sorted({b for s in samples for b in s[4][BSSID].tolist()})
+    col = {b: j for j, b in enumerate(ap_ids)}
+    rssi = np.full((len(samples), len(ap_ids)), np.nan)
+    for i, s in enumerate(samples):
+        rssi[i, [col[b] for b in s[4][BSSID].tolist()]] = s[4][RSSI_DBM].to_numpy(dtype=np.float64)
+    meta = pd.DataFrame({"trace": [s[0] for s in samples], SCAN_ID: [s[1] for s in samples],
+                         T_S: [s[2] for s in samples]})
+    xy = np.array([s[3] for s in samples])
+    fps = FingerprintSet(rssi_dbm=rssi, ap_ids=tuple(ap_ids), x_m=xy[:, 0], y_m=xy[:, 1], meta=meta,
+                         source=f"ILC walks ({len(items)} traces)")
+    n_out = int((scans["reason"] == "outside waypoint span").sum())
+    return IlcFingerprints(fingerprints=fps, scans=scans, n_outside=n_out, n_stale_dropped=n_stale_total)

@@ -44,7 +44,8 @@ def trace_summary(trace) -> dict:
 
     Keys: ``trace``, ``duration_s`` (IMU span), ``imu_rate_hz``, ``n_imu``, ``n_scans``,
     ``scan_interval_s`` (median), ``aps_per_scan_median``, ``aps_per_scan_max``, ``n_bssids``,
-    ``rssi_median_dbm``, ``n_waypoints``, ``walk_length_m``, ``mean_speed_mps`` (walk length over the
+    ``rssi_median_dbm``, ``ap_age_median_s`` (scan time minus the AP's last-seen time: Android
+    reports cached readings), ``n_waypoints``, ``walk_length_m``, ``mean_speed_mps`` (walk length over the
     waypoint time span), ``n_skipped`` (records skipped), ``n_duplicate_bssid_dropped``.
     """
     imu_t = trace.imu.index.to_numpy(dtype=np.float64)
@@ -65,6 +66,8 @@ def trace_summary(trace) -> dict:
         "aps_per_scan_max": int(aps.max()) if aps.size else 0,
         "n_bssids": int(wifi[BSSID].nunique()) if len(wifi) else 0,
         "rssi_median_dbm": float(wifi["rssi_dbm"].median()) if len(wifi) else float("nan"),
+        "ap_age_median_s": (float((wifi[T_S] - wifi["last_seen_s"]).median())
+                            if len(wifi) and "last_seen_s" in wifi else float("nan")),
         "n_waypoints": int(len(wp)),
         "walk_length_m": length,
         "mean_speed_mps": length / span if span and np.isfinite(span) and span > 0 else float("nan"),
