@@ -43,3 +43,11 @@ def test_bad_input():
         detect_steps_peak_window(np.ones(2), t[:2])
     with pytest.raises(ValueError, match="one time per sample"):
         detect_steps_peak_window(np.ones(50), t[:40])
+    irregular = t.copy()
+    irregular[25:] += 0.3
+    with pytest.raises(ValueError, match="irregularly sampled"):
+        detect_steps_peak_window(np.ones(50), irregular)
+    backwards = t.copy()
+    backwards[10] = backwards[8]
+    with pytest.raises(ValueError, match="strictly increasing"):
+        detect_steps_peak_window(np.ones(50), backwards)
