@@ -80,6 +80,17 @@ def test_learned_ranges_are_quantiles():
     np.testing.assert_allclose(r["max"], 95.0)
 
 
+def test_vote_relaxes_the_all_tests_rule():
+    waves = pd.DataFrame({f: [1.0, 5.0, 5.0] for f in sam.SAM_FEATURES})
+    waves.loc[1, "A"] = 50.0                                   # fails one test
+    waves.loc[2, ["A", "X1"]] = 50.0                           # fails two
+    r = pd.DataFrame({"min": 0.0, "max": 10.0}, index=pd.Index(sam.SAM_FEATURES, name="feature"))
+    np.testing.assert_array_equal(sam.in_ranges(waves, r), [True, False, False])
+    np.testing.assert_array_equal(sam.in_ranges(waves, r, min_pass=6), [True, True, False])
+    with pytest.raises(ValueError, match="min_pass"):
+        sam.in_ranges(waves, r, min_pass=8)
+
+
 def test_bad_input():
     t = np.arange(100) / 50.0
     acc = np.tile([0.0, 0.0, 9.8], (100, 1))

@@ -190,19 +190,27 @@ def learn_feature_ranges(features: pd.DataFrame, q_low: float = 0.05, q_high: fl
     return out
 
 
-def in_ranges(waves: pd.DataFrame, ranges: pd.DataFrame, features=SAM_TESTED_FEATURES) -> np.ndarray:
-    """Boolean mask of the waves whose tested features all lie inside ``ranges`` (inclusive)."""
-    ok = np.ones(len(waves), dtype=bool)
+def in_ranges(waves: pd.DataFrame, ranges: pd.DataFrame, features=SAM_TESTED_FEATURES,
+              min_pass: int | None = None) -> np.ndarray:
+    """Boolean mask of the waves whose tested features lie inside ``ranges`` (inclusive).
+
+    ``min_pass`` (default: all features, the thesis's rule) is how many of the tests must pass;
+    fewer is a beyond-the-paper vote.
+    """
+    k = len(features) if min_pass is None else int(min_pass)
+    if not 1 <= k <= len(features):
+        raise ValueError(f"min_pass must lie in [1, {len(features)}], got {min_pass}")
+    n_ok = np.zeros(len(waves), dtype=np.int64)
     for f in features:
         if f not in ranges.index:
             raise ValueError(f"ranges lack feature {f!r}")
         x = waves[f].to_numpy()
-        ok &= (x >= ranges.loc[f, "min"]) & (x <= ranges.loc[f, "max"])
-    return ok
+        n_ok += (x >= ranges.loc[f, "min"]) & (x <= ranges.loc[f, "max"])
+    return n_ok >= k
 
 
 def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=None,
-                     w_peak_s: float = 0.25, w_wave_s: float = 0.5) -> pd.DataFrame:
+                     w_peak_s: float = 0.25, w_wave_s: float = 0.5, min_pass: int | None = None) -> pd.DataFrame:
     """SAM step detection: the waves of :func:`sam_waves` whose features lie in ``ranges``.
 
     Parameters
@@ -211,6 +219,8 @@ def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=
         Learned ranges (:func:`learn_feature_ranges`); default the thesis's Table 1
         (:data:`SAM_RANGES_PAPER`, which presumes the thesis's phone and sample rate: X1 grows with
         the number of samples in a window, so learn ranges for other rates).
+    min_pass : int, optional
+        How many of the seven range tests must pass (default all seven, the thesis's rule).
 
     Returns
     -------
@@ -224,7 +234,7 @@ def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=
     """
     waves = sam_waves(acc_mps2, t_s, g0_mps2, w_peak_s, w_wave_s)
     r = SAM_RANGES_PAPER if ranges is None else ranges
-    return waves[in_ranges(waves, r)].reset_index(drop=True)
+    return waves[in_ranges(waves, r, SAM_TESTED_FEATURES, min_pass)].reset_index(drop=True)
 
 
 class SAMDetector:
