@@ -1,0 +1,227 @@
+"""VA: view-angle photo positioning by gradient descent.
+
+The angle between the viewing rays of two PoIs does not depend on the phone's orientation: it is
+measured in the photo from the two screen points and the focal length
+(:func:`ilocalg.photo.camera.ray_angle_rad`). From a candidate centre ``c`` the same angle is
+``theta_ij(c) = angle(p_i - c, p_j - c)``. VA minimises
+
+    J(c) = sum_{i<j} (theta_ij(c) - theta_ij_measured)^2
+
+by gradient descent from an initial guess ``c0``. With two PoIs there is one angle for three
+unknowns (a surface of solutions), and collinear PoIs leave the rotation of ``c`` about their line
+undetermined, so the answer depends on ``c0``; the thesis compares a good and a bad initial guess
+(VAGIG, VABIG).
+
+The descent is monotone gradient descent with Barzilai-Borwein step lengths and backtracking
+(a step that does not lower ``J`` is rejected and its length multiplied by ``shrink``), vectorised
+over a batch of photos. It stops at the local minimum nearest (downhill) from ``c0``; it does not
+search globally, which is the behaviour the thesis attributes VA's errors to.
+
+References
+----------
+i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.3, the view-angle algorithm VA, VAGIG and VABIG,
+Figs 29-32.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+
+from ilocalg.photo.camera import ray_angle_rad, validate_points
+
+__all__ = [
+    "pair_index",
+    "view_angles_rad",
+    "measured_view_angles_rad",
+    "va_cost",
+    "va_gradient",
+    "va_solve_batch",
+    "va_solve",
+    "VAResult",
+    "ViewAngle",
+]
+
+_EPS = 1e-12
+
+
+def pair_index(n: int) -> np.ndarray:
+    """All PoI pairs ``(i, j)``, ``i < j``, as an int array (n (n-1) / 2, 2)."""
+    if n < 2:
+        raise ValueError(f"VA needs at least 2 PoIs, got {n}")
+    return np.array(list(combinations(range(n), 2)), dtype=int)
+
+
+def view_angles_rad(c_m, pois_m) -> np.ndarray:
+    """View angles (B, m) between every PoI pair seen from centres ``c_m`` (B, 3); ``pois_m`` (B, n, 3)."""
+    c = np.asarray(c_m, dtype=float)
+    P = np.asarray(pois_m, dtype=float)
+    pr = pair_index(P.shape[-2])
+    u = P[..., pr[:, 0], :] - c[..., None, :]
+    v = P[..., pr[:, 1], :] - c[..., None, :]
+    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
+
+
+def measured_view_angles_rad(img_px, f_px: float) -> np.ndarray:
+    """View angles (..., m) between every pair of screen points ``img_px`` (..., n, 2), from the photo only."""
+    U = np.asarray(img_px, dtype=float)
+    pr = pair_index(U.shape[-2])
+    return ray_angle_rad(U[..., pr[:, 0], :], U[..., pr[:, 1], :], f_px)
+
+
+def va_cost(c_m, pois_m, angles_rad) -> np.ndarray:
+    """``J(c)`` (B,), the sum of squared view-angle mismatches (rad^2)."""
+    r = view_angles_rad(c_m, pois_m) - np.asarray(angles_rad, dtype=float)
+    return np.sum(r * r, axis=-1)
+
+
+def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
+    """Analytic gradient ``dJ/dc`` (B, 3) in rad^2/m.
+
+    With ``u = p_i - c``, ``v = p_j - c`` and ``theta`` their angle,
+    ``d theta / d c = (v^ - cos(theta) u^) / (|u| sin(theta)) + (u^ - cos(theta) v^) / (|v| sin(theta))``.
+    """
+    c = np.asarray(c_m, dtype=float)
+    P = np.asarray(pois_m, dtype=float)
+    pr = pair_index(P.shape[-2])
+    u = P[..., pr[:, 0], :] - c[..., None, :]
+    v = P[..., pr[:, 1], :] - c[..., None, :]
+    nu = np.linalg.norm(u, axis=-1, keepdims=True)
+    nv = np.linalg.norm(v, axis=-1, keepdims=True)
+    uh, vh = u / np.maximum(nu, _EPS), v / np.maximum(nv, _EPS)
+    cos = np.sum(uh * vh, axis=-1, keepdims=True)
+    sin = np.linalg.norm(np.cross(uh, vh), axis=-1, keepdims=True)
+    theta = np.arctan2(sin, cos)
+    sin = np.maximum(sin, 1e-9)
+    dtheta = (vh - cos * uh) / (nu * sin) + (uh - cos * vh) / (nv * sin)
+    r = theta - np.asarray(angles_rad, dtype=float)[..., None]
+    return np.sum(2.0 * r * dtheta, axis=-2)
+
+
+def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: float = 0.5,
+                   grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-9) -> dict[str, np.ndarray]:
+    """Gradient descent on ``J(c)`` for a batch of photos.
+
+    Parameters
+    ----------
+    pois_m : array (B, n, 3) or (n, 3)
+        PoI world positions, metres.
+    angles_rad : array (B, m)
+        Measured view angles for the pairs of :func:`pair_index` ``(n)``.
+    c0_m : array (B, 3)
+        Initial guesses, metres.
+    max_iter : int
+        Maximum number of descent iterations.
+    step0_m : float
+        Length of the first step (m) along the steepest-descent direction.
+    grow, shrink : float
+        Step factor when the curvature estimate is not positive / after a rejected step.
+    step_tol_m : float
+        A photo has converged when its next step is shorter than this (m).
+
+    Returns
+    -------
+    dict with ``c_m`` (B, 3), ``cost`` (B,) in rad^2, ``n_iter`` (B,) and ``converged`` (B,) bool.
+
+    References
+    ----------
+    i-Loc thesis, sec. 6.3 (VA is "a gradient algorithm" whose result depends on the initial value).
+    """
+    a = np.asarray(angles_rad, dtype=float)
+    c = np.array(c0_m, dtype=float, copy=True)
+    if c.ndim != 2 or c.shape[1] != 3:
+        raise ValueError(f"c0_m must have shape (B, 3), got {c.shape}")
+    P = np.broadcast_to(np.asarray(pois_m, dtype=float), (c.shape[0],) + np.shape(pois_m)[-2:])
+    if a.shape != (c.shape[0], pair_index(P.shape[1]).shape[0]):
+        raise ValueError(f"angles_rad must have shape (B, n(n-1)/2) = ({c.shape[0]}, "
+                         f"{pair_index(P.shape[1]).shape[0]}), got {a.shape}")
+    if not (np.isfinite(a).all() and np.isfinite(c).all()):
+        raise ValueError("angles_rad and c0_m must be finite")
+    B = c.shape[0]
+    J = va_cost(c, P, a)
+    g = va_gradient(c, P, a)
+    gn = np.linalg.norm(g, axis=1)
+    # first step moves step0_m along the steepest descent direction
+    alpha = float(step0_m) / np.where(gn > 0, gn, 1.0)
+    n_iter = np.zeros(B, dtype=int)
+    active = gn > 0
+    for _ in range(max_iter):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        gi = g[idx]
+        trial = c[idx] - alpha[idx, None] * gi
+        Jt = va_cost(trial, P[idx], a[idx])
+        ok = Jt < J[idx]
+        n_iter[idx] += 1
+        # rejected steps: backtrack
+        alpha[idx[~ok]] *= shrink
+        acc = idx[ok]
+        if acc.size:
+            gt = va_gradient(trial[ok], P[acc], a[acc])
+            s_ = trial[ok] - c[acc]
+            y_ = gt - g[acc]
+            sy = np.sum(s_ * y_, axis=1)
+            ss = np.sum(s_ * s_, axis=1)
+            # Barzilai-Borwein step for the next iteration (grow when curvature is not positive)
+            alpha[acc] = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), alpha[acc] * grow)
+            c[acc] = trial[ok]
+            J[acc] = Jt[ok]
+            g[acc] = gt
+        steplen = alpha[idx] * np.linalg.norm(g[idx], axis=1)
+        active[idx] = steplen > step_tol_m
+    return {"c_m": c, "cost": J, "n_iter": n_iter, "converged": ~active}
+
+
+@dataclass(frozen=True)
+class VAResult:
+    """Result of :func:`va_solve`: centre ``c_m`` (3,), final ``cost`` (rad^2), ``n_iter``, ``converged``."""
+
+    c_m: np.ndarray
+    cost: float
+    n_iter: int
+    converged: bool
+
+
+def va_solve(pois_m, img_px, f_px: float, c0_m, **kw) -> VAResult:
+    """Camera centre of one photo from its PoI view angles (VA), starting at ``c0_m``.
+
+    Parameters
+    ----------
+    pois_m : array (n, 3)
+        PoI world positions, metres, ``n >= 2``.
+    img_px : array (n, 2)
+        Screen points, pixels from the image centre.
+    f_px : float
+        Focal length, pixels.
+    c0_m : array (3,)
+        Initial guess, metres.
+    **kw
+        Passed to :func:`va_solve_batch`.
+
+    References
+    ----------
+    i-Loc thesis, sec. 6.3, VA.
+    """
+    P, U = validate_points(pois_m, img_px, f_px, min_points=2)
+    c0 = np.asarray(c0_m, dtype=float)
+    if c0.shape != (3,):
+        raise ValueError(f"c0_m must have shape (3,), got {c0.shape}")
+    out = va_solve_batch(P[None], measured_view_angles_rad(U, f_px)[None], c0[None], **kw)
+    return VAResult(c_m=out["c_m"][0], cost=float(out["cost"][0]), n_iter=int(out["n_iter"][0]),
+                    converged=bool(out["converged"][0]))
+
+
+class ViewAngle:
+    """Thin wrapper around :func:`va_solve` holding the focal length and descent settings."""
+
+    def __init__(self, f_px: float, max_iter: int = 2000, step0_m: float = 0.5):
+        self.f_px = f_px
+        self.max_iter = max_iter
+        self.step0_m = step0_m
+
+    def locate(self, pois_m, img_px, c0_m) -> VAResult:
+        """Camera centre of one photo from initial guess ``c0_m``; see :func:`va_solve`."""
+        return va_solve(pois_m, img_px, self.f_px, c0_m, max_iter=self.max_iter, step0_m=self.step0_m)
