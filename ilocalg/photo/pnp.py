@@ -55,7 +55,8 @@ def pnp_solve(pois_m, img_px, f_px: float) -> PnPResult:
     if s[1] < 1e-9 * max(s[0], 1e-300):
         raise ValueError("pois_m are collinear: PnP cannot determine the rotation about their line")
     K = intrinsics(f_px)
-    ok, rvec, tvec = cv2.solvePnP(P.reshape(-1, 1, 3), U.reshape(-1, 1, 2), K, None, flags=cv2.SOLVEPNP_SQPNP)
+    ok, rvec, tvec = cv2.solvePnP(np.ascontiguousarray(P).reshape(-1, 1, 3), np.ascontiguousarray(U).reshape(-1, 1, 2),
+                                  K, None, flags=cv2.SOLVEPNP_SQPNP)
     if not ok:
         raise ValueError("cv2.solvePnP (SQPnP) failed")
     R, _ = cv2.Rodrigues(rvec)

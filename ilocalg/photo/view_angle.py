@@ -101,7 +101,8 @@ def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
 
 
 def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: float = 0.5,
-                   grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-9) -> dict[str, np.ndarray]:
+                   grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-7,
+                   free_z: bool = True) -> dict[str, np.ndarray]:
     """Gradient descent on ``J(c)`` for a batch of photos.
 
     Parameters
@@ -120,6 +121,9 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
         Step factor when the curvature estimate is not positive / after a rejected step.
     step_tol_m : float
         A photo has converged when its next step is shorter than this (m).
+    free_z : bool
+        ``True`` (default) searches all three coordinates; ``False`` keeps each ``c``'s height at
+        its initial value (a 2-D search on the floor map at a known phone height).
 
     Returns
     -------
@@ -140,8 +144,13 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
     if not (np.isfinite(a).all() and np.isfinite(c).all()):
         raise ValueError("angles_rad and c0_m must be finite")
     B = c.shape[0]
+    mask = np.array([1.0, 1.0, 1.0 if free_z else 0.0])
+
+    def grad(cc, PP, aa):
+        return va_gradient(cc, PP, aa) * mask
+
     J = va_cost(c, P, a)
-    g = va_gradient(c, P, a)
+    g = grad(c, P, a)
     gn = np.linalg.norm(g, axis=1)
     # first step moves step0_m along the steepest descent direction
     alpha = float(step0_m) / np.where(gn > 0, gn, 1.0)
@@ -160,7 +169,7 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
         alpha[idx[~ok]] *= shrink
         acc = idx[ok]
         if acc.size:
-            gt = va_gradient(trial[ok], P[acc], a[acc])
+            gt = grad(trial[ok], P[acc], a[acc])
             s_ = trial[ok] - c[acc]
             y_ = gt - g[acc]
             sy = np.sum(s_ * y_, axis=1)
@@ -217,11 +226,13 @@ def va_solve(pois_m, img_px, f_px: float, c0_m, **kw) -> VAResult:
 class ViewAngle:
     """Thin wrapper around :func:`va_solve` holding the focal length and descent settings."""
 
-    def __init__(self, f_px: float, max_iter: int = 2000, step0_m: float = 0.5):
+    def __init__(self, f_px: float, max_iter: int = 2000, step0_m: float = 0.5, free_z: bool = True):
         self.f_px = f_px
         self.max_iter = max_iter
         self.step0_m = step0_m
+        self.free_z = free_z
 
     def locate(self, pois_m, img_px, c0_m) -> VAResult:
         """Camera centre of one photo from initial guess ``c0_m``; see :func:`va_solve`."""
-        return va_solve(pois_m, img_px, self.f_px, c0_m, max_iter=self.max_iter, step0_m=self.step0_m)
+        return va_solve(pois_m, img_px, self.f_px, c0_m, max_iter=self.max_iter, step0_m=self.step0_m,
+                        free_z=self.free_z)

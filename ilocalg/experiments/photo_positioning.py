@@ -1,0 +1,294 @@
+"""i-Loc photo positioning: ST vs VA over shooting points and PoI combinations (thesis Figs 29-32).
+
+``run(seed, fast, **params)`` simulates photos of the PoI wall (:mod:`ilocalg.sim.photo_poi`), locates
+every photo with every combination of 2..7 PoIs (120 combinations) by ST (similar triangles with the
+sensor orientation), VAGIG and VABIG (view angles from a good and a bad initial guess) and, for
+combinations of >= 4 PoIs, by OpenCV's SQPnP and by a wall homography, and scores the horizontal
+(floor-map) error in centimetres against the true camera centre.
+
+Tables returned
+---------------
+``layout_pois``, ``layout_shots``
+    The simulated set-up (Figs 27-28).
+``inputs``
+    The simulation inputs used (sources in :mod:`ilocalg.sim.photo_poi`).
+``per_shot`` (Fig 29)
+    Mean error per shooting point and method, with the distance to ``p4``.
+``distance_trend``
+    Per method: Spearman correlation and least-squares slope of the per-shot mean error against the
+    distance to ``p4`` (the thesis's explanation of Fig 29).
+``per_k`` (Fig 30)
+    Mean error per number of PoIs and method.
+``per_combo`` (Fig 31)
+    Mean error per PoI combination and method, with the median ST condition number and the
+    smallest PoI-pair view angle.
+``combo_geometry``
+    Spearman correlation, over combinations, of each method's error with the ST condition number and
+    with the smallest view angle.
+``near_collinear`` (Fig 32)
+    The thesis's near-collinear combinations {1,3}, {1,4}, {5,6}, {1,3,4} beside the mean of all
+    combinations of the same size.
+``modern``
+    ST with sensor and with true orientation, SQPnP and homography per number of PoIs (>= 4).
+``propagation``
+    ST with all seven PoIs: Monte-Carlo RMS 3-D error per shooting point beside the first-order
+    prediction from the orientation and drag errors (:func:`ilocalg.photo.st_error_propagation`).
+``va_convergence``
+    Share of VA runs that converged and their mean iteration count.
+``comparison``
+    Paper values (Fig 30 text, overall means) beside the reproduced ones (``paper_ref`` rows).
+``errors``
+    Long table, one row per photo, combination and method (for plots).
+
+References
+----------
+i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.3, Figs 29-32; survey 002, sec. 4, eq. (3)-(5).
+"""
+
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.photo import (
+    homography_dlt,
+    homography_pose,
+    measured_view_angles_rad,
+    pnp_solve_batch,
+    st_error_propagation,
+    st_solve_batch,
+    va_solve_batch,
+    view_angles_rad,
+)
+from ilocalg.reporting import paper_ref
+from ilocalg.sim import photo_poi
+
+__all__ = ["run", "combo_label", "NEAR_COLLINEAR_PAPER", "PAPER", "METHODS"]
+
+#: Methods of the thesis's comparison (Figs 29-32).
+METHODS = ("ST", "VAGIG", "VABIG")
+
+#: Published values, thesis sec. 6.3 (paper reference only; never used in any computation).
+PAPER = {
+    "fig30_ST_k2_cm": 112.0,  # paper: ST error with 2 PoIs
+    "fig30_ST_k7_cm": 48.0,  # paper: ST error with 7 PoIs
+    "fig30_VABIG_k2_cm": 870.0,  # paper: VABIG error with 2 PoIs
+    "fig30_VABIG_k7_cm": 50.0,  # paper: VABIG error with 7 PoIs
+    "mean_ST_cm": 74.3,  # paper: overall mean, ST
+    "mean_VAGIG_cm": 88.9,  # paper: overall mean, VAGIG
+    "mean_VABIG_cm": 246.0,  # paper: overall mean, VABIG
+}
+
+#: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
+NEAR_COLLINEAR_PAPER = ((1, 3), (1, 4), (5, 6), (1, 3, 4))
+
+_PAPER_LABEL = "i-Loc thesis"
+
+
+def combo_label(combo) -> str:
+    """``(0, 2)`` -> ``"{1,3}"`` (1-based PoI numbers, as in the thesis)."""
+    return "{" + ",".join(str(i + 1) for i in combo) + "}"
+
+
+def _horizontal_error_cm(c_est, c_true):
+    return 100.0 * np.hypot(c_est[..., 0] - c_true[..., 0], c_est[..., 1] - c_true[..., 1])
+
+
+def _homography_batch(pois_m, img_px, f_px):
+    """World centres (B, 3) from PoIs on the wall y = 0 (plane axes x and z)."""
+    XY = pois_m[..., [0, 2]]
+    out = np.empty((img_px.shape[0], 3))
+    for b in range(img_px.shape[0]):
+        pose = homography_pose(homography_dlt(XY[b], img_px[b]), f_px)
+        # plane frame (e1 = x, e2 = z, e3 = e1 x e2 = -y) -> world
+        cp = pose.c_plane_m
+        out[b] = [cp[0], -cp[2], cp[1]]
+    return out
+
+
+def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = True,
+        va_max_iter: int = 2000, **sim_params) -> dict[str, pd.DataFrame]:
+    """Simulate, locate and score; see the module docstring for the tables.
+
+    Parameters
+    ----------
+    seed : int
+        Simulation seed.
+    fast : bool
+        Fewer photos per shooting point (2 instead of 10).
+    n_photos : int, optional
+        Photos per shooting point (overrides ``fast``).
+    va_free_z : bool
+        VA searches all three coordinates (default, as the thesis's ``c = [c_x c_y c_z]``) or only
+        the floor position at the initial height.
+    va_max_iter : int
+        Iteration cap of the VA gradient descent.
+    **sim_params
+        Overrides of :data:`ilocalg.sim.photo_poi.DEFAULTS` (e.g. ``drag_sd_px``).
+    """
+    n_photos = int(n_photos) if n_photos is not None else (2 if fast else 10)
+    sim = photo_poi.simulate(seed, n_photos=n_photos, **sim_params)
+    f = sim.f_px
+    N = sim.c_m.shape[0]
+    rows = []
+    conv_rows = []
+    combo_info = []
+    for k in range(2, 8):
+        combos = list(combinations(range(7), k))
+        C = len(combos)
+        idx = np.array(combos)  # (C, k)
+        P = np.broadcast_to(sim.pois_m[idx][None], (N, C, k, 3)).reshape(N * C, k, 3)
+        U = sim.img_px[:, idx].reshape(N * C, k, 2)
+        Tm = np.repeat(sim.T_meas, C, axis=0)
+        Tt = np.repeat(sim.T_true, C, axis=0)
+        ctrue = np.repeat(sim.c_m, C, axis=0)
+        est = {}
+        st = st_solve_batch(P, U, f, Tm)
+        if np.any(st["rank"] < 3):
+            raise ValueError("ST system rank deficient in the simulated set-up; the layout is degenerate")
+        est["ST"] = st["c_m"]
+        est["ST_true_orientation"] = st_solve_batch(P, U, f, Tt)["c_m"]
+        ang = measured_view_angles_rad(U, f)
+        for name, c0 in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m)):
+            va = va_solve_batch(P, ang, np.repeat(c0, C, axis=0), max_iter=va_max_iter, free_z=va_free_z)
+            est[name] = va["c_m"]
+            conv_rows.append({"method": name, "k": k, "converged_share": float(va["converged"].mean()),
+                              "mean_iterations": float(va["n_iter"].mean())})
+        if k >= 4:
+            est["PnP_SQPnP"] = pnp_solve_batch(P, U, f)
+            est["homography"] = _homography_batch(P, U, f)
+        cond = st["cond"].reshape(N, C)
+        va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
+        for j, combo in enumerate(combos):
+            combo_info.append({"combo": combo_label(combo), "k": k,
+                               "st_cond_median": float(np.median(cond[:, j])),
+                               "min_view_angle_deg": float(np.degrees(va_true[:, j].min(axis=1).mean()))})
+        shot = np.repeat(sim.shot_index, C)
+        photo = np.repeat(np.arange(N), C)
+        labels = np.tile(np.array([combo_label(c) for c in combos], dtype=object), N)
+        for name, c in est.items():
+            rows.append(pd.DataFrame({"photo": photo, "shot": shot + 1, "k": k, "combo": labels, "method": name,
+                                      "error_cm": _horizontal_error_cm(c, ctrue)}))
+    errors = pd.concat(rows, ignore_index=True)
+    if not np.isfinite(errors["error_cm"]).all():
+        bad = errors[~np.isfinite(errors["error_cm"])].iloc[0]
+        raise ValueError(f"non-finite error for {bad['method']} combo {bad['combo']} photo {bad['photo']}")
+    shots = photo_poi.shots_frame()
+
+    thesis = errors[errors["method"].isin(METHODS)]
+    per_shot = thesis.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_shot = per_shot.reset_index()
+    per_shot.insert(1, "dist_to_p4_m", shots["dist_to_p4_m"].to_numpy()[per_shot["shot"].to_numpy() - 1])
+    per_shot.columns.name = None
+
+    trend = []
+    for m in METHODS:
+        x = per_shot["dist_to_p4_m"].to_numpy()
+        y = per_shot[m].to_numpy()
+        rho = pd.Series(x).corr(pd.Series(y), method="spearman")
+        slope = np.polyfit(x, y, 1)[0]
+        trend.append({"method": m, "spearman_rho": float(rho), "slope_cm_per_m": float(slope),
+                      "error_t1_cm": float(y[0]), "error_t7_cm": float(y[-1])})
+    distance_trend = pd.DataFrame(trend)
+
+    per_k = thesis.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_k.insert(0, "n_combos", errors[errors["method"] == "ST"].groupby("k")["combo"].nunique())
+    per_k = per_k.reset_index()
+    per_k.columns.name = None
+
+    info = pd.DataFrame(combo_info)
+    per_combo = thesis.pivot_table(index="combo", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_combo = info.merge(per_combo.reset_index(), on="combo")
+    on_line = {0, 2, 3, 4, 5}
+    per_combo["on_horizontal_line"] = [set(int(i) - 1 for i in c.strip("{}").split(",")) <= on_line
+                                       for c in per_combo["combo"]]
+    per_combo.columns.name = None
+
+    cr = []
+    for m in METHODS:
+        for col in ("st_cond_median", "min_view_angle_deg"):
+            cr.append({"method": m, "versus": col, "spearman_rho_all_combos": float(
+                per_combo[col].corr(per_combo[m], method="spearman")),
+                "spearman_rho_pairs_only": float(per_combo.loc[per_combo["k"] == 2, col].corr(
+                    per_combo.loc[per_combo["k"] == 2, m], method="spearman"))})
+    combo_geometry = pd.DataFrame(cr)
+
+    nc = []
+    for combo in NEAR_COLLINEAR_PAPER:
+        lab = "{" + ",".join(map(str, combo)) + "}"
+        r = per_combo[per_combo["combo"] == lab].iloc[0]
+        same_k = per_combo[per_combo["k"] == len(combo)]
+        row = {"combo": lab, "k": len(combo), "st_cond_median": r["st_cond_median"],
+               "st_cond_median_all_same_k": float(same_k["st_cond_median"].median()),
+               "min_view_angle_deg": r["min_view_angle_deg"]}
+        for m in METHODS:
+            row[m] = r[m]
+            row[f"{m}_mean_same_k"] = float(same_k[m].mean())
+            row[f"{m}_rank_among_same_k"] = int((same_k[m] > r[m]).sum() + 1)
+        row["n_same_k"] = len(same_k)
+        nc.append(row)
+    near_collinear = pd.DataFrame(nc)
+
+    modern_methods = ["ST", "ST_true_orientation", "PnP_SQPnP", "homography"]
+    mod = errors[(errors["k"] >= 4) & errors["method"].isin(modern_methods)]
+    modern = mod.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[modern_methods]
+    med = mod.groupby("method")["error_cm"].mean()
+    modern.loc["all k>=4"] = [med[m] for m in modern_methods]
+    modern = modern.reset_index()
+    modern["k"] = modern["k"].astype(str)
+    modern.columns.name = None
+
+    # orientation-error propagation, all seven PoIs
+    p = sim.params
+    prop = st_error_propagation(sim.pois_m, sim.img_true_px, f, sim.T_true, np.deg2rad(p["tilt_sd_deg"]),
+                                np.deg2rad(p["yaw_sd_deg"]), p["drag_sd_px"])
+    st7 = st_solve_batch(sim.pois_m, sim.img_px, f, sim.T_meas)["c_m"]
+    err7 = np.linalg.norm(st7 - sim.c_m, axis=1)
+    pr = []
+    for s in range(7):
+        m = sim.shot_index == s
+        pr.append({"shot": s + 1, "dist_to_p4_m": float(shots["dist_to_p4_m"][s]),
+                   "mc_rms_3d_cm": 100 * float(np.sqrt(np.mean(err7[m] ** 2))),
+                   "predicted_rms_3d_cm": 100 * float(np.sqrt(np.mean(prop["rms_m"][m] ** 2))),
+                   "predicted_orientation_only_cm": 100 * float(np.sqrt(np.mean(
+                       np.trace(prop["cov_orientation_m2"][m], axis1=1, axis2=2)))),
+                   "predicted_drag_only_cm": 100 * float(np.sqrt(np.mean(
+                       np.trace(prop["cov_drag_m2"][m], axis1=1, axis2=2))))})
+    propagation = pd.DataFrame(pr)
+
+    overall = thesis.groupby("method")["error_cm"].mean()
+    k_means = per_k.set_index("k")
+    comp = [
+        paper_ref(_PAPER_LABEL, "Fig 30", "ST mean error, 2 PoIs", PAPER["fig30_ST_k2_cm"], k_means.loc[2, "ST"], "cm"),
+        paper_ref(_PAPER_LABEL, "Fig 30", "ST mean error, 7 PoIs", PAPER["fig30_ST_k7_cm"], k_means.loc[7, "ST"], "cm"),
+        paper_ref(_PAPER_LABEL, "Fig 30", "VABIG mean error, 2 PoIs", PAPER["fig30_VABIG_k2_cm"],
+                  k_means.loc[2, "VABIG"], "cm"),
+        paper_ref(_PAPER_LABEL, "Fig 30", "VABIG mean error, 7 PoIs", PAPER["fig30_VABIG_k7_cm"],
+                  k_means.loc[7, "VABIG"], "cm"),
+        paper_ref(_PAPER_LABEL, "Figs 29-30", "ST overall mean error", PAPER["mean_ST_cm"], overall["ST"], "cm",
+                  note="all 120 combinations x 7 shooting points"),
+        paper_ref(_PAPER_LABEL, "Figs 29-30", "VAGIG overall mean error", PAPER["mean_VAGIG_cm"], overall["VAGIG"],
+                  "cm", note="all 120 combinations x 7 shooting points"),
+        paper_ref(_PAPER_LABEL, "Figs 29-30", "VABIG overall mean error", PAPER["mean_VABIG_cm"], overall["VABIG"],
+                  "cm", note="all 120 combinations x 7 shooting points"),
+    ]
+    comparison = pd.DataFrame(comp)
+    inputs = pd.DataFrame({"parameter": list(p), "value": [float(v) for v in p.values()]})
+    return {
+        "layout_pois": photo_poi.pois_frame(),
+        "layout_shots": shots,
+        "inputs": inputs,
+        "per_shot": per_shot,
+        "distance_trend": distance_trend,
+        "per_k": per_k,
+        "per_combo": per_combo,
+        "near_collinear": near_collinear,
+        "combo_geometry": combo_geometry,
+        "modern": modern,
+        "propagation": propagation,
+        "va_convergence": pd.DataFrame(conv_rows),
+        "comparison": comparison,
+        "errors": errors,
+    }
