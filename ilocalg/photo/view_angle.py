@@ -100,8 +100,38 @@ def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
     return np.sum(2.0 * r * dtheta, axis=-2)
 
 
+def _cross(u, v):
+    ux, uy, uz = u[..., 0], u[..., 1], u[..., 2]
+    vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack([uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx], axis=-1)
+
+
+def _cost_grad(c, Pi, Pj, a, need_grad):
+    """Cost (B,) and optionally gradient (B, 3); ``Pi``, ``Pj`` (B, m, 3) are the pairs' PoIs."""
+    u = Pi - c[:, None, :]
+    v = Pj - c[:, None, :]
+    cr = _cross(u, v)
+    sin_uv = np.sqrt(np.einsum("bmk,bmk->bm", cr, cr))
+    dot = np.einsum("bmk,bmk->bm", u, v)
+    r = np.arctan2(sin_uv, dot) - a
+    J = np.einsum("bm,bm->b", r, r)
+    if not need_grad:
+        return J, None
+    nu = np.sqrt(np.einsum("bmk,bmk->bm", u, u))
+    nv = np.sqrt(np.einsum("bmk,bmk->bm", v, v))
+    nu = np.maximum(nu, _EPS)
+    nv = np.maximum(nv, _EPS)
+    cos = dot / (nu * nv)
+    sin = np.maximum(sin_uv / (nu * nv), 1e-9)
+    uh = u / nu[..., None]
+    vh = v / nv[..., None]
+    w = (2.0 * r / sin)[..., None]
+    g = np.sum(w * ((vh - cos[..., None] * uh) / nu[..., None] + (uh - cos[..., None] * vh) / nv[..., None]), axis=1)
+    return J, g
+
+
 def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: float = 0.5,
-                   grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-7,
+                   grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-10,
                    free_z: bool = True) -> dict[str, np.ndarray]:
     """Gradient descent on ``J(c)`` for a batch of photos.
 
@@ -145,31 +175,29 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
         raise ValueError("angles_rad and c0_m must be finite")
     B = c.shape[0]
     mask = np.array([1.0, 1.0, 1.0 if free_z else 0.0])
-
-    def grad(cc, PP, aa):
-        return va_gradient(cc, PP, aa) * mask
-
-    J = va_cost(c, P, a)
-    g = grad(c, P, a)
-    gn = np.linalg.norm(g, axis=1)
+    pr = pair_index(P.shape[1])
+    Pi = np.ascontiguousarray(P[:, pr[:, 0], :])
+    Pj = np.ascontiguousarray(P[:, pr[:, 1], :])
+    J, g = _cost_grad(c, Pi, Pj, a, True)
+    g = g * mask
+    gn = np.sqrt(np.sum(g * g, axis=1))
     # first step moves step0_m along the steepest descent direction
     alpha = float(step0_m) / np.where(gn > 0, gn, 1.0)
     n_iter = np.zeros(B, dtype=int)
     active = gn > 0
+    idx = np.flatnonzero(active)
     for _ in range(max_iter):
-        idx = np.flatnonzero(active)
         if idx.size == 0:
             break
-        gi = g[idx]
-        trial = c[idx] - alpha[idx, None] * gi
-        Jt = va_cost(trial, P[idx], a[idx])
+        trial = c[idx] - alpha[idx, None] * g[idx]
+        Jt, gt = _cost_grad(trial, Pi[idx], Pj[idx], a[idx], True)
         ok = Jt < J[idx]
         n_iter[idx] += 1
         # rejected steps: backtrack
         alpha[idx[~ok]] *= shrink
         acc = idx[ok]
         if acc.size:
-            gt = grad(trial[ok], P[acc], a[acc])
+            gt = gt[ok] * mask
             s_ = trial[ok] - c[acc]
             y_ = gt - g[acc]
             sy = np.sum(s_ * y_, axis=1)
@@ -179,8 +207,10 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
             c[acc] = trial[ok]
             J[acc] = Jt[ok]
             g[acc] = gt
-        steplen = alpha[idx] * np.linalg.norm(g[idx], axis=1)
+        gi = g[idx]
+        steplen = alpha[idx] * np.sqrt(np.sum(gi * gi, axis=1))
         active[idx] = steplen > step_tol_m
+        idx = idx[active[idx]]
     return {"c_m": c, "cost": J, "n_iter": n_iter, "converged": ~active}
 
 
