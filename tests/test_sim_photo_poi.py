@@ -54,3 +54,11 @@ def test_bad_parameters_raise():
         photo_poi.simulate(0, n_photos=0)
     with pytest.raises(ValueError, match="outside the screen"):
         photo_poi.simulate(0, n_photos=1, f_px=3000.0)
+
+
+def test_changing_one_input_leaves_other_draws_unchanged():
+    a = photo_poi.simulate(0, n_photos=3)
+    b = photo_poi.simulate(0, n_photos=3, good_guess_sd_m=0.5, drag_sd_px=3.0)
+    np.testing.assert_array_equal(a.c0_bad_m, b.c0_bad_m)
+    np.testing.assert_array_equal(a.T_meas, b.T_meas)
+    np.testing.assert_allclose((b.img_px - b.img_true_px) * 4.0, a.img_px - a.img_true_px)

@@ -186,14 +186,15 @@ def simulate(seed=0, n_photos: int = 20, **params) -> PhotoPoiSet:
             raise ValueError(f"parameter {k} must be finite and >= 0, got {v!r}")
     if int(n_photos) < 1:
         raise ValueError(f"n_photos must be >= 1, got {n_photos}")
-    rng = as_rng(seed)
+    # one independent stream per random component, so changing one input leaves the others' draws alone
+    r_height, r_aim, r_drag, r_sensor, r_good, r_bad = as_rng(seed).spawn(6)
     n = int(n_photos)
     N = 7 * n
     shot = np.repeat(np.arange(7), n)
-    c = np.c_[SHOTS_XY_M[shot], p["eye_height_m"] + p["eye_height_sd_m"] * rng.standard_normal(N)]
+    c = np.c_[SHOTS_XY_M[shot], p["eye_height_m"] + p["eye_height_sd_m"] * r_height.standard_normal(N)]
     target = POIS_M.mean(axis=0)
-    aim = np.deg2rad(p["aim_sd_deg"]) * rng.standard_normal((N, 2))
-    roll = np.deg2rad(p["roll_sd_deg"]) * rng.standard_normal(N)
+    aim = np.deg2rad(p["aim_sd_deg"]) * r_aim.standard_normal((N, 2))
+    roll = np.deg2rad(p["roll_sd_deg"]) * r_aim.standard_normal(N)
     T0 = look_at(c, target, roll)
     # aim error: small rotations of the camera about its own x and y axes
     T_true = rot_x(aim[:, 0]) @ rot_y(aim[:, 1]) @ T0
@@ -204,20 +205,20 @@ def simulate(seed=0, n_photos: int = 20, **params) -> PhotoPoiSet:
         b, i, _ = np.argwhere(out)[0]
         raise ValueError(f"PoI {POI_IDS[i]} falls outside the screen in photo {b} (shot {SHOT_IDS[shot[b]]}); "
                          "widen the field of view or move the shooting points")
-    img = img_true + p["drag_sd_px"] * rng.standard_normal(img_true.shape)
-    tilt = np.deg2rad(p["tilt_sd_deg"]) * rng.standard_normal((N, 2))
-    yaw = np.deg2rad(p["yaw_sd_deg"]) * rng.standard_normal(N)
+    img = img_true + p["drag_sd_px"] * r_drag.standard_normal(img_true.shape)
+    tilt = np.deg2rad(p["tilt_sd_deg"]) * r_sensor.standard_normal((N, 2))
+    yaw = np.deg2rad(p["yaw_sd_deg"]) * r_sensor.standard_normal(N)
     T_meas = T_true @ small_rotation(tilt[:, 0], tilt[:, 1], yaw)
     # VA initial guesses
     good = np.empty((N, 2))
     todo = np.arange(N)
     while todo.size:
-        g = c[todo, :2] + p["good_guess_sd_m"] * rng.standard_normal((todo.size, 2))
+        g = c[todo, :2] + p["good_guess_sd_m"] * r_good.standard_normal((todo.size, 2))
         ok = _in_room(g)
         good[todo[ok]] = g[ok]
         todo = todo[~ok]
     x0, x1, y0, y1 = ROOM_M
-    bad = np.c_[rng.uniform(x0, x1, N), rng.uniform(y0, y1, N)]
+    bad = np.c_[r_bad.uniform(x0, x1, N), r_bad.uniform(y0, y1, N)]
     z0 = np.full((N, 1), p["eye_height_m"])
     return PhotoPoiSet(pois_m=POIS_M.copy(), shot_index=shot, c_m=c, T_true=T_true, T_meas=T_meas,
                        img_true_px=img_true, img_px=img, c0_good_m=np.c_[good, z0], c0_bad_m=np.c_[bad, z0],
