@@ -59,3 +59,10 @@ def test_noise_free_inputs_give_exact_positions():
 def test_bad_ks_raise():
     with pytest.raises(ValueError, match="ks"):
         pp.run(seed=0, n_photos=1, ks=(1, 2))
+
+
+def test_sensitivity_heading_error_moves_st_not_va():
+    s = pp.sensitivity(seed=0, fast=True, grid=(("yaw_sd_deg", (1.0, 10.0)),))
+    e = s.set_index(["value", "k", "method"])["error_cm"]
+    assert e[(10.0, 7, "ST")] > 2 * e[(1.0, 7, "ST")]
+    assert e[(10.0, 7, "VAGIG")] == pytest.approx(e[(1.0, 7, "VAGIG")])  # VA ignores the sensors
