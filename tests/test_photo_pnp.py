@@ -29,3 +29,19 @@ def test_bad_input_raises():
     line = np.array([[-1.0, 0, 1.5], [0, 0, 1.5], [1.0, 0, 1.5], [2.0, 0, 1.5]])
     with pytest.raises(ValueError, match="collinear"):
         pnp_solve(line, U[:4], F)
+
+
+def test_importing_ilocalg_photo_does_not_load_cv2_or_matplotlib():
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = str(Path(__file__).resolve().parents[1])
+    env = {**os.environ, "PYTHONPATH": root + os.pathsep + os.environ.get("PYTHONPATH", "")}
+
+    code = "import sys, ilocalg.photo, ilocalg.experiments.photo_positioning; " \
+           "print('cv2' in sys.modules, 'matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env=env, cwd=root).stdout.split()
+    assert out == ["False", "False"]

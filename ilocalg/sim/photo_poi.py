@@ -46,13 +46,13 @@ Every input parameter and its source
     errors of 1-3 deg right after calibration, growing 2-3 times without recalibration
     (Lviv Polytechnic, "Use of smartphones for determining orientation angles in the field"); indoor
     steel and electronics disturb the field further (Michel et al., "On attitude estimation with
-    smartphones", PerCom 2017). 5 deg is the middle of that range; the thesis's own walking-direction
-    error (WDM, 13.87 deg mean, sec. 4) includes walking motion and is not a static-phone value.
+    smartphones", PerCom 2017). 5 deg is the middle of that range. The walking-direction error the
+    thesis reports for its WDM (13.87 deg mean, sec. 4) includes walking motion, not a static phone.
 ``good_guess_sd_m = 2.25`` (VAGIG)
     The rough position the user gives first (thesis sec. 6.2) is the i-Loc PTS + Wi-Fi Kalman fix,
     whose mean error the thesis reports as 2.82 m (sec. 5.2, Fig 23); a 2-D Gaussian with that mean
-    radial error has ``sd = 2.82 / sqrt(pi / 2) = 2.25 m`` per axis. Guesses are redrawn until they
-    lie in the room (the user knows which side of the wall they stand on).
+    radial error has ``sd = mean / sqrt(pi / 2) = 2.25 m`` per axis (thesis mean 2.82 m). Guesses
+    are redrawn until they lie in the room (the user knows which side of the wall they stand on).
 Bad initial guess (VABIG)
     Uniform over the room's floor ``x in [-3, 3]``, ``y in [0.5, 10]`` m: no knowledge of the position.
     Both guesses are at the nominal eye height.
