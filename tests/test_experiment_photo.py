@@ -66,3 +66,15 @@ def test_sensitivity_heading_error_moves_st_not_va():
     e = s.set_index(["value", "k", "method"])["error_cm"]
     assert e[(10.0, 7, "ST")] > 2 * e[(1.0, 7, "ST")]
     assert e[(10.0, 7, "VAGIG")] == pytest.approx(e[(1.0, 7, "VAGIG")])  # VA ignores the sensors
+
+
+def test_marker_ranging_exact_without_noise_and_grows_with_distance():
+    t = pp.marker_ranging(seed=0, fast=True, corner_sd_px=(0.0,), distances_m=(1.0, 4.0))
+    err_cols = [c for c in t.columns if c.endswith("_cm")]
+    assert t[err_cols].abs().to_numpy().max() < 1e-3
+    t = pp.marker_ranging(seed=0, fast=True, corner_sd_px=(1.0,), distances_m=(1.0, 4.0)).set_index("distance_m")
+    assert t.loc[4.0, "homography_range_rms_error_cm"] > 5 * t.loc[1.0, "homography_range_rms_error_cm"]
+    # IPPE is the better-conditioned estimator of the range on the same corners
+    assert t.loc[4.0, "ippe_range_rms_error_cm"] < t.loc[4.0, "homography_range_rms_error_cm"]
+    with pytest.raises(ValueError, match="unknown marker"):
+        pp.marker_ranging(side=0.2)

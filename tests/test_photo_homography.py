@@ -65,3 +65,17 @@ def test_bad_input_raises():
     with pytest.raises(ValueError, match="not on the plane"):
         homography_locate(np.array([[0, 0.5, 0], [1, 0, 0], [0, 0, 1], [1, 0, 1.0]]), np.zeros((4, 2)), F,
                           [0, 0, 0], [1, 0, 0], [0, 0, 1])
+
+
+def test_square_marker_pose_ippe_agrees_noise_free():
+    pytest.importorskip("cv2")
+    from ilocalg.photo import square_marker_pose
+
+    c = np.array([0.4, 3.0, 1.35])
+    XY, world, T, U = _marker_photo(c)
+    ippe = square_marker_pose(U, 0.2, F)
+    hom = homography_pose(homography_dlt(XY, U), F)
+    assert ippe.distance_m == pytest.approx(hom.distance_m, rel=1e-7)
+    np.testing.assert_allclose(ippe.c_plane_m, hom.c_plane_m, atol=1e-6)
+    with pytest.raises(ValueError, match="side_m"):
+        square_marker_pose(U, -1.0, F)

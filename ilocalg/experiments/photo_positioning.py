@@ -55,8 +55,11 @@ import pandas as pd
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
+    look_at,
     measured_view_angles_rad,
     pnp_solve_batch,
+    project,
+    square_marker_pose,
     st_error_propagation,
     st_solve_batch,
     va_solve_batch,
@@ -64,8 +67,10 @@ from ilocalg.photo import (
 )
 from ilocalg.reporting import paper_ref
 from ilocalg.sim import photo_poi
+from ilocalg.units import as_rng
 
-__all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "combo_label", "NEAR_COLLINEAR_PAPER", "PAPER", "METHODS"]
+__all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_DEFAULTS", "combo_label",
+           "NEAR_COLLINEAR_PAPER", "PAPER", "METHODS"]
 
 #: Methods of the thesis's comparison (Figs 29-32).
 METHODS = ("ST", "VAGIG", "VABIG")
@@ -317,13 +322,13 @@ def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_G
     Runs :func:`run` on combinations of ``ks`` PoIs for each value in ``grid`` and returns a long table
     (``parameter``, ``value`` (float; for ``va_free_z`` 1 = 3-D search), ``k``, ``method``, ``error_cm``).
     It shows which conclusions depend on the documented-but-assumed inputs; it is not used to choose them.
-    ``fast`` uses one photo per shooting point and only the first and last value of each input.
+    ``fast`` uses one photo per shooting point and only the first and last value of the drag and heading errors.
     """
     rows = []
     n = 1 if fast else 4
+    if fast:
+        grid = tuple((name, (values[0], values[-1])) for name, values in grid if name in ("drag_sd_px", "yaw_sd_deg"))
     for name, values in grid:
-        if fast:
-            values = (values[0], values[-1])
         for v in values:
             kw = {name: v}
             t = run(seed=seed, fast=fast, n_photos=n, ks=ks, **kw)["per_k"]
@@ -331,4 +336,77 @@ def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_G
                 for m in METHODS:
                     rows.append({"parameter": name, "value": float(v), "k": int(r["k"]), "method": m,
                                  "error_cm": float(r[m])})
+    return pd.DataFrame(rows)
+
+
+#: Inputs of :func:`marker_ranging` (assumptions, documented in data/photo_poi/README.md).
+MARKER_DEFAULTS = {
+    "side_m": 0.18,
+    "centre_height_m": 1.5,
+    "bearing_max_deg": 30.0,
+    "height_sd_m": 0.1,
+    "roll_sd_deg": 2.0,
+}
+
+
+def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0, 4.0, 5.0),
+                   corner_sd_px=(0.5, 1.0, 2.0), f_px: float = photo_poi.DEFAULTS["f_px"],
+                   **marker) -> pd.DataFrame:
+    """Distance to a square planar marker (a QR code) from its four corners by ``H = K [r1 r2 t]``.
+
+    The phone looks at a marker of side ``side_m`` on the wall from ``distance`` metres, at a bearing
+    uniform in ``+-bearing_max_deg`` off the wall's normal; the four detected corners get independent
+    ``N(0, corner_sd^2)`` errors per axis. The homography is estimated by the normalised DLT and
+    decomposed (:func:`ilocalg.photo.homography_pose`); the range ``l = ||t||`` and the camera centre
+    are scored, beside OpenCV's IPPE (:func:`ilocalg.photo.square_marker_pose`) on the same corners.
+
+    Returns
+    -------
+    DataFrame with one row per (distance, corner error): ``marker_px`` (the marker's width on the
+    screen) and, for ``homography`` and ``ippe``, ``*_range_mean_error_cm`` (signed),
+    ``*_range_rms_error_cm`` and ``*_position_rms_error_cm`` (3-D camera centre).
+
+    References
+    ----------
+    Survey 002, sec. 4, eq. (3)-(5) and Fig 8 (distance from the 2-D code to the camera).
+    """
+    unknown = sorted(set(marker) - set(MARKER_DEFAULTS))
+    if unknown:
+        raise ValueError(f"unknown marker parameters {unknown}; known: {sorted(MARKER_DEFAULTS)}")
+    m = {**MARKER_DEFAULTS, **marker}
+    rng = as_rng(seed)
+    n = 50 if fast else 500
+    h = m["side_m"] / 2
+    XY = np.array([[-h, -h], [h, -h], [h, h], [-h, h]])
+    centre = np.array([0.0, 0.0, m["centre_height_m"]])
+    world = np.c_[XY[:, 0], np.zeros(4), centre[2] + XY[:, 1]]
+    rows = []
+    for d in distances_m:
+        if d <= 0:
+            raise ValueError(f"distances_m must be positive, got {d}")
+        bearing = np.deg2rad(rng.uniform(-m["bearing_max_deg"], m["bearing_max_deg"], n))
+        dz = m["height_sd_m"] * rng.standard_normal(n)
+        horiz = np.sqrt(np.maximum(d * d - dz * dz, 0.0))
+        c = np.c_[horiz * np.sin(bearing), horiz * np.cos(bearing), centre[2] + dz]
+        T = look_at(c, centre, np.deg2rad(m["roll_sd_deg"]) * rng.standard_normal(n))
+        img_true = project(world, c, T, f_px)
+        width_px = float(np.mean(np.linalg.norm(img_true[:, 1] - img_true[:, 0], axis=1)))
+        for sd in corner_sd_px:
+            img = img_true + sd * rng.standard_normal(img_true.shape)
+            row = {"distance_m": float(d), "corner_sd_px": float(sd), "marker_px": width_px}
+            for name in ("homography", "ippe"):
+                rng_err = np.empty(n)
+                pos_err = np.empty(n)
+                for b in range(n):
+                    if name == "homography":
+                        pose = homography_pose(homography_dlt(XY, img[b]), f_px)
+                    else:
+                        pose = square_marker_pose(img[b], m["side_m"], f_px)
+                    rng_err[b] = pose.distance_m - np.linalg.norm(c[b] - centre)
+                    cp = pose.c_plane_m  # plane frame: e1 = x, e2 = z, e3 = -y
+                    pos_err[b] = np.linalg.norm(centre + np.array([cp[0], -cp[2], cp[1]]) - c[b])
+                row[f"{name}_range_mean_error_cm"] = 100 * float(rng_err.mean())
+                row[f"{name}_range_rms_error_cm"] = 100 * float(np.sqrt(np.mean(rng_err ** 2)))
+                row[f"{name}_position_rms_error_cm"] = 100 * float(np.sqrt(np.mean(pos_err ** 2)))
+            rows.append(row)
     return pd.DataFrame(rows)

@@ -30,7 +30,7 @@ from ilocalg.photo.homography import (
     homography_pose,
     wall_plane_coords,
 )
-from ilocalg.photo.pnp import PnPResult, pnp_solve, pnp_solve_batch
+from ilocalg.photo.pnp import PnPResult, pnp_solve, pnp_solve_batch, square_marker_pose
 from ilocalg.photo.similar_triangles import (
     IllConditionedWarning,
     RankDeficientError,
@@ -70,6 +70,7 @@ __all__ = [
     "PnPResult",
     "pnp_solve",
     "pnp_solve_batch",
+    "square_marker_pose",
     "IllConditionedWarning",
     "RankDeficientError",
     "SimilarTriangles",

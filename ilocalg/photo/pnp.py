@@ -19,8 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ilocalg.photo.camera import intrinsics, validate_points
+from ilocalg.photo.homography import HomographyPose
 
-__all__ = ["PnPResult", "pnp_solve", "pnp_solve_batch"]
+__all__ = ["PnPResult", "pnp_solve", "pnp_solve_batch", "square_marker_pose"]
 
 
 @dataclass(frozen=True)
@@ -69,3 +70,47 @@ def pnp_solve_batch(pois_m, img_px, f_px: float) -> np.ndarray:
     U = np.asarray(img_px, dtype=float)
     P = np.broadcast_to(np.asarray(pois_m, dtype=float), U.shape[:2] + (3,))
     return np.stack([pnp_solve(P[b], U[b], f_px).c_m for b in range(U.shape[0])])
+
+
+def square_marker_pose(img_px, side_m: float, f_px: float) -> HomographyPose:
+    """Pose of a square planar marker from its four corners by OpenCV's IPPE (``SOLVEPNP_IPPE_SQUARE``).
+
+    A modern reference for :func:`ilocalg.photo.homography_pose` on the same corners.
+
+    Parameters
+    ----------
+    img_px : array (4, 2)
+        Screen points (pixels from the image centre) of the corners at plane coordinates
+        ``(-s, -s), (s, -s), (s, s), (-s, s)`` with ``s = side_m / 2`` (the order used by
+        :func:`ilocalg.experiments.photo_positioning.marker_ranging`).
+    side_m : float
+        Marker side, metres.
+    f_px : float
+        Focal length, pixels.
+
+    Returns
+    -------
+    HomographyPose
+        Same frames as :func:`ilocalg.photo.homography_pose`.
+
+    References
+    ----------
+    T. Collins and A. Bartoli, "Infinitesimal Plane-Based Pose Estimation", IJCV 109, 2014 (IPPE).
+    """
+    import cv2  # imported here so that `import ilocalg` stays light
+
+    U = np.asarray(img_px, dtype=float)
+    if U.shape != (4, 2) or not np.isfinite(U).all():
+        raise ValueError(f"img_px must be 4 finite corners of shape (4, 2), got {U.shape}")
+    if not np.isfinite(side_m) or side_m <= 0:
+        raise ValueError(f"side_m must be positive, got {side_m!r}")
+    h = side_m / 2.0
+    # IPPE_SQUARE's corner order: (-h, h), (h, h), (h, -h), (-h, -h)
+    obj = np.array([[-h, h, 0.0], [h, h, 0.0], [h, -h, 0.0], [-h, -h, 0.0]])
+    img = np.ascontiguousarray(U[[3, 2, 1, 0]])
+    ok, rvec, tvec = cv2.solvePnP(obj, img, intrinsics(f_px), None, flags=cv2.SOLVEPNP_IPPE_SQUARE)
+    if not ok:
+        raise ValueError("cv2.solvePnP (IPPE_SQUARE) failed")
+    R, _ = cv2.Rodrigues(rvec)
+    t = np.asarray(tvec, dtype=float).reshape(3)
+    return HomographyPose(R=R, t_m=t, c_plane_m=-R.T @ t, distance_m=float(np.linalg.norm(t)))
