@@ -90,12 +90,15 @@ def error_per_combo(per_combo, ax=None, method: str = "ST", highlight=("{1,3}", 
     """Mean error per PoI combination of up to ``max_k`` PoIs (Figs 31-32), ``highlight`` in a second colour."""
     ax = new_axes(ax, figsize=(10, 4))
     d = per_combo[per_combo["k"] <= max_k].sort_values(["k", "combo"])
-    colors = ["#D55E00" if c in highlight else _COLORS.get(method, "#0072B2") for c in d["combo"]]
+    hi = d["combo"].isin(list(highlight)).to_numpy()
     x = np.arange(len(d))
-    ax.bar(x, d[method], color=colors)
+    ax.bar(x[~hi], d[method].to_numpy()[~hi], color=_COLORS.get(method, "#0072B2"), label=method)
+    ax.bar(x[hi], d[method].to_numpy()[hi], color="0.25", hatch="//", edgecolor="w",
+           label=f"{method}, thesis's near-collinear combinations")
+    ax.legend(loc="upper right")
     ax.set_xticks(x, d["combo"], rotation=90, fontsize=7)
     ax.set_xlim(-1, len(d))
-    ax.set_xlabel("PoI combination (orange: the thesis's near-collinear ones)")
+    ax.set_xlabel("PoI combination")
     ax.set_ylabel(f"{method} mean horizontal error [cm]")
     return ax
 
