@@ -30,14 +30,20 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 from ilocalg.experiments import photo_positioning
+from ilocalg.photo import thin_lens_image_distance_m
 from ilocalg.reporting import Report
 from ilocviz import photo as photoviz
 
 report = Report(OUT_DIR, "11_photo_positioning")
 tables = photo_positioning.run(seed=SEED, fast=FAST)
+d_shots = tables["layout_shots"]["dist_to_p4_m"].to_numpy()[[0, -1]]
+print("thin lens d_i / f - 1 at t1, t7:", thin_lens_image_distance_m(d_shots, 3.7e-3) / 3.7e-3 - 1)
 
 # %% [markdown]
 # ## Set-up (Figs 27-28) and the simulation inputs
+# The pinhole model uses the focal length as the image distance (eq. 27-28). For a 3.7 mm phone lens, the
+# printed relative difference `d_i / f - 1` at the nearest and farthest shooting points shows how small the
+# approximation error is.
 
 # %%
 with ilocviz.style():

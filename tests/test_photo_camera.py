@@ -1,7 +1,11 @@
 """Tests of ilocalg.photo.camera (pinhole projection, eq. 29-30)."""
 
+import warnings
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ilocalg.photo.camera import intrinsics, look_at, project, ray_angle_rad, small_rotation
 
@@ -48,3 +52,30 @@ def test_small_rotation_zero_is_identity_and_intrinsics_validates():
     np.testing.assert_allclose(small_rotation(0.0, 0.0, 0.0), np.eye(3))
     with pytest.raises(ValueError, match="f_px"):
         intrinsics(-1.0)
+
+
+def test_thin_lens_law_and_pinhole_approximation():
+    from ilocalg.photo import thin_lens_image_distance_m
+
+    f = 3.7e-3
+    d_i = thin_lens_image_distance_m(np.array([0.1, 2.5, 8.5]), f)
+    np.testing.assert_allclose(1 / np.array([0.1, 2.5, 8.5]) + 1 / d_i, 1 / f, rtol=1e-12)  # eq. (27)
+    assert d_i[1] / f - 1 < 2e-3  # d_o >> f: d_i ~ f, eq. (28)
+    with pytest.raises(ValueError, match="larger than the focal length"):
+        thin_lens_image_distance_m(0.001, f)
+
+
+@settings(max_examples=60, deadline=None)
+@given(x=st.floats(-2, 2), y=st.floats(1.5, 9), z=st.floats(1.0, 2.0), roll=st.floats(-0.3, 0.3),
+       k=st.integers(2, 7))
+def test_st_recovers_any_camera_exactly(x, y, z, roll, k):
+    from ilocalg.photo import st_solve
+
+    P = np.array([[-1.2, 0, 1.6], [-0.8, 0, 2.1], [-0.4, 0, 1.62], [0, 0, 1.58], [0.4, 0, 1.61], [0.8, 0, 1.59],
+                  [1.2, 0, 1.1]])[:k]
+    c = np.array([x, y, z])
+    T = look_at(c, P.mean(axis=0), roll)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = st_solve(P, project(P, c, T, 1045.0), 1045.0, T)
+    np.testing.assert_allclose(res.c_m, c, atol=1e-6)

@@ -22,6 +22,7 @@ from ilocalg.photo.camera import (
     rot_y,
     rot_z,
     small_rotation,
+    thin_lens_image_distance_m,
 )
 from ilocalg.photo.homography import (
     HomographyPose,
@@ -62,6 +63,7 @@ __all__ = [
     "rot_y",
     "rot_z",
     "small_rotation",
+    "thin_lens_image_distance_m",
     "HomographyPose",
     "homography_dlt",
     "homography_locate",

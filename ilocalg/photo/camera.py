@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "thin_lens_image_distance_m",
     "intrinsics",
     "look_at",
     "rot_x",
@@ -34,6 +35,31 @@ __all__ = [
     "ray_angle_rad",
     "validate_points",
 ]
+
+
+def thin_lens_image_distance_m(d_o_m, f_m):
+    """Image distance ``d_i`` of the thin-lens law ``1/d_o + 1/d_i = 1/f``, eq. (27)-(28).
+
+    ``d_i = f / (1 - f / d_o)``; for ``d_o >> f``, ``d_i ~ f``, which is why the photo-positioning
+    equations use the focal length as the image distance (pinhole model).
+
+    Parameters
+    ----------
+    d_o_m : array_like
+        Object distances, metres (must exceed ``f_m``).
+    f_m : float
+        Focal length, metres.
+
+    References
+    ----------
+    i-Loc thesis, sec. 6.1, eq. (27)-(28).
+    """
+    d_o = np.asarray(d_o_m, dtype=float)
+    if not np.isfinite(f_m) or f_m <= 0:
+        raise ValueError(f"f_m must be a positive focal length in metres, got {f_m!r}")
+    if np.any(~np.isfinite(d_o)) or np.any(d_o <= f_m):
+        raise ValueError("d_o_m must be finite and larger than the focal length (a real image)")
+    return f_m / (1.0 - f_m / d_o)
 
 
 def intrinsics(f_px: float, cx_px: float = 0.0, cy_px: float = 0.0) -> np.ndarray:
