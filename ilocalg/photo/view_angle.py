@@ -71,10 +71,17 @@ def measured_view_angles_rad(img_px, f_px: float) -> np.ndarray:
     return ray_angle_rad(U[..., pr[:, 0], :], U[..., pr[:, 1], :], f_px)
 
 
+def _pairs(pois_m, B):
+    P = np.broadcast_to(np.asarray(pois_m, dtype=float), (B,) + np.shape(pois_m)[-2:])
+    pr = pair_index(P.shape[1])
+    return np.ascontiguousarray(P[:, pr[:, 0], :]), np.ascontiguousarray(P[:, pr[:, 1], :])
+
+
 def va_cost(c_m, pois_m, angles_rad) -> np.ndarray:
-    """``J(c)`` (B,), the sum of squared view-angle mismatches (rad^2)."""
-    r = view_angles_rad(c_m, pois_m) - np.asarray(angles_rad, dtype=float)
-    return np.sum(r * r, axis=-1)
+    """``J(c)`` (B,), the sum of squared view-angle mismatches (rad^2), for ``c_m`` (B, 3), ``pois_m`` (B, n, 3)."""
+    c = np.atleast_2d(np.asarray(c_m, dtype=float))
+    Pi, Pj = _pairs(pois_m, c.shape[0])
+    return _cost_grad(c, Pi, Pj, np.asarray(angles_rad, dtype=float), False)[0]
 
 
 def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
@@ -83,21 +90,9 @@ def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
     With ``u = p_i - c``, ``v = p_j - c`` and ``theta`` their angle,
     ``d theta / d c = (v^ - cos(theta) u^) / (|u| sin(theta)) + (u^ - cos(theta) v^) / (|v| sin(theta))``.
     """
-    c = np.asarray(c_m, dtype=float)
-    P = np.asarray(pois_m, dtype=float)
-    pr = pair_index(P.shape[-2])
-    u = P[..., pr[:, 0], :] - c[..., None, :]
-    v = P[..., pr[:, 1], :] - c[..., None, :]
-    nu = np.linalg.norm(u, axis=-1, keepdims=True)
-    nv = np.linalg.norm(v, axis=-1, keepdims=True)
-    uh, vh = u / np.maximum(nu, _EPS), v / np.maximum(nv, _EPS)
-    cos = np.sum(uh * vh, axis=-1, keepdims=True)
-    sin = np.linalg.norm(np.cross(uh, vh), axis=-1, keepdims=True)
-    theta = np.arctan2(sin, cos)
-    sin = np.maximum(sin, 1e-9)
-    dtheta = (vh - cos * uh) / (nu * sin) + (uh - cos * vh) / (nv * sin)
-    r = theta - np.asarray(angles_rad, dtype=float)[..., None]
-    return np.sum(2.0 * r * dtheta, axis=-2)
+    c = np.atleast_2d(np.asarray(c_m, dtype=float))
+    Pi, Pj = _pairs(pois_m, c.shape[0])
+    return _cost_grad(c, Pi, Pj, np.asarray(angles_rad, dtype=float), True)[1]
 
 
 def _cross(u, v):
@@ -175,9 +170,7 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
         raise ValueError("angles_rad and c0_m must be finite")
     B = c.shape[0]
     mask = np.array([1.0, 1.0, 1.0 if free_z else 0.0])
-    pr = pair_index(P.shape[1])
-    Pi = np.ascontiguousarray(P[:, pr[:, 0], :])
-    Pj = np.ascontiguousarray(P[:, pr[:, 1], :])
+    Pi, Pj = _pairs(P, B)
     J, g = _cost_grad(c, Pi, Pj, a, True)
     g = g * mask
     gn = np.sqrt(np.sum(g * g, axis=1))
