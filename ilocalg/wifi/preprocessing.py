@@ -32,6 +32,7 @@ __all__ = [
     "to_features",
     "strongest_ap_mask",
     "heard_counts",
+    "mean_fingerprints",
 ]
 
 REPRESENTATIONS = ("positive", "exponential", "powed")
@@ -162,3 +163,47 @@ def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
 def heard_counts(rssi_dbm) -> np.ndarray:
     """Number of heard APs per row."""
     return np.sum(~np.isnan(np.asarray(rssi_dbm, dtype=np.float64)), axis=1)
+
+
+def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Average the scans of each reference point into one fingerprint (a RADAR-style radio map).
+
+    Parameters
+    ----------
+    rssi_dbm : ndarray (n, n_aps), dBm, NaN = not heard
+    xy : ndarray (n, d), positions; identical rows are one point
+    min_heard_fraction : float
+        An AP enters a point's fingerprint (mean of the readings where heard) only if heard in at
+        least this fraction of the point's scans; otherwise it is NaN (not heard) there.
+
+    Returns
+    -------
+    fp : ndarray (n_points, n_aps), mean dBm / NaN
+    points : ndarray (n_points, d), in the order of first appearance
+    point_of_row : ndarray (n,), the point index of each scan
+
+    References
+    ----------
+    Bahl & Padmanabhan, RADAR (INFOCOM 2000): the radio map holds the mean signal strength per
+    point; i-Loc thesis sec. 3.1 ("build each point's signal model").
+    """
+    x = check_rssi(rssi_dbm, "X")
+    y = np.asarray(xy, dtype=np.float64).reshape(x.shape[0], -1)
+    if not 0.0 <= min_heard_fraction <= 1.0:
+        raise ValueError(f"min_heard_fraction must be in [0, 1], got {min_heard_fraction}")
+    _, first, inv = np.unique(y, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    point = rank[inv.ravel()]
+    n_pts = order.size
+    heard = ~np.isnan(x)
+    cnt = np.zeros((n_pts, x.shape[1]))
+    tot = np.zeros((n_pts, x.shape[1]))
+    np.add.at(cnt, point, heard.astype(np.float64))
+    np.add.at(tot, point, np.nan_to_num(x, nan=0.0))
+    n_scans = np.bincount(point, minlength=n_pts)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fp = tot / cnt
+    fp[(cnt == 0) | (cnt < min_heard_fraction * n_scans)] = np.nan
+    return fp, y[first[order]], point
