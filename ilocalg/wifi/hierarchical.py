@@ -38,6 +38,13 @@ def _labels(v, n, name):
     return a
 
 
+def _nbr_weights(est, dist):
+    """The neighbour weights an estimator uses itself (RADAR: 1/d^2, eq. 2; KNN: its ``weights``)."""
+    if isinstance(est, SimplifiedRadar):
+        return neighbour_weights(dist, "distance", power=2.0)
+    return neighbour_weights(dist, est.weights)
+
+
 def locate(est, X, floor=None, building=None) -> pd.DataFrame:
     """Position (and floor, building) of each query with a fitted flat estimator.
 
@@ -66,10 +73,7 @@ def locate(est, X, floor=None, building=None) -> pd.DataFrame:
                BUILDING: None if building is None else building[rows]}
     elif isinstance(est, (KnnFingerprint, SimplifiedRadar)):
         dist, idx = est.kneighbors(X)
-        if isinstance(est, SimplifiedRadar):
-            w = neighbour_weights(dist, "distance", power=2.0)
-        else:
-            w = neighbour_weights(dist, est.weights)
+        w = _nbr_weights(est, dist)
         xy = np.einsum("qk,qkd->qd", w, est.y_[idx][:, :, :2])
         lab = {FLOOR: None if floor is None else vote(floor[idx], w),
                BUILDING: None if building is None else vote(building[idx], w)}
@@ -88,8 +92,9 @@ class HierarchicalLocator:
 
     Parameters
     ----------
-    classifier : KnnFingerprint
-        Neighbour search used for the building and floor votes (its ``weights`` weight the vote).
+    classifier : KnnFingerprint or SimplifiedRadar
+        Neighbour search used for the building and floor votes (weighted as the estimator weights
+        its neighbours).
     position : estimator with fit/predict
         Position estimator, cloned and fitted once per (building, floor).
 
@@ -136,10 +141,11 @@ class HierarchicalLocator:
 
     def predict(self, X) -> pd.DataFrame:
         """DataFrame with ``x_m``, ``y_m``, ``floor``, ``building`` per query."""
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
+                       owner=type(self).__name__)
         n = x.shape[0]
         dist, idx = self.building_clf_.kneighbors(x)
-        w = neighbour_weights(dist, self.building_clf_.weights)
+        w = _nbr_weights(self.building_clf_, dist)
         b_hat = vote(self._building[idx], w)
         f_hat = np.empty(n, dtype=self._floor.dtype)
         xy = np.empty((n, 2))
@@ -147,7 +153,7 @@ class HierarchicalLocator:
             qb = np.flatnonzero(b_hat == b)
             clf = self.floor_clf_[b]
             d, i = clf.kneighbors(x[qb])
-            f_hat[qb] = vote(self._floor[self._floor_rows[b]][i], neighbour_weights(d, clf.weights))
+            f_hat[qb] = vote(self._floor[self._floor_rows[b]][i], _nbr_weights(clf, d))
         for b, f in sorted({(bb, ff) for bb, ff in zip(b_hat.tolist(), f_hat.tolist(), strict=True)}):
             q = np.flatnonzero((b_hat == b) & (f_hat == f))
             xy[q] = np.asarray(self.pos_[(b, f)].predict(x[q]))[:, :2]

@@ -216,7 +216,8 @@ class SimplifiedHorus(RegressorMixin, BaseEstimator):
     def predict_index(self, X):
         """Index into ``model_.points_xy`` of the most likely point per query."""
         check_is_fitted(self, "model_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
+                       owner=type(self).__name__)
         return horus_predict_index(self.model_, x, self.k_aps)
 
     def predict(self, X):

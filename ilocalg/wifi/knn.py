@@ -190,17 +190,30 @@ def smallest_k(d: np.ndarray, k: int) -> np.ndarray:
 
 
 def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str = "sparse",
-               batch: int = _BATCH) -> tuple[np.ndarray, np.ndarray]:
+               batch: int = _BATCH, metric: str = "minkowski") -> tuple[np.ndarray, np.ndarray]:
     """The ``k`` nearest references of each query.
+
+    Parameters
+    ----------
+    q_features : ndarray (n_q, n_aps), >= 0
+    index : InvertedIndex
+    k : int
+    p : {1, 2}, Minkowski exponent (metric="minkowski")
+    kernel : {"sparse", "dense"}
+    batch : int, queries per distance block
+    metric : {"minkowski", "sorensen"}
+        "sorensen" (Bray-Curtis) is ``sum|q - r| / sum(q + r)`` (Torres-Sospedra et al. 2015).
 
     Returns
     -------
     dist : ndarray (n_q, k) float64
-        Minkowski distances (not squared), ascending.
+        Distances (not squared), ascending.
     idx : ndarray (n_q, k) int64
         Reference row indices (ties: training order).
     """
-    p = _check_p(p)
+    if metric not in ("minkowski", "sorensen"):
+        raise ValueError(f"metric must be 'minkowski' or 'sorensen', got {metric!r}")
+    p = 1 if metric == "sorensen" else _check_p(p)
     q = np.ascontiguousarray(q_features, dtype=np.float32)
     n_ref = index.features.shape[0]
     if not 1 <= int(k) <= n_ref:
@@ -214,6 +227,12 @@ def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str
             own = qb.sum(axis=1) if p == 1 else np.einsum("ij,ij->i", qb, qb)
         else:
             d = pairwise_distances_batch(qb, index, p=p, kernel=kernel)
+            own = np.zeros(qb.shape[0], dtype=np.float32)
+        if metric == "sorensen":
+            l1q = qb.sum(axis=1, dtype=np.float32)
+            d = d + own[:, None]  # the full Manhattan distance (own = 0 for the dense kernel)
+            den = l1q[:, None] + index.l1_norm[None, :]
+            d = np.divide(d, den, out=np.zeros_like(d), where=den > 0)
             own = np.zeros(qb.shape[0], dtype=np.float32)
         ii = smallest_k(d, k)
         dd = np.take_along_axis(d, ii, axis=1).astype(np.float64) + own.astype(np.float64)[:, None]
@@ -296,6 +315,8 @@ class KnnFingerprint(RegressorMixin, BaseEstimator):
         Feature representation (``positive`` = plain dBm with NaN filled; distance-equivalent).
     kernel : {"sparse", "dense"}
         Distance kernel (same result; see the module docstring).
+    metric : {"minkowski", "sorensen"}
+        "sorensen" replaces eq. (1) by the Sorensen (Bray-Curtis) distance (``p`` ignored).
 
     Attributes
     ----------
@@ -309,13 +330,14 @@ class KnnFingerprint(RegressorMixin, BaseEstimator):
     """
 
     def __init__(self, n_neighbors=5, p=1, weights="uniform", not_heard_dbm=-104.0, representation="positive",
-                 kernel="sparse"):
+                 kernel="sparse", metric="minkowski"):
         self.n_neighbors = n_neighbors
         self.p = p
         self.weights = weights
         self.not_heard_dbm = not_heard_dbm
         self.representation = representation
         self.kernel = kernel
+        self.metric = metric
 
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
@@ -324,12 +346,15 @@ class KnnFingerprint(RegressorMixin, BaseEstimator):
         return tags
 
     def _features(self, X, name="X", n_aps=None, allow_empty_rows=True):
-        x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows)
+        x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__)
         return to_features(x, self.not_heard_dbm, self.representation, name=name)
 
     def fit(self, X, y):
         """Store the reference fingerprints ``X`` (n_refs, n_aps, dBm/NaN) and positions ``y``."""
-        _check_p(self.p)
+        if self.metric not in ("minkowski", "sorensen"):
+            raise ValueError(f"metric must be 'minkowski' or 'sorensen', got {self.metric!r}")
+        if self.metric == "minkowski":
+            _check_p(self.p)
         if self.weights not in ("uniform", "distance"):
             raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
         f = self._features(X)
@@ -346,7 +371,7 @@ class KnnFingerprint(RegressorMixin, BaseEstimator):
         check_is_fitted(self, "index_")
         f = self._features(X, n_aps=self.n_features_in_, allow_empty_rows=False)
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
-        return knn_search(f, self.index_, k, p=self.p, kernel=self.kernel)
+        return knn_search(f, self.index_, k, p=self.p, kernel=self.kernel, metric=self.metric)
 
     def predict(self, X):
         """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``."""
@@ -355,6 +380,8 @@ class KnnFingerprint(RegressorMixin, BaseEstimator):
 
 
 def _check_y(y, n: int) -> np.ndarray:
+    if y is None:
+        raise ValueError("this estimator requires y to be passed, but the target y is None (positions in metres)")
     try:
         yy = np.asarray(y, dtype=np.float64)
     except (TypeError, ValueError) as exc:

@@ -38,7 +38,8 @@ __all__ = [
 REPRESENTATIONS = ("positive", "exponential", "powed")
 
 
-def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_rows: bool = True) -> np.ndarray:
+def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_rows: bool = True,
+               owner: str = "the database") -> np.ndarray:
     """Validate an RSSI matrix and return it as float64.
 
     Parameters
@@ -51,6 +52,8 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
         Expected number of columns (the fitted database's AP count).
     allow_empty_rows : bool
         When False, a row with no heard AP (all NaN) raises.
+    owner : str
+        Who expects ``n_aps`` columns (named in the error message).
 
     Raises
     ------
@@ -58,19 +61,27 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
         Not 2-D, no rows, wrong column count, infinite values or (optionally) all-NaN rows,
         naming the first offending row.
     """
+    if hasattr(rssi_dbm, "tocsr") or hasattr(rssi_dbm, "to_coo"):
+        raise ValueError(f"Sparse data was passed for {name}, but dense data is required (an RSSI matrix with "
+                        "NaN for not heard)")
     try:
-        x = np.asarray(rssi_dbm, dtype=np.float64)
+        raw = np.asarray(rssi_dbm)
+        if np.iscomplexobj(raw):
+            raise ValueError(f"Complex data not supported: {name} must be real RSSI in dBm")
+        x = raw.astype(np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be a numeric RSSI matrix in dBm: {exc}") from None
     if x.ndim != 2:
-        raise ValueError(f"{name} must be 2-D (n_samples, n_aps), got shape {x.shape}")
+        raise ValueError(f"{name} must be 2-D (n_samples, n_aps), got shape {x.shape}. Reshape your data")
     if x.shape[0] == 0:
-        raise ValueError(f"{name} has no rows (0 samples)")
+        raise ValueError(f"{name} has no rows: 0 sample(s) (shape={x.shape}) while a minimum of 1 is required.")
     if x.shape[1] == 0:
-        raise ValueError(f"{name} has no columns (0 access points)")
+        raise ValueError(f"{name} has no access-point columns: 0 feature(s) (shape={x.shape}) while a minimum of 1 "
+                         "is required.")
     if n_aps is not None and x.shape[1] != n_aps:
-        raise ValueError(f"{name} has {x.shape[1]} AP columns, the fitted database has {n_aps} "
-                         "(columns must be the same access points in the same order)")
+        raise ValueError(f"{name} has {x.shape[1]} features, but {owner} is expecting {n_aps} features as input "
+                         f"({name} has {x.shape[1]} AP columns, the fitted database {n_aps}; columns must be the "
+                         "same access points in the same order)")
     bad = np.isinf(x)
     if bad.any():
         r, c = np.argwhere(bad)[0]

@@ -159,7 +159,8 @@ class SimplifiedRadar(RegressorMixin, BaseEstimator):
     def kneighbors(self, X, n_neighbors=None):
         """(dist, idx): eq. (1) distances (ascending) and indices of the nearest references."""
         check_is_fitted(self, "ref_rssi_dbm_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
+                       owner=type(self).__name__)
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
         dist = np.empty((x.shape[0], k))
         idx = np.empty((x.shape[0], k), dtype=np.int64)
