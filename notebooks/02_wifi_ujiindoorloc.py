@@ -10,7 +10,7 @@
 
 # %% tags=["parameters"]
 # SEED seeds the fast-mode subsample and the selection half; FAST subsamples the set (4,000
-# training, 300 validation rows); OUT_DIR (set by the runner) receives tables and figures;
+# training, 256 validation rows); OUT_DIR (set by the runner) receives tables and figures;
 # DATA_DIR is the folder of the real data sets (None: $ILOC_DATA_DIR, else ../shared/data).
 SEED = 0
 FAST = False

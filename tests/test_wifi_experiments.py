@@ -32,7 +32,7 @@ def test_ujiindoorloc_fast_run(shared_data):
     d = shared_data("ujiindoorloc")
     t = wifi_ujiindoorloc.run(seed=0, fast=True, data_dir=d.parent)
     m = t["methods"].set_index("method")
-    assert (m["n"] == 300).all()
+    assert (m["n"] == 256).all()
     assert m.loc["best (union top-5 APs, N=12)", "mean_m"] < m.loc["KNN K=5 (Euclidean)", "mean_m"]
     assert wifi_ujiindoorloc.run(data_dir=d.parent / "nowhere") is None
 

@@ -1,6 +1,6 @@
 """``python -m ilocalg evaluate wifi``: score a Wi-Fi fingerprint method on a train/test pair.
 
-Example (the independent UJIIndoorLoc k=5 Euclidean figure, 8.808 m)::
+Example (gives the independent reference figure for UJIIndoorLoc k=5 Euclidean, 8.808 m)::
 
     python -m ilocalg evaluate wifi --train trainingData.csv.gz --test validationData.csv.gz \\
         --format ujiindoorloc --method knn --k 5 --metric euclidean --json

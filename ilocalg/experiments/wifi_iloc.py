@@ -1,7 +1,7 @@
 """i-Loc thesis ch.3 on the simulated i-Loc floor: Simplified-RADAR, Simplified-Horus and KNN.
 
 ``run(seed, fast)`` simulates the floor (:mod:`ilocalg.sim.iloc_floor`), builds the radio map, and
-scores the three methods on new scans at the 28 test-route points:
+scores the three methods on new scans at the thesis' 28 test-route points:
 
 * ``k_study``: Simplified-RADAR error for k = 1..10 strongest APs (Fig 3);
 * ``methods``: RADAR (k = 5, N = 3), Horus (k = 5) and KNN (Manhattan, K = 5; 罗思奇 et al. 2017),
@@ -69,7 +69,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
     ----------
     seed : int
     fast : bool
-        60 scans per training point and 5 per test point instead of 300 and 20.
+        60 scans per training point and 5 per test point instead of the thesis' 300 and 20.
     k_values : iterable of int
         AP counts k of the RADAR k study (Fig 3).
     k_aps : int

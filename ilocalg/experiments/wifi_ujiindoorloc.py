@@ -207,7 +207,7 @@ def best_search(train: FingerprintSet, test: FingerprintSet, seed: int = 0, k_ap
 
 
 def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, search: bool | None = None,
-        fast_train_rows: int = 4000, fast_test_rows: int = 300) -> dict[str, pd.DataFrame] | None:
+        fast_train_rows: int = 4000, fast_test_rows: int = 256) -> dict[str, pd.DataFrame] | None:
     """Load the official split, run every method and score; None when the set is absent.
 
     Parameters

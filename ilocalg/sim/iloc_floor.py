@@ -5,13 +5,14 @@ and survey protocol the thesis states, and a standard indoor propagation model w
 come from the propagation literature (never from the positioning results to be reproduced).
 
 Geometry and survey (i-Loc thesis, sec. 3.1, Fig 2)
-    Floor 75.46 m x 50.26 m (3,292.62 m^2). 63 training points 2 m apart along the corridors; a
-    test route of 28 points that are also training points; 300 scans per training point taken at
-    different times; 4-18 APs heard per scan; points near windows and corners drift more.
+    Thesis: floor 75.46 m x 50.26 m (3,292.62 m^2); thesis: 63 training points 2 m apart along the
+    corridors; thesis: a test route of 28 points that are also training points; thesis: 300 scans
+    per training point taken at different times; 4-18 APs heard per scan; points near windows and
+    corners drift more (thesis Fig 2).
     The floor plan itself is not given in text; the model uses corridors 2.4 m wide with offices
     (8 m bays) on both sides: a 70 m corridor along the long axis (36 points), a branch crossing it
     at x = 39 m (12 points north, 11 south) and a short corridor at the branch's south end (4
-    points). The test route is 28 consecutive points: the long corridor from x = 15 m to the
+    points). The thesis' test route is N_TEST_POINTS consecutive points: the long corridor from x = 15 m to the
     junction, south along the branch, west along the short corridor.
 Access points
     ``n_aps_floor = 20`` APs in the offices (this floor) plus ``n_aps_other = 12`` APs on the
@@ -114,11 +115,11 @@ class IlocFloor:
         ``n_train_points * scans_per_point`` scans; ``meta`` has ``point`` and ``session``.
     test : FingerprintSet
         ``scans_per_test_point`` new scans at each test-route point (later sessions).
-    points_xy_m : ndarray (63, 2)
-    test_points : ndarray (28,) indices into ``points_xy_m``
+    points_xy_m : ndarray (N_TRAIN_POINTS, 2)
+    test_points : ndarray (N_TEST_POINTS,) indices into ``points_xy_m``
     ap_xy_m : ndarray (n_aps, 2); ap_floor : ndarray (n_aps,) (0 = this floor, +/-1)
-    mean_rssi_dbm : ndarray (63, n_aps), the noise-free mean (path loss + shadowing)
-    fade_sd_db : ndarray (63,), the per-point fast-fading sd (drift level, Fig 2)
+    mean_rssi_dbm : ndarray (N_TRAIN_POINTS, n_aps), the noise-free mean (path loss + shadowing)
+    fade_sd_db : ndarray (N_TRAIN_POINTS,), the per-point fast-fading sd (drift level, Fig 2)
     detect_dbm : float, the detection threshold (the natural ``not_heard_dbm``)
     params : dict
     """
@@ -136,7 +137,7 @@ class IlocFloor:
 
 
 def training_points() -> np.ndarray:
-    """The 63 training points (x_m, y_m), 2 m apart: 36 on the long corridor (y = 25 m), 12 on the
+    """The thesis' 63 training points (x_m, y_m), 2 m apart: 36 on the long corridor (y = 25 m), 12 on the
     branch north of the junction, 11 south of it, and 4 along a short corridor at its south end."""
     xs = 3.0 + SPACING_M * np.arange(36)  # 3 .. 73 m
     long = np.column_stack([xs, np.full(xs.size, CORRIDOR_Y_M)])
@@ -148,7 +149,7 @@ def training_points() -> np.ndarray:
 
 
 def test_route_index() -> np.ndarray:
-    """Indices of the 28 test-route points, a walk of consecutive points: the long corridor from
+    """Indices of the thesis' 28 test-route points, a walk of consecutive points: the long corridor from
     x = 15 m east to the junction (13 points), south along the branch (11), west along the stub (4)."""
     pts = training_points()
     on_long = (pts[:, 1] == CORRIDOR_Y_M) & (pts[:, 0] >= 15.0) & (pts[:, 0] <= BRANCH_X_M + 1.0)

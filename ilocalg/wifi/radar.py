@@ -47,13 +47,14 @@ def _exact_dtype(q, r, k: int) -> type:
     """float32 when it is exact, else float64.
 
     Every term of the stacked product involves one of the <= k masked APs of the query or of the
-    reference, so the absolute sum of the terms is below ``28 k M^2`` for features <= M. With integer
-    features (integer dBm above the floor) and ``28 k M^2 < 2**24`` every partial sum is an integer
-    float32 represents exactly (UJIIndoorLoc: M = 104, k = 5 gives 1.5e6).
+    reference, so the absolute sum of the terms is below ``7 blocks * 2k APs * 2 M^2`` for
+    features <= M. With integer features (integer dBm above the floor) and that bound below 2**24
+    every partial sum is an integer float32 represents exactly (UJIIndoorLoc: M = 104, k = 5).
     """
     m = max(float(q.max(initial=0.0)), float(r.max(initial=0.0)))
     integer = not (np.any(q != np.round(q)) or np.any(r != np.round(r)))
-    return np.float32 if integer and 28.0 * max(k, 1) * m * m < 2.0**24 else np.float64
+    bound = 7.0 * (2.0 * max(k, 1)) * (2.0 * m * m)
+    return np.float32 if integer and bound < 2.0**24 else np.float64
 
 
 def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_dbm: float = -100.0) -> np.ndarray:
