@@ -6,7 +6,7 @@ import numpy as np
 
 from ilocviz.core import error_cdf, new_axes
 
-__all__ = ["k_study", "error_cdfs", "floor_map", "method_bars"]
+__all__ = ["k_study", "error_cdfs", "floor_map", "method_bars", "rssi_distribution"]
 
 
 def k_study(df, ax=None, quantities=("median_m", "p80_m", "mean_m")):
@@ -78,4 +78,23 @@ def method_bars(df, ax=None, columns=("mean_m", "median_m", "p75_m"), label_col=
     ax.set_xticklabels(df[label_col], rotation=20, ha="right")
     ax.set_ylabel("2-D error [m]")
     ax.legend(loc="best")
+    return ax
+
+
+def rssi_distribution(df, ax=None):
+    """Histogram (bars, left axis) and CDF (line, right axis) of one AP's RSSI at one point (thesis Fig 4).
+
+    Parameters
+    ----------
+    df : DataFrame with ``rssi_dbm`` (bin start), ``probability`` and ``cdf``
+    """
+    ax = new_axes(ax)
+    w = float(np.diff(df["rssi_dbm"]).min()) if len(df) > 1 else 1.0
+    ax.bar(df["rssi_dbm"], df["probability"], width=0.9 * w, align="edge", color="#56B4E9", label="probability")
+    ax.set_xlabel("RSSI [dBm]")
+    ax.set_ylabel("Probability per bin [-]")
+    ax2 = ax.twinx()
+    ax2.step(df["rssi_dbm"] + w, df["cdf"], where="pre", color="#D55E00", label="CDF")
+    ax2.set_ylabel("Cumulative probability [-]")
+    ax2.set_ylim(0, 1.02)
     return ax

@@ -55,6 +55,17 @@ with ilocviz.style():
     ilocviz.savefig(fig, "01_wifi_radar_horus_knn_k_study", OUT_DIR)
 
 # %% [markdown]
+# ## Fig 4: what Simplified-Horus stores -- one AP's RSSI distribution at one point
+
+# %%
+dist = wifi_iloc.ap_distribution(SEED, scans_per_point=60 if FAST else iloc_floor.SCANS_PER_POINT)
+with ilocviz.style():
+    fig, ax = plt.subplots()
+    ilocviz.wifi.rssi_distribution(dist, ax=ax)
+    ax.set_title(f"{dist['ap'].iloc[0]} at training point {dist['point'].iloc[0]}")
+    ilocviz.savefig(fig, "01_wifi_radar_horus_knn_fig4", OUT_DIR)
+
+# %% [markdown]
 # ## Figs 3 and 5: error CDFs of the three methods
 
 # %%

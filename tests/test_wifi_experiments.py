@@ -67,3 +67,9 @@ def test_make_estimator_rejects_unknown_method():
     with pytest.raises(ValueError, match="metric"):
         wifi_ujiindoorloc.make_estimator("knn", metric="cosine")
     assert np.isclose(wifi_ujiindoorloc.selection_mask(11).sum(), 5)
+
+
+def test_ap_distribution_is_a_distribution():
+    d = wifi_iloc.ap_distribution(0, scans_per_point=50)
+    assert np.isclose(d["probability"].sum(), 1.0) and np.isclose(d["cdf"].iloc[-1], 1.0)
+    assert (np.diff(d["cdf"]) >= 0).all() and d["rssi_dbm"].min() >= -95

@@ -29,7 +29,7 @@ from ilocalg.sim import iloc_floor
 from ilocalg.wifi import KnnFingerprint, SimplifiedHorus, SimplifiedRadar
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
-__all__ = ["run", "make_estimators", "findings", "PAPER_ILOC"]
+__all__ = ["run", "make_estimators", "findings", "ap_distribution", "PAPER_ILOC"]
 
 ILOC = "i-Loc thesis"
 LUO = "罗思奇 et al. 2017"
@@ -153,3 +153,26 @@ def findings(tables: dict[str, pd.DataFrame]) -> str:
         f"time per query Horus {th:.2f} ms vs RADAR {tr:.2f} ms "
         f"({'cheaper' if th < tr else 'not cheaper'}, as the thesis claims Horus is).",
     ])
+
+
+def ap_distribution(seed: int = 0, point: int | None = None, scans_per_point: int = iloc_floor.SCANS_PER_POINT,
+                    bin_width_db: float = 1.0) -> pd.DataFrame:
+    """The RSSI distribution of the strongest AP at one training point, as Simplified-Horus stores
+    it (thesis Fig 4): columns ``rssi_dbm`` (bin start), ``probability`` and ``cdf``.
+
+    ``point`` defaults to the first test-route point. Only the scans in which the AP was heard count.
+    """
+    sim = iloc_floor.simulate(seed, scans_per_point=scans_per_point, scans_per_test_point=1)
+    j = int(sim.test_points[0] if point is None else point)
+    x = sim.train.rssi_dbm[sim.train.meta["point"].to_numpy() == j]
+    ap = int(np.nanargmax(np.nanmean(np.where(np.isnan(x), -200.0, x), axis=0)))
+    v = x[:, ap]
+    v = v[~np.isnan(v)]
+    if v.size == 0:
+        raise ValueError(f"point {j} hears no AP")
+    lo = np.floor(v.min() / bin_width_db) * bin_width_db
+    edges = np.arange(lo, v.max() + bin_width_db + 1e-9, bin_width_db)
+    counts, _ = np.histogram(v, bins=edges)
+    p = counts / counts.sum()
+    return pd.DataFrame({"rssi_dbm": edges[:-1], "probability": p, "cdf": np.cumsum(p),
+                         "ap": sim.train.ap_ids[ap], "point": j})
