@@ -231,7 +231,7 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
     configs = [
         ("1-NN (Euclidean)", "knn", 1, "euclidean"),
         ("KNN K=5 (Euclidean)", "knn", 5, "euclidean"),
-        ("KNN K=5 (Manhattan, 罗思奇 et al.)", "knn", 5, "manhattan"),
+        ("KNN K=5 (Manhattan, Luo et al. 2017)", "knn", 5, "manhattan"),
         ("WKNN K=5 (Euclidean)", "wknn", 5, "euclidean"),
         ("Simplified-RADAR k=5 N=3", "radar", 5, "euclidean"),
         ("Simplified-Horus k=5", "horus", 5, "euclidean"),
