@@ -32,7 +32,7 @@ from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import WEAKEST_DBM, ground_scale, load_ujiindoorloc
 from ilocalg.reporting import paper_ref
-from ilocalg.wifi import KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate
+from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate
 from ilocalg.wifi.knn import neighbour_weights, smallest_k, vote
 from ilocalg.wifi.radar import union_topk_sq_distances
 
@@ -119,9 +119,22 @@ def make_estimator(method: str, k: int | None = None, metric: str = "euclidean",
 def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k: int | None = None,
                     metric: str = "euclidean", not_heard_dbm: float = WEAKEST_DBM) -> dict:
     """Fit on ``train``, locate ``test``; returns arrays ``error_m``, ``floor``, ``building``,
-    ``xy_m`` and the times ``fit_s``, ``predict_s``."""
-    est = make_estimator(method, k, metric, not_heard_dbm)
+    ``xy_m`` and the times ``fit_s``, ``predict_s``.
+
+    ``method`` is one of :data:`METHODS` or ``"hierarchical"`` (KNN building vote -> KNN floor vote
+    inside the building -> KNN position inside the floor, :class:`ilocalg.wifi.HierarchicalLocator`).
+    """
     t0 = time.perf_counter()
+    if method == "hierarchical":
+        clf = make_estimator("knn", k, metric, not_heard_dbm)
+        loc = HierarchicalLocator(clf).fit(train.rssi_dbm, train.xy_m, train.floor, train.building)
+        t1 = time.perf_counter()
+        df = loc.predict(test.rssi_dbm)
+        t2 = time.perf_counter()
+        xy = df[["x_m", "y_m"]].to_numpy()
+        return {"error_m": np.hypot(xy[:, 0] - test.x_m, xy[:, 1] - test.y_m), "floor": df["floor"].to_numpy(),
+                "building": df["building"].to_numpy(), "xy_m": xy, "fit_s": t1 - t0, "predict_s": t2 - t1}
+    est = make_estimator(method, k, metric, not_heard_dbm)
     if isinstance(est, SimplifiedHorus):
         est.fit(train.rssi_dbm, np.column_stack([train.xy_m, train.floor, train.building]))
     else:
@@ -233,6 +246,7 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
         ("KNN K=5 (Euclidean)", "knn", 5, "euclidean"),
         ("KNN K=5 (Manhattan, Luo et al. 2017)", "knn", 5, "manhattan"),
         ("WKNN K=5 (Euclidean)", "wknn", 5, "euclidean"),
+        ("KNN K=5 hierarchical (building -> floor -> position)", "hierarchical", 5, "euclidean"),
         ("Simplified-RADAR k=5 N=3", "radar", 5, "euclidean"),
         ("Simplified-Horus k=5", "horus", 5, "euclidean"),
         ("best (union top-5 APs, N=12)", "best", None, "euclidean"),
