@@ -420,7 +420,8 @@ def load_floor(data_dir=None):
 
 def floor_grid(floor_map, cell_m: float = 0.5) -> OccupancyGrid:
     """Walkable raster of an :class:`~ilocalg.io.ilc.IlcFloorMap`."""
-    return OccupancyGrid.from_function(floor_map.walkable, (0.0, floor_map.width_m), (0.0, floor_map.height_m), cell_m)
+    return OccupancyGrid.from_polygons(floor_map.outline, floor_map.obstacles, (0.0, floor_map.width_m),
+                                       (0.0, floor_map.height_m), cell_m)
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
@@ -444,7 +445,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     steps = {n: walk_steps(fl.traces[n], cfg) for n in all_names}
     db_all = WifiDatabase.from_traces(fl.traces, cfg.max_age_s)
     rng = as_rng(seed)
-    wrows, prow, crow = [], [], []
+    wrows, prow = [], []
     for name in scored:
         others = {k: v for k, v in fl.traces.items() if k != name}
         db = db_all.without(name)

@@ -130,7 +130,8 @@ def fit_track_to_fixes(track_xy_m, fix_xy_m, huber_m: float | None = 5.0, n_iter
     ang, t = fit_rigid_2d(src, dst, w0)
     it = 0
     if huber_m is not None:
-        for it in range(1, n_iter + 1):
+        while it < n_iter:
+            it += 1
             r = np.hypot(*(rotate_xy(src, ang) + t - dst).T)
             new = np.where(r <= huber_m, 1.0, huber_m / np.maximum(r, 1e-12))
             ang, t = fit_rigid_2d(src, dst, w0 * new)

@@ -74,6 +74,51 @@ class OccupancyGrid:
             out[s:s + chunk] = np.asarray(walkable(xf[s:s + chunk], yf[s:s + chunk]), dtype=bool)
         return cls(out.reshape(ny, nx), x0, y0, float(cell_m))
 
+    @classmethod
+    def from_polygons(cls, outline, obstacles=(), x_range_m=None, y_range_m=None, cell_m: float = 0.5):
+        """Rasterise walkable = inside an outline ring and outside every obstacle ring (OpenCV ``fillPoly``).
+
+        Parameters
+        ----------
+        outline, obstacles : sequence of array_like (n, 2)
+            Rings in metres (e.g. :attr:`ilocalg.io.ilc.IlcFloorMap.outline` / ``obstacles``).
+        x_range_m, y_range_m : (min, max), optional
+            Raster extent (default: the outline's bounding box).
+        cell_m : float
+
+        A cell is walkable when its centre is (up to OpenCV's 1/16-cell sub-pixel precision); several
+        outline rings are combined by union (not the even-odd rule of
+        :meth:`ilocalg.io.ilc.IlcFloorMap.walkable`, which only differs for nested outlines).
+        """
+        import cv2  # imported here so that `import ilocalg` stays light
+
+        if not cell_m > 0:
+            raise ValueError(f"cell_m must be > 0, got {cell_m!r}")
+        rings = [np.asarray(r, dtype=np.float64) for r in outline]
+        if not rings or any(r.ndim != 2 or r.shape[1] != 2 or r.shape[0] < 3 for r in rings):
+            raise ValueError("outline must be a non-empty sequence of (n >= 3, 2) rings")
+        allp = np.concatenate(rings)
+        x0, x1 = x_range_m if x_range_m is not None else (allp[:, 0].min(), allp[:, 0].max())
+        y0, y1 = y_range_m if y_range_m is not None else (allp[:, 1].min(), allp[:, 1].max())
+        if not (x1 > x0 and y1 > y0):
+            raise ValueError("x_range_m and y_range_m must be increasing (min, max) pairs")
+        nx, ny = int(np.ceil((x1 - x0) / cell_m)), int(np.ceil((y1 - y0) / cell_m))
+        img = np.zeros((ny, nx), dtype=np.uint8)
+        shift = 4
+
+        def px(r):
+            u = ((np.asarray(r, dtype=np.float64) - [x0, y0]) / cell_m - 0.5) * (1 << shift)
+            return [np.round(u).astype(np.int32).reshape(-1, 1, 2)]
+
+        for r in rings:
+            cv2.fillPoly(img, px(r), 1, lineType=cv2.LINE_8, shift=shift)
+        for r in obstacles:
+            r = np.asarray(r, dtype=np.float64)
+            if r.ndim != 2 or r.shape[1] != 2 or r.shape[0] < 3:
+                raise ValueError(f"obstacle rings must have shape (n >= 3, 2), got {r.shape}")
+            cv2.fillPoly(img, px(r), 0, lineType=cv2.LINE_8, shift=shift)
+        return cls(img.astype(bool), float(x0), float(y0), float(cell_m))
+
     @property
     def area_m2(self) -> float:
         """Walkable area, m^2."""
