@@ -49,10 +49,11 @@ from ilocalg.pdr.signals import moving_mean
 from ilocalg.pdr.step_length import weinberg_length_m
 from ilocalg.units import as_rng, wrap_angle_rad
 from ilocalg.wifi import KnnFingerprint
+from ilocalg.wifi.knn import knn_predict, neighbour_weights
 
 __all__ = ["RealWalkConfig", "WalkSteps", "walk_steps", "Calibration", "calibrate", "WifiFixes", "WifiDatabase",
            "locate", "wifi_fixes", "calibrate_fix_var", "evaluate_walk", "evaluate_track", "floor_grid", "run",
-           "METHODS", "DATASET", "load_floor", "findings"]
+           "METHODS", "DATASET", "load_floor", "findings", "example"]
 
 DATASET = "ilc2020_site2_F4"
 #: Keys of the scored variants (the ``evaluate track`` command's ``errors_m`` keys).
@@ -221,9 +222,9 @@ class WifiDatabase:
 def locate(db: WifiDatabase, X, cfg: RealWalkConfig = RealWalkConfig()):
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances."""
     est = KnnFingerprint(n_neighbors=min(cfg.k_neighbors, db.xy_m.shape[0]), p=cfg.p, weights=cfg.weights,
-                         not_heard_dbm=cfg.not_heard_dbm).fit(db.rssi_dbm, db.xy_m)
+                         not_heard_dbm=cfg.not_heard_dbm, kernel="dense").fit(db.rssi_dbm, db.xy_m)
     dist, idx = est.kneighbors(X)
-    xy = est.predict(X)
+    xy = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
     w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
     return xy, fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
 
@@ -464,6 +465,21 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
                           "ratio_to_wifi": float(wp[m].mean()) / wifi_mean, "meets_goal_half_wifi":
                           bool(float(wp[m].mean()) <= 0.5 * wifi_mean)} for m in METHODS])
     return {"waypoints": wp, "per_walk": pw, "summary": summ}
+
+
+def example(floor, name: str | None = None, cfg: RealWalkConfig | None = None, seed: int = 0) -> pd.DataFrame:
+    """Tracks of one walk (default: the one with the most waypoints), leave-one-walk-out, as a long table
+    ``method, x_m, y_m``: ``waypoints`` (truth), ``Wi-Fi fixes`` and every variant's states."""
+    cfg = cfg or RealWalkConfig()
+    if name is None:
+        name = max(floor.names, key=lambda n: (len(floor.traces[n].waypoints), n))
+    others = {k: v for k, v in floor.traces.items() if k != name}
+    r = evaluate_track(floor.traces[name], others, floor_map=floor.floor_map, cfg=cfg, rng=seed)
+    wp = floor.traces[name].waypoints
+    out = [pd.DataFrame({"method": "waypoints", "x_m": wp[X_M].to_numpy(), "y_m": wp[Y_M].to_numpy()}),
+           pd.DataFrame({"method": "Wi-Fi fixes", "x_m": r["fixes"].xy_m[:, 0], "y_m": r["fixes"].xy_m[:, 1]})]
+    out += [pd.DataFrame({"method": m, "x_m": xy[:, 0], "y_m": xy[:, 1]}) for m, xy in r["tracks"].items()]
+    return pd.concat(out, ignore_index=True).assign(walk=name)
 
 
 def findings(tables: dict) -> str:
