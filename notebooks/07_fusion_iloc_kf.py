@@ -92,8 +92,9 @@ print(fusion_iloc_kf.findings(tables))
 #   the walks are shorter, so the PTS drifts less than in the thesis' Fig 23 (see the findings above).
 # - Wi-Fi on the simulated floor is easier than on the real one: the test points are also training
 #   points, and Simplified-Horus often returns the exact point, so Wi-Fi alone is already more accurate
-#   than the PTS here. The thesis' Table 5 variances are larger than the calibrated ones for most points
-#   (table above); running the KF with the thesis' variances shows what that costs.
+#   than the PTS here (Wi-Fi is the weaker input in the thesis). The calibrated per-point variances and the
+#   thesis' Table 5 differ point by point (table and findings above): the large ones sit at different
+#   points of a different floor, so running the KF with the thesis' own variances costs accuracy here.
 # - The relative result is what carries over: the KF is better than both of its inputs, as in the
 #   thesis, and the ratio KF / PTS is printed beside the thesis' ratio in the comparison table.
 # - The paper's `Q` covers the step length only. The WDM heading error (the thesis' 13.87 deg) is what

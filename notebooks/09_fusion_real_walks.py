@@ -6,7 +6,8 @@
 # magnetometer and Wi-Fi scans, and waypoints for ground truth. Every walk is scored
 # **leave-one-walk-out**: the Wi-Fi fingerprint database (each scan positioned by interpolating its
 # walk's waypoints in time), the step-length factor, the compass-to-map heading offset and the Wi-Fi
-# fix variance are learned from the other 18 walks; the scored walk's waypoints give only its errors
+# fix variance (and the Wi-Fi configuration, by leave-one-walk-out inside them) are learned from the other
+# 18 walks; the scored walk's waypoints give only its errors
 # (its start position and heading come from its own Wi-Fi fixes and the other walks, never from them).
 #
 # Variants, errors at every waypoint: PDR only (from the first fix), Wi-Fi only, KF, KF + RTS, the PDR
@@ -15,7 +16,7 @@
 # fused mean waypoint error at most half the Wi-Fi-only error.
 
 # %% tags=["parameters"]
-# Seed of the particle filter; FAST scores every third walk with fewer particles; OUT_DIR (set by the
+# Seed of the particle filter; FAST scores every fifth walk with fewer particles; OUT_DIR (set by the
 # runner) receives tables and figures; DATA_DIR is the folder of the real data sets (None: default).
 SEED = 0
 FAST = False
@@ -45,9 +46,17 @@ if HAVE_DATA:
     report.record_input(folder)
     floor = fusion_real_walks.load_floor(folder)
     tables = fusion_real_walks.run(seed=SEED, fast=FAST, floor=floor)
-    for name in ("summary", "per_walk", "waypoints"):
+    for name in ("summary", "per_walk", "waypoints", "diagnostics"):
         report.table(tables[name], name)
     display(tables["summary"].round(2))  # noqa: F821
+
+# %% [markdown]
+# What limits the fusion: the PDR track's shape alone (fitted onto the walk's own waypoints: an oracle,
+# shown only as a diagnostic, never used by a method) beside the Wi-Fi fix errors.
+
+# %%
+if HAVE_DATA:
+    display(tables["diagnostics"].round(2))  # noqa: F821
 
 # %% [markdown]
 # ## Per walk: mean waypoint error and what was learned from the other walks
@@ -61,8 +70,8 @@ shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align"]
 if HAVE_DATA:
     with ilocviz.style():
         fig, ax = plt.subplots(figsize=(8, 5))
-        ilocviz.fusion.error_cdfs(tables["waypoints"].melt(id_vars=["walk", "waypoint", "t_s"], var_name="method",
-                                                           value_name="error_m"), shown, ax=ax)
+        long = tables["waypoints"].melt(id_vars=["walk", "waypoint", "t_s"], var_name="method", value_name="error_m")
+        ilocviz.fusion.error_cdfs(long, shown, ax=ax)
         ilocviz.savefig(fig, "09_fusion_real_walks_cdf", OUT_DIR)
 
 # %%
@@ -77,7 +86,7 @@ if HAVE_DATA:
 
 # %%
 if HAVE_DATA:
-    ex = fusion_real_walks.example(floor, seed=SEED)
+    ex = fusion_real_walks.example(floor, seed=SEED, select=not FAST)
     plan = list(floor.floor_map.outline) + list(floor.floor_map.obstacles)
     with ilocviz.style():
         fig, ax = plt.subplots(figsize=(9, 8))

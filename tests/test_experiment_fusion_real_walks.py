@@ -22,7 +22,7 @@ def floor():
 def test_run_on_two_walks(shared_data, floor):
     shared_data(frw.DATASET)
     cfg = frw.RealWalkConfig(n_particles=200, grid_cell_m=1.0)
-    t = frw.run(seed=0, floor=floor, cfg=cfg, names=SHORT)
+    t = frw.run(seed=0, floor=floor, cfg=cfg, names=SHORT, select=False)
     wp = t["waypoints"]
     assert set(wp["walk"]) == set(SHORT)
     assert len(wp) == sum(len(floor.traces[n].waypoints) for n in SHORT)
@@ -33,7 +33,7 @@ def test_run_on_two_walks(shared_data, floor):
     # what was learned came from the other walks: a sane step factor and a small floor offset
     pw = t["per_walk"]
     assert (pw["k_weinberg"].between(0.3, 0.7)).all() and (pw["floor_offset_deg"].abs() < 20).all()
-    t2 = frw.run(seed=0, floor=floor, cfg=cfg, names=SHORT)
+    t2 = frw.run(seed=0, floor=floor, cfg=cfg, names=SHORT, select=False)
     assert t2["waypoints"].equals(wp)
     assert "Wi-Fi only" in frw.findings(t)
 

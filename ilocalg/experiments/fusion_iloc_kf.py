@@ -292,6 +292,7 @@ def findings(tables: dict) -> str:
     kf = m["KF (R per point, calibrated)"]
     best = m.drop(["Wi-Fi only", "PTS"]).idxmin()
     g = tables["gating"]
+    r = tables["r_table"]
     return "\n".join([
         f"Mean error at the test points: PTS {m['PTS']:.2f} m, Wi-Fi only {m['Wi-Fi only']:.2f} m, "
         f"KF {kf:.2f} m (thesis, paper values: PTS {PAPER_KF['pts_mean_m']} m, KF {PAPER_KF['kf_mean_m']} m).",
@@ -299,4 +300,7 @@ def findings(tables: dict) -> str:
         f"KF / PTS = {kf / m['PTS']:.2f} (thesis {PAPER_KF['kf_mean_m'] / PAPER_KF['pts_mean_m']:.2f}, paper).",
         f"Best variant: {best} ({m[best]:.2f} m). Gating rejected {int(g['gated_out'].sum())} of "
         f"{int(g['fixes'].sum())} fixes.",
+        f"Fix variance per point: calibrated median {r['calibrated_var_m2'].median():.2f} m^2, thesis Table 5 median "
+        f"{r['thesis_table5_var_m2_paper'].median():.2f} m^2 (paper values); the thesis' is larger at "
+        f"{int((r['thesis_table5_var_m2_paper'] > r['calibrated_var_m2']).sum())} of {len(r)} points.",
     ])

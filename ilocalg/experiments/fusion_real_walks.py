@@ -53,7 +53,7 @@ from ilocalg.wifi.knn import knn_predict, neighbour_weights
 
 __all__ = ["RealWalkConfig", "WalkSteps", "walk_steps", "Calibration", "calibrate", "WifiFixes", "WifiDatabase",
            "locate", "wifi_fixes", "calibrate_fix_var", "evaluate_walk", "evaluate_track", "floor_grid", "run",
-           "METHODS", "DATASET", "load_floor", "findings", "example"]
+           "METHODS", "WIFI_CANDIDATES", "select_wifi", "DATASET", "load_floor", "findings", "example"]
 
 DATASET = "ilc2020_site2_F4"
 #: Keys of the scored variants (the ``evaluate track`` command's ``errors_m`` keys).
@@ -65,7 +65,9 @@ METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_
 class RealWalkConfig:
     """Parameters of the real-walk pipeline (defaults: chosen a priori, documented here).
 
-    k_neighbors, p, weights, not_heard_dbm : WKNN (K = 5, Manhattan as in 罗思奇 et al.; 1/d weights).
+    k_neighbors, p, weights, metric, not_heard_dbm : WKNN (K = 5, Manhattan as in 罗思奇 et al.; 1/d
+        weights); :func:`run` and :func:`evaluate_track` by default choose among :data:`WIFI_CANDIDATES`
+        by leave-one-walk-out inside the fingerprint walks (:func:`select_wifi`).
     max_age_s : stale AP readings older than this are left out of database and queries (None: keep).
     fix_min_var_m2, fix_scale : R = scale * neighbour scatter + min_var I.
     sigma_heading_rad : heading error sd per step in the KF's Q (beyond the paper).
@@ -79,6 +81,7 @@ class RealWalkConfig:
     k_neighbors: int = 5
     p: int = 1
     weights: str = "distance"
+    metric: str = "minkowski"
     not_heard_dbm: float = -100.0
     max_age_s: float | None = None
     fix_min_var_m2: float = 25.0
@@ -222,7 +225,7 @@ class WifiDatabase:
 def locate(db: WifiDatabase, X, cfg: RealWalkConfig = RealWalkConfig()):
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances."""
     est = KnnFingerprint(n_neighbors=min(cfg.k_neighbors, db.xy_m.shape[0]), p=cfg.p, weights=cfg.weights,
-                         not_heard_dbm=cfg.not_heard_dbm, kernel="dense").fit(db.rssi_dbm, db.xy_m)
+                         not_heard_dbm=cfg.not_heard_dbm, kernel="dense", metric=cfg.metric).fit(db.rssi_dbm, db.xy_m)
     dist, idx = est.kneighbors(X)
     xy = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
     w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
@@ -269,6 +272,37 @@ def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig()) 
     return float(np.mean(e**2) / 2.0), pd.DataFrame(rows)
 
 
+#: Wi-Fi configurations :func:`select_wifi` chooses from (label -> RealWalkConfig fields).
+WIFI_CANDIDATES = {
+    "KNN Manhattan K=5 (004)": {"k_neighbors": 5, "p": 1, "weights": "uniform", "metric": "minkowski"},
+    "WKNN Manhattan K=5": {"k_neighbors": 5, "p": 1, "weights": "distance", "metric": "minkowski"},
+    "WKNN Euclidean K=5": {"k_neighbors": 5, "p": 2, "weights": "distance", "metric": "minkowski"},
+    "WKNN Sorensen K=5": {"k_neighbors": 5, "p": 1, "weights": "distance", "metric": "sorensen"},
+    "WKNN Manhattan K=10": {"k_neighbors": 10, "p": 1, "weights": "distance", "metric": "minkowski"},
+}
+
+
+def select_wifi(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(), candidates=None):
+    """Choose the Wi-Fi configuration with the lowest leave-one-walk-out mean error inside ``db``.
+
+    Returns ``(label, cfg_with_it, fix_var_m2, table)``; ``table`` has one row per candidate
+    (``label, mean_error_m, fix_sd_m``). Uses only the walks of ``db`` (model selection nested inside
+    the outer leave-one-walk-out).
+    """
+    import dataclasses
+
+    cands = WIFI_CANDIDATES if candidates is None else candidates
+    rows, best = [], None
+    for label, kw in cands.items():
+        c = dataclasses.replace(cfg, **kw)
+        var, per = calibrate_fix_var(db, c)
+        e = float(np.average(per["mean_error_m"], weights=per["n"]))
+        rows.append({"label": label, "mean_error_m": e, "fix_sd_m": float(np.sqrt(var))})
+        if best is None or e < best[0]:
+            best = (e, label, c, var)
+    return best[1], best[2], best[3], pd.DataFrame(rows)
+
+
 def _latest_fix(fix_t, fix_xy, t_s):
     i = np.clip(np.searchsorted(fix_t, t_s, side="right") - 1, 0, fix_t.size - 1)
     return fix_xy[i]
@@ -300,7 +334,9 @@ def evaluate_walk(trace: IlcTrace, db: WifiDatabase, calibration: Calibration, f
     -------
     dict
         ``errors`` (DataFrame: one row per waypoint, one column per method, metres), ``tracks``
-        (method -> (n+1, 2) states), ``state_t_s``, ``fixes`` (WifiFixes), ``info`` (dict).
+        (method -> (n+1, 2) states), ``state_t_s``, ``fixes`` (WifiFixes), ``info`` (dict). ``errors``
+        also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints), never
+        a method.
     """
     unknown = set(methods) - set(METHODS)
     if unknown:
@@ -364,6 +400,13 @@ def evaluate_walk(trace: IlcTrace, db: WifiDatabase, calibration: Calibration, f
         tracks["map_align_kf_rts"] = rts_smooth(rm).x
         info.update(map_align_offset_deg=float(np.degrees(ma.angle_rad)), map_align_off_map=ma.off_map)
     err = {"waypoint": np.arange(len(wp)), "t_s": tw}
+    # diagnostic only, not a method: the PDR track rigidly fitted onto this walk's own waypoints (how good
+    # the track's shape is; the remaining error of every method is mostly its placement)
+    if len(wp) >= 2:
+        ofit = fit_track_to_fixes(_track_at(ts, rel, tw), true, huber_m=None)
+        err["oracle_shape_m"] = np.hypot(*(_track_at(ts, rotate_xy(rel, ofit.angle_rad) + ofit.t_m, tw) - true).T)
+    else:
+        err["oracle_shape_m"] = np.zeros(len(wp))
     for m in methods:
         est = _latest_fix(fx.t_s, fx.xy_m, tw) if m == "wifi" else _track_at(ts, tracks[m], tw)
         err[m] = np.hypot(*(est - true).T)
@@ -385,11 +428,12 @@ def _coarse(grid: OccupancyGrid, cell_m: float = 1.0) -> OccupancyGrid:
 
 
 def evaluate_track(trace: IlcTrace, db_traces, floor_map=None, cfg: RealWalkConfig = RealWalkConfig(), rng=0,
-                   methods=METHODS) -> dict:
+                   methods=METHODS, select: bool = True) -> dict:
     """:func:`evaluate_walk` with everything learned from ``db_traces`` (walks with waypoints).
 
     Builds the fingerprint database, the step-length factor and heading offset (:func:`calibrate`)
-    and the fix variance (:func:`calibrate_fix_var`) from ``db_traces`` only; ``floor_map`` (an
+    and the fix variance (:func:`calibrate_fix_var`; with ``select`` the Wi-Fi configuration too,
+    :func:`select_wifi`) from ``db_traces`` only; ``floor_map`` (an
     :class:`~ilocalg.io.ilc.IlcFloorMap`, optional) constrains the particle filter (without it the
     particle filter runs unconstrained).
     """
@@ -399,10 +443,18 @@ def evaluate_track(trace: IlcTrace, db_traces, floor_map=None, cfg: RealWalkConf
     if any(t is trace or (trace.name and t.name == trace.name) for t in items):
         raise ValueError(f"the fingerprint walks must not include the scored walk {trace.name!r}")
     db = WifiDatabase.from_traces(items, cfg.max_age_s)
-    var, _ = calibrate_fix_var(db, cfg) if len(set(db.walk)) >= 2 else (cfg.fix_min_var_m2, None)
+    label = "given"
+    if len(set(db.walk)) < 2:
+        var = cfg.fix_min_var_m2
+    elif select:
+        label, cfg, var, _ = select_wifi(db, cfg)
+    else:
+        var, _ = calibrate_fix_var(db, cfg)
     cal = calibrate(items, cfg=cfg)
     grid = floor_grid(floor_map, cfg.grid_cell_m) if floor_map is not None else None
-    return evaluate_walk(trace, db, cal, var, cfg, grid=grid, rng=rng, methods=methods)
+    r = evaluate_walk(trace, db, cal, var, cfg, grid=grid, rng=rng, methods=methods)
+    r["info"]["wifi_config"] = label
+    return r
 
 
 def load_floor(data_dir=None):
@@ -426,22 +478,27 @@ def floor_grid(floor_map, cell_m: float = 0.5) -> OccupancyGrid:
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
-        names=None) -> dict[str, pd.DataFrame]:
+        names=None, select: bool | None = None) -> dict[str, pd.DataFrame]:
     """Leave-one-walk-out over the floor's walks; every variant at every waypoint.
 
-    ``fast`` scores every third walk with fewer particles and a coarser map raster.
+    ``fast`` scores every fifth walk with fewer particles, a coarser map raster and the default Wi-Fi
+    configuration. ``select`` (default: not ``fast``): choose the Wi-Fi configuration per held-out walk
+    by leave-one-walk-out inside the other walks.
 
     Returns
     -------
     dict of DataFrame
         ``waypoints`` (walk, waypoint, one error column per method), ``per_walk`` (mean per walk and
         method + what was learned from the other walks), ``summary`` (mean over all waypoints, median,
-        p90, mean of the walk means, ratio to Wi-Fi only, goal met), ``wifi_calibration``.
+        p90, mean of the walk means, ratio to Wi-Fi only, goal met), ``diagnostics`` (what limits the
+        fusion: the error of the PDR track's shape alone, fitted onto the walk's own waypoints as an
+        oracle, beside the Wi-Fi fix errors).
     """
     cfg = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
+    select = (not fast) if select is None else select
     fl = floor or load_floor(data_dir)
     all_names = fl.names
-    scored = list(names) if names is not None else (all_names[::3] if fast else all_names)
+    scored = list(names) if names is not None else (all_names[::5] if fast else all_names)
     grid = floor_grid(fl.floor_map, cfg.grid_cell_m)
     steps = {n: walk_steps(fl.traces[n], cfg) for n in all_names}
     db_all = WifiDatabase.from_traces(fl.traces, cfg.max_age_s)
@@ -450,12 +507,16 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     for name in scored:
         others = {k: v for k, v in fl.traces.items() if k != name}
         db = db_all.without(name)
-        var, _ = calibrate_fix_var(db, cfg)
-        cal = calibrate(others, steps, cfg)
-        r = evaluate_walk(fl.traces[name], db, cal, var, cfg, grid=grid, steps=steps[name], rng=rng)
+        if select:
+            label, wcfg, var, _ = select_wifi(db, cfg)
+        else:
+            label, wcfg, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
+        cal = calibrate(others, steps, wcfg)
+        r = evaluate_walk(fl.traces[name], db, cal, var, wcfg, grid=grid, steps=steps[name], rng=rng)
         e = r["errors"].assign(walk=name)
         wrows.append(e)
-        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in METHODS}, **r["info"]})
+        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in METHODS},
+                     "wifi_config": label, **r["info"]})
     wp = pd.concat(wrows, ignore_index=True)
     wp = wp[["walk"] + [c for c in wp.columns if c != "walk"]]
     pw = pd.DataFrame(prow)
@@ -464,17 +525,26 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
                           "p90_error_m": float(wp[m].quantile(0.9)), "mean_of_walk_means_m": float(pw[m].mean()),
                           "ratio_to_wifi": float(wp[m].mean()) / wifi_mean, "meets_goal_half_wifi":
                           bool(float(wp[m].mean()) <= 0.5 * wifi_mean)} for m in METHODS])
-    return {"waypoints": wp, "per_walk": pw, "summary": summ}
+    diag = pd.DataFrame([
+        {"quantity": "PDR track fitted onto the walk's own waypoints (oracle, diagnostic only), mean error [m]",
+         "value": float(wp["oracle_shape_m"].mean())},
+        {"quantity": "Wi-Fi fix error, mean over walks [m]", "value": float(pw["fix_mean_error_m"].mean())},
+        {"quantity": "first Wi-Fi fix error, mean over walks [m]", "value": float(pw["first_fix_error_m"].mean())},
+        {"quantity": "waypoints scored", "value": float(len(wp))},
+        {"quantity": "walks scored", "value": float(len(pw))},
+    ])
+    return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag}
 
 
-def example(floor, name: str | None = None, cfg: RealWalkConfig | None = None, seed: int = 0) -> pd.DataFrame:
+def example(floor, name: str | None = None, cfg: RealWalkConfig | None = None, seed: int = 0,
+            select: bool = True) -> pd.DataFrame:
     """Tracks of one walk (default: the one with the most waypoints), leave-one-walk-out, as a long table
     ``method, x_m, y_m``: ``waypoints`` (truth), ``Wi-Fi fixes`` and every variant's states."""
     cfg = cfg or RealWalkConfig()
     if name is None:
         name = max(floor.names, key=lambda n: (len(floor.traces[n].waypoints), n))
     others = {k: v for k, v in floor.traces.items() if k != name}
-    r = evaluate_track(floor.traces[name], others, floor_map=floor.floor_map, cfg=cfg, rng=seed)
+    r = evaluate_track(floor.traces[name], others, floor_map=floor.floor_map, cfg=cfg, rng=seed, select=select)
     wp = floor.traces[name].waypoints
     out = [pd.DataFrame({"method": "waypoints", "x_m": wp[X_M].to_numpy(), "y_m": wp[Y_M].to_numpy()}),
            pd.DataFrame({"method": "Wi-Fi fixes", "x_m": r["fixes"].xy_m[:, 0], "y_m": r["fixes"].xy_m[:, 1]})]
