@@ -298,6 +298,8 @@ def findings(tables: dict) -> str:
         f"KF {kf:.2f} m (thesis, paper values: PTS {PAPER_KF['pts_mean_m']} m, KF {PAPER_KF['kf_mean_m']} m).",
         f"The KF is {'better' if kf < min(m['PTS'], m['Wi-Fi only']) else 'not better'} than both inputs; "
         f"KF / PTS = {kf / m['PTS']:.2f} (thesis {PAPER_KF['kf_mean_m'] / PAPER_KF['pts_mean_m']:.2f}, paper).",
+        f"With one constant R (no knowledge of where a fix was taken) the KF gives {m['KF (R constant)']:.2f} m: "
+        f"{'better' if m['KF (R constant)'] < m['Wi-Fi only'] else 'not better'} than Wi-Fi alone.",
         f"Best variant: {best} ({m[best]:.2f} m). Gating rejected {int(g['gated_out'].sum())} of "
         f"{int(g['fixes'].sum())} fixes.",
         f"Fix variance per point: calibrated median {r['calibrated_var_m2'].median():.2f} m^2, thesis Table 5 median "
