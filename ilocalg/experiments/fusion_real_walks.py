@@ -20,13 +20,19 @@ PDR
     compass's mean, plus the **floor offset**: the circular mean, over the other walks, of the
     rotation that best maps their PDR track onto their waypoints.
 Variants scored at every waypoint (position at the waypoint's time)
-    ``pdr``: PDR from the first Wi-Fi fix (as 罗思奇 et al. start it). ``wifi``: the latest fix
-    at or before the waypoint (the first fix before it). ``kf``: the step Kalman filter (eq. 20-26,
-    Q with a heading term), started at the first fix with its covariance. ``kf_rts``: the same,
-    RTS-smoothed. ``aligned``: the PDR track rigidly fitted (rotation + translation, Huber-robust)
-    onto all fixes of the walk. ``aligned_kf_rts``: the KF + RTS with the heading offset and start
-    of that fit. ``pf``, ``pf_smooth``: the map-constrained particle filter
-    (:mod:`ilocalg.fusion.particle_filter`) and its ancestral-path smoother.
+    Causal (online) ones: ``pdr``: PDR from the first Wi-Fi fix (as 罗思奇 et al. start it).
+    ``wifi``: the latest fix at or before the waypoint (the first fix before it). ``kf``: the step
+    Kalman filter (eq. 20-26, Q with a heading term), started at the first fix with its covariance.
+    ``pf``: the map-constrained particle filter (:mod:`ilocalg.fusion.particle_filter`), started
+    likewise. Whole-walk (offline) ones: ``kf_rts``: the KF, RTS-smoothed. ``aligned``: the PDR
+    track (floor offset) translated onto all fixes of the walk (Huber-robust). ``aligned_rot``: the
+    same with the rotation fitted to the fixes too. ``aligned_kf_rts``: the KF + RTS started at the
+    ``aligned`` start. ``pf_smooth``: the particle filter's ancestral paths. ``map_align``: the
+    whole-walk map matching (:mod:`ilocalg.fusion.map_align`: every rigid placement on the walkable
+    raster scored by the fixes and the map). ``map_align_kf_rts``: the KF + RTS from that placement.
+Wi-Fi configuration
+    By default chosen per held-out walk among :data:`WIFI_CANDIDATES` by leave-one-walk-out inside
+    the other walks (:func:`select_wifi`).
 """
 
 from __future__ import annotations
@@ -380,7 +386,7 @@ def evaluate_walk(trace: IlcTrace, db: WifiDatabase, calibration: Calibration, f
         tracks["aligned_rot"] = tracks["aligned"]
         info["walk_offset_from_wifi_deg"] = np.nan
     if "pf" in methods or "pf_smooth" in methods:
-        pf = map_particle_filter(t0, P0, th, d, z, R, grid=grid, n_particles=cfg.n_particles, rng=as_rng(rng),
+        pf = map_particle_filter(x0, P0, th, d, z_kf, R, grid=grid, n_particles=cfg.n_particles, rng=as_rng(rng),
                                  sigma_heading_rad=cfg.pf_sigma_heading_rad,
                                  sigma_offset0_rad=cfg.pf_sigma_offset0_rad, outlier_prob=cfg.pf_outlier_prob,
                                  blocked_weight=cfg.pf_blocked_weight)
