@@ -111,5 +111,10 @@ if HAVE_DATA:
 #   Weinberg lengths with `k` from the other walks), but started from the first Wi-Fi fix it inherits that
 #   fix's error for the whole walk, as the issue warned; the causal KF cannot remove it either.
 # - Whole-walk smoothing (RTS) and fitting the track onto all of the walk's fixes average the start error
-#   down; the floor map helps most where the track's shape fits only a few places (the particle filter's
-#   smoother and the whole-walk map matching). Where every fix of a walk is far off, no variant recovers.
+#   down, and the floor map adds the constraint that the whole track must lie in walkable space (the
+#   particle filter's smoother and the whole-walk map matching). The gains are modest: the fixes of one walk
+#   share their error (they all snap to the same nearest surveyed path), so averaging them removes little.
+#   The diagnostics table shows where the limit is: the PDR track's shape alone is accurate to a metre or
+#   two, the placement is what the Wi-Fi cannot give. Whether any variant meets the goal of half the
+#   Wi-Fi-only error is printed in the findings above; every variant is reported, including those that miss.
+# - Causal variants (`pdr`, `wifi`, `kf`, `pf`) only use the past; the others use the whole walk (offline).
