@@ -29,7 +29,7 @@ lab: $(STAMP)
 	$(BIN)/jupyter lab notebooks/
 
 bench: $(STAMP)
-	$(BIN)/python -m pytest benchmarks --benchmark-only -p no:randomly
+	$(BIN)/python -m pytest benchmarks -o python_files='bench_*.py' -s
 
 notebooks: $(STAMP)
 	$(BIN)/python -m ilocalg notebooks --sync
