@@ -34,6 +34,7 @@ __all__ = [
     "dcm_to_euler",
     "mech_step",
     "mechanise",
+    "coarse_level",
 ]
 
 #: Gravity vector in the ENU navigation frame, m/s^2.
@@ -167,3 +168,15 @@ def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
     for k in range(n - 1):
         pos[k + 1], vel[k + 1], mat[k + 1] = mech_step(pos[k], vel[k], mat[k], gyro[k] * dt[k], acc[k] * dt[k], dt[k])
     return pos, vel, mat
+
+
+def coarse_level(acc_b_mps2) -> tuple[float, float]:
+    """Roll and pitch (rad) of a static device from its mean specific force (N, 3) or (3,).
+
+    ``f_b = mat_nb^T [0, 0, g]`` gives ``roll = atan2(f_y, f_z)``, ``pitch = atan2(-f_x, hypot(f_y, f_z))``.
+    """
+    f = np.asarray(acc_b_mps2, dtype=float)
+    f = f.mean(axis=0) if f.ndim == 2 else f
+    if f.shape != (3,) or not np.all(np.isfinite(f)) or np.linalg.norm(f) < 1.0:
+        raise ValueError("acc_b_mps2 must be finite (3,) or (N, 3) specific force of a static device")
+    return float(math.atan2(f[1], f[2])), float(math.atan2(-f[0], math.hypot(f[1], f[2])))
