@@ -87,9 +87,9 @@ PROFILES = {
                           300e-6 * 9.80665, np.deg2rad(0.01)),
 }
 
-#: Indoor control points (ENU, m): ground-floor corridor, 2nd-floor corridor start, 2nd-floor corridor
-#: middle, classroom corner.
-GCP_XYZ_M = np.array([[36.0, 0.0, 0.0], [40.0, 12.0, 4.0], [32.0, 20.0, 4.0], [15.0, 30.0, 4.0]])
+#: Indoor control points (ENU, m), at corners and corridor middles as in the paper: the corner at the
+#: foot of the stairs, the 2nd-floor corridor middle, the corner at the classroom door, a classroom corner.
+GCP_XYZ_M = np.array([[40.0, 0.0, 0.0], [40.0, 14.0, 4.0], [25.0, 20.0, 4.0], [15.0, 30.0, 4.0]])
 
 _OUT = [(0, 0, 0), (15, 0, 0), (15, 10, 0), (0, 10, 0), (0, 0, 0)]
 _LOOPS = _OUT + _OUT[1:]
