@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, rotvec_to_dcm, skew
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, rotvec_to_dcm, rotvecs_to_dcm, skew
 
 __all__ = [
     "N_STATES",
@@ -44,6 +44,7 @@ __all__ = [
     "EskfResult",
     "initial_covariance",
     "transition_matrix",
+    "transition_matrices",
     "process_noise_diag",
     "eskf_predict",
     "joseph_update",
@@ -168,29 +169,39 @@ def correct_sensors(gyro_raw_radps, acc_raw_mps2, sensor):
     return gyro, acc
 
 
-def transition_matrix(mat_nb, f_b_mps2, omega_b_radps, dt_s, out=None) -> np.ndarray:
-    """First-order transition matrix ``Phi = I + F dt`` of the 21-state error model (eq. 2).
+def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
+    """Batched first-order transition matrices ``Phi = I + F dt`` (L, 21, 21) of the error model (eq. 2).
 
     ``dr' = dv``; ``dv' = -[(C f) x] dphi - C db_a - C diag(f) ds_a``;
     ``dphi' = -C db_g - C diag(w) ds_g``; sensor errors are random walks (Earth rate neglected).
 
     Parameters
     ----------
-    mat_nb : (3, 3); f_b_mps2, omega_b_radps : (3,) corrected sensors; dt_s : float
-    out : optional (21, 21) array to fill (its constant part must already be ``I`` plus the dr/dv block).
+    mat_nb : (L, 3, 3); f_b_mps2, omega_b_radps : (L, 3) corrected sensors; dt_s : (L,)
     """
-    if out is None:
-        out = np.eye(N_STATES)
-        out[0:3, 3:6] = _I3 * dt_s
-    else:
-        out[0, 3] = out[1, 4] = out[2, 5] = dt_s
-    cdt = mat_nb * dt_s
-    out[3:6, 6:9] = -skew(cdt @ f_b_mps2)
-    out[3:6, 9:12] = -cdt
-    out[3:6, 15:18] = -cdt * f_b_mps2
-    out[6:9, 12:15] = -cdt
-    out[6:9, 18:21] = -cdt * omega_b_radps
+    C = np.asarray(mat_nb, dtype=float)
+    L = C.shape[0]
+    dt = np.asarray(dt_s, dtype=float).reshape(L, 1, 1)
+    cdt = C * dt
+    cf = np.einsum("lij,lj->li", cdt, f_b_mps2)
+    out = np.zeros((L, N_STATES, N_STATES))
+    out[:, np.arange(N_STATES), np.arange(N_STATES)] = 1.0
+    out[:, [0, 1, 2], [3, 4, 5]] = dt[:, :, 0]
+    # -[cf x]
+    out[:, 3, 7], out[:, 3, 8] = cf[:, 2], -cf[:, 1]
+    out[:, 4, 6], out[:, 4, 8] = -cf[:, 2], cf[:, 0]
+    out[:, 5, 6], out[:, 5, 7] = cf[:, 1], -cf[:, 0]
+    out[:, 3:6, 9:12] = -cdt
+    out[:, 3:6, 15:18] = -cdt * np.asarray(f_b_mps2)[:, None, :]
+    out[:, 6:9, 12:15] = -cdt
+    out[:, 6:9, 18:21] = -cdt * np.asarray(omega_b_radps)[:, None, :]
     return out
+
+
+def transition_matrix(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
+    """One transition matrix (21, 21); see :func:`transition_matrices` (eq. 2)."""
+    return transition_matrices(np.asarray(mat_nb)[None], np.asarray(f_b_mps2)[None],
+                               np.asarray(omega_b_radps)[None], np.array([dt_s]))[0]
 
 
 def process_noise_diag(config: EskfConfig, dt_s: float) -> np.ndarray:
@@ -329,28 +340,45 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
     C = np.asarray(mat0_nb, dtype=float).copy()
     s = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
     P = 0.5 * (P0 + P0.T)
-    Phi = np.eye(N_STATES)
-    Phis[0] = Phi
-    P_minus[0] = P
+    Phis[0] = np.eye(N_STATES)
     q_unit = process_noise_diag(config, 1.0)
     dt_all = np.diff(t_s)
     g_n = GRAVITY_N_MPS2
-
-    for k in range(n):
-        if k > 0:
-            dt = dt_all[k - 1]
-            w_c, f_c = correct_sensors(gyro[k - 1], acc[k - 1], s)
-            Phi = transition_matrix(C, f_c, w_c, dt, out=Phi)
-            Phis[k] = Phi
-            # mechanisation (same maths as mechanisation.mech_step, inlined)
-            C_new = C @ rotvec_to_dcm(w_c * dt)
-            v_new = v + (0.5 * dt) * ((C + C_new) @ f_c) + g_n * dt
-            p = p + (0.5 * dt) * (v + v_new)
-            v, C = v_new, C_new
-            P = Phi @ P @ Phi.T
-            P[np.diag_indices_from(P)] += q_unit * dt
-            P_minus[k] = P
-        rows = sched.get(k)
+    diag = np.diag_indices(N_STATES)
+    # segment boundaries: every update epoch and the last epoch
+    stops = sorted(set(sched) | {n - 1})
+    k = 0
+    for kb in stops:
+        if kb > k:
+            # propagate k -> kb with constant sensor-error estimates (vectorised over the segment)
+            seg = slice(k, kb)
+            dt = dt_all[seg]
+            w_c = (gyro[seg] - s[3:6]) / (1.0 + s[9:12])
+            f_c = (acc[seg] - s[0:3]) / (1.0 + s[6:9])
+            dC = rotvecs_to_dcm(w_c * dt[:, None])
+            Cs = mat[k:kb + 1]
+            Cs[0] = C
+            for j in range(kb - k):
+                Cs[j + 1] = Cs[j] @ dC[j]
+            dv = 0.5 * dt[:, None] * np.einsum("lij,lj->li", Cs[:-1] + Cs[1:], f_c) + g_n * dt[:, None]
+            vs = v + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])
+            ps = p + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * dt[:, None] * (vs[:-1] + vs[1:]), axis=0)])
+            vel[k:kb + 1], pos[k:kb + 1] = vs, ps
+            sens[k + 1:kb + 1] = s
+            Ph = transition_matrices(Cs[:-1], f_c, w_c, dt)
+            Phis[k + 1:kb + 1] = Ph
+            qd = np.multiply.outer(dt, q_unit)
+            for j in range(kb - k):
+                P = Ph[j] @ P @ Ph[j].T
+                P[diag] += qd[j]
+                P_minus[k + 1 + j] = P
+                P_plus[k + 1 + j] = P
+            p, v, C = ps[-1].copy(), vs[-1].copy(), Cs[-1].copy()
+            P = 0.5 * (P + P.T)
+        elif kb == 0:
+            P_minus[0] = P
+        k = kb
+        rows = sched.get(kb)
         if rows:
             innov, Hs, Rd = [], [], []
             for i, r in rows:
@@ -367,16 +395,18 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
                 Rd.append(u.sd[r][used] ** 2)
             innov = np.concatenate(innov)
             if innov.size:
-                dx, P, nis[k] = joseph_update(P, innov, np.vstack(Hs), np.concatenate(Rd))
-                n_meas[k] = innov.size
-                dxs[k] = dx
+                dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), np.concatenate(Rd))
+                n_meas[kb] = innov.size
+                dxs[kb] = dx
                 p = p + dx[POS]
                 v = v + dx[VEL]
                 C = rotvec_to_dcm(dx[ATT]) @ C
                 s = s + dx[9:21]
-        else:
-            P = 0.5 * (P + P.T)
-        pos[k], vel[k], mat[k], sens[k] = p, v, C, s
-        P_plus[k] = P
+        pos[kb], vel[kb], mat[kb], sens[kb] = p, v, C, s
+        P_plus[kb] = P
+    if 0 not in sched:
+        P_minus[0] = P_plus[0] = 0.5 * (P0 + P0.T)
+        pos[0], vel[0], mat[0], sens[0] = pos0_n_m, vel0_n_mps, mat0_nb, (np.zeros(12) if sensor0 is None
+                                                                         else sensor0)
     return EskfResult(t_s=t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sens, dx=dxs, P_plus=P_plus,
                       P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config)

@@ -29,6 +29,7 @@ __all__ = [
     "GRAVITY_N_MPS2",
     "skew",
     "rotvec_to_dcm",
+    "rotvecs_to_dcm",
     "dcm_to_rotvec",
     "euler_to_dcm",
     "dcm_to_euler",
@@ -61,6 +62,28 @@ def rotvec_to_dcm(rotvec_rad) -> np.ndarray:
         [a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z],
         [-a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y)],
     ])
+
+
+def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
+    """Batched :func:`rotvec_to_dcm`: rotation vectors (N, 3) to matrices (N, 3, 3)."""
+    v = np.asarray(rotvec_rad, dtype=float)
+    x, y, z = v[:, 0], v[:, 1], v[:, 2]
+    th2 = x * x + y * y + z * z
+    small = th2 < 1e-16
+    th = np.sqrt(np.where(small, 1.0, th2))
+    a = np.where(small, 1.0 - th2 / 6.0, np.sin(th) / th)
+    b = np.where(small, 0.5 - th2 / 24.0, (1.0 - np.cos(th)) / np.where(small, 1.0, th2))
+    out = np.empty((v.shape[0], 3, 3))
+    out[:, 0, 0] = 1.0 - b * (y * y + z * z)
+    out[:, 0, 1] = -a * z + b * x * y
+    out[:, 0, 2] = a * y + b * x * z
+    out[:, 1, 0] = a * z + b * x * y
+    out[:, 1, 1] = 1.0 - b * (x * x + z * z)
+    out[:, 1, 2] = -a * x + b * y * z
+    out[:, 2, 0] = -a * y + b * x * z
+    out[:, 2, 1] = a * x + b * y * z
+    out[:, 2, 2] = 1.0 - b * (x * x + y * y)
+    return out
 
 
 def dcm_to_rotvec(mat) -> np.ndarray:

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult
-from ilocalg.ins.mechanisation import rotvec_to_dcm
+from ilocalg.ins.mechanisation import rotvecs_to_dcm
 
 __all__ = ["SmoothResult", "rts_gains", "rts_smooth", "window_ends", "online_window_smooth"]
 
@@ -106,7 +106,13 @@ def rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = 
     if with_cov:
         sd[-1] = np.sqrt(np.diag(Ps))
     dx = res.dx
-    for k in range(n - 2, -1, -1):
+    if not with_cov:
+        # state-only recursion (the part real-time use needs): one mat-vec per epoch
+        x = np.zeros(N_STATES)
+        for k in range(n - 2, -1, -1):
+            x = np.zeros(N_STATES) if ends[k] else G[k] @ (x + dx[k + 1])
+            xs[k] = x
+    for k in range(n - 2, -1, -1) if with_cov else ():
         if ends[k]:
             xs[k] = 0.0
             if with_cov:
@@ -120,9 +126,7 @@ def rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = 
             sd[k] = np.sqrt(np.clip(np.diag(Ps), 0.0, None))
     pos = res.pos_n_m + xs[:, POS]
     vel = res.vel_n_mps + xs[:, VEL]
-    mat = np.empty_like(res.mat_nb)
-    for k in range(n):
-        mat[k] = rotvec_to_dcm(xs[k, ATT]) @ res.mat_nb[k]
+    mat = np.matmul(rotvecs_to_dcm(xs[:, ATT]), res.mat_nb)
     sensor = res.sensor + xs[:, 9:21]
     # latency: time from each epoch to the end of its window
     end_idx = np.flatnonzero(ends)
