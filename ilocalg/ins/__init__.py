@@ -19,6 +19,7 @@ Modules
 ``smoother``       RTS over the whole run and the online fixed-window smoother (eq. 8-10)
 ``hartmann``       15-state Euler-angle EKF fusing an IMU with marker video tracking (survey eq. 6-29)
 ``evaluate``       error statistics in the paper's table layout
+``pipeline``       the paper's processing chain for a phone walk (update sets, levelling, filter)
 """
 
 from ilocalg.ins.constraints import (
@@ -44,23 +45,49 @@ from ilocalg.ins.eskf import (
     position_rows,
     process_noise_diag,
     run_eskf,
+    transition_matrices,
     transition_matrix,
 )
 from ilocalg.ins.evaluate import error_stats, nav_errors
+from ilocalg.ins.hartmann import (
+    HartmannEKF,
+    HartmannResult,
+    hartmann_correct,
+    hartmann_f,
+    hartmann_jacobians,
+    hartmann_predict,
+    run_hartmann,
+)
 from ilocalg.ins.mechanisation import (
     GRAVITY_N_MPS2,
+    coarse_level,
     dcm_to_euler,
     dcm_to_rotvec,
     euler_to_dcm,
     mech_step,
     mechanise,
     rotvec_to_dcm,
+    rotvecs_to_dcm,
     skew,
 )
+from ilocalg.ins.pipeline import PhoneFilterSettings, run_walk, walk_updates
 from ilocalg.ins.smoother import SmoothResult, online_window_smooth, rts_gains, rts_smooth, window_ends
 
 __all__ = [
     "GRAVITY_N_MPS2",
+    "HartmannEKF",
+    "HartmannResult",
+    "PhoneFilterSettings",
+    "coarse_level",
+    "hartmann_correct",
+    "hartmann_f",
+    "hartmann_jacobians",
+    "hartmann_predict",
+    "rotvecs_to_dcm",
+    "run_hartmann",
+    "run_walk",
+    "transition_matrices",
+    "walk_updates",
     "N_STATES",
     "WVC_REFERENCE_DEFAULTS",
     "EskfConfig",
