@@ -102,28 +102,26 @@ def rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = 
     ends = window_ends(res.t_s, window_s)
     xs = np.zeros((n, N_STATES))
     sd = np.full((n, N_STATES), np.nan)
-    Ps = res.P_plus[-1].copy() if with_cov else None
-    if with_cov:
-        sd[-1] = np.sqrt(np.diag(Ps))
     dx = res.dx
-    if not with_cov:
-        # state-only recursion (the part real-time use needs): one mat-vec per epoch
+    if with_cov:
+        # eq. (8) and (9): state and covariance
+        Ps = res.P_plus[-1].copy()
+        sd[-1] = np.diag(Ps)
+        for k in range(n - 2, -1, -1):
+            if ends[k]:
+                Ps = res.P_plus[k].copy()
+            else:
+                Gk = G[k]
+                xs[k] = Gk @ (xs[k + 1] + dx[k + 1])
+                Ps = res.P_plus[k] + Gk @ (Ps - res.P_minus[k + 1]) @ Gk.T
+            sd[k] = np.diag(Ps)
+        sd = np.sqrt(np.clip(sd, 0.0, None))  # variances -> standard deviations
+    else:
+        # eq. (8) only (what real-time use needs): one matrix-vector product per epoch
         x = np.zeros(N_STATES)
         for k in range(n - 2, -1, -1):
             x = np.zeros(N_STATES) if ends[k] else G[k] @ (x + dx[k + 1])
             xs[k] = x
-    for k in range(n - 2, -1, -1) if with_cov else ():
-        if ends[k]:
-            xs[k] = 0.0
-            if with_cov:
-                Ps = res.P_plus[k].copy()
-                sd[k] = np.sqrt(np.diag(Ps))
-            continue
-        Gk = G[k]
-        xs[k] = Gk @ (xs[k + 1] + dx[k + 1])
-        if with_cov:
-            Ps = res.P_plus[k] + Gk @ (Ps - res.P_minus[k + 1]) @ Gk.T
-            sd[k] = np.sqrt(np.clip(np.diag(Ps), 0.0, None))
     pos = res.pos_n_m + xs[:, POS]
     vel = res.vel_n_mps + xs[:, VEL]
     mat = np.matmul(rotvecs_to_dcm(xs[:, ATT]), res.mat_nb)
