@@ -101,8 +101,8 @@ def step_frequency_hz(t_s, step_idx, max_period_s=1.2):
     return f
 
 
-def detect_stationary(t_s, acc_b_mps2, gyro_b_radps, window_s=0.8, acc_sd_max_mps2=0.25,
-                      gyro_max_radps=0.15):
+def detect_stationary(t_s, acc_b_mps2, gyro_b_radps, window_s=1.0, acc_sd_max_mps2=0.3,
+                      gyro_max_radps=0.1):
     """Boolean (N,): the device is still (moving-window acc-norm spread and gyro norm both small)."""
     t_s = np.asarray(t_s, dtype=float)
     an = np.linalg.norm(np.asarray(acc_b_mps2, dtype=float), axis=1)

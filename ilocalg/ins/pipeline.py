@@ -51,7 +51,7 @@ class PhoneFilterSettings:
     nhc_sd_mps: float = 0.05
     wvc_forward_sd_mps: float = 0.15
     wvc_lateral_sd_mps: float = 0.3
-    zupt_sd_mps: float = 0.02
+    zupt_sd_mps: float = 0.05
     level_s: float = 1.0
 
 

@@ -35,7 +35,9 @@ Walker (modelling assumptions, not from the paper):
   - stairs: 0.45 m/s horizontal, rise 4 m over 8 m;
   - hand-held vibration and dynamic misalignment: vertical bounce 2.5 cm at the step frequency,
     lateral sway 1.5 cm at half of it; attitude oscillation roll 2 deg, pitch 2 deg, yaw 3 deg; a slowly
-    wandering yaw misalignment (sd 3 deg, 5 s correlation); hand tremor at rest (0.3 deg, 0.3 s).
+    wandering yaw misalignment (sd 3 deg, 5 s correlation); hand tremor at rest (0.3 deg, 0.3 s); the
+    random attitude terms are Ornstein-Uhlenbeck sequences smoothed over 0.5 s / 0.1 s (Gaussian sigma)
+    so that their angular rates stay physical.
 GNSS outdoors (phone grade, assumption): 1 Hz, sd 2.5 m horizontal, 4 m vertical.
 Initial heading (assumption): truth + N(0, 5 deg), as from a map-aligned start.
 
@@ -251,10 +253,15 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
            + (walk_w * 0.015 * np.sin(phase / 2))[:, None] * lat
            + (walk_w * 0.01 * np.sin(phase))[:, None] * fwd)
     tremor = 1 - walk_w
-    roll = np.deg2rad(2.0 * walk_w * np.sin(phase / 2 + 0.3) + 0.3 * tremor * _ou(rng, m, dt, 1.0, 0.3))
-    pitch = np.deg2rad(2.0 * walk_w * np.sin(phase + 1.0) + 0.3 * tremor * _ou(rng, m, dt, 1.0, 0.3))
-    yaw_b = yaw + np.deg2rad(3.0 * walk_w * np.sin(phase / 2) + _ou(rng, m, dt, 3.0, 5.0)
-                             + 0.3 * tremor * _ou(rng, m, dt, 1.0, 0.3))
+
+    def smooth_ou(sd_deg, tau_s, smooth_s):
+        # an OU sequence has no derivative; smoothing it keeps the angular rate physical
+        return _gauss_smooth(_ou(rng, m, dt, sd_deg, tau_s), smooth_s / dt)
+
+    roll = np.deg2rad(2.0 * walk_w * np.sin(phase / 2 + 0.3) + tremor * smooth_ou(0.3, 0.3, 0.1))
+    pitch = np.deg2rad(2.0 * walk_w * np.sin(phase + 1.0) + tremor * smooth_ou(0.3, 0.3, 0.1))
+    yaw_b = yaw + np.deg2rad(3.0 * walk_w * np.sin(phase / 2) + smooth_ou(3.0, 5.0, 0.5)
+                             + tremor * smooth_ou(0.3, 0.3, 0.1))
     mat = euler_to_dcm(roll, pitch, yaw_b)
     # kinematics on the 200 Hz grid; truth position is the trapezoid integral of the velocity
     vel = np.gradient(pos, dt, axis=0)
