@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.experiments.ins_paper_values import paper_value
-from ilocalg.ins import dcm_to_euler, error_stats, nav_errors, rts_smooth
+from ilocalg.ins import dcm_to_euler, error_stats, heading_error_with_lag_deg, nav_errors, rts_smooth
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.reporting import paper_ref
 from ilocalg.sim import ins_walk
@@ -47,7 +47,8 @@ def _stats_rows(phone, method, seed, err):
     return [{"phone": phone, "method": method, "seed": seed, "stat": k, **st[k]} for k in ("max", "rms", "std")]
 
 
-def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None) -> dict[str, pd.DataFrame]:
+def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth_gcp_sd_m: float = 1.5,
+        time_lags_s=(0.0, 0.05, 0.1, 0.2)) -> dict[str, pd.DataFrame]:
     """Tables 4-7 reproduced on simulated walks.
 
     Returns
@@ -56,10 +57,12 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None) -> dict[s
     ``errors_per_seed``, ``position_side_by_side`` and ``attitude_side_by_side`` (the paper's layout,
     paper value beside the reproduced one), ``comparison`` (paper_ref rows: RMS N/E/H and heading),
     ``walk_stats`` (the simulated inputs: duration, IMU rate, control-point passages), ``trajectory``
-    (first seed: per-epoch E, N, H of the truth and of every method).
+    (first seed: per-epoch E, N, H of the truth and of every method), ``gcp_grade`` (RMS errors with
+    cm-level total-station control points vs m-level Bluetooth ones of sd ``bluetooth_gcp_sd_m``) and
+    ``heading_time_sync`` (heading RMS / max when the reference is read ``time_lags_s`` off).
     """
     n_seeds = n_seeds or (1 if fast else 6)
-    rows, stats, traj = [], [], []
+    rows, stats, traj, grade, sync = [], [], [], [], []
     for phone, route, profile in PHONES:
         for s in range(seed, seed + n_seeds):
             walk, sol, rgcp = run_phone(route, profile, s)
@@ -67,6 +70,22 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None) -> dict[s
             for method, (pos, mat) in sol.items():
                 err = nav_errors(pos[ind], mat[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
                 rows += _stats_rows(phone, method, s, err)
+            for gname, w2 in (("total station (cm)", walk),
+                              ("Bluetooth (m)", ins_walk.simulate(route, profile, seed=s,
+                                                                  gcp_sd_m=bluetooth_gcp_sd_m))):
+                r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True)
+                for method, sol2 in ((METHODS[2], r2), (METHODS[3], rts_smooth(r2, with_cov=False))):
+                    err = nav_errors(sol2.pos_n_m[ind], sol2.mat_nb[ind], walk.pos_true_n_m[ind],
+                                     walk.mat_true_nb[ind])
+                    grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
+                                  "method": method, "seed": s, **error_stats(err)["rms"]})
+            for method in METHODS[2:]:
+                pos, mat = sol[method]
+                for lag in time_lags_s:
+                    e = heading_error_with_lag_deg(walk.t_s[ind], mat[ind], walk.t_ref_s, walk.mat_ref_nb, lag)
+                    sync.append({"phone": phone, "method": method, "seed": s, "lag_s": lag,
+                                 "heading_rms_deg": float(np.sqrt(np.mean(e**2))),
+                                 "heading_max_deg": float(np.max(np.abs(e)))})
             gap = np.diff(walk.gcp_t_s)
             stats.append({"phone": phone, "seed": s, "duration_s": walk.t_s[-1] - walk.t_s[0],
                           "indoor_s": walk.t_s[-1] - walk.t_indoor_s, "imu_rate_hz": 1.0 / np.mean(np.diff(walk.t_s)),
@@ -101,6 +120,10 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None) -> dict[s
         "comparison": pd.DataFrame(comp),
         "walk_stats": pd.DataFrame(stats),
         "trajectory": pd.concat(traj, ignore_index=True),
+        "gcp_grade": (pd.DataFrame(grade).groupby(["phone", "control points", "gcp_sd_m", "method"], sort=False)
+                      [list(AXES)].mean().reset_index()),
+        "heading_time_sync": (pd.DataFrame(sync).groupby(["phone", "method", "lag_s"], sort=False)
+                              [["heading_rms_deg", "heading_max_deg"]].mean().reset_index()),
     }
 
 

@@ -48,7 +48,7 @@ from ilocalg.ins.eskf import (
     transition_matrices,
     transition_matrix,
 )
-from ilocalg.ins.evaluate import error_stats, nav_errors
+from ilocalg.ins.evaluate import error_stats, heading_error_with_lag_deg, nav_errors
 from ilocalg.ins.hartmann import (
     HartmannEKF,
     HartmannResult,
@@ -80,6 +80,7 @@ __all__ = [
     "PhoneFilterSettings",
     "coarse_level",
     "hartmann_correct",
+    "heading_error_with_lag_deg",
     "hartmann_f",
     "hartmann_jacobians",
     "hartmann_predict",
