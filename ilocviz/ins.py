@@ -6,7 +6,8 @@ import numpy as np
 
 from ilocviz.core import new_axes
 
-__all__ = ["walk_trajectories", "errors_vs_time", "window_study", "vt_positions", "bias_estimates"]
+__all__ = ["walk_trajectories", "errors_vs_time", "heading_errors_vs_time", "window_study", "vt_positions",
+           "bias_estimates"]
 
 
 def walk_trajectories(traj, phone: str, ax=None, gcp_xy=None, indoor_only: bool = True):
@@ -45,6 +46,22 @@ def errors_vs_time(traj, phone: str, axis: str = "N", ax=None, gcp_t_s=None):
         ax.axvline(t, color="0.5", lw=0.6, ls=":")
     ax.set_xlabel("Time [s]")
     ax.set_ylabel(f"{axis} error [m]")
+    ax.legend(loc="best", fontsize=7)
+    return ax
+
+
+def heading_errors_vs_time(traj, phone: str, ax=None):
+    """Fig 9 / 12: heading error (deg, wrapped) against time for every method."""
+    ax = new_axes(ax)
+    d = traj[(traj["phone"] == phone) & traj["indoor"]]
+    truth = d[d["method"] == "Truth"].set_index("t_s")["heading_deg"]
+    for method, g in d.groupby("method", sort=False):
+        if method == "Truth":
+            continue
+        e = (g["heading_deg"].to_numpy() - truth.loc[g["t_s"]].to_numpy() + 180.0) % 360.0 - 180.0
+        ax.plot(g["t_s"], e, label=method, lw=1)
+    ax.set_xlabel("Time [s]")
+    ax.set_ylabel("Heading error [deg]")
     ax.legend(loc="best", fontsize=7)
     return ax
 

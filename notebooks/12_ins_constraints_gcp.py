@@ -56,7 +56,8 @@ report.table(tables["errors_per_seed"], "errors_per_seed")
 report.compare(tables["comparison"].to_dict("records"))
 
 # %% [markdown]
-# ## Figs 7 and 10: trajectories; Figs 8 and 11: north and east errors against time
+# ## Figs 7 and 10: trajectories; Figs 8 and 11: north and east errors against time; Figs 9 and 12:
+# heading errors against time
 
 # %%
 with ilocviz.style():
@@ -70,6 +71,11 @@ with ilocviz.style():
             vins.errors_vs_time(tables["trajectory"], phone, axis, ax=axs[i, j])
         axs[0, j].set_title(phone)
     ilocviz.savefig(fig, "12_ins_constraints_gcp_errors", OUT_DIR)
+    fig, axs = plt.subplots(1, 2, figsize=(12, 3.5))
+    for ax, phone in zip(axs, ("Samsung", "iPhone"), strict=True):
+        vins.heading_errors_vs_time(tables["trajectory"], phone, ax=ax)
+        ax.set_title(phone)
+    ilocviz.savefig(fig, "12_ins_constraints_gcp_heading_errors", OUT_DIR)
 
 # %% [markdown]
 # ## Control-point grade: total station (cm) vs Bluetooth beacon (m-level) fixes, RMS errors
@@ -108,11 +114,12 @@ for phone in ("Samsung", "iPhone"):
 #   (phone datasheet class errors, 14-20 Hz irregular sampling, MIDG-II Table 3 for the reference grade);
 #   nothing was tuned to Tables 4-7, so magnitudes differ.
 # - Stairs dominate the simulated north error: eq. (7) with the default parameters predicts a level walking
-#   speed while the walker climbs slowly; whenever the stairs are not bracketed by a control point the
-#   WVC filter overshoots along the stairs (north). The paper's route also has stairs, but its step detector
-#   and walker behaviour on stairs are not described.
-# - Our four control points are met every 22-27 s on these routes (paper: about every 15 s), which
-#   weakens the GCP rows compared with the paper.
+#   speed while the walker climbs slowly, so between the control points at the foot of the stairs and on
+#   the 2nd-floor corridor the WVC filter overshoots along the stairs (north) until the next fix; the RTS
+#   smoother removes most of it, which is why the smoothed rows come closest to the paper's. The paper's
+#   route also has stairs, but its step detector and walker behaviour on stairs are not described.
+# - Our four control points are met less often on these routes than the paper's "about every 15 s" (see
+#   walk_stats), which weakens the GCP rows compared with the paper.
 # - Attitude: the paper's heading errors (up to 100+ degrees max) come mostly from time-synchronisation
 #   errors between the phone and the 200 Hz reference; the simulation has exact time tags, so its heading
 #   errors are smaller and its roll/pitch errors much smaller. The time-sync table shows that a lag of a

@@ -39,11 +39,12 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
     dict with ``errors`` (phone, method, stat, N..Heading; mean over seeds), ``position_side_by_side``
     and ``attitude_side_by_side`` (paper layout), ``window_sweep`` (phone, window_s, stat, N, E, H,
     horizontal, latency_mean_s), ``windows_without_gcp`` (per window size: share of windows without a
-    control point and the horizontal RMS error inside windows with / without one) and ``comparison``.
+    control point and the horizontal RMS error inside windows with / without one), ``comparison`` and
+    ``trajectory`` (first seed: per-epoch E, N, H of the truth, the filter and the 5/10/20 s windows).
     """
     n_seeds = n_seeds or (1 if fast else 6)
     windows = sorted(set(sweep_windows_s) | set(TABLE_WINDOWS_S))
-    rows, sweep, gcp_rows = [], [], []
+    rows, sweep, gcp_rows, traj = [], [], [], []
     for phone, route, profile in PHONES:
         for s in range(seed, seed + n_seeds):
             walk = ins_walk.simulate(route, profile, seed=s)
@@ -57,6 +58,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
                 sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
             full = rts_smooth(res, with_cov=False, gains=G)
             sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
+            if s == seed:
+                traj.append(_trajectory(phone, walk, sols, ind))
             gcp_epoch = np.zeros(res.t_s.size, bool)
             gcp_epoch[np.searchsorted(res.t_s, walk.gcp_t_s)] = True
             for key, (pos, mat, lat) in sols.items():
@@ -120,4 +123,16 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         "window_sweep": sw,
         "windows_without_gcp": gw,
         "comparison": pd.DataFrame(comp),
+        "trajectory": pd.concat(traj, ignore_index=True),
     }
+
+
+def _trajectory(phone, walk, sols, ind):
+    """Per-epoch E, N, H of the truth, the filter and the online windows of Tables 8-11 (first seed)."""
+    frames = [pd.DataFrame({"phone": phone, "method": "Truth", "t_s": walk.t_s, "indoor": ind,
+                            "E": walk.pos_true_n_m[:, 0], "N": walk.pos_true_n_m[:, 1], "H": walk.pos_true_n_m[:, 2]})]
+    for key in ["Filtering", *TABLE_WINDOWS_S]:
+        pos = sols[key][0]
+        frames.append(pd.DataFrame({"phone": phone, "method": key if key == "Filtering" else _label(key),
+                                    "t_s": walk.t_s, "indoor": ind, "E": pos[:, 0], "N": pos[:, 1], "H": pos[:, 2]}))
+    return pd.concat(frames, ignore_index=True)
