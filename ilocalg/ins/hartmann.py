@@ -167,11 +167,11 @@ def _noise_cov(gyro_sd_radps, acc_sd_mps2, gyro_bias_rw, acc_bias_rw, dt_s):
 #: Default video-tracker measurement sd: yaw (rad), x, y, z (m).
 VT_SD_DEFAULT = (float(np.deg2rad(1.0)), 0.003, 0.003, 0.008)
 #: Gyroscope white-noise sd per IMU sample stated for the ADIS16350 set-up (survey sec. 5.1), rad/s.
-GYRO_SD_DEFAULT_RADPS = float(np.deg2rad(0.4))
+GYRO_SD_DEFAULT_RADPS = float(np.deg2rad(0.4))  # paper (survey sec. 5.1)
 
 
 def run_hartmann(t_s, gyro_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyro_sd_radps=GYRO_SD_DEFAULT_RADPS,
-                 acc_sd_mps2=0.05, gyro_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,
+                 acc_sd_mps2=0.05, gyro_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,  # paper sd
                  vt_sd=VT_SD_DEFAULT) -> HartmannResult:
     """Run the 15-state EKF over an IMU log (input u) with video-tracker measurements (yaw, x, y, z).
 

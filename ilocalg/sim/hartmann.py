@@ -38,7 +38,7 @@ from ilocalg.units import as_rng
 
 __all__ = ["HartmannSequence", "simulate", "IMU_RATE_HZ"]
 
-IMU_RATE_HZ = 400.0
+IMU_RATE_HZ = 400.0  # paper (survey sec. 5.1)
 
 
 @dataclass(frozen=True)
@@ -71,7 +71,7 @@ def _sines(rng, t, amp, n=3, fmin=0.05, fmax=0.5):
     return x
 
 
-def simulate(duration_s: float = 120.0, seed=0, gyro_sd_dps: float = 0.4, acc_sd_mps2: float = 0.05,
+def simulate(duration_s: float = 120.0, seed=0, gyro_sd_dps: float = 0.4, acc_sd_mps2: float = 0.05,  # paper
              gyro_bias_sd_dps: float = 0.3, acc_bias_sd_mps2: float = 0.1, frame_rate_hz: float = 10.0,
              detect_prob: float = 0.85, blur_rate_dps: float = 60.0, blur_speed_mps: float = 0.6,
              vt_sd=VT_SD_DEFAULT, rest_s: float = 3.0) -> HartmannSequence:

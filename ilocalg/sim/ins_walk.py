@@ -58,7 +58,7 @@ from ilocalg.units import as_rng
 
 __all__ = ["PhoneProfile", "PROFILES", "ROUTES", "GCP_XYZ_M", "InsWalk", "simulate"]
 
-TRUTH_RATE_HZ = 200.0
+TRUTH_RATE_HZ = 200.0  # the paper's reference rate
 
 
 @dataclass(frozen=True)
@@ -85,7 +85,7 @@ PROFILES = {
     "iphone_5s": PhoneProfile("iphone_5s", (10, 14), 20 * _MG, np.deg2rad(0.2), 0.010, 0.010,
                               3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
     # MIDG-II, paper Table 3: 50 Hz, 4.7 deg/h, 6 mg, 5000 ppm gyro / 19700 ppm acc (paper values)
-    "midg2": PhoneProfile("midg2", (4, 4), 6 * _MG, np.deg2rad(4.7 / 3600), 0.0197, 0.005,
+    "midg2": PhoneProfile("midg2", (4, 4), 6 * _MG, np.deg2rad(4.7 / 3600), 0.0197, 0.005,  # paper Table 3
                           300e-6 * 9.80665, np.deg2rad(0.01)),
 }
 
