@@ -71,7 +71,14 @@ from ilocalg.ins.mechanisation import (
     skew,
 )
 from ilocalg.ins.pipeline import PhoneFilterSettings, run_walk, walk_updates
-from ilocalg.ins.smoother import SmoothResult, online_window_smooth, rts_gains, rts_smooth, window_ends
+from ilocalg.ins.smoother import (
+    ErrorStateINS,
+    SmoothResult,
+    online_window_smooth,
+    rts_gains,
+    rts_smooth,
+    window_ends,
+)
 
 __all__ = [
     "GRAVITY_N_MPS2",
@@ -92,6 +99,7 @@ __all__ = [
     "N_STATES",
     "WVC_REFERENCE_DEFAULTS",
     "EskfConfig",
+    "ErrorStateINS",
     "EskfResult",
     "SmoothResult",
     "UpdateSet",

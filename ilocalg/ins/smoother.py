@@ -31,7 +31,7 @@ import numpy as np
 from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult
 from ilocalg.ins.mechanisation import rotvecs_to_dcm
 
-__all__ = ["SmoothResult", "rts_gains", "rts_smooth", "window_ends", "online_window_smooth"]
+__all__ = ["SmoothResult", "ErrorStateINS", "rts_gains", "rts_smooth", "window_ends", "online_window_smooth"]
 
 
 @dataclass(frozen=True)
@@ -145,3 +145,34 @@ def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = Fals
     if window_s is None:
         raise ValueError("window_s must be a window length in seconds for the online smoother")
     return rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains)
+
+
+class ErrorStateINS:
+    """Thin wrapper: run the 21-state filter once, then smooth it (whole run or online windows).
+
+    Parameters
+    ----------
+    P0 : (21, 21) initial covariance; config : :class:`ilocalg.ins.eskf.EskfConfig`
+
+    Attributes
+    ----------
+    result_ : EskfResult after :meth:`fit`
+    """
+
+    def __init__(self, P0, config=None):
+        self.P0 = P0
+        self.config = config
+
+    def fit(self, t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, updates=()) -> ErrorStateINS:
+        from ilocalg.ins.eskf import run_eskf
+
+        self.result_ = run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, self.P0, updates,
+                                self.config)
+        self.gains_ = rts_gains(self.result_)
+        return self
+
+    def smooth(self, window_s: float | None = None, with_cov: bool = False) -> SmoothResult:
+        """:func:`rts_smooth` of the fitted filter (``window_s=None``: whole run)."""
+        if not hasattr(self, "result_"):
+            raise ValueError("call fit() before smooth()")
+        return rts_smooth(self.result_, window_s=window_s, with_cov=with_cov, gains=self.gains_)
