@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, rotvec_to_dcm, rotvecs_to_dcm, skew
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, _check_imu, rotvec_to_dcm, rotvecs_to_dcm, skew
 
 __all__ = [
     "N_STATES",
@@ -311,8 +311,6 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
     ----------
     Liao et al. (2016), eq. (1)-(6).
     """
-    from ilocalg.ins.mechanisation import _check_imu
-
     t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
     config = config or EskfConfig()
     P0 = np.asarray(P0, dtype=float)
