@@ -86,10 +86,10 @@ for phone, g in s.groupby("phone"):
 # %% [markdown]
 # ## Conclusion
 #
-# As in the paper, online smoothing improves on the filter and longer windows help more, because a
-# longer window is more likely to hold a control point (the windows-without-GCP table shows the error
-# inside windows without one is far larger); the computed summary above gives the best of the 5/10/20 s
-# windows. The sweep also shows the paper's caveat (Figs 20-21): past the control-point spacing, a window
+# As in the paper, online smoothing improves on the filter and, among 5/10/20 s, longer windows help more
+# because a longer window is more likely to hold a control point (for short windows the windows-without-GCP
+# table shows a far larger error inside windows without one); the computed summary above gives the best of
+# the three. The sweep also shows the paper's caveat (Figs 20-21): past the control-point spacing, a window
 # size that leaves some windows without a control point can be worse than a shorter one, so the curve is
 # not monotone. The price is latency: an epoch's smoothed value arrives on average half a window late.
 #

@@ -16,7 +16,8 @@ Paper (Liao et al. 2016):
   - reference solution rate 200 Hz; phone IMU "15-17 Hz ... about 20 Hz, irregular" -> phone intervals of
     10-14 ticks of the 200 Hz grid (uniform), mean 16.7 Hz;
   - stops of 1-3 s after turns (ZUPT), uniform in [1, 3] s;
-  - GNSS only during the two outdoor loops; four indoor control points, met "about every 15 s";
+  - GNSS only during the two outdoor loops; four indoor control points, met "about every 15 s" (the
+    indoor legs are sized so that the passages come every ~15 s);
     control points surveyed by total station (cm level): position-fix sd ``gcp_sd_m`` = 0.05 m;
   - MIDG-II (Table 3): 50 Hz, gyro bias 4.7 deg/h, accelerometer bias 6 mg, scale factors 5000 ppm
     (gyro) and 19700 ppm (accelerometer): the ``"midg2"`` reference-grade profile.
@@ -32,7 +33,7 @@ Walker (modelling assumptions, not from the paper):
   - true step length from eq. (7) with the walker's own height 1.70 m and a personal scale factor
     ``c`` ~ N(1.0, 0.05): the default-parameter WVC therefore mis-predicts speed by a few percent
     (the paper cites 40-50 % step-length variation between walkers; we keep one walker modest);
-  - stairs: 0.45 m/s horizontal, rise 4 m over 8 m;
+  - stairs: 0.5 m/s horizontal, rise 4 m over 7 m (about 24 steps of 0.17 m x 0.29 m at 1.75 steps/s);
   - hand-held vibration and dynamic misalignment: vertical bounce 2.5 cm at the step frequency,
     lateral sway 1.5 cm at half of it; attitude oscillation roll 2 deg, pitch 2 deg, yaw 3 deg; a slowly
     wandering yaw misalignment (sd 3 deg, 5 s correlation); hand tremor at rest (0.3 deg, 0.3 s); the
@@ -91,16 +92,16 @@ PROFILES = {
 
 #: Indoor control points (ENU, m), at corners and corridor middles as in the paper: the corner at the
 #: foot of the stairs, the 2nd-floor corridor middle, the corner at the classroom door, a classroom corner.
-GCP_XYZ_M = np.array([[40.0, 0.0, 0.0], [40.0, 14.0, 4.0], [25.0, 20.0, 4.0], [15.0, 30.0, 4.0]])
+GCP_XYZ_M = np.array([[30.0, 0.0, 0.0], [30.0, 11.0, 4.0], [20.0, 15.0, 4.0], [13.0, 22.0, 4.0]])
 
 _OUT = [(0, 0, 0), (15, 0, 0), (15, 10, 0), (0, 10, 0), (0, 0, 0)]
 _LOOPS = _OUT + _OUT[1:]
-_IN = [(25, 0, 0), (40, 0, 0), (40, 8, 4), (40, 20, 4), (25, 20, 4)]
-_CLASS = [(25, 30, 4), (15, 30, 4), (15, 22, 4), (24, 22, 4), (25, 20, 4)]
+_IN = [(20, 0, 0), (30, 0, 0), (30, 7, 4), (30, 15, 4), (20, 15, 4)]
+_CLASS = [(20, 22, 4), (13, 22, 4), (13, 17, 4), (19, 17, 4), (20, 15, 4)]
 #: Waypoints (x, y, z) of the two routes; the outdoor part ends at the first indoor waypoint.
 ROUTES = {
-    "samsung": _LOOPS + _IN + _CLASS + [(40, 20, 4), (40, 8, 4), (40, 0, 0), (25, 0, 0), (0, 0, 0)],
-    "iphone": _LOOPS + _IN[:3] + [(40, 30, 4), (40, 20, 4), (25, 20, 4)] + _CLASS + [(30, 20, 4), (30, 17, 4)],
+    "samsung": _LOOPS + _IN + _CLASS + [(30, 15, 4), (30, 7, 4), (30, 0, 0), (20, 0, 0), (0, 0, 0)],
+    "iphone": _LOOPS + _IN[:3] + [(30, 22, 4), (30, 15, 4), (20, 15, 4)] + _CLASS + [(24, 15, 4), (24, 13, 4)],
 }
 _N_OUTDOOR_WP = len(_LOOPS)
 
@@ -228,7 +229,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     rng = as_rng(seed)
     dt = 1.0 / TRUTH_RATE_HZ
     user_c = 1.0 + rng.normal(0.0, user_c_sd)
-    raw, walking, freq, i_indoor = _path(rng, ROUTES[route], dt, user_c, user_height_m, 0.45, 1.85)
+    raw, walking, freq, i_indoor = _path(rng, ROUTES[route], dt, user_c, user_height_m, 0.5, 1.85)
     m = raw.shape[0]
     t = np.arange(m) * dt
     sig = int(0.25 / dt)
