@@ -115,8 +115,9 @@ for phone in ("Samsung", "iPhone"):
 # ## Conclusion
 #
 # The ordering of the paper is reproduced on the simulated walks: the tight vehicle-style NHC drifts
-# most, WVC removes most of the along-track drift, control-point updates bound the error, and RTS
-# smoothing of the WVC/ZUPT/GCP filter is the most accurate (computed summary above).
+# most, WVC reduces the horizontal drift (in east here; the north error is held up by the stairs, see
+# below), control-point updates bound the error, and RTS smoothing of the WVC/ZUPT/GCP filter is the most
+# accurate, at the decimetre level like the paper's (computed summary above).
 #
 # Where the numbers differ and why:
 # - The data are simulated (no recordings of the paper are public); only sensor inputs were calibrated
@@ -127,8 +128,8 @@ for phone in ("Samsung", "iPhone"):
 #   the 2nd-floor corridor the WVC filter overshoots along the stairs (north) until the next fix; the RTS
 #   smoother removes most of it, which is why the smoothed rows come closest to the paper's. The paper's
 #   route also has stairs, but its step detector and walker behaviour on stairs are not described.
-# - Our four control points are met less often on these routes than the paper's "about every 15 s" (see
-#   walk_stats), which weakens the GCP rows compared with the paper.
+# - The indoor legs are sized so that the four control points are met about every 15 s as in the paper; on
+#   the iPhone route (fewer passages) the spacing is somewhat longer (walk_stats).
 # - Attitude: the paper's heading errors (up to 100+ degrees max) come mostly from time-synchronisation
 #   errors between the phone and the 200 Hz reference; the simulation has exact time tags, so its heading
 #   errors are smaller and its roll/pitch errors much smaller. The time-sync table shows that a lag of a

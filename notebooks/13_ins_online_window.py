@@ -94,6 +94,6 @@ for phone, g in s.groupby("phone"):
 # not monotone. The price is latency: an epoch's smoothed value arrives on average half a window late.
 #
 # Differences from the paper: simulated data (only sensor inputs calibrated, nothing tuned to Tables 8-11);
-# control points here are met less often than the paper's ~15 s, and the stairs dominate the north error (see
+# the stairs dominate the filter's north error whatever the control-point spacing (see
 # notebook 12), so the absolute errors differ; the heading statistics lack the paper's phone/reference
 # time-synchronisation errors.
