@@ -55,11 +55,53 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
         sp.set_defaults(_evaluator=mod)
 
+    sw = sub.add_parser("sweep", help="run an experiment across seeds and parameter values on Dask")
+    sw.add_argument("experiment", help="module name under ilocalg.experiments, e.g. wifi_iloc")
+    sw.add_argument("--seeds", type=int, required=True, metavar="N", help="seeds 0..N-1")
+    sw.add_argument("--seed-start", type=int, default=0, help="first seed (default 0)")
+    sw.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
+                    help="a parameter of run() and its values (repeatable; the grid is their product)")
+    sw.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a LocalCluster)")
+    sw.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (0 = serial, no Dask)")
+    sw.add_argument("--fast", action="store_true", help="run the experiment in fast mode")
+    sw.add_argument("--out", default=None, help="output folder (default: reports/sweeps/EXPERIMENT)")
+    sw.add_argument("--no-cache", action="store_true", help="do not read or write the per-task parquet cache")
+
     nb = sub.add_parser("notebooks", help="sync or check the .py <-> .ipynb notebook pairs")
     g = nb.add_mutually_exclusive_group(required=True)
     g.add_argument("--sync", action="store_true", help="write every .ipynb from its .py (outputs stripped)")
     g.add_argument("--check", action="store_true", help="fail if a pair is missing, stale or has outputs")
     return p
+
+
+def _sweep(args) -> int:
+    from ilocalg import sweep as sw
+    from ilocalg.reporting import write_table
+    from ilocalg.runner import REPO_ROOT
+
+    try:
+        grid = dict(sw.parse_param(p) for p in args.param)
+        if args.seeds < 1:
+            raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
+        sw._experiment(args.experiment)
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    tasks = sw.make_tasks(args.experiment, range(args.seed_start, args.seed_start + args.seeds), grid, args.fast)
+    res = sw.sweep(tasks, scheduler=args.scheduler, workers=args.workers,
+                   cache_dir=None if args.no_cache else sw.DEFAULT_CACHE)
+    out = Path(args.out) if args.out else REPO_ROOT / "reports" / "sweeps" / args.experiment
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"{res.n_tasks} runs ({res.n_cached} from cache), {len(res.failures)} failed", file=sys.stderr)
+    for f in res.failures:
+        print(f"FAILED {f['task']}: {f['error']}", file=sys.stderr)
+    (out / "failures.json").write_text(json.dumps(_jsonable(res.failures), indent=2) + "\n")
+    if not res.results.empty:
+        res.results.to_parquet(out / "results.parquet", index=False)
+        summary = sw.aggregate(res.results)
+        write_table(summary, out / "summary")
+        print(summary.to_string(index=False))
+    return 1 if res.failures else 0
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -77,6 +119,8 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         print(json.dumps(_jsonable(result), sort_keys=False))
         return 0
+    if args.command == "sweep":
+        return _sweep(args)
     if args.command == "notebooks":
         from ilocalg import notebook_sync
         from ilocalg.runner import NOTEBOOK_DIR

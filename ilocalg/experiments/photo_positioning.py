@@ -1,0 +1,412 @@
+"""i-Loc photo positioning: ST vs VA over shooting points and PoI combinations (thesis Figs 29-32).
+
+``run(seed, fast, **params)`` simulates photos of the PoI wall (:mod:`ilocalg.sim.photo_poi`), locates
+every photo with every combination of 2..7 PoIs (120 combinations) by ST (similar triangles with the
+sensor orientation), VAGIG and VABIG (view angles from a good and a bad initial guess) and, for
+combinations of >= 4 PoIs, by OpenCV's SQPnP and by a wall homography, and scores the horizontal
+(floor-map) error in centimetres against the true camera centre.
+
+Tables returned
+---------------
+``layout_pois``, ``layout_shots``
+    The simulated set-up (Figs 27-28).
+``inputs``
+    The simulation inputs used (sources in :mod:`ilocalg.sim.photo_poi`).
+``per_shot`` (Fig 29)
+    Mean error per shooting point and method, with the distance to ``p4``.
+``distance_trend``
+    Per method: Spearman correlation and least-squares slope of the per-shot mean error against the
+    distance to ``p4`` (the thesis's explanation of Fig 29).
+``per_k`` (Fig 30)
+    Mean error per number of PoIs and method.
+``per_combo`` (Fig 31)
+    Mean error per PoI combination and method, with the median ST condition number and the
+    smallest PoI-pair view angle.
+``combo_geometry``
+    Spearman correlation, over combinations, of each method's error with the ST condition number and
+    with the smallest view angle.
+``near_collinear`` (Fig 32)
+    The thesis's near-collinear combinations {1,3}, {1,4}, {5,6}, {1,3,4} beside the mean of all
+    combinations of the same size.
+``modern``
+    ST with sensor and with true orientation, SQPnP and homography per number of PoIs (>= 4).
+``propagation``
+    ST with all seven PoIs: Monte-Carlo RMS 3-D error per shooting point beside the first-order
+    prediction from the orientation and drag errors (:func:`ilocalg.photo.st_error_propagation`).
+``va_convergence``
+    Share of VA runs that converged and their mean iteration count.
+``comparison``
+    Paper values (Fig 30 text, overall means) beside the reproduced ones (``paper_ref`` rows).
+``errors``
+    Long table, one row per photo, combination and method (for plots).
+
+References
+----------
+i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.3, Figs 29-32; survey 002, sec. 4, eq. (3)-(5).
+"""
+
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.photo import (
+    homography_dlt,
+    homography_pose,
+    look_at,
+    measured_view_angles_rad,
+    pnp_solve_batch,
+    project,
+    square_marker_pose,
+    st_error_propagation,
+    st_solve_batch,
+    va_solve_batch,
+    view_angles_rad,
+)
+from ilocalg.reporting import paper_ref
+from ilocalg.sim import photo_poi
+from ilocalg.units import as_rng
+
+__all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_DEFAULTS", "combo_label",
+           "NEAR_COLLINEAR_PAPER", "PAPER", "METHODS"]
+
+#: Methods of the thesis's comparison (Figs 29-32).
+METHODS = ("ST", "VAGIG", "VABIG")
+
+#: Published values, thesis sec. 6.3 (paper reference only; never used in any computation).
+PAPER = {
+    "fig30_ST_k2_cm": 112.0,  # paper: ST error with 2 PoIs
+    "fig30_ST_k7_cm": 48.0,  # paper: ST error with 7 PoIs
+    "fig30_VABIG_k2_cm": 870.0,  # paper: VABIG error with 2 PoIs
+    "fig30_VABIG_k7_cm": 50.0,  # paper: VABIG error with 7 PoIs
+    "mean_ST_cm": 74.3,  # paper: overall mean, ST
+    "mean_VAGIG_cm": 88.9,  # paper: overall mean, VAGIG
+    "mean_VABIG_cm": 246.0,  # paper: overall mean, VABIG
+}
+
+#: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
+NEAR_COLLINEAR_PAPER = ((1, 3), (1, 4), (5, 6), (1, 3, 4))
+
+_PAPER_LABEL = "i-Loc thesis"
+
+
+def combo_label(combo) -> str:
+    """``(0, 2)`` -> ``"{1,3}"`` (1-based PoI numbers, as in the thesis)."""
+    return "{" + ",".join(str(i + 1) for i in combo) + "}"
+
+
+def _horizontal_error_cm(c_est, c_true):
+    return 100.0 * np.hypot(c_est[..., 0] - c_true[..., 0], c_est[..., 1] - c_true[..., 1])
+
+
+def _homography_batch(pois_m, img_px, f_px):
+    """World centres (B, 3) from PoIs on the wall y = 0 (plane axes x and z)."""
+    XY = pois_m[..., [0, 2]]
+    out = np.empty((img_px.shape[0], 3))
+    for b in range(img_px.shape[0]):
+        pose = homography_pose(homography_dlt(XY[b], img_px[b]), f_px)
+        # plane frame (e1 = x, e2 = z, e3 = e1 x e2 = -y) -> world
+        cp = pose.c_plane_m
+        out[b] = [cp[0], -cp[2], cp[1]]
+    return out
+
+
+def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = True,
+        va_max_iter: int | None = None, ks=(2, 3, 4, 5, 6, 7), **sim_params) -> dict[str, pd.DataFrame]:
+    """Simulate, locate and score; see the module docstring for the tables.
+
+    Parameters
+    ----------
+    seed : int
+        Simulation seed.
+    fast : bool
+        One photo per shooting point instead of 10 and at most 500 VA iterations instead of 2000.
+    n_photos : int, optional
+        Photos per shooting point (overrides ``fast``).
+    va_free_z : bool
+        VA searches all three coordinates (default, as the thesis's ``c = [c_x c_y c_z]``) or only
+        the floor position at the initial height.
+    va_max_iter : int, optional
+        Iteration cap of the VA gradient descent (default 500 when ``fast``, else 2000).
+    ks : sequence of int
+        Numbers of PoIs per combination to evaluate (2..7; tables needing a missing size leave it out).
+    **sim_params
+        Overrides of :data:`ilocalg.sim.photo_poi.DEFAULTS` (e.g. ``drag_sd_px``).
+    """
+    ks = sorted({int(k) for k in ks})
+    if not ks or ks[0] < 2 or ks[-1] > 7:
+        raise ValueError(f"ks must be numbers of PoIs between 2 and 7, got {ks}")
+    n_photos = int(n_photos) if n_photos is not None else (1 if fast else 10)
+    va_max_iter = int(va_max_iter) if va_max_iter is not None else (500 if fast else 2000)
+    sim = photo_poi.simulate(seed, n_photos=n_photos, **sim_params)
+    f = sim.f_px
+    N = sim.c_m.shape[0]
+    rows = []
+    conv_rows = []
+    combo_info = []
+    for k in ks:
+        combos = list(combinations(range(7), k))
+        C = len(combos)
+        idx = np.array(combos)  # (C, k)
+        P = np.broadcast_to(sim.pois_m[idx][None], (N, C, k, 3)).reshape(N * C, k, 3)
+        U = sim.img_px[:, idx].reshape(N * C, k, 2)
+        Tm = np.repeat(sim.T_meas, C, axis=0)
+        Tt = np.repeat(sim.T_true, C, axis=0)
+        ctrue = np.repeat(sim.c_m, C, axis=0)
+        est = {}
+        st = st_solve_batch(P, U, f, Tm)
+        if np.any(st["rank"] < 3):
+            raise ValueError("ST system rank deficient in the simulated set-up; the layout is degenerate")
+        est["ST"] = st["c_m"]
+        est["ST_true_orientation"] = st_solve_batch(P, U, f, Tt)["c_m"]
+        ang = measured_view_angles_rad(U, f)
+        for name, c0 in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m)):
+            va = va_solve_batch(P, ang, np.repeat(c0, C, axis=0), max_iter=va_max_iter, free_z=va_free_z,
+                                step_tol_m=1e-6)
+            est[name] = va["c_m"]
+            conv_rows.append({"method": name, "k": k, "converged_share": float(va["converged"].mean()),
+                              "mean_iterations": float(va["n_iter"].mean())})
+        if k >= 4:
+            est["PnP_SQPnP"] = pnp_solve_batch(P, U, f)
+            est["homography"] = _homography_batch(P, U, f)
+        cond = st["cond"].reshape(N, C)
+        va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
+        for j, combo in enumerate(combos):
+            combo_info.append({"combo": combo_label(combo), "k": k,
+                               "st_cond_median": float(np.median(cond[:, j])),
+                               "min_view_angle_deg": float(np.degrees(va_true[:, j].min(axis=1).mean()))})
+        shot = np.repeat(sim.shot_index, C)
+        photo = np.repeat(np.arange(N), C)
+        labels = np.tile(np.array([combo_label(c) for c in combos], dtype=object), N)
+        for name, c in est.items():
+            rows.append(pd.DataFrame({"photo": photo, "shot": shot + 1, "k": k, "combo": labels, "method": name,
+                                      "error_cm": _horizontal_error_cm(c, ctrue)}))
+    errors = pd.concat(rows, ignore_index=True)
+    if not np.isfinite(errors["error_cm"]).all():
+        bad = errors[~np.isfinite(errors["error_cm"])].iloc[0]
+        raise ValueError(f"non-finite error for {bad['method']} combo {bad['combo']} photo {bad['photo']}")
+    shots = photo_poi.shots_frame()
+
+    thesis = errors[errors["method"].isin(METHODS)]
+    per_shot = thesis.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_shot = per_shot.reset_index()
+    per_shot.insert(1, "dist_to_p4_m", shots["dist_to_p4_m"].to_numpy()[per_shot["shot"].to_numpy() - 1])
+    per_shot.columns.name = None
+
+    trend = []
+    for m in METHODS:
+        x = per_shot["dist_to_p4_m"].to_numpy()
+        y = per_shot[m].to_numpy()
+        rho = pd.Series(x).corr(pd.Series(y), method="spearman")
+        slope = np.polyfit(x, y, 1)[0]
+        trend.append({"method": m, "spearman_rho": float(rho), "slope_cm_per_m": float(slope),
+                      "error_t1_cm": float(y[0]), "error_t7_cm": float(y[-1])})
+    distance_trend = pd.DataFrame(trend)
+
+    per_k = thesis.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_k.insert(0, "n_combos", errors[errors["method"] == "ST"].groupby("k")["combo"].nunique())
+    per_k = per_k.reset_index()
+    per_k.columns.name = None
+
+    info = pd.DataFrame(combo_info)
+    per_combo = thesis.pivot_table(index="combo", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_combo = info.merge(per_combo.reset_index(), on="combo")
+    on_line = {0, 2, 3, 4, 5}
+    per_combo["on_horizontal_line"] = [set(int(i) - 1 for i in c.strip("{}").split(",")) <= on_line
+                                       for c in per_combo["combo"]]
+    per_combo.columns.name = None
+
+    cr = []
+    for m in METHODS:
+        for col in ("st_cond_median", "min_view_angle_deg"):
+            cr.append({"method": m, "versus": col, "spearman_rho_all_combos": float(
+                per_combo[col].corr(per_combo[m], method="spearman")),
+                "spearman_rho_pairs_only": float(per_combo.loc[per_combo["k"] == 2, col].corr(
+                    per_combo.loc[per_combo["k"] == 2, m], method="spearman"))})
+    combo_geometry = pd.DataFrame(cr)
+
+    nc = []
+    for combo in NEAR_COLLINEAR_PAPER:
+        if len(combo) not in ks:
+            continue
+        lab = "{" + ",".join(map(str, combo)) + "}"
+        r = per_combo[per_combo["combo"] == lab].iloc[0]
+        same_k = per_combo[per_combo["k"] == len(combo)]
+        row = {"combo": lab, "k": len(combo), "st_cond_median": r["st_cond_median"],
+               "st_cond_median_all_same_k": float(same_k["st_cond_median"].median()),
+               "min_view_angle_deg": r["min_view_angle_deg"]}
+        for m in METHODS:
+            row[m] = r[m]
+            row[f"{m}_mean_same_k"] = float(same_k[m].mean())
+            row[f"{m}_rank_among_same_k"] = int((same_k[m] > r[m]).sum() + 1)
+        row["n_same_k"] = len(same_k)
+        nc.append(row)
+    near_collinear = pd.DataFrame(nc)
+
+    modern_methods = ["ST", "ST_true_orientation", "PnP_SQPnP", "homography"]
+    mod = errors[(errors["k"] >= 4) & errors["method"].isin(modern_methods)]
+    if mod.empty:
+        mod = pd.DataFrame({"k": [4], "method": ["ST"], "error_cm": [np.nan]})
+    modern = mod.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean", dropna=False)
+    modern = modern.reindex(columns=modern_methods)
+    med = mod.groupby("method")["error_cm"].mean()
+    modern.loc["all k>=4"] = [med.get(m, np.nan) for m in modern_methods]
+    modern = modern.reset_index()
+    modern["k"] = modern["k"].astype(str)
+    modern.columns.name = None
+
+    # orientation-error propagation, all seven PoIs
+    p = sim.params
+    prop = st_error_propagation(sim.pois_m, sim.img_true_px, f, sim.T_true, np.deg2rad(p["tilt_sd_deg"]),
+                                np.deg2rad(p["yaw_sd_deg"]), p["drag_sd_px"])
+    st7 = st_solve_batch(sim.pois_m, sim.img_px, f, sim.T_meas)["c_m"]
+    err7 = np.linalg.norm(st7 - sim.c_m, axis=1)
+    pr = []
+    for s in range(7):
+        m = sim.shot_index == s
+        pr.append({"shot": s + 1, "dist_to_p4_m": float(shots["dist_to_p4_m"][s]),
+                   "mc_rms_3d_cm": 100 * float(np.sqrt(np.mean(err7[m] ** 2))),
+                   "predicted_rms_3d_cm": 100 * float(np.sqrt(np.mean(prop["rms_m"][m] ** 2))),
+                   "predicted_orientation_only_cm": 100 * float(np.sqrt(np.mean(
+                       np.trace(prop["cov_orientation_m2"][m], axis1=1, axis2=2)))),
+                   "predicted_drag_only_cm": 100 * float(np.sqrt(np.mean(
+                       np.trace(prop["cov_drag_m2"][m], axis1=1, axis2=2))))})
+    propagation = pd.DataFrame(pr)
+
+    overall = thesis.groupby("method")["error_cm"].mean()
+    k_means = per_k.set_index("k")
+    comp = []
+    for k, m in ((2, "ST"), (7, "ST"), (2, "VABIG"), (7, "VABIG")):
+        if k in ks:
+            comp.append(paper_ref(_PAPER_LABEL, "Fig 30", f"{m} mean error, {k} PoIs", PAPER[f"fig30_{m}_k{k}_cm"],
+                                  k_means.loc[k, m], "cm"))
+    if ks == [2, 3, 4, 5, 6, 7]:
+        for m in METHODS:
+            comp.append(paper_ref(_PAPER_LABEL, "Figs 29-30", f"{m} overall mean error", PAPER[f"mean_{m}_cm"],
+                                  overall[m], "cm", note="paper-style mean over 120 combinations x 7 shooting points"))
+    comparison = pd.DataFrame(comp)
+    inputs = pd.DataFrame({"parameter": list(p), "value": [float(v) for v in p.values()]})
+    return {
+        "layout_pois": photo_poi.pois_frame(),
+        "layout_shots": shots,
+        "inputs": inputs,
+        "per_shot": per_shot,
+        "distance_trend": distance_trend,
+        "per_k": per_k,
+        "per_combo": per_combo,
+        "near_collinear": near_collinear,
+        "combo_geometry": combo_geometry,
+        "modern": modern,
+        "propagation": propagation,
+        "va_convergence": pd.DataFrame(conv_rows),
+        "comparison": comparison,
+        "errors": errors,
+    }
+
+
+#: Input values tried by :func:`sensitivity` (one input changed at a time from the defaults).
+SENSITIVITY_GRID = (
+    ("drag_sd_px", (3.0, 6.0, 12.0, 24.0)),
+    ("yaw_sd_deg", (1.0, 2.5, 5.0, 10.0)),
+    ("tilt_sd_deg", (0.5, 1.0, 2.0)),
+    ("good_guess_sd_m", (0.5, 1.0, 2.25)),
+    ("va_free_z", (True, False)),
+)
+
+
+def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_GRID) -> pd.DataFrame:
+    """How the ST / VA errors move when one simulation input changes (all others at their defaults).
+
+    Runs :func:`run` on combinations of ``ks`` PoIs for each value in ``grid`` and returns a long table
+    (``parameter``, ``value`` (float; for ``va_free_z`` 1 = 3-D search), ``k``, ``method``, ``error_cm``).
+    It shows which conclusions depend on the documented-but-assumed inputs; it is not used to choose them.
+    ``fast`` uses one photo per shooting point and only the first and last value of the drag and heading errors.
+    """
+    rows = []
+    n = 1 if fast else 4
+    if fast:
+        grid = tuple((name, (values[0], values[-1])) for name, values in grid if name in ("drag_sd_px", "yaw_sd_deg"))
+    for name, values in grid:
+        for v in values:
+            kw = {name: v}
+            t = run(seed=seed, fast=fast, n_photos=n, ks=ks, **kw)["per_k"]
+            for _, r in t.iterrows():
+                for m in METHODS:
+                    rows.append({"parameter": name, "value": float(v), "k": int(r["k"]), "method": m,
+                                 "error_cm": float(r[m])})
+    return pd.DataFrame(rows)
+
+
+#: Inputs of :func:`marker_ranging` (assumptions, documented in data/photo_poi/README.md).
+MARKER_DEFAULTS = {
+    "side_m": 0.18,
+    "centre_height_m": 1.5,
+    "bearing_max_deg": 30.0,
+    "height_sd_m": 0.1,
+    "roll_sd_deg": 2.0,
+}
+
+
+def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0, 4.0, 5.0),
+                   corner_sd_px=(0.5, 1.0, 2.0), f_px: float = photo_poi.DEFAULTS["f_px"],
+                   **marker) -> pd.DataFrame:
+    """Distance to a square planar marker (a QR code) from its four corners by ``H = K [r1 r2 t]``.
+
+    The phone looks at a marker of side ``side_m`` on the wall from ``distance`` metres, at a bearing
+    uniform in ``+-bearing_max_deg`` off the wall's normal; the four detected corners get independent
+    ``N(0, corner_sd^2)`` errors per axis. The homography is estimated by the normalised DLT and
+    decomposed (:func:`ilocalg.photo.homography_pose`); the range ``l = ||t||`` and the camera centre
+    are scored, beside OpenCV's IPPE (:func:`ilocalg.photo.square_marker_pose`) on the same corners.
+
+    Returns
+    -------
+    DataFrame with one row per (distance, corner error): ``marker_px`` (the marker's width on the
+    screen) and, for ``homography`` and ``ippe``, ``*_range_mean_error_cm`` (signed),
+    ``*_range_rms_error_cm`` and ``*_position_rms_error_cm`` (3-D camera centre).
+
+    References
+    ----------
+    Survey 002, sec. 4, eq. (3)-(5) and Fig 8 (distance from the 2-D code to the camera).
+    """
+    unknown = sorted(set(marker) - set(MARKER_DEFAULTS))
+    if unknown:
+        raise ValueError(f"unknown marker parameters {unknown}; known: {sorted(MARKER_DEFAULTS)}")
+    m = {**MARKER_DEFAULTS, **marker}
+    rng = as_rng(seed)
+    n = 50 if fast else 500
+    h = m["side_m"] / 2
+    XY = np.array([[-h, -h], [h, -h], [h, h], [-h, h]])
+    centre = np.array([0.0, 0.0, m["centre_height_m"]])
+    world = np.c_[XY[:, 0], np.zeros(4), centre[2] + XY[:, 1]]
+    rows = []
+    for d in distances_m:
+        if d <= 0:
+            raise ValueError(f"distances_m must be positive, got {d}")
+        bearing = np.deg2rad(rng.uniform(-m["bearing_max_deg"], m["bearing_max_deg"], n))
+        dz = m["height_sd_m"] * rng.standard_normal(n)
+        horiz = np.sqrt(np.maximum(d * d - dz * dz, 0.0))
+        c = np.c_[horiz * np.sin(bearing), horiz * np.cos(bearing), centre[2] + dz]
+        T = look_at(c, centre, np.deg2rad(m["roll_sd_deg"]) * rng.standard_normal(n))
+        img_true = project(world, c, T, f_px)
+        width_px = float(np.mean(np.linalg.norm(img_true[:, 1] - img_true[:, 0], axis=1)))
+        for sd in corner_sd_px:
+            img = img_true + sd * rng.standard_normal(img_true.shape)
+            row = {"distance_m": float(d), "corner_sd_px": float(sd), "marker_px": width_px}
+            for name in ("homography", "ippe"):
+                rng_err = np.empty(n)
+                pos_err = np.empty(n)
+                for b in range(n):
+                    if name == "homography":
+                        pose = homography_pose(homography_dlt(XY, img[b]), f_px)
+                    else:
+                        pose = square_marker_pose(img[b], m["side_m"], f_px)
+                    rng_err[b] = pose.distance_m - np.linalg.norm(c[b] - centre)
+                    cp = pose.c_plane_m  # plane frame: e1 = x, e2 = z, e3 = -y
+                    pos_err[b] = np.linalg.norm(centre + np.array([cp[0], -cp[2], cp[1]]) - c[b])
+                row[f"{name}_range_mean_error_cm"] = 100 * float(rng_err.mean())
+                row[f"{name}_range_rms_error_cm"] = 100 * float(np.sqrt(np.mean(rng_err ** 2)))
+                row[f"{name}_position_rms_error_cm"] = 100 * float(np.sqrt(np.mean(pos_err ** 2)))
+            rows.append(row)
+    return pd.DataFrame(rows)

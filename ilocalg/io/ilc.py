@@ -1,0 +1,738 @@
+"""Indoor Location Competition 2.0 (ILC 2020) traces, floor info and floor map.
+
+An ILC trace is one walk of a site surveyor holding an Android phone flat in front of the body
+(Microsoft Research / XYZ10 sample data, github.com/location-competition/indoor-location-competition-20).
+Each non-comment line is tab-separated: column 1 Unix time in milliseconds (``SensorEvent.timestamp``
+for sensors, system time for Wi-Fi and Bluetooth scans), column 2 the record type, then values:
+
+=====================================  ==================================================  ==========
+record type                            values                                              kept as
+=====================================  ==================================================  ==========
+``TYPE_WAYPOINT``                      x y (metres, floor-map frame)                       waypoints
+``TYPE_ACCELEROMETER``                 x y z accuracy (m/s^2)                              imu acc_*
+``TYPE_GYROSCOPE``                     x y z accuracy (rad/s)                              imu gyr_*
+``TYPE_MAGNETIC_FIELD``                x y z accuracy (microtesla)                         imu mag_*
+``TYPE_ROTATION_VECTOR``               x y z accuracy (unit quaternion vector part)        rotation_vector
+``TYPE_WIFI``                          ssid bssid rssi(dBm) freq(MHz) last_seen(ms)        wifi
+``*_UNCALIBRATED``                     6 values + accuracy                                 skipped, counted
+``TYPE_BEACON``, ``TYPE_BLUE``, ...    (iBeacon / Bluetooth / others)                      skipped, counted
+=====================================  ==================================================  ==========
+
+The sensors' ``accuracy`` column is checked for presence but not kept. Besides the documented
+types, the site2/F4 traces also hold ``TYPE_BLUE``, ``TYPE_BLU4``, ``TYPE_DIST1``, ``TYPE_DIST2``
+and ``TYPE_SENSOR_MAGNETIC_FIELD_ACCURACY_CHANGED`` records: skipped and counted like any
+unknown type (:attr:`IlcTrace.skipped`).
+
+Lines starting with ``#`` carry the header: ``startTime``, site and floor ids and names, phone
+brand/model/Android version, one line per sensor (type, name, vendor, resolution, range) and
+``endTime`` at the end. Header key/value pairs are returned in :attr:`IlcTrace.header`.
+
+Choices (documented here once)
+------------------------------
+Time
+    ``t_s`` is Unix time in seconds (float64; millisecond resolution is exact to ~1e-7 s).
+IMU time index
+    One **common** index: accelerometer, gyroscope and magnetometer records must share their
+    timestamps (they do in every trace of the site2/F4 sample: the recording app logs the three
+    sensors together at ~50 Hz). A trace whose sensors are not aligned raises a ValueError naming
+    the first mismatching line; nothing is interpolated.
+Wi-Fi scans
+    A scan is the set of ``TYPE_WIFI`` records sharing a timestamp; ``scan_id`` numbers scans
+    0, 1, ... in time order. Extra columns ``ssid`` and ``last_seen_s`` (the AP's own last-seen
+    time, often older than the scan: Android reports cached results) are kept.
+Duplicate BSSIDs within one scan
+    Found in 6 of the 19 site2/F4 traces (75 records): the same BSSID listed twice in one scan, once
+    with its SSID and once with an empty SSID and an older ``last_seen`` (a hidden-SSID/cached
+    duplicate). By default (``duplicate_bssid="error"``) the loader raises a ValueError naming the
+    line; ``duplicate_bssid="keep_latest"`` keeps the record with the most recent last-seen time
+    (ties: the first listed) and reports how many were dropped in
+    :attr:`IlcTrace.n_duplicate_bssid_dropped` and in ``skipped["TYPE_WIFI duplicate bssid"]``.
+Sensor timestamps
+    Must be strictly increasing per sensor type (true in all 19 traces inspected); duplicates or
+    decreasing times raise a ValueError naming the line. Waypoint times likewise.
+
+Fingerprints from walks
+-----------------------
+:func:`ilc_fingerprints` positions every scan by linear interpolation of its walk's waypoints
+in time (:func:`interpolate_waypoints`, no extrapolation: scans outside the waypoint span raise
+or are left out and counted) and optionally leaves out stale AP readings (``max_age_s``).
+
+Floor map
+---------
+``geojson_map.json`` stores polygons in longitude/latitude. Following the competition's own
+plotting convention (the floor image spans ``floor_info.json``'s ``width`` x ``height`` metres),
+the bounding box of the floor outline (feature 0) is mapped linearly onto ``[0, width] x
+[0, height]`` metres. Walkable area = inside the outline and outside every shop/obstacle polygon
+(features 1...). Polygons are returned as ``(n, 2)`` arrays; :func:`points_in_polygon` tests
+containment (even-odd rule) without shapely.
+
+References
+----------
+Indoor Location Competition 2.0 sample data and format description, README of
+github.com/location-competition/indoor-location-competition-20 (commit 8ab177cd).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import tarfile
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.io.schema import (
+    ACC_COLS,
+    BSSID,
+    FREQ_MHZ,
+    GYR_COLS,
+    MAG_COLS,
+    RSSI_DBM,
+    SCAN_ID,
+    T_S,
+    X_M,
+    Y_M,
+    FingerprintSet,
+    check_imu,
+    check_waypoints,
+    check_wifi_scans,
+)
+
+__all__ = [
+    "IlcTrace",
+    "IlcFloorMap",
+    "IlcFloor",
+    "ROTVEC_COLS",
+    "parse_ilc_trace",
+    "load_ilc_trace",
+    "list_ilc_traces",
+    "load_ilc_floor",
+    "load_ilc_floor_map",
+    "points_in_polygon",
+    "interpolate_waypoints",
+    "IlcFingerprints",
+    "ilc_fingerprints",
+]
+
+ROTVEC_COLS = ("rv_x", "rv_y", "rv_z")
+
+_SENSORS = {
+    "TYPE_ACCELEROMETER": ACC_COLS,
+    "TYPE_GYROSCOPE": GYR_COLS,
+    "TYPE_MAGNETIC_FIELD": MAG_COLS,
+    "TYPE_ROTATION_VECTOR": ROTVEC_COLS,
+}
+#: number of value columns (after time and type) of every record type the loader checks
+_N_VALUES = {
+    "TYPE_WAYPOINT": 2,
+    "TYPE_ACCELEROMETER": 4,
+    "TYPE_GYROSCOPE": 4,
+    "TYPE_MAGNETIC_FIELD": 4,
+    "TYPE_ROTATION_VECTOR": 4,
+    "TYPE_WIFI": 5,
+}
+_DUPLICATE_POLICIES = ("error", "keep_latest")
+
+
+@dataclass(frozen=True)
+class IlcTrace:
+    """One ILC 2.0 trace (a surveyor's walk).
+
+    Attributes
+    ----------
+    imu : DataFrame
+        Index ``t_s`` (Unix s, strictly increasing); columns ``acc_*_mps2``, ``gyr_*_radps``,
+        ``mag_*_ut`` (Android sensor frame and units, calibrated values). Empty if the trace has no
+        sensor records.
+    rotation_vector : DataFrame
+        Index ``t_s``; columns ``rv_x, rv_y, rv_z`` (Android ``TYPE_ROTATION_VECTOR``).
+    wifi : DataFrame
+        Long scan table: ``t_s, scan_id, bssid, rssi_dbm, freq_mhz, ssid, last_seen_s``.
+    waypoints : DataFrame
+        ``t_s, x_m, y_m`` in the floor-map frame (metres).
+    header : dict
+        Header key/values (``SiteID``, ``FloorName``, ``Model``, ``startTime`` ...); ``sensors`` is a
+        tuple of dicts, one per ``# type:`` line.
+    kept, skipped : dict
+        Record type -> number of lines kept / skipped (unknown types are skipped and counted).
+    n_duplicate_bssid_dropped : int
+        Wi-Fi records dropped by the ``keep_latest`` duplicate-BSSID policy (0 under ``error``).
+    source : str
+    """
+
+    imu: pd.DataFrame
+    rotation_vector: pd.DataFrame
+    wifi: pd.DataFrame
+    waypoints: pd.DataFrame
+    header: dict = field(compare=False)
+    kept: dict = field(compare=False)
+    skipped: dict = field(compare=False)
+    n_duplicate_bssid_dropped: int = 0
+    source: str | None = None
+
+    @property
+    def name(self) -> str:
+        """Trace id (file stem)."""
+        return Path(self.source).stem if self.source else ""
+
+    @property
+    def n_scans(self) -> int:
+        return int(self.wifi[SCAN_ID].nunique()) if len(self.wifi) else 0
+
+
+def _fail(source, lineno, msg):
+    raise ValueError(f"{source}: line {lineno}: {msg}")
+
+
+def _parse_header(lines: list[str]) -> dict:
+    header: dict = {}
+    sensors = []
+    for ln in lines:
+        parts = [p for p in ln.lstrip("#").strip().split("\t") if p]
+        kv = {}
+        for p in parts:
+            k, sep, v = p.partition(":")
+            if sep:
+                kv[k.strip()] = v.strip()
+        if "type" in kv and "name" in kv:
+            sensors.append(kv)
+        else:
+            header.update(kv)
+    header["sensors"] = tuple(sensors)
+    return header
+
+
+def _to_float(rows: list[list[str]], linenos: list[int], source: str, rtype: str, names) -> np.ndarray:
+    try:
+        return np.asarray(rows, dtype=np.float64)
+    except ValueError:
+        for ln, r in zip(linenos, rows, strict=True):
+            for j, v in enumerate(r):
+                try:
+                    float(v)
+                except ValueError:
+                    _fail(source, ln, f"{rtype} column {j + 3} ({names[j]}) must be numeric, got {v!r}")
+        raise  # pragma: no cover
+
+
+def _check_increasing(t_ms: np.ndarray, linenos: list[int], source: str, rtype: str, strict: bool = True):
+    d = np.diff(t_ms)
+    bad = np.flatnonzero(d <= 0) if strict else np.flatnonzero(d < 0)
+    if bad.size:
+        i = bad[0] + 1
+        if strict:
+            kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
+            msg = (f"{kind} {rtype} timestamp {int(t_ms[i])} after {int(t_ms[i - 1])}; "
+                   "timestamps must be strictly increasing per record type")
+        else:
+            msg = f"{rtype} timestamp {int(t_ms[i])} before {int(t_ms[i - 1])}; Wi-Fi scans must be in time order"
+        _fail(source, linenos[i], msg)
+
+
+def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = "error") -> IlcTrace:
+    """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
+    if duplicate_bssid not in _DUPLICATE_POLICIES:
+        raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
+    header_lines: list[str] = []
+    by_type: dict[str, tuple[list[int], list[int], list[list[str]]]] = {}
+    counts: Counter = Counter()
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.rstrip("\r")
+        if not line.strip():
+            continue
+        if line.startswith("#"):
+            header_lines.append(line)
+            continue
+        parts = line.split("\t")
+        if len(parts) < 2:
+            _fail(source, lineno, f"expected at least 2 tab-separated columns (time ms, record type), "
+                                  f"got {len(parts)}: {line[:60]!r}")
+        try:
+            t_ms = int(parts[0])
+        except ValueError:
+            _fail(source, lineno, f"column 1 (Unix time, ms) must be an integer, got {parts[0]!r}")
+        rtype = parts[1]
+        counts[rtype] += 1
+        nval = _N_VALUES.get(rtype)
+        if nval is None:
+            continue
+        vals = parts[2:]
+        if len(vals) != nval:
+            _fail(source, lineno, f"{rtype} expects {nval} values after time and type "
+                                  f"({2 + nval} columns), got {len(vals)} ({len(parts)} columns)")
+        lst = by_type.setdefault(rtype, ([], [], []))
+        lst[0].append(lineno)
+        lst[1].append(t_ms)
+        lst[2].append(vals)
+    if not counts:
+        raise ValueError(f"{source}: no data records (empty file or header only)")
+
+    def sensor(rtype):
+        linenos, t_ms, rows = by_type.get(rtype, ([], [], []))
+        t = np.asarray(t_ms, dtype=np.int64)
+        v = _to_float([r[:3] for r in rows], linenos, source, rtype, ("x", "y", "z"))
+        _check_increasing(t, linenos, source, rtype)
+        return linenos, t, v.reshape(-1, 3)
+
+    # IMU on one common time index
+    imu_parts = {}
+    ref = None
+    for rtype in ("TYPE_ACCELEROMETER", "TYPE_GYROSCOPE", "TYPE_MAGNETIC_FIELD"):
+        if rtype not in by_type:
+            continue
+        linenos, t, v = sensor(rtype)
+        if ref is None:
+            ref = (rtype, t)
+        elif t.size != ref[1].size or not np.array_equal(t, ref[1]):
+            n = min(t.size, ref[1].size)
+            mism = np.flatnonzero(t[:n] != ref[1][:n])
+            i = int(mism[0]) if mism.size else n
+            where = f"line {linenos[i]}" if i < len(linenos) else f"after line {linenos[-1]}"
+            raise ValueError(f"{source}: {where}: {rtype} timestamps differ from {ref[0]} ones "
+                             f"({t.size} vs {ref[1].size} records, first difference at record {i}); "
+                             "the loader needs a common IMU time index and does not interpolate")
+        imu_parts[rtype] = v
+    if ref is None:
+        imu = pd.DataFrame({}, index=pd.Index([], dtype=np.float64, name=T_S))
+    else:
+        data = {}
+        for rtype, v in imu_parts.items():
+            for j, c in enumerate(_SENSORS[rtype]):
+                data[c] = v[:, j]
+        imu = pd.DataFrame(data, index=pd.Index(ref[1] * 1e-3, name=T_S))
+        check_imu(imu, source)
+
+    if "TYPE_ROTATION_VECTOR" in by_type:
+        _, t, v = sensor("TYPE_ROTATION_VECTOR")
+        rotvec = pd.DataFrame(v, columns=list(ROTVEC_COLS), index=pd.Index(t * 1e-3, name=T_S))
+    else:
+        rotvec = pd.DataFrame({c: np.array([], dtype=np.float64) for c in ROTVEC_COLS},
+                              index=pd.Index([], dtype=np.float64, name=T_S))
+
+    # waypoints
+    linenos, t_ms, rows = by_type.get("TYPE_WAYPOINT", ([], [], []))
+    t = np.asarray(t_ms, dtype=np.int64)
+    _check_increasing(t, linenos, source, "TYPE_WAYPOINT")
+    v = _to_float(rows, linenos, source, "TYPE_WAYPOINT", ("x", "y")).reshape(-1, 2)
+    waypoints = pd.DataFrame({T_S: t * 1e-3, X_M: v[:, 0], Y_M: v[:, 1]})
+    if len(waypoints):
+        check_waypoints(waypoints, source)
+
+    # Wi-Fi
+    skipped = {k: n for k, n in counts.items() if k not in _N_VALUES}
+    linenos, t_ms, rows = by_type.get("TYPE_WIFI", ([], [], []))
+    t = np.asarray(t_ms, dtype=np.int64)
+    _check_increasing(t, linenos, source, "TYPE_WIFI", strict=False)
+    num = _to_float([[r[2], r[3], r[4]] for r in rows], linenos, source, "TYPE_WIFI",
+                    ("rssi", "frequency", "last seen timestamp")).reshape(-1, 3)
+    bssid = [r[1] for r in rows]
+    for ln, b in zip(linenos, bssid, strict=True):
+        if not b:
+            _fail(source, ln, "TYPE_WIFI column 4 (bssid) is empty")
+    scan_id = np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64) if t.size else t
+    wifi = pd.DataFrame({
+        T_S: t * 1e-3,
+        SCAN_ID: scan_id,
+        BSSID: pd.array(bssid, dtype="string"),
+        RSSI_DBM: num[:, 0],
+        FREQ_MHZ: num[:, 1],
+        "ssid": pd.array([r[0] for r in rows], dtype="string"),
+        "last_seen_s": num[:, 2] * 1e-3,
+    })
+    keep = np.ones(len(wifi), dtype=bool)
+    if len(wifi):
+        dup = wifi.duplicated(subset=[SCAN_ID, BSSID], keep=False).to_numpy()
+        if dup.any():
+            if duplicate_bssid == "error":
+                i = int(np.flatnonzero(wifi.duplicated(subset=[SCAN_ID, BSSID]).to_numpy())[0])
+                _fail(source, linenos[i], f"TYPE_WIFI bssid {bssid[i]!r} appears twice in the scan at "
+                                          f"{int(t[i])} ms; pass duplicate_bssid='keep_latest' to keep the "
+                                          "record with the most recent last-seen time (counted)")
+            # keep_latest: stable sort by last_seen descending within each (scan, bssid) group
+            order = np.lexsort((np.arange(len(wifi)), -num[:, 2], wifi[BSSID].to_numpy(dtype=object),
+                                scan_id))
+            first = ~wifi.iloc[order].duplicated(subset=[SCAN_ID, BSSID]).to_numpy()
+            keep = np.zeros(len(wifi), dtype=bool)
+            keep[order[first]] = True
+    n_dropped = int((~keep).sum())
+    wifi = wifi[keep].reset_index(drop=True)
+    if len(wifi):
+        check_wifi_scans(wifi, source)
+
+    kept = {k: n for k, n in counts.items() if k in _N_VALUES}
+    if n_dropped:
+        kept["TYPE_WIFI"] -= n_dropped
+        skipped["TYPE_WIFI duplicate bssid"] = n_dropped
+    return IlcTrace(imu=imu, rotation_vector=rotvec, wifi=wifi, waypoints=waypoints,
+                    header=_parse_header(header_lines), kept=kept, skipped=skipped,
+                    n_duplicate_bssid_dropped=n_dropped, source=source)
+
+
+def load_ilc_trace(path, duplicate_bssid: str = "error") -> IlcTrace:
+    """Load one ILC 2.0 trace file.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``*.txt`` trace (UTF-8, tab-separated).
+    duplicate_bssid : {"error", "keep_latest"}
+        What to do when a scan lists a BSSID twice (see the module docstring). Six of the 19
+        site2/F4 traces need ``"keep_latest"``.
+
+    Returns
+    -------
+    IlcTrace
+
+    Raises
+    ------
+    ValueError
+        Naming the file and 1-based line: wrong number of columns, non-numeric value, unsorted or
+        duplicate sensor/waypoint timestamps, misaligned IMU sensors, duplicate BSSID (policy
+        ``"error"``), or a file without data records.
+
+    References
+    ----------
+    Indoor Location Competition 2.0, trace file format (README of the competition repository).
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: not UTF-8 text ({e})") from e
+    return parse_ilc_trace(text, str(path), duplicate_bssid=duplicate_bssid)
+
+
+# ----------------------------------------------------------------------------------------------
+# floor: folder or archive
+# ----------------------------------------------------------------------------------------------
+
+def _resolve_root(root) -> Path:
+    """A folder with path_data_files/, a folder holding ``*.tar.xz``, or the archive itself."""
+    p = Path(root)
+    if p.is_file():
+        return p
+    if not p.is_dir():
+        raise ValueError(f"{p}: no such ILC folder or archive")
+    if (p / "path_data_files").is_dir():
+        return p
+    subs = [d for d in p.iterdir() if d.is_dir() and (d / "path_data_files").is_dir()]
+    if len(subs) == 1:
+        return subs[0]
+    archives = sorted(p.glob("*.tar.xz")) + sorted(p.glob("*.tar.gz")) + sorted(p.glob("*.tar"))
+    if len(archives) == 1:
+        return archives[0]
+    raise ValueError(f"{p}: expected path_data_files/ or exactly one .tar.xz archive, found "
+                     f"{len(archives)} archives")
+
+
+def _read_members(archive: Path, want) -> dict[str, bytes]:
+    """Read the archive members whose name passes ``want(name)`` in one sequential pass."""
+    out = {}
+    with tarfile.open(archive, "r:*") as tf:
+        for m in tf:
+            if m.isfile() and want(m.name):
+                out[m.name] = tf.extractfile(m).read()
+    return out
+
+
+def list_ilc_traces(root) -> list[str]:
+    """Trace ids (file stems, sorted) under a floor folder or inside its archive."""
+    r = _resolve_root(root)
+    if r.is_dir():
+        return sorted(f.stem for f in (r / "path_data_files").glob("*.txt"))
+    with tarfile.open(r, "r:*") as tf:
+        names = [m.name for m in tf if m.isfile() and "/path_data_files/" in "/" + m.name
+                 and m.name.endswith(".txt")]
+    return sorted(Path(n).stem for n in names)
+
+
+@dataclass(frozen=True)
+class IlcFloorMap:
+    """A floor's size and walkable area in the floor-map frame (metres).
+
+    Attributes
+    ----------
+    width_m, height_m : float
+        Map size from ``floor_info.json``.
+    outline : tuple of ndarray (n, 2)
+        Exterior rings of the floor outline (feature 0 of ``geojson_map.json``).
+    obstacles : tuple of ndarray (n, 2)
+        Exterior rings of the shop/obstacle polygons (not walkable).
+    lonlat_bbox : tuple (lon_min, lat_min, lon_max, lat_max)
+        The outline's bounding box that maps onto ``[0, width] x [0, height]``.
+    """
+
+    width_m: float
+    height_m: float
+    outline: tuple
+    obstacles: tuple
+    lonlat_bbox: tuple
+    source: str | None = None
+
+    def walkable(self, x_m, y_m) -> np.ndarray:
+        """True where ``(x_m, y_m)`` lies inside the outline and outside every obstacle."""
+        x = np.asarray(x_m, dtype=np.float64)
+        y = np.asarray(y_m, dtype=np.float64)
+        inside = np.zeros(np.broadcast(x, y).shape, dtype=bool)
+        for ring in self.outline:
+            inside ^= points_in_polygon(x, y, ring)
+        blocked = np.zeros_like(inside)
+        for ring in self.obstacles:
+            blocked |= points_in_polygon(x, y, ring)
+        return inside & ~blocked
+
+
+def points_in_polygon(x_m, y_m, ring: np.ndarray) -> np.ndarray:
+    """Even-odd point-in-polygon test (vectorised over points).
+
+    Parameters
+    ----------
+    x_m, y_m : array_like, broadcastable
+    ring : ndarray, shape (n, 2)
+        Polygon vertices (closed or not).
+    """
+    ring = np.asarray(ring, dtype=np.float64)
+    if ring.ndim != 2 or ring.shape[1] != 2 or ring.shape[0] < 3:
+        raise ValueError(f"ring must have shape (n>=3, 2), got {ring.shape}")
+    x = np.asarray(x_m, dtype=np.float64)[..., None]
+    y = np.asarray(y_m, dtype=np.float64)[..., None]
+    x0, y0 = ring[:, 0], ring[:, 1]
+    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+    cond = (y0 > y) != (y1 > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xc = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+    return (np.count_nonzero(cond & (x < xc), axis=-1) % 2) == 1
+
+
+def _exteriors(geom) -> list[np.ndarray]:
+    if geom["type"] == "Polygon":
+        return [np.asarray(geom["coordinates"][0], dtype=np.float64)]
+    if geom["type"] == "MultiPolygon":
+        return [np.asarray(p[0], dtype=np.float64) for p in geom["coordinates"]]
+    raise ValueError(f"unsupported geometry type {geom['type']!r}; expected Polygon or MultiPolygon")
+
+
+def _floor_map(info_bytes: bytes, geo_bytes: bytes, source: str) -> IlcFloorMap:
+    info = json.loads(info_bytes)
+    try:
+        w = float(info["map_info"]["width"])
+        h = float(info["map_info"]["height"])
+    except (KeyError, TypeError, ValueError) as e:
+        raise ValueError(f"{source}: floor_info.json lacks map_info.width/height ({e})") from e
+    geo = json.loads(geo_bytes)
+    feats = geo.get("features") or []
+    if not feats:
+        raise ValueError(f"{source}: geojson_map.json has no features")
+    outline_ll = _exteriors(feats[0]["geometry"])
+    allpts = np.concatenate(outline_ll)
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+
+    def to_m(r):
+        return np.column_stack([(r[:, 0] - lo[0]) / (hi[0] - lo[0]) * w, (r[:, 1] - lo[1]) / (hi[1] - lo[1]) * h])
+
+    obstacles = [to_m(r) for f in feats[1:] for r in _exteriors(f["geometry"])]
+    return IlcFloorMap(width_m=w, height_m=h, outline=tuple(to_m(r) for r in outline_ll),
+                       obstacles=tuple(obstacles), lonlat_bbox=(lo[0], lo[1], hi[0], hi[1]), source=source)
+
+
+def load_ilc_floor_map(root) -> IlcFloorMap:
+    """Floor size and walkable polygons from a floor folder or its archive (see module docstring)."""
+    r = _resolve_root(root)
+    if r.is_dir():
+        return _floor_map((r / "floor_info.json").read_bytes(), (r / "geojson_map.json").read_bytes(), str(r))
+    m = _read_members(r, lambda n: n.endswith(("floor_info.json", "geojson_map.json")))
+    info = [v for k, v in m.items() if k.endswith("floor_info.json")]
+    geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
+    if len(info) != 1 or len(geo) != 1:
+        raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive")
+    return _floor_map(info[0], geo[0], str(r))
+
+
+@dataclass(frozen=True)
+class IlcFloor:
+    """All traces of one floor plus its map.
+
+    Attributes
+    ----------
+    traces : dict[str, IlcTrace]
+        Trace id -> trace, sorted by id.
+    floor_map : IlcFloorMap
+    source : str
+    """
+
+    traces: dict
+    floor_map: IlcFloorMap
+    source: str
+
+    @property
+    def names(self) -> list[str]:
+        return list(self.traces)
+
+
+def load_ilc_floor(root, names=None, duplicate_bssid: str = "error") -> IlcFloor:
+    """Load a floor's traces (all, or ``names``) and map from a folder or directly from its archive.
+
+    ``root`` may be the extracted floor folder (``.../site2_F4`` with ``path_data_files/``), the
+    data-set folder holding the ``.tar.xz`` or the archive itself; archive members are read in
+    memory with :mod:`tarfile` (nothing is extracted). ``duplicate_bssid`` is passed to
+    :func:`parse_ilc_trace` for every trace.
+    """
+    r = _resolve_root(root)
+    want = None if names is None else set(names)
+    texts: dict[str, tuple[str, str]] = {}
+    if r.is_dir():
+        for f in sorted((r / "path_data_files").glob("*.txt")):
+            if want is None or f.stem in want:
+                texts[f.stem] = (f.read_text(encoding="utf-8"), str(f))
+        fmap = load_ilc_floor_map(r)
+    else:
+        m = _read_members(r, lambda n: n.endswith((".txt", "floor_info.json", "geojson_map.json")))
+        for k, v in sorted(m.items()):
+            if "path_data_files/" in k and k.endswith(".txt") and (want is None or Path(k).stem in want):
+                texts[Path(k).stem] = (io.TextIOWrapper(io.BytesIO(v), encoding="utf-8").read(), f"{r}:{k}")
+        info = [v for k, v in m.items() if k.endswith("floor_info.json")]
+        geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
+        if len(info) != 1 or len(geo) != 1:
+            raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive")
+        fmap = _floor_map(info[0], geo[0], str(r))
+    if want is not None and set(texts) != want:
+        raise ValueError(f"{r}: traces not found: {sorted(want - set(texts))}")
+    if not texts:
+        raise ValueError(f"{r}: no trace files (path_data_files/*.txt)")
+    traces = {k: parse_ilc_trace(t, src, duplicate_bssid=duplicate_bssid) for k, (t, src) in sorted(texts.items())}
+    return IlcFloor(traces=traces, floor_map=fmap, source=str(r))
+
+
+# ----------------------------------------------------------------------------------------------
+# positions at arbitrary times, fingerprints from walks
+# ----------------------------------------------------------------------------------------------
+
+def interpolate_waypoints(waypoints: pd.DataFrame, t_s, outside: str = "error") -> np.ndarray:
+    """Positions at times ``t_s`` by linear interpolation between the surveyor's waypoints.
+
+    Parameters
+    ----------
+    waypoints : DataFrame
+        ``t_s, x_m, y_m`` (strictly increasing times, at least 2 rows).
+    t_s : array_like, shape (n,)
+    outside : {"error", "nan"}
+        Times before the first or after the last waypoint raise (``"error"``) or give NaN rows
+        (``"nan"``); nothing is extrapolated.
+
+    Returns
+    -------
+    ndarray, shape (n, 2), metres
+    """
+    if outside not in ("error", "nan"):
+        raise ValueError(f"outside must be 'error' or 'nan', got {outside!r}")
+    check_waypoints(waypoints, "waypoints")
+    if len(waypoints) < 2:
+        raise ValueError(f"need at least 2 waypoints to interpolate, got {len(waypoints)}")
+    tw = waypoints[T_S].to_numpy(dtype=np.float64)
+    t = np.asarray(t_s, dtype=np.float64)
+    out = (t < tw[0]) | (t > tw[-1]) | ~np.isfinite(t)
+    if outside == "error" and out.any():
+        i = int(np.flatnonzero(out)[0])
+        raise ValueError(f"t_s[{i}] = {float(t[i])!r} is outside the waypoint time span "
+                         f"[{float(tw[0])!r}, {float(tw[-1])!r}] "
+                         "(pass outside='nan' to get NaN there)")
+    xy = np.column_stack([np.interp(t, tw, waypoints[X_M].to_numpy(dtype=np.float64)),
+                          np.interp(t, tw, waypoints[Y_M].to_numpy(dtype=np.float64))])
+    xy[out] = np.nan
+    return xy
+
+
+@dataclass(frozen=True)
+class IlcFingerprints:
+    """Wi-Fi fingerprints made from ILC walks.
+
+    Attributes
+    ----------
+    fingerprints : FingerprintSet
+        One sample per used scan; ``meta`` has ``trace, scan_id, t_s``.
+    scans : DataFrame
+        Every scan of the given traces: ``trace, scan_id, t_s, x_m, y_m, n_aps, n_stale, used`` and
+        ``reason`` (``""``, ``"outside waypoint span"`` or ``"no AP left"``).
+    n_outside, n_stale_dropped : int
+        Scans left out for lying outside their walk's waypoint span; AP readings left out for being
+        older than ``max_age_s``.
+    """
+
+    fingerprints: FingerprintSet
+    scans: pd.DataFrame
+    n_outside: int
+    n_stale_dropped: int
+
+
+def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = None) -> IlcFingerprints:
+    """Build a fingerprint set from ILC walks: each scan positioned by interpolating its walk's waypoints.
+
+    Parameters
+    ----------
+    traces : dict[str, IlcTrace] or iterable of IlcTrace
+    outside : {"error", "drop"}
+        Scans before the first / after the last waypoint of their walk raise, or are left out
+        and counted (``n_outside``). In the 19 site2/F4 traces 9 of 268 scans lie after the
+        last waypoint.
+    max_age_s : float or None
+        Leave out (and count) AP readings whose last-seen time is more than this before the
+        scan (Android reports cached results, often tens of seconds old); ``None`` keeps all.
+
+    Returns
+    -------
+    IlcFingerprints
+    """
+    if outside not in ("error", "drop"):
+        raise ValueError(f"outside must be 'error' or 'drop', got {outside!r}")
+    if max_age_s is not None and not max_age_s >= 0:
+        raise ValueError(f"max_age_s must be >= 0 or None, got {max_age_s!r}")
+    items = list(traces.values() if isinstance(traces, dict) else traces)
+    if not items:
+        raise ValueError("ilc_fingerprints: no traces given")
+    scan_rows, samples = [], []
+    n_stale_total = 0
+    for tr in items:
+        w = tr.wifi
+        if not len(w):
+            continue
+        st = w.groupby(SCAN_ID, sort=True)[T_S].first()
+        xy = interpolate_waypoints(tr.waypoints, st.to_numpy(), outside="nan")
+        if outside == "error" and np.isnan(xy[:, 0]).any():
+            i = int(np.flatnonzero(np.isnan(xy[:, 0]))[0])
+            raise ValueError(f"{tr.source}: scan {int(st.index[i])} at t_s={float(st.iloc[i])!r} lies outside the "
+                             "waypoint time span (pass outside='drop' to leave such scans out, counted)")
+        stale = np.zeros(len(w), dtype=bool)
+        if max_age_s is not None:
+            stale = (w[T_S] - w["last_seen_s"]).to_numpy() > max_age_s
+        for i, (sid, t) in enumerate(st.items()):
+            rows = (w[SCAN_ID] == sid).to_numpy()
+            n_st = int((rows & stale).sum())
+            keep = rows & ~stale
+            reason = ""
+            if np.isnan(xy[i, 0]):
+                reason = "outside waypoint span"
+            elif not keep.any():
+                reason = "no AP left"
+            else:
+                n_stale_total += n_st
+                samples.append((tr.name, int(sid), float(t), xy[i], w.loc[keep, [BSSID, RSSI_DBM]]))
+            scan_rows.append({"trace": tr.name, SCAN_ID: int(sid), T_S: float(t), X_M: xy[i, 0], Y_M: xy[i, 1],
+                              "n_aps": int(rows.sum()), "n_stale": n_st, "used": reason == "", "reason": reason})
+    scans = pd.DataFrame(scan_rows)
+    if not samples:
+        raise ValueError("ilc_fingerprints: no usable scan in the given traces")
+    ap_ids = sorted({b for s in samples for b in s[4][BSSID].tolist()})
+    col = {b: j for j, b in enumerate(ap_ids)}
+    rssi = np.full((len(samples), len(ap_ids)), np.nan)
+    for i, s in enumerate(samples):
+        rssi[i, [col[b] for b in s[4][BSSID].tolist()]] = s[4][RSSI_DBM].to_numpy(dtype=np.float64)
+    meta = pd.DataFrame({"trace": [s[0] for s in samples], SCAN_ID: [s[1] for s in samples],
+                         T_S: [s[2] for s in samples]})
+    xy = np.array([s[3] for s in samples])
+    fps = FingerprintSet(rssi_dbm=rssi, ap_ids=tuple(ap_ids), x_m=xy[:, 0], y_m=xy[:, 1], meta=meta,
+                         source=f"ILC walks ({len(items)} traces)")
+    n_out = int((scans["reason"] == "outside waypoint span").sum())
+    return IlcFingerprints(fingerprints=fps, scans=scans, n_outside=n_out, n_stale_dropped=n_stale_total)

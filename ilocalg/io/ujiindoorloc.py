@@ -1,0 +1,166 @@
+"""Loader for UJIIndoorLoc (trainingData.csv / validationData.csv, plain or gzip-compressed).
+
+Format (UCI dataset 310): a header line and 529 comma-separated columns per row:
+``WAP001`` ... ``WAP520`` (RSSI in dBm, integers -104..0, **100 = not detected**), ``LONGITUDE``,
+``LATITUDE``, ``FLOOR``, ``BUILDINGID``, ``SPACEID``, ``RELATIVEPOSITION``, ``USERID``, ``PHONEID``,
+``TIMESTAMP``.
+
+Positions: despite their names, LONGITUDE and LATITUDE are **metres in a projected frame (Web
+Mercator, EPSG:3857)**, not degrees. They are returned unchanged as ``x_m`` (= LONGITUDE) and
+``y_m`` (= LATITUDE): errors computed from them are in projected metres, the unit the published
+results on this set use. Web-Mercator metres are stretched by ``1/cos(latitude)``; at the Jaume I
+campus (about 39.99 deg N) one projected metre is about 0.766 ground metres, see
+:func:`ground_scale`.
+
+References
+----------
+Torres-Sospedra J. et al., "UJIIndoorLoc: A new multi-building and multi-floor database for WLAN
+fingerprint-based indoor localization problems", IPIN 2014, doi:10.1109/IPIN.2014.7275492.
+"""
+
+from __future__ import annotations
+
+import gzip
+import io
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.io.schema import FingerprintSet
+
+__all__ = [
+    "N_WAPS",
+    "WAP_COLUMNS",
+    "POSITION_COLUMNS",
+    "META_COLUMNS",
+    "NOT_DETECTED",
+    "WEAKEST_DBM",
+    "load_ujiindoorloc",
+    "ground_scale",
+]
+
+N_WAPS = 520
+WAP_COLUMNS = tuple(f"WAP{i:03d}" for i in range(1, N_WAPS + 1))
+POSITION_COLUMNS = ("LONGITUDE", "LATITUDE", "FLOOR", "BUILDINGID")
+META_COLUMNS = ("SPACEID", "RELATIVEPOSITION", "USERID", "PHONEID", "TIMESTAMP")
+#: The RSSI code for "access point not detected".
+NOT_DETECTED = 100
+#: The weakest reading the data set documents, the usual substitute for "not detected".
+WEAKEST_DBM = -104.0
+
+_EARTH_RADIUS_M = 6378137.0
+
+
+def ground_scale(y_m) -> np.ndarray:
+    """Ground metres per projected (Web Mercator) metre at northing ``y_m``: ``cos(latitude)``."""
+    lat = 2.0 * np.arctan(np.exp(np.asarray(y_m, dtype=np.float64) / _EARTH_RADIUS_M)) - np.pi / 2.0
+    return np.cos(lat)
+
+
+def _read_text(path: Path) -> str:
+    try:
+        if path.suffix == ".gz":
+            with gzip.open(path, "rb") as fh:
+                raw = fh.read()
+        else:
+            raw = path.read_bytes()
+    except (OSError, EOFError, zlib.error) as exc:
+        raise ValueError(f"{path}: cannot read ({exc})") from None
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not UTF-8 text at byte {exc.start}") from None
+
+
+def load_ujiindoorloc(path) -> FingerprintSet:
+    """Load a UJIIndoorLoc CSV (``trainingData.csv`` or ``validationData.csv``, optionally ``.gz``).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    FingerprintSet
+        ``rssi_dbm`` (n, 520) float64 with 100 replaced by NaN (not heard); ``ap_ids`` the WAP
+        column names; ``x_m`` = LONGITUDE, ``y_m`` = LATITUDE (projected Web-Mercator metres, see the
+        module docstring); ``floor`` = FLOOR, ``building`` = BUILDINGID (int64); ``meta`` with
+        SPACEID, RELATIVEPOSITION, USERID, PHONEID, TIMESTAMP (int64).
+
+    Raises
+    ------
+    FileNotFoundError
+        The file does not exist.
+    ValueError
+        Empty file, missing or unknown columns, a line with too few or too many fields, a
+        non-numeric value, or an RSSI outside -104..0 other than 100; the message names the file,
+        the line (1 = header) and the column.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    text = _read_text(path)
+    if not text.strip():
+        raise ValueError(f"{path}: empty file (expected a header and data rows)")
+    lines = text.splitlines()
+    header = [h.strip().strip('"') for h in lines[0].split(",")]
+    expected = list(WAP_COLUMNS) + list(POSITION_COLUMNS) + list(META_COLUMNS)
+    missing = [c for c in expected if c not in header]
+    if missing:
+        raise ValueError(f"{path}: line 1 (header) lacks columns {missing[:5]}"
+                         f"{' ...' if len(missing) > 5 else ''} ({len(missing)} missing)")
+    extra = [c for c in header if c not in expected]
+    if extra:
+        raise ValueError(f"{path}: line 1 (header) has unknown columns {extra[:5]}")
+    if len(set(header)) != len(header):
+        raise ValueError(f"{path}: line 1 (header) repeats a column name")
+    if len(lines) < 2 or not any(ln.strip() for ln in lines[1:]):
+        raise ValueError(f"{path}: no data rows after the header")
+    n_fields = len(header)
+    for i, ln in enumerate(lines[1:], start=2):
+        c = ln.count(",") + 1
+        if c != n_fields:
+            what = "truncated line" if c < n_fields else "too many fields"
+            raise ValueError(f"{path}: line {i}: {what}: {c} fields, expected {n_fields}")
+    df = pd.read_csv(io.StringIO(text), keep_default_na=False, na_values=[], skip_blank_lines=False)
+    arr = np.empty((len(df), n_fields), dtype=np.float64)
+    for j, col in enumerate(header):
+        s = df[col]
+        if pd.api.types.is_numeric_dtype(s.dtype):
+            v = s.to_numpy(dtype=np.float64)
+        else:  # locate the first non-numeric cell
+            v = pd.to_numeric(s.astype(str).str.strip(), errors="coerce").to_numpy(dtype=np.float64)
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            r = int(bad[0])
+            raise ValueError(f"{path}: line {r + 2}, column {col!r}: expected a number, got {s.iloc[r]!r}")
+        arr[:, j] = v
+    pos = {c: j for j, c in enumerate(header)}
+    rssi = arr[:, [pos[c] for c in WAP_COLUMNS]]
+    valid = (rssi == NOT_DETECTED) | ((rssi >= WEAKEST_DBM) & (rssi <= 0))
+    if not valid.all():
+        r, c = np.argwhere(~valid)[0]
+        raise ValueError(f"{path}: line {r + 2}, column {WAP_COLUMNS[c]!r}: RSSI {rssi[r, c]:g} is neither "
+                         f"{NOT_DETECTED} (not detected) nor in [{WEAKEST_DBM:g}, 0] dBm")
+    rssi = np.where(rssi == NOT_DETECTED, np.nan, rssi)
+    ints = {}
+    for c in ("FLOOR", "BUILDINGID") + META_COLUMNS:
+        v = arr[:, pos[c]]
+        nonint = np.flatnonzero(v != np.round(v))
+        if nonint.size:
+            r = int(nonint[0])
+            raise ValueError(f"{path}: line {r + 2}, column {c!r}: expected an integer, got {v[r]:g}")
+        ints[c] = v.astype(np.int64)
+    meta = pd.DataFrame({c: ints[c] for c in META_COLUMNS})
+    return FingerprintSet(
+        rssi_dbm=rssi,
+        ap_ids=WAP_COLUMNS,
+        x_m=arr[:, pos["LONGITUDE"]].copy(),
+        y_m=arr[:, pos["LATITUDE"]].copy(),
+        floor=ints["FLOOR"],
+        building=ints["BUILDINGID"],
+        meta=meta,
+        source=str(path),
+    )

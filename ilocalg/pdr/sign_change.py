@@ -1,0 +1,154 @@
+"""Step detection by slope sign change with the +-RMS rejection band (PSO thesis Fig. 3.9).
+
+The vertical acceleration is smoothed with the moving average (``n_L = n_R = 2``, eq. 3.6), then
+
+A. step detection: where the sign of ``g(t) - g(t-1)`` changes, ``g(t-1)`` is a local maximum
+   (``+`` to ``-``) or a local minimum (``-`` to ``+``);
+B. false detection: (1) no sign change means no extremum; (2) a maximum or minimum whose value lies
+   inside ``[-RMS, +RMS]`` (about the signal mean, RMS by eq. 3.4) is eliminated.
+
+One step is one surviving maximum followed by a surviving minimum. Fig. 3.9 does not say what to do
+when two maxima survive with no minimum between them; here the larger one is kept (likewise the
+smaller of two minima), so that each step counts once. Flat runs (equal consecutive samples, common
+with quantised sensors) carry the previous slope sign, so a plateau gives one extremum at its first
+sample.
+
+References
+----------
+趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
+University, 2008 (the PSO thesis), sec. 3.4.1 and Fig. 3.9 (after Lei Fang et al., NavMote); RMS
+eq. 3.4; MA filter eq. 3.6.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.pdr.filters import moving_average
+
+__all__ = ["STEP_COLUMNS", "slope_sign_extrema", "detect_steps_sign_change"]
+
+#: Columns of the step table every detector returns (one row per detected step).
+STEP_COLUMNS = ("i_peak", "t_s", "a_max_mps2", "a_min_mps2", "i_valley", "t_valley_s")
+
+
+def slope_sign_extrema(g) -> tuple[np.ndarray, np.ndarray]:
+    """Indices of local maxima and minima by slope sign change (Fig. 3.9 part A).
+
+    Parameters
+    ----------
+    g : array_like, shape (n,)
+        Smoothed signal.
+
+    Returns
+    -------
+    i_max, i_min : ndarray of int
+        ``t-1`` for every ``t`` where ``sign(g(t) - g(t-1))`` changes from + to - (maxima) or from -
+        to + (minima). Zero slopes carry the previous non-zero sign.
+    """
+    g = np.asarray(g, dtype=float)
+    d = np.sign(np.diff(g))
+    # carry the previous non-zero sign over flat runs
+    nz = np.flatnonzero(d)
+    if nz.size == 0:
+        return np.array([], dtype=np.int64), np.array([], dtype=np.int64)
+    idx = np.maximum.accumulate(np.where(d != 0, np.arange(d.size), -1))
+    filled = np.where(idx >= 0, d[np.maximum(idx, 0)], 0.0)
+    # plateau start: the extremum sits at the first sample of the flat run
+    change = np.flatnonzero((filled[1:] != filled[:-1]) & (filled[:-1] != 0))  # change between d[j] and d[j+1]
+    prev_sign = filled[change]
+    # first sample of the plateau = index after the last non-zero slope before the change
+    last_nz = idx[change]
+    i_ext = last_nz + 1
+    i_max = i_ext[prev_sign > 0].astype(np.int64)
+    i_min = i_ext[prev_sign < 0].astype(np.int64)
+    return i_max, i_min
+
+
+def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, smooth: bool = True,
+                             rms_mps2: float | None = None) -> pd.DataFrame:
+    """Detect steps on vertical acceleration by slope sign change and the +-RMS band.
+
+    Parameters
+    ----------
+    acc_mps2 : array_like, shape (n,)
+        Vertical (z) acceleration, m/s^2, with or without gravity (the band is centred on the mean).
+    t_s : array_like, shape (n,)
+        Sample times, s, strictly increasing.
+    n_left, n_right : int
+        Moving-average window (eq. 3.6); ignored when ``smooth`` is False.
+    smooth : bool
+        Apply the moving average first (the thesis does).
+    rms_mps2 : float, optional
+        Half-width of the rejection band; default: RMS of the smoothed signal about its mean (eq. 3.4).
+
+    Returns
+    -------
+    DataFrame
+        One row per step with columns :data:`STEP_COLUMNS`: ``i_peak`` (sample index of the maximum),
+        ``t_s`` (its time), ``a_max_mps2`` and ``a_min_mps2`` (smoothed acceleration at the maximum
+        and at the following minimum, m/s^2, gravity included if it was in the input), ``i_valley``,
+        ``t_valley_s``. Empty (with these columns) when no step is found.
+
+    References
+    ----------
+    PSO thesis, Fig. 3.9, eq. 3.4, eq. 3.6.
+    """
+    a = np.asarray(acc_mps2, dtype=float)
+    t = np.asarray(t_s, dtype=float)
+    if a.ndim != 1:
+        raise ValueError(f"acc_mps2 must be 1-D, got shape {a.shape}")
+    if t.shape != a.shape:
+        raise ValueError(f"t_s must have the shape of acc_mps2 {a.shape}, got {t.shape}")
+    if a.size < 3:
+        raise ValueError(f"acc_mps2 needs at least 3 samples, got {a.size}")
+    for name, v in (("acc_mps2", a), ("t_s", t)):
+        if not np.all(np.isfinite(v)):
+            bad = int(np.flatnonzero(~np.isfinite(v))[0])
+            raise ValueError(f"{name} must be finite, sample {bad} is {v[bad]}")
+    if np.any(np.diff(t) <= 0):
+        bad = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 1
+        raise ValueError(f"t_s must be strictly increasing, sample {bad} is not")
+    g = moving_average(a, n_left, n_right) if smooth else a
+    mean = float(g.mean())
+    if rms_mps2 is None:
+        band = float(np.sqrt(np.mean((g - mean) ** 2)))
+    else:
+        band = float(rms_mps2)
+        if not np.isfinite(band) or band < 0:
+            raise ValueError(f"rms_mps2 must be a finite non-negative number, got {rms_mps2!r}")
+    i_max, i_min = slope_sign_extrema(g)
+    # B.2: eliminate extrema inside [-RMS, +RMS] about the mean
+    i_max = i_max[g[i_max] - mean > band]
+    i_min = i_min[g[i_min] - mean < -band]
+    # merge into an alternating max/min sequence (keep the more extreme of same-type neighbours)
+    idx = np.concatenate([i_max, i_min])
+    kind = np.concatenate([np.ones(i_max.size, dtype=np.int8), -np.ones(i_min.size, dtype=np.int8)])
+    order = np.argsort(idx, kind="stable")
+    idx, kind = idx[order], kind[order]
+    seq_i: list[int] = []
+    seq_k: list[int] = []
+    for i, k in zip(idx.tolist(), kind.tolist(), strict=True):
+        if seq_k and seq_k[-1] == k:
+            j = seq_i[-1]
+            if (k > 0 and g[i] > g[j]) or (k < 0 and g[i] < g[j]):
+                seq_i[-1] = i
+            continue
+        seq_i.append(i)
+        seq_k.append(k)
+    peaks, valleys = [], []
+    for n in range(len(seq_i) - 1):
+        if seq_k[n] > 0 and seq_k[n + 1] < 0:
+            peaks.append(seq_i[n])
+            valleys.append(seq_i[n + 1])
+    ip = np.asarray(peaks, dtype=np.int64)
+    iv = np.asarray(valleys, dtype=np.int64)
+    return pd.DataFrame({
+        "i_peak": ip,
+        "t_s": t[ip],
+        "a_max_mps2": g[ip],
+        "a_min_mps2": g[iv],
+        "i_valley": iv,
+        "t_valley_s": t[iv],
+    })

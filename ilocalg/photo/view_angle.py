@@ -1,0 +1,261 @@
+"""VA: view-angle photo positioning by gradient descent.
+
+The angle between the viewing rays of two PoIs does not depend on the phone's orientation: it is
+measured in the photo from the two screen points and the focal length
+(:func:`ilocalg.photo.camera.ray_angle_rad`). From a candidate centre ``c`` the same angle is
+``theta_ij(c) = angle(p_i - c, p_j - c)``. VA minimises
+
+    J(c) = sum_{i<j} (theta_ij(c) - theta_ij_measured)^2
+
+by gradient descent from an initial guess ``c0``. With two PoIs there is one angle for three
+unknowns (a surface of solutions), and collinear PoIs leave the rotation of ``c`` about their line
+undetermined, so the answer depends on ``c0``; the thesis compares a good and a bad initial guess
+(VAGIG, VABIG).
+
+The descent is monotone gradient descent with Barzilai-Borwein step lengths and backtracking
+(a step that does not lower ``J`` is rejected and its length multiplied by ``shrink``), vectorised
+over a batch of photos. It stops at the local minimum nearest (downhill) from ``c0``; it does not
+search globally, which is the behaviour the thesis attributes VA's errors to.
+
+References
+----------
+i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.3, the view-angle algorithm VA, VAGIG and VABIG,
+Figs 29-32.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+
+from ilocalg.photo.camera import ray_angle_rad, validate_points
+
+__all__ = [
+    "pair_index",
+    "view_angles_rad",
+    "measured_view_angles_rad",
+    "va_cost",
+    "va_gradient",
+    "va_solve_batch",
+    "va_solve",
+    "VAResult",
+    "ViewAngle",
+]
+
+_EPS = 1e-12
+
+
+def pair_index(n: int) -> np.ndarray:
+    """All PoI pairs ``(i, j)``, ``i < j``, as an int array (n (n-1) / 2, 2)."""
+    if n < 2:
+        raise ValueError(f"VA needs at least 2 PoIs, got {n}")
+    return np.array(list(combinations(range(n), 2)), dtype=int)
+
+
+def view_angles_rad(c_m, pois_m) -> np.ndarray:
+    """View angles (B, m) between every PoI pair seen from centres ``c_m`` (B, 3); ``pois_m`` (B, n, 3)."""
+    c = np.asarray(c_m, dtype=float)
+    P = np.asarray(pois_m, dtype=float)
+    pr = pair_index(P.shape[-2])
+    u = P[..., pr[:, 0], :] - c[..., None, :]
+    v = P[..., pr[:, 1], :] - c[..., None, :]
+    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
+
+
+def measured_view_angles_rad(img_px, f_px: float) -> np.ndarray:
+    """View angles (..., m) between every pair of screen points ``img_px`` (..., n, 2), from the photo only."""
+    U = np.asarray(img_px, dtype=float)
+    pr = pair_index(U.shape[-2])
+    return ray_angle_rad(U[..., pr[:, 0], :], U[..., pr[:, 1], :], f_px)
+
+
+def _pairs(pois_m, B):
+    P = np.broadcast_to(np.asarray(pois_m, dtype=float), (B,) + np.shape(pois_m)[-2:])
+    pr = pair_index(P.shape[1])
+    return np.ascontiguousarray(P[:, pr[:, 0], :]), np.ascontiguousarray(P[:, pr[:, 1], :])
+
+
+def va_cost(c_m, pois_m, angles_rad) -> np.ndarray:
+    """``J(c)`` (B,), the sum of squared view-angle mismatches (rad^2), for ``c_m`` (B, 3), ``pois_m`` (B, n, 3)."""
+    c = np.atleast_2d(np.asarray(c_m, dtype=float))
+    Pi, Pj = _pairs(pois_m, c.shape[0])
+    return _cost_grad(c, Pi, Pj, np.asarray(angles_rad, dtype=float), False)[0]
+
+
+def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
+    """Analytic gradient ``dJ/dc`` (B, 3) in rad^2/m.
+
+    With ``u = p_i - c``, ``v = p_j - c`` and ``theta`` their angle,
+    ``d theta / d c = (v^ - cos(theta) u^) / (|u| sin(theta)) + (u^ - cos(theta) v^) / (|v| sin(theta))``.
+    """
+    c = np.atleast_2d(np.asarray(c_m, dtype=float))
+    Pi, Pj = _pairs(pois_m, c.shape[0])
+    return _cost_grad(c, Pi, Pj, np.asarray(angles_rad, dtype=float), True)[1]
+
+
+def _cross(u, v):
+    ux, uy, uz = u[..., 0], u[..., 1], u[..., 2]
+    vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack([uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx], axis=-1)
+
+
+def _cost_grad(c, Pi, Pj, a, need_grad):
+    """Cost (B,) and optionally gradient (B, 3); ``Pi``, ``Pj`` (B, m, 3) are the pairs' PoIs."""
+    u = Pi - c[:, None, :]
+    v = Pj - c[:, None, :]
+    cr = _cross(u, v)
+    sin_uv = np.sqrt(np.einsum("bmk,bmk->bm", cr, cr))
+    dot = np.einsum("bmk,bmk->bm", u, v)
+    r = np.arctan2(sin_uv, dot) - a
+    J = np.einsum("bm,bm->b", r, r)
+    if not need_grad:
+        return J, None
+    nu = np.sqrt(np.einsum("bmk,bmk->bm", u, u))
+    nv = np.sqrt(np.einsum("bmk,bmk->bm", v, v))
+    nu = np.maximum(nu, _EPS)
+    nv = np.maximum(nv, _EPS)
+    cos = dot / (nu * nv)
+    sin = np.maximum(sin_uv / (nu * nv), 1e-9)
+    uh = u / nu[..., None]
+    vh = v / nv[..., None]
+    w = (2.0 * r / sin)[..., None]
+    g = np.sum(w * ((vh - cos[..., None] * uh) / nu[..., None] + (uh - cos[..., None] * vh) / nv[..., None]), axis=1)
+    return J, g
+
+
+def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: float = 0.5,
+                   grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-10,
+                   free_z: bool = True) -> dict[str, np.ndarray]:
+    """Gradient descent on ``J(c)`` for a batch of photos.
+
+    Parameters
+    ----------
+    pois_m : array (B, n, 3) or (n, 3)
+        PoI world positions, metres.
+    angles_rad : array (B, m)
+        Measured view angles for the pairs of :func:`pair_index` ``(n)``.
+    c0_m : array (B, 3)
+        Initial guesses, metres.
+    max_iter : int
+        Maximum number of descent iterations.
+    step0_m : float
+        Length of the first step (m) along the steepest-descent direction.
+    grow, shrink : float
+        Step factor when the curvature estimate is not positive / after a rejected step.
+    step_tol_m : float
+        A photo has converged when its next step is shorter than this (m).
+    free_z : bool
+        ``True`` (default) searches all three coordinates; ``False`` keeps each ``c``'s height at
+        its initial value (a 2-D search on the floor map at a known phone height).
+
+    Returns
+    -------
+    dict with ``c_m`` (B, 3), ``cost`` (B,) in rad^2, ``n_iter`` (B,) and ``converged`` (B,) bool.
+
+    References
+    ----------
+    i-Loc thesis, sec. 6.3 (VA is "a gradient algorithm" whose result depends on the initial value).
+    """
+    a = np.asarray(angles_rad, dtype=float)
+    c = np.array(c0_m, dtype=float, copy=True)
+    if c.ndim != 2 or c.shape[1] != 3:
+        raise ValueError(f"c0_m must have shape (B, 3), got {c.shape}")
+    P = np.broadcast_to(np.asarray(pois_m, dtype=float), (c.shape[0],) + np.shape(pois_m)[-2:])
+    if a.shape != (c.shape[0], pair_index(P.shape[1]).shape[0]):
+        raise ValueError(f"angles_rad must have shape (B, n(n-1)/2) = ({c.shape[0]}, "
+                         f"{pair_index(P.shape[1]).shape[0]}), got {a.shape}")
+    if not (np.isfinite(a).all() and np.isfinite(c).all()):
+        raise ValueError("angles_rad and c0_m must be finite")
+    B = c.shape[0]
+    mask = np.array([1.0, 1.0, 1.0 if free_z else 0.0])
+    Pi, Pj = _pairs(P, B)
+    J, g = _cost_grad(c, Pi, Pj, a, True)
+    g = g * mask
+    gn = np.sqrt(np.sum(g * g, axis=1))
+    # first step moves step0_m along the steepest descent direction
+    alpha = float(step0_m) / np.where(gn > 0, gn, 1.0)
+    n_iter = np.zeros(B, dtype=int)
+    active = gn > 0
+    idx = np.flatnonzero(active)
+    for _ in range(max_iter):
+        if idx.size == 0:
+            break
+        trial = c[idx] - alpha[idx, None] * g[idx]
+        Jt, gt = _cost_grad(trial, Pi[idx], Pj[idx], a[idx], True)
+        ok = Jt < J[idx]
+        n_iter[idx] += 1
+        # rejected steps: backtrack
+        alpha[idx[~ok]] *= shrink
+        acc = idx[ok]
+        if acc.size:
+            gt = gt[ok] * mask
+            s_ = trial[ok] - c[acc]
+            y_ = gt - g[acc]
+            sy = np.sum(s_ * y_, axis=1)
+            ss = np.sum(s_ * s_, axis=1)
+            # Barzilai-Borwein step for the next iteration (grow when curvature is not positive)
+            alpha[acc] = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), alpha[acc] * grow)
+            c[acc] = trial[ok]
+            J[acc] = Jt[ok]
+            g[acc] = gt
+        gi = g[idx]
+        steplen = alpha[idx] * np.sqrt(np.sum(gi * gi, axis=1))
+        active[idx] = steplen > step_tol_m
+        idx = idx[active[idx]]
+    return {"c_m": c, "cost": J, "n_iter": n_iter, "converged": ~active}
+
+
+@dataclass(frozen=True)
+class VAResult:
+    """Result of :func:`va_solve`: centre ``c_m`` (3,), final ``cost`` (rad^2), ``n_iter``, ``converged``."""
+
+    c_m: np.ndarray
+    cost: float
+    n_iter: int
+    converged: bool
+
+
+def va_solve(pois_m, img_px, f_px: float, c0_m, **kw) -> VAResult:
+    """Camera centre of one photo from its PoI view angles (VA), starting at ``c0_m``.
+
+    Parameters
+    ----------
+    pois_m : array (n, 3)
+        PoI world positions, metres, ``n >= 2``.
+    img_px : array (n, 2)
+        Screen points, pixels from the image centre.
+    f_px : float
+        Focal length, pixels.
+    c0_m : array (3,)
+        Initial guess, metres.
+    **kw
+        Passed to :func:`va_solve_batch`.
+
+    References
+    ----------
+    i-Loc thesis, sec. 6.3, VA.
+    """
+    P, U = validate_points(pois_m, img_px, f_px, min_points=2)
+    c0 = np.asarray(c0_m, dtype=float)
+    if c0.shape != (3,):
+        raise ValueError(f"c0_m must have shape (3,), got {c0.shape}")
+    out = va_solve_batch(P[None], measured_view_angles_rad(U, f_px)[None], c0[None], **kw)
+    return VAResult(c_m=out["c_m"][0], cost=float(out["cost"][0]), n_iter=int(out["n_iter"][0]),
+                    converged=bool(out["converged"][0]))
+
+
+class ViewAngle:
+    """Thin wrapper around :func:`va_solve` holding the focal length and descent settings."""
+
+    def __init__(self, f_px: float, max_iter: int = 2000, step0_m: float = 0.5, free_z: bool = True):
+        self.f_px = f_px
+        self.max_iter = max_iter
+        self.step0_m = step0_m
+        self.free_z = free_z
+
+    def locate(self, pois_m, img_px, c0_m) -> VAResult:
+        """Camera centre of one photo from initial guess ``c0_m``; see :func:`va_solve`."""
+        return va_solve(pois_m, img_px, self.f_px, c0_m, max_iter=self.max_iter, step0_m=self.step0_m,
+                        free_z=self.free_z)

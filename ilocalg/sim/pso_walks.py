@@ -1,0 +1,394 @@
+"""Simulated walks of the PSO pedestrian-navigation thesis: six walkers, two phases.
+
+The thesis (ch. 5) records, on a hand-held GPS platform, an electronic compass and a three-axis
+accelerometer at 8 Hz and GPS fixes at 1 Hz, for six walkers A1, A2, A3 (leg 94 cm), B1, B2 (100 cm)
+and C (108 cm). Phase 1 walks (good sky: a school playground lap for A1, a car park for the others)
+teach the Weinberg factor k against GPS; phase 2 walks (a park and the campus hall for A1, the
+management college for the others, partly shaded) apply it. This module makes such walks
+deterministically from a seed; nothing in it is tuned to the thesis's outcome table (Table 5-2).
+
+Walk design (what the walkers did, taken from the thesis; marked "paper" in the code)
+    Leg lengths (Table 5-1); the number of steps counted on each phase-1 walk and that walk's length
+    (the only length the thesis gives is its GPS distance, Table 5-2), hence each walker's mean step
+    length; A1's phase-2 step counts (250 and 408, thesis Fig. 5.14 file names). Other phase-2 walks:
+    300 steps (assumption). Phase-1 routes: A1 a playground lap (stadium oval), the others a straight
+    line (the thesis asks for straight phase-1 walks, sec. 5.2.2). Phase-2 routes: closed loops
+    (rounded rectangles, aspect 2:1) that start and end at the same point, as the thesis's walks do.
+
+Gait (literature, not the thesis)
+    Walking speed: each walker's comfortable speed ~ N(1.30, 0.08) m/s (Bohannon & Andrews 2011,
+    adults 20-59 y: 1.3-1.4 m/s); cadence = speed / step length. Step-to-step variability: 3 % in
+    step length and in step duration (coefficients of variation of normal gait, Hausdorff 2005).
+    Vertical motion of the trunk: inverted pendulum with Zijlstra & Hof's correction (Gait & Posture
+    18, 2003): centre-of-mass rise ``h = l - sqrt(l^2 - (s / (2 K_ZH))^2)`` with ``K_ZH = 1.25``,
+    sinusoidal at the step rate, so the vertical acceleration amplitude of a step of length ``s`` and
+    duration ``T`` is ``(h / 2)(2 pi / T)^2``; a second harmonic (heel strike) of relative amplitude
+    ~ U(0.2, 0.4) per walker. The Weinberg factor is therefore not an input: it emerges from leg
+    length, step length and cadence.
+
+Sensors (thesis where it says, else typical values of the MEMS parts of the time)
+    Accelerometer (z vertical): 8 Hz (thesis sec. 5.1.1), quantised to the thesis's scale, 244.25
+    counts per g (thesis sec. 5.1.3: 0 g at 417.57 counts, 1 g at 661.82), white noise 0.10 m/s^2
+    (assumption), no anti-alias filter (samples of the continuous signal).
+    Compass: 8 Hz, static noise RMS 0.716 deg (thesis sec. 5.1.3, raw signal) made of AR(1) noise
+    (lag-1 correlation 0.6, assumption) plus rare spikes (the thesis notes occasional spikes; 0.5 %
+    of samples, sd 4 deg, assumption), scaled to the thesis's total static RMS 0.716 deg; while walking a
+    residual calibration bias ~ N(0, 2 deg) per walk and trunk yaw sway of 2 deg at half the step rate
+    (assumptions).
+    GPS: 1 Hz (thesis sec. 5.1.1). Open sky: per-axis first-order Gauss-Markov error, sd 0.6 m,
+    correlation time 20 s, plus 0.2 m white noise (static error < 1.5 m, thesis Fig. 5.9). Shaded
+    phase-2 segments (two, each 20 % of the walk): sd 4 m, correlation time 5 s, and 30 % of the
+    fixes missing (assumptions: "partial shading", sec. 5.2.3).
+    Each walk starts and ends with 3 s standing still.
+
+References
+----------
+趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
+University, 2008 (the PSO thesis), Tables 5-1, 5-2, sec. 5.1-5.3. W. Zijlstra and A. L. Hof,
+"Assessment of spatio-temporal gait parameters from trunk accelerations during human walking",
+Gait & Posture 18 (2003). R. W. Bohannon and A. W. Andrews, "Normal walking speed: a descriptive
+meta-analysis", Physiotherapy 97 (2011).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.gnss import local_to_latlon
+from ilocalg.units import G0_MPS2, as_rng
+
+__all__ = [
+    "WALK_DESIGN_PAPER",
+    "PHASE2_STEPS_PAPER",
+    "SENSORS",
+    "Walk",
+    "stadium_route",
+    "loop_route",
+    "line_route",
+    "simulate_walk",
+    "simulate_pso_walks",
+    "simulate_static_compass",
+]
+
+#: Walk design from the thesis (Table 5-1 legs, Table 5-2 counted steps and phase-1 length).
+WALK_DESIGN_PAPER = {  # paper Table 5-1 / 5-2
+    "A1": {"leg_m": 0.94, "n_steps": 217, "route_m": 160.25},  # paper
+    "A2": {"leg_m": 0.94, "n_steps": 116, "route_m": 93.26},  # paper
+    "A3": {"leg_m": 0.94, "n_steps": 128, "route_m": 96.65},  # paper
+    "B1": {"leg_m": 1.00, "n_steps": 108, "route_m": 92.71},  # paper
+    "B2": {"leg_m": 1.00, "n_steps": 118, "route_m": 95.96},  # paper
+    "C": {"leg_m": 1.08, "n_steps": 106, "route_m": 93.73},  # paper
+}
+
+#: Phase-2 walks: A1's two (paper Fig. 5.14 file names: 250 and 408 steps); 300 steps elsewhere (assumed).
+PHASE2_STEPS_PAPER = {  # paper Fig. 5.14
+    "A1": {"park": 250, "hall": 408},  # paper
+}
+PHASE2_DEFAULT_STEPS = 300
+
+#: Sensor and gait constants (see the module docstring for each source).
+SENSORS = {
+    "acc_rate_hz": 8.0,  # thesis sec. 5.1.1
+    "compass_rate_hz": 8.0,  # thesis sec. 5.1.1
+    "gps_rate_hz": 1.0,  # thesis sec. 5.1.1
+    "acc_counts_per_g": 661.82 - 417.57,  # thesis sec. 5.1.3 (paper 1 g and 0 g counts)
+    "acc_noise_mps2": 0.10,
+    "compass_static_rms_deg": 0.716,  # thesis sec. 5.1.3 (paper raw static RMS, an input)
+    "compass_ar1": 0.6,
+    "compass_spike_rate": 0.005,
+    "compass_spike_sd_deg": 4.0,
+    "compass_bias_sd_deg": 2.0,
+    "compass_sway_deg": 2.0,
+    "gps_open_sd_m": 0.6,
+    "gps_open_tau_s": 20.0,
+    "gps_white_sd_m": 0.2,
+    "gps_shaded_sd_m": 4.0,
+    "gps_shaded_tau_s": 5.0,
+    "gps_shaded_fraction": 0.2,
+    "gps_shaded_dropout": 0.3,
+    "speed_mean_mps": 1.30,
+    "speed_sd_mps": 0.08,
+    "step_cv": 0.03,
+    "k_zijlstra_hof": 1.25,
+    "harmonic2_range": (0.2, 0.4),
+    "stand_s": 3.0,
+}
+
+#: Map origins (for the lat/lon of the routes): Tunghai University, Taichung; Wenhu, Taipei.
+ORIGINS_DEG = {"tunghai": (24.1797, 120.6003), "wenhu": (25.0797, 121.5733)}
+
+
+@dataclass(frozen=True)
+class Walk:
+    """One simulated walk.
+
+    Attributes
+    ----------
+    walker, phase, place : str
+        Walker id, ``"1"`` or ``"2"``, and the place name.
+    leg_m, speed_mps, step_mean_m : float
+        Gait of the walker.
+    imu : DataFrame
+        8 Hz samples: ``t_s``, ``acc_z_mps2`` (vertical specific force, gravity included),
+        ``yaw_deg`` (compass, from north clockwise, in [0, 360)).
+    gps : DataFrame
+        1 Hz fixes: ``t_s``, ``lat_deg``, ``lon_deg`` (missing fixes are absent rows).
+    truth : DataFrame
+        8 Hz truth: ``t_s``, ``x_m``, ``y_m`` (east, north from the origin), ``yaw_deg``.
+    steps : DataFrame
+        True steps: ``t_s`` (heel strike), ``length_m``, ``duration_s``, ``amp_mps2`` (vertical
+        acceleration amplitude of the fundamental).
+    origin_deg : tuple
+        (lat, lon) of the local frame origin (the walk's start).
+    route_m : float
+        True walked distance.
+    """
+
+    walker: str
+    phase: str
+    place: str
+    leg_m: float
+    speed_mps: float
+    step_mean_m: float
+    imu: pd.DataFrame = field(repr=False)
+    gps: pd.DataFrame = field(repr=False)
+    truth: pd.DataFrame = field(repr=False)
+    steps: pd.DataFrame = field(repr=False)
+    origin_deg: tuple = (0.0, 0.0)
+    route_m: float = 0.0
+
+    @property
+    def n_steps(self) -> int:
+        return len(self.steps)
+
+
+def stadium_route(perimeter_m: float, straight_frac: float = 0.5, n: int = 400) -> np.ndarray:
+    """Closed stadium (running-track) polyline of the given perimeter, shape (n+1, 2), starting at (0, 0)."""
+    L = perimeter_m * straight_frac / 2
+    r = perimeter_m * (1 - straight_frac) / (2 * np.pi)
+    s = np.linspace(0, perimeter_m, n + 1)
+    pts = np.empty((n + 1, 2))
+    for i, si in enumerate(s):
+        if si <= L:
+            pts[i] = (si, 0.0)
+        elif si <= L + np.pi * r:
+            a = (si - L) / r
+            pts[i] = (L + r * np.sin(a), r - r * np.cos(a))
+        elif si <= 2 * L + np.pi * r:
+            pts[i] = (L - (si - L - np.pi * r), 2 * r)
+        else:
+            a = (si - 2 * L - np.pi * r) / r
+            pts[i] = (-r * np.sin(a), r + r * np.cos(a))
+    return pts
+
+
+def loop_route(perimeter_m: float, aspect: float = 2.0, corner_frac: float = 0.15, n: int = 400,
+               rotation_deg: float = 0.0) -> np.ndarray:
+    """Closed rounded-rectangle polyline of the given perimeter, starting and ending at (0, 0)."""
+    # perimeter = 2(a + b) - 8 r + 2 pi r, with b = a / aspect and r = corner_frac * b
+    a = perimeter_m / (2 * (1 + 1 / aspect) - 8 * corner_frac / aspect + 2 * np.pi * corner_frac / aspect)
+    b = a / aspect
+    r = corner_frac * b
+    segs = [("line", (r, 0), (a - r, 0)), ("arc", (a - r, r), -np.pi / 2),
+            ("line", (a, r), (a, b - r)), ("arc", (a - r, b - r), 0.0),
+            ("line", (a - r, b), (r, b)), ("arc", (r, b - r), np.pi / 2),
+            ("line", (0, b - r), (0, r)), ("arc", (r, r), np.pi)]
+    pts = []
+    for kind, p, q in segs:
+        if kind == "line":
+            t = np.linspace(0, 1, 20)[:-1, None]
+            pts.append(np.asarray(p) + t * (np.asarray(q) - np.asarray(p)))
+        else:
+            ang = q + np.linspace(0, np.pi / 2, 12)[:-1]
+            pts.append(np.asarray(p) + r * np.c_[np.cos(ang), np.sin(ang)])
+    xy = np.vstack(pts + [np.array([[r, 0.0]])])
+    xy = xy - xy[0]
+    c, s_ = np.cos(np.deg2rad(rotation_deg)), np.sin(np.deg2rad(rotation_deg))
+    xy = xy @ np.array([[c, s_], [-s_, c]])
+    # resample uniformly in arc length
+    d = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    si = np.linspace(0, d[-1], n + 1)
+    out = np.c_[np.interp(si, d, xy[:, 0]), np.interp(si, d, xy[:, 1])]
+    return out * (perimeter_m / _arc(out)[-1])
+
+
+def line_route(length_m: float, bearing_deg: float = 30.0) -> np.ndarray:
+    """Straight route from (0, 0), shape (2, 2)."""
+    b = np.deg2rad(bearing_deg)
+    return np.array([[0.0, 0.0], [length_m * np.sin(b), length_m * np.cos(b)]])
+
+
+def _arc(route_xy: np.ndarray) -> np.ndarray:
+    return np.r_[0.0, np.cumsum(np.hypot(*np.diff(route_xy, axis=0).T))]
+
+
+def _along(route_xy: np.ndarray, s_m: np.ndarray):
+    """Position and yaw (deg from north, clockwise) at arc lengths ``s_m``."""
+    d = _arc(route_xy)
+    s = np.clip(s_m, 0, d[-1])
+    x = np.interp(s, d, route_xy[:, 0])
+    y = np.interp(s, d, route_xy[:, 1])
+    seg = np.clip(np.searchsorted(d, s, side="right") - 1, 0, len(d) - 2)
+    dx, dy = np.diff(route_xy, axis=0)[seg].T
+    yaw = np.rad2deg(np.arctan2(dx, dy)) % 360.0
+    return x, y, yaw
+
+
+def _gauss_markov(n: int, dt: float, sd: float, tau: float, rng) -> np.ndarray:
+    phi = np.exp(-dt / tau)
+    e = rng.normal(0.0, sd * np.sqrt(1 - phi**2), n)
+    out = np.empty(n)
+    out[0] = rng.normal(0.0, sd)
+    for i in range(1, n):
+        out[i] = phi * out[i - 1] + e[i]
+    return out
+
+
+def _compass_noise(n: int, rng) -> np.ndarray:
+    """Static compass noise, deg: AR(1) plus rare spikes with total RMS ``compass_static_rms_deg``."""
+    p, sd_sp = SENSORS["compass_spike_rate"], SENSORS["compass_spike_sd_deg"]
+    var_ar = SENSORS["compass_static_rms_deg"] ** 2 - p * sd_sp**2
+    phi = SENSORS["compass_ar1"]
+    ar = _gauss_markov(n, 1.0, np.sqrt(var_ar), -1.0 / np.log(phi), rng)
+    spikes = np.where(rng.random(n) < p, rng.normal(0.0, sd_sp, n), 0.0)
+    return ar + spikes
+
+
+def simulate_static_compass(rng=None, duration_s: float = 60.0, yaw0_deg: float = 123.0) -> pd.DataFrame:
+    """A static compass log (device on a table), as in thesis sec. 5.1.3 / Fig. 5.3.
+
+    Returns
+    -------
+    DataFrame
+        ``t_s``, ``yaw_deg`` at :data:`SENSORS` ``compass_rate_hz``.
+    """
+    gen = as_rng(rng)
+    fs = SENSORS["compass_rate_hz"]
+    n = int(round(duration_s * fs))
+    if n < 10:
+        raise ValueError(f"duration_s must give at least 10 samples, got {duration_s}")
+    t = np.arange(n) / fs
+    return pd.DataFrame({"t_s": t, "yaw_deg": yaw0_deg + _compass_noise(n, gen)})
+
+
+def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_steps: int, leg_m: float,
+                  speed_mps: float, harmonic2: float, origin_deg: tuple, shaded: bool, rng) -> Walk:
+    """Simulate one walk along ``route_xy`` with ``n_steps`` steps (see the module docstring).
+
+    Parameters
+    ----------
+    route_xy : ndarray, shape (m, 2)
+        Route polyline, m (east, north), starting at (0, 0).
+    n_steps : int
+        Number of steps; the step lengths (3 % jitter) are rescaled to cover the route exactly.
+    leg_m, speed_mps, harmonic2 : float
+        Walker's leg length, speed and heel-strike harmonic ratio.
+    origin_deg : (lat, lon)
+        Latitude/longitude of the route's (0, 0).
+    shaded : bool
+        Partial GPS shading (phase 2).
+    rng : Generator, int or None
+    """
+    gen = as_rng(rng)
+    if n_steps < 2:
+        raise ValueError(f"n_steps must be >= 2, got {n_steps}")
+    route_m = float(_arc(route_xy)[-1])
+    cv = SENSORS["step_cv"]
+    s = 1.0 + cv * gen.standard_normal(n_steps)
+    s = s * route_m / s.sum()
+    T_mean = (route_m / n_steps) / speed_mps
+    T = T_mean * (1.0 + cv * gen.standard_normal(n_steps))
+    stand = SENSORS["stand_s"]
+    t_hs = stand + np.r_[0.0, np.cumsum(T)[:-1]]  # heel strikes
+    t_end_walk = stand + T.sum()
+    t_total = t_end_walk + stand
+    # vertical trunk motion: inverted pendulum with the Zijlstra-Hof correction
+    K = SENSORS["k_zijlstra_hof"]
+    h = leg_m - np.sqrt(leg_m**2 - (s / (2 * K)) ** 2)
+    amp = 0.5 * h * (2 * np.pi / T) ** 2
+    psi2 = gen.uniform(0, 2 * np.pi)
+    fs = SENSORS["acc_rate_hz"]
+    t = np.arange(int(np.floor(t_total * fs)) + 1) / fs
+    j = np.searchsorted(t_hs, t, side="right") - 1
+    walking = (t >= stand) & (t < t_end_walk)
+    jj = np.clip(j, 0, n_steps - 1)
+    u = np.where(walking, (t - t_hs[jj]) / T[jj], 0.0)
+    a_dyn = np.where(walking, amp[jj] * (np.cos(2 * np.pi * u) + harmonic2 * np.cos(4 * np.pi * u + psi2)), 0.0)
+    lsb = G0_MPS2 / SENSORS["acc_counts_per_g"]
+    acc = G0_MPS2 + a_dyn + gen.normal(0, SENSORS["acc_noise_mps2"], t.size)
+    acc = np.round(acc / lsb) * lsb
+    # position along the route (linear within each step)
+    s_cum = np.r_[0.0, np.cumsum(s)]
+    s_t = np.where(walking, s_cum[jj] + s[jj] * u, np.where(t < stand, 0.0, route_m))
+    x, y, yaw_true = _along(route_xy, s_t)
+    # while standing keep the first / last walking direction
+    yaw_true = np.where(t < stand, _along(route_xy, np.array([0.0]))[2][0], yaw_true)
+    yaw_true = np.where(t >= t_end_walk, _along(route_xy, np.array([route_m - 1e-6]))[2][0], yaw_true)
+    sway = np.where(walking, SENSORS["compass_sway_deg"] * np.sin(np.pi * (j + u)), 0.0)
+    bias = gen.normal(0, SENSORS["compass_bias_sd_deg"])
+    yaw_meas = (yaw_true + bias + sway + _compass_noise(t.size, gen)) % 360.0
+    imu = pd.DataFrame({"t_s": t, "acc_z_mps2": acc, "yaw_deg": yaw_meas})
+    truth = pd.DataFrame({"t_s": t, "x_m": x, "y_m": y, "yaw_deg": yaw_true})
+    # GPS at 1 Hz
+    tg = np.arange(0.0, t_total + 1e-9, 1.0 / SENSORS["gps_rate_hz"])
+    xg, yg, _ = _along(route_xy, np.interp(tg, t, s_t))
+    ex = _gauss_markov(tg.size, 1.0, SENSORS["gps_open_sd_m"], SENSORS["gps_open_tau_s"], gen)
+    ey = _gauss_markov(tg.size, 1.0, SENSORS["gps_open_sd_m"], SENSORS["gps_open_tau_s"], gen)
+    ex += gen.normal(0, SENSORS["gps_white_sd_m"], tg.size)
+    ey += gen.normal(0, SENSORS["gps_white_sd_m"], tg.size)
+    keep = np.ones(tg.size, dtype=bool)
+    if shaded:
+        frac = SENSORS["gps_shaded_fraction"]
+        n_sh = int(frac * tg.size)
+        for start in (int(0.25 * tg.size), int(0.6 * tg.size)):
+            sl = slice(start, start + n_sh)
+            m = tg[sl].size
+            ex[sl] += _gauss_markov(m, 1.0, SENSORS["gps_shaded_sd_m"], SENSORS["gps_shaded_tau_s"], gen)
+            ey[sl] += _gauss_markov(m, 1.0, SENSORS["gps_shaded_sd_m"], SENSORS["gps_shaded_tau_s"], gen)
+            keep[sl] &= gen.random(m) >= SENSORS["gps_shaded_dropout"]
+    lat, lon = local_to_latlon(xg + ex, yg + ey, *origin_deg)
+    gps = pd.DataFrame({"t_s": tg[keep], "lat_deg": lat[keep], "lon_deg": lon[keep]})
+    steps = pd.DataFrame({"t_s": t_hs, "length_m": s, "duration_s": T, "amp_mps2": amp})
+    return Walk(walker=walker, phase=phase, place=place, leg_m=leg_m, speed_mps=speed_mps,
+                step_mean_m=route_m / n_steps, imu=imu, gps=gps, truth=truth, steps=steps,
+                origin_deg=tuple(origin_deg), route_m=route_m)
+
+
+def simulate_pso_walks(seed: int = 0) -> dict[str, list[Walk]]:
+    """All walks of the two-phase experiment.
+
+    Returns
+    -------
+    dict
+        ``{"1": [six phase-1 walks], "2": [phase-2 walks: A1 park, A1 hall, A2 ... C]}``.
+        Each walk has its own child seed of ``seed`` so walks do not depend on each other.
+    """
+    ss = np.random.SeedSequence(seed)
+    names = list(WALK_DESIGN_PAPER)
+    walker_ss, walk_ss = ss.spawn(2)
+    wgen = np.random.default_rng(walker_ss)
+    speeds = SENSORS["speed_mean_mps"] + SENSORS["speed_sd_mps"] * wgen.standard_normal(len(names))
+    harm = wgen.uniform(*SENSORS["harmonic2_range"], len(names))
+    seeds = iter(walk_ss.spawn(32))
+    out: dict[str, list[Walk]] = {"1": [], "2": []}
+    for i, name in enumerate(names):
+        d = WALK_DESIGN_PAPER[name]
+        if name == "A1":
+            route, origin, place = stadium_route(d["route_m"]), ORIGINS_DEG["wenhu"], "playground"
+        else:
+            route, origin, place = line_route(d["route_m"], 20.0 + 15 * i), ORIGINS_DEG["tunghai"], "car park"
+        out["1"].append(simulate_walk(name, "1", place, route, d["n_steps"], d["leg_m"], float(speeds[i]),
+                                      float(harm[i]), origin, False, np.random.default_rng(next(seeds))))
+    for i, name in enumerate(names):
+        d = WALK_DESIGN_PAPER[name]
+        step_m = d["route_m"] / d["n_steps"]
+        places = PHASE2_STEPS_PAPER.get(name, {"management college": PHASE2_DEFAULT_STEPS})
+        for place, n in places.items():
+            route = loop_route(n * step_m, rotation_deg=10.0 * i)
+            origin = ORIGINS_DEG["wenhu"] if place == "park" else ORIGINS_DEG["tunghai"]
+            out["2"].append(simulate_walk(name, "2", place, route, n, d["leg_m"], float(speeds[i]), float(harm[i]),
+                                          origin, True, np.random.default_rng(next(seeds))))
+    return out

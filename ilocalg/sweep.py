@@ -1,0 +1,286 @@
+"""Seed and parameter sweeps of the experiments, on Dask.
+
+An experiment is a module ``ilocalg.experiments.<name>`` (or any importable module given by its
+dotted path, e.g. a researcher's own) with ``run(seed, fast, **params)``
+returning named tables. A sweep runs it for every combination of parameter values and every seed
+as independent tasks on a :mod:`dask.distributed` cluster (a :class:`~distributed.LocalCluster`
+by default, or an existing scheduler), caches each task's result as parquet so an interrupted
+sweep resumes, reports failed tasks with their seed and parameters without losing the others,
+and aggregates the reproduced values into mean, standard deviation and 95 % confidence interval.
+
+What is swept: the rows of the experiment's comparison tables (columns
+:data:`ilocalg.reporting.COMPARISON_COLUMNS`), i.e. every reproduced value the report shows,
+plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter studies).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import itertools
+import json
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.io.paths import REPO_ROOT
+from ilocalg.reporting import COMPARISON_COLUMNS
+
+__all__ = [
+    "SweepTask",
+    "SweepResult",
+    "make_tasks",
+    "run_task",
+    "sweep",
+    "aggregate",
+    "ci_agreement",
+    "parse_param",
+    "DEFAULT_CACHE",
+]
+
+DEFAULT_CACHE = REPO_ROOT / ".ilocalg-cache" / "sweeps"
+
+#: Long-format columns of one task's result.
+RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "value")
+
+
+@dataclass(frozen=True)
+class SweepTask:
+    """One (experiment, parameters, seed) run."""
+
+    experiment: str
+    params: tuple  # sorted (name, value) pairs
+    seed: int
+    fast: bool = False
+
+    @property
+    def key(self) -> str:
+        blob = json.dumps([self.experiment, list(self.params), self.seed, self.fast], sort_keys=True, default=str)
+        return hashlib.sha256(blob.encode()).hexdigest()[:20]
+
+    def describe(self) -> str:
+        ps = ", ".join(f"{k}={v!r}" for k, v in self.params)
+        return f"{self.experiment}(seed={self.seed}{', ' + ps if ps else ''}{', fast' if self.fast else ''})"
+
+
+@dataclass
+class SweepResult:
+    """Outcome of :func:`sweep`: per-task long results, failures and what came from cache."""
+
+    results: pd.DataFrame
+    failures: list = field(default_factory=list)
+    n_tasks: int = 0
+    n_cached: int = 0
+
+
+def parse_param(text: str) -> tuple[str, list]:
+    """``"k=3,5,7"`` -> ``("k", [3, 5, 7])``; values are parsed as JSON when possible, else strings."""
+    if "=" not in text:
+        raise ValueError(f"--param must look like NAME=V1,V2,... ; got {text!r}")
+    name, vals = text.split("=", 1)
+    name = name.strip()
+    if not name.isidentifier():
+        raise ValueError(f"parameter name {name!r} is not a Python identifier")
+    out = []
+    for v in vals.split(","):
+        v = v.strip()
+        if not v:
+            raise ValueError(f"--param {name}: empty value in {vals!r}")
+        try:
+            out.append(json.loads(v))
+        except json.JSONDecodeError:
+            out.append(v)
+    return name, out
+
+
+def make_tasks(experiment: str, seeds: Iterable[int], grid: Mapping[str, list] | None = None,
+               fast: bool = False) -> list[SweepTask]:
+    """Every combination of the parameter ``grid`` crossed with every seed."""
+    grid = dict(grid or {})
+    names = sorted(grid)
+    combos = list(itertools.product(*(grid[n] for n in names))) if names else [()]
+    return [SweepTask(experiment, tuple(zip(names, combo, strict=True)), int(s), fast)
+            for combo in combos for s in seeds]
+
+
+def _experiment(name: str):
+    """``name`` under ilocalg.experiments, or a dotted module path of the user's own experiment."""
+    modname = name if "." in name else f"ilocalg.experiments.{name}"
+    try:
+        mod = importlib.import_module(modname)
+    except ModuleNotFoundError as exc:
+        raise ValueError(f"unknown experiment {name!r} (no module {modname})") from exc
+    if not hasattr(mod, "run"):
+        raise ValueError(f"ilocalg.experiments.{name} has no run() function")
+    return mod
+
+
+def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
+    """The sweepable values of an experiment's tables, in long format (:data:`RESULT_COLUMNS`)."""
+    parts = []
+    for name, df in tables.items():
+        if not isinstance(df, pd.DataFrame):
+            continue
+        if all(c in df.columns for c in COMPARISON_COLUMNS):
+            p = df[["paper", "item", "quantity", "unit", "paper_value", "reproduced_value"]].rename(
+                columns={"reproduced_value": "value"})
+        elif name.startswith("sweep_") and "value" in df.columns and "quantity" in df.columns:
+            p = df[["quantity", "value"]].copy()
+            for c in ("paper", "item", "unit"):
+                p[c] = df[c] if c in df.columns else ""
+            p["paper_value"] = df["paper_value"] if "paper_value" in df.columns else np.nan
+        else:
+            continue
+        p = p.copy()
+        p.insert(0, "table", name)
+        parts.append(p[list(RESULT_COLUMNS)])
+    if not parts:
+        return pd.DataFrame({c: pd.Series(dtype=float if c in ("paper_value", "value") else object)
+                             for c in RESULT_COLUMNS})
+    out = pd.concat(parts, ignore_index=True)
+    out["paper_value"] = out["paper_value"].astype(np.float64)
+    out["value"] = out["value"].astype(np.float64)
+    for c in ("table", "paper", "item", "quantity", "unit"):
+        out[c] = out[c].fillna("").astype(str)
+    return out
+
+
+def run_task(task: SweepTask) -> pd.DataFrame:
+    """Run one task and return its long-format result (importable by Dask workers)."""
+    mod = _experiment(task.experiment)
+    tables = mod.run(seed=task.seed, fast=task.fast, **dict(task.params))
+    out = tables_to_long(tables)
+    out.insert(0, "seed", task.seed)
+    out.insert(0, "params", json.dumps(dict(task.params), sort_keys=True, default=str))
+    out.insert(0, "experiment", task.experiment)
+    return out
+
+
+def _cache_path(cache_dir: Path, task: SweepTask) -> Path:
+    return Path(cache_dir) / task.experiment / f"{task.key}.parquet"
+
+
+def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2,
+          cache_dir: str | Path | None = DEFAULT_CACHE, progress: bool = True,
+          client=None) -> SweepResult:
+    """Run ``tasks`` on Dask, caching each result; failed tasks are collected, never fatal.
+
+    Parameters
+    ----------
+    tasks : list of SweepTask
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``); None starts a LocalCluster
+        with ``workers`` single-threaded worker processes.
+    workers : int
+        Worker processes of the LocalCluster (ignored with ``scheduler``); 0 runs serially
+        in this process without Dask (the reference the cluster must match bit for bit).
+    cache_dir : path or None
+        Where each task's parquet result is cached (None: no cache).
+    """
+    from tqdm.auto import tqdm
+
+    if workers < 0:
+        raise ValueError(f"workers must be >= 0, got {workers}")
+    cache = Path(cache_dir) if cache_dir is not None else None
+    done: dict[str, pd.DataFrame] = {}
+    todo = []
+    for t in tasks:
+        cp = _cache_path(cache, t) if cache else None
+        if cp is not None and cp.exists():
+            done[t.key] = pd.read_parquet(cp)
+        else:
+            todo.append(t)
+    n_cached = len(done)
+    failures = []
+
+    def _store(t: SweepTask, df: pd.DataFrame):
+        done[t.key] = df
+        if cache is not None:
+            cp = _cache_path(cache, t)
+            cp.parent.mkdir(parents=True, exist_ok=True)
+            tmp = cp.with_suffix(".tmp")
+            df.to_parquet(tmp, index=False)
+            tmp.replace(cp)
+
+    bar = tqdm(total=len(tasks), initial=n_cached, desc="sweep", unit="run", disable=not progress)
+    if todo and workers == 0 and scheduler is None and client is None:
+        for t in todo:
+            try:
+                _store(t, run_task(t))
+            except Exception as exc:  # noqa: BLE001 - a failed task is reported, not fatal
+                failures.append({"task": t.describe(), "seed": t.seed, "params": dict(t.params),
+                                 "error": f"{type(exc).__name__}: {exc}"})
+            bar.update(1)
+    elif todo:
+        from dask.distributed import Client, LocalCluster, as_completed
+
+        own_cluster = own_client = None
+        try:
+            if client is None:
+                if scheduler is None:
+                    own_cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                               dashboard_address=None)
+                    own_client = client = Client(own_cluster)
+                else:
+                    own_client = client = Client(scheduler)
+            futs = {client.submit(run_task, t, key=f"ilocalg-{t.experiment}-{t.key}", pure=False): t for t in todo}
+            for fut in as_completed(futs):
+                t = futs[fut]
+                try:
+                    _store(t, fut.result())
+                except Exception as exc:  # noqa: BLE001
+                    failures.append({"task": t.describe(), "seed": t.seed, "params": dict(t.params),
+                                     "error": f"{type(exc).__name__}: {exc}"})
+                bar.update(1)
+        finally:
+            if own_client is not None:
+                own_client.close()
+            if own_cluster is not None:
+                own_cluster.close()
+    bar.close()
+    frames = [done[t.key] for t in tasks if t.key in done]
+    results = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    return SweepResult(results=results, failures=failures, n_tasks=len(tasks), n_cached=n_cached)
+
+
+def ci_agreement(paper_value: float, lo: float, hi: float, mean: float) -> str:
+    """Where the paper's value lies relative to the reproduced 95 % CI.
+
+    ``inside`` the interval; ``beside`` when outside it but within one interval width of it or
+    within 10 % of the mean; ``far off`` otherwise.
+    """
+    if not all(math.isfinite(v) for v in (paper_value, mean)):
+        return "n/a"
+    if math.isfinite(lo) and lo <= paper_value <= hi:
+        return "inside CI"
+    width = (hi - lo) if math.isfinite(hi - lo) else 0.0
+    dist = min(abs(paper_value - lo), abs(paper_value - hi)) if math.isfinite(lo) else abs(paper_value - mean)
+    if dist <= width or abs(paper_value - mean) <= 0.10 * abs(mean):
+        return "beside CI"
+    return "far off"
+
+
+def aggregate(results: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
+    """Mean, sample standard deviation and a Student-t confidence interval per reported quantity."""
+    from scipy import stats
+
+    if results.empty:
+        raise ValueError("no sweep results to aggregate")
+    keys = ["experiment", "params", "table", "paper", "item", "quantity", "unit"]
+    rows = []
+    for k, g in results.groupby(keys, sort=True, dropna=False):
+        v = g["value"].to_numpy(dtype=np.float64)
+        v = v[np.isfinite(v)]
+        n = v.size
+        mean = float(v.mean()) if n else float("nan")
+        sd = float(v.std(ddof=1)) if n > 1 else float("nan")
+        half = float(stats.t.ppf(0.5 + level / 2, n - 1) * sd / math.sqrt(n)) if n > 1 else float("nan")
+        pv = float(g["paper_value"].iloc[0])
+        rows.append(dict(zip(keys, k, strict=True), n=n, mean=mean, std=sd, ci95_low=mean - half,
+                         ci95_high=mean + half, paper_value=pv,
+                         ci_agreement=ci_agreement(pv, mean - half, mean + half, mean)))
+    return pd.DataFrame(rows)

@@ -1,0 +1,41 @@
+"""Wi-Fi fingerprint positioning: Simplified-RADAR, Simplified-Horus, KNN / WKNN.
+
+Inputs are RSSI matrices ``X`` of shape (n_samples, n_aps) in dBm with ``NaN`` = not heard (see
+:mod:`ilocalg`); every estimator takes the RSSI it substitutes for "not heard" as a parameter
+(``not_heard_dbm``). Estimators follow the scikit-learn contract (``fit(X, y)`` -> self,
+``predict(X)``; ``y`` = positions in metres, shape (n, 2)).
+
+Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:`~ilocalg.wifi.knn`
+(KNN / WKNN, 罗思奇 et al. 2017 eq. 1-2), :mod:`~ilocalg.wifi.radar` (i-Loc thesis eq. 1-3),
+:mod:`~ilocalg.wifi.horus` (i-Loc thesis eq. 5-7), :mod:`~ilocalg.wifi.hierarchical`
+(building -> floor -> position).
+"""
+
+from ilocalg.wifi.hierarchical import HierarchicalLocator, locate
+from ilocalg.wifi.horus import SimplifiedHorus, fit_horus, horus_predict_index, horus_scores
+from ilocalg.wifi.knn import KnnFingerprint, build_index, knn_predict, knn_search, neighbour_weights, vote
+from ilocalg.wifi.preprocessing import REPRESENTATIONS, check_rssi, fill_not_heard, strongest_ap_mask, to_features
+from ilocalg.wifi.radar import SimplifiedRadar, radar_predict, union_topk_sq_distances
+
+__all__ = [
+    "KnnFingerprint",
+    "SimplifiedRadar",
+    "SimplifiedHorus",
+    "HierarchicalLocator",
+    "locate",
+    "build_index",
+    "knn_search",
+    "knn_predict",
+    "neighbour_weights",
+    "vote",
+    "radar_predict",
+    "union_topk_sq_distances",
+    "fit_horus",
+    "horus_scores",
+    "horus_predict_index",
+    "REPRESENTATIONS",
+    "check_rssi",
+    "fill_not_heard",
+    "strongest_ap_mask",
+    "to_features",
+]

@@ -1,0 +1,226 @@
+"""Simplified-Horus: per-point empirical RSSI distributions, product likelihood, argmax.
+
+Training (Fig 4): the training scans are grouped by reference point (identical positions); for
+each point and each AP heard there the histogram of its RSSI values (bins of ``bin_width_db``)
+normalised by the number of scans in which the AP was heard gives ``Pr(s_i | P_j)``.
+
+Positioning: the query's APs are sorted strongest first; APs never heard anywhere in training are
+ignored (thesis: "ignore new APs that are not in the AP set"). The ``k`` strongest remaining APs
+are matched (eq. 5-6, logs summed); the candidate points are those whose model holds all ``k``
+APs, and when no point holds them all ``k`` decreases (the weakest is dropped) until some do
+(thesis: "if fewer than k, decrease in turn"; this also resolves the case "s lacks an AP of the
+database": only the query's own strongest APs that exist in the database are compared). The
+estimate is the candidate with the largest likelihood (eq. 7; ties: first point in training order).
+
+Zero probabilities: an RSSI value that a point's model never saw for an AP (or a value outside the
+trained range) would make the product zero; it gets the documented floor ``prob_floor`` instead
+(default 1e-3, i.e. about one scan in a thousand) -- the thesis' other remedy, "add training data",
+is not available to an estimator.
+
+References
+----------
+Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.2, eq. (5)-(7), Fig 4; Youssef M., Agrawala A.,
+"The Horus WLAN location determination system", MobiSys 2005.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted
+
+from ilocalg.wifi.knn import _check_y
+from ilocalg.wifi.preprocessing import check_rssi
+
+__all__ = ["HorusModel", "fit_horus", "horus_scores", "horus_predict_index", "SimplifiedHorus"]
+
+
+class HorusModel:
+    """Per-point RSSI histograms (compact: only the (point, AP) pairs heard in training).
+
+    Attributes
+    ----------
+    points_xy : ndarray (n_points, d) reference point positions (training order of first scan)
+    point_of_row : ndarray (n_train,) point index of each training scan
+    pair : ndarray (n_points, n_aps) int32, row of ``log_prob`` or -1 (AP never heard there)
+    log_prob : ndarray (n_pairs + 1, n_bins) float32, log Pr(bin | point, AP), floored; the last row
+        is all ``log(prob_floor)`` (used for unseen pairs, then masked out of the candidates)
+    lo_dbm, bin_width_db : float, bin edges ``lo_dbm + i * bin_width_db``
+    ap_known : ndarray (n_aps,) bool, AP heard somewhere in training
+    """
+
+    __slots__ = ("points_xy", "point_of_row", "pair", "log_prob", "lo_dbm", "bin_width_db", "ap_known",
+                 "n_scans")
+
+    def __init__(self, **kw):
+        for k, v in kw.items():
+            setattr(self, k, v)
+
+
+def fit_horus(rssi_dbm, xy, bin_width_db: float = 1.0, prob_floor: float = 1e-3) -> HorusModel:
+    """Build the per-point histogram model from training scans.
+
+    Parameters
+    ----------
+    rssi_dbm : ndarray (n, n_aps), dBm, NaN = not heard
+    xy : ndarray (n,) or (n, d), positions; identical rows form one reference point
+    bin_width_db : float
+        Histogram bin width (1 dB = integer RSSI as phones report it).
+    prob_floor : float
+        Probability given to an RSSI bin never seen at a point (0 < floor < 1).
+
+    References
+    ----------
+    i-Loc thesis, sec. 3.2, Fig 4 (per-point CDF / histogram of each AP).
+    """
+    x = check_rssi(rssi_dbm, "X")
+    if not 0 < prob_floor < 1:
+        raise ValueError(f"prob_floor must be in (0, 1), got {prob_floor}")
+    if not bin_width_db > 0:
+        raise ValueError(f"bin_width_db must be > 0, got {bin_width_db}")
+    y = np.asarray(xy, dtype=np.float64)
+    y2 = y.reshape(y.shape[0], -1)
+    _, first, inv = np.unique(y2, axis=0, return_index=True, return_inverse=True)
+    # renumber points in training order of their first scan
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    point_of_row = rank[inv.ravel()]
+    points_xy = y[first[order]]
+    n_pts, n_aps = order.size, x.shape[1]
+    heard = ~np.isnan(x)
+    if not heard.any():
+        raise ValueError("X hears no access point at all (every value is NaN)")
+    lo = np.floor(np.nanmin(x) / bin_width_db) * bin_width_db
+    hi = np.nanmax(x)
+    n_bins = int(np.floor((hi - lo) / bin_width_db)) + 1
+    r, c = np.nonzero(heard)
+    b = np.floor((x[r, c] - lo) / bin_width_db).astype(np.int64)
+    p = point_of_row[r]
+    key = p * n_aps + c
+    pair_keys, pair_id = np.unique(key, return_inverse=True)
+    counts = np.zeros((pair_keys.size, n_bins))
+    np.add.at(counts, (pair_id, b), 1.0)
+    prob = counts / counts.sum(axis=1, keepdims=True)
+    log_prob = np.log(np.maximum(prob, prob_floor)).astype(np.float32)
+    log_prob = np.vstack([log_prob, np.full((1, n_bins), np.log(prob_floor), dtype=np.float32)])
+    pair = np.full((n_pts, n_aps), -1, dtype=np.int32)
+    pair.ravel()[pair_keys] = np.arange(pair_keys.size, dtype=np.int32)
+    return HorusModel(points_xy=points_xy, point_of_row=point_of_row, pair=pair, log_prob=log_prob,
+                      lo_dbm=float(lo), bin_width_db=float(bin_width_db), ap_known=heard.any(axis=0),
+                      n_scans=np.bincount(point_of_row, minlength=n_pts))
+
+
+def horus_scores(model: HorusModel, q_rssi_dbm, k_aps: int = 5) -> tuple[np.ndarray, np.ndarray]:
+    """Log-likelihoods ``sum log Pr(s_i | P_j)`` over the query's used APs (eq. 5-6).
+
+    Returns
+    -------
+    score : ndarray (n_q, n_points) float32, ``-inf`` for non-candidate points
+    k_used : ndarray (n_q,) int, the number of APs finally compared (<= k_aps)
+
+    References
+    ----------
+    i-Loc thesis, sec. 3.2, eq. (5)-(6).
+    """
+    q = np.asarray(q_rssi_dbm, dtype=np.float64)
+    if int(k_aps) < 1:
+        raise ValueError(f"k_aps must be >= 1, got {k_aps}")
+    key = np.where(np.isnan(q) | ~model.ap_known[None, :], -np.inf, q)
+    n_known = np.isfinite(key).sum(axis=1)
+    if (n_known == 0).any():
+        i = int(np.flatnonzero(n_known == 0)[0])
+        raise ValueError(f"X row {i} hears no access point known to the training data "
+                         "(all NaN or only unknown APs)")
+    k = min(int(k_aps), q.shape[1])
+    aps = np.argsort(-key, axis=1, kind="stable")[:, :k]  # (n_q, k) strongest first
+    valid = np.take_along_axis(np.isfinite(key), aps, axis=1)  # fewer known APs than k
+    vals = np.take_along_axis(q, aps, axis=1)
+    nb = model.log_prob.shape[1]
+    bins = np.floor((np.nan_to_num(vals, nan=model.lo_dbm) - model.lo_dbm) / model.bin_width_db).astype(np.int64)
+    outside = (bins < 0) | (bins >= nb)
+    pair = model.pair[:, aps]  # (n_points, n_q, k)
+    seen = pair >= 0
+    floor_row = model.log_prob.shape[0] - 1
+    lp = model.log_prob[np.where(seen, pair, floor_row), np.clip(bins, 0, nb - 1)[None, :, :]]
+    lp = np.where(outside[None, :, :], model.log_prob[floor_row, 0], lp)
+    lp = np.where(valid[None, :, :], lp, 0.0)
+    seen = seen | ~valid[None, :, :]
+    # candidates: points holding the first k' APs; k' = largest prefix some point holds
+    prefix = np.cumprod(seen, axis=2).sum(axis=2)  # (n_points, n_q)
+    k_eff = np.minimum(prefix.max(axis=0), valid.sum(axis=1))  # (n_q,)
+    cum = np.cumsum(lp, axis=2)  # (n_points, n_q, k)
+    score = cum[:, np.arange(q.shape[0]), np.maximum(k_eff - 1, 0)]  # (n_points, n_q)
+    cand = prefix >= k_eff[None, :]
+    score = np.where(cand, score, -np.inf).T.astype(np.float32)
+    return score, k_eff
+
+
+def horus_predict_index(model: HorusModel, q_rssi_dbm, k_aps: int = 5, batch: int = 1024) -> np.ndarray:
+    """Index of the maximum-likelihood reference point of each query (eq. 7)."""
+    q = np.asarray(q_rssi_dbm, dtype=np.float64)
+    out = np.empty(q.shape[0], dtype=np.int64)
+    for s in range(0, q.shape[0], batch):
+        score, _ = horus_scores(model, q[s:s + batch], k_aps)
+        out[s:s + batch] = np.argmax(score, axis=1)
+    return out
+
+
+class SimplifiedHorus(RegressorMixin, BaseEstimator):
+    """Simplified-Horus (i-Loc thesis sec. 3.2) as a scikit-learn regressor.
+
+    Parameters
+    ----------
+    k_aps : int
+        Number of the query's strongest (known) APs whose probabilities are multiplied.
+    bin_width_db : float
+        Histogram bin width in dB.
+    prob_floor : float
+        Smoothing floor for an RSSI value never seen at a point (see the module docstring).
+    not_heard_dbm : float
+        Accepted for a uniform interface; Horus models only heard readings, so "not heard" is
+        never substituted (an AP missing from the query is simply not compared).
+
+    Attributes
+    ----------
+    model_ : HorusModel
+    n_features_in_ : int
+
+    References
+    ----------
+    i-Loc thesis, sec. 3.2, eq. (5)-(7).
+    """
+
+    def __init__(self, k_aps=5, bin_width_db=1.0, prob_floor=1e-3, not_heard_dbm=-104.0):
+        self.k_aps = k_aps
+        self.bin_width_db = bin_width_db
+        self.prob_floor = prob_floor
+        self.not_heard_dbm = not_heard_dbm
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True
+        tags.target_tags.multi_output = True
+        return tags
+
+    def fit(self, X, y):
+        """Build the per-point histograms from training scans ``X`` at positions ``y``."""
+        x = check_rssi(X, "X")
+        yy = _check_y(y, x.shape[0])
+        if int(self.k_aps) < 1:
+            raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
+        self.model_ = fit_horus(x, yy, self.bin_width_db, self.prob_floor)
+        self.n_features_in_ = x.shape[1]
+        return self
+
+    def predict_index(self, X):
+        """Index into ``model_.points_xy`` of the most likely point per query."""
+        check_is_fitted(self, "model_")
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
+                       owner=type(self).__name__)
+        return horus_predict_index(self.model_, x, self.k_aps)
+
+    def predict(self, X):
+        """Positions of the most likely reference points (eq. 7)."""
+        check_is_fitted(self, "model_")
+        return self.model_.points_xy[self.predict_index(X)]

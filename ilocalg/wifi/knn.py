@@ -1,0 +1,393 @@
+"""K-nearest-neighbour fingerprinting (KNN / WKNN) with Minkowski distances.
+
+The maths is in pure functions over non-negative feature matrices (see
+:func:`ilocalg.wifi.preprocessing.to_features`; "not heard" = 0); :class:`KnnFingerprint` is a
+thin scikit-learn estimator around them.
+
+Speed: the database is kept float32. Distances are computed for batches of queries with one of two
+kernels, both exact for integer dBm (every partial sum is an integer below 2**24):
+
+``"dense"``   Euclidean via ``|q|^2 + |r|^2 - 2 q.r`` with a float32 matrix product (BLAS);
+              Manhattan via ``sum |q - r|`` chunk by chunk.
+``"sparse"``  an inverted index over the APs: with features >= 0 and "not heard" = 0,
+              ``|q - r| = q + r - 2 min(q, r)`` and ``q.r`` only involve the APs heard in both
+              scans, so per AP only the (queries hearing it) x (references hearing it) block is
+              touched. A scan hears ~18 of UJIIndoorLoc's 520 APs, so this does ~1/30 of the work.
+
+Ties in distance are broken by training order (the earlier reference wins), for both kernels.
+
+References
+----------
+罗思奇 et al., "Indoor positioning technology based on location fingerprint and pedestrian track",
+Computer Systems & Applications 2017, sec. 2.2, eq. (1) (Minkowski distance, a=1 Manhattan, a=2
+Euclidean) and eq. (2) (mean of the K nearest positions; K=5, a=1 in the paper).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted
+
+from ilocalg.wifi.preprocessing import check_rssi, to_features
+
+__all__ = [
+    "InvertedIndex",
+    "build_index",
+    "pairwise_distances_batch",
+    "smallest_k",
+    "knn_search",
+    "neighbour_weights",
+    "knn_predict",
+    "vote",
+    "KnnFingerprint",
+]
+
+_BATCH = 256
+
+
+class InvertedIndex:
+    """Float32 feature database plus a per-AP inverted index (CSC layout).
+
+    Attributes
+    ----------
+    features : ndarray (n_refs, n_aps) float32
+    indptr, rows, values : the column-compressed non-zeros (AP j: ``rows[indptr[j]:indptr[j+1]]``)
+    sq_norm, l1_norm : ndarray (n_refs,) float32
+    """
+
+    __slots__ = ("features", "indptr", "rows", "values", "sq_norm", "l1_norm")
+
+    def __init__(self, features: np.ndarray):
+        f = np.ascontiguousarray(features, dtype=np.float32)
+        self.features = f
+        fc = np.asfortranarray(f)
+        nz = fc != 0
+        counts = nz.sum(axis=0)
+        self.indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        r, c = np.nonzero(nz.T)  # ordered by AP, then reference row
+        self.rows = c.astype(np.int32)
+        self.values = f[c, r]
+        self.sq_norm = np.einsum("ij,ij->i", f, f, dtype=np.float32)
+        self.l1_norm = f.sum(axis=1, dtype=np.float32)
+
+
+def build_index(features) -> InvertedIndex:
+    """Build the float32 database + inverted index from a non-negative feature matrix."""
+    f = np.asarray(features)
+    if f.ndim != 2:
+        raise ValueError(f"features must be 2-D, got shape {f.shape}")
+    if (f < 0).any():
+        raise ValueError("features must be >= 0 (use ilocalg.wifi.preprocessing.to_features)")
+    return InvertedIndex(f)
+
+
+def _check_p(p) -> int:
+    if p not in (1, 2):
+        raise ValueError(f"p must be 1 (Manhattan) or 2 (Euclidean), got {p!r}")
+    return int(p)
+
+
+def pairwise_distances_batch(q_features, index: InvertedIndex, p: int = 1, kernel: str = "sparse") -> np.ndarray:
+    """Distances (p=1) or squared distances (p=2) from each query to every reference.
+
+    Parameters
+    ----------
+    q_features : ndarray (n_q, n_aps), >= 0, "not heard" = 0
+    index : InvertedIndex
+    p : {1, 2}
+    kernel : {"sparse", "dense"}
+
+    Returns
+    -------
+    ndarray (n_q, n_refs) float32
+        Manhattan distance for p=1, **squared** Euclidean distance for p=2 (monotone in the
+        distance; take the square root of what you keep).
+
+    References
+    ----------
+    罗思奇 et al. 2017, eq. (1).
+    """
+    p = _check_p(p)
+    q = np.ascontiguousarray(q_features, dtype=np.float32)
+    db = index.features
+    if q.shape[1] != db.shape[1]:
+        raise ValueError(f"queries have {q.shape[1]} AP columns, the database has {db.shape[1]}")
+    if kernel == "dense":
+        if p == 2:
+            d = q @ db.T
+            d *= -2.0
+            d += np.einsum("ij,ij->i", q, q, dtype=np.float32)[:, None]
+            d += index.sq_norm[None, :]
+            np.maximum(d, 0.0, out=d)  # rounding only; exact for integer features
+            return d
+        out = np.empty((q.shape[0], db.shape[0]), dtype=np.float32)
+        step = max(1, 2_000_000 // max(1, db.shape[0] * 8))
+        for s in range(0, q.shape[0], step):
+            out[s:s + step] = np.abs(q[s:s + step, None, :] - db[None, :, :]).sum(axis=2)
+        return out
+    if kernel != "sparse":
+        raise ValueError(f"kernel must be 'sparse' or 'dense', got {kernel!r}")
+    acc = _sparse_partial(q, index, p)
+    if p == 1:
+        acc += q.sum(axis=1, dtype=np.float32)[:, None]
+    else:
+        acc += np.einsum("ij,ij->i", q, q, dtype=np.float32)[:, None]
+    np.maximum(acc, 0.0, out=acc)
+    return acc
+
+
+def _sparse_partial(q: np.ndarray, index: InvertedIndex, p: int) -> np.ndarray:
+    """``norm(r) - 2 sum_j op(q_j, r_j)`` over the APs heard by both: the distance minus the
+    query's own norm term (constant per row, so it does not change the ranking)."""
+    n_ref = index.features.shape[0]
+    base = index.l1_norm if p == 1 else index.sq_norm
+    acc = np.empty((q.shape[0], n_ref), dtype=np.float32)
+    acc[:] = base[None, :]
+    acc_flat = acc.reshape(-1)
+    qnz = q != 0
+    for j in np.flatnonzero(qnz.any(axis=0)):
+        a, b = index.indptr[j], index.indptr[j + 1]
+        if a == b:
+            continue
+        qi = np.flatnonzero(qnz[:, j])
+        qv = q[qi, j] * np.float32(-2.0)
+        di = index.rows[a:b]
+        dv = index.values[a:b]
+        blk = np.maximum.outer(qv, -2.0 * dv) if p == 1 else np.multiply.outer(qv, dv)
+        flat = (qi[:, None] * n_ref + di[None, :]).ravel()
+        acc_flat[flat] += blk.ravel()  # no repeated index within one AP block
+    return acc
+
+
+def smallest_k(d: np.ndarray, k: int) -> np.ndarray:
+    """Indices of the ``k`` smallest values per row, ordered by (value, column index).
+
+    Ties are broken by column (training) order, also at the k-th boundary.
+    """
+    n = d.shape[1]
+    k = int(k)
+    if k >= n:
+        return np.argsort(d, axis=1, kind="stable")[:, :k]
+    part = np.argpartition(d, k - 1, axis=1)[:, :k]
+    dk = np.take_along_axis(d, part, axis=1)
+    kth = dk.max(axis=1)
+    n_le = (d <= kth[:, None]).sum(axis=1)
+    order = np.lexsort((part, dk), axis=1)
+    idx = np.take_along_axis(part, order, axis=1)
+    tied = np.flatnonzero(n_le > k)
+    if tied.size:  # boundary ties: the earliest references at the k-th value win
+        dt = d[tied]
+        kt = kth[tied][:, None]
+        lt = dt < kt
+        eq = dt == kt
+        need = k - lt.sum(axis=1)
+        sel = lt | (eq & (np.cumsum(eq, axis=1) <= need[:, None]))
+        cols = np.nonzero(sel)[1].reshape(tied.size, k)
+        dv = np.take_along_axis(dt, cols, axis=1)
+        idx[tied] = np.take_along_axis(cols, np.lexsort((cols, dv), axis=1), axis=1)
+    return idx
+
+
+def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str = "sparse",
+               batch: int = _BATCH, metric: str = "minkowski") -> tuple[np.ndarray, np.ndarray]:
+    """The ``k`` nearest references of each query.
+
+    Parameters
+    ----------
+    q_features : ndarray (n_q, n_aps), >= 0
+    index : InvertedIndex
+    k : int
+    p : {1, 2}, Minkowski exponent (metric="minkowski")
+    kernel : {"sparse", "dense"}
+    batch : int, queries per distance block
+    metric : {"minkowski", "sorensen"}
+        "sorensen" (Bray-Curtis) is ``sum|q - r| / sum(q + r)`` (Torres-Sospedra et al. 2015).
+
+    Returns
+    -------
+    dist : ndarray (n_q, k) float64
+        Distances (not squared), ascending.
+    idx : ndarray (n_q, k) int64
+        Reference row indices (ties: training order).
+    """
+    if metric not in ("minkowski", "sorensen"):
+        raise ValueError(f"metric must be 'minkowski' or 'sorensen', got {metric!r}")
+    p = 1 if metric == "sorensen" else _check_p(p)
+    q = np.ascontiguousarray(q_features, dtype=np.float32)
+    n_ref = index.features.shape[0]
+    if not 1 <= int(k) <= n_ref:
+        raise ValueError(f"n_neighbors must be in [1, {n_ref}] (the number of references), got {k}")
+    dist = np.empty((q.shape[0], k), dtype=np.float64)
+    idx = np.empty((q.shape[0], k), dtype=np.int64)
+    for s in range(0, q.shape[0], batch):
+        qb = q[s:s + batch]
+        if kernel == "sparse":  # rank on the partial sums, add the query's norm to the k kept
+            d = _sparse_partial(qb, index, p)
+            own = qb.sum(axis=1) if p == 1 else np.einsum("ij,ij->i", qb, qb)
+        else:
+            d = pairwise_distances_batch(qb, index, p=p, kernel=kernel)
+            own = np.zeros(qb.shape[0], dtype=np.float32)
+        if metric == "sorensen":
+            l1q = qb.sum(axis=1, dtype=np.float32)
+            d = d + own[:, None]  # the full Manhattan distance (own = 0 for the dense kernel)
+            den = l1q[:, None] + index.l1_norm[None, :]
+            d = np.divide(d, den, out=np.zeros_like(d), where=den > 0)
+            own = np.zeros(qb.shape[0], dtype=np.float32)
+        ii = smallest_k(d, k)
+        dd = np.take_along_axis(d, ii, axis=1).astype(np.float64) + own.astype(np.float64)[:, None]
+        dd = np.maximum(dd, 0.0)
+        dist[s:s + batch] = np.sqrt(dd) if p == 2 else dd
+        idx[s:s + batch] = ii
+    return dist, idx
+
+
+def neighbour_weights(dist: np.ndarray, weights: str = "uniform", power: float = 1.0) -> np.ndarray:
+    """Row-normalised neighbour weights.
+
+    ``"uniform"``: 1/K (eq. 2 of 罗思奇 et al.). ``"distance"``: 1/d**power (WKNN; power=1 as in
+    scikit-learn, power=2 is the i-Loc thesis eq. (2)); when some neighbours are at distance 0
+    only those share the weight.
+    """
+    dist = np.asarray(dist, dtype=np.float64)
+    if weights == "uniform":
+        return np.full(dist.shape, 1.0 / dist.shape[1])
+    if weights != "distance":
+        raise ValueError(f"weights must be 'uniform' or 'distance', got {weights!r}")
+    zero = dist == 0
+    with np.errstate(divide="ignore"):
+        w = 1.0 / dist**power
+    anyzero = zero.any(axis=1)
+    w[anyzero] = zero[anyzero].astype(np.float64)
+    return w / w.sum(axis=1, keepdims=True)
+
+
+def knn_predict(y_ref, idx, w) -> np.ndarray:
+    """Weighted mean of the neighbours' targets: ``sum_k w_k y[idx_k]`` (eq. 2)."""
+    y = np.asarray(y_ref, dtype=np.float64)
+    yk = y[idx]  # (n_q, k) or (n_q, k, d)
+    if yk.ndim == 2:
+        return np.sum(w * yk, axis=1)
+    return np.einsum("qk,qkd->qd", w, yk)
+
+
+def vote(labels_nbr, w=None, tie: str = "smallest") -> np.ndarray:
+    """Majority (or weight-majority) label per row of ``labels_nbr`` (n_q, k).
+
+    Parameters
+    ----------
+    labels_nbr : ndarray (n_q, k), the neighbours' labels, nearest first
+    w : ndarray (n_q, k), optional neighbour weights (default: one vote each)
+    tie : {"smallest", "nearest"}
+        Among labels tied for the most votes: the smallest label (as ``scipy.stats.mode``, the
+        convention of the published UJIIndoorLoc re-measurements) or the nearest neighbour's.
+    """
+    lab = np.asarray(labels_nbr)
+    if tie not in ("smallest", "nearest"):
+        raise ValueError(f"tie must be 'smallest' or 'nearest', got {tie!r}")
+    if w is None:
+        w = np.ones(lab.shape)
+    same = lab[:, :, None] == lab[:, None, :]
+    score = np.einsum("qij,qj->qi", same, np.asarray(w, dtype=np.float64))
+    top = score >= score.max(axis=1, keepdims=True) - 1e-12
+    if tie == "nearest":
+        best = np.argmax(top, axis=1)
+    else:
+        key = np.where(top, lab, np.iinfo(np.int64).max if np.issubdtype(lab.dtype, np.integer) else np.inf)
+        best = np.argmin(key, axis=1)
+    return lab[np.arange(lab.shape[0]), best]
+
+
+class KnnFingerprint(RegressorMixin, BaseEstimator):
+    """KNN / WKNN fingerprint positioning (scikit-learn regressor).
+
+    Parameters
+    ----------
+    n_neighbors : int
+        K (5 in 罗思奇 et al. 2017).
+    p : {1, 2}
+        Minkowski exponent a of eq. (1): 1 Manhattan (the paper), 2 Euclidean.
+    weights : {"uniform", "distance"}
+        "uniform" is eq. (2); "distance" (1/d) gives WKNN.
+    not_heard_dbm : float
+        RSSI substituted for NaN (not heard).
+    representation : {"positive", "exponential", "powed"}
+        Feature representation (``positive`` = plain dBm with NaN filled; distance-equivalent).
+    kernel : {"sparse", "dense"}
+        Distance kernel (same result; see the module docstring).
+    metric : {"minkowski", "sorensen"}
+        "sorensen" replaces eq. (1) by the Sorensen (Bray-Curtis) distance (``p`` ignored).
+
+    Attributes
+    ----------
+    index_ : InvertedIndex
+    y_ : ndarray, the training targets (positions)
+    n_features_in_ : int
+
+    References
+    ----------
+    罗思奇 et al. 2017, sec. 2.2, eq. (1)-(2).
+    """
+
+    def __init__(self, n_neighbors=5, p=1, weights="uniform", not_heard_dbm=-104.0, representation="positive",
+                 kernel="sparse", metric="minkowski"):
+        self.n_neighbors = n_neighbors
+        self.p = p
+        self.weights = weights
+        self.not_heard_dbm = not_heard_dbm
+        self.representation = representation
+        self.kernel = kernel
+        self.metric = metric
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True
+        tags.target_tags.multi_output = True
+        return tags
+
+    def _features(self, X, name="X", n_aps=None, allow_empty_rows=True):
+        x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__)
+        return to_features(x, self.not_heard_dbm, self.representation, name=name)
+
+    def fit(self, X, y):
+        """Store the reference fingerprints ``X`` (n_refs, n_aps, dBm/NaN) and positions ``y``."""
+        if self.metric not in ("minkowski", "sorensen"):
+            raise ValueError(f"metric must be 'minkowski' or 'sorensen', got {self.metric!r}")
+        if self.metric == "minkowski":
+            _check_p(self.p)
+        if self.weights not in ("uniform", "distance"):
+            raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
+        f = self._features(X)
+        y = _check_y(y, f.shape[0])
+        if not 1 <= int(self.n_neighbors) <= f.shape[0]:
+            raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={f.shape[0]}]")
+        self.index_ = build_index(f)
+        self.y_ = y
+        self.n_features_in_ = f.shape[1]
+        return self
+
+    def kneighbors(self, X, n_neighbors=None):
+        """(dist, idx) of the nearest references, ascending; ties by training order."""
+        check_is_fitted(self, "index_")
+        f = self._features(X, n_aps=self.n_features_in_, allow_empty_rows=False)
+        k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
+        return knn_search(f, self.index_, k, p=self.p, kernel=self.kernel, metric=self.metric)
+
+    def predict(self, X):
+        """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``."""
+        dist, idx = self.kneighbors(X)
+        return knn_predict(self.y_, idx, neighbour_weights(dist, self.weights))
+
+
+def _check_y(y, n: int) -> np.ndarray:
+    if y is None:
+        raise ValueError("this estimator requires y to be passed, but the target y is None (positions in metres)")
+    try:
+        yy = np.asarray(y, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"y must be numeric positions: {exc}") from None
+    if yy.ndim not in (1, 2) or yy.shape[0] != n:
+        raise ValueError(f"y must have shape ({n},) or ({n}, d), got {yy.shape}")
+    if not np.isfinite(yy).all():
+        raise ValueError(f"y is not finite at row {np.argwhere(~np.isfinite(yy))[0][0]}")
+    return yy

@@ -1,0 +1,220 @@
+"""RSSI matrices: validation, not-heard substitution and data representations.
+
+An RSSI matrix ``rssi_dbm`` has shape (n_samples, n_aps), dBm, ``NaN`` = access point not heard
+(see :mod:`ilocalg`). Every estimator substitutes a value ``not_heard_dbm`` for ``NaN`` (a
+parameter: UJIIndoorLoc documents -104 dBm as its weakest reading; simulated data use the
+simulator's detection threshold).
+
+The *representations* map RSSI to non-negative features in which "not heard" is exactly 0, which
+is what the fast distance kernels of :mod:`ilocalg.wifi.knn` exploit (most APs are not heard in
+most scans):
+
+``"positive"``     ``rssi - not_heard_dbm``                          (dB above the floor)
+``"exponential"``  ``exp(pos / alpha) / exp(-not_heard_dbm / alpha)``  with ``alpha = 24``
+``"powed"``        ``(pos / -not_heard_dbm) ** beta``                 with ``beta = e``
+
+References
+----------
+Torres-Sospedra J., Montoliu R., Trilles S., Belmonte O., Huerta J., "Comprehensive analysis of
+distance and similarity measures for Wi-Fi fingerprinting indoor positioning systems", Expert
+Systems with Applications 42 (2015) 9263-9278, sec. 3 (positive, exponential, powed data
+representations; alpha = 24, beta = e).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "REPRESENTATIONS",
+    "check_rssi",
+    "fill_not_heard",
+    "to_features",
+    "strongest_ap_mask",
+    "heard_counts",
+    "mean_fingerprints",
+]
+
+REPRESENTATIONS = ("positive", "exponential", "powed")
+
+
+def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_rows: bool = True,
+               owner: str = "the database") -> np.ndarray:
+    """Validate an RSSI matrix and return it as float64.
+
+    Parameters
+    ----------
+    rssi_dbm : array_like, shape (n_samples, n_aps)
+        dBm, NaN = not heard. +/-inf is rejected.
+    name : str
+        Name used in error messages.
+    n_aps : int, optional
+        Expected number of columns (the fitted database's AP count).
+    allow_empty_rows : bool
+        When False, a row with no heard AP (all NaN) raises.
+    owner : str
+        Who expects ``n_aps`` columns (named in the error message).
+
+    Raises
+    ------
+    ValueError
+        Not 2-D, no rows, wrong column count, infinite values or (optionally) all-NaN rows,
+        naming the first offending row.
+    """
+    if hasattr(rssi_dbm, "tocsr") or hasattr(rssi_dbm, "to_coo"):
+        raise ValueError(f"Sparse data was passed for {name}, but dense data is required (an RSSI matrix with "
+                        "NaN for not heard)")
+    try:
+        raw = np.asarray(rssi_dbm)
+        if np.iscomplexobj(raw):
+            raise ValueError(f"Complex data not supported: {name} must be real RSSI in dBm")
+        x = raw.astype(np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a numeric RSSI matrix in dBm: {exc}") from None
+    if x.ndim != 2:
+        raise ValueError(f"{name} must be 2-D (n_samples, n_aps), got shape {x.shape}. Reshape your data")
+    if x.shape[0] == 0:
+        raise ValueError(f"{name} has no rows: 0 sample(s) (shape={x.shape}) while a minimum of 1 is required.")
+    if x.shape[1] == 0:
+        raise ValueError(f"{name} has no access-point columns: 0 feature(s) (shape={x.shape}) while a minimum of 1 "
+                         "is required.")
+    if n_aps is not None and x.shape[1] != n_aps:
+        raise ValueError(f"{name} has {x.shape[1]} features, but {owner} is expecting {n_aps} features as input "
+                         f"({name} has {x.shape[1]} AP columns, the fitted database {n_aps}; columns must be the "
+                         "same access points in the same order)")
+    bad = np.isinf(x)
+    if bad.any():
+        r, c = np.argwhere(bad)[0]
+        raise ValueError(f"{name} is infinite at row {r}, column {c}; use NaN for 'not heard'")
+    if not allow_empty_rows:
+        empty = np.flatnonzero(np.isnan(x).all(axis=1))
+        if empty.size:
+            raise ValueError(f"{name} row {empty[0]} hears no access point (all NaN); "
+                             f"{empty.size} such rows")
+    return x
+
+
+def fill_not_heard(rssi_dbm, not_heard_dbm: float) -> np.ndarray:
+    """Return a copy with NaN replaced by ``not_heard_dbm`` (float64)."""
+    x = np.array(rssi_dbm, dtype=np.float64)
+    x[np.isnan(x)] = float(not_heard_dbm)
+    return x
+
+
+def to_features(rssi_dbm, not_heard_dbm: float = -104.0, representation: str = "positive",
+                alpha: float = 24.0, beta: float = np.e, dtype=np.float32, name: str = "X") -> np.ndarray:
+    """Map RSSI (dBm, NaN = not heard) to non-negative features with "not heard" = 0.
+
+    Parameters
+    ----------
+    rssi_dbm : array_like, shape (n, m)
+    not_heard_dbm : float
+        RSSI substituted for NaN; every heard reading must be >= it (a weaker reading would
+        become negative; it raises rather than being clipped).
+    representation : {"positive", "exponential", "powed"}
+    alpha, beta : float
+        Parameters of the exponential and powed representations.
+    dtype : numpy dtype
+        Output dtype (float32 keeps the database compact; integer dBm stay exact).
+
+    Returns
+    -------
+    ndarray, shape (n, m), ``dtype``
+        Features >= 0; ``positive`` is distance-equivalent to filling NaN with ``not_heard_dbm``.
+
+    References
+    ----------
+    Torres-Sospedra et al. 2015, sec. 3 (data representations).
+    """
+    if representation not in REPRESENTATIONS:
+        raise ValueError(f"representation must be one of {REPRESENTATIONS}, got {representation!r}")
+    x = check_rssi(rssi_dbm, name)
+    floor = float(not_heard_dbm)
+    if not np.isfinite(floor):
+        raise ValueError(f"not_heard_dbm must be finite, got {not_heard_dbm!r}")
+    weak = x < floor
+    if weak.any():
+        r, c = np.argwhere(weak)[0]
+        raise ValueError(f"{name} row {r}, column {c} has {x[r, c]} dBm, weaker than not_heard_dbm={floor}; "
+                         "lower not_heard_dbm")
+    pos = np.nan_to_num(x - floor, nan=0.0)
+    if representation == "positive":
+        f = pos
+    elif representation == "exponential":
+        f = np.exp(pos / alpha) / np.exp(-floor / alpha)
+        f[pos == 0] = 0.0
+    else:
+        if floor >= 0:
+            raise ValueError("the powed representation needs not_heard_dbm < 0")
+        f = (pos / -floor) ** beta
+    return np.ascontiguousarray(f, dtype=dtype)
+
+
+def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
+    """Boolean mask of the ``k`` strongest heard APs of each row (fewer when fewer are heard).
+
+    Ties in RSSI are broken by column order (lower column first). This is SAP_k(s) of the
+    i-Loc thesis: "if fewer than k APs are available, k decreases".
+
+    References
+    ----------
+    Chiu, i-Loc thesis (NCTU 2013), sec. 3.1, definition of SAP_K(s) and eq. (1).
+    """
+    x = np.asarray(rssi_dbm, dtype=np.float64)
+    if int(k) < 1:
+        raise ValueError(f"k_aps must be >= 1, got {k}")
+    k = min(int(k), x.shape[1])
+    key = np.where(np.isnan(x), -np.inf, x)
+    order = np.argsort(-key, axis=1, kind="stable")[:, :k]
+    mask = np.zeros(x.shape, dtype=bool)
+    np.put_along_axis(mask, order, True, axis=1)
+    return mask & ~np.isnan(x)
+
+
+def heard_counts(rssi_dbm) -> np.ndarray:
+    """Number of heard APs per row."""
+    return np.sum(~np.isnan(np.asarray(rssi_dbm, dtype=np.float64)), axis=1)
+
+
+def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Average the scans of each reference point into one fingerprint (a RADAR-style radio map).
+
+    Parameters
+    ----------
+    rssi_dbm : ndarray (n, n_aps), dBm, NaN = not heard
+    xy : ndarray (n, d), positions; identical rows are one point
+    min_heard_fraction : float
+        An AP enters a point's fingerprint (mean of the readings where heard) only if heard in at
+        least this fraction of the point's scans; otherwise it is NaN (not heard) there.
+
+    Returns
+    -------
+    fp : ndarray (n_points, n_aps), mean dBm / NaN
+    points : ndarray (n_points, d), in the order of first appearance
+    point_of_row : ndarray (n,), the point index of each scan
+
+    References
+    ----------
+    Bahl & Padmanabhan, RADAR (INFOCOM 2000): the radio map holds the mean signal strength per
+    point; i-Loc thesis sec. 3.1 ("build each point's signal model").
+    """
+    x = check_rssi(rssi_dbm, "X")
+    y = np.asarray(xy, dtype=np.float64).reshape(x.shape[0], -1)
+    if not 0.0 <= min_heard_fraction <= 1.0:
+        raise ValueError(f"min_heard_fraction must be in [0, 1], got {min_heard_fraction}")
+    _, first, inv = np.unique(y, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    point = rank[inv.ravel()]
+    n_pts = order.size
+    heard = ~np.isnan(x)
+    cnt = np.zeros((n_pts, x.shape[1]))
+    tot = np.zeros((n_pts, x.shape[1]))
+    np.add.at(cnt, point, heard.astype(np.float64))
+    np.add.at(tot, point, np.nan_to_num(x, nan=0.0))
+    n_scans = np.bincount(point, minlength=n_pts)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fp = tot / cnt
+    fp[(cnt == 0) | (cnt < min_heard_fraction * n_scans)] = np.nan
+    return fp, y[first[order]], point

@@ -1,0 +1,197 @@
+"""Simplified-RADAR: nearest neighbours in signal space over the union of the strongest APs.
+
+For a query ``s`` and a reference ``s'`` the distance is taken over the union of the ``k`` strongest
+APs of each (eq. 1); the ``N`` nearest references are weighted by ``1/d^2`` normalised (eq. 2) and
+their positions averaged (eq. 3). When a scan hears fewer than ``k`` APs, ``k`` decreases to the
+number heard (the thesis: "if fewer than k, decrease in turn"). Not-heard APs inside the union take
+``not_heard_dbm``.
+
+Vectorisation: with masks ``A`` (query's top-k) and ``B`` (reference's top-k), the union mask is
+``A + B - AB`` and eq. (1) squared expands into one matrix product of stacked features, computed in
+chunks of references: float32 for integer dBm (every partial sum is an integer below 2**24, so it is
+exact), float64 for anything else.
+
+References
+----------
+Chiu P.-J., "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU 2013,
+sec. 3.1, eq. (1)-(4); Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
+and tracking system", IEEE INFOCOM 2000 (NNSS, N = 3).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted
+
+from ilocalg.wifi.knn import _check_y, knn_predict, neighbour_weights, smallest_k
+from ilocalg.wifi.preprocessing import check_rssi, strongest_ap_mask, to_features
+
+__all__ = ["union_topk_sq_distances", "radar_predict", "SimplifiedRadar"]
+
+_REF_CHUNK = 4096
+_Q_BATCH = 512
+
+
+def _stack_query(q: np.ndarray, a: np.ndarray, dtype) -> np.ndarray:
+    aq = a * q
+    return np.concatenate([-2.0 * aq, a, q * q, -2.0 * q, -aq * q, 2.0 * aq, -a], axis=1).astype(dtype)
+
+
+def _stack_ref(r: np.ndarray, b: np.ndarray, dtype) -> np.ndarray:
+    br = b * r
+    return np.concatenate([r, r * r, b, br, b, br, br * r], axis=1).astype(dtype)
+
+
+def _exact_dtype(q, r, k: int) -> type:
+    """float32 when it is exact, else float64.
+
+    Every term of the stacked product involves one of the <= k masked APs of the query or of the
+    reference, so the absolute sum of the terms is below ``7 blocks * 2k APs * 2 M^2`` for
+    features <= M. With integer features (integer dBm above the floor) and that bound below 2**24
+    every partial sum is an integer float32 represents exactly (UJIIndoorLoc: M = 104, k = 5).
+    """
+    m = max(float(q.max(initial=0.0)), float(r.max(initial=0.0)))
+    integer = not (np.any(q != np.round(q)) or np.any(r != np.round(r)))
+    bound = 7.0 * (2.0 * max(k, 1)) * (2.0 * m * m)
+    return np.float32 if integer and bound < 2.0**24 else np.float64
+
+
+def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_dbm: float = -100.0) -> np.ndarray:
+    """Squared eq. (1) distances between every query and every reference.
+
+    Parameters
+    ----------
+    q_rssi_dbm : ndarray (n_q, n_aps), dBm, NaN = not heard
+    ref_rssi_dbm : ndarray (n_ref, n_aps)
+    k_aps : int
+        k, the number of strongest APs of each scan (5 is best in the thesis, Fig 3).
+    not_heard_dbm : float
+        RSSI used for an AP of the union that the other scan did not hear.
+
+    Returns
+    -------
+    ndarray (n_q, n_ref), float32 for integer dBm (exact), float64 otherwise
+        ``sum_{i in SAP_k(s) U SAP_k(s')} (s_i - s'_i)^2``.
+
+    References
+    ----------
+    i-Loc thesis, sec. 3.1, eq. (1).
+    """
+    q = to_features(q_rssi_dbm, not_heard_dbm, "positive", dtype=np.float64, name="X")
+    r = to_features(ref_rssi_dbm, not_heard_dbm, "positive", dtype=np.float64, name="reference X")
+    a = strongest_ap_mask(q_rssi_dbm, k_aps).astype(np.float64)
+    b = strongest_ap_mask(ref_rssi_dbm, k_aps).astype(np.float64)
+    return _union_sq(q, a, r, b)
+
+
+def _union_sq(q, a, r, b) -> np.ndarray:
+    k = int(max(a.sum(axis=1).max(initial=0), b.sum(axis=1).max(initial=0)))
+    dt = _exact_dtype(q, r, k)
+    left = _stack_query(q, a, dt)
+    const_q = np.sum(a * q * q, axis=1).astype(dt)
+    out = np.empty((q.shape[0], r.shape[0]), dtype=dt)
+    for s in range(0, r.shape[0], _REF_CHUNK):
+        rr, bb = r[s:s + _REF_CHUNK], b[s:s + _REF_CHUNK]
+        right = _stack_ref(rr, bb, dt)
+        const_r = np.sum(bb * rr * rr, axis=1).astype(dt)
+        blk = left @ right.T
+        blk += const_q[:, None]
+        blk += const_r[None, :]
+        out[:, s:s + _REF_CHUNK] = blk
+    np.maximum(out, 0.0, out=out)
+    return out
+
+
+def radar_predict(q_rssi_dbm, ref_rssi_dbm, ref_xy, k_aps: int = 5, n_neighbors: int = 3,
+                  not_heard_dbm: float = -100.0) -> np.ndarray:
+    """Simplified-RADAR positions of the queries (eq. 1-3).
+
+    Returns
+    -------
+    ndarray (n_q, d)
+        Weighted means of the ``n_neighbors`` nearest references' positions, weights
+        ``1/d^2`` normalised (eq. 2); references at distance 0 share all the weight.
+
+    References
+    ----------
+    i-Loc thesis, sec. 3.1, eq. (1)-(3).
+    """
+    q = np.asarray(q_rssi_dbm, dtype=np.float64)
+    d2 = union_topk_sq_distances(q, ref_rssi_dbm, k_aps, not_heard_dbm)
+    idx = smallest_k(d2, n_neighbors)
+    dist = np.sqrt(np.take_along_axis(d2, idx, axis=1).astype(np.float64))
+    return knn_predict(ref_xy, idx, neighbour_weights(dist, "distance", power=2.0))
+
+
+class SimplifiedRadar(RegressorMixin, BaseEstimator):
+    """Simplified-RADAR (i-Loc thesis sec. 3.1) as a scikit-learn regressor.
+
+    Parameters
+    ----------
+    k_aps : int
+        Strongest APs per scan in the union distance (eq. 1); thesis best k = 5.
+    n_neighbors : int
+        N nearest references (N = 3, after RADAR).
+    not_heard_dbm : float
+        RSSI substituted for a union AP that a scan did not hear.
+
+    Attributes
+    ----------
+    ref_rssi_dbm_ : ndarray (n_ref, n_aps)
+    y_ : ndarray, reference positions
+    n_features_in_ : int
+
+    References
+    ----------
+    i-Loc thesis, sec. 3.1, eq. (1)-(3).
+    """
+
+    def __init__(self, k_aps=5, n_neighbors=3, not_heard_dbm=-100.0):
+        self.k_aps = k_aps
+        self.n_neighbors = n_neighbors
+        self.not_heard_dbm = not_heard_dbm
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True
+        tags.target_tags.multi_output = True
+        return tags
+
+    def fit(self, X, y):
+        """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
+        x = check_rssi(X, "X")
+        to_features(x, self.not_heard_dbm, name="X")  # validates readings against not_heard_dbm
+        if int(self.k_aps) < 1:
+            raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
+        if not 1 <= int(self.n_neighbors) <= x.shape[0]:
+            raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={x.shape[0]}]")
+        self.y_ = _check_y(y, x.shape[0])
+        self.ref_rssi_dbm_ = x
+        self._r = to_features(x, self.not_heard_dbm, dtype=np.float64)
+        self._b = strongest_ap_mask(x, self.k_aps).astype(np.float64)
+        self.n_features_in_ = x.shape[1]
+        return self
+
+    def kneighbors(self, X, n_neighbors=None):
+        """(dist, idx): eq. (1) distances (ascending) and indices of the nearest references."""
+        check_is_fitted(self, "ref_rssi_dbm_")
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
+                       owner=type(self).__name__)
+        k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
+        dist = np.empty((x.shape[0], k))
+        idx = np.empty((x.shape[0], k), dtype=np.int64)
+        for s in range(0, x.shape[0], _Q_BATCH):
+            xb = x[s:s + _Q_BATCH]
+            q = to_features(xb, self.not_heard_dbm, dtype=np.float64)
+            a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
+            d2 = _union_sq(q, a, self._r, self._b)
+            ii = smallest_k(d2, k)
+            idx[s:s + _Q_BATCH] = ii
+            dist[s:s + _Q_BATCH] = np.sqrt(np.take_along_axis(d2, ii, axis=1).astype(np.float64))
+        return dist, idx
+
+    def predict(self, X):
+        """Positions of the query scans ``X`` (n_q, n_aps): eq. (2)-(3) over the N nearest."""
+        dist, idx = self.kneighbors(X)
+        return knn_predict(self.y_, idx, neighbour_weights(dist, "distance", power=2.0))

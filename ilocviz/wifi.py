@@ -1,0 +1,100 @@
+"""Wi-Fi fingerprinting plots: AP-count study, error CDFs, radio-map floor plans, hit rates."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ilocviz.core import error_cdf, new_axes
+
+__all__ = ["k_study", "error_cdfs", "floor_map", "method_bars", "rssi_distribution"]
+
+
+def k_study(df, ax=None, quantities=("median_m", "p80_m", "mean_m")):
+    """Error statistics versus the number of strongest APs k (i-Loc thesis Fig 3).
+
+    Parameters
+    ----------
+    df : DataFrame with ``k_aps`` and the columns in ``quantities`` (metres)
+    """
+    ax = new_axes(ax)
+    for q in quantities:
+        ax.plot(df["k_aps"], df[q], marker="o", label=q.replace("_m", ""))
+    ax.set_xlabel("Strongest APs compared, k [-]")
+    ax.set_ylabel("Positioning error [m]")
+    ax.set_xticks(list(df["k_aps"]))
+    ax.legend(loc="best")
+    return ax
+
+
+def error_cdfs(errors, ax=None, method_col="method", error_col="error_m"):
+    """Error CDFs per method from a long table (``method``, ``error_m``)."""
+    d = {m: g[error_col].to_numpy() for m, g in errors.groupby(method_col, sort=False)}
+    return error_cdf(d, ax=ax)
+
+
+def floor_map(points_xy_m, ax=None, value=None, walls=None, aps=None, test_points=None, value_label="value"):
+    """Training points on the floor plan, optionally coloured by a per-point value (e.g. drift level).
+
+    Parameters
+    ----------
+    points_xy_m : array (n, 2)
+    value : array (n,), optional colour values
+    walls : array (m, 4) wall segments (x0, y0, x1, y1), optional
+    aps : array (k, 2) access-point positions, optional
+    test_points : array of int, indices of the test route, optional
+    """
+    ax = new_axes(ax)
+    if walls is not None:
+        for x0, y0, x1, y1 in np.asarray(walls):
+            ax.plot([x0, x1], [y0, y1], color="0.7", lw=0.8, zorder=0)
+    pts = np.asarray(points_xy_m)
+    if value is None:
+        ax.plot(pts[:, 0], pts[:, 1], "o", ms=4, label="training points")
+    else:
+        sc = ax.scatter(pts[:, 0], pts[:, 1], c=value, s=22, cmap="viridis", label="training points")
+        ax.figure.colorbar(sc, ax=ax, label=value_label)
+    if test_points is not None:
+        tp = pts[np.asarray(test_points)]
+        ax.plot(tp[:, 0], tp[:, 1], "-", color="#D55E00", lw=1.2, label="test route")
+    if aps is not None:
+        a = np.asarray(aps)
+        ax.plot(a[:, 0], a[:, 1], "^", color="k", ms=5, label="access points")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(loc="upper right", fontsize=7)
+    return ax
+
+
+def method_bars(df, ax=None, columns=("mean_m", "median_m", "p75_m"), label_col="method"):
+    """Grouped bars of error statistics (metres) per method."""
+    ax = new_axes(ax)
+    n = len(columns)
+    x = np.arange(len(df))
+    w = 0.8 / n
+    for i, c in enumerate(columns):
+        ax.bar(x + (i - (n - 1) / 2) * w, df[c], width=w, label=c.replace("_m", ""))
+    ax.set_xticks(x)
+    ax.set_xticklabels(df[label_col], rotation=20, ha="right")
+    ax.set_ylabel("2-D error [m]")
+    ax.legend(loc="best")
+    return ax
+
+
+def rssi_distribution(df, ax=None):
+    """Histogram (bars, left axis) and CDF (line, right axis) of one AP's RSSI at one point (thesis Fig 4).
+
+    Parameters
+    ----------
+    df : DataFrame with ``rssi_dbm`` (bin start), ``probability`` and ``cdf``
+    """
+    ax = new_axes(ax)
+    w = float(np.diff(df["rssi_dbm"]).min()) if len(df) > 1 else 1.0
+    ax.bar(df["rssi_dbm"], df["probability"], width=0.9 * w, align="edge", color="#56B4E9", label="probability")
+    ax.set_xlabel("RSSI [dBm]")
+    ax.set_ylabel("Probability per bin [-]")
+    ax2 = ax.twinx()
+    ax2.step(df["rssi_dbm"] + w, df["cdf"], where="pre", color="#D55E00", label="CDF")
+    ax2.set_ylabel("Cumulative probability [-]")
+    ax2.set_ylim(0, 1.02)
+    return ax

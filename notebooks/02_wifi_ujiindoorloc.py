@@ -1,0 +1,100 @@
+# %% [markdown]
+# # 02 Wi-Fi fingerprinting on real data: UJIIndoorLoc
+#
+# Every Wi-Fi method of the toolkit (KNN / WKNN of 罗思奇 et al. 2017 eq. 1-2, Simplified-RADAR
+# and Simplified-Horus of the i-Loc thesis ch.3) on the public UJIIndoorLoc set (Torres-Sospedra
+# et al., IPIN 2014; 3 buildings, 4-5 floors, 520 APs), official split training (19,937 scans) ->
+# validation (1,111 scans, recorded four months later with other phones). Reference values: the
+# independent re-measurement of 1-NN and K=5 KNN, the data set paper's 1-NN baseline and the
+# EvAAL-ETRI 2015 winner. Then a push for the best classical configuration.
+
+# %% tags=["parameters"]
+# SEED seeds the fast-mode subsample and the selection half; FAST subsamples the set (4,000
+# training, 256 validation rows); OUT_DIR (set by the runner) receives tables and figures;
+# DATA_DIR is the folder of the real data sets (None: $ILOC_DATA_DIR, else ../shared/data).
+SEED = 0
+FAST = False
+OUT_DIR = None
+DATA_DIR = None
+
+# %%
+import matplotlib.pyplot as plt
+
+import ilocviz
+import ilocviz.wifi
+from ilocalg.experiments import wifi_ujiindoorloc
+from ilocalg.reporting import Report
+
+report = Report(OUT_DIR, "02_wifi_ujiindoorloc")
+files = wifi_ujiindoorloc.find_files(DATA_DIR)
+if files is None:
+    print("UJIIndoorLoc not found (expected <DATA_DIR>/ujiindoorloc/trainingData.csv[.gz] and "
+          "validationData.csv[.gz]; download: UCI Machine Learning Repository, dataset 310). Skipping.")
+else:
+    for f in files:
+        report.record_input(f)
+
+# %%
+tables = None if files is None else wifi_ujiindoorloc.run(seed=SEED, fast=FAST, data_dir=DATA_DIR)
+if tables is not None:
+    report.table(tables["data"], "data")
+    report.table(tables["methods"], "methods")
+
+# %% [markdown]
+# ## Error CDFs (projected metres, as published results on this set)
+
+# %%
+if tables is not None:
+    with ilocviz.style():
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        ilocviz.wifi.error_cdfs(tables["errors"], ax=ax)
+        ax.set_xlim(0, 40)
+        ilocviz.savefig(fig, "02_wifi_ujiindoorloc_cdf", OUT_DIR)
+        fig, ax = plt.subplots(figsize=(7, 4))
+        ilocviz.wifi.method_bars(tables["methods"], ax=ax)
+        ilocviz.savefig(fig, "02_wifi_ujiindoorloc_bars", OUT_DIR)
+
+# %% [markdown]
+# ## Paper / reference vs reproduced
+
+# %%
+if tables is not None:
+    report.compare(tables["paper_vs_reproduced"].to_dict("records"))
+
+# %% [markdown]
+# ## The best configuration
+# Chosen on a seeded random half of the validation rows (the *selection half*) among Simplified-RADAR
+# union distances (k strongest APs, N neighbours) and WKNN in three RSSI representations; reported on
+# the other, *held-out* half too, which the choice never saw. (Full mode only for the search.)
+
+# %%
+if tables is not None:
+    if "best_search" in tables:
+        report.table(tables["best_search"], "best_search")
+    report.table(tables["best_halves"], "best_halves")
+
+# %%
+if tables is not None:
+    report.table(tables["timing"], "timing", deterministic=False)
+    b = tables["best_halves"].set_index("rows").loc["held-out half"]
+    goal = b["mean_m"] < 6.0 and b["floor_hit_rate"] >= 0.95 and b["building_hit_rate"] >= 1.0
+    print(f"best on the held-out half: mean {b['mean_m']:.2f} m, floor {b['floor_hit_rate']:.1%}, building "
+          f"{b['building_hit_rate']:.1%} -> goal (mean < 6.0 m, floor >= 95 %, building 100 %) "
+          f"{'met' if goal else 'NOT met'}")
+
+# %% [markdown]
+# ## Conclusion
+#
+# * The K=5 and 1-NN Euclidean baselines reproduce the independent re-measurement (the command
+#   `python -m ilocalg evaluate wifi ... --method knn --k 5 --metric euclidean` prints the same
+#   figure); the dataset paper's 1-NN of 7.9 m used another protocol and is not comparable.
+# * Manhattan distance (the setting of 罗思奇 et al.) is clearly worse than Euclidean here: with
+#   -104 dBm for "not heard", the many APs heard by one scan and not the other dominate an L1 sum.
+# * The Simplified-RADAR distance, taken only over the union of each pair's strongest APs, is the
+#   best classical ingredient found: it ignores the weak, device-dependent readings that change
+#   between the training and validation campaigns. Horus suffers from the few scans per reference
+#   point in UJIIndoorLoc (its histograms are sparse) and from phones differing between campaigns.
+# * The printed line above states whether the "best" configuration met the goal on the
+#   held-out half; it does not reach the EvAAL winner's mean error, which came from a private
+#   test set with a different protocol. Errors in ground metres are about 0.77 times the
+#   projected (Web-Mercator) metres quoted by the published results.

@@ -1,0 +1,89 @@
+# %% [markdown]
+# # 06 PDR step counting on real walks (Oxford step counter data set)
+#
+# Every step detector of the toolkit on the 48 real recordings of the Oxford step counter optimisation
+# set (3 phones, 3 users, 7 carry positions, heel-sensor ground truth): the toolkit's best detector
+# (`ilocalg.pdr.robust`), a plain low-pass + `find_peaks` baseline, the fingerprint+PDR paper's
+# sliding-window detector (004 sec. 3.4.2), the PSO thesis's slope-sign-change detector (003 Fig 3.9) and
+# the i-Loc SAM (000 eq. 8-15). Accuracy per recording is `1 - |counted - true| / true`, measured by
+# **leave-one-recording-out** cross-validation: each detector's parameters are tuned on 47 recordings and
+# the 48th is scored. Reference: the data set's own report gives 93.7 % mean / 96.8 % median for its
+# windowed peak detector; the goal set for the toolkit is >= 99.3 % mean with no recording below 98 %.
+
+# %% tags=["parameters"]
+# Seed (unused: no randomness); FAST scores every third recording with small grids; OUT_DIR (set by the
+# runner) receives tables and figures; DATA_DIR is the folder of the real data sets (None: default).
+SEED = 0
+FAST = False
+OUT_DIR = None
+DATA_DIR = None
+
+# %%
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+
+import ilocviz
+import ilocviz.pdr
+from ilocalg.experiments import pdr_real_steps
+from ilocalg.io.paths import data_dir
+from ilocalg.reporting import Report
+
+report = Report(OUT_DIR, "06_pdr_real_steps")
+folder = Path(DATA_DIR or data_dir()) / "oxford_step_counter"
+archive = folder / pdr_real_steps.ARCHIVE
+HAVE_DATA = archive.is_file()
+if not HAVE_DATA:
+    print(f"Oxford step counter data not found at {archive}; see the README's 'Real data' section. "
+          "The real-data part of this notebook is skipped.")
+
+# %%
+if HAVE_DATA:
+    report.record_input(archive)
+    recordings = pdr_real_steps.load(folder)
+    tables = pdr_real_steps.run(seed=SEED, fast=FAST, recordings=recordings)
+    for name in ("per_recording", "summary", "per_position", "per_phone", "choices", "grid"):
+        report.table(tables[name], name)
+    comparison = report.compare(tables["comparison"].to_dict("records"))
+    display(comparison)  # noqa: F821
+    display(tables["summary"])  # noqa: F821
+else:
+    report.table(pdr_real_steps.missing_table(archive), "summary")
+
+# %%
+if HAVE_DATA:
+    display(tables["per_position"])  # noqa: F821
+    display(tables["per_phone"])  # noqa: F821
+
+# %%
+if HAVE_DATA:
+    with ilocviz.style():
+        fig, ax = plt.subplots(figsize=(8, 4))
+        ilocviz.pdr.accuracy_bars(tables["summary"], ax=ax, goal=pdr_real_steps.GOAL_MEAN)
+        ilocviz.savefig(fig, "06_pdr_real_steps_accuracy", OUT_DIR)
+
+# %%
+if HAVE_DATA:
+    print(pdr_real_steps.headline(tables))
+    worst = pdr_real_steps.worst(tables, 5)
+    display(worst)  # noqa: F821
+    display(pdr_real_steps.truth_artefacts([r for r in recordings if r.name in set(worst["recording"])]))  # noqa: F821
+
+# %% [markdown]
+# ## Conclusion
+#
+# * The toolkit's best detector (resample to 100 Hz, zero-phase low-pass of |a|, prominence peaks, a
+#   walking-bout gate that drops isolated peaks from handling the phone) beats the data set's own report
+#   and the plain `find_peaks` baseline under leave-one-recording-out tuning, and its median is at the
+#   goal. Its **mean does not reach the 99.3 % goal and several recordings stay below 98 %** (printed above):
+#   the shortfall is concentrated in the swinging-arm and armband recordings of one phone/user.
+# * Part of that shortfall is in the ground truth: the last table lists, for the worst recordings, how
+#   many "true" steps follow the previous one by less than 0.25 s (over 4 steps per second while walking
+#   at about 2): heel-sensor double triggers that no accelerometer detector can or should count. The rest
+#   is real: with the phone swinging in the hand, the arm's pendulum motion at the stride frequency masks
+#   every other step.
+# * The papers' detectors do worse on these real walks, honestly reported: 004's sliding window with a
+#   tuned threshold is close to the baseline; 003's slope-sign-change rule with its +-RMS band, built for a
+#   waist-mounted sensor, miscounts pocket and arm positions; the i-Loc SAM, whose seven range tests must
+#   all pass, rejects many true steps (notebook 03 shows the same on simulated walks), though with ranges
+#   learned on the other recordings it counts the arm positions well.

@@ -1,0 +1,23 @@
+import numpy as np
+import pytest
+
+from ilocalg.experiments import pdr_real_steps as prs
+
+
+def test_loro_cv_never_uses_the_held_out_recording():
+    # grid row 0 is best on recordings 1-3; row 1 is better only on recording 0
+    s = np.array([[0.90, 0.99, 0.99, 0.99],
+                  [0.93, 0.95, 0.95, 0.95]])
+    held, choice = prs.loro_cv(s)
+    np.testing.assert_array_equal(choice, [0, 0, 0, 0])
+    np.testing.assert_allclose(held, [0.90, 0.99, 0.99, 0.99])
+    # a row that is perfect on one recording and bad elsewhere is never chosen for that recording
+    s2 = np.array([[1.0, 0.5, 0.5], [0.8, 0.9, 0.9]])
+    held2, choice2 = prs.loro_cv(s2)
+    assert choice2[0] == 1 and held2[0] == 0.8
+    with pytest.raises(ValueError, match="n_recordings >= 2"):
+        prs.loro_cv(np.ones((3, 1)))
+
+
+def test_accuracy():
+    np.testing.assert_allclose(prs.accuracy([90, 110, 100], [100, 100, 100]), [0.9, 0.9, 1.0])

@@ -1,0 +1,77 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from ilocalg.pdr.sam import match_waves_to_steps, sam_waves
+from ilocalg.sim import gait
+
+
+def _walk(seed, **kw):
+    w = gait.make_walkers(2, seed)[1]
+    return gait.simulate_walk(gait.straight_route(30.0, 0.3), w, seed, **kw)
+
+
+def test_same_seed_same_bytes():
+    a, b = _walk(7), _walk(7)
+    assert a.imu.equals(b.imu) and a.steps.equals(b.steps)
+    c = _walk(8)
+    assert not np.array_equal(a.imu.to_numpy()[:100], c.imu.to_numpy()[:100])
+
+
+def test_truth_is_consistent():
+    sw = _walk(1)
+    st = sw.steps
+    assert st["length_m"].sum() == pytest.approx(30.0, abs=1e-9)
+    end = st[["x_m", "y_m"]].to_numpy()[-1]
+    np.testing.assert_allclose(end, [30 * np.cos(0.3), 30 * np.sin(0.3)], atol=1e-9)
+    np.testing.assert_allclose(st["theta_rad"], 0.3, atol=1e-9)
+    cad = 1.0 / st["duration_s"].mean()
+    assert 1.6 < cad < 2.5                        # about two steps per second
+    # at rest the accelerometer reads 1 g
+    rest = sw.imu.loc[sw.imu.index < 0.9, ["acc_x_mps2", "acc_y_mps2", "acc_z_mps2"]].to_numpy()
+    assert np.linalg.norm(rest.mean(0)) == pytest.approx(9.80665, abs=0.05)
+
+
+def test_fixed_length_and_n_steps():
+    sw = _walk(2, step_length_m=0.5, n_steps=15)
+    assert len(sw.steps) == 15
+    assert abs(sw.steps["length_m"].mean() - 0.5) < 0.03
+    with pytest.raises(ValueError, match="exceed the route"):
+        _walk(2, step_length_m=0.8, n_steps=100)
+
+
+def test_features_span_table1_magnitudes():
+    ws = gait.make_walkers(4, 3)
+    rng = np.random.default_rng(0)
+    feats = []
+    for w in ws:
+        for L in (0.4, 0.6, 0.8):
+            sw = gait.simulate_walk(gait.straight_route(20.0), w, rng, step_length_m=L, n_steps=15)
+            acc = sw.imu[["acc_x_mps2", "acc_y_mps2", "acc_z_mps2"]].to_numpy()
+            m = match_waves_to_steps(sam_waves(acc, sw.imu.index.to_numpy()), sw.steps["t_mid_s"], 0.15)
+            feats.append(m.assign(L=L))
+    f = pd.concat(feats)
+    assert len(f) >= 0.95 * 4 * 3 * 15
+    med = f.median()
+    assert 0.4 < med["T"] < 0.65 and 4.0 < med["A"] < 17.0 and 0.5 < med["I"] < 1.9
+    # longer steps give larger waves (amplitude grows with step length)
+    assert np.corrcoef(f["A"], f["L"])[0, 1] > 0.3
+
+
+def test_loop_route():
+    r = gait.loop_route()
+    assert r.shape == (29, 2)
+    np.testing.assert_allclose(np.hypot(*np.diff(r, axis=0).T), 4.11)
+    np.testing.assert_allclose(r[0], r[-1])
+    with pytest.raises(ValueError, match="even"):
+        gait.loop_route(27)
+
+
+def test_bad_input():
+    w = gait.make_walkers(1, 0)[0]
+    with pytest.raises(ValueError, match="route_xy_m"):
+        gait.simulate_walk([[0, 0]], w, 0)
+    with pytest.raises(ValueError, match="step_length_m"):
+        gait.simulate_walk(gait.straight_route(5), w, 0, step_length_m=-1)
+    with pytest.raises(ValueError, match="n must be"):
+        gait.make_walkers(0)

@@ -1,0 +1,131 @@
+"""Sweeps: Dask cluster results equal a serial run bit for bit; caching, failures, aggregation."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+from ilocalg import sweep as sw
+from ilocalg.cli import main
+
+TOY = "tests.sweep_toy"
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _sorted(df):
+    return df.sort_values(["params", "seed", "table", "quantity"]).reset_index(drop=True)
+
+
+def test_parse_param_and_grid():
+    assert sw.parse_param("k=3,5,7") == ("k", [3, 5, 7])
+    assert sw.parse_param("metric=manhattan,euclidean") == ("metric", ["manhattan", "euclidean"])
+    with pytest.raises(ValueError, match="NAME=V1"):
+        sw.parse_param("k3")
+    with pytest.raises(ValueError, match="empty value"):
+        sw.parse_param("k=1,,2")
+    tasks = sw.make_tasks(TOY, range(3), {"scale": [1.0, 2.0], "n": [10]})
+    assert len(tasks) == 6 and len({t.key for t in tasks}) == 6
+    assert tasks[0].params == (("n", 10), ("scale", 1.0))
+
+
+def test_unknown_experiment_is_a_clear_error():
+    with pytest.raises(ValueError, match="unknown experiment 'nope'"):
+        sw._experiment("nope")
+
+
+def test_local_cluster_equals_serial_bit_for_bit(tmp_path):
+    tasks = sw.make_tasks(TOY, range(6), {"scale": [1.0, 3.0]})
+    serial = sw.sweep(tasks, workers=0, cache_dir=None, progress=False)
+    dask2 = sw.sweep(tasks, workers=2, cache_dir=None, progress=False)
+    assert not serial.failures and not dask2.failures
+    assert len(serial.results) == 12 * 2  # comparison row + sweep_std row per task
+    pd.testing.assert_frame_equal(_sorted(serial.results), _sorted(dask2.results), check_exact=True)
+
+
+def test_failed_task_is_reported_and_others_are_kept_and_cached(tmp_path):
+    tasks = sw.make_tasks(TOY, range(5), {"fail_seed": [3]})
+    res = sw.sweep(tasks, workers=0, cache_dir=tmp_path, progress=False)
+    assert len(res.failures) == 1
+    f = res.failures[0]
+    assert f["seed"] == 3 and f["params"] == {"fail_seed": 3} and "toy failure at seed 3" in f["error"]
+    assert sorted(res.results["seed"].unique()) == [0, 1, 2, 4]
+    again = sw.sweep(tasks, workers=0, cache_dir=tmp_path, progress=False)
+    assert again.n_cached == 4  # the interrupted/failed sweep resumes from the cache
+    pd.testing.assert_frame_equal(_sorted(res.results), _sorted(again.results), check_exact=True)
+
+
+def test_aggregate_mean_sd_and_t_interval():
+    tasks = sw.make_tasks(TOY, range(8))
+    res = sw.sweep(tasks, workers=0, cache_dir=None, progress=False)
+    agg = sw.aggregate(res.results)
+    row = agg[agg["quantity"] == "mean of normals"].iloc[0]
+    vals = res.results.loc[res.results["quantity"] == "mean of normals", "value"].to_numpy()
+    lo, hi = stats.t.interval(0.95, len(vals) - 1, loc=vals.mean(), scale=stats.sem(vals))
+    assert row["n"] == 8
+    assert row["mean"] == pytest.approx(vals.mean())
+    assert row["std"] == pytest.approx(vals.std(ddof=1))
+    assert (row["ci95_low"], row["ci95_high"]) == pytest.approx((lo, hi))
+    assert row["ci_agreement"] in ("inside CI", "beside CI", "far off")
+    assert (agg["quantity"] == "std of normals").any()
+
+
+def test_ci_agreement_classes():
+    assert sw.ci_agreement(1.0, 0.9, 1.1, 1.0) == "inside CI"
+    assert sw.ci_agreement(1.15, 0.9, 1.1, 1.0) == "beside CI"
+    assert sw.ci_agreement(5.0, 0.9, 1.1, 1.0) == "far off"
+
+
+def test_cli_sweep_writes_summary_and_reports_failures(tmp_path, capsys):
+    code = main(["sweep", TOY, "--seeds", "4", "--param", "fail_seed=2", "--workers", "0", "--no-cache",
+                 "--out", str(tmp_path)])
+    assert code == 1  # one task failed; the others' results are still written
+    fails = json.loads((tmp_path / "failures.json").read_text())
+    assert fails[0]["seed"] == 2
+    summary = pd.read_csv(tmp_path / "summary.csv")
+    assert set(summary["n"]) == {3}
+    assert main(["sweep", "no_such_experiment", "--seeds", "2"]) == 2
+
+
+def test_sweep_against_a_separately_started_scheduler_and_worker(tmp_path):
+    bindir = Path(sys.executable).parent
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
+    sched_file = tmp_path / "scheduler.json"
+    procs = [subprocess.Popen([str(bindir / "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0",
+                               "--no-dashboard", "--scheduler-file", str(sched_file)],
+                              env=env, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        for _ in range(300):
+            if sched_file.exists() and sched_file.stat().st_size:
+                break
+            time.sleep(0.1)
+        address = json.loads(sched_file.read_text())["address"]
+        procs.append(subprocess.Popen([str(bindir / "dask"), "worker", address, "--nthreads", "1",
+                                       "--no-dashboard", "--nworkers", "1"],
+                                      env=env, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        from dask.distributed import Client
+
+        with Client(address, timeout=30) as client:
+            client.wait_for_workers(1, timeout=60)
+        tasks = sw.make_tasks(TOY, range(4))
+        remote = sw.sweep(tasks, scheduler=address, cache_dir=None, progress=False)
+        serial = sw.sweep(tasks, workers=0, cache_dir=None, progress=False)
+        assert not remote.failures
+        pd.testing.assert_frame_equal(_sorted(remote.results), _sorted(serial.results), check_exact=True)
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            try:
+                p.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                p.kill()
+    assert np.isfinite(remote.results["value"]).all()

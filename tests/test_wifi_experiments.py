@@ -1,0 +1,75 @@
+"""The Wi-Fi experiments and the ``evaluate wifi`` command."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from ilocalg.experiments import wifi_iloc, wifi_ujiindoorloc
+from ilocalg.reporting import comparison_table
+
+
+def test_wifi_iloc_fast_is_deterministic_and_sane():
+    a = wifi_iloc.run(seed=0, fast=True, k_values=(1, 3, 5), timing_repeats=1)
+    b = wifi_iloc.run(seed=0, fast=True, k_values=(1, 3, 5), timing_repeats=1)
+    for name in ("k_study", "methods", "errors", "paper_vs_reproduced", "sim_summary"):
+        pd.testing.assert_frame_equal(a[name], b[name])
+    m = a["methods"].set_index("method")
+    assert (m["n"] == 28 * 5).all()
+    assert (m["median_m"] < 5.0).all()  # 2 m grid, a usable radio map
+    ks = a["k_study"].set_index("k_aps")["mean_m"]
+    assert ks[5] < ks[1]  # Fig 3: more APs help
+    comp = comparison_table(a["paper_vs_reproduced"].to_dict("records"))
+    assert {"paper_value", "reproduced_value", "agreement"} <= set(comp.columns)
+    assert "RADAR median" in wifi_iloc.findings(a)
+
+
+@pytest.mark.realdata
+def test_ujiindoorloc_fast_run(shared_data):
+    d = shared_data("ujiindoorloc")
+    t = wifi_ujiindoorloc.run(seed=0, fast=True, data_dir=d.parent)
+    m = t["methods"].set_index("method")
+    assert (m["n"] == 256).all()
+    assert m.loc["best (union top-5 APs, N=12)", "mean_m"] < m.loc["KNN K=5 (Euclidean)", "mean_m"]
+    assert wifi_ujiindoorloc.run(data_dir=d.parent / "nowhere") is None
+
+
+@pytest.mark.realdata
+def test_cli_gives_the_independent_k5_figure(shared_data):
+    d = shared_data("ujiindoorloc")
+    out = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "wifi", "--train",
+                          str(d / "trainingData.csv.gz"), "--test", str(d / "validationData.csv.gz"),
+                          "--format", "ujiindoorloc", "--method", "knn", "--k", "5", "--metric", "euclidean",
+                          "--json"], capture_output=True, text=True, check=True, timeout=120)
+    r = json.loads(out.stdout)
+    assert list(r) == ["mean_error_m", "median_error_m", "p75_error_m", "p95_error_m", "floor_hit_rate",
+                       "building_hit_rate", "n"]
+    assert r["mean_error_m"] == pytest.approx(8.808, abs=0.01)
+    assert r["floor_hit_rate"] == pytest.approx(0.9028, abs=1e-4)
+    assert r["building_hit_rate"] == pytest.approx(0.9973, abs=1e-4)
+    assert r["n"] == 1111
+
+
+def test_cli_bad_input(tmp_path):
+    bad = tmp_path / "x.csv"
+    bad.write_text("")
+    out = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "wifi", "--train", str(bad), "--test",
+                          str(bad), "--method", "knn"], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2 and "empty file" in out.stderr
+
+
+def test_make_estimator_rejects_unknown_method():
+    with pytest.raises(ValueError, match="method must be one of"):
+        wifi_ujiindoorloc.make_estimator("svm")
+    with pytest.raises(ValueError, match="metric"):
+        wifi_ujiindoorloc.make_estimator("knn", metric="cosine")
+    assert np.isclose(wifi_ujiindoorloc.selection_mask(11).sum(), 5)
+
+
+def test_ap_distribution_is_a_distribution():
+    d = wifi_iloc.ap_distribution(0, scans_per_point=50)
+    assert np.isclose(d["probability"].sum(), 1.0) and np.isclose(d["cdf"].iloc[-1], 1.0)
+    assert (np.diff(d["cdf"]) >= 0).all() and d["rssi_dbm"].min() >= -95

@@ -1,0 +1,127 @@
+"""KNN / WKNN: agreement with scikit-learn, tie-breaking, kernels, estimator contract, bad input."""
+
+import numpy as np
+import pytest
+from sklearn.neighbors import KNeighborsRegressor, NearestNeighbors
+
+from ilocalg.wifi import KnnFingerprint, build_index, knn_search, to_features, vote
+from ilocalg.wifi.knn import pairwise_distances_batch
+
+
+def _radio(rng, n_ref=300, n_q=60, n_aps=25, integer=False):
+    xy = rng.uniform(0, 50, (n_ref + n_q, 2))
+    aps = rng.uniform(0, 50, (n_aps, 2))
+    d = np.hypot(xy[:, None, 0] - aps[None, :, 0], xy[:, None, 1] - aps[None, :, 1])
+    rssi = -40 - 30 * np.log10(np.maximum(d, 1)) + rng.normal(0, 3, d.shape)
+    if integer:
+        rssi = np.round(rssi)
+    rssi[rssi < -90] = np.nan
+    rssi = np.maximum(rssi, -90)  # values kept are >= the floor
+    return rssi[:n_ref], xy[:n_ref], rssi[n_ref:], xy[n_ref:]
+
+
+@pytest.mark.parametrize("p", [1, 2])
+@pytest.mark.parametrize("weights", ["uniform", "distance"])
+def test_agrees_with_sklearn(p, weights):
+    rng = np.random.default_rng(1)
+    X, y, Xq, _ = _radio(rng)
+    ours = KnnFingerprint(n_neighbors=5, p=p, weights=weights, not_heard_dbm=-95).fit(X, y).predict(Xq)
+    ref = KNeighborsRegressor(n_neighbors=5, p=p, weights=weights, algorithm="brute").fit(
+        np.nan_to_num(X, nan=-95), y).predict(np.nan_to_num(Xq, nan=-95))
+    np.testing.assert_allclose(ours, ref, rtol=1e-5, atol=1e-4)
+
+
+@pytest.mark.parametrize("p", [1, 2])
+def test_sparse_and_dense_kernels_agree_exactly_on_integer_dbm(p):
+    rng = np.random.default_rng(2)
+    X, _, Xq, _ = _radio(rng, integer=True)
+    idx = build_index(to_features(X, -95))
+    fq = to_features(Xq, -95)
+    d1, i1 = knn_search(fq, idx, 7, p=p, kernel="sparse")
+    d2, i2 = knn_search(fq, idx, 7, p=p, kernel="dense")
+    np.testing.assert_array_equal(i1, i2)
+    np.testing.assert_array_equal(d1, d2)
+    full = pairwise_distances_batch(fq, idx, p=p, kernel="dense")
+    nn = NearestNeighbors(n_neighbors=7, p=p, algorithm="brute").fit(np.nan_to_num(X, nan=-95))
+    dref, _ = nn.kneighbors(np.nan_to_num(Xq, nan=-95))
+    np.testing.assert_allclose(d1, dref, rtol=1e-6)
+    np.testing.assert_allclose(np.sort(full, axis=1)[:, :7] ** (0.5 if p == 2 else 1), dref, rtol=1e-5)
+
+
+def test_ties_broken_by_training_order():
+    # five identical references: the first K in training order must be chosen, in order
+    X = np.full((8, 3), -60.0)
+    X[5:] = -80.0
+    y = np.arange(16, dtype=float).reshape(8, 2)
+    est = KnnFingerprint(n_neighbors=3, p=1).fit(X, y)
+    _, idx = est.kneighbors(np.array([[-60.0, -60.0, -60.0]]))
+    np.testing.assert_array_equal(idx[0], [0, 1, 2])
+    # boundary tie: one closer reference at the end, then the earliest of the tied ones
+    X2 = np.vstack([X, [[-61.0, -60.0, -60.0]]])
+    X2[8] = [-60.0, -60.0, -60.0]
+    y2 = np.vstack([y, [[99.0, 99.0]]])
+    _, idx = KnnFingerprint(n_neighbors=2, p=2).fit(X2, y2).kneighbors(np.array([[-60.0, -60.0, -60.0]]))
+    np.testing.assert_array_equal(idx[0], [0, 1])
+
+
+def test_accuracy_bound_on_seeded_radio_map():
+    rng = np.random.default_rng(3)
+    X, y, Xq, yq = _radio(rng, n_ref=600, n_q=100)
+    e = np.hypot(*(KnnFingerprint(5, p=1, not_heard_dbm=-95).fit(X, y).predict(Xq) - yq).T)
+    assert np.median(e) < 5.0  # 50 m square, 25 APs, 3 dB noise
+    e_rand = np.hypot(*(y[rng.integers(0, 600, 100)] - yq).T)
+    assert np.mean(e) < 0.3 * np.mean(e_rand)
+
+
+def test_sorensen_matches_scipy_braycurtis():
+    from scipy.spatial.distance import cdist
+
+    rng = np.random.default_rng(4)
+    X, _, Xq, _ = _radio(rng)
+    fx, fq = to_features(X, -95, "powed"), to_features(Xq, -95, "powed")
+    d, i = knn_search(fq, build_index(fx), 4, metric="sorensen")
+    ref = cdist(fq.astype(float), fx.astype(float), "braycurtis")
+    np.testing.assert_allclose(d, np.sort(ref, axis=1)[:, :4], rtol=1e-4, atol=1e-6)
+
+
+def test_vote_tie_rules():
+    lab = np.array([[2, 1, 1, 2, 3], [0, 0, 1, 1, 1]])
+    np.testing.assert_array_equal(vote(lab), [1, 1])
+    np.testing.assert_array_equal(vote(lab, tie="nearest"), [2, 1])
+    w = np.array([[5, 1, 1, 1, 1], [1, 1, 1, 1, 1]], float)
+    np.testing.assert_array_equal(vote(lab, w), [2, 1])
+
+
+def test_bad_input():
+    rng = np.random.default_rng(5)
+    X, y, Xq, _ = _radio(rng)
+    est = KnnFingerprint(3).fit(X, y)
+    with pytest.raises(ValueError, match="AP columns, the fitted database"):
+        est.predict(Xq[:, :-1])
+    bad = Xq.copy()
+    bad[4] = np.nan
+    with pytest.raises(ValueError, match="row 4 hears no access point"):
+        est.predict(bad)
+    with pytest.raises(ValueError, match="weaker than not_heard_dbm"):
+        KnnFingerprint(3, not_heard_dbm=-80).fit(X, y)
+    with pytest.raises(ValueError, match="p must be 1"):
+        KnnFingerprint(3, p=3).fit(X, y)
+    with pytest.raises(ValueError, match="n_neighbors"):
+        KnnFingerprint(1000).fit(X, y)
+    with pytest.raises(ValueError, match="y must have shape"):
+        KnnFingerprint(3).fit(X, y[:-1])
+    inf = X.copy()
+    inf[2, 3] = np.inf
+    with pytest.raises(ValueError, match="infinite at row 2, column 3"):
+        KnnFingerprint(3).fit(inf, y)
+
+
+#: The toolkit raises ValueError for every bad input; scikit-learn expects numpy's TypeError here.
+EXPECTED_FAILED = {"check_dtype_object": "object cells raise ValueError (toolkit convention), not TypeError"}
+
+
+def test_check_estimator():
+    from sklearn.utils.estimator_checks import check_estimator
+
+    # random data from check_estimator may contain any float; use a low not-heard value
+    check_estimator(KnnFingerprint(n_neighbors=3, not_heard_dbm=-1e4), expected_failed_checks=EXPECTED_FAILED)

@@ -1,0 +1,44 @@
+"""RSSI validation, representations and radio-map averaging."""
+
+import numpy as np
+import pytest
+
+from ilocalg.wifi import check_rssi, fill_not_heard, to_features
+from ilocalg.wifi.preprocessing import mean_fingerprints
+
+
+def test_representations():
+    x = np.array([[-104.0, np.nan, -30.0, 0.0]])
+    pos = to_features(x, -104, "positive", dtype=np.float64)
+    np.testing.assert_array_equal(pos, [[0, 0, 74, 104]])
+    ex = to_features(x, -104, "exponential", dtype=np.float64)
+    assert ex[0, 0] == 0 and ex[0, 1] == 0 and ex[0, 3] == pytest.approx(np.exp(104 / 24) / np.exp(104 / 24))
+    pw = to_features(x, -104, "powed", dtype=np.float64)
+    np.testing.assert_allclose(pw, [[0, 0, (74 / 104) ** np.e, 1.0]])
+    # positive is distance-equivalent to filling NaN with the floor
+    np.testing.assert_array_equal(pos + (-104), fill_not_heard(x, -104))
+
+
+def test_bad_input_messages():
+    with pytest.raises(ValueError, match="2-D"):
+        check_rssi(np.zeros(3))
+    with pytest.raises(ValueError, match="0 sample"):
+        check_rssi(np.zeros((0, 3)))
+    with pytest.raises(ValueError, match="row 1 hears no access point"):
+        check_rssi(np.array([[-50.0], [np.nan]]), allow_empty_rows=False)
+    with pytest.raises(ValueError, match="representation"):
+        to_features(np.zeros((1, 1)) - 50, -100, "log")
+    with pytest.raises(ValueError, match="weaker than not_heard_dbm"):
+        to_features(np.array([[-101.0]]), -100)
+
+
+def test_mean_fingerprints():
+    X = np.array([[-50, np.nan], [-52, -70], [-60, np.nan], [-62, np.nan]], dtype=float)
+    y = np.array([[1, 1], [1, 1], [0, 0], [0, 0]], dtype=float)
+    fp, pts, point = mean_fingerprints(X, y, min_heard_fraction=0.5)
+    np.testing.assert_array_equal(pts, [[1, 1], [0, 0]])
+    np.testing.assert_array_equal(point, [0, 0, 1, 1])
+    np.testing.assert_array_equal(fp[:, 0], [-51, -61])
+    assert fp[0, 1] == -70 and np.isnan(fp[1, 1])
+    fp2, _, _ = mean_fingerprints(X, y, min_heard_fraction=0.6)
+    assert np.isnan(fp2[0, 1])  # heard in 1 of 2 scans < 60 %

@@ -1,0 +1,91 @@
+"""Simplified-RADAR: eq. (1) against a direct loop, k reduction, weights, class vs function, bad input."""
+
+import numpy as np
+import pytest
+
+from ilocalg.sim import iloc_floor
+from ilocalg.wifi import SimplifiedRadar, radar_predict, strongest_ap_mask, union_topk_sq_distances
+from ilocalg.wifi.preprocessing import mean_fingerprints
+
+
+def _direct(q, r, k, nh):
+    """eq. (1) squared, written literally for one pair."""
+    def topk(s):
+        heard = np.flatnonzero(~np.isnan(s))
+        order = heard[np.argsort(-s[heard], kind="stable")]
+        return set(order[:k].tolist())
+    u = topk(q) | topk(r)
+    qq, rr = np.nan_to_num(q, nan=nh), np.nan_to_num(r, nan=nh)
+    return sum((qq[i] - rr[i]) ** 2 for i in u)
+
+
+def test_union_distance_matches_definition():
+    rng = np.random.default_rng(0)
+    X = np.round(rng.uniform(-95, -40, (30, 12)))
+    X[rng.random(X.shape) < 0.4] = np.nan
+    X[0, :] = np.nan
+    X[0, 3] = -50.0  # a scan with a single AP: k decreases to 1
+    Q = X[:7] + 0.0
+    for k in (1, 3, 5):
+        d2 = union_topk_sq_distances(Q, X, k, -100.0)
+        ref = np.array([[_direct(q, r, k, -100.0) for r in X] for q in Q])
+        np.testing.assert_allclose(d2, ref, rtol=1e-6, atol=1e-3)
+
+
+def test_strongest_mask_reduces_k():
+    X = np.array([[-50.0, np.nan, -70.0, np.nan], [-40.0, -41.0, -42.0, -43.0]])
+    m = strongest_ap_mask(X, 3)
+    np.testing.assert_array_equal(m, [[True, False, True, False], [True, True, True, False]])
+
+
+def test_weights_are_inverse_square_and_exact_match_wins():
+    X = np.array([[-50.0, -60.0], [-52.0, -60.0], [-56.0, -60.0], [-80.0, -90.0]])
+    y = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [30.0, 0.0]])
+    q = np.array([[-51.0, -60.0]])
+    est = SimplifiedRadar(k_aps=2, n_neighbors=3, not_heard_dbm=-100).fit(X, y)
+    w = np.array([1 / 1.0, 1 / 1.0, 1 / 25.0])
+    np.testing.assert_allclose(est.predict(q)[0], (w / w.sum()) @ y[:3])
+    np.testing.assert_allclose(est.predict(X[2:3])[0], y[2])  # distance 0 -> that reference only
+
+
+def test_class_and_function_agree():
+    rng = np.random.default_rng(1)
+    X = np.round(rng.uniform(-95, -40, (50, 10)))
+    y = rng.uniform(0, 30, (50, 2))
+    Q = X[:9] + rng.normal(0, 2, (9, 10))
+    a = SimplifiedRadar(4, 3, -100).fit(X, y).predict(Q)
+    b = radar_predict(Q, X, y, 4, 3, -100)
+    np.testing.assert_allclose(a, b)
+
+
+def test_accuracy_on_simulated_floor():
+    sim = iloc_floor.simulate(0, scans_per_point=40, scans_per_test_point=3)
+    fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m)
+    xy = SimplifiedRadar(5, 3, sim.detect_dbm).fit(fp, pts).predict(sim.test.rssi_dbm)
+    e = np.hypot(*(xy - sim.test.xy_m).T)
+    assert np.median(e) < 3.0
+    # more APs help: k = 1 is clearly worse than k = 5 (Fig 3's trend)
+    e1 = np.hypot(*(SimplifiedRadar(1, 3, sim.detect_dbm).fit(fp, pts).predict(sim.test.rssi_dbm) - sim.test.xy_m).T)
+    assert e1.mean() > 1.5 * e.mean()
+
+
+def test_bad_input():
+    X = np.array([[-50.0, -60.0], [-52.0, np.nan], [-56.0, -60.0]])
+    y = np.zeros((3, 2))
+    est = SimplifiedRadar(2, 2, -100).fit(X, y)
+    with pytest.raises(ValueError, match="row 0 hears no access point"):
+        est.predict(np.array([[np.nan, np.nan]]))
+    with pytest.raises(ValueError, match="features"):
+        est.predict(np.array([[-50.0, -60.0, -70.0]]))
+    with pytest.raises(ValueError, match="k_aps"):
+        SimplifiedRadar(0).fit(X, y)
+    with pytest.raises(ValueError, match="n_neighbors"):
+        SimplifiedRadar(2, 5).fit(X, y)
+
+
+def test_check_estimator():
+    from sklearn.utils.estimator_checks import check_estimator
+
+    from tests.test_wifi_knn import EXPECTED_FAILED
+
+    check_estimator(SimplifiedRadar(k_aps=3, n_neighbors=3, not_heard_dbm=-100), expected_failed_checks=EXPECTED_FAILED)
