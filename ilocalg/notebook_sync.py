@@ -6,6 +6,7 @@ The ``.py`` file is the source of truth; ``--sync`` writes the ``.ipynb`` from i
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
 
 __all__ = ["sync", "check"]
@@ -24,6 +25,9 @@ def _from_py(py: Path):
         "jupytext": {"formats": "ipynb,py:percent"},
         "language_info": {"name": "python"},
     }
+    # Cell ids from position and content, so regenerating an unchanged notebook changes no byte.
+    for i, cell in enumerate(nb.cells):
+        cell.id = hashlib.sha1(f"{i}:{cell.cell_type}:{cell.source}".encode()).hexdigest()[:12]
     return nb
 
 

@@ -15,6 +15,7 @@ plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter stu
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib
 import itertools
@@ -48,6 +49,19 @@ DEFAULT_CACHE = REPO_ROOT / ".ilocalg-cache" / "sweeps"
 RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "value")
 
 
+@functools.lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """sha256 of every ``ilocalg`` source file: part of each cache key, so a cached result is never
+    reused after the code that computed it has changed (a user's own experiment module outside
+    ``ilocalg`` is not covered: clear the cache or pass ``--no-cache`` after editing it)."""
+    h = hashlib.sha256()
+    pkg = Path(__file__).resolve().parent
+    for f in sorted(pkg.rglob("*.py")):
+        h.update(str(f.relative_to(pkg)).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
 @dataclass(frozen=True)
 class SweepTask:
     """One (experiment, parameters, seed) run."""
@@ -59,7 +73,8 @@ class SweepTask:
 
     @property
     def key(self) -> str:
-        blob = json.dumps([self.experiment, list(self.params), self.seed, self.fast], sort_keys=True, default=str)
+        blob = json.dumps([self.experiment, list(self.params), self.seed, self.fast, code_fingerprint()],
+                          sort_keys=True, default=str)
         return hashlib.sha256(blob.encode()).hexdigest()[:20]
 
     def describe(self) -> str:

@@ -2,8 +2,26 @@
 
 Every loader takes a path (file, folder or archive) and returns the types documented in
 :mod:`ilocalg`; bad input raises :class:`ValueError` naming the file, line or column.
+
+- :func:`load_ujiindoorloc`: UJIIndoorLoc ``trainingData.csv`` / ``validationData.csv`` (plain or .gz)
+- :func:`load_oxford_step_counter`: an Oxford step counter recording (folder, archive member or
+  validation-style CSV)
+- :func:`load_ilc_trace`, :func:`load_ilc_floor`: Indoor Location Competition 2.0 traces and floors
+  (folder or archive, read in memory)
+- :func:`load_ipin_logfile`: IPIN competition smartphone logfiles
 """
 
+from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace
+from ilocalg.io.ipin import load_ipin_logfile
+from ilocalg.io.oxford import load_oxford_step_counter
 from ilocalg.io.schema import FingerprintSet
+from ilocalg.io.ujiindoorloc import load_ujiindoorloc
 
-__all__ = ["FingerprintSet"]
+__all__ = [
+    "FingerprintSet",
+    "load_ujiindoorloc",
+    "load_oxford_step_counter",
+    "load_ilc_trace",
+    "load_ilc_floor",
+    "load_ipin_logfile",
+]

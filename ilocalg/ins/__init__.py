@@ -1,0 +1,135 @@
+"""Inertial navigation: strapdown mechanisation, the 21-state error-state EKF with pedestrian
+constraints, RTS / online-window smoothing, and the Hartmann et al. 15-state IMU + video EKF.
+
+Frames and units (used by every module here)
+--------------------------------------------
+Navigation frame ``n``: local-level east-north-up (ENU), metres, fixed to the site. Earth
+rotation and transport rate are neglected (indoor scale: far below phone gyro errors); gravity
+is constant, ``[0, 0, -9.80665]`` m/s^2. Body frame ``b``: the sensor frame, x forward, y left,
+z up. Attitude: ``mat_nb`` (body -> nav), Z-Y-X Euler angles ``(roll, pitch, yaw)`` in rad, yaw
+counter-clockwise from east. IMU logs are arrays: ``t_s`` (N,), ``gyro_b_radps`` (N, 3),
+``acc_b_mps2`` (N, 3, specific force); sample k is the mean over ``[t_k, t_{k+1})`` and sampling
+may be irregular (phones).
+
+Modules
+-------
+``mechanisation``  strapdown integration and attitude helpers
+``eskf``           21-state closed-loop error-state EKF (Liao et al. 2016, eq. 1-6)
+``constraints``    step detection, WVC walking speed (eq. 7), NHC, ZUPT update sets
+``smoother``       RTS over the whole run and the online fixed-window smoother (eq. 8-10)
+``hartmann``       15-state Euler-angle EKF fusing an IMU with marker video tracking (survey eq. 6-29)
+``evaluate``       error statistics in the paper's table layout
+``pipeline``       the paper's processing chain for a phone walk (update sets, levelling, filter)
+"""
+
+from ilocalg.ins.constraints import (
+    WVC_REFERENCE_DEFAULTS,
+    detect_stationary,
+    detect_steps,
+    nhc_updates,
+    step_frequency_hz,
+    walking_speed_mps,
+    wvc_updates,
+    zupt_updates,
+)
+from ilocalg.ins.eskf import (
+    N_STATES,
+    EskfConfig,
+    EskfResult,
+    UpdateSet,
+    body_velocity_rows,
+    eskf_predict,
+    initial_covariance,
+    joseph_update,
+    nav_velocity_rows,
+    position_rows,
+    process_noise_diag,
+    run_eskf,
+    transition_matrices,
+    transition_matrix,
+)
+from ilocalg.ins.evaluate import error_stats, heading_error_with_lag_deg, nav_errors
+from ilocalg.ins.hartmann import (
+    HartmannEKF,
+    HartmannResult,
+    hartmann_correct,
+    hartmann_f,
+    hartmann_jacobians,
+    hartmann_predict,
+    run_hartmann,
+)
+from ilocalg.ins.mechanisation import (
+    GRAVITY_N_MPS2,
+    coarse_level,
+    dcm_to_euler,
+    dcm_to_rotvec,
+    euler_to_dcm,
+    mech_step,
+    mechanise,
+    rotvec_to_dcm,
+    rotvecs_to_dcm,
+    skew,
+)
+from ilocalg.ins.pipeline import PhoneFilterSettings, run_walk, walk_updates
+from ilocalg.ins.smoother import (
+    ErrorStateINS,
+    SmoothResult,
+    online_window_smooth,
+    rts_gains,
+    rts_smooth,
+    window_ends,
+)
+
+__all__ = [
+    "GRAVITY_N_MPS2",
+    "HartmannEKF",
+    "HartmannResult",
+    "PhoneFilterSettings",
+    "coarse_level",
+    "hartmann_correct",
+    "heading_error_with_lag_deg",
+    "hartmann_f",
+    "hartmann_jacobians",
+    "hartmann_predict",
+    "rotvecs_to_dcm",
+    "run_hartmann",
+    "run_walk",
+    "transition_matrices",
+    "walk_updates",
+    "N_STATES",
+    "WVC_REFERENCE_DEFAULTS",
+    "EskfConfig",
+    "ErrorStateINS",
+    "EskfResult",
+    "SmoothResult",
+    "UpdateSet",
+    "body_velocity_rows",
+    "dcm_to_euler",
+    "dcm_to_rotvec",
+    "detect_stationary",
+    "detect_steps",
+    "error_stats",
+    "eskf_predict",
+    "euler_to_dcm",
+    "initial_covariance",
+    "joseph_update",
+    "mech_step",
+    "mechanise",
+    "nav_errors",
+    "nav_velocity_rows",
+    "nhc_updates",
+    "online_window_smooth",
+    "position_rows",
+    "process_noise_diag",
+    "rotvec_to_dcm",
+    "rts_gains",
+    "rts_smooth",
+    "run_eskf",
+    "skew",
+    "step_frequency_hz",
+    "transition_matrix",
+    "walking_speed_mps",
+    "window_ends",
+    "wvc_updates",
+    "zupt_updates",
+]

@@ -1,0 +1,410 @@
+"""The 21-state error-state EKF (closed loop) of the smartphone INS.
+
+State (eq. 1), ``x = [dr, dv, dphi, b_acc, b_gyro, s_acc, s_gyro]``, each a 3-vector:
+position error (m, ENU), velocity error (m/s, ENU), attitude error (rad, nav-frame small
+rotation with ``mat_nb_true = (I + [dphi x]) mat_nb_est``), accelerometer bias (m/s^2), gyroscope
+bias (rad/s), accelerometer and gyroscope scale-factor errors (dimensionless). Every error is
+``true - estimated``.
+
+Sensor model: ``f_raw = (1 + s_acc) f + b_acc + noise`` and ``w_raw = (1 + s_gyro) w + b_gyro + noise``
+(per axis), so the corrected sensors are ``(raw - b) / (1 + s)``.
+
+Closed loop: after every update the estimated errors are fed back into the mechanisation and
+the sensor-error estimates (``correct_nav``) and the error state is reset to zero; prediction of a
+zero error state (eq. 2) stays zero, only the covariance propagates (eq. 3). The feedback applied
+at each epoch is stored so that the RTS smoother (:mod:`ilocalg.ins.smoother`) can run on the
+stored filter.
+
+References
+----------
+Liao, Chiang, Zhou, Li (2016), sec. 3.1, eq. (1) state, (2)-(3) prediction, (4)-(6) update (Joseph
+form), sec. 3.2 NHC / ZUPT / WVC; Shin (2005), "Estimation techniques for low-cost inertial
+navigation", UCGE 20219 (the psi-angle error model and closed-loop feedback).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, _check_imu, rotvec_to_dcm, rotvecs_to_dcm, skew
+
+__all__ = [
+    "N_STATES",
+    "POS",
+    "VEL",
+    "ATT",
+    "BA",
+    "BG",
+    "SA",
+    "SG",
+    "EskfConfig",
+    "UpdateSet",
+    "EskfResult",
+    "initial_covariance",
+    "transition_matrix",
+    "transition_matrices",
+    "process_noise_diag",
+    "eskf_predict",
+    "joseph_update",
+    "position_rows",
+    "nav_velocity_rows",
+    "body_velocity_rows",
+    "correct_sensors",
+    "run_eskf",
+]
+
+N_STATES = 21
+POS, VEL, ATT = slice(0, 3), slice(3, 6), slice(6, 9)
+BA, BG, SA, SG = slice(9, 12), slice(12, 15), slice(15, 18), slice(18, 21)
+
+_I3 = np.eye(3)
+
+
+@dataclass(frozen=True)
+class EskfConfig:
+    """Process-noise densities of the 21-state model (continuous time, per axis).
+
+    Parameters
+    ----------
+    acc_vrw_mps_rsqrt_s : velocity random walk of the accelerometer, m/s/sqrt(s)
+    gyro_arw_rad_rsqrt_s : angle random walk of the gyroscope, rad/sqrt(s)
+    acc_bias_rw_mps2_rsqrt_s, gyro_bias_rw_radps_rsqrt_s : bias random-walk densities
+    acc_sf_rw_rsqrt_s, gyro_sf_rw_rsqrt_s : scale-factor random-walk densities, 1/sqrt(s)
+    """
+
+    acc_vrw_mps_rsqrt_s: float = 0.05
+    gyro_arw_rad_rsqrt_s: float = 0.005
+    acc_bias_rw_mps2_rsqrt_s: float = 1e-3
+    gyro_bias_rw_radps_rsqrt_s: float = 1e-4
+    acc_sf_rw_rsqrt_s: float = 1e-4
+    gyro_sf_rw_rsqrt_s: float = 1e-4
+
+    def __post_init__(self):
+        for name, v in self.__dict__.items():
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"EskfConfig.{name} must be finite and >= 0, got {v}")
+
+
+@dataclass(frozen=True)
+class UpdateSet:
+    """A set of measurements of one kind for :func:`run_eskf`.
+
+    Parameters
+    ----------
+    kind : {"pos_n", "vel_n", "vel_b"}
+        ``pos_n``: ENU position fix (GNSS, control point), m. ``vel_n``: ENU velocity (ZUPT: zero), m/s.
+        ``vel_b``: body-frame velocity (NHC: lateral/vertical zero; WVC: plus the forward walking speed), m/s.
+    t_s : (M,) measurement times; each is applied at the first IMU epoch at or after it.
+    z : (M, 3) measured values.
+    sd : (M, 3) standard deviations; ``NaN`` leaves that component unused (e.g. NHC's forward axis).
+    name : label for diagnostics.
+    """
+
+    kind: str
+    t_s: np.ndarray
+    z: np.ndarray
+    sd: np.ndarray
+    name: str = ""
+
+    def __post_init__(self):
+        if self.kind not in ("pos_n", "vel_n", "vel_b"):
+            raise ValueError(f"UpdateSet.kind must be 'pos_n', 'vel_n' or 'vel_b', got {self.kind!r}")
+        t = np.asarray(self.t_s, dtype=float)
+        z = np.asarray(self.z, dtype=float).reshape(-1, 3) if np.size(self.z) else np.zeros((0, 3))
+        sd = np.asarray(self.sd, dtype=float).reshape(-1, 3) if np.size(self.sd) else np.zeros((0, 3))
+        if t.ndim != 1 or z.shape != (t.size, 3) or sd.shape != (t.size, 3):
+            raise ValueError(f"UpdateSet {self.name or self.kind}: t_s (M,), z and sd (M, 3) expected, got "
+                             f"{t.shape}, {z.shape}, {sd.shape}")
+        if not np.all(np.isfinite(t)) or not np.all(np.isfinite(z[np.isfinite(sd)])):
+            raise ValueError(f"UpdateSet {self.name or self.kind}: non-finite time or used measurement")
+        if np.any(sd[np.isfinite(sd)] <= 0):
+            raise ValueError(f"UpdateSet {self.name or self.kind}: sd must be > 0 (NaN = unused)")
+        object.__setattr__(self, "t_s", t)
+        object.__setattr__(self, "z", z)
+        object.__setattr__(self, "sd", sd)
+
+
+@dataclass(frozen=True)
+class EskfResult:
+    """Everything the filter produced, per IMU epoch (N epochs).
+
+    ``pos_n_m`` (N, 3), ``vel_n_mps`` (N, 3), ``mat_nb`` (N, 3, 3): the navigation solution after
+    feedback; ``sensor`` (N, 12): estimated ``[b_acc, b_gyro, s_acc, s_gyro]``; ``dx`` (N, 21): the
+    error estimate fed back at each epoch (zero without an update); ``P_plus`` / ``P_minus`` (N, 21, 21):
+    updated / predicted covariance; ``Phi`` (N, 21, 21): ``Phi[k]`` maps epoch k-1 to k (``Phi[0] = I``);
+    ``nis`` (N,): normalised innovation squared of the update at each epoch (NaN without one) and
+    ``n_meas`` (N,) its number of rows.
+    """
+
+    t_s: np.ndarray
+    pos_n_m: np.ndarray
+    vel_n_mps: np.ndarray
+    mat_nb: np.ndarray
+    sensor: np.ndarray
+    dx: np.ndarray
+    P_plus: np.ndarray
+    P_minus: np.ndarray
+    Phi: np.ndarray
+    nis: np.ndarray
+    n_meas: np.ndarray
+    config: EskfConfig = field(default_factory=EskfConfig)
+
+
+def initial_covariance(pos_sd_m=1.0, vel_sd_mps=0.1, att_sd_rad=(0.03, 0.03, 0.2), acc_bias_sd_mps2=0.1,
+                       gyro_bias_sd_radps=0.01, acc_sf_sd=0.02, gyro_sf_sd=0.02) -> np.ndarray:
+    """Diagonal initial covariance (21, 21) from per-block standard deviations (scalars or 3-vectors)."""
+    sds = [pos_sd_m, vel_sd_mps, att_sd_rad, acc_bias_sd_mps2, gyro_bias_sd_radps, acc_sf_sd, gyro_sf_sd]
+    d = np.concatenate([np.broadcast_to(np.asarray(s, dtype=float), 3) for s in sds])
+    if np.any(~np.isfinite(d)) or np.any(d <= 0):
+        raise ValueError("initial_covariance: every standard deviation must be finite and > 0")
+    return np.diag(d**2)
+
+
+def correct_sensors(gyro_raw_radps, acc_raw_mps2, sensor):
+    """Corrected rate and specific force ``(raw - b) / (1 + s)``; ``sensor`` = [b_acc, b_gyro, s_acc, s_gyro]."""
+    acc = (acc_raw_mps2 - sensor[0:3]) / (1.0 + sensor[6:9])
+    gyro = (gyro_raw_radps - sensor[3:6]) / (1.0 + sensor[9:12])
+    return gyro, acc
+
+
+def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
+    """Batched first-order transition matrices ``Phi = I + F dt`` (L, 21, 21) of the error model (eq. 2).
+
+    ``dr' = dv``; ``dv' = -[(C f) x] dphi - C db_a - C diag(f) ds_a``;
+    ``dphi' = -C db_g - C diag(w) ds_g``; sensor errors are random walks (Earth rate neglected).
+
+    Parameters
+    ----------
+    mat_nb : (L, 3, 3); f_b_mps2, omega_b_radps : (L, 3) corrected sensors; dt_s : (L,)
+    """
+    C = np.asarray(mat_nb, dtype=float)
+    L = C.shape[0]
+    dt = np.asarray(dt_s, dtype=float).reshape(L, 1, 1)
+    cdt = C * dt
+    cf = np.einsum("lij,lj->li", cdt, f_b_mps2)
+    out = np.zeros((L, N_STATES, N_STATES))
+    out[:, np.arange(N_STATES), np.arange(N_STATES)] = 1.0
+    out[:, [0, 1, 2], [3, 4, 5]] = dt[:, :, 0]
+    # -[cf x]
+    out[:, 3, 7], out[:, 3, 8] = cf[:, 2], -cf[:, 1]
+    out[:, 4, 6], out[:, 4, 8] = -cf[:, 2], cf[:, 0]
+    out[:, 5, 6], out[:, 5, 7] = cf[:, 1], -cf[:, 0]
+    out[:, 3:6, 9:12] = -cdt
+    out[:, 3:6, 15:18] = -cdt * np.asarray(f_b_mps2)[:, None, :]
+    out[:, 6:9, 12:15] = -cdt
+    out[:, 6:9, 18:21] = -cdt * np.asarray(omega_b_radps)[:, None, :]
+    return out
+
+
+def transition_matrix(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
+    """One transition matrix (21, 21); see :func:`transition_matrices` (eq. 2)."""
+    return transition_matrices(np.asarray(mat_nb)[None], np.asarray(f_b_mps2)[None],
+                               np.asarray(omega_b_radps)[None], np.array([dt_s]))[0]
+
+
+def process_noise_diag(config: EskfConfig, dt_s: float) -> np.ndarray:
+    """Diagonal of the discrete process noise ``Q`` (21,) over a step of ``dt_s`` (eq. 3)."""
+    c = config
+    per = [0.0, c.acc_vrw_mps_rsqrt_s, c.gyro_arw_rad_rsqrt_s, c.acc_bias_rw_mps2_rsqrt_s,
+           c.gyro_bias_rw_radps_rsqrt_s, c.acc_sf_rw_rsqrt_s, c.gyro_sf_rw_rsqrt_s]
+    return np.repeat(np.square(per), 3) * dt_s
+
+
+def eskf_predict(P, Phi, q_diag):
+    """Covariance prediction ``P = Phi P Phi^T + Q`` (eq. 3); returns a symmetric (21, 21) array."""
+    P = Phi @ P @ Phi.T
+    P[np.diag_indices_from(P)] += q_diag
+    return 0.5 * (P + P.T)
+
+
+def joseph_update(P, innov, H, R_diag):
+    """Kalman update in Joseph form (eq. 4-6) with a diagonal measurement noise.
+
+    Parameters
+    ----------
+    P : (n, n); innov : (m,) ``z - H x`` (here ``x = 0``, closed loop); H : (m, n); R_diag : (m,)
+
+    Returns
+    -------
+    dx : (n,) the estimated error, P : (n, n) updated covariance, nis : float normalised innovation squared.
+    """
+    PHt = P @ H.T
+    S = H @ PHt
+    S[np.diag_indices_from(S)] += R_diag
+    Kt = np.linalg.solve(S, PHt.T)  # S symmetric: K^T = S^-1 H P
+    K = Kt.T
+    dx = K @ innov
+    A = -K @ H
+    A[np.diag_indices_from(A)] += 1.0
+    P = A @ P @ A.T + (K * R_diag) @ Kt
+    nis = float(innov @ np.linalg.solve(S, innov))
+    return dx, 0.5 * (P + P.T), nis
+
+
+def position_rows(pos_n_m, z_pos_n_m):
+    """Innovation (3,) and H (3, 21) of an ENU position fix (GNSS or control point)."""
+    H = np.zeros((3, N_STATES))
+    H[:, POS] = _I3
+    return z_pos_n_m - pos_n_m, H
+
+
+def nav_velocity_rows(vel_n_mps, z_vel_n_mps):
+    """Innovation (3,) and H (3, 21) of an ENU velocity measurement (ZUPT: ``z = 0``)."""
+    H = np.zeros((3, N_STATES))
+    H[:, VEL] = _I3
+    return z_vel_n_mps - vel_n_mps, H
+
+
+def body_velocity_rows(mat_nb, vel_n_mps, z_vel_b_mps):
+    """Innovation (3,) and H (3, 21) of a body-frame velocity measurement (NHC / WVC).
+
+    ``v_b = C^T v`` linearised: ``dv_b = C^T dv + C^T [v x] dphi``.
+
+    References
+    ----------
+    Liao et al. (2016), sec. 3.2 (NHC: lateral and vertical body velocity zero; WVC adds the
+    forward walking speed of eq. 7 and relaxes the lateral/vertical weights).
+    """
+    Ct = mat_nb.T
+    H = np.zeros((3, N_STATES))
+    H[:, VEL] = Ct
+    H[:, ATT] = Ct @ skew(vel_n_mps)
+    return z_vel_b_mps - Ct @ vel_n_mps, H
+
+
+def _schedule(t_s, updates):
+    """Map every used measurement row to its IMU epoch: dict epoch -> list of (set index, row)."""
+    sched: dict[int, list] = {}
+    for i, u in enumerate(updates):
+        if u.t_s.size == 0:
+            continue
+        if u.t_s.min() < t_s[0] or u.t_s.max() > t_s[-1]:
+            raise ValueError(f"UpdateSet {u.name or u.kind}: times must lie within the IMU log "
+                             f"[{t_s[0]}, {t_s[-1]}] s")
+        k = np.searchsorted(t_s, u.t_s, side="left")
+        for row, kk in enumerate(k.tolist()):
+            sched.setdefault(kk, []).append((i, row))
+    return sched
+
+
+def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
+             config: EskfConfig | None = None, sensor0=None) -> EskfResult:
+    """Run the closed-loop 21-state EKF over an IMU log with the given measurement sets.
+
+    Parameters
+    ----------
+    t_s : (N,) IMU sample times (s), strictly increasing, any (irregular) spacing
+    gyro_b_radps, acc_b_mps2 : (N, 3) raw sensor samples; sample k is the mean over [t_k, t_{k+1})
+    pos0_n_m, vel0_n_mps, mat0_nb : initial navigation state at ``t_s[0]``
+    P0 : (21, 21) initial covariance (see :func:`initial_covariance`)
+    updates : sequence of :class:`UpdateSet`
+    config : :class:`EskfConfig` process noise
+    sensor0 : (12,) initial sensor-error estimates (default zeros)
+
+    Returns
+    -------
+    EskfResult
+
+    References
+    ----------
+    Liao et al. (2016), eq. (1)-(6).
+    """
+    t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
+    config = config or EskfConfig()
+    P0 = np.asarray(P0, dtype=float)
+    if P0.shape != (N_STATES, N_STATES):
+        raise ValueError(f"P0 must have shape (21, 21), got {P0.shape}")
+    updates = list(updates)
+    for u in updates:
+        if not isinstance(u, UpdateSet):
+            raise ValueError(f"updates must be UpdateSet objects, got {type(u).__name__}")
+    sched = _schedule(t_s, updates)
+    n = t_s.size
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    mat = np.empty((n, 3, 3))
+    sens = np.empty((n, 12))
+    dxs = np.zeros((n, N_STATES))
+    P_plus = np.empty((n, N_STATES, N_STATES))
+    P_minus = np.empty((n, N_STATES, N_STATES))
+    Phis = np.empty((n, N_STATES, N_STATES))
+    nis = np.full(n, np.nan)
+    n_meas = np.zeros(n, dtype=np.int64)
+
+    p = np.asarray(pos0_n_m, dtype=float).copy()
+    v = np.asarray(vel0_n_mps, dtype=float).copy()
+    C = np.asarray(mat0_nb, dtype=float).copy()
+    s = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
+    P = 0.5 * (P0 + P0.T)
+    Phis[0] = np.eye(N_STATES)
+    q_unit = process_noise_diag(config, 1.0)
+    dt_all = np.diff(t_s)
+    g_n = GRAVITY_N_MPS2
+    diag = np.diag_indices(N_STATES)
+    # segment boundaries: every update epoch and the last epoch
+    stops = sorted(set(sched) | {n - 1})
+    k = 0
+    for kb in stops:
+        if kb > k:
+            # propagate k -> kb with constant sensor-error estimates (vectorised over the segment)
+            seg = slice(k, kb)
+            dt = dt_all[seg]
+            w_c = (gyro[seg] - s[3:6]) / (1.0 + s[9:12])
+            f_c = (acc[seg] - s[0:3]) / (1.0 + s[6:9])
+            dC = rotvecs_to_dcm(w_c * dt[:, None])
+            Cs = mat[k:kb + 1]
+            Cs[0] = C
+            for j in range(kb - k):
+                Cs[j + 1] = Cs[j] @ dC[j]
+            dv = 0.5 * dt[:, None] * np.einsum("lij,lj->li", Cs[:-1] + Cs[1:], f_c) + g_n * dt[:, None]
+            vs = v + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])
+            ps = p + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * dt[:, None] * (vs[:-1] + vs[1:]), axis=0)])
+            vel[k:kb + 1], pos[k:kb + 1] = vs, ps
+            sens[k + 1:kb + 1] = s
+            Ph = transition_matrices(Cs[:-1], f_c, w_c, dt)
+            Phis[k + 1:kb + 1] = Ph
+            qd = np.multiply.outer(dt, q_unit)
+            for j in range(kb - k):
+                P = Ph[j] @ P @ Ph[j].T
+                P[diag] += qd[j]
+                P_minus[k + 1 + j] = P
+                P_plus[k + 1 + j] = P
+            p, v, C = ps[-1].copy(), vs[-1].copy(), Cs[-1].copy()
+            P = 0.5 * (P + P.T)
+        elif kb == 0:
+            P_minus[0] = P
+        k = kb
+        rows = sched.get(kb)
+        if rows:
+            innov, Hs, Rd = [], [], []
+            for i, r in rows:
+                u = updates[i]
+                if u.kind == "pos_n":
+                    e, H = position_rows(p, u.z[r])
+                elif u.kind == "vel_n":
+                    e, H = nav_velocity_rows(v, u.z[r])
+                else:
+                    e, H = body_velocity_rows(C, v, u.z[r])
+                used = np.isfinite(u.sd[r])
+                innov.append(e[used])
+                Hs.append(H[used])
+                Rd.append(u.sd[r][used] ** 2)
+            innov = np.concatenate(innov)
+            if innov.size:
+                dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), np.concatenate(Rd))
+                n_meas[kb] = innov.size
+                dxs[kb] = dx
+                p = p + dx[POS]
+                v = v + dx[VEL]
+                C = rotvec_to_dcm(dx[ATT]) @ C
+                s = s + dx[9:21]
+        pos[kb], vel[kb], mat[kb], sens[kb] = p, v, C, s
+        P_plus[kb] = P
+    if 0 not in sched:
+        P_minus[0] = P_plus[0] = 0.5 * (P0 + P0.T)
+        pos[0], vel[0], mat[0], sens[0] = pos0_n_m, vel0_n_mps, mat0_nb, (np.zeros(12) if sensor0 is None
+                                                                         else sensor0)
+    return EskfResult(t_s=t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sens, dx=dxs, P_plus=P_plus,
+                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config)

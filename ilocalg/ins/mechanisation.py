@@ -1,0 +1,205 @@
+"""Strapdown mechanisation in a local-level east-north-up frame.
+
+Frames: the navigation frame ``n`` is a local-level east-north-up (ENU) frame fixed to the
+site; the body frame ``b`` is the sensor frame, x forward, y left, z up (FLU) when the device
+is held level and pointing along the walking direction. Attitude is the direction-cosine matrix
+``mat_nb`` (body -> nav) with Z-Y-X Euler angles ``mat_nb = Rz(yaw) Ry(pitch) Rx(roll)``;
+yaw counts counter-clockwise from east.
+
+Earth rotation (7.3e-5 rad/s) and transport rate are neglected: over an indoor walk of a few
+minutes at walking speed they are far below a phone gyroscope's noise and bias (> 1e-3 rad/s),
+and gravity is taken constant (``G0_MPS2``, pointing down) over the site.
+
+References
+----------
+Liao, Chiang, Zhou, Li (2016), "Using the on-line smoothing and constraint algorithms to improve
+the accuracy of pedestrian indoor navigation", sec. 3.1 (the INS that eq. 1-6 correct).
+Hartmann et al. (2010) as summarised in the image/inertial survey, eq. (6) (the same Z-Y-X DCM).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ilocalg.units import G0_MPS2
+
+__all__ = [
+    "GRAVITY_N_MPS2",
+    "skew",
+    "rotvec_to_dcm",
+    "rotvecs_to_dcm",
+    "dcm_to_rotvec",
+    "euler_to_dcm",
+    "dcm_to_euler",
+    "mech_step",
+    "mechanise",
+    "coarse_level",
+]
+
+#: Gravity vector in the ENU navigation frame, m/s^2.
+GRAVITY_N_MPS2 = np.array([0.0, 0.0, -G0_MPS2])
+
+
+def skew(v) -> np.ndarray:
+    """Skew-symmetric (cross-product) matrix ``[v x]`` of a 3-vector, shape (3, 3)."""
+    x, y, z = float(v[0]), float(v[1]), float(v[2])
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def rotvec_to_dcm(rotvec_rad) -> np.ndarray:
+    """Rotation matrix of a rotation vector (Rodrigues), shape (3, 3)."""
+    x, y, z = float(rotvec_rad[0]), float(rotvec_rad[1]), float(rotvec_rad[2])
+    th2 = x * x + y * y + z * z
+    if th2 < 1e-16:
+        a, b = 1.0 - th2 / 6.0, 0.5 - th2 / 24.0
+    else:
+        th = math.sqrt(th2)
+        a, b = math.sin(th) / th, (1.0 - math.cos(th)) / th2
+    return np.array([
+        [1.0 - b * (y * y + z * z), -a * z + b * x * y, a * y + b * x * z],
+        [a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z],
+        [-a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y)],
+    ])
+
+
+def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
+    """Batched :func:`rotvec_to_dcm`: rotation vectors (N, 3) to matrices (N, 3, 3)."""
+    v = np.asarray(rotvec_rad, dtype=float)
+    x, y, z = v[:, 0], v[:, 1], v[:, 2]
+    th2 = x * x + y * y + z * z
+    small = th2 < 1e-16
+    th = np.sqrt(np.where(small, 1.0, th2))
+    a = np.where(small, 1.0 - th2 / 6.0, np.sin(th) / th)
+    b = np.where(small, 0.5 - th2 / 24.0, (1.0 - np.cos(th)) / np.where(small, 1.0, th2))
+    out = np.empty((v.shape[0], 3, 3))
+    out[:, 0, 0] = 1.0 - b * (y * y + z * z)
+    out[:, 0, 1] = -a * z + b * x * y
+    out[:, 0, 2] = a * y + b * x * z
+    out[:, 1, 0] = a * z + b * x * y
+    out[:, 1, 1] = 1.0 - b * (x * x + z * z)
+    out[:, 1, 2] = -a * x + b * y * z
+    out[:, 2, 0] = -a * y + b * x * z
+    out[:, 2, 1] = a * x + b * y * z
+    out[:, 2, 2] = 1.0 - b * (x * x + y * y)
+    return out
+
+
+def dcm_to_rotvec(mat) -> np.ndarray:
+    """Rotation vector (rad) of a rotation matrix (angle below pi), shape (3,)."""
+    mat = np.asarray(mat, dtype=float)
+    c = min(1.0, max(-1.0, (np.trace(mat) - 1.0) / 2.0))
+    th = math.acos(c)
+    w = np.array([mat[2, 1] - mat[1, 2], mat[0, 2] - mat[2, 0], mat[1, 0] - mat[0, 1]])
+    if th < 1e-8:
+        return 0.5 * w
+    return th / (2.0 * math.sin(th)) * w
+
+
+def euler_to_dcm(roll_rad, pitch_rad, yaw_rad) -> np.ndarray:
+    """``mat_nb = Rz(yaw) Ry(pitch) Rx(roll)``; scalars give (3, 3), arrays of shape (N,) give (N, 3, 3).
+
+    References
+    ----------
+    Image/inertial survey, sec. 5.2, eq. (6) (Hartmann et al. 2010).
+    """
+    r, p, y = (np.asarray(a, dtype=float) for a in (roll_rad, pitch_rad, yaw_rad))
+    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+    m = np.stack([
+        np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
+        np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
+        np.stack([-sp, cp * sr, cp * cr], -1),
+    ], -2)
+    return m
+
+
+def dcm_to_euler(mat_nb) -> np.ndarray:
+    """Z-Y-X Euler angles ``(roll, pitch, yaw)`` in rad of one (3, 3) or many (N, 3, 3) DCMs."""
+    m = np.asarray(mat_nb, dtype=float)
+    roll = np.arctan2(m[..., 2, 1], m[..., 2, 2])
+    pitch = -np.arcsin(np.clip(m[..., 2, 0], -1.0, 1.0))
+    yaw = np.arctan2(m[..., 1, 0], m[..., 0, 0])
+    return np.stack([roll, pitch, yaw], -1)
+
+
+def mech_step(pos_n_m, vel_n_mps, mat_nb, dtheta_b_rad, dvel_b_mps, dt_s):
+    """One strapdown step from angle and velocity increments.
+
+    ``mat_nb(k+1) = mat_nb(k) exp([dtheta x])``; the velocity increment is rotated with the mean
+    of the two attitudes; position integrates the mean velocity (trapezoid), which is exact for
+    constant acceleration.
+
+    Parameters
+    ----------
+    pos_n_m, vel_n_mps : (3,) arrays, ENU position (m) and velocity (m/s)
+    mat_nb : (3, 3) body -> nav DCM
+    dtheta_b_rad : (3,) angular increment ``omega_b * dt`` (rad)
+    dvel_b_mps : (3,) specific-force increment ``f_b * dt`` (m/s)
+    dt_s : float, step length (s)
+
+    Returns
+    -------
+    pos_n_m, vel_n_mps, mat_nb after the step.
+    """
+    mat_new = mat_nb @ rotvec_to_dcm(dtheta_b_rad)
+    vel_new = vel_n_mps + 0.5 * (mat_nb + mat_new) @ dvel_b_mps + GRAVITY_N_MPS2 * dt_s
+    pos_new = pos_n_m + 0.5 * (vel_n_mps + vel_new) * dt_s
+    return pos_new, vel_new, mat_new
+
+
+def _check_imu(t_s, gyro_b_radps, acc_b_mps2):
+    t_s = np.asarray(t_s, dtype=float)
+    gyro = np.asarray(gyro_b_radps, dtype=float)
+    acc = np.asarray(acc_b_mps2, dtype=float)
+    if t_s.ndim != 1 or t_s.size < 2:
+        raise ValueError(f"t_s must be 1-D with at least 2 samples, got shape {t_s.shape}")
+    if np.any(np.diff(t_s) <= 0):
+        raise ValueError("t_s must be strictly increasing")
+    for name, a in (("gyro_b_radps", gyro), ("acc_b_mps2", acc)):
+        if a.shape != (t_s.size, 3):
+            raise ValueError(f"{name} must have shape ({t_s.size}, 3), got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} contains non-finite values")
+    return t_s, gyro, acc
+
+
+def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
+    """Pure strapdown integration of an IMU log.
+
+    Sample ``k`` holds the mean rate / specific force over ``[t_k, t_{k+1})`` (increments divided
+    by the interval), so the increments of step ``k`` are ``gyro[k] * dt_k`` and ``acc[k] * dt_k``.
+
+    Parameters
+    ----------
+    t_s : (N,) strictly increasing sample times, s
+    gyro_b_radps, acc_b_mps2 : (N, 3) angular rate (rad/s) and specific force (m/s^2), body frame
+    pos0_n_m, vel0_n_mps : (3,) initial ENU position and velocity at ``t_s[0]``
+    mat0_nb : (3, 3) initial attitude
+
+    Returns
+    -------
+    pos_n_m (N, 3), vel_n_mps (N, 3), mat_nb (N, 3, 3) at the sample times.
+    """
+    t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
+    n = t_s.size
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    mat = np.empty((n, 3, 3))
+    pos[0], vel[0], mat[0] = pos0_n_m, vel0_n_mps, mat0_nb
+    dt = np.diff(t_s)
+    for k in range(n - 1):
+        pos[k + 1], vel[k + 1], mat[k + 1] = mech_step(pos[k], vel[k], mat[k], gyro[k] * dt[k], acc[k] * dt[k], dt[k])
+    return pos, vel, mat
+
+
+def coarse_level(acc_b_mps2) -> tuple[float, float]:
+    """Roll and pitch (rad) of a static device from its mean specific force (N, 3) or (3,).
+
+    ``f_b = mat_nb^T [0, 0, g]`` gives ``roll = atan2(f_y, f_z)``, ``pitch = atan2(-f_x, hypot(f_y, f_z))``.
+    """
+    f = np.asarray(acc_b_mps2, dtype=float)
+    f = f.mean(axis=0) if f.ndim == 2 else f
+    if f.shape != (3,) or not np.all(np.isfinite(f)) or np.linalg.norm(f) < 1.0:
+        raise ValueError("acc_b_mps2 must be finite (3,) or (N, 3) specific force of a static device")
+    return float(math.atan2(f[1], f[2])), float(math.atan2(-f[0], math.hypot(f[1], f[2])))

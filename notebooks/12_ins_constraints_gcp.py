@@ -1,0 +1,145 @@
+# %% [markdown]
+# # 12 Smartphone INS: WVC / NHC / ZUPT constraints and control points
+#
+# Reproduces Liao, Chiang, Zhou, Li (2016), "Using the on-line smoothing and constraint algorithms to
+# improve the accuracy of pedestrian indoor navigation", sec. 4.1: the trajectories of Figs 7 and 10,
+# the position errors of Figs 8 and 11 and the error tables 4-7 (max / RMS / STD of the N, E, H position
+# error and of roll, pitch, heading) for Filtering + NHC/ZUPT, Filtering + WVC/ZUPT, + GCP and
+# Smoothing + WVC/ZUPT + GCP, with the 21-state error-state EKF of eq. (1)-(6), the walking-velocity
+# constraint of eq. (7) and the RTS smoother of eq. (8)-(10).
+#
+# Data: simulated hand-held phone walks (`ilocalg.sim.ins_walk`, see `data/ins_walk/README.md`): two
+# outdoor GNSS loops, into the building, up the stairs, around a classroom and back (Samsung S5 route) or
+# on to a lab (iPhone 5S route), phone IMUs at irregular 14-20 Hz, four indoor control points.
+
+# %% tags=["parameters"]
+# Seed of the simulations; FAST runs one seed instead of six; OUT_DIR (set by the runner) receives
+# tables and figures; DATA_DIR is unused here (no real INS recordings are public for this paper).
+SEED = 0
+FAST = False
+OUT_DIR = None
+DATA_DIR = None
+
+# %%
+import matplotlib.pyplot as plt
+
+import ilocviz
+import ilocviz.ins as vins
+from ilocalg.experiments import ins_constraints
+from ilocalg.reporting import Report
+from ilocalg.sim.ins_walk import GCP_XYZ_M
+
+report = Report(OUT_DIR, "12_ins_constraints_gcp")
+
+# %% [markdown]
+# ## Simulated inputs
+# Duration, phone IMU rate and control-point passages of every simulated walk (inputs, not results).
+
+# %%
+tables = ins_constraints.run(seed=SEED, fast=FAST)
+report.table(tables["walk_stats"], "walk_stats")
+
+# %% [markdown]
+# ## Tables 4 and 6: position errors (paper value beside the simulated one, metres)
+
+# %%
+report.table(tables["position_side_by_side"], "position_errors")
+
+# %% [markdown]
+# ## Tables 5 and 7: attitude errors (degrees)
+
+# %%
+report.table(tables["attitude_side_by_side"], "attitude_errors")
+
+# %%
+report.table(tables["errors_per_seed"], "errors_per_seed")
+report.compare(tables["comparison"].to_dict("records"))
+
+# %% [markdown]
+# ## Figs 7 and 10: trajectories; Figs 8 and 11: north and east errors against time; Figs 9 and 12:
+# heading errors against time
+
+# %%
+with ilocviz.style():
+    fig, axs = plt.subplots(1, 2, figsize=(12, 5))
+    for ax, phone in zip(axs, ("Samsung", "iPhone"), strict=True):
+        vins.walk_trajectories(tables["trajectory"], phone, ax=ax, gcp_xy=GCP_XYZ_M[:, :2])
+    ilocviz.savefig(fig, "12_ins_constraints_gcp_trajectories", OUT_DIR)
+    fig, axs = plt.subplots(2, 2, figsize=(12, 7), sharex="col")
+    for j, phone in enumerate(("Samsung", "iPhone")):
+        for i, axis in enumerate(("N", "E")):
+            vins.errors_vs_time(tables["trajectory"], phone, axis, ax=axs[i, j])
+        axs[0, j].set_title(phone)
+    ilocviz.savefig(fig, "12_ins_constraints_gcp_errors", OUT_DIR)
+    fig, axs = plt.subplots(1, 2, figsize=(12, 3.5))
+    for ax, phone in zip(axs, ("Samsung", "iPhone"), strict=True):
+        vins.heading_errors_vs_time(tables["trajectory"], phone, ax=ax)
+        ax.set_title(phone)
+    ilocviz.savefig(fig, "12_ins_constraints_gcp_heading_errors", OUT_DIR)
+
+# %% [markdown]
+# ## Control-point grade: total station (cm) vs Bluetooth beacon (m-level) fixes, RMS errors
+
+# %%
+report.table(tables["gcp_grade"], "gcp_grade")
+
+# %% [markdown]
+# ## Heading error when the phone's time tags are misaligned with the reference
+# The paper blames its large heading errors on phone/reference time-synchronisation errors: the same
+# solutions scored against the reference read `lag_s` seconds off.
+
+# %%
+report.table(tables["heading_time_sync"], "heading_time_sync")
+
+# %% [markdown]
+# ## A reference-grade IMU on the same walks (RMS errors)
+# The paper's reference trajectory is a MIDG-II (Table 3) carried on the same walk and processed with
+# NHC/ZUPT and a smoother; here the same walks are measured with MIDG-II-grade sensor errors and, for
+# contrast (full mode only), with an error-free 50 Hz IMU.
+
+# %%
+report.table(tables["reference_grade"], "reference_grade")
+
+# %% [markdown]
+# ## What the simulation says (computed)
+
+# %%
+e = tables["errors"]
+rms = e[e.stat == "rms"].set_index(["phone", "method"])
+for phone in ("Samsung", "iPhone"):
+    r = rms.loc[phone]
+    h = r[["N", "E"]].pow(2).sum(axis=1).pow(0.5)
+    print(f"{phone}: horizontal RMS " + ", ".join(f"{m}: {v:.2f} m" for m, v in h.items()))
+
+# %% [markdown]
+# ## Conclusion
+#
+# The ordering of the paper is reproduced on the simulated walks: the tight vehicle-style NHC drifts
+# most, WVC reduces the horizontal drift (in east here; the north error is held up by the stairs, see
+# below), control-point updates bound the error, and RTS smoothing of the WVC/ZUPT/GCP filter is the most
+# accurate, at the decimetre level like the paper's (computed summary above).
+#
+# Where the numbers differ and why:
+# - The data are simulated (no recordings of the paper are public); only sensor inputs were calibrated
+#   (phone datasheet class errors, 14-20 Hz irregular sampling, MIDG-II Table 3 for the reference grade);
+#   nothing was tuned to Tables 4-7, so magnitudes differ.
+# - Stairs dominate the simulated north error: eq. (7) with the default parameters predicts a level walking
+#   speed while the walker climbs slowly, so between the control points at the foot of the stairs and on
+#   the 2nd-floor corridor the WVC filter overshoots along the stairs (north) until the next fix; the RTS
+#   smoother removes most of it, which is why the smoothed rows come closest to the paper's. The paper's
+#   route also has stairs, but its step detector and walker behaviour on stairs are not described.
+# - The indoor legs are sized so that the four control points are met about every 15 s as in the paper; on
+#   the iPhone route (fewer passages) the spacing is somewhat longer (walk_stats).
+# - Attitude: the paper's heading errors (up to 100+ degrees max) come mostly from time-synchronisation
+#   errors between the phone and the 200 Hz reference; the simulation has exact time tags, so its heading
+#   errors are smaller and its roll/pitch errors much smaller. The time-sync table shows that a lag of a
+#   tenth of a second already multiplies the maximum heading error several-fold (turns), supporting the
+#   paper's explanation.
+# - Control points of Bluetooth (m-level) rather than total-station (cm-level) quality leave metre-level
+#   errors even after smoothing (control-point grade table).
+# - In the simulation, a MIDG-II-grade IMU processed like the paper's reference (NHC/ZUPT + smoothing, no
+#   control points) still drifts by metres, and so does an error-free IMU (full mode): hand-held vibration
+#   and walking dynamics violate NHC, the sensors are not the limit; with WVC/ZUPT/GCP and smoothing it is
+#   about as good as the phones. The paper's reference trajectory is therefore unlikely to be error-free,
+#   which limits how far its tables can be read as absolute accuracies (the paper does not report the
+#   reference's own accuracy).

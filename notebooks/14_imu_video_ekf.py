@@ -1,0 +1,82 @@
+# %% [markdown]
+# # 14 IMU + video-tracking EKF (Hartmann et al.)
+#
+# Reproduces the Hartmann et al. (2010) system described in the image/inertial positioning survey
+# (葉濟賢, 黃偉立), sec. 5: a 15-state EKF (Euler angles, position, velocity, gyro and accelerometer
+# biases; eq. 12) driven by a 400 Hz MEMS IMU (eq. 13-19) and corrected by yaw and position from a
+# marker-based video tracker (VT, eq. 20), with the Jacobians of eq. 21-24 and the prediction /
+# correction of eq. 25-29. Figure 11 (EKF position vs the VT), Figure 12 (bias estimates settling) and
+# Table 2 (mean and maximal deviation to the VT per axis, VT sampling rate, longest outage, outages > 1 s).
+#
+# Data: simulated hand-held sequences (`ilocalg.sim.hartmann`, see `data/hartmann/README.md`).
+
+# %% tags=["parameters"]
+# Seed of the simulations; FAST runs two 60 s sequences instead of six of 120 s; OUT_DIR (set by the
+# runner) receives tables and figures; DATA_DIR is unused here.
+SEED = 0
+FAST = False
+OUT_DIR = None
+DATA_DIR = None
+
+# %%
+import matplotlib.pyplot as plt
+
+import ilocviz
+import ilocviz.ins as vins
+from ilocalg.experiments import ins_hartmann
+from ilocalg.reporting import Report
+
+report = Report(OUT_DIR, "14_imu_video_ekf")
+
+# %% [markdown]
+# ## Table 2: EKF vs video tracker
+# `mean_dev_*` / `max_dev_*`: absolute deviation of the EKF prediction from each VT fix (before the fix
+# is used); `mean_dev_post_*`: after the correction; `mean_err_truth_*`: EKF against the simulated truth.
+
+# %%
+tables = ins_hartmann.run(seed=SEED, fast=FAST)
+report.table(tables["table2"], "table2")
+
+# %%
+report.compare(tables["comparison"].to_dict("records"))
+
+# %% [markdown]
+# ## Fig 11: EKF position and VT fixes; Fig 12: bias estimates (true values dashed)
+
+# %%
+tr, vt = tables["trace"], tables["vt"]
+with ilocviz.style():
+    fig, axs = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+    for i in range(3):
+        vins.vt_positions(tr["t_s"], tr[[f"ekf_{c}_m" for c in "xyz"]].to_numpy(), vt["t_s"],
+                          vt[[f"{c}_m" for c in "xyz"]].to_numpy(), ax=axs[i], axis=i)
+    ilocviz.savefig(fig, "14_imu_video_ekf_fig11", OUT_DIR)
+    fig, axs = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    vins.bias_estimates(tr["t_s"], tr[[f"bg_{c}_dps" for c in "xyz"]].to_numpy(),
+                        tr[[f"bg_true_{c}_dps" for c in "xyz"]].iloc[0].to_numpy(), ax=axs[0], unit="deg/s",
+                        label="b_w")
+    vins.bias_estimates(tr["t_s"], tr[[f"ba_{c}_mps2" for c in "xyz"]].to_numpy(),
+                        tr[[f"ba_true_{c}_mps2" for c in "xyz"]].iloc[0].to_numpy(), ax=axs[1], unit="m/s^2",
+                        label="b_a")
+    ilocviz.savefig(fig, "14_imu_video_ekf_fig12", OUT_DIR)
+
+# %%
+report.table(tables["settling"], "bias_settling")
+ov = tables["table2"].iloc[-1]
+print(f"mean deviation to VT (x, y, z): {ov.mean_dev_x_m:.4f}, {ov.mean_dev_y_m:.4f}, {ov.mean_dev_z_m:.4f} m; "
+      f"max: {ov.max_dev_x_m:.3f}, {ov.max_dev_y_m:.3f}, {ov.max_dev_z_m:.3f} m; "
+      f"VT {ov.vt_rate_hz:.2f} Hz, longest outage {ov.outage_max_s:.2f} s")
+
+# %% [markdown]
+# ## Conclusion
+#
+# The 15-state EKF bridges the tracker's outages with the IMU and stays at the millimetre-to-centimetre
+# level against the tracker, with the z (depth) deviation the largest as in the paper, because the tracker
+# is least precise along the camera's optical axis. The biases settle (bias-settling table) faster than
+# the paper's "about 50 s" of Fig 12, helped by the smooth simulated motion and constant simulated biases.
+#
+# Differences: the sequences are simulated (IMU noise from the paper, tracker rate and outages calibrated
+# to Table 2's input statistics, tracker noise and biases assumed); the motion is smoother than a real hand
+# and the IMU-marker lever arm, time offsets and camera calibration errors of the real set-up are absent,
+# so the simulated maximal deviations (coasting through outages) are smaller than the paper's; the mean
+# deviations depend mostly on the assumed tracker noise.

@@ -1,0 +1,143 @@
+import numpy as np
+import pytest
+from filterpy.kalman import KalmanFilter
+from scipy import stats
+
+from ilocalg import ins
+from ilocalg.ins.eskf import ATT, POS, VEL
+
+ACC_N, GYR_N = 0.02, 0.002  # noise densities of the consistency scenario
+CFG = ins.EskfConfig(acc_vrw_mps_rsqrt_s=ACC_N, gyro_arw_rad_rsqrt_s=GYR_N, acc_bias_rw_mps2_rsqrt_s=1e-6,
+                     gyro_bias_rw_radps_rsqrt_s=1e-7, acc_sf_rw_rsqrt_s=1e-7, gyro_sf_rw_rsqrt_s=1e-7)
+P0_SD = dict(pos_sd_m=0.5, vel_sd_mps=0.05, att_sd_rad=(0.01, 0.01, 0.03), acc_bias_sd_mps2=0.05,
+             gyro_bias_sd_radps=0.002, acc_sf_sd=0.01, gyro_sf_sd=0.01)
+
+
+def circle_run(seed, n=1200, dt=0.05, fix_every=20, fix_sd=0.3):
+    """Truth from the discrete mechanisation of a level circle; sensors with errors drawn from P0."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * dt
+    v, w = 1.2, 0.25
+    f_true = np.tile([0.0, v * w, 9.80665], (n, 1))
+    g_true = np.tile([0.0, 0.0, w], (n, 1))
+    pos_t, vel_t, mat_t = ins.mechanise(t, g_true, f_true, np.zeros(3), np.array([v, 0, 0]), np.eye(3))
+    P0 = ins.initial_covariance(**P0_SD)
+    x0 = rng.normal(0.0, 1.0, 21) * np.sqrt(np.diag(P0))
+    ba, bg, sa, sg = x0[9:12], x0[12:15], x0[15:18], x0[18:21]
+    acc = (1 + sa) * f_true + ba + rng.normal(0, ACC_N / np.sqrt(dt), (n, 3))
+    gyr = (1 + sg) * g_true + bg + rng.normal(0, GYR_N / np.sqrt(dt), (n, 3))
+    idx = np.arange(fix_every, n, fix_every)
+    fixes = ins.UpdateSet("pos_n", t[idx], pos_t[idx] + rng.normal(0, fix_sd, (idx.size, 3)),
+                          np.full((idx.size, 3), fix_sd))
+    # initial estimate = truth - error (error = true - estimated)
+    p0 = pos_t[0] - x0[POS]
+    v0 = vel_t[0] - x0[VEL]
+    C0 = ins.rotvec_to_dcm(-x0[ATT]) @ mat_t[0]
+    res = ins.run_eskf(t, gyr, acc, p0, v0, C0, P0, [fixes], CFG)
+    return res, pos_t, vel_t, mat_t, idx
+
+
+def nav_error(pos, vel, mat, pos_t, vel_t, mat_t):
+    att = np.array([ins.dcm_to_rotvec(mt @ m.T) for m, mt in zip(mat, mat_t, strict=True)])
+    return np.hstack([pos_t - pos, vel_t - vel, att])
+
+
+def test_nees_consistent_over_seeded_runs():
+    runs = [circle_run(s) for s in range(8)]
+    nees = []
+    for res, pos_t, vel_t, mat_t, idx in runs:
+        e = nav_error(res.pos_n_m, res.vel_n_mps, res.mat_nb, pos_t, vel_t, mat_t)
+        k = idx[5:]
+        for kk in k:
+            nees.append(e[kk] @ np.linalg.solve(res.P_plus[kk][:9, :9], e[kk]))
+    nees = np.asarray(nees)
+    dof = 9 * nees.size
+    lo, hi = stats.chi2.ppf([0.001, 0.999], dof) / nees.size
+    # time-correlated samples: allow the 99.8 % band widened by 50 %
+    assert lo * 0.5 < nees.mean() < hi * 1.5, (nees.mean(), lo, hi)
+    assert 6.0 < nees.mean() < 13.0
+
+
+def test_nis_matches_measurement_dimension():
+    res, *_ = circle_run(3)
+    nis = res.nis[np.isfinite(res.nis)][5:]
+    assert 2.0 < nis.mean() < 4.5
+
+
+def test_covariance_symmetric_positive_definite():
+    res, *_ = circle_run(1)
+    for P in (res.P_plus, res.P_minus):
+        assert np.allclose(P, np.swapaxes(P, 1, 2), atol=1e-12)
+        assert np.linalg.eigvalsh(P).min() > 0
+    # updates never increase the variance
+    upd = res.n_meas > 0
+    assert np.all(np.diagonal(res.P_plus[upd], axis1=1, axis2=2)
+                  <= np.diagonal(res.P_minus[upd], axis1=1, axis2=2) + 1e-12)
+
+
+def test_joseph_update_matches_filterpy():
+    rng = np.random.default_rng(0)
+    A = rng.normal(size=(21, 21))
+    P = A @ A.T + np.eye(21)
+    H = rng.normal(size=(4, 21))
+    R = np.array([0.1, 0.2, 0.3, 0.4])
+    z = rng.normal(size=4)
+    dx, P1, nis = ins.joseph_update(P.copy(), z, H, R)
+    kf = KalmanFilter(dim_x=21, dim_z=4)
+    kf.x = np.zeros((21, 1))
+    kf.P = P.copy()
+    kf.H = H
+    kf.R = np.diag(R)
+    kf.update(z.reshape(4, 1))
+    assert np.allclose(dx, kf.x.ravel(), atol=1e-10)
+    assert np.allclose(P1, kf.P, atol=1e-9)
+    assert nis == pytest.approx(float(z @ np.linalg.solve(H @ P @ H.T + np.diag(R), z)))
+
+
+def test_body_velocity_jacobian_matches_finite_difference():
+    C = ins.euler_to_dcm(0.1, -0.2, 0.7)
+    v = np.array([1.0, 0.4, -0.1])
+    e0, H = ins.body_velocity_rows(C, v, np.zeros(3))
+    dx = np.zeros(21)
+    dx[VEL] = [0.001, -0.002, 0.0005]
+    dx[ATT] = [0.001, 0.0005, -0.002]
+    C1 = ins.rotvec_to_dcm(dx[ATT]) @ C
+    vb1 = C1.T @ (v + dx[VEL])
+    assert np.allclose(vb1 - C.T @ v, H @ dx, atol=1e-5)
+
+
+def test_transition_matrix_matches_error_propagation():
+    """Phi predicts how a small error in the inputs of one mechanisation step propagates."""
+    C = ins.euler_to_dcm(0.05, 0.1, 0.4)
+    f = np.array([0.3, -0.2, 9.9])
+    w = np.array([0.1, -0.05, 0.3])
+    dt = 0.05
+    Phi = ins.transition_matrix(C, f, w, dt)
+    dx = np.zeros(21)
+    dx[ATT] = [0.002, -0.001, 0.003]
+    dx[9:12] = [0.01, -0.02, 0.01]
+    dx[12:15] = [0.001, 0.002, -0.001]
+    # true = estimate + error; the true sensors are the corrected ones minus the bias errors
+    Ct = ins.rotvec_to_dcm(dx[ATT]) @ C
+    pe, ve, Ce = ins.mech_step(np.zeros(3), np.zeros(3), C, w * dt, f * dt, dt)
+    pt, vt, Cm = ins.mech_step(np.zeros(3), np.zeros(3), Ct, (w - dx[12:15]) * dt, (f - dx[9:12]) * dt, dt)
+    pred = Phi @ dx
+    assert np.allclose(vt - ve, pred[VEL], atol=6e-5)
+    assert np.allclose(ins.dcm_to_rotvec(Cm @ Ce.T), pred[ATT], atol=2e-5)
+
+
+def test_updateset_and_run_validation():
+    with pytest.raises(ValueError, match="kind"):
+        ins.UpdateSet("gps", np.zeros(1), np.zeros((1, 3)), np.ones((1, 3)))
+    with pytest.raises(ValueError, match="sd must be > 0"):
+        ins.UpdateSet("pos_n", np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)))
+    t = np.arange(10) * 0.1
+    u = ins.UpdateSet("pos_n", np.array([5.0]), np.zeros((1, 3)), np.ones((1, 3)))
+    with pytest.raises(ValueError, match="within the IMU log"):
+        ins.run_eskf(t, np.zeros((10, 3)), np.tile([0, 0, 9.8], (10, 1)), np.zeros(3), np.zeros(3), np.eye(3),
+                     ins.initial_covariance(), [u])
+    with pytest.raises(ValueError, match="P0"):
+        ins.run_eskf(t, np.zeros((10, 3)), np.tile([0, 0, 9.8], (10, 1)), np.zeros(3), np.zeros(3), np.eye(3),
+                     np.eye(15))
+    with pytest.raises(ValueError, match="EskfConfig"):
+        ins.EskfConfig(acc_vrw_mps_rsqrt_s=-1.0)

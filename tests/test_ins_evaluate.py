@@ -1,0 +1,34 @@
+import numpy as np
+import pytest
+
+from ilocalg import ins
+
+
+def test_nav_errors_and_stats():
+    n = 100
+    truth = np.zeros((n, 3))
+    est = truth + np.array([1.0, -2.0, 0.5])  # E, N, U offsets
+    C = ins.euler_to_dcm(np.zeros(n), np.zeros(n), np.full(n, np.pi - 0.01))
+    Ct = ins.euler_to_dcm(np.zeros(n), np.zeros(n), np.full(n, -np.pi + 0.01))
+    err = ins.nav_errors(est, C, truth, Ct)
+    assert list(err.columns) == ["N", "E", "H", "Roll", "Pitch", "Heading"]
+    assert np.allclose(err["N"], -2.0) and np.allclose(err["E"], 1.0)
+    assert np.allclose(err["Heading"], np.rad2deg(-0.02))  # wrapped, not 359 deg
+    st = ins.error_stats(err)
+    assert st["rms"]["N"] == pytest.approx(2.0) and st["std"]["N"] == pytest.approx(0.0)
+    assert st["max"]["E"] == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="pos_n_m"):
+        ins.nav_errors(est[:5], C[:5], truth, Ct)
+
+
+def test_heading_lag_zero_and_turning():
+    t_ref = np.arange(0, 10, 0.005)
+    yaw = 0.5 * t_ref  # turning at 0.5 rad/s
+    mref = ins.euler_to_dcm(0 * t_ref, 0 * t_ref, yaw)
+    t = np.arange(1, 9, 0.06)
+    m = ins.euler_to_dcm(0 * t, 0 * t, 0.5 * t)
+    assert np.abs(ins.heading_error_with_lag_deg(t, m, t_ref, mref, 0.0)).max() < 1e-6
+    e = ins.heading_error_with_lag_deg(t, m, t_ref, mref, 0.1)
+    assert np.allclose(e, np.rad2deg(0.05), atol=1e-6)
+    with pytest.raises(ValueError, match="outside"):
+        ins.heading_error_with_lag_deg(t, m, t_ref, mref, 5.0)
