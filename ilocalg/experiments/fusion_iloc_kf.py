@@ -43,7 +43,7 @@ from ilocalg.metrics import error_cdf
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.step_length import slm_length_m
-from ilocalg.reporting import paper_ref
+from ilocalg.reporting import comparison_table, paper_ref
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 from ilocalg.wifi.preprocessing import mean_fingerprints
@@ -273,7 +273,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     r_table = pd.DataFrame({"point": np.arange(1, route.shape[0] + 1), "x_m": route[:, 0], "y_m": route[:, 1],
                             "calibrated_var_m2": ff.cal_var_m2, "thesis_table5_var_m2_paper": paper_r})
     return {"test_points": tp, "summary": summ, "cdf": cdf, "track_example": pd.concat(ex, ignore_index=True),
-            "r_table": r_table, "gating": pd.DataFrame(gat), "comparison": pd.DataFrame(comp),
+            "r_table": r_table, "gating": pd.DataFrame(gat), "comparison": comparison_table(comp),
             "by_wifi_method": pd.DataFrame(by_method)}
 
 

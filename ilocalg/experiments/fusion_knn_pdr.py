@@ -32,7 +32,7 @@ from ilocalg.fusion import filter_walk, fixes_at_states, rts_smooth
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.peak_window import detect_steps_peak_window
 from ilocalg.pdr.step_length import luo_length_m
-from ilocalg.reporting import paper_ref
+from ilocalg.reporting import comparison_table, paper_ref
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 
@@ -162,7 +162,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                           {"quantity": "Wi-Fi only per-point mean error, max over points [m]", "value": wifi_pp.max()}])
     return {"test_points": tp, "summary": summ, "cdf": cdf, "per_point": pp,
             "track_example": pd.concat(ex, ignore_index=True), "calibration": calib,
-            "comparison": pd.DataFrame(comp)}
+            "comparison": comparison_table(comp)}
 
 
 def findings(tables: dict) -> str:
