@@ -24,6 +24,7 @@ import pandas as pd
 
 __all__ = [
     "COMPARISON_COLUMNS",
+    "PAPER_REF_COLUMNS",
     "paper_ref",
     "agreement",
     "comparison_table",
@@ -44,6 +45,10 @@ COMPARISON_COLUMNS = (
     "reproduced_value",
     "agreement",
 )
+
+#: Columns that make a table a comparison table: rows built with :func:`paper_ref` (``agreement`` is
+#: added by :func:`comparison_table` and recomputed when missing).
+PAPER_REF_COLUMNS = ("paper", "item", "quantity", "paper_value", "reproduced_value")
 
 #: Relative differences below these bounds count as "agrees" and "close".
 AGREE_REL = 0.10
@@ -197,7 +202,8 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
     frames = []
     for csv in sorted((out_dir / "tables").glob("*.csv")):
         df = pd.read_csv(csv, keep_default_na=False, na_values=[""])
-        if all(c in df.columns for c in COMPARISON_COLUMNS):
+        if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            df = comparison_table(df.drop(columns=["agreement"], errors="ignore").to_dict("records"))
             df.insert(0, "table", csv.stem)
             frames.append(df)
     lines = [

@@ -8,8 +8,8 @@ by default, or an existing scheduler), caches each task's result as parquet so a
 sweep resumes, reports failed tasks with their seed and parameters without losing the others,
 and aggregates the reproduced values into mean, standard deviation and 95 % confidence interval.
 
-What is swept: the rows of the experiment's comparison tables (columns
-:data:`ilocalg.reporting.COMPARISON_COLUMNS`), i.e. every reproduced value the report shows,
+What is swept: the rows of the experiment's comparison tables (:func:`ilocalg.reporting.paper_ref`
+rows, :data:`PAPER_REF_COLUMNS`), i.e. every reproduced value the report shows,
 plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter studies).
 """
 
@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.io.paths import REPO_ROOT
-from ilocalg.reporting import COMPARISON_COLUMNS
+from ilocalg.reporting import PAPER_REF_COLUMNS
 
 __all__ = [
     "SweepTask",
@@ -140,9 +140,9 @@ def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     for name, df in tables.items():
         if not isinstance(df, pd.DataFrame):
             continue
-        if all(c in df.columns for c in COMPARISON_COLUMNS):
-            p = df[["paper", "item", "quantity", "unit", "paper_value", "reproduced_value"]].rename(
-                columns={"reproduced_value": "value"})
+        if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            p = df[list(PAPER_REF_COLUMNS)].rename(columns={"reproduced_value": "value"})
+            p["unit"] = df["unit"] if "unit" in df.columns else ""
         elif name.startswith("sweep_") and "value" in df.columns and "quantity" in df.columns:
             p = df[["quantity", "value"]].copy()
             for c in ("paper", "item", "unit"):
@@ -238,7 +238,7 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
             if client is None:
                 if scheduler is None:
                     own_cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=None)
+                                               dashboard_address=":0")  # any free port: never clashes with another cluster
                     own_client = client = Client(own_cluster)
                 else:
                     own_client = client = Client(scheduler)
