@@ -203,6 +203,9 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
     for csv in sorted((out_dir / "tables").glob("*.csv")):
         df = pd.read_csv(csv, keep_default_na=False, na_values=[""])
         if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            for c in ("unit", "note"):
+                if c in df.columns:
+                    df[c] = df[c].fillna("").astype(str)
             df = comparison_table(df.drop(columns=["agreement"], errors="ignore").to_dict("records"))
             df.insert(0, "table", csv.stem)
             frames.append(df)

@@ -237,8 +237,9 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
         try:
             if client is None:
                 if scheduler is None:
+                    # dashboard on any free port: never clashes with another cluster on this machine
                     own_cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=":0")  # any free port: never clashes with another cluster
+                                               dashboard_address=":0")
                     own_client = client = Client(own_cluster)
                 else:
                     own_client = client = Client(scheduler)

@@ -58,3 +58,9 @@ def test_readme_takes_paper_ref_tables_without_agreement(tmp_path):
     rep.table(pd.DataFrame([paper_ref("Raw paper", "Tab 2", "rms", 4.0, 8.0, unit="m")]), "raw_rows")
     readme = reporting.build_readme(tmp_path).read_text()
     assert "| Raw paper | Tab 2 | rms | m | 4 | 8 | differs (+100 %) |" in readme
+
+
+def test_readme_shows_unitless_rows_with_an_empty_unit(tmp_path):
+    Report(tmp_path, "97_u").compare([paper_ref("P", "T", "correlation", 0.5, 0.5)])
+    readme = reporting.build_readme(tmp_path).read_text()
+    assert "| P | T | correlation |  | 0.5 | 0.5 |" in readme and "nan" not in readme
