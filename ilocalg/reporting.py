@@ -205,7 +205,7 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
         if all(c in df.columns for c in PAPER_REF_COLUMNS):
             for c in ("unit", "note"):
                 if c in df.columns:
-                    df[c] = df[c].fillna("").astype(str)
+                    df[c] = ["" if pd.isna(v) else str(v) for v in df[c]]
             df = comparison_table(df.drop(columns=["agreement"], errors="ignore").to_dict("records"))
             df.insert(0, "table", csv.stem)
             frames.append(df)
