@@ -238,8 +238,8 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
             keys = ["paper", "item", "quantity", "unit"]
             agg = sweep_summary.copy()
             for k in keys:
-                agg[k] = agg[k].fillna("").astype(str)
-                allrows[k] = allrows[k].fillna("").astype(str)
+                agg[k] = ["" if pd.isna(v) else str(v) for v in agg[k]]
+                allrows[k] = ["" if pd.isna(v) else str(v) for v in allrows[k]]
             agg = agg.drop_duplicates(subset=keys)[keys + ["n", "mean", "ci95_low", "ci95_high", "ci_agreement"]]
             allrows = allrows.merge(agg, on=keys, how="left", validate="many_to_one")
             single = allrows["n"].isna()

@@ -160,7 +160,7 @@ def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     out["paper_value"] = out["paper_value"].astype(np.float64)
     out["value"] = out["value"].astype(np.float64)
     for c in ("table", "paper", "item", "quantity", "unit"):
-        out[c] = out[c].fillna("").astype(str)
+        out[c] = ["" if pd.isna(v) else str(v) for v in out[c]]
     return out
 
 
