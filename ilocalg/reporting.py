@@ -222,9 +222,9 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
             f"`n`, `mean` and `ci95` come from re-running each experiment over N = {n_seeds} simulation seeds",
             "(`reports/sweeps/summary.csv`); `agreement` then says whether the paper's value lies inside the",
             "95 % confidence interval of the mean, beside it (within one interval width, or within 10 % of",
-            "the mean) or far off. Rows from real data do not depend on the seed (their interval has zero",
-            "width). Rows without a sweep keep n = 1 and the single-run classification",
-            f"(within {AGREE_REL:.0%} = agrees, within {CLOSE_REL:.0%} = close).",
+            "the mean) or far off. Experiments on real recordings do not depend on the seed and are not",
+            "re-run: their rows, like any row without a sweep, keep n = 1, no interval and the single-run",
+            f"classification (within {AGREE_REL:.0%} = agrees, within {CLOSE_REL:.0%} = close).",
             "",
         ]
     else:
@@ -247,6 +247,8 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
             allrows.loc[single, "mean"] = allrows.loc[single, "reproduced_value"]
             allrows["agreement"] = allrows["ci_agreement"].where(~single, allrows["agreement"])
             allrows["n"] = allrows["n"].astype(int)
+            for c in ("ci95_low", "ci95_high"):
+                allrows[c] = ["" if pd.isna(v) else v for v in allrows[c]]
             cols += ["n", "mean", "ci95_low", "ci95_high"]
         cols += ["agreement", "table"]
         lines.append(_markdown(allrows[cols], index=False))
