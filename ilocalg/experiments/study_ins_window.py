@@ -86,11 +86,10 @@ def findings(cv: pd.DataFrame) -> str:
         rts = h[np.isinf(h["window_s"])]["mean"].iloc[0]
         wi = select(cv, "horizontal RMS error, windows with a control point", phone=phone).set_index("window_s")
         wo = select(cv, "horizontal RMS error, windows without a control point", phone=phone).set_index("window_s")
-        both = wi["mean"].notna() & wo["mean"].reindex(wi.index).notna()
-        ratio = (wo["mean"].reindex(wi.index) / wi["mean"])[both]
+        w0, w1 = win["window_s"].iloc[0], win["window_s"].iloc[-1]
         out.append(
-            f"{phone}: horizontal RMS {filt:.2f} m filtered, {win['mean'].iloc[0]:.2f} m with "
-            f"{win['window_s'].iloc[0]:g} s windows, {win['mean'].iloc[-1]:.2f} m with {win['window_s'].iloc[-1]:g} s, "
-            f"{rts:.2f} m whole-run RTS (N={int(win['n'].min())} seeds); inside windows without a control point "
-            f"the error is {ratio.min():.1f}-{ratio.max():.1f} x that of windows with one.")
+            f"{phone}: horizontal RMS {filt:.2f} m filtered, {win['mean'].iloc[0]:.2f} m with {w0:g} s windows, "
+            f"{win['mean'].iloc[-1]:.2f} m with {w1:g} s, {rts:.2f} m whole-run RTS (N={int(win['n'].min())} seeds). "
+            f"Inside windows without / with a control point: {wo.loc[w0, 'mean']:.2f} / {wi.loc[w0, 'mean']:.2f} m "
+            f"at {w0:g} s, {wo.loc[w1, 'mean']:.2f} / {wi.loc[w1, 'mean']:.2f} m at {w1:g} s.")
     return "\n".join(out)

@@ -138,9 +138,11 @@ def findings(cv: pd.DataFrame, fast: bool = False) -> str:
     for m in ("Simplified-RADAR", "Simplified-Horus"):
         c = curve(m, "k_aps")
         b = c.loc[c["mean"].idxmin()]
+        last = "" if int(b["k_aps"]) == int(c["k_aps"].iloc[-1]) else (
+            f", {c['mean'].iloc[-1]:.2f} m at k={int(c['k_aps'].iloc[-1])}")
         out.append(f"{m}: mean error {c['mean'].iloc[0]:.2f} m at k={int(c['k_aps'].iloc[0])}, lowest "
-                   f"{b['mean']:.2f} m [95 % CI {b['ci95_low']:.2f}-{b['ci95_high']:.2f}] at k={int(b['k_aps'])}, "
-                   f"{c['mean'].iloc[-1]:.2f} m at k={int(c['k_aps'].iloc[-1])} (N={int(b['n'])} seeds).")
+                   f"{b['mean']:.2f} m [95 % CI {b['ci95_low']:.2f}-{b['ci95_high']:.2f}] at k={int(b['k_aps'])}"
+                   f"{last} (N={int(b['n'])} seeds).")
     for m in ("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"):
         c = curve(m, "spacing_m")
         s = curve(m, "scans_per_point")
