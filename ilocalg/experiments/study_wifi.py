@@ -13,8 +13,11 @@ For a given seed the floor itself (APs, walls, shadowing) is the same whatever t
 simulator draws it before the scans, so the curves compare the same building.
 
 Returns ``{"sweep_wifi": ...}``: quantities ``mean error``, ``median error``, ``80th-percentile
-error`` (m) per ``method`` (in ``item``), and ``training points`` (count); the swept values live
-in the task parameters ``k_aps``, ``spacing_m``, ``scans_per_point``.
+error`` (m) per ``method`` (in ``item``), ``training points`` (count) and ``test scans hearing no
+AP (not scored)``: a test scan in which the simulated phone heard no AP at all (rare: fading and
+missed detections) cannot be positioned by any of the methods, so it is left out of every method's
+score and counted here. The swept values live in the task parameters ``k_aps``, ``spacing_m``,
+``scans_per_point``.
 """
 
 from __future__ import annotations
@@ -104,8 +107,10 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
     rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
     X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
     fp, pts, _ = mean_fingerprints(X, xy, min_heard_fraction=0.5)
-    true, Xq = sim.test.xy_m, sim.test.rssi_dbm
-    rows = [study_row("training points", len(keep), "points")]
+    heard = ~np.all(np.isnan(sim.test.rssi_dbm), axis=1)  # a scan hearing no AP cannot be positioned
+    true, Xq = sim.test.xy_m[heard], sim.test.rssi_dbm[heard]
+    rows = [study_row("training points", len(keep), "points"),
+            study_row("test scans hearing no AP (not scored)", np.sum(~heard), "scans")]
     for name, est in make_estimators(sim.detect_dbm, int(k_aps)).items():
         if name == "Simplified-Horus":
             est.fit(X, xy)  # Horus keeps every scan (its per-point histograms)
