@@ -2,12 +2,13 @@
 
 Each task is one walk: :func:`ilocalg.experiments.study_kf_noise.run` with ``n_walks=1`` and
 ``N_STEPS`` steps (simulate the synthetic walk and its Wi-Fi fixes, run the i-Loc step Kalman
-filter, the dead-reckoned track and the RTS smoother, score them): about 0.05-0.1 s of work.
+filter, the dead-reckoned track and the RTS smoother, score them): about 0.1 s of work on an idle core.
 The 1,000 tasks (seeds 0..999) are run through :func:`ilocalg.sweep.sweep` on a
-:class:`~distributed.LocalCluster` with one single-threaded worker process, then with two, each
-cluster started (and the experiment imported on every worker) before the clock starts; the ratio
-of the two wall times is the scaling figure (issue target: <= 0.55). Both sweeps must give the
-same results bit for bit.
+:class:`~distributed.LocalCluster` with one single-threaded worker process and on one with two,
+both clusters started (and the experiment imported on every worker) before the clock starts. To
+give both the same background load on a shared machine, the walks are swept in ten blocks, each
+block on both clusters in alternating order; the ratio of the two summed wall times is the
+scaling figure (issue target: <= 0.55). Both must give the same results bit for bit.
 
 Memory: the driver's peak Python allocation (tracemalloc, covering both sweeps and their result
 frames), the driver's peak RSS and each worker's peak RSS (``getrusage`` in the worker). The
@@ -21,6 +22,7 @@ idle for the ratio to mean anything: two workers on two cores shared with other 
 
 from __future__ import annotations
 
+import logging
 import os
 import resource
 import time
@@ -31,7 +33,8 @@ import pandas as pd
 from ilocalg.sweep import make_tasks, sweep
 
 N_WALKS = 1000
-N_STEPS = 1000
+N_STEPS = 2000
+N_BLOCKS = 10
 TARGET_RATIO = 0.55
 EXPERIMENT = "study_kf_noise"
 
@@ -52,54 +55,66 @@ def _warm(name: str) -> bool:
     return True
 
 
-def timed_sweep(tasks: list, n_workers: int) -> dict:
-    """Wall time of ``sweep(tasks)`` on a ready LocalCluster of ``n_workers`` single-threaded processes."""
+def start_cluster(n_workers: int):
+    """A ready LocalCluster of ``n_workers`` single-threaded processes with the experiment imported."""
     from dask.distributed import Client, LocalCluster
 
-    load = os.getloadavg()[0]
     t0 = time.perf_counter()
-    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
     client = Client(cluster)
-    try:
-        client.wait_for_workers(n_workers, timeout=120)
-        client.run(_warm, EXPERIMENT)
-        startup = time.perf_counter() - t0
-        t1 = time.perf_counter()
-        res = sweep(tasks, client=client, cache_dir=None, progress=False)
-        wall = time.perf_counter() - t1
-        worker_rss = client.run(_peak_rss_mb)
-    finally:
-        client.close()
-        cluster.close()
-    return {"wall_s": wall, "startup_s": startup, "result": res, "worker_peak_rss_mb": max(worker_rss.values()),
-            "load_before": load}
+    client.wait_for_workers(n_workers, timeout=120)
+    client.run(_warm, EXPERIMENT)
+    return cluster, client, time.perf_counter() - t0
 
 
-def measure(n_walks: int = N_WALKS, n_steps: int = N_STEPS) -> dict:
-    """Run the sweep with 1 and 2 workers; return timings, ratio, memory and the result check."""
+def measure(n_walks: int = N_WALKS, n_steps: int = N_STEPS, n_blocks: int = N_BLOCKS) -> dict:
+    """Sweep the walks on 1 and on 2 workers; return timings, ratio, memory and the result check.
+
+    Both clusters are started first; the walks are then split into ``n_blocks`` blocks and each
+    block is swept on both clusters, in alternating order (1-2, 2-1, ...), so that both see the
+    same background load. Each configuration's wall time is the sum over its blocks.
+    """
     tasks = walk_tasks(n_walks, n_steps)
+    blocks = [tasks[i::n_blocks] for i in range(n_blocks)]
     tracemalloc.start()
-    one = timed_sweep(tasks, 1)
-    two = timed_sweep(tasks, 2)
+    clusters = {w: start_cluster(w) for w in (1, 2)}
+    wall = {1: 0.0, 2: 0.0}
+    results = {1: [], 2: []}
+    failed = 0
+    loads = []
+    try:
+        for b, block in enumerate(blocks):
+            for w in ((1, 2) if b % 2 == 0 else (2, 1)):
+                loads.append(os.getloadavg()[0])
+                t0 = time.perf_counter()
+                res = sweep(block, client=clusters[w][1], cache_dir=None, progress=False)
+                wall[w] += time.perf_counter() - t0
+                failed += len(res.failures)
+                results[w].append(res.results)
+        worker_rss = {w: max(clusters[w][1].run(_peak_rss_mb).values()) for w in (1, 2)}
+    finally:
+        for cluster, client, _ in clusters.values():
+            client.close()
+            cluster.close()
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
 
-    def srt(df):
-        return df.sort_values(["seed", "item", "quantity"]).reset_index(drop=True)
+    def srt(frames):
+        return pd.concat(frames, ignore_index=True).sort_values(["seed", "item", "quantity"]).reset_index(drop=True)
 
-    r1, r2 = one["result"], two["result"]
-    same = not r1.failures and not r2.failures and srt(r1.results).equals(srt(r2.results))
-    kf = r2.results[(r2.results["quantity"] == "mean error") & (r2.results["item"] == "method=step KF")]
+    r1, r2 = srt(results[1]), srt(results[2])
+    kf = r2[(r2["quantity"] == "mean error") & (r2["item"] == "method=step KF")]
     return {
-        "walks": n_walks, "steps_per_walk": n_steps, "failed": len(r1.failures) + len(r2.failures),
-        "wall_1_worker_s": one["wall_s"], "wall_2_workers_s": two["wall_s"],
-        "ratio_2_over_1": two["wall_s"] / one["wall_s"], "target_ratio": TARGET_RATIO,
-        "s_per_walk_1_worker": one["wall_s"] / n_walks,
-        "cluster_startup_1_s": one["startup_s"], "cluster_startup_2_s": two["startup_s"],
-        "loadavg_1min_before_1": one["load_before"], "loadavg_1min_before_2": two["load_before"],
+        "walks": n_walks, "steps_per_walk": n_steps, "blocks": n_blocks, "failed": failed,
+        "wall_1_worker_s": wall[1], "wall_2_workers_s": wall[2],
+        "ratio_2_over_1": wall[2] / wall[1], "target_ratio": TARGET_RATIO,
+        "s_per_walk_1_worker": wall[1] / n_walks,
+        "cluster_startup_1_s": clusters[1][2], "cluster_startup_2_s": clusters[2][2],
+        "loadavg_1min_min": min(loads), "loadavg_1min_max": max(loads),
         "driver_peak_tracemalloc_mb": peak / 2**20, "driver_peak_rss_mb": _peak_rss_mb(),
-        "worker_peak_rss_mb_1": one["worker_peak_rss_mb"], "worker_peak_rss_mb_2": two["worker_peak_rss_mb"],
-        "results_rows": len(r2.results), "identical_results": bool(same),
+        "worker_peak_rss_mb_1": worker_rss[1], "worker_peak_rss_mb_2": worker_rss[2],
+        "results_rows": len(r2), "identical_results": bool(failed == 0 and r1.equals(r2)),
         "step_kf_mean_error_m": float(kf["value"].mean()),
     }
 
