@@ -10,10 +10,13 @@ give both the same background load on a shared machine, the walks are swept in t
 block on both clusters in alternating order; the ratio of the two summed wall times is the
 scaling figure (issue target: <= 0.55). Both must give the same results bit for bit.
 
-Memory: the driver's peak Python allocation (tracemalloc, covering both sweeps and their result
-frames), the driver's peak RSS and each worker's peak RSS (``getrusage`` in the worker). The
+Memory: the peak RSS of the driver (client, scheduler and all results) and of each worker
+(``getrusage`` in the worker), and the size of the collected results. (tracemalloc is not used:
+it would slow the scheduler, which runs in the driver process, and distort the timing.) The
 1-minute load average before each sweep is recorded: on a machine shared with other jobs the
-ratio says more about them than about the sweep.
+ratio says more about them than about the sweep. CPU seconds of the workers and of the driver
+(the client plus the LocalCluster's scheduler, which runs in the driver process) are recorded per
+configuration: the driver's share competes with the two workers for the two cores.
 
 Run: ``PYTHONPATH=$PWD python benchmarks/bench_sweep.py`` (prints the numbers) or
 ``PYTHONPATH=$PWD python -m pytest benchmarks/bench_sweep.py -s``. The machine must be otherwise
@@ -26,7 +29,6 @@ import logging
 import os
 import resource
 import time
-import tracemalloc
 
 import pandas as pd
 
@@ -46,6 +48,11 @@ def walk_tasks(n_walks: int = N_WALKS, n_steps: int = N_STEPS) -> list:
 
 def _peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # Linux: kB
+
+
+def _cpu_s() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
 
 
 def _warm(name: str) -> bool:
@@ -77,9 +84,10 @@ def measure(n_walks: int = N_WALKS, n_steps: int = N_STEPS, n_blocks: int = N_BL
     """
     tasks = walk_tasks(n_walks, n_steps)
     blocks = [tasks[i::n_blocks] for i in range(n_blocks)]
-    tracemalloc.start()
     clusters = {w: start_cluster(w) for w in (1, 2)}
     wall = {1: 0.0, 2: 0.0}
+    driver_cpu = {1: 0.0, 2: 0.0}
+    worker_cpu0 = {w: sum(clusters[w][1].run(_cpu_s).values()) for w in (1, 2)}
     results = {1: [], 2: []}
     failed = 0
     loads = []
@@ -87,18 +95,18 @@ def measure(n_walks: int = N_WALKS, n_steps: int = N_STEPS, n_blocks: int = N_BL
         for b, block in enumerate(blocks):
             for w in ((1, 2) if b % 2 == 0 else (2, 1)):
                 loads.append(os.getloadavg()[0])
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), _cpu_s()
                 res = sweep(block, client=clusters[w][1], cache_dir=None, progress=False)
                 wall[w] += time.perf_counter() - t0
+                driver_cpu[w] += _cpu_s() - c0  # client + the LocalCluster's scheduler (in this process)
                 failed += len(res.failures)
                 results[w].append(res.results)
         worker_rss = {w: max(clusters[w][1].run(_peak_rss_mb).values()) for w in (1, 2)}
+        worker_cpu = {w: sum(clusters[w][1].run(_cpu_s).values()) - worker_cpu0[w] for w in (1, 2)}
     finally:
         for cluster, client, _ in clusters.values():
             client.close()
             cluster.close()
-    _, peak = tracemalloc.get_traced_memory()
-    tracemalloc.stop()
 
     def srt(frames):
         return pd.concat(frames, ignore_index=True).sort_values(["seed", "item", "quantity"]).reset_index(drop=True)
@@ -110,9 +118,12 @@ def measure(n_walks: int = N_WALKS, n_steps: int = N_STEPS, n_blocks: int = N_BL
         "wall_1_worker_s": wall[1], "wall_2_workers_s": wall[2],
         "ratio_2_over_1": wall[2] / wall[1], "target_ratio": TARGET_RATIO,
         "s_per_walk_1_worker": wall[1] / n_walks,
+        "worker_cpu_s_1": worker_cpu[1], "worker_cpu_s_2": worker_cpu[2],
+        "driver_cpu_s_1": driver_cpu[1], "driver_cpu_s_2": driver_cpu[2],
+        "driver_cpu_ms_per_walk_2": 1e3 * driver_cpu[2] / n_walks,
         "cluster_startup_1_s": clusters[1][2], "cluster_startup_2_s": clusters[2][2],
         "loadavg_1min_min": min(loads), "loadavg_1min_max": max(loads),
-        "driver_peak_tracemalloc_mb": peak / 2**20, "driver_peak_rss_mb": _peak_rss_mb(),
+        "driver_peak_rss_mb": _peak_rss_mb(), "results_mb": float(r1.memory_usage(deep=True).sum() / 2**20),
         "worker_peak_rss_mb_1": worker_rss[1], "worker_peak_rss_mb_2": worker_rss[2],
         "results_rows": len(r2), "identical_results": bool(failed == 0 and r1.equals(r2)),
         "step_kf_mean_error_m": float(kf["value"].mean()),
