@@ -121,6 +121,9 @@ def measure(n_walks: int = N_WALKS, n_steps: int = N_STEPS, n_blocks: int = N_BL
         "worker_cpu_s_1": worker_cpu[1], "worker_cpu_s_2": worker_cpu[2],
         "driver_cpu_s_1": driver_cpu[1], "driver_cpu_s_2": driver_cpu[2],
         "driver_cpu_ms_per_walk_2": 1e3 * driver_cpu[2] / n_walks,
+        # cores the workers actually got (worker CPU s / wall s): 2 workers on an idle 2-core
+        # machine should get close to 2; much less means other jobs held the cores
+        "worker_cores_used_1": worker_cpu[1] / wall[1], "worker_cores_used_2": worker_cpu[2] / wall[2],
         "cluster_startup_1_s": clusters[1][2], "cluster_startup_2_s": clusters[2][2],
         "loadavg_1min_min": min(loads), "loadavg_1min_max": max(loads),
         "driver_peak_rss_mb": _peak_rss_mb(), "results_mb": float(r1.memory_usage(deep=True).sum() / 2**20),
