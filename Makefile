@@ -6,6 +6,8 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 SEED ?= 0
+# Seeds over which every reproduced value gets its 95 % confidence interval (see reports/README.md).
+SEEDS ?= 5
 
 .PHONY: reproduce test lint lab bench notebooks clean
 
@@ -16,7 +18,7 @@ $(STAMP): environment.txt pyproject.toml
 	touch $(STAMP)
 
 reproduce: $(STAMP)
-	$(BIN)/python -m ilocalg reproduce --seed $(SEED)
+	$(BIN)/python -m ilocalg reproduce --seed $(SEED) --seeds $(SEEDS)
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest

@@ -44,6 +44,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--fast", action="store_true", help="shrink the data (FAST=True) for a quick check")
     r.add_argument("--only", metavar="PATTERN", help="notebooks whose name matches (glob or substring, comma list)")
     r.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
+    r.add_argument("--seeds", type=int, default=1, metavar="N",
+                   help="re-run the experiments over N seeds for 95%% confidence intervals (default 1: none)")
+    r.add_argument("--workers", type=int, default=2, help="Dask worker processes for the seed sweep (default 2)")
     r.add_argument("--out", default=None, help="output folder (default: reports/ in the repository)")
     r.add_argument("--no-html", action="store_true", help="skip the HTML export")
 
@@ -110,7 +113,8 @@ def main(argv: list[str] | None = None) -> int:
         from ilocalg.runner import REPO_ROOT, reproduce
 
         out = Path(args.out) if args.out else REPO_ROOT / "reports"
-        return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html)
+        return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
+                         n_seeds=args.seeds, workers=args.workers)
     if args.command == "evaluate":
         try:
             result = args._evaluator.run(args)

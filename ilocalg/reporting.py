@@ -24,6 +24,7 @@ import pandas as pd
 
 __all__ = [
     "COMPARISON_COLUMNS",
+    "PAPER_REF_COLUMNS",
     "paper_ref",
     "agreement",
     "comparison_table",
@@ -44,6 +45,10 @@ COMPARISON_COLUMNS = (
     "reproduced_value",
     "agreement",
 )
+
+#: Columns that make a table a comparison table: rows built with :func:`paper_ref` (``agreement`` is
+#: added by :func:`comparison_table` and recomputed when missing).
+PAPER_REF_COLUMNS = ("paper", "item", "quantity", "paper_value", "reproduced_value")
 
 #: Relative differences below these bounds count as "agrees" and "close".
 AGREE_REL = 0.10
@@ -184,13 +189,24 @@ class Report:
         return self.table(df, name)
 
 
-def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = False) -> Path:
-    """Write ``<out_dir>/README.md`` from every comparison table under ``<out_dir>/tables``."""
+def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = False,
+                 sweep_summary: pd.DataFrame | None = None, n_seeds: int = 1) -> Path:
+    """Write ``<out_dir>/README.md`` from every comparison table under ``<out_dir>/tables``.
+
+    With ``sweep_summary`` (the output of :func:`ilocalg.sweep.aggregate` over ``n_seeds`` seeds),
+    every row gains ``n``, ``mean`` and the 95 % confidence interval of its reproduced value, and
+    ``agreement`` says where the paper's value lies: inside the interval, beside it, or far off.
+    Rows the sweep did not cover keep ``n`` = 1 and the single-run classification.
+    """
     out_dir = Path(out_dir)
     frames = []
     for csv in sorted((out_dir / "tables").glob("*.csv")):
         df = pd.read_csv(csv, keep_default_na=False, na_values=[""])
-        if all(c in df.columns for c in COMPARISON_COLUMNS):
+        if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            for c in ("unit", "note"):
+                if c in df.columns:
+                    df[c] = ["" if pd.isna(v) else str(v) for v in df[c]]
+            df = comparison_table(df.drop(columns=["agreement"], errors="ignore").to_dict("records"))
             df.insert(0, "table", csv.stem)
             frames.append(df)
     lines = [
@@ -198,17 +214,41 @@ def build_readme(out_dir: str | Path, seed: int | None = None, fast: bool = Fals
         "",
         "Written by `python -m ilocalg reproduce`; every row comes from a comparison table a notebook",
         "wrote under `tables/`. `paper_value` is the published reference; `reproduced_value` is computed",
-        f"by ilocalg from data. Agreement: within {AGREE_REL:.0%} = agrees, within {CLOSE_REL:.0%} = close.",
-        "",
-        f"Seed: {seed}. Mode: {'fast (reduced data)' if fast else 'full'}.",
+        "by ilocalg from data in the notebook's run (the seed below).",
         "",
     ]
+    if sweep_summary is not None and n_seeds > 1:
+        lines += [
+            f"`n`, `mean` and `ci95` come from re-running each experiment over N = {n_seeds} simulation seeds",
+            "(`reports/sweeps/summary.csv`); `agreement` then says whether the paper's value lies inside the",
+            "95 % confidence interval of the mean, beside it (within one interval width, or within 10 % of",
+            "the mean) or far off. Rows from real data do not depend on the seed (their interval has zero",
+            "width). Rows without a sweep keep n = 1 and the single-run classification",
+            f"(within {AGREE_REL:.0%} = agrees, within {CLOSE_REL:.0%} = close).",
+            "",
+        ]
+    else:
+        lines += [f"Agreement: within {AGREE_REL:.0%} = agrees, within {CLOSE_REL:.0%} = close, else differs.", ""]
+    lines += [f"Seed: {seed}. Mode: {'fast (reduced data)' if fast else 'full'}. Seeds for intervals: N = {n_seeds}.",
+              ""]
     if frames:
         allrows = pd.concat(frames, ignore_index=True)
-        cols = ["paper", "item", "quantity", "unit", "paper_value", "reproduced_value", "agreement", "table"]
-        for c in ("n", "mean", "ci95_low", "ci95_high"):
-            if c in allrows.columns:
-                cols.insert(cols.index("agreement"), c)
+        cols = ["paper", "item", "quantity", "unit", "paper_value", "reproduced_value"]
+        if sweep_summary is not None and n_seeds > 1 and not sweep_summary.empty:
+            keys = ["paper", "item", "quantity", "unit"]
+            agg = sweep_summary.copy()
+            for k in keys:
+                agg[k] = ["" if pd.isna(v) else str(v) for v in agg[k]]
+                allrows[k] = ["" if pd.isna(v) else str(v) for v in allrows[k]]
+            agg = agg.drop_duplicates(subset=keys)[keys + ["n", "mean", "ci95_low", "ci95_high", "ci_agreement"]]
+            allrows = allrows.merge(agg, on=keys, how="left", validate="many_to_one")
+            single = allrows["n"].isna()
+            allrows.loc[single, "n"] = 1
+            allrows.loc[single, "mean"] = allrows.loc[single, "reproduced_value"]
+            allrows["agreement"] = allrows["ci_agreement"].where(~single, allrows["agreement"])
+            allrows["n"] = allrows["n"].astype(int)
+            cols += ["n", "mean", "ci95_low", "ci95_high"]
+        cols += ["agreement", "table"]
         lines.append(_markdown(allrows[cols], index=False))
     else:
         lines.append("No comparison tables were written.\n")
@@ -242,7 +282,7 @@ PROVENANCE_PACKAGES = ("numpy", "pandas", "scipy", "scikit-learn", "filterpy", "
 
 
 def write_provenance(out_dir: str | Path, repo: str | Path, seed: int, fast: bool,
-                     inputs: list[str | Path], notebooks: list[str]) -> Path:
+                     inputs: list[str | Path], notebooks: list[str], n_seeds: int = 1) -> Path:
     """Write ``provenance.json``: git commit, seed, mode, package versions, input sha256s."""
     versions = {}
     for p in PROVENANCE_PACKAGES:
@@ -258,6 +298,7 @@ def write_provenance(out_dir: str | Path, repo: str | Path, seed: int, fast: boo
     prov = {
         "git_commit": _git_commit(Path(repo)),
         "seed": seed,
+        "n_seeds_for_intervals": n_seeds,
         "fast": fast,
         "python": platform.python_version(),
         "packages": versions,

@@ -12,14 +12,16 @@ from __future__ import annotations
 
 import fnmatch
 import os
+import re
 import sys
 import time
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT, data_dir
-from ilocalg.reporting import build_readme, write_provenance
+from ilocalg.reporting import build_readme, write_provenance, write_table
 
-__all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed"]
+__all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
+           "notebook_experiments", "sweep_experiments"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 
@@ -67,10 +69,67 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
     return out_nb
 
 
+_EXPERIMENT_RE = re.compile(r"from ilocalg\.experiments import ([\w, ]+)|ilocalg\.experiments\.(\w+)")
+
+#: Experiments never re-run over seeds (no comparison values). Studies (``study_*``) run their own sweeps,
+#: and an experiment module can opt out with ``SEED_SWEEP = False`` (real data: nothing depends on the seed).
+NOT_SWEPT = ("data_tour",)
+
+
+def notebook_experiments(nb: Path) -> list[str]:
+    """Experiment modules a notebook calls (read from its paired ``.py`` source, else the ``.ipynb``)."""
+    src = nb.with_suffix(".py")
+    text = src.read_text() if src.exists() else Path(nb).read_text()
+    names = []
+    for m in _EXPERIMENT_RE.finditer(text):
+        for n in (m.group(1) or m.group(2)).split(","):
+            n = n.strip().split(" as ")[0].strip()
+            if n and n not in names:
+                names.append(n)
+    return names
+
+
+def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, fast: bool, workers: int,
+                      progress: bool, cache_dir=None) -> tuple[int, object]:
+    """Re-run the notebooks' experiments over ``n_seeds`` seeds; write ``sweeps/summary`` and return it."""
+    import importlib
+
+    from ilocalg import sweep as sw
+
+    exps = []
+    for nb in nbs:
+        for e in notebook_experiments(nb):
+            if e in exps or e in NOT_SWEPT or e.startswith("study_"):
+                continue
+            if getattr(importlib.import_module(f"ilocalg.experiments.{e}"), "SEED_SWEEP", True):
+                exps.append(e)
+    if not exps:
+        return 0, None
+    tasks = [t for e in exps for t in sw.make_tasks(e, range(seed, seed + n_seeds), fast=fast)]
+    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds on {workers} worker(s)", flush=True)
+    res = sw.sweep(tasks, workers=workers, cache_dir=cache_dir or sw.DEFAULT_CACHE, progress=progress)
+    for f in res.failures:
+        print(f"FAILED {f['task']}: {f['error']}", file=sys.stderr, flush=True)
+    if res.results.empty:
+        return (1 if res.failures else 0), None
+    summary = sw.aggregate(res.results)
+    write_table(summary, out_dir / "sweeps" / "summary")
+    return (1 if res.failures else 0), summary
+
+
 def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, only: str | None = None,
               seed: int = 0, notebook_dir: Path = NOTEBOOK_DIR, html: bool = True,
-              progress: bool = True) -> int:
-    """Run the notebooks and write the reports. Returns a process exit code."""
+              progress: bool = True, n_seeds: int = 1, workers: int = 2, cache_dir: Path | None = None) -> int:
+    """Run the notebooks and write the reports. Returns a process exit code.
+
+    With ``n_seeds`` > 1 the experiments the notebooks call are re-run over seeds
+    ``seed .. seed + n_seeds - 1`` on a Dask LocalCluster of ``workers`` processes, and every row
+    of ``README.md`` carries N, the mean and the 95 % confidence interval. Each (experiment, seed)
+    result is cached under ``cache_dir`` (default :data:`ilocalg.sweep.DEFAULT_CACHE`), keyed by the
+    code's fingerprint, so a re-run after an interruption resumes.
+    """
+    if n_seeds < 1:
+        raise ValueError(f"n_seeds must be >= 1, got {n_seeds}")
     out_dir = Path(out_dir).resolve()
     nbs = discover_notebooks(notebook_dir, only)
     if not nbs:
@@ -97,7 +156,13 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     if inputs_dir.is_dir():
         for f in sorted(inputs_dir.glob("*.txt")):
             inputs += [line for line in f.read_text().splitlines() if line]
-    build_readme(out_dir, seed=seed, fast=fast)
-    write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs])
+    summary = None
+    if n_seeds > 1:
+        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir)
+        if code:
+            return code
+    build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
+    write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs],
+                     n_seeds=n_seeds)
     print(f"wrote {out_dir / 'README.md'} and {out_dir / 'provenance.json'}", flush=True)
     return 0

@@ -8,13 +8,14 @@ by default, or an existing scheduler), caches each task's result as parquet so a
 sweep resumes, reports failed tasks with their seed and parameters without losing the others,
 and aggregates the reproduced values into mean, standard deviation and 95 % confidence interval.
 
-What is swept: the rows of the experiment's comparison tables (columns
-:data:`ilocalg.reporting.COMPARISON_COLUMNS`), i.e. every reproduced value the report shows,
+What is swept: the rows of the experiment's comparison tables (:func:`ilocalg.reporting.paper_ref`
+rows, :data:`PAPER_REF_COLUMNS`), i.e. every reproduced value the report shows,
 plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter studies).
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib
 import itertools
@@ -28,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.io.paths import REPO_ROOT
-from ilocalg.reporting import COMPARISON_COLUMNS
+from ilocalg.reporting import PAPER_REF_COLUMNS
 
 __all__ = [
     "SweepTask",
@@ -48,6 +49,19 @@ DEFAULT_CACHE = REPO_ROOT / ".ilocalg-cache" / "sweeps"
 RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "value")
 
 
+@functools.lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """sha256 of every ``ilocalg`` source file: part of each cache key, so a cached result is never
+    reused after the code that computed it has changed (a user's own experiment module outside
+    ``ilocalg`` is not covered: clear the cache or pass ``--no-cache`` after editing it)."""
+    h = hashlib.sha256()
+    pkg = Path(__file__).resolve().parent
+    for f in sorted(pkg.rglob("*.py")):
+        h.update(str(f.relative_to(pkg)).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
 @dataclass(frozen=True)
 class SweepTask:
     """One (experiment, parameters, seed) run."""
@@ -59,7 +73,8 @@ class SweepTask:
 
     @property
     def key(self) -> str:
-        blob = json.dumps([self.experiment, list(self.params), self.seed, self.fast], sort_keys=True, default=str)
+        blob = json.dumps([self.experiment, list(self.params), self.seed, self.fast, code_fingerprint()],
+                          sort_keys=True, default=str)
         return hashlib.sha256(blob.encode()).hexdigest()[:20]
 
     def describe(self) -> str:
@@ -125,9 +140,9 @@ def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     for name, df in tables.items():
         if not isinstance(df, pd.DataFrame):
             continue
-        if all(c in df.columns for c in COMPARISON_COLUMNS):
-            p = df[["paper", "item", "quantity", "unit", "paper_value", "reproduced_value"]].rename(
-                columns={"reproduced_value": "value"})
+        if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            p = df[list(PAPER_REF_COLUMNS)].rename(columns={"reproduced_value": "value"})
+            p["unit"] = df["unit"] if "unit" in df.columns else ""
         elif name.startswith("sweep_") and "value" in df.columns and "quantity" in df.columns:
             p = df[["quantity", "value"]].copy()
             for c in ("paper", "item", "unit"):
@@ -145,7 +160,7 @@ def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     out["paper_value"] = out["paper_value"].astype(np.float64)
     out["value"] = out["value"].astype(np.float64)
     for c in ("table", "paper", "item", "quantity", "unit"):
-        out[c] = out[c].fillna("").astype(str)
+        out[c] = ["" if pd.isna(v) else str(v) for v in out[c]]
     return out
 
 
@@ -222,8 +237,9 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
         try:
             if client is None:
                 if scheduler is None:
+                    # dashboard on any free port: never clashes with another cluster on this machine
                     own_cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=None)
+                                               dashboard_address=":0")
                     own_client = client = Client(own_cluster)
                 else:
                     own_client = client = Client(scheduler)

@@ -76,3 +76,47 @@ def test_failing_notebook_stops_the_run_with_its_error(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "01_fails.ipynb" in err and "ValueError" in err and "boom in cell" in err
     assert not (tmp_path / "out" / "02_never_runs.ipynb").exists()
+
+
+def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch):
+    """reproduce(n_seeds=N) re-runs the notebooks' experiments over seeds and the README shows N and the CI."""
+    import sys
+    import types
+
+    import pandas as pd
+
+    from ilocalg.reporting import comparison_table, paper_ref
+
+    fake = types.ModuleType("ilocalg.experiments.fake_exp")
+
+    def run(seed=0, fast=False):
+        val = 1.0 + 0.1 * seed
+        return {"comparison": comparison_table([paper_ref("Fake paper", "Fig 1", "error", 1.05, val, "m")])}
+
+    fake.run = run
+    monkeypatch.setitem(sys.modules, "ilocalg.experiments.fake_exp", fake)
+    nbdir = tmp_path / "nbs"
+    nbdir.mkdir()
+    (nbdir / "01_fake.py").write_text("from ilocalg.experiments import fake_exp\n")
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_code_cell("SEED = 0\nOUT_DIR = None", metadata={"tags": ["parameters"]}),
+        nbformat.v4.new_code_cell(
+            "from ilocalg.reporting import Report, paper_ref\n"
+            "Report(OUT_DIR, '01_fake').compare([paper_ref('Fake paper', 'Fig 1', 'error', 1.05, 1.0, 'm')])"),
+    ]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, nbdir / "01_fake.ipynb")
+    out = tmp_path / "out"
+    # workers=0 runs the sweep in this process (the monkeypatched module is visible there)
+    code = reproduce(out, notebook_dir=nbdir, html=False, progress=False, n_seeds=3, workers=0,
+                     cache_dir=tmp_path / "cache")
+    assert code == 0
+    summary = pd.read_csv(out / "sweeps" / "summary.csv")
+    assert summary["n"].tolist() == [3]
+    assert summary["mean"].iloc[0] == pytest.approx(1.1)
+    readme = (out / "README.md").read_text()
+    assert "N = 3" in readme
+    row = next(line for line in readme.splitlines() if line.startswith("| Fake paper"))
+    assert "| 3 | 1.1 |" in row and "inside CI" in row
+    assert json.loads((out / "provenance.json").read_text())["n_seeds_for_intervals"] == 3

@@ -51,3 +51,16 @@ def test_provenance_has_commit_seed_versions_and_hashes(tmp_path):
     assert prov["input_files_sha256"][str(f)] == (
         "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
     )
+
+
+def test_readme_takes_paper_ref_tables_without_agreement(tmp_path):
+    rep = Report(tmp_path, "98_raw")
+    rep.table(pd.DataFrame([paper_ref("Raw paper", "Tab 2", "rms", 4.0, 8.0, unit="m")]), "raw_rows")
+    readme = reporting.build_readme(tmp_path).read_text()
+    assert "| Raw paper | Tab 2 | rms | m | 4 | 8 | differs (+100 %) |" in readme
+
+
+def test_readme_shows_unitless_rows_with_an_empty_unit(tmp_path):
+    Report(tmp_path, "97_u").compare([paper_ref("P", "T", "correlation", 0.5, 0.5)])
+    readme = reporting.build_readme(tmp_path).read_text()
+    assert "| P | T | correlation |  | 0.5 | 0.5 |" in readme and "nan" not in readme

@@ -129,3 +129,11 @@ def test_sweep_against_a_separately_started_scheduler_and_worker(tmp_path):
             except subprocess.TimeoutExpired:
                 p.kill()
     assert np.isfinite(remote.results["value"]).all()
+
+
+def test_paper_ref_rows_without_agreement_are_swept_too():
+    from ilocalg.reporting import paper_ref
+
+    raw = pd.DataFrame([paper_ref("P", "T", "q", 1.0, 2.0, "m")])  # no agreement column
+    long = sw.tables_to_long({"comparison": raw, "other": pd.DataFrame({"x": [1]})})
+    assert long[["quantity", "value", "paper_value", "unit"]].values.tolist() == [["q", 2.0, 1.0, "m"]]

@@ -75,7 +75,8 @@ PAPER_TABLE_5_2 = {  # paper Table 5-2
     "B2": {"leg_cm": 100, "k": 0.494, "true_steps": 118, "det_steps": 116, "gps_m": 95.96, "pso_m": 91.84, "acc_pct": 95.7},  # paper  # noqa: E501
     "C": {"leg_cm": 108, "k": 0.522, "true_steps": 106, "det_steps": 107, "gps_m": 93.73, "pso_m": 96.13, "acc_pct": 97.5},  # paper  # noqa: E501
 }
-#: A1 phase 2 (Figs. 5.14-5.15): closure m and % of the PSO distance, PSO and TAR (k = 0.5) distance, GPS distance.
+#: Paper values, A1 phase 2 (Figs. 5.14-5.15): closure m and % of the PSO distance, PSO and TAR (k = 0.5)
+#: distance, GPS distance (paper).
 PAPER_PHASE2_A1 = {  # paper Fig. 5.14-5.15
     "park": {"closure_m": 2.81, "closure_pct": 1.6, "pso_m": 180.52, "tar_m": 203.18, "gps_m": 277.41},  # paper
     "hall": {"closure_m": 5.79, "closure_pct": 1.9, "pso_m": 298.92, "tar_m": 336.10, "gps_m": 423.55},  # paper

@@ -1,0 +1,320 @@
+"""A particle filter for PDR + Wi-Fi constrained by the floor map's walkable area.
+
+Beyond the papers (the i-Loc thesis and 罗思奇 et al. fuse with a Kalman filter). Each particle
+carries a position, a heading correction ``dtheta`` (the unknown offset between the PDR heading
+and the map frame, a slow random walk) and a step-length scale. Per detected step ``k``::
+
+    dtheta_i <- dtheta_i + N(0, sigma_offset_walk_rad^2)
+    d_i       = D_k scale_i (1 + sigma_step_rel N(0, 1))
+    th_i      = theta_k + dtheta_i + sigma_heading_rad N(0, 1)
+    p_i      <- p_i + d_i [cos th_i, sin th_i]
+
+a particle whose new position is not walkable (:class:`OccupancyGrid`) gets weight zero (the map
+constraint); a Wi-Fi fix ``z`` with covariance ``R`` multiplies the weights by the robust
+likelihood ``(1 - eps) N(z; p_i, R) + eps / area`` (``eps = outlier_prob``: far-off fixes cannot
+wipe out the particle set). Systematic resampling when the effective sample size drops below
+``resample_frac * N``. If every particle is blocked or the weights underflow, the weights are
+reset to uniform (counted in ``n_reset``): the filter never silently stops.
+
+Smoothing: every state's particles and their resampling ancestry are kept, and the final
+particles' ancestral paths, weighted by the final weights, give a whole-walk estimate (the
+"genealogy" smoother; Kitagawa 1996), consistent with the map.
+
+References
+----------
+Arulampalam, Maskell, Gordon, Clapp, "A tutorial on particle filters ...", IEEE TSP 50(2), 2002
+(SIR filter, systematic resampling); Kitagawa G., "Monte Carlo filter and smoother ...", JCGS
+5(1), 1996 (smoothing by storing ancestral paths); map-matching particle filters for PDR, e.g.
+Woodman & Harle, "Pedestrian localisation for indoor environments", UbiComp 2008.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ilocalg.units import as_rng
+
+__all__ = ["OccupancyGrid", "PFResult", "systematic_resample", "map_particle_filter"]
+
+
+@dataclass(frozen=True)
+class OccupancyGrid:
+    """A boolean walkable raster.
+
+    Attributes
+    ----------
+    walkable_mask : ndarray of bool, shape (ny, nx)
+        ``walkable_mask[j, i]`` covers ``x in [x0 + i c, x0 + (i+1) c)``, ``y in [y0 + j c, ...)``.
+    x0_m, y0_m, cell_m : float
+    """
+
+    walkable_mask: np.ndarray
+    x0_m: float
+    y0_m: float
+    cell_m: float
+
+    @classmethod
+    def from_function(cls, walkable, x_range_m, y_range_m, cell_m: float = 0.5, chunk: int = 20000):
+        """Sample ``walkable(x, y) -> bool array`` at every cell centre (e.g. ``IlcFloorMap.walkable``)."""
+        if not cell_m > 0:
+            raise ValueError(f"cell_m must be > 0, got {cell_m!r}")
+        x0, x1 = map(float, x_range_m)
+        y0, y1 = map(float, y_range_m)
+        if not (x1 > x0 and y1 > y0):
+            raise ValueError("x_range_m and y_range_m must be increasing (min, max) pairs")
+        nx, ny = int(np.ceil((x1 - x0) / cell_m)), int(np.ceil((y1 - y0) / cell_m))
+        xc = x0 + (np.arange(nx) + 0.5) * cell_m
+        yc = y0 + (np.arange(ny) + 0.5) * cell_m
+        X, Y = np.meshgrid(xc, yc)
+        xf, yf = X.ravel(), Y.ravel()
+        out = np.empty(xf.size, dtype=bool)
+        for s in range(0, xf.size, chunk):
+            out[s:s + chunk] = np.asarray(walkable(xf[s:s + chunk], yf[s:s + chunk]), dtype=bool)
+        return cls(out.reshape(ny, nx), x0, y0, float(cell_m))
+
+    @classmethod
+    def from_polygons(cls, outline, obstacles=(), x_range_m=None, y_range_m=None, cell_m: float = 0.5):
+        """Rasterise walkable = inside an outline ring and outside every obstacle ring (OpenCV ``fillPoly``).
+
+        Parameters
+        ----------
+        outline, obstacles : sequence of array_like (n, 2)
+            Rings in metres (e.g. :attr:`ilocalg.io.ilc.IlcFloorMap.outline` / ``obstacles``).
+        x_range_m, y_range_m : (min, max), optional
+            Raster extent (default: the outline's bounding box).
+        cell_m : float
+
+        A cell is walkable when its centre is (up to OpenCV's 1/16-cell sub-pixel precision); several
+        outline rings are combined by union (not the even-odd rule of
+        :meth:`ilocalg.io.ilc.IlcFloorMap.walkable`, which only differs for nested outlines).
+        """
+        import cv2  # imported here so that `import ilocalg` stays light
+
+        if not cell_m > 0:
+            raise ValueError(f"cell_m must be > 0, got {cell_m!r}")
+        rings = [np.asarray(r, dtype=np.float64) for r in outline]
+        if not rings or any(r.ndim != 2 or r.shape[1] != 2 or r.shape[0] < 3 for r in rings):
+            raise ValueError("outline must be a non-empty sequence of (n >= 3, 2) rings")
+        allp = np.concatenate(rings)
+        x0, x1 = x_range_m if x_range_m is not None else (allp[:, 0].min(), allp[:, 0].max())
+        y0, y1 = y_range_m if y_range_m is not None else (allp[:, 1].min(), allp[:, 1].max())
+        if not (x1 > x0 and y1 > y0):
+            raise ValueError("x_range_m and y_range_m must be increasing (min, max) pairs")
+        nx, ny = int(np.ceil((x1 - x0) / cell_m)), int(np.ceil((y1 - y0) / cell_m))
+        img = np.zeros((ny, nx), dtype=np.uint8)
+        shift = 4
+
+        def px(r):
+            u = ((np.asarray(r, dtype=np.float64) - [x0, y0]) / cell_m - 0.5) * (1 << shift)
+            return [np.round(u).astype(np.int32).reshape(-1, 1, 2)]
+
+        for r in rings:
+            cv2.fillPoly(img, px(r), 1, lineType=cv2.LINE_8, shift=shift)
+        for r in obstacles:
+            r = np.asarray(r, dtype=np.float64)
+            if r.ndim != 2 or r.shape[1] != 2 or r.shape[0] < 3:
+                raise ValueError(f"obstacle rings must have shape (n >= 3, 2), got {r.shape}")
+            cv2.fillPoly(img, px(r), 0, lineType=cv2.LINE_8, shift=shift)
+        return cls(img.astype(bool), float(x0), float(y0), float(cell_m))
+
+    @property
+    def area_m2(self) -> float:
+        """Walkable area, m^2."""
+        return float(self.walkable_mask.sum()) * self.cell_m**2
+
+    def walkable(self, x_m, y_m) -> np.ndarray:
+        """True where the cell containing ``(x, y)`` is walkable (False outside the raster)."""
+        x = np.asarray(x_m, dtype=np.float64)
+        y = np.asarray(y_m, dtype=np.float64)
+        i = np.floor((x - self.x0_m) / self.cell_m)
+        j = np.floor((y - self.y0_m) / self.cell_m)
+        ny, nx = self.walkable_mask.shape
+        inside = (i >= 0) & (i < nx) & (j >= 0) & (j < ny)
+        ii = np.where(inside, i, 0).astype(np.int64)
+        jj = np.where(inside, j, 0).astype(np.int64)
+        return inside & self.walkable_mask[jj, ii]
+
+    def sample(self, n: int, rng=None) -> np.ndarray:
+        """``n`` uniformly random walkable positions (n, 2)."""
+        r = as_rng(rng)
+        jj, ii = np.nonzero(self.walkable_mask)
+        if ii.size == 0:
+            raise ValueError("the grid has no walkable cell")
+        k = r.integers(0, ii.size, n)
+        u = r.random((n, 2))
+        return np.column_stack([self.x0_m + (ii[k] + u[:, 0]) * self.cell_m,
+                                self.y0_m + (jj[k] + u[:, 1]) * self.cell_m])
+
+
+@dataclass(frozen=True)
+class PFResult:
+    """Particle-filter output over ``n + 1`` states.
+
+    Attributes
+    ----------
+    x : ndarray (n+1, 2)
+        Filtered estimate (weighted mean after the fix of each state, if any).
+    x_smooth : ndarray (n+1, 2)
+        Weighted mean of the final particles' ancestral paths (whole-walk estimate).
+    n_eff : ndarray (n+1,)
+        Effective sample size after each state's update (before resampling).
+    n_resample, n_reset, n_blocked : int
+        Resampling events; weight resets (every particle blocked or underflow); particle moves
+        rejected by the map over the walk.
+    dtheta_rad : ndarray (n+1,)
+        Weighted mean heading correction of the particles.
+    """
+
+    x: np.ndarray
+    x_smooth: np.ndarray
+    n_eff: np.ndarray
+    n_resample: int
+    n_reset: int
+    n_blocked: int
+    dtheta_rad: np.ndarray
+
+
+def systematic_resample(weights, rng=None) -> np.ndarray:
+    """Indices of a systematic resample of normalised ``weights`` (one uniform draw)."""
+    w = np.asarray(weights, dtype=np.float64)
+    if w.ndim != 1 or w.size == 0 or not np.isfinite(w).all() or (w < 0).any() or not w.sum() > 0:
+        raise ValueError("weights must be a non-empty 1-D array, finite, >= 0, with a positive sum")
+    n = w.size
+    c = np.cumsum(w / w.sum())
+    c[-1] = 1.0
+    u = (as_rng(rng).random() + np.arange(n)) / n
+    return np.searchsorted(c, u, side="right").clip(0, n - 1)
+
+
+def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: OccupancyGrid | None = None,
+                        n_particles: int = 1000, rng=None, sigma_step_rel: float = 0.1,
+                        sigma_heading_rad: float = 0.1, sigma_offset0_rad: float = 0.2,
+                        sigma_offset_walk_rad: float = 0.005, sigma_scale: float = 0.1,
+                        outlier_prob: float = 0.1, resample_frac: float = 0.5, init: str = "gaussian",
+                        blocked_weight: float = 0.0) -> PFResult:
+    """Run the map-constrained particle filter over one walk (see the module docstring).
+
+    Parameters
+    ----------
+    x0_m : array_like (2,)
+        Centre of the initial cloud.
+    P0_m2 : array_like (2, 2)
+        Its covariance (``init="gaussian"``; draws that are not walkable are redrawn, up to 50 times).
+    theta_rad, step_m : array_like (n,)
+        PDR heading (map frame, before the particles' own correction) and length of each step.
+    z_m : array_like (n+1, 2)
+        Fix at each state, NaN rows where none (as for :func:`ilocalg.fusion.filter_walk`).
+    R_m2 : array_like (n+1, 2, 2)
+        Fix covariances (ignored where there is no fix).
+    grid : OccupancyGrid or None
+        Walkable area; ``None`` disables the map constraint (then ``eps / area`` uses 1e4 m^2).
+    n_particles : int
+    rng : Generator, int or None
+    sigma_step_rel, sigma_heading_rad, sigma_offset0_rad, sigma_offset_walk_rad, sigma_scale : float
+        Per-step relative length noise, per-step heading noise, initial heading-correction spread,
+        its per-step random walk, and the spread of the per-particle step scale (mean 1).
+    outlier_prob : float in [0, 1)
+        Weight of the uniform component of the fix likelihood.
+    resample_frac : float in (0, 1]
+    init : {"gaussian", "map"}
+        Initial positions from ``N(x0, P0)`` or uniformly over the walkable map (needs ``grid``).
+    blocked_weight : float in [0, 1)
+        Weight factor of a particle whose move ends off the walkable area: 0 is the hard constraint;
+        a small positive value (a soft constraint) keeps the filter alive when the PDR track and
+        the map disagree everywhere (e.g. an error in the map or a wrong start).
+
+    Returns
+    -------
+    PFResult
+    """
+    r = as_rng(rng)
+    th = np.asarray(theta_rad, dtype=np.float64).ravel()
+    d = np.asarray(step_m, dtype=np.float64).ravel()
+    n = th.size
+    z = np.asarray(z_m, dtype=np.float64)
+    R = np.asarray(R_m2, dtype=np.float64)
+    if d.shape != (n,) or not (np.isfinite(th).all() and np.isfinite(d).all()) or (d < 0).any():
+        raise ValueError(f"theta_rad and step_m must be finite with the same length; step_m >= 0 (got {d.shape}, {n})")
+    if z.shape != (n + 1, 2):
+        raise ValueError(f"z_m must have shape ({n + 1}, 2), got {z.shape}")
+    if R.shape != (n + 1, 2, 2):
+        raise ValueError(f"R_m2 must have shape ({n + 1}, 2, 2), got {R.shape}")
+    has = ~np.isnan(z[:, 0])
+    if (np.isnan(z[:, 1]) != ~has).any():
+        raise ValueError("z_m rows must be both NaN (no fix) or both finite")
+    if has.any() and not np.isfinite(R[has]).all():
+        raise ValueError("R_m2 must be finite where there is a fix")
+    if not (n_particles >= 10 and 0 <= outlier_prob < 1 and 0 < resample_frac <= 1 and 0 <= blocked_weight < 1):
+        raise ValueError("need n_particles >= 10, 0 <= outlier_prob < 1, 0 < resample_frac <= 1 and "
+                         "0 <= blocked_weight < 1")
+    if init not in ("gaussian", "map") or (init == "map" and grid is None):
+        raise ValueError("init must be 'gaussian' or 'map' (the latter needs a grid)")
+    N = int(n_particles)
+    area = grid.area_m2 if grid is not None else 1e4
+    if init == "map":
+        p = grid.sample(N, r)
+    else:
+        L = np.linalg.cholesky(np.asarray(P0_m2, dtype=np.float64))
+        p = np.asarray(x0_m, dtype=np.float64) + r.standard_normal((N, 2)) @ L.T
+        if grid is not None:
+            for _ in range(50):
+                bad = ~grid.walkable(p[:, 0], p[:, 1])
+                if not bad.any():
+                    break
+                p[bad] = np.asarray(x0_m, dtype=np.float64) + r.standard_normal((int(bad.sum()), 2)) @ L.T
+    dth = sigma_offset0_rad * r.standard_normal(N)
+    scale = 1.0 + sigma_scale * r.standard_normal(N)
+    w = np.full(N, 1.0 / N)
+    pos = np.empty((n + 1, N, 2))
+    anc = np.empty((n + 1, N), dtype=np.int64)   # parent (at state k - 1) of particle i at state k
+    xf = np.empty((n + 1, 2))
+    dmean = np.empty(n + 1)
+    neff = np.empty(n + 1)
+    n_res = n_reset = n_blocked = 0
+    ident = np.arange(N)
+    for k in range(n + 1):
+        anc[k] = ident
+        if k > 0:
+            dth = dth + sigma_offset_walk_rad * r.standard_normal(N)
+            dk = d[k - 1] * scale * (1.0 + sigma_step_rel * r.standard_normal(N))
+            tk = th[k - 1] + dth + sigma_heading_rad * r.standard_normal(N)
+            p = p + dk[:, None] * np.column_stack([np.cos(tk), np.sin(tk)])
+            if grid is not None:
+                ok = grid.walkable(p[:, 0], p[:, 1])
+                n_blocked += int((~ok).sum())
+                w = w * np.where(ok, 1.0, blocked_weight)
+        if has[k]:
+            Rk = R[k]
+            Ri = np.linalg.inv(Rk)
+            e = z[k] - p
+            q = np.einsum("ni,ij,nj->n", e, Ri, e)
+            g = np.exp(-0.5 * q) / (2 * np.pi * np.sqrt(np.linalg.det(Rk)))
+            w = w * ((1 - outlier_prob) * g + outlier_prob / area)
+        s = w.sum()
+        if not (s > 0 and np.isfinite(s)):
+            n_reset += 1
+            w = np.full(N, 1.0 / N)
+        else:
+            w = w / s
+        neff[k] = 1.0 / np.sum(w**2)
+        xf[k] = w @ p
+        dmean[k] = np.arctan2(w @ np.sin(dth), w @ np.cos(dth))
+        pos[k] = p
+        if neff[k] < resample_frac * N:
+            idx = systematic_resample(w, r)
+            p, dth, scale = p[idx], dth[idx], scale[idx]
+            pos[k] = p
+            # the particles at state k are now the resampled ones; their parents at k - 1 are those
+            # of the particles they copy
+            anc[k] = anc[k][idx]
+            w = np.full(N, 1.0 / N)
+            n_res += 1
+    # ancestral paths of the final particles
+    xs = np.empty((n + 1, 2))
+    cur = ident
+    for k in range(n, -1, -1):
+        xs[k] = w @ pos[k][cur]
+        cur = anc[k][cur]
+    return PFResult(xf, xs, neff, n_res, n_reset, n_blocked, dmean)
