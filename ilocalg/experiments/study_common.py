@@ -88,7 +88,8 @@ def curves(agg: pd.DataFrame, experiment: str | None = None) -> pd.DataFrame:
     -------
     DataFrame
         One column per parameter name and per item context name (numeric where they parse),
-        plus quantity, unit, n, mean, std, ci95_low, ci95_high.
+        plus quantity, unit, n, mean, std, ci95_low, ci95_high; sorted by those columns (numbers
+        numerically).
     """
     df = agg if experiment is None else agg[agg["experiment"] == experiment]
     if df.empty:
@@ -99,8 +100,8 @@ def curves(agg: pd.DataFrame, experiment: str | None = None) -> pd.DataFrame:
     for c in ctx.columns:
         ctx[c] = _numeric(ctx[c])
     keep = ["quantity", "unit", "n", "mean", "std", "ci95_low", "ci95_high"]
-    out = pd.concat([ctx, df[keep]], axis=1).reset_index(drop=True)
-    return out
+    out = pd.concat([ctx, df[keep]], axis=1)
+    return out.sort_values([*ctx.columns, "quantity"], kind="stable").reset_index(drop=True)
 
 
 def select(cv: pd.DataFrame, quantity: str, **fixed) -> pd.DataFrame:
