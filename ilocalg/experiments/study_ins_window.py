@@ -1,0 +1,95 @@
+"""Study: online smoothing error vs window size 2-30 s, inside windows with and without a control
+point (extends Liao et al. 2016, Fig 19 and the explanation of Figs 20-21).
+
+One ``run(seed)`` is one simulated walk per phone of :mod:`ilocalg.experiments.ins_online` (the
+WVC/ZUPT/GCP filter on :mod:`ilocalg.sim.ins_walk`, then the fixed-window online smoother of
+:mod:`ilocalg.ins` for every window size): this module calls that experiment's ``run`` with one
+seed and the window list, and re-labels its ``window_sweep`` and ``windows_without_gcp`` tables
+as a ``sweep_ins_window`` table. Scored on the indoor part of the walk.
+
+Quantities per ``phone`` and window (``item`` = ``phone=...;window_s=...``):
+``horizontal RMS error`` (m, all indoor epochs), ``horizontal RMS error, windows with a control
+point`` and ``..., windows without a control point`` (m, epochs of the windows that hold / do not
+hold a control-point update), ``share of windows without a control point`` (%), ``height RMS
+error`` (m) and ``mean latency`` (s). References at ``window_s=0`` (the filter alone, no smoothing)
+and ``window_s=inf`` (whole-run RTS) carry the first and last two quantities.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.experiments import ins_online
+from ilocalg.experiments.study_common import select, study_row, study_tasks
+
+__all__ = ["run", "WINDOWS_S", "GRIDS", "tasks", "findings"]
+
+EXPERIMENT = "study_ins_window"
+#: Window sizes of the study (s).
+WINDOWS_S = (2.0, 3.0, 4.0, 5.0, 7.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)
+WINDOWS_S_FAST = (2.0, 5.0, 10.0, 20.0, 30.0)
+GRIDS = {False: {}, True: {}}  # only seeds are swept: every window comes from the same filtered walk
+
+
+def run(seed: int = 0, fast: bool = False, windows_s=None) -> dict[str, pd.DataFrame]:
+    """Window-size curves of one walk per phone (module docstring).
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the simulated walks.
+    fast : bool
+        Five window sizes instead of eleven (default of ``windows_s``).
+    windows_s : sequence of float, optional
+        Window sizes (s), each > 0.
+    """
+    ws = tuple(float(w) for w in (windows_s if windows_s is not None else (WINDOWS_S_FAST if fast else WINDOWS_S)))
+    if not ws or any(not np.isfinite(w) or w <= 0 for w in ws):
+        raise ValueError(f"windows_s must be positive finite window sizes in seconds, got {windows_s!r}")
+    t = ins_online.run(seed=seed, fast=fast, n_seeds=1, sweep_windows_s=ws)
+    sw = t["window_sweep"]
+    sw = sw[sw["stat"] == "rms"]
+    gw = t["windows_without_gcp"].set_index(["phone", "window_s"])
+    rows = []
+    for r in sw.itertuples(index=False):
+        w = float(r.window_s)
+        if w not in ws and np.isfinite(w) and w > 0:
+            continue  # the experiment always adds its table windows (5, 10, 20 s); keep the study's own
+        ctx = {"phone": r.phone, "window_s": f"{w:g}"}
+        rows.append(study_row("horizontal RMS error", r.horizontal, "m", **ctx))
+        rows.append(study_row("height RMS error", r.H, "m", **ctx))
+        rows.append(study_row("mean latency", r.latency_mean_s, "s", **ctx))
+        if (r.phone, w) in gw.index:
+            g = gw.loc[(r.phone, w)]
+            rows.append(study_row("horizontal RMS error, windows with a control point", g["rms_h_with_gcp_m"],
+                                  "m", **ctx))
+            rows.append(study_row("horizontal RMS error, windows without a control point",
+                                  g["rms_h_without_gcp_m"], "m", **ctx))
+            rows.append(study_row("share of windows without a control point", 100.0 * g["share_without_gcp"],
+                                  "%", **ctx))
+    return {"sweep_ins_window": pd.DataFrame(rows)}
+
+
+def tasks(seeds, fast: bool = False) -> list:
+    """One task per seed (every window size is computed inside a task, from the same filtered walk)."""
+    return study_tasks(EXPERIMENT, [GRIDS[fast]], seeds, fast=fast)
+
+
+def findings(cv: pd.DataFrame) -> str:
+    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    out = []
+    for phone in sorted(cv["phone"].unique()):
+        h = select(cv, "horizontal RMS error", phone=phone)
+        win = h[np.isfinite(h["window_s"]) & (h["window_s"] > 0)].sort_values("window_s")
+        filt = h[h["window_s"] == 0]["mean"].iloc[0]
+        rts = h[np.isinf(h["window_s"])]["mean"].iloc[0]
+        wi = select(cv, "horizontal RMS error, windows with a control point", phone=phone).set_index("window_s")
+        wo = select(cv, "horizontal RMS error, windows without a control point", phone=phone).set_index("window_s")
+        w0, w1 = win["window_s"].iloc[0], win["window_s"].iloc[-1]
+        out.append(
+            f"{phone}: horizontal RMS {filt:.2f} m filtered, {win['mean'].iloc[0]:.2f} m with {w0:g} s windows, "
+            f"{win['mean'].iloc[-1]:.2f} m with {w1:g} s, {rts:.2f} m whole-run RTS (N={int(win['n'].min())} seeds). "
+            f"Inside windows without / with a control point: {wo.loc[w0, 'mean']:.2f} / {wi.loc[w0, 'mean']:.2f} m "
+            f"at {w0:g} s, {wo.loc[w1, 'mean']:.2f} / {wi.loc[w1, 'mean']:.2f} m at {w1:g} s.")
+    return "\n".join(out)

@@ -1,0 +1,158 @@
+"""Study: Simplified-RADAR / Simplified-Horus / KNN error vs AP count k, training-point spacing and
+scans per point, on the simulated i-Loc floor (extends i-Loc thesis sec. 3, Figs 3 and 5).
+
+One ``run(seed, ...)`` simulates the floor (:mod:`ilocalg.sim.iloc_floor`) with ``scans_per_point``
+training scans per point, thins the 2 m training grid to ``spacing_m`` (:func:`thin_points`), builds
+the radio maps exactly as :mod:`ilocalg.experiments.wifi_iloc` does (RADAR and KNN on the per-point
+mean fingerprints, Horus on every scan; estimators from
+:func:`ilocalg.experiments.wifi_iloc.make_estimators`) and scores the three methods on new scans at
+the thesis' 28 test-route points. The test route stays the thesis' one, so with a coarser grid
+some test points are no longer training points (which is what coarser surveys cost).
+
+For a given seed the floor itself (APs, walls, shadowing) is the same whatever the parameters: the
+simulator draws it before the scans, so the curves compare the same building.
+
+Returns ``{"sweep_wifi": ...}``: quantities ``mean error``, ``median error``, ``80th-percentile
+error`` (m) per ``method`` (in ``item``), ``training points`` (count) and ``test scans hearing no
+AP (not scored)``: a test scan in which the simulated phone heard no AP at all (rare: fading and
+missed detections) cannot be positioned by any of the methods, so it is left out of every method's
+score and counted here. The swept values live in the task parameters ``k_aps``, ``spacing_m``,
+``scans_per_point``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.experiments.study_common import study_row, study_tasks
+from ilocalg.experiments.wifi_iloc import make_estimators
+from ilocalg.metrics import horizontal_error_m, summary
+from ilocalg.sim import iloc_floor
+from ilocalg.wifi.preprocessing import mean_fingerprints
+
+__all__ = ["run", "thin_points", "GRIDS", "tasks", "findings", "BASE"]
+
+EXPERIMENT = "study_wifi"
+STATS = (("mean error", "mean_m"), ("median error", "median_m"), ("80th-percentile error", "p80_m"))
+
+#: The base point of the one-factor grids (the thesis' survey: k = 5, 2 m grid, 300 scans; fast: 60 scans).
+BASE = {"k_aps": 5, "spacing_m": 2.0, "scans_per_point": 300}
+BASE_FAST = {"k_aps": 5, "spacing_m": 2.0, "scans_per_point": 60}
+
+#: One-factor grids: full and fast.
+GRIDS = {
+    False: {"k_aps": [1, 2, 3, 4, 5, 6, 8, 10, 14, 20],
+            "spacing_m": [2.0, 4.0, 6.0, 8.0, 12.0],
+            "scans_per_point": [2, 5, 10, 30, 100, 300]},
+    True: {"k_aps": [1, 3, 5, 10],
+           "spacing_m": [2.0, 6.0],
+           "scans_per_point": [5, 60]},
+}
+
+
+def thin_points(points_xy_m, spacing_m: float) -> np.ndarray:
+    """Indices of a sub-grid of training points at least ``spacing_m`` apart (greedy, in survey order).
+
+    Walking the points in the order the survey lists them (corridor by corridor), a point is kept
+    when it is at least ``spacing_m`` (minus 1 mm) from every point kept so far. On the 2 m grid,
+    4 m keeps every other point of a corridor, 6 m every third, and so on.
+
+    Parameters
+    ----------
+    points_xy_m : array_like (n, 2)
+    spacing_m : float, > 0
+
+    Returns
+    -------
+    ndarray of int, sorted
+    """
+    pts = np.asarray(points_xy_m, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) == 0:
+        raise ValueError(f"points_xy_m must have shape (n, 2) with n >= 1, got {pts.shape}")
+    if not np.isfinite(spacing_m) or spacing_m <= 0:
+        raise ValueError(f"spacing_m must be a positive distance in metres, got {spacing_m!r}")
+    kept = [0]
+    for i in range(1, len(pts)):
+        d = np.hypot(*(pts[kept] - pts[i]).T)
+        if d.min() >= spacing_m - 1e-3:
+            kept.append(i)
+    return np.asarray(kept, dtype=np.int64)
+
+
+def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.0,
+        scans_per_point: int | None = None, scans_per_test_point: int | None = None) -> dict[str, pd.DataFrame]:
+    """Errors of the three Wi-Fi methods for one survey configuration (see the module docstring).
+
+    Parameters
+    ----------
+    seed : int
+    fast : bool
+        Default scans: 60 per training point and 5 per test point instead of 300 and 20.
+    k_aps : int
+        Strongest APs used by RADAR and Horus (KNN uses every AP: its rows do not depend on k).
+    spacing_m : float
+        Training-point spacing (2 m = the thesis' full grid).
+    scans_per_point : int, optional
+        Training scans per point (thesis: 300).
+    scans_per_test_point : int, optional
+        New scans at each test point (thesis: 20).
+    """
+    if int(k_aps) != k_aps or k_aps < 1:
+        raise ValueError(f"k_aps must be an integer >= 1, got {k_aps!r}")
+    spp = int(scans_per_point or (60 if fast else iloc_floor.SCANS_PER_POINT))
+    spt = int(scans_per_test_point or (5 if fast else 20))
+    sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt)
+    keep = thin_points(sim.points_xy_m, spacing_m)
+    rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
+    X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
+    fp, pts, _ = mean_fingerprints(X, xy, min_heard_fraction=0.5)
+    heard = ~np.all(np.isnan(sim.test.rssi_dbm), axis=1)  # a scan hearing no AP cannot be positioned
+    true, Xq = sim.test.xy_m[heard], sim.test.rssi_dbm[heard]
+    rows = [study_row("training points", len(keep), "points"),
+            study_row("test scans hearing no AP (not scored)", np.sum(~heard), "scans")]
+    for name, est in make_estimators(sim.detect_dbm, int(k_aps)).items():
+        if name == "Simplified-Horus":
+            est.fit(X, xy)  # Horus keeps every scan (its per-point histograms)
+        else:
+            est.fit(fp, pts)
+        s = summary(horizontal_error_m(est.predict(Xq), true))
+        rows += [study_row(q, s[col], "m", method=name) for q, col in STATS]
+    return {"sweep_wifi": pd.DataFrame(rows)}
+
+
+def tasks(seeds, fast: bool = False) -> list:
+    """Sweep tasks of the three one-factor curves (k, spacing, scans per point) around :data:`BASE`."""
+    base = BASE_FAST if fast else BASE
+    grids = [{**{k: [v] for k, v in base.items()}, name: vals} for name, vals in GRIDS[fast].items()]
+    return study_tasks(EXPERIMENT, grids, seeds, fast=fast)
+
+
+def findings(cv: pd.DataFrame, fast: bool = False) -> str:
+    """Sentences computed from :func:`ilocalg.experiments.study_common.curves` output of this study."""
+    from ilocalg.experiments.study_common import select
+
+    base = BASE_FAST if fast else BASE
+    out = []
+
+    def curve(method, vary):
+        fixed = {k: v for k, v in base.items() if k != vary}
+        c = select(cv, "mean error", method=method, **fixed).sort_values(vary)
+        return c
+
+    for m in ("Simplified-RADAR", "Simplified-Horus"):
+        c = curve(m, "k_aps")
+        b = c.loc[c["mean"].idxmin()]
+        last = "" if int(b["k_aps"]) == int(c["k_aps"].iloc[-1]) else (
+            f", {c['mean'].iloc[-1]:.2f} m at k={int(c['k_aps'].iloc[-1])}")
+        out.append(f"{m}: mean error {c['mean'].iloc[0]:.2f} m at k={int(c['k_aps'].iloc[0])}, lowest "
+                   f"{b['mean']:.2f} m [95 % CI {b['ci95_low']:.2f}-{b['ci95_high']:.2f}] at k={int(b['k_aps'])}"
+                   f"{last} (N={int(b['n'])} seeds).")
+    for m in ("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"):
+        c = curve(m, "spacing_m")
+        s = curve(m, "scans_per_point")
+        out.append(f"{m}: {c['mean'].iloc[0]:.2f} m on the {c['spacing_m'].iloc[0]:g} m grid vs "
+                   f"{c['mean'].iloc[-1]:.2f} m at {c['spacing_m'].iloc[-1]:g} m spacing; "
+                   f"{s['mean'].iloc[0]:.2f} m with {int(s['scans_per_point'].iloc[0])} scans per point vs "
+                   f"{s['mean'].iloc[-1]:.2f} m with {int(s['scans_per_point'].iloc[-1])}.")
+    return "\n".join(out)
