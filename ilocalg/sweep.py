@@ -20,6 +20,7 @@ import hashlib
 import importlib
 import itertools
 import json
+import logging
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -239,7 +240,7 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
                 if scheduler is None:
                     # dashboard on any free port: never clashes with another cluster on this machine
                     own_cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                               dashboard_address=":0")
+                                               dashboard_address=":0", silence_logs=logging.ERROR)
                     own_client = client = Client(own_cluster)
                 else:
                     own_client = client = Client(scheduler)

@@ -29,6 +29,8 @@ report = Report(OUT_DIR, "01_wifi_radar_horus_knn")
 # %%
 tables = wifi_iloc.run(seed=SEED, fast=FAST)
 report.table(tables["sim_summary"], "sim_summary")
+# Test scans that hear no access point cannot be positioned; they are counted, not scored.
+report.table(tables["test_scans"], "test_scans")
 
 # %% [markdown]
 # ## The simulated floor (Fig 2)

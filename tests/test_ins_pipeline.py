@@ -1,4 +1,5 @@
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg import ins
@@ -46,3 +47,11 @@ def test_paper_values_lookup():
     assert paper_value("Samsung", "Filtering + NHC/ZUPT", "rms", "N") == pytest.approx(14.8002)
     with pytest.raises(ValueError, match="axis"):
         paper_value("Samsung", "Filtering", "rms", "X")
+
+
+def test_online_experiment_accepts_integer_window_lengths():
+    from ilocalg.experiments import ins_online
+
+    a = ins_online.run(seed=0, fast=True, sweep_windows_s=(5, 10))
+    b = ins_online.run(seed=0, fast=True, sweep_windows_s=(5.0, 10.0))
+    pd.testing.assert_frame_equal(a["window_sweep"], b["window_sweep"])

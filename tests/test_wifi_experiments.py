@@ -73,3 +73,13 @@ def test_ap_distribution_is_a_distribution():
     d = wifi_iloc.ap_distribution(0, scans_per_point=50)
     assert np.isclose(d["probability"].sum(), 1.0) and np.isclose(d["cdf"].iloc[-1], 1.0)
     assert (np.diff(d["cdf"]) >= 0).all() and d["rssi_dbm"].min() >= -95
+
+
+def test_test_scans_hearing_no_ap_are_counted_not_scored():
+    from ilocalg.experiments import wifi_iloc
+
+    t = wifi_iloc.run(seed=9, fast=True, k_values=(5,), timing_repeats=1)
+    c = t["test_scans"].iloc[0]
+    assert c["scored"] + c["not_scored_no_ap_heard"] == c["test_scans"]
+    per_method = t["errors"].groupby("method").size()
+    assert (per_method == c["scored"]).all()

@@ -43,7 +43,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
     ``trajectory`` (first seed: per-epoch E, N, H of the truth, the filter and the 5/10/20 s windows).
     """
     n_seeds = n_seeds or (1 if fast else 6)
-    windows = sorted(set(sweep_windows_s) | set(TABLE_WINDOWS_S))
+    # Window lengths as floats (an int window from a caller or a sweep is the same window).
+    windows = sorted({float(w) for w in sweep_windows_s} | {float(w) for w in TABLE_WINDOWS_S})
     rows, sweep, gcp_rows, traj = [], [], [], []
     for phone, route, profile in PHONES:
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs

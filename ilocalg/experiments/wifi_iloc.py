@@ -80,8 +80,14 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
     sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt)
     nh = sim.detect_dbm
     fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
-    true = sim.test.xy_m
-    Xq = sim.test.rssi_dbm
+    # A test scan that hears no access point cannot be positioned by any method: it is left out of
+    # every method's score and counted in the ``test_scans`` table (never silently dropped).
+    heard = ~np.isnan(sim.test.rssi_dbm).all(axis=1)
+    test_scans = pd.DataFrame([{"test_scans": int(heard.size), "scored": int(heard.sum()),
+                                "not_scored_no_ap_heard": int((~heard).sum())}])
+    true = sim.test.xy_m[heard]
+    Xq = sim.test.rssi_dbm[heard]
+    test_point = sim.test.meta["point"].to_numpy()[heard]
 
     rows = []
     for k in k_values:
@@ -96,7 +102,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         est_xy = est.predict(Xq)
         e = horizontal_error_m(est_xy, true)
         methods.append({"method": name, **summary(e).to_dict()})
-        errs.append(pd.DataFrame({"method": name, "point": sim.test.meta["point"].to_numpy(), "error_m": e}))
+        errs.append(pd.DataFrame({"method": name, "point": test_point, "error_m": e}))
         best = np.inf
         n_t = min(Xq.shape[0], 100)
         for _ in range(timing_repeats):
@@ -132,6 +138,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         "paper_vs_reproduced": pd.DataFrame(rows),
         "timing": pd.DataFrame(timing),
         "sim_summary": iloc_floor.summary(sim),
+        "test_scans": test_scans,
     }
 
 
