@@ -30,7 +30,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.knn import _check_y
-from ilocalg.wifi.preprocessing import check_rssi
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi
 
 __all__ = ["HorusModel", "fit_horus", "horus_scores", "horus_predict_index", "SimplifiedHorus"]
 
@@ -166,7 +166,7 @@ def horus_predict_index(model: HorusModel, q_rssi_dbm, k_aps: int = 5, batch: in
     return out
 
 
-class SimplifiedHorus(RegressorMixin, BaseEstimator):
+class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
     """Simplified-Horus (i-Loc thesis sec. 3.2) as a scikit-learn regressor.
 
     Parameters
@@ -196,12 +196,6 @@ class SimplifiedHorus(RegressorMixin, BaseEstimator):
         self.bin_width_db = bin_width_db
         self.prob_floor = prob_floor
         self.not_heard_dbm = not_heard_dbm
-
-    def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.input_tags.allow_nan = True
-        tags.target_tags.multi_output = True
-        return tags
 
     def fit(self, X, y):
         """Build the per-point histograms from training scans ``X`` at positions ``y``."""

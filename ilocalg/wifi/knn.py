@@ -29,7 +29,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.preprocessing import check_rssi, to_features
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi, to_features
 
 __all__ = [
     "InvertedIndex",
@@ -298,7 +298,7 @@ def vote(labels_nbr, w=None, tie: str = "smallest") -> np.ndarray:
     return lab[np.arange(lab.shape[0]), best]
 
 
-class KnnFingerprint(RegressorMixin, BaseEstimator):
+class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     """KNN / WKNN fingerprint positioning (scikit-learn regressor).
 
     Parameters
@@ -338,12 +338,6 @@ class KnnFingerprint(RegressorMixin, BaseEstimator):
         self.representation = representation
         self.kernel = kernel
         self.metric = metric
-
-    def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.input_tags.allow_nan = True
-        tags.target_tags.multi_output = True
-        return tags
 
     def _features(self, X, name="X", n_aps=None, allow_empty_rows=True):
         x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__)

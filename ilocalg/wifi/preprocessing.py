@@ -33,6 +33,7 @@ __all__ = [
     "strongest_ap_mask",
     "heard_counts",
     "mean_fingerprints",
+    "RssiPositionTags",
 ]
 
 REPRESENTATIONS = ("positive", "exponential", "powed")
@@ -218,3 +219,15 @@ def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np
         fp = tot / cnt
     fp[(cnt == 0) | (cnt < min_heard_fraction * n_scans)] = np.nan
     return fp, y[first[order]], point
+
+
+class RssiPositionTags:
+    """scikit-learn tags shared by the fingerprint estimators: NaN means "not heard" (allowed in X),
+    and the target is a 2-D position (multi-output). Put it first among the bases."""
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True
+        tags.target_tags.multi_output = True
+        return tags
+

@@ -25,7 +25,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.knn import _check_y, knn_predict, neighbour_weights, smallest_k
-from ilocalg.wifi.preprocessing import check_rssi, strongest_ap_mask, to_features
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi, strongest_ap_mask, to_features
 
 __all__ = ["union_topk_sq_distances", "radar_predict", "SimplifiedRadar"]
 
@@ -124,7 +124,7 @@ def radar_predict(q_rssi_dbm, ref_rssi_dbm, ref_xy, k_aps: int = 5, n_neighbors:
     return knn_predict(ref_xy, idx, neighbour_weights(dist, "distance", power=2.0))
 
 
-class SimplifiedRadar(RegressorMixin, BaseEstimator):
+class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     """Simplified-RADAR (i-Loc thesis sec. 3.1) as a scikit-learn regressor.
 
     Parameters
@@ -151,12 +151,6 @@ class SimplifiedRadar(RegressorMixin, BaseEstimator):
         self.k_aps = k_aps
         self.n_neighbors = n_neighbors
         self.not_heard_dbm = not_heard_dbm
-
-    def __sklearn_tags__(self):
-        tags = super().__sklearn_tags__()
-        tags.input_tags.allow_nan = True
-        tags.target_tags.multi_output = True
-        return tags
 
     def fit(self, X, y):
         """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
