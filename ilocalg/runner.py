@@ -117,6 +117,15 @@ def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, f
     return (1 if res.failures else 0), summary
 
 
+def _clear_outputs(out_dir: Path, stem: str) -> None:
+    """Remove what an earlier run of this notebook wrote, so the reports never mix two runs."""
+    for pattern in (f"tables/{stem}__*", f"tables/timing/{stem}__*", f"figures/{stem}_*", f".inputs/{stem}.txt",
+                    f"{stem}.ipynb", f"{stem}.html"):
+        for f in out_dir.glob(pattern):
+            if f.is_file():
+                f.unlink()
+
+
 def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, only: str | None = None,
               seed: int = 0, notebook_dir: Path = NOTEBOOK_DIR, html: bool = True,
               progress: bool = True, n_seeds: int = 1, workers: int = 2, cache_dir: Path | None = None) -> int:
@@ -140,12 +149,13 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     (out_dir / "tables").mkdir(exist_ok=True)
     inputs_dir = out_dir / ".inputs"
     params = {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": str(out_dir), "DATA_DIR": str(data_dir())}
-    # Kernels inherit the environment: keep BLAS single-threaded for repeatable sums, headless plots.
+    # Kernels inherit the environment: headless plots.
     os.environ.setdefault("MPLBACKEND", "Agg")
     print(f"reproducing {len(nbs)} notebook(s) into {out_dir} (seed={seed}, fast={fast})", flush=True)
     for i, nb in enumerate(nbs, 1):
         t0 = time.perf_counter()
         print(f"[{i}/{len(nbs)}] {nb.stem}", flush=True)
+        _clear_outputs(out_dir, nb.stem)
         try:
             execute_notebook(nb, out_dir, params, progress=progress, html=html)
         except NotebookFailed as exc:

@@ -120,3 +120,21 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
     row = next(line for line in readme.splitlines() if line.startswith("| Fake paper"))
     assert "| 3 | 1.1 |" in row and "inside CI" in row
     assert json.loads((out / "provenance.json").read_text())["n_seeds_for_intervals"] == 3
+
+
+def test_rerun_replaces_a_notebooks_old_outputs(tmp_path):
+    nbdir = tmp_path / "nbs"
+    nbdir.mkdir()
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("OUT_DIR = None", metadata={"tags": ["parameters"]}),
+                nbformat.v4.new_code_cell("import pandas as pd\nfrom ilocalg.reporting import Report\n"
+                                          "Report(OUT_DIR, '01_x').table(pd.DataFrame({'a': [1]}), 'new')")]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, nbdir / "01_x.ipynb")
+    out = tmp_path / "out"
+    (out / "tables").mkdir(parents=True)
+    (out / "tables" / "01_x__stale.csv").write_text("a\n1\n")
+    (out / "tables" / "02_other__kept.csv").write_text("a\n1\n")
+    assert reproduce(out, notebook_dir=nbdir, html=False, progress=False) == 0
+    names = sorted(p.name for p in (out / "tables").glob("*.csv"))
+    assert names == ["01_x__new.csv", "02_other__kept.csv"]
