@@ -197,7 +197,7 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
     cache_dir : path or None
         Where each task's parquet result is cached (None: no cache).
     """
-    from tqdm.auto import tqdm
+    from tqdm import tqdm  # plain text bar: works in terminals, notebooks and logs alike
 
     if workers < 0:
         raise ValueError(f"workers must be >= 0, got {workers}")
