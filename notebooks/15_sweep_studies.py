@@ -27,7 +27,6 @@ DATA_DIR = None
 # %%
 import os
 import time
-import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -53,7 +52,6 @@ STUDIES = {"wifi": study_wifi, "ins_window": study_ins_window, "kf_noise": study
 # each task is one `run(seed, fast, **params)` of a study. Nothing is cached here (a re-run recomputes).
 
 # %%
-warnings.filterwarnings("ignore", message="IProgress not found")  # no progress bar is drawn here
 # the workers' own log lines (a failed task is reported below with its seed and parameters; the
 # workers' heartbeat complaints while the cluster shuts down are noise) stay out of the notebook
 os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")
