@@ -3,7 +3,7 @@
 Each task is one walk: :func:`ilocalg.experiments.study_kf_noise.run` with ``n_walks=1`` and
 ``N_STEPS`` steps (simulate the synthetic walk and its Wi-Fi fixes, run the i-Loc step Kalman
 filter, the dead-reckoned track and the RTS smoother, score them): about 0.1 s of work on an idle core.
-The 1,000 tasks (seeds 0..999) are run through :func:`ilocalg.sweep.sweep` on a
+The 1,000 tasks (seeds 0..999) are run through :func:`ilocalg.workflow.sweep.sweep` on a
 :class:`~distributed.LocalCluster` with one single-threaded worker process and on one with two,
 both clusters started (and the experiment imported on every worker) before the clock starts. To
 give both the same background load on a shared machine, the walks are swept in ten blocks, each
@@ -32,7 +32,7 @@ import time
 
 import pandas as pd
 
-from ilocalg.sweep import make_tasks, sweep
+from ilocalg.workflow.sweep import make_tasks, sweep
 
 N_WALKS = 1000
 N_STEPS = 2000

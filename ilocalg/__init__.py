@@ -14,7 +14,9 @@ Subpackages
 ``optim``       particle swarm optimisation
 ``photo``       photo positioning from points of interest
 ``experiments`` each reproduced experiment as a function ``run(seed, fast, **params)``
-``metrics``     positioning error statistics; ``units``: unit conversions; ``reporting``: report tables
+``papers``      the papers' published values, set beside reproduced ones in comparison rows
+``metrics``     positioning error statistics; ``units``: unit conversions
+``workflow``    not algorithms: the reproduce runner, report files, sweeps, notebook pairs, the CLI
 
 Data types
 ----------

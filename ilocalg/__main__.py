@@ -1,5 +1,5 @@
 import sys
 
-from ilocalg.cli import main
+from ilocalg.workflow.cli import main
 
 sys.exit(main())

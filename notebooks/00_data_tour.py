@@ -24,8 +24,8 @@ import ilocviz
 import ilocviz.wifi
 from ilocalg.experiments import data_tour
 from ilocalg.io.paths import data_dir
-from ilocalg.reporting import Report
 from ilocalg.sim import iloc_floor
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "00_data_tour")
 root = Path(DATA_DIR) if DATA_DIR else data_dir()

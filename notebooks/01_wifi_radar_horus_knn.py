@@ -21,8 +21,8 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.wifi
 from ilocalg.experiments import wifi_iloc
-from ilocalg.reporting import Report
 from ilocalg.sim import iloc_floor
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "01_wifi_radar_horus_knn")
 

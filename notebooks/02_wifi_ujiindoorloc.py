@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.wifi
 from ilocalg.experiments import wifi_ujiindoorloc
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "02_wifi_ujiindoorloc")
 files = wifi_ujiindoorloc.find_files(DATA_DIR)

@@ -23,8 +23,8 @@ import ilocviz.pdr
 from ilocalg.experiments import pdr_step_features
 from ilocalg.io.schema import ACC_COLS
 from ilocalg.pdr.sam import detect_steps_sam, vertical_horizontal_mps2
-from ilocalg.reporting import Report
 from ilocalg.sim import gait
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "03_pdr_step_features")
 

@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_step_length
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "04_pdr_step_length")
 

@@ -26,8 +26,8 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_heading_trajectory, pso_k_factor
-from ilocalg.reporting import Report
 from ilocalg.sim import gait
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "05_pdr_heading_trajectory")
 

@@ -27,7 +27,7 @@ import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_real_steps
 from ilocalg.io.paths import data_dir
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "06_pdr_real_steps")
 folder = Path(DATA_DIR or data_dir()) / "oxford_step_counter"

@@ -25,8 +25,8 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.fusion
 from ilocalg.experiments import fusion_knn_pdr
-from ilocalg.reporting import Report
 from ilocalg.sim import iloc_floor
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "08_fusion_knn_pdr")
 

@@ -32,7 +32,7 @@ import ilocviz
 import ilocviz.fusion
 from ilocalg.experiments import fusion_real_walks
 from ilocalg.io.paths import data_dir
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "09_fusion_real_walks")
 folder = Path(DATA_DIR or data_dir()) / fusion_real_walks.DATASET

@@ -29,7 +29,7 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 from ilocalg.experiments import pso_k_factor
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 from ilocviz import pso as vpso
 
 report = Report(OUT_DIR, "10_pso_k_factor")

@@ -31,7 +31,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 from ilocalg.experiments import photo_positioning
 from ilocalg.photo import thin_lens_image_distance_m
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 from ilocviz import photo as photoviz
 
 report = Report(OUT_DIR, "11_photo_positioning")

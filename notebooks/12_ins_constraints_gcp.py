@@ -26,8 +26,8 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.ins as vins
 from ilocalg.experiments import ins_constraints
-from ilocalg.reporting import Report
 from ilocalg.sim.ins_walk import GCP_XYZ_M
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "12_ins_constraints_gcp")
 

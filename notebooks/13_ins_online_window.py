@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.ins as vins
 from ilocalg.experiments import ins_online
-from ilocalg.reporting import Report
+from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "13_ins_online_window")
 

@@ -2,7 +2,7 @@
 # # 15 Sweep studies: the papers' parameter studies, far beyond their few points, with 95 % CIs
 #
 # Four studies run across simulation seeds and parameter grids on a Dask `LocalCluster`
-# (`ilocalg.sweep`), each point reported as mean and 95 % confidence interval over the seeds:
+# (`ilocalg.workflow.sweep`), each point reported as mean and 95 % confidence interval over the seeds:
 #
 # 1. Wi-Fi fingerprinting (i-Loc thesis sec. 3, Figs 3 and 5): Simplified-RADAR, Simplified-Horus
 #    and KNN error vs the number of strongest APs k, the training-point spacing and the scans per
@@ -38,8 +38,8 @@ import ilocviz.studies as vs
 from ilocalg.experiments import study_ins_window, study_kf_noise, study_pso, study_wifi
 from ilocalg.experiments.study_common import curves, select
 from ilocalg.experiments.wifi_iloc import PAPER_ILOC
-from ilocalg.reporting import Report
-from ilocalg.sweep import aggregate, sweep
+from ilocalg.workflow.reporting import Report
+from ilocalg.workflow.sweep import aggregate, sweep
 
 report = Report(OUT_DIR, "15_sweep_studies")
 N_SEEDS = 3 if FAST else 12

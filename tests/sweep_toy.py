@@ -3,7 +3,7 @@
 import numpy as np
 import pandas as pd
 
-from ilocalg.reporting import comparison_table, paper_ref
+from ilocalg.papers import comparison_table, paper_ref
 
 
 def run(seed=0, fast=False, n=50, scale=1.0, fail_seed=None):

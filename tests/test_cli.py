@@ -1,7 +1,7 @@
 import subprocess
 import sys
 
-from ilocalg.cli import build_parser, main
+from ilocalg.workflow.cli import build_parser, main
 
 
 def test_help_lists_the_commands():

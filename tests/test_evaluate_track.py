@@ -9,7 +9,7 @@ import tarfile
 import numpy as np
 import pytest
 
-from ilocalg.commands import evaluate_track as cmd
+from ilocalg.workflow.commands import evaluate_track as cmd
 
 TRACE = "5dd5205dd48f840006f149d3"
 DB = ["5dd5260750e04e0006f564f1", "5dd52058d48f840006f149d1", "5dd525f4d48f840006f14a47", "5dd3bbd144333f00067aa802"]

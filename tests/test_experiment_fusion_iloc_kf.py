@@ -4,7 +4,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.experiments import fusion_iloc_kf
-from ilocalg.reporting import comparison_table
+from ilocalg.papers import comparison_table
 from ilocalg.sim import gait
 
 

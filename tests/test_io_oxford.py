@@ -129,7 +129,7 @@ def test_real_archive_matches_its_stats(real_recordings):
 
 
 def test_real_robust_detector_accuracy(real_recordings):
-    from ilocalg.commands.evaluate_steps import count
+    from ilocalg.workflow.commands.evaluate_steps import count
 
     _, recs = real_recordings
     acc = np.array([1 - abs(count(r, "robust") - r.true_steps) / r.true_steps for r in recs[::4]])

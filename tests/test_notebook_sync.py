@@ -2,8 +2,8 @@ import shutil
 
 import nbformat
 
-from ilocalg import notebook_sync
-from ilocalg.runner import NOTEBOOK_DIR
+from ilocalg.workflow import notebook_sync
+from ilocalg.workflow.runner import NOTEBOOK_DIR
 
 
 def test_sync_is_byte_stable_and_check_finds_problems(tmp_path):

@@ -12,7 +12,7 @@ import json
 import nbformat
 import pytest
 
-from ilocalg.runner import NOTEBOOK_DIR, discover_notebooks, reproduce
+from ilocalg.workflow.runner import NOTEBOOK_DIR, discover_notebooks, reproduce
 
 pytestmark = pytest.mark.notebooks
 
@@ -85,7 +85,7 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
 
     import pandas as pd
 
-    from ilocalg.reporting import comparison_table, paper_ref
+    from ilocalg.papers import comparison_table, paper_ref
 
     fake = types.ModuleType("ilocalg.experiments.fake_exp")
 
@@ -102,7 +102,7 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
     nb.cells = [
         nbformat.v4.new_code_cell("SEED = 0\nOUT_DIR = None", metadata={"tags": ["parameters"]}),
         nbformat.v4.new_code_cell(
-            "from ilocalg.reporting import Report, paper_ref\n"
+            "from ilocalg.papers import paper_ref\nfrom ilocalg.workflow.reporting import Report\n"
             "Report(OUT_DIR, '01_fake').compare([paper_ref('Fake paper', 'Fig 1', 'error', 1.05, 1.0, 'm')])"),
     ]
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
@@ -127,7 +127,7 @@ def test_rerun_replaces_a_notebooks_old_outputs(tmp_path):
     nbdir.mkdir()
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell("OUT_DIR = None", metadata={"tags": ["parameters"]}),
-                nbformat.v4.new_code_cell("import pandas as pd\nfrom ilocalg.reporting import Report\n"
+                nbformat.v4.new_code_cell("import pandas as pd\nfrom ilocalg.workflow.reporting import Report\n"
                                           "Report(OUT_DIR, '01_x').table(pd.DataFrame({'a': [1]}), 'new')")]
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     nbformat.write(nb, nbdir / "01_x.ipynb")

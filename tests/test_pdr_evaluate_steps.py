@@ -4,8 +4,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ilocalg.cli import main
 from ilocalg.sim import gait
+from ilocalg.workflow.cli import main
 
 
 def _validation_csv(path, seed=0):

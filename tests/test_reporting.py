@@ -3,22 +3,24 @@ import json
 import pandas as pd
 import pytest
 
-from ilocalg import reporting
-from ilocalg.reporting import Report, paper_ref
+from ilocalg import papers
+from ilocalg.papers import paper_ref
+from ilocalg.workflow import reporting
+from ilocalg.workflow.reporting import Report
 
 
 def test_agreement_classes():
-    assert reporting.agreement(10.0, 10.5).startswith("agrees")
-    assert reporting.agreement(10.0, 12.0).startswith("close")
-    assert reporting.agreement(10.0, 20.0).startswith("differs")
-    assert reporting.agreement(10.0, float("nan")) == "n/a"
+    assert papers.agreement(10.0, 10.5).startswith("agrees")
+    assert papers.agreement(10.0, 12.0).startswith("close")
+    assert papers.agreement(10.0, 20.0).startswith("differs")
+    assert papers.agreement(10.0, float("nan")) == "n/a"
 
 
 def test_comparison_table_requires_paper_rows():
     with pytest.raises(ValueError, match="at least one row"):
-        reporting.comparison_table([])
+        papers.comparison_table([])
     with pytest.raises(ValueError, match="paper_ref"):
-        reporting.comparison_table([{"quantity": "x"}])
+        papers.comparison_table([{"quantity": "x"}])
 
 
 def test_report_writes_tables_and_readme_is_built_from_them(tmp_path):

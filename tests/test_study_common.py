@@ -10,9 +10,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from ilocalg import sweep as sw  # noqa: E402
 from ilocalg.experiments import study_common as sc  # noqa: E402
 from ilocalg.experiments import study_kf_noise  # noqa: E402
+from ilocalg.workflow import sweep as sw  # noqa: E402
 from ilocviz import studies as vs  # noqa: E402
 
 

@@ -6,9 +6,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ilocalg import sweep as sw
 from ilocalg.experiments import study_kf_noise
 from ilocalg.fusion import PAPER_TABLE5_SIGMA_RF_VAR_M2
+from ilocalg.workflow import sweep as sw
 
 
 def _errors(seed=0, **p):

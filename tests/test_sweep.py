@@ -14,8 +14,8 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from ilocalg import sweep as sw
-from ilocalg.cli import main
+from ilocalg.workflow import sweep as sw
+from ilocalg.workflow.cli import main
 
 TOY = "tests.sweep_toy"
 ROOT = Path(__file__).resolve().parents[1]
@@ -132,7 +132,7 @@ def test_sweep_against_a_separately_started_scheduler_and_worker(tmp_path):
 
 
 def test_paper_ref_rows_without_agreement_are_swept_too():
-    from ilocalg.reporting import paper_ref
+    from ilocalg.papers import paper_ref
 
     raw = pd.DataFrame([paper_ref("P", "T", "q", 1.0, 2.0, "m")])  # no agreement column
     long = sw.tables_to_long({"comparison": raw, "other": pd.DataFrame({"x": [1]})})

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from ilocalg.experiments import wifi_iloc, wifi_ujiindoorloc
-from ilocalg.reporting import comparison_table
+from ilocalg.papers import comparison_table
 
 
 def test_wifi_iloc_fast_is_deterministic_and_sane():

@@ -40,10 +40,10 @@ from ilocalg.fusion import (
     sigma_sl_paper_m,
 )
 from ilocalg.metrics import error_cdf
+from ilocalg.papers import comparison_table, paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.step_length import slm_length_m
-from ilocalg.reporting import comparison_table, paper_ref
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 from ilocalg.wifi.preprocessing import mean_fingerprints

@@ -29,10 +29,10 @@ from ilocalg.experiments.fusion_iloc_kf import floor_fixes, pass_times_s, summar
 from ilocalg.experiments.pdr_heading_trajectory import sample_headings
 from ilocalg.experiments.pdr_step_features import _acc_t, training_walks
 from ilocalg.fusion import filter_walk, fixes_at_states, rts_smooth
+from ilocalg.papers import comparison_table, paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.peak_window import detect_steps_peak_window
 from ilocalg.pdr.step_length import luo_length_m
-from ilocalg.reporting import comparison_table, paper_ref
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 

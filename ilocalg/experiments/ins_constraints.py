@@ -14,7 +14,7 @@ import pandas as pd
 from ilocalg.experiments.ins_paper_values import paper_value
 from ilocalg.ins import dcm_to_euler, error_stats, heading_error_with_lag_deg, nav_errors, rts_smooth
 from ilocalg.ins.pipeline import run_walk
-from ilocalg.reporting import paper_ref
+from ilocalg.papers import paper_ref
 from ilocalg.sim import ins_walk
 
 __all__ = ["PHONES", "METHODS", "AXES", "run_phone", "run"]

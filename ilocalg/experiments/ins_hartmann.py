@@ -16,7 +16,7 @@ import pandas as pd
 
 from ilocalg.ins.hartmann import run_hartmann
 from ilocalg.ins.mechanisation import coarse_level
-from ilocalg.reporting import paper_ref
+from ilocalg.papers import paper_ref
 from ilocalg.sim import hartmann as sim
 
 __all__ = ["HARTMANN_PAPER_OVERALL", "run_sequence", "run"]

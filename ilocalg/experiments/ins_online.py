@@ -15,7 +15,7 @@ from ilocalg.experiments.ins_constraints import AXES, PAPER, PHONES
 from ilocalg.experiments.ins_paper_values import paper_value
 from ilocalg.ins import error_stats, nav_errors, online_window_smooth, rts_gains, rts_smooth, window_ends
 from ilocalg.ins.pipeline import run_walk
-from ilocalg.reporting import paper_ref
+from ilocalg.papers import paper_ref
 from ilocalg.sim import ins_walk
 
 __all__ = ["TABLE_WINDOWS_S", "SWEEP_WINDOWS_S", "run"]

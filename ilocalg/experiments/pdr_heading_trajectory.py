@@ -19,12 +19,12 @@ from ilocalg.experiments.pdr_step_features import _acc_t, fixed_length_features,
 from ilocalg.experiments.pdr_step_length import fit_models
 from ilocalg.io.schema import GYR_COLS, MAG_COLS
 from ilocalg.metrics import error_cdf
+from ilocalg.papers import paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import gyro_heading_theta_rad, heading_theta_rad
 from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.signals import moving_mean
 from ilocalg.pdr.step_length import slm_length_m
-from ilocalg.reporting import paper_ref
 from ilocalg.sim import gait
 from ilocalg.units import as_rng, wrap_angle_rad
 

@@ -34,12 +34,12 @@ import pandas as pd
 from ilocalg.io.oxford import OxfordRecording, load_oxford_archive
 from ilocalg.io.paths import dataset_path
 from ilocalg.io.schema import ACC_COLS
+from ilocalg.papers import paper_ref
 from ilocalg.pdr.peak_window import detect_steps_peak_window
 from ilocalg.pdr.robust import detect_steps_robust
 from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges, match_waves_to_steps, sam_waves
 from ilocalg.pdr.sign_change import detect_steps_sign_change
 from ilocalg.pdr.signals import magnitude_mps2, moving_mean, resample_uniform
-from ilocalg.reporting import paper_ref
 
 #: Real recordings: the values do not depend on a simulation seed, so reproduce does not re-run this
 #: experiment over seeds for confidence intervals (its rows keep n = 1).

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.io.schema import ACC_COLS
+from ilocalg.papers import paper_ref
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
     SAM_RANGES_PAPER,
@@ -21,7 +22,6 @@ from ilocalg.pdr.sam import (
     match_waves_to_steps,
     sam_waves,
 )
-from ilocalg.reporting import paper_ref
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 

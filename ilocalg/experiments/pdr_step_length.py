@@ -20,6 +20,7 @@ from ilocalg.experiments.pdr_step_features import (
     fixed_length_features,
     training_walks,
 )
+from ilocalg.papers import paper_ref
 from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges, vertical_horizontal_mps2
 from ilocalg.pdr.step_length import (
     fit_slm,
@@ -29,7 +30,6 @@ from ilocalg.pdr.step_length import (
     slm_length_m,
     weinberg_length_m,
 )
-from ilocalg.reporting import paper_ref
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 

@@ -52,6 +52,7 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
+from ilocalg.papers import paper_ref
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
@@ -65,7 +66,6 @@ from ilocalg.photo import (
     va_solve_batch,
     view_angles_rad,
 )
-from ilocalg.reporting import paper_ref
 from ilocalg.sim import photo_poi
 from ilocalg.units import as_rng
 

@@ -38,10 +38,10 @@ from scipy.optimize import minimize_scalar
 
 from ilocalg.gnss import dead_reckon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
 from ilocalg.optim import PSOResult, pso_minimize
+from ilocalg.papers import paper_ref
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
 from ilocalg.pdr.sign_change import detect_steps_sign_change
 from ilocalg.pdr.step_length import weinberg_length_m
-from ilocalg.reporting import paper_ref
 from ilocalg.sim.pso_walks import Walk, simulate_pso_walks, simulate_static_compass
 
 __all__ = [

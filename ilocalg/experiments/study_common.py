@@ -1,8 +1,8 @@
 """Shared plumbing of the parameter studies (``study_*`` experiments): task grids and tidy curves.
 
 A study is an experiment whose ``run(seed, fast, **params)`` returns a ``sweep_<name>`` table
-(columns ``quantity``, ``value``, ``unit``, ``item``) that :func:`ilocalg.sweep.sweep` collects
-and :func:`ilocalg.sweep.aggregate` turns into mean / sd / 95 % CI per (parameters, item,
+(columns ``quantity``, ``value``, ``unit``, ``item``) that :func:`ilocalg.workflow.sweep.sweep` collects
+and :func:`ilocalg.workflow.sweep.aggregate` turns into mean / sd / 95 % CI per (parameters, item,
 quantity). Within a run, a curve's abscissa that is cheaper to compute in one go (window sizes of
 one filtered walk, say) is written into ``item`` as ``"name=value;name2=value2"``; a swept
 parameter lives in the task's ``params``. :func:`curves` turns both back into columns.
@@ -18,7 +18,7 @@ from collections.abc import Iterable, Mapping
 import numpy as np
 import pandas as pd
 
-from ilocalg.sweep import SweepTask, make_tasks
+from ilocalg.workflow.sweep import SweepTask, make_tasks
 
 __all__ = ["item_label", "parse_item", "study_row", "study_tasks", "curves", "select"]
 
@@ -79,7 +79,7 @@ def curves(agg: pd.DataFrame, experiment: str | None = None) -> pd.DataFrame:
     Parameters
     ----------
     agg : DataFrame
-        :func:`ilocalg.sweep.aggregate` output (columns experiment, params, item, quantity, unit,
+        :func:`ilocalg.workflow.sweep.aggregate` output (columns experiment, params, item, quantity, unit,
         n, mean, std, ci95_low, ci95_high, ...).
     experiment : str, optional
         Keep only this experiment's rows.

@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
-from ilocalg.reporting import paper_ref
+from ilocalg.papers import paper_ref
 from ilocalg.sim import iloc_floor
 from ilocalg.wifi import KnnFingerprint, SimplifiedHorus, SimplifiedRadar
 from ilocalg.wifi.preprocessing import mean_fingerprints

@@ -31,7 +31,7 @@ import pandas as pd
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import WEAKEST_DBM, ground_scale, load_ujiindoorloc
-from ilocalg.reporting import paper_ref
+from ilocalg.papers import paper_ref
 from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate
 from ilocalg.wifi.knn import neighbour_weights, smallest_k, vote
 from ilocalg.wifi.radar import union_topk_sq_distances

@@ -8,7 +8,7 @@ by default, or an existing scheduler), caches each task's result as parquet so a
 sweep resumes, reports failed tasks with their seed and parameters without losing the others,
 and aggregates the reproduced values into mean, standard deviation and 95 % confidence interval.
 
-What is swept: the rows of the experiment's comparison tables (:func:`ilocalg.reporting.paper_ref`
+What is swept: the rows of the experiment's comparison tables (:func:`ilocalg.papers.paper_ref`
 rows, :data:`PAPER_REF_COLUMNS`), i.e. every reproduced value the report shows,
 plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter studies).
 """
@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.io.paths import REPO_ROOT
-from ilocalg.reporting import PAPER_REF_COLUMNS
+from ilocalg.workflow.reporting import PAPER_REF_COLUMNS
 
 __all__ = [
     "SweepTask",
@@ -56,7 +56,7 @@ def code_fingerprint() -> str:
     reused after the code that computed it has changed (a user's own experiment module outside
     ``ilocalg`` is not covered: clear the cache or pass ``--no-cache`` after editing it)."""
     h = hashlib.sha256()
-    pkg = Path(__file__).resolve().parent
+    pkg = Path(__file__).resolve().parents[1]  # the whole ilocalg package, not only workflow/
     for f in sorted(pkg.rglob("*.py")):
         h.update(str(f.relative_to(pkg)).encode())
         h.update(f.read_bytes())

@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT, data_dir
-from ilocalg.reporting import build_readme, write_provenance, write_table
+from ilocalg.workflow.reporting import build_readme, write_provenance, write_table
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
            "notebook_experiments", "sweep_experiments"]
@@ -94,7 +94,7 @@ def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, f
     """Re-run the notebooks' experiments over ``n_seeds`` seeds; write ``sweeps/summary`` and return it."""
     import importlib
 
-    from ilocalg import sweep as sw
+    from ilocalg.workflow import sweep as sw
 
     exps = []
     for nb in nbs:
@@ -134,7 +134,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     With ``n_seeds`` > 1 the experiments the notebooks call are re-run over seeds
     ``seed .. seed + n_seeds - 1`` on a Dask LocalCluster of ``workers`` processes, and every row
     of ``README.md`` carries N, the mean and the 95 % confidence interval. Each (experiment, seed)
-    result is cached under ``cache_dir`` (default :data:`ilocalg.sweep.DEFAULT_CACHE`), keyed by the
+    result is cached under ``cache_dir`` (default :data:`ilocalg.workflow.sweep.DEFAULT_CACHE`), keyed by the
     code's fingerprint, so a re-run after an interruption resumes.
     """
     if n_seeds < 1:

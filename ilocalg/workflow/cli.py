@@ -33,7 +33,7 @@ def _jsonable(obj):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from ilocalg.commands import evaluators
+    from ilocalg.workflow.commands import evaluators
 
     p = argparse.ArgumentParser(prog="python -m ilocalg",
                                 description="iLoc toolkit: reproduce smartphone indoor positioning papers.")
@@ -78,9 +78,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _sweep(args) -> int:
-    from ilocalg import sweep as sw
-    from ilocalg.reporting import write_table
-    from ilocalg.runner import REPO_ROOT
+    from ilocalg.workflow import sweep as sw
+    from ilocalg.workflow.reporting import write_table
+    from ilocalg.workflow.runner import REPO_ROOT
 
     try:
         grid = dict(sw.parse_param(p) for p in args.param)
@@ -110,7 +110,7 @@ def _sweep(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.command == "reproduce":
-        from ilocalg.runner import REPO_ROOT, reproduce
+        from ilocalg.workflow.runner import REPO_ROOT, reproduce
 
         out = Path(args.out) if args.out else REPO_ROOT / "reports"
         return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
@@ -126,8 +126,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "sweep":
         return _sweep(args)
     if args.command == "notebooks":
-        from ilocalg import notebook_sync
-        from ilocalg.runner import NOTEBOOK_DIR
+        from ilocalg.workflow import notebook_sync
+        from ilocalg.workflow.runner import NOTEBOOK_DIR
 
         if args.sync:
             for p in notebook_sync.sync(NOTEBOOK_DIR):
