@@ -107,7 +107,10 @@ def test_every_stored_scan_database_keeps_n_distinct_points():
     est = SimplifiedRadar(3, 3, -100).fit(X, y)
     dist, idx = est.kneighbors(X[:5])
     assert est.points_.shape == (4, 2)
-    assert all(len(set(r)) == 3 for r in idx)  # three distinct points, never one point twice
+    assert all(len({tuple(p) for p in y[r]}) == 3 for r in idx)  # three distinct points, never one twice
+    # idx are reference rows: each the nearest stored scan of its point
+    d_rows = np.sqrt(union_topk_sq_distances(X[:5], X, 3, -100))
+    np.testing.assert_allclose(np.take_along_axis(d_rows, idx, axis=1), dist, rtol=1e-6)
     # a point's distance is the smallest over its stored scans
     d_all = np.sqrt(union_topk_sq_distances(X[:5], X, 3, -100)).reshape(5, 4, 10).min(axis=2)
     np.testing.assert_allclose(dist, np.sort(d_all, axis=1)[:, :3], rtol=1e-6)

@@ -182,11 +182,12 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             inv = inv.reshape(-1)
             order = np.argsort(inv, kind="stable")
             self._starts = np.flatnonzero(np.r_[True, np.diff(inv[order]) != 0])
-            x_ord, self._point_of_ref = x[order], inv[order]
+            self._order = order
+            x_ord = x[order]
             if yy.ndim == 1:
                 self.points_ = self.points_[:, 0]
         else:
-            x_ord, order = x, np.arange(x.shape[0])
+            x_ord, self._order = x, np.arange(x.shape[0])
             self.points_ = yy
             self._starts = None
         n_nb = len(self.points_)
@@ -201,8 +202,12 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         return self
 
     def kneighbors(self, X, n_neighbors=None):
-        """(dist, idx): eq. (1) distances (ascending) and indices of the nearest training points
-        (rows of ``points_``; with ``point_distance=None`` rows of the references)."""
+        """(dist, idx): eq. (1) distances (ascending) and reference rows of the nearest neighbours.
+
+        With ``point_distance="min"`` the neighbours are the N nearest training points and ``idx``
+        holds, for each, the row of its nearest stored scan (so ``y_[idx]`` are the points' positions
+        and row labels such as floor or building follow); with ``None``, the N nearest rows.
+        """
         check_is_fitted(self, "ref_rssi_dbm_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
                        owner=type(self).__name__)
@@ -215,13 +220,22 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
             d2 = _union_sq(q, a, self._r, self._b)
             if self._starts is not None:  # one distance per training point: its nearest stored scan
-                d2 = np.minimum.reduceat(d2, self._starts, axis=1)
-            ii = smallest_k(d2, k)
-            idx[s:s + _Q_BATCH] = ii
-            dist[s:s + _Q_BATCH] = np.sqrt(np.take_along_axis(d2, ii, axis=1).astype(np.float64))
+                gmin = np.minimum.reduceat(d2, self._starts, axis=1)
+                counts = np.diff(np.r_[self._starts, d2.shape[1]])
+                cols = np.arange(d2.shape[1], dtype=np.int64)
+                first = np.minimum.reduceat(np.where(d2 == np.repeat(gmin, counts, axis=1), cols, d2.shape[1]),
+                                            self._starts, axis=1)   # column of each point's nearest scan
+                gi = smallest_k(gmin, k)
+                rows = self._order[np.take_along_axis(first, gi, axis=1)]
+                dd = np.take_along_axis(gmin, gi, axis=1)
+            else:
+                rows = smallest_k(d2, k)
+                dd = np.take_along_axis(d2, rows, axis=1)
+            idx[s:s + _Q_BATCH] = rows
+            dist[s:s + _Q_BATCH] = np.sqrt(dd.astype(np.float64))
         return dist, idx
 
     def predict(self, X):
         """Positions of the query scans ``X`` (n_q, n_aps): eq. (2)-(3) over the N nearest."""
         dist, idx = self.kneighbors(X)
-        return knn_predict(self.points_, idx, neighbour_weights(dist, "distance", power=2.0))
+        return knn_predict(self.y_, idx, neighbour_weights(dist, "distance", power=2.0))
