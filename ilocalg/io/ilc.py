@@ -84,6 +84,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io.scans import scan_matrix
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -692,7 +693,7 @@ def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = N
     items = list(traces.values() if isinstance(traces, dict) else traces)
     if not items:
         raise ValueError("ilc_fingerprints: no traces given")
-    scan_rows, samples = [], []
+    scan_rows, samples, used_rows = [], [], []
     n_stale_total = 0
     for tr in items:
         w = tr.wifi
@@ -707,6 +708,7 @@ def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = N
         stale = np.zeros(len(w), dtype=bool)
         if max_age_s is not None:
             stale = (w[T_S] - w["last_seen_s"]).to_numpy() > max_age_s
+        used = np.zeros(len(w), dtype=bool)
         for i, (sid, t) in enumerate(st.items()):
             rows = (w[SCAN_ID] == sid).to_numpy()
             n_st = int((rows & stale).sum())
@@ -718,17 +720,18 @@ def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = N
                 reason = "no AP left"
             else:
                 n_stale_total += n_st
-                samples.append((tr.name, int(sid), float(t), xy[i], w.loc[keep, [BSSID, RSSI_DBM]]))
+                used |= keep
+                samples.append((tr.name, int(sid), float(t), xy[i]))
             scan_rows.append({"trace": tr.name, SCAN_ID: int(sid), T_S: float(t), X_M: xy[i, 0], Y_M: xy[i, 1],
                               "n_aps": int(rows.sum()), "n_stale": n_st, "used": reason == "", "reason": reason})
+        if used.any():
+            used_rows.append(w[used])
     scans = pd.DataFrame(scan_rows)
     if not samples:
         raise ValueError("ilc_fingerprints: no usable scan in the given traces")
-    ap_ids = sorted({b for s in samples for b in s[4][BSSID].tolist()})
-    col = {b: j for j, b in enumerate(ap_ids)}
-    rssi = np.full((len(samples), len(ap_ids)), np.nan)
-    for i, s in enumerate(samples):
-        rssi[i, [col[b] for b in s[4][BSSID].tolist()]] = s[4][RSSI_DBM].to_numpy(dtype=np.float64)
+    ap_ids = sorted({b for w in used_rows for b in w[BSSID].tolist()})
+    # one row per used scan, in trace then scan order (as ``samples``)
+    rssi = np.concatenate([scan_matrix(w, ap_ids)[2] for w in used_rows])
     meta = pd.DataFrame({"trace": [s[0] for s in samples], SCAN_ID: [s[1] for s in samples],
                          T_S: [s[2] for s in samples]})
     xy = np.array([s[3] for s in samples])
