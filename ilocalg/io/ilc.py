@@ -62,9 +62,10 @@ Floor map
 ``geojson_map.json`` stores polygons in longitude/latitude. Following the competition's own
 plotting convention (the floor image spans ``floor_info.json``'s ``width`` x ``height`` metres),
 the bounding box of the floor outline (feature 0) is mapped linearly onto ``[0, width] x
-[0, height]`` metres. Walkable area = inside the outline and outside every shop/obstacle polygon
-(features 1...). Polygons are returned as ``(n, 2)`` arrays; :func:`points_in_polygon` tests
-containment (even-odd rule) without shapely.
+[0, height]`` metres. Walkable area = inside the outline (the union of its rings) and outside every
+shop/obstacle polygon (features 1...). Polygons are returned as ``(n, 2)`` arrays;
+:meth:`IlcFloorMap.walkable` tests points (:func:`points_in_polygon`, even-odd rule per ring) and
+:meth:`ilocalg.fusion.particle_filter.OccupancyGrid.from_floor_map` rasterises the same area.
 
 References
 ----------
@@ -474,12 +475,17 @@ class IlcFloorMap:
     source: str | None = None
 
     def walkable(self, x_m, y_m) -> np.ndarray:
-        """True where ``(x_m, y_m)`` lies inside the outline and outside every obstacle."""
+        """True where ``(x_m, y_m)`` lies inside an outline ring and outside every obstacle.
+
+        The exact point test; the filters use the same area as a raster
+        (:meth:`ilocalg.fusion.particle_filter.OccupancyGrid.from_floor_map`, same rule: union of the
+        outline rings minus the obstacles).
+        """
         x = np.asarray(x_m, dtype=np.float64)
         y = np.asarray(y_m, dtype=np.float64)
         inside = np.zeros(np.broadcast(x, y).shape, dtype=bool)
         for ring in self.outline:
-            inside ^= points_in_polygon(x, y, ring)
+            inside |= points_in_polygon(x, y, ring)
         blocked = np.zeros_like(inside)
         for ring in self.obstacles:
             blocked |= points_in_polygon(x, y, ring)
