@@ -13,6 +13,7 @@ Subpackages
 ``ins``         strapdown mechanisation and error-state EKFs
 ``optim``       particle swarm optimisation
 ``photo``       photo positioning from points of interest
+``track``       a walk in, a track out: the PDR + Wi-Fi (+ map) pipeline of one walk, learned from others
 ``experiments`` each reproduced experiment as a function ``run(seed, fast, **params)``
 ``papers``      the papers' published values, set beside reproduced ones in comparison rows
 ``metrics``     positioning error statistics; ``units``: unit conversions
