@@ -39,10 +39,12 @@ def test_update_sets_shapes_and_weights():
     t = np.arange(100) * 0.06
     moving = np.ones(100, bool)
     nhc = ins.nhc_updates(t, moving, 0.05, 0.05, interval_s=0.5)
-    assert nhc.kind == "vel_b" and np.isnan(nhc.sd[:, 0]).all() and np.allclose(nhc.sd[:, 1:], 0.05)
+    assert isinstance(nhc, ins.BodyVelocity) and np.isnan(nhc.sd[:, 0]).all() and np.allclose(nhc.sd[:, 1:], 0.05)
     steps = np.arange(5, 100, 9)
     wvc = ins.wvc_updates(t, steps, ins.step_frequency_hz(t, steps), moving)
     assert np.all(wvc.sd[:, 1] > nhc.sd[0, 1])  # relaxed lateral weight
     assert np.allclose(wvc.z[:, 0], ins.walking_speed_mps(1 / 0.54))
+    assert isinstance(wvc, ins.BodyVelocity)
     z = ins.zupt_updates(t, ~moving)
+    assert isinstance(z, ins.NavVelocity)
     assert z.t_s.size == 0

@@ -67,7 +67,7 @@ def test_class_wrapper_agrees_with_functions():
     rng = np.random.default_rng(0)
     gyr = np.tile([0.0, 0.0, 0.2], (t.size, 1)) + rng.normal(0, 0.001, (t.size, 3))
     acc = np.tile([0.0, 0.24, 9.81], (t.size, 1))
-    fix = ins.UpdateSet("pos_n", t[::20], np.zeros((t[::20].size, 3)), np.full((t[::20].size, 3), 0.5))
+    fix = ins.PositionFix(t[::20], np.zeros((t[::20].size, 3)), np.full((t[::20].size, 3), 0.5))
     est.fit(t, gyr, acc, np.zeros(3), np.array([1.2, 0, 0]), np.eye(3), [fix])
     ref = ins.run_eskf(t, gyr, acc, np.zeros(3), np.array([1.2, 0, 0]), np.eye(3), ins.initial_covariance(),
                        [fix], CFG)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import find_peaks
 
-from ilocalg.ins.eskf import UpdateSet
+from ilocalg.ins.eskf import BodyVelocity, NavVelocity
 
 __all__ = [
     "WVC_REFERENCE_DEFAULTS",
@@ -124,17 +124,17 @@ def _every(t_s, mask, interval_s):
     return idx[keep]
 
 
-def nhc_updates(t_s, moving, lateral_sd_mps=0.05, vertical_sd_mps=0.05, interval_s=0.5) -> UpdateSet:
+def nhc_updates(t_s, moving, lateral_sd_mps=0.05, vertical_sd_mps=0.05, interval_s=0.5) -> BodyVelocity:
     """NHC: body lateral and vertical velocity zero while moving, every ``interval_s`` seconds."""
     t_s = np.asarray(t_s, dtype=float)
     idx = _every(t_s, np.asarray(moving, dtype=bool), interval_s)
     z = np.zeros((idx.size, 3))
     sd = np.tile([np.nan, lateral_sd_mps, vertical_sd_mps], (idx.size, 1))
-    return UpdateSet("vel_b", t_s[idx], z, sd, name="NHC")
+    return BodyVelocity(t_s[idx], z, sd, name="NHC")
 
 
 def wvc_updates(t_s, step_idx, step_freq, moving, height_m=None, params=None, forward_sd_mps=0.15,
-                lateral_sd_mps=0.3, vertical_sd_mps=0.3) -> UpdateSet:
+                lateral_sd_mps=0.3, vertical_sd_mps=0.3) -> BodyVelocity:
     """WVC at every detected step with a valid frequency: forward speed from eq. (7), relaxed NHC.
 
     References
@@ -151,11 +151,11 @@ def wvc_updates(t_s, step_idx, step_freq, moving, height_m=None, params=None, fo
     v = walking_speed_mps(f, height_m, **p)
     z = np.column_stack([v, np.zeros_like(v), np.zeros_like(v)])
     sd = np.tile([forward_sd_mps, lateral_sd_mps, vertical_sd_mps], (idx.size, 1))
-    return UpdateSet("vel_b", t_s[idx], z, sd, name="WVC")
+    return BodyVelocity(t_s[idx], z, sd, name="WVC")
 
 
-def zupt_updates(t_s, stationary, sd_mps=0.02, interval_s=0.25) -> UpdateSet:
+def zupt_updates(t_s, stationary, sd_mps=0.02, interval_s=0.25) -> NavVelocity:
     """ZUPT: ENU velocity zero while stationary, every ``interval_s`` seconds."""
     t_s = np.asarray(t_s, dtype=float)
     idx = _every(t_s, np.asarray(stationary, dtype=bool), interval_s)
-    return UpdateSet("vel_n", t_s[idx], np.zeros((idx.size, 3)), np.full((idx.size, 3), sd_mps), name="ZUPT")
+    return NavVelocity(t_s[idx], np.zeros((idx.size, 3)), np.full((idx.size, 3), sd_mps), name="ZUPT")

@@ -33,7 +33,7 @@ __all__ = [
     "dcm_to_rotvec",
     "euler_to_dcm",
     "dcm_to_euler",
-    "mech_step",
+    "strapdown",
     "mechanise",
     "coarse_level",
 ]
@@ -123,29 +123,41 @@ def dcm_to_euler(mat_nb) -> np.ndarray:
     return np.stack([roll, pitch, yaw], -1)
 
 
-def mech_step(pos_n_m, vel_n_mps, mat_nb, dtheta_b_rad, dvel_b_mps, dt_s):
-    """One strapdown step from angle and velocity increments.
+def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
+    """Strapdown integration over L steps from mean rates: the one copy of the mechanisation equations.
 
-    ``mat_nb(k+1) = mat_nb(k) exp([dtheta x])``; the velocity increment is rotated with the mean
-    of the two attitudes; position integrates the mean velocity (trapezoid), which is exact for
-    constant acceleration.
+    Step ``j`` uses the angular rate ``gyr[j]`` and specific force ``acc[j]`` held over ``dt[j]``:
+    ``mat_nb(j+1) = mat_nb(j) exp([gyr[j] dt[j] x])``; the velocity increment is rotated with the mean
+    of the two attitudes, ``vel(j+1) = vel(j) + dt/2 (mat(j) + mat(j+1)) acc[j] + g dt``; position
+    integrates the mean velocity (trapezoid), which is exact for constant acceleration.
 
     Parameters
     ----------
-    pos_n_m, vel_n_mps : (3,) arrays, ENU position (m) and velocity (m/s)
-    mat_nb : (3, 3) body -> nav DCM
-    dtheta_b_rad : (3,) angular increment ``omega_b * dt`` (rad)
-    dvel_b_mps : (3,) specific-force increment ``f_b * dt`` (m/s)
-    dt_s : float, step length (s)
+    pos0_n_m, vel0_n_mps : (3,) ENU position (m) and velocity (m/s) at the start
+    mat0_nb : (3, 3) body -> nav DCM at the start
+    gyr_b_radps, acc_b_mps2 : (L, 3) angular rate (rad/s) and specific force (m/s^2), body frame
+    dt_s : (L,) step lengths (s)
 
     Returns
     -------
-    pos_n_m, vel_n_mps, mat_nb after the step.
+    pos_n_m (L+1, 3), vel_n_mps (L+1, 3), mat_nb (L+1, 3, 3): the start and the state after every step.
+
+    References
+    ----------
+    Liao et al. (2016), sec. 3.1 (the INS that eq. 1-6 correct); Shin (2005), UCGE 20219, ch. 2.
     """
-    mat_new = mat_nb @ rotvec_to_dcm(dtheta_b_rad)
-    vel_new = vel_n_mps + 0.5 * (mat_nb + mat_new) @ dvel_b_mps + GRAVITY_N_MPS2 * dt_s
-    pos_new = pos_n_m + 0.5 * (vel_n_mps + vel_new) * dt_s
-    return pos_new, vel_new, mat_new
+    dt = np.asarray(dt_s, dtype=float)
+    dC = rotvecs_to_dcm(np.asarray(gyr_b_radps, dtype=float) * dt[:, None])
+    mat = np.empty((dt.size + 1, 3, 3))
+    mat[0] = mat0_nb
+    for j in range(dt.size):
+        mat[j + 1] = mat[j] @ dC[j]
+    dv = (0.5 * dt[:, None] * np.einsum("lij,lj->li", mat[:-1] + mat[1:], acc_b_mps2)
+          + GRAVITY_N_MPS2 * dt[:, None])
+    vel = vel0_n_mps + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])
+    pos = pos0_n_m + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * dt[:, None] * (vel[:-1] + vel[1:]),
+                                                                 axis=0)])
+    return pos, vel, mat
 
 
 def _check_imu(t_s, gyro_b_radps, acc_b_mps2):
@@ -182,15 +194,7 @@ def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
     pos_n_m (N, 3), vel_n_mps (N, 3), mat_nb (N, 3, 3) at the sample times.
     """
     t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
-    n = t_s.size
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    mat = np.empty((n, 3, 3))
-    pos[0], vel[0], mat[0] = pos0_n_m, vel0_n_mps, mat0_nb
-    dt = np.diff(t_s)
-    for k in range(n - 1):
-        pos[k + 1], vel[k + 1], mat[k + 1] = mech_step(pos[k], vel[k], mat[k], gyro[k] * dt[k], acc[k] * dt[k], dt[k])
-    return pos, vel, mat
+    return strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyro[:-1], acc[:-1], np.diff(t_s))
 
 
 def coarse_level(acc_b_mps2) -> tuple[float, float]:

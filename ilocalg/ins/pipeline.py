@@ -24,7 +24,7 @@ from ilocalg.ins.constraints import (
     wvc_updates,
     zupt_updates,
 )
-from ilocalg.ins.eskf import EskfConfig, EskfResult, UpdateSet, initial_covariance, run_eskf
+from ilocalg.ins.eskf import EskfConfig, EskfResult, Measurement, PositionFix, initial_covariance, run_eskf
 from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm
 
 __all__ = ["PhoneFilterSettings", "walk_updates", "run_walk"]
@@ -56,7 +56,7 @@ class PhoneFilterSettings:
 
 
 def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
-                 wvc_params: dict | None = None) -> list[UpdateSet]:
+                 wvc_params: dict | None = None) -> list[Measurement]:
     """Measurement sets for one walk.
 
     Parameters
@@ -71,8 +71,8 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
     s = settings or PhoneFilterSettings()
     t = walk.t_s
     still = detect_stationary(t, walk.acc_b_mps2, walk.gyro_b_radps)
-    ups = [UpdateSet("pos_n", walk.gnss_t_s, walk.gnss_pos_n_m,
-                     np.tile(walk.gnss_sd_m, (walk.gnss_t_s.size, 1)), name="GNSS"),
+    ups = [PositionFix(walk.gnss_t_s, walk.gnss_pos_n_m, np.tile(walk.gnss_sd_m, (walk.gnss_t_s.size, 1)),
+                       name="GNSS"),
            zupt_updates(t, still, sd_mps=s.zupt_sd_mps)]
     if constraint == "nhc":
         ups.append(nhc_updates(t, ~still, s.nhc_sd_mps, s.nhc_sd_mps))
@@ -84,8 +84,8 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
         ups.append(wvc_updates(t, steps, freq, ~still, height_m=h, params=p, forward_sd_mps=s.wvc_forward_sd_mps,
                                lateral_sd_mps=s.wvc_lateral_sd_mps, vertical_sd_mps=s.wvc_lateral_sd_mps))
     if use_gcp and walk.gcp_t_s.size:
-        ups.append(UpdateSet("pos_n", walk.gcp_t_s, walk.gcp_pos_n_m,
-                             np.full((walk.gcp_t_s.size, 3), walk.gcp_sd_m), name="GCP"))
+        ups.append(PositionFix(walk.gcp_t_s, walk.gcp_pos_n_m, np.full((walk.gcp_t_s.size, 3), walk.gcp_sd_m),
+                               name="GCP"))
     return ups
 
 

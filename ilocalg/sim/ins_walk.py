@@ -267,7 +267,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     # kinematics on the 200 Hz grid; truth position is the trapezoid integral of the velocity
     vel = np.gradient(pos, dt, axis=0)
     pos = pos[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt, axis=0)])
-    # increments over [t_k, t_k+1): consistent with mechanisation.mech_step
+    # increments over [t_k, t_k+1): consistent with mechanisation.strapdown
     dtheta = _rotvecs(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:]))
     dv_n = vel[1:] - vel[:-1] - GRAVITY_N_MPS2 * dt
     cmid = 0.5 * (mat[1:] + mat[:-1])
