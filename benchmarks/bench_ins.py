@@ -40,7 +40,7 @@ def _scenario():
 def _run(with_cov):
     t, g, f, v0, ups = _scenario_cache
     res = ins.run_eskf(t, g, f, np.zeros(3), v0, np.eye(3), ins.initial_covariance(), ups)
-    return ins.rts_smooth(res, with_cov=with_cov)
+    return ins.eskf_rts_smooth(res, with_cov=with_cov)
 
 
 _scenario_cache = _scenario()

@@ -21,7 +21,7 @@ def _rms_h(pos, walk):
 def test_constraints_and_control_points_order_like_the_paper(walk):
     r_wvc = ins.run_walk(walk, "wvc", use_gcp=False)
     r_gcp = ins.run_walk(walk, "wvc", use_gcp=True)
-    sm = ins.rts_smooth(r_gcp, with_cov=False)
+    sm = ins.eskf_rts_smooth(r_gcp, with_cov=False)
     e_wvc, e_gcp, e_sm = _rms_h(r_wvc.pos_n_m, walk), _rms_h(r_gcp.pos_n_m, walk), _rms_h(sm.pos_n_m, walk)
     assert e_gcp < e_wvc and e_sm < e_gcp
     assert e_sm < 3.0

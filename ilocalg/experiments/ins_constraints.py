@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.experiments.ins_paper_values import paper_value
-from ilocalg.ins import dcm_to_euler, error_stats, heading_error_with_lag_deg, nav_errors, rts_smooth
+from ilocalg.ins import dcm_to_euler, error_stats, eskf_rts_smooth, heading_error_with_lag_deg, nav_errors
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.papers import paper_ref
 from ilocalg.sim import ins_walk
@@ -38,7 +38,7 @@ def run_phone(route: str, profile: str, seed: int):
     out[METHODS[1]] = (r.pos_n_m, r.mat_nb)
     r = run_walk(walk, "wvc", use_gcp=True)
     out[METHODS[2]] = (r.pos_n_m, r.mat_nb)
-    s = rts_smooth(r, with_cov=False)
+    s = eskf_rts_smooth(r, with_cov=False)
     out[METHODS[3]] = (s.pos_n_m, s.mat_nb)
     return walk, out, r
 
@@ -80,7 +80,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
                               ("Bluetooth (m)", ins_walk.simulate(route, profile, seed=s,
                                                                   gcp_sd_m=bluetooth_gcp_sd_m))):
                 r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True)
-                for method, sol2 in ((METHODS[2], r2), (METHODS[3], rts_smooth(r2, with_cov=False))):
+                for method, sol2 in ((METHODS[2], r2), (METHODS[3], eskf_rts_smooth(r2, with_cov=False))):
                     err = nav_errors(sol2.pos_n_m[ind], sol2.mat_nb[ind], walk.pos_true_n_m[ind],
                                      walk.mat_true_nb[ind])
                     grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
@@ -100,7 +100,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
                 indr = wr.t_s >= wr.t_indoor_s
                 for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
                                          (METHODS[3], "wvc", True)):
-                    sm = rts_smooth(run_walk(wr, cons, use_gcp=gcp), with_cov=False)
+                    sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp), with_cov=False)
                     err = nav_errors(sm.pos_n_m[indr], sm.mat_nb[indr], wr.pos_true_n_m[indr], wr.mat_true_nb[indr])
                     refg.append({"phone route": phone, "imu": imu_label, "method": label,
                                  "seed": s, **error_stats(err)["rms"]})

@@ -13,7 +13,7 @@ import pandas as pd
 
 from ilocalg.experiments.ins_constraints import AXES, PAPER, PHONES
 from ilocalg.experiments.ins_paper_values import paper_value
-from ilocalg.ins import error_stats, nav_errors, online_window_smooth, rts_gains, rts_smooth, window_ends
+from ilocalg.ins import error_stats, eskf_rts_smooth, nav_errors, online_window_smooth, rts_gains, window_ends
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.papers import paper_ref
 from ilocalg.sim import ins_walk
@@ -59,7 +59,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
             for w in windows:
                 sm = online_window_smooth(res, w, gains=G)
                 sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
-            full = rts_smooth(res, with_cov=False, gains=G)
+            full = eskf_rts_smooth(res, with_cov=False, gains=G)
             sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
             if s == seed * n_seeds:
                 traj.append(_trajectory(phone, walk, sols, ind))

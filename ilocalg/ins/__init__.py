@@ -78,10 +78,10 @@ from ilocalg.ins.mechanisation import (
 from ilocalg.ins.pipeline import PhoneFilterSettings, run_walk, walk_updates
 from ilocalg.ins.smoother import (
     ErrorStateINS,
-    SmoothResult,
+    EskfSmoothResult,
+    eskf_rts_smooth,
     online_window_smooth,
     rts_gains,
-    rts_smooth,
     window_ends,
 )
 
@@ -106,7 +106,7 @@ __all__ = [
     "EskfConfig",
     "ErrorStateINS",
     "EskfResult",
-    "SmoothResult",
+    "EskfSmoothResult",
     "Measurement",
     "PositionFix",
     "NavVelocity",
@@ -133,7 +133,7 @@ __all__ = [
     "process_noise_diag",
     "rotvec_to_dcm",
     "rts_gains",
-    "rts_smooth",
+    "eskf_rts_smooth",
     "run_eskf",
     "skew",
     "step_frequency_hz",
