@@ -25,8 +25,8 @@ Modules
 from ilocalg.ins.constraints import (
     WVC_REFERENCE_DEFAULTS,
     detect_stationary,
-    detect_steps,
     nhc_updates,
+    step_epochs,
     step_frequency_hz,
     walking_speed_mps,
     wvc_updates,
@@ -117,7 +117,7 @@ __all__ = [
     "dcm_to_euler",
     "dcm_to_rotvec",
     "detect_stationary",
-    "detect_steps",
+    "step_epochs",
     "error_stats",
     "eskf_predict",
     "euler_to_dcm",

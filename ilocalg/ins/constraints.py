@@ -14,14 +14,14 @@ PDR solution for indoor navigation", ION GNSS 2011 (the step model and its defau
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import find_peaks
 
 from ilocalg.ins.eskf import BodyVelocity, NavVelocity
+from ilocalg.pdr.norm_peaks import detect_steps_norm_peaks, moving_mean_time
 
 __all__ = [
     "WVC_REFERENCE_DEFAULTS",
     "walking_speed_mps",
-    "detect_steps",
+    "step_epochs",
     "step_frequency_hz",
     "detect_stationary",
     "nhc_updates",
@@ -59,35 +59,19 @@ def walking_speed_mps(step_freq_hz, height_m=None, a=None, b=None, c=None):
     return step_len_m * f
 
 
-def _moving_mean(t_s, x, window_s):
-    """Centred moving mean over a time window (irregular samples), via cumulative sums."""
-    cs = np.concatenate([[0.0], np.cumsum(x)])
-    lo = np.searchsorted(t_s, t_s - window_s / 2, side="left")
-    hi = np.searchsorted(t_s, t_s + window_s / 2, side="right")
-    return (cs[hi] - cs[lo]) / (hi - lo)
+def step_epochs(t_s, acc_b_mps2, min_interval_s=0.3, min_prominence_mps2=0.8, smooth_s=0.15) -> np.ndarray:
+    """Indices (S,) of the IMU epochs at which a step is detected, for the WVC.
 
-
-def detect_steps(t_s, acc_b_mps2, min_interval_s=0.3, min_prominence_mps2=0.8, smooth_s=0.15):
-    """Step epochs from peaks of the smoothed specific-force norm.
-
-    Parameters
-    ----------
-    t_s : (N,) times (s); acc_b_mps2 : (N, 3) specific force
-    min_interval_s : shortest step period accepted; min_prominence_mps2 : peak prominence
-    smooth_s : moving-mean window applied to the norm first
-
-    Returns
-    -------
-    (S,) indices of the detected steps.
+    The detector is :func:`ilocalg.pdr.norm_peaks.detect_steps_norm_peaks` (see there for the parameters);
+    this adapter takes the INS's ``(t_s, acc_b_mps2)`` and keeps only the epochs the filter needs.
     """
     t_s = np.asarray(t_s, dtype=float)
     acc = np.asarray(acc_b_mps2, dtype=float)
     if acc.shape != (t_s.size, 3):
         raise ValueError(f"acc_b_mps2 must have shape ({t_s.size}, 3), got {acc.shape}")
-    norm = _moving_mean(t_s, np.linalg.norm(acc, axis=1), smooth_s)
-    dt = float(np.median(np.diff(t_s)))
-    peaks, _ = find_peaks(norm, distance=max(1, int(round(min_interval_s / dt))), prominence=min_prominence_mps2)
-    return peaks
+    steps = detect_steps_norm_peaks(acc, t_s, min_interval_s=min_interval_s, min_prominence_mps2=min_prominence_mps2,
+                                    smooth_s=smooth_s)
+    return steps["i_peak"].to_numpy()
 
 
 def step_frequency_hz(t_s, step_idx, max_period_s=1.2):
@@ -107,10 +91,10 @@ def detect_stationary(t_s, acc_b_mps2, gyro_b_radps, window_s=1.0, acc_sd_max_mp
     t_s = np.asarray(t_s, dtype=float)
     an = np.linalg.norm(np.asarray(acc_b_mps2, dtype=float), axis=1)
     gn = np.linalg.norm(np.asarray(gyro_b_radps, dtype=float), axis=1)
-    m = _moving_mean(t_s, an, window_s)
-    m2 = _moving_mean(t_s, an**2, window_s)
+    m = moving_mean_time(an, t_s, window_s)
+    m2 = moving_mean_time(an**2, t_s, window_s)
     sd = np.sqrt(np.clip(m2 - m**2, 0.0, None))
-    gm = _moving_mean(t_s, gn, window_s)
+    gm = moving_mean_time(gn, t_s, window_s)
     return (sd < acc_sd_max_mps2) & (gm < gyro_max_radps)
 
 

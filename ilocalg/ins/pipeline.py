@@ -18,8 +18,8 @@ import numpy as np
 
 from ilocalg.ins.constraints import (
     detect_stationary,
-    detect_steps,
     nhc_updates,
+    step_epochs,
     step_frequency_hz,
     wvc_updates,
     zupt_updates,
@@ -77,7 +77,7 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
     if constraint == "nhc":
         ups.append(nhc_updates(t, ~still, s.nhc_sd_mps, s.nhc_sd_mps))
     elif constraint == "wvc":
-        steps = detect_steps(t, walk.acc_b_mps2)
+        steps = step_epochs(t, walk.acc_b_mps2)
         freq = step_frequency_hz(t, steps)
         p = dict(wvc_params or {})
         h = p.pop("height_m", None)
