@@ -1,9 +1,7 @@
 import numpy as np
-import pandas as pd
 import pytest
 
 from ilocalg import ins
-from ilocalg.experiments.ins_paper_values import INS_PAPER_TABLES, paper_value
 from ilocalg.sim import ins_walk
 
 
@@ -40,18 +38,3 @@ def test_walk_updates_kinds(walk):
     assert k.size > 20 and np.percentile(speed, 80) < 0.1 and speed.max() < 0.3
     with pytest.raises(ValueError, match="constraint"):
         ins.walk_updates(walk, "foo")
-
-
-def test_paper_values_lookup():
-    assert len(INS_PAPER_TABLES) == 96
-    assert paper_value("Samsung", "Filtering + NHC/ZUPT", "rms", "N") == pytest.approx(14.8002)
-    with pytest.raises(ValueError, match="axis"):
-        paper_value("Samsung", "Filtering", "rms", "X")
-
-
-def test_online_experiment_accepts_integer_window_lengths():
-    from ilocalg.experiments import ins_online
-
-    a = ins_online.run(seed=0, fast=True, sweep_windows_s=(5, 10))
-    b = ins_online.run(seed=0, fast=True, sweep_windows_s=(5.0, 10.0))
-    pd.testing.assert_frame_equal(a["window_sweep"], b["window_sweep"])

@@ -57,7 +57,7 @@ from ilocalg.ins.constraints import walking_speed_mps
 from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, euler_to_dcm
 from ilocalg.units import as_rng
 
-__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "GCP_XYZ_M", "InsWalk", "simulate"]
+__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate"]
 
 TRUTH_RATE_HZ = 200.0  # the paper's reference rate
 
@@ -104,6 +104,8 @@ ROUTES = {
     "iphone": _LOOPS + _IN[:3] + [(30, 22, 4), (30, 15, 4), (20, 15, 4)] + _CLASS + [(24, 15, 4), (24, 13, 4)],
 }
 _N_OUTDOOR_WP = len(_LOOPS)
+#: The paper's two phones: (label in the paper's tables, route, IMU profile).
+PHONES = (("Samsung", "samsung", "samsung_s5"), ("iPhone", "iphone", "iphone_5s"))
 
 
 @dataclass(frozen=True)
