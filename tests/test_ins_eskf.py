@@ -7,10 +7,10 @@ from ilocalg import ins
 from ilocalg.ins.eskf import ATT, POS, VEL
 
 ACC_N, GYR_N = 0.02, 0.002  # noise densities of the consistency scenario
-CFG = ins.EskfConfig(acc_vrw_mps_rsqrt_s=ACC_N, gyro_arw_rad_rsqrt_s=GYR_N, acc_bias_rw_mps2_rsqrt_s=1e-6,
-                     gyro_bias_rw_radps_rsqrt_s=1e-7, acc_sf_rw_rsqrt_s=1e-7, gyro_sf_rw_rsqrt_s=1e-7)
+CFG = ins.EskfConfig(acc_vrw_mps_rsqrt_s=ACC_N, gyr_arw_rad_rsqrt_s=GYR_N, acc_bias_rw_mps2_rsqrt_s=1e-6,
+                     gyr_bias_rw_radps_rsqrt_s=1e-7, acc_sf_rw_rsqrt_s=1e-7, gyr_sf_rw_rsqrt_s=1e-7)
 P0_SD = dict(pos_sd_m=0.5, vel_sd_mps=0.05, att_sd_rad=(0.01, 0.01, 0.03), acc_bias_sd_mps2=0.05,
-             gyro_bias_sd_radps=0.002, acc_sf_sd=0.01, gyro_sf_sd=0.01)
+             gyr_bias_sd_radps=0.002, acc_sf_sd=0.01, gyr_sf_sd=0.01)
 
 
 def circle_run(seed, n=1200, dt=0.05, fix_every=20, fix_sd=0.3):

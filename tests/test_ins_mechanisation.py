@@ -13,16 +13,16 @@ def _static(n=2000, dt=0.01, euler=(0.1, -0.2, 1.0)):
 
 
 def test_stationary_imu_stays_put():
-    t, C0, acc, gyro = _static()
-    p, v, C = ins.mechanise(t, gyro, acc, np.zeros(3), np.zeros(3), C0)
+    t, C0, acc, gyr = _static()
+    p, v, C = ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), C0)
     assert np.abs(p).max() < 1e-9 and np.abs(v).max() < 1e-10
     assert np.allclose(C, C0, atol=1e-12)
 
 
 def test_constant_velocity_integrates_exactly():
-    t, C0, acc, gyro = _static(n=500, dt=0.037)
+    t, C0, acc, gyr = _static(n=500, dt=0.037)
     v0 = np.array([1.0, -2.0, 0.3])
-    p, v, _ = ins.mechanise(t, gyro, acc, np.array([5.0, 6.0, 7.0]), v0, C0)
+    p, v, _ = ins.mechanise(t, gyr, acc, np.array([5.0, 6.0, 7.0]), v0, C0)
     assert np.allclose(p, np.array([5.0, 6.0, 7.0]) + t[:, None] * v0, atol=1e-9)
     assert np.allclose(v, v0, atol=1e-12)
 
@@ -42,9 +42,9 @@ def test_constant_rate_rotation_matches_closed_form():
     n, dt = 1000, 0.01
     t = np.arange(n) * dt
     w = np.array([0.0, 0.0, 0.5])
-    gyro = np.tile(w, (n, 1))
+    gyr = np.tile(w, (n, 1))
     acc = np.tile([0.0, 0.0, 9.80665], (n, 1))
-    _, _, C = ins.mechanise(t, gyro, acc, np.zeros(3), np.zeros(3), np.eye(3))
+    _, _, C = ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), np.eye(3))
     yaw = ins.dcm_to_euler(C)[:, 2]
     assert np.allclose(np.unwrap(yaw), 0.5 * t, atol=1e-10)
 
@@ -73,11 +73,11 @@ def test_coarse_level_recovers_roll_pitch():
 
 
 def test_bad_input_raises():
-    t, C0, acc, gyro = _static(n=10)
-    with pytest.raises(ValueError, match="gyro_b_radps"):
-        ins.mechanise(t, gyro[:5], acc, np.zeros(3), np.zeros(3), C0)
+    t, C0, acc, gyr = _static(n=10)
+    with pytest.raises(ValueError, match="gyr_b_radps"):
+        ins.mechanise(t, gyr[:5], acc, np.zeros(3), np.zeros(3), C0)
     with pytest.raises(ValueError, match="strictly increasing"):
-        ins.mechanise(t[::-1], gyro, acc, np.zeros(3), np.zeros(3), C0)
+        ins.mechanise(t[::-1], gyr, acc, np.zeros(3), np.zeros(3), C0)
     acc[3, 1] = np.nan
     with pytest.raises(ValueError, match="acc_b_mps2"):
-        ins.mechanise(t, gyro, acc, np.zeros(3), np.zeros(3), C0)
+        ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), C0)

@@ -32,7 +32,7 @@ def run_sequence(seq, level_s: float = 1.0):
     x0[3:6] = seq.z_vt[0, 1:4]
     P0 = np.diag(np.square(np.concatenate([np.deg2rad([3.0, 3.0, 2.0]), np.full(3, 0.01), np.full(3, 0.05),
                                            np.full(3, np.deg2rad(0.5)), np.full(3, 0.2)])))
-    return run_hartmann(seq.t_s, seq.gyro_b_radps, seq.acc_b_mps2, seq.t_vt_s, seq.z_vt, x0, P0)
+    return run_hartmann(seq.t_s, seq.gyr_b_radps, seq.acc_b_mps2, seq.t_vt_s, seq.z_vt, x0, P0)
 
 
 def _settling_time(t, est, true, tol):

@@ -7,7 +7,7 @@ Navigation frame ``n``: local-level east-north-up (ENU), metres, fixed to the si
 rotation and transport rate are neglected (indoor scale: far below phone gyro errors); gravity
 is constant, ``[0, 0, -9.80665]`` m/s^2. Body frame ``b``: the sensor frame, x forward, y left,
 z up. Attitude: ``mat_nb`` (body -> nav), Z-Y-X Euler angles ``(roll, pitch, yaw)`` in rad, yaw
-counter-clockwise from east. IMU logs are arrays: ``t_s`` (N,), ``gyro_b_radps`` (N, 3),
+counter-clockwise from east. IMU logs are arrays: ``t_s`` (N,), ``gyr_b_radps`` (N, 3),
 ``acc_b_mps2`` (N, 3, specific force); sample k is the mean over ``[t_k, t_{k+1})`` and sampling
 may be irregular (phones).
 

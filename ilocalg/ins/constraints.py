@@ -85,17 +85,17 @@ def step_frequency_hz(t_s, step_idx, max_period_s=1.2):
     return f
 
 
-def detect_stationary(t_s, acc_b_mps2, gyro_b_radps, window_s=1.0, acc_sd_max_mps2=0.3,
-                      gyro_max_radps=0.1):
+def detect_stationary(t_s, acc_b_mps2, gyr_b_radps, window_s=1.0, acc_sd_max_mps2=0.3,
+                      gyr_max_radps=0.1):
     """Boolean (N,): the device is still (moving-window acc-norm spread and gyro norm both small)."""
     t_s = np.asarray(t_s, dtype=float)
     an = np.linalg.norm(np.asarray(acc_b_mps2, dtype=float), axis=1)
-    gn = np.linalg.norm(np.asarray(gyro_b_radps, dtype=float), axis=1)
+    gn = np.linalg.norm(np.asarray(gyr_b_radps, dtype=float), axis=1)
     m = moving_mean_time(an, t_s, window_s)
     m2 = moving_mean_time(an**2, t_s, window_s)
     sd = np.sqrt(np.clip(m2 - m**2, 0.0, None))
     gm = moving_mean_time(gn, t_s, window_s)
-    return (sd < acc_sd_max_mps2) & (gm < gyro_max_radps)
+    return (sd < acc_sd_max_mps2) & (gm < gyr_max_radps)
 
 
 def _every(t_s, mask, interval_s):

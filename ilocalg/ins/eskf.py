@@ -1,12 +1,12 @@
 """The 21-state error-state EKF (closed loop) of the smartphone INS.
 
-State (eq. 1), ``x = [dr, dv, dphi, b_acc, b_gyro, s_acc, s_gyro]``, each a 3-vector:
+State (eq. 1), ``x = [dr, dv, dphi, b_acc, b_gyr, s_acc, s_gyr]``, each a 3-vector:
 position error (m, ENU), velocity error (m/s, ENU), attitude error (rad, nav-frame small
 rotation with ``mat_nb_true = (I + [dphi x]) mat_nb_est``), accelerometer bias (m/s^2), gyroscope
 bias (rad/s), accelerometer and gyroscope scale-factor errors (dimensionless). Every error is
 ``true - estimated``.
 
-Sensor model: ``f_raw = (1 + s_acc) f + b_acc + noise`` and ``w_raw = (1 + s_gyro) w + b_gyro + noise``
+Sensor model: ``f_raw = (1 + s_acc) f + b_acc + noise`` and ``w_raw = (1 + s_gyr) w + b_gyr + noise``
 (per axis), so the corrected sensors are ``(raw - b) / (1 + s)``.
 
 Closed loop: after every update the estimated errors are fed back into the mechanisation and
@@ -74,17 +74,17 @@ class EskfConfig:
     Parameters
     ----------
     acc_vrw_mps_rsqrt_s : velocity random walk of the accelerometer, m/s/sqrt(s)
-    gyro_arw_rad_rsqrt_s : angle random walk of the gyroscope, rad/sqrt(s)
-    acc_bias_rw_mps2_rsqrt_s, gyro_bias_rw_radps_rsqrt_s : bias random-walk densities
-    acc_sf_rw_rsqrt_s, gyro_sf_rw_rsqrt_s : scale-factor random-walk densities, 1/sqrt(s)
+    gyr_arw_rad_rsqrt_s : angle random walk of the gyroscope, rad/sqrt(s)
+    acc_bias_rw_mps2_rsqrt_s, gyr_bias_rw_radps_rsqrt_s : bias random-walk densities
+    acc_sf_rw_rsqrt_s, gyr_sf_rw_rsqrt_s : scale-factor random-walk densities, 1/sqrt(s)
     """
 
     acc_vrw_mps_rsqrt_s: float = 0.05
-    gyro_arw_rad_rsqrt_s: float = 0.005
+    gyr_arw_rad_rsqrt_s: float = 0.005
     acc_bias_rw_mps2_rsqrt_s: float = 1e-3
-    gyro_bias_rw_radps_rsqrt_s: float = 1e-4
+    gyr_bias_rw_radps_rsqrt_s: float = 1e-4
     acc_sf_rw_rsqrt_s: float = 1e-4
-    gyro_sf_rw_rsqrt_s: float = 1e-4
+    gyr_sf_rw_rsqrt_s: float = 1e-4
 
     def __post_init__(self):
         for name, v in self.__dict__.items():
@@ -97,7 +97,7 @@ class EskfResult:
     """Everything the filter produced, per IMU epoch (N epochs).
 
     ``pos_n_m`` (N, 3), ``vel_n_mps`` (N, 3), ``mat_nb`` (N, 3, 3): the navigation solution after
-    feedback; ``sensor`` (N, 12): estimated ``[b_acc, b_gyro, s_acc, s_gyro]``; ``dx`` (N, 21): the
+    feedback; ``sensor`` (N, 12): estimated ``[b_acc, b_gyr, s_acc, s_gyr]``; ``dx`` (N, 21): the
     error estimate fed back at each epoch (zero without an update); ``P_plus`` / ``P_minus`` (N, 21, 21):
     updated / predicted covariance; ``Phi`` (N, 21, 21): ``Phi[k]`` maps epoch k-1 to k (``Phi[0] = I``);
     ``nis`` (N,): normalised innovation squared of the update at each epoch (NaN without one) and
@@ -119,9 +119,9 @@ class EskfResult:
 
 
 def initial_covariance(pos_sd_m=1.0, vel_sd_mps=0.1, att_sd_rad=(0.03, 0.03, 0.2), acc_bias_sd_mps2=0.1,
-                       gyro_bias_sd_radps=0.01, acc_sf_sd=0.02, gyro_sf_sd=0.02) -> np.ndarray:
+                       gyr_bias_sd_radps=0.01, acc_sf_sd=0.02, gyr_sf_sd=0.02) -> np.ndarray:
     """Diagonal initial covariance (21, 21) from per-block standard deviations (scalars or 3-vectors)."""
-    sds = [pos_sd_m, vel_sd_mps, att_sd_rad, acc_bias_sd_mps2, gyro_bias_sd_radps, acc_sf_sd, gyro_sf_sd]
+    sds = [pos_sd_m, vel_sd_mps, att_sd_rad, acc_bias_sd_mps2, gyr_bias_sd_radps, acc_sf_sd, gyr_sf_sd]
     d = np.concatenate([np.broadcast_to(np.asarray(s, dtype=float), 3) for s in sds])
     if np.any(~np.isfinite(d)) or np.any(d <= 0):
         raise ValueError("initial_covariance: every standard deviation must be finite and > 0")
@@ -176,8 +176,8 @@ def transition_matrix(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
 def process_noise_diag(config: EskfConfig, dt_s) -> np.ndarray:
     """Diagonal of the discrete process noise ``Q`` over a step of ``dt_s`` (eq. 3): (21,); (L, 21) for (L,) steps."""
     c = config
-    per = [0.0, c.acc_vrw_mps_rsqrt_s, c.gyro_arw_rad_rsqrt_s, c.acc_bias_rw_mps2_rsqrt_s,
-           c.gyro_bias_rw_radps_rsqrt_s, c.acc_sf_rw_rsqrt_s, c.gyro_sf_rw_rsqrt_s]
+    per = [0.0, c.acc_vrw_mps_rsqrt_s, c.gyr_arw_rad_rsqrt_s, c.acc_bias_rw_mps2_rsqrt_s,
+           c.gyr_bias_rw_radps_rsqrt_s, c.acc_sf_rw_rsqrt_s, c.gyr_sf_rw_rsqrt_s]
     return np.multiply.outer(dt_s, np.repeat(np.square(per), 3))
 
 
@@ -349,7 +349,7 @@ def _schedule(t_s, updates):
     return sched
 
 
-def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
+def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
              config: EskfConfig | None = None, sensor0=None) -> EskfResult:
     """Run the closed-loop 21-state EKF over an IMU log with the given measurement sets.
 
@@ -362,7 +362,7 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
     Parameters
     ----------
     t_s : (N,) IMU sample times (s), strictly increasing, any (irregular) spacing
-    gyro_b_radps, acc_b_mps2 : (N, 3) raw sensor samples; sample k is the mean over [t_k, t_{k+1})
+    gyr_b_radps, acc_b_mps2 : (N, 3) raw sensor samples; sample k is the mean over [t_k, t_{k+1})
     pos0_n_m, vel0_n_mps, mat0_nb : initial navigation state at ``t_s[0]``
     P0 : (21, 21) initial covariance (see :func:`initial_covariance`)
     updates : sequence of :class:`Measurement` objects (:class:`PositionFix`, :class:`NavVelocity`,
@@ -378,7 +378,7 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
     ----------
     Liao et al. (2016), eq. (1)-(6).
     """
-    t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
+    t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
     config = config or EskfConfig()
     P0 = np.asarray(P0, dtype=float)
     if P0.shape != (N_STATES, N_STATES):
@@ -415,7 +415,7 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
             # predict k -> kb with constant sensor-error estimates (eq. 2-3)
             seg = slice(k, kb)
             dt = dt_all[seg]
-            w_c, f_c = correct_sensors(gyro[seg], acc[seg], s)
+            w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
             pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1] = strapdown(p, v, C, w_c, f_c, dt)
             sens[k + 1:kb + 1] = s
             Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)

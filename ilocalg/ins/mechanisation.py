@@ -160,32 +160,32 @@ def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
     return pos, vel, mat
 
 
-def _check_imu(t_s, gyro_b_radps, acc_b_mps2):
+def _check_imu(t_s, gyr_b_radps, acc_b_mps2):
     t_s = np.asarray(t_s, dtype=float)
-    gyro = np.asarray(gyro_b_radps, dtype=float)
+    gyr = np.asarray(gyr_b_radps, dtype=float)
     acc = np.asarray(acc_b_mps2, dtype=float)
     if t_s.ndim != 1 or t_s.size < 2:
         raise ValueError(f"t_s must be 1-D with at least 2 samples, got shape {t_s.shape}")
     if np.any(np.diff(t_s) <= 0):
         raise ValueError("t_s must be strictly increasing")
-    for name, a in (("gyro_b_radps", gyro), ("acc_b_mps2", acc)):
+    for name, a in (("gyr_b_radps", gyr), ("acc_b_mps2", acc)):
         if a.shape != (t_s.size, 3):
             raise ValueError(f"{name} must have shape ({t_s.size}, 3), got {a.shape}")
         if not np.all(np.isfinite(a)):
             raise ValueError(f"{name} contains non-finite values")
-    return t_s, gyro, acc
+    return t_s, gyr, acc
 
 
-def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
+def mechanise(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
     """Pure strapdown integration of an IMU log.
 
     Sample ``k`` holds the mean rate / specific force over ``[t_k, t_{k+1})`` (increments divided
-    by the interval), so the increments of step ``k`` are ``gyro[k] * dt_k`` and ``acc[k] * dt_k``.
+    by the interval), so the increments of step ``k`` are ``gyr[k] * dt_k`` and ``acc[k] * dt_k``.
 
     Parameters
     ----------
     t_s : (N,) strictly increasing sample times, s
-    gyro_b_radps, acc_b_mps2 : (N, 3) angular rate (rad/s) and specific force (m/s^2), body frame
+    gyr_b_radps, acc_b_mps2 : (N, 3) angular rate (rad/s) and specific force (m/s^2), body frame
     pos0_n_m, vel0_n_mps : (3,) initial ENU position and velocity at ``t_s[0]``
     mat0_nb : (3, 3) initial attitude
 
@@ -193,8 +193,8 @@ def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
     -------
     pos_n_m (N, 3), vel_n_mps (N, 3), mat_nb (N, 3, 3) at the sample times.
     """
-    t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
-    return strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyro[:-1], acc[:-1], np.diff(t_s))
+    t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
+    return strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr[:-1], acc[:-1], np.diff(t_s))
 
 
 def coarse_level(acc_b_mps2) -> tuple[float, float]:

@@ -39,15 +39,15 @@ class PhoneFilterSettings:
     vertical plus the forward speed (sec. 3.2).
     """
 
-    eskf: EskfConfig = EskfConfig(acc_vrw_mps_rsqrt_s=0.05, gyro_arw_rad_rsqrt_s=0.002,
-                                  acc_bias_rw_mps2_rsqrt_s=5e-4, gyro_bias_rw_radps_rsqrt_s=5e-5,
-                                  acc_sf_rw_rsqrt_s=1e-4, gyro_sf_rw_rsqrt_s=1e-4)
+    eskf: EskfConfig = EskfConfig(acc_vrw_mps_rsqrt_s=0.05, gyr_arw_rad_rsqrt_s=0.002,
+                                  acc_bias_rw_mps2_rsqrt_s=5e-4, gyr_bias_rw_radps_rsqrt_s=5e-5,
+                                  acc_sf_rw_rsqrt_s=1e-4, gyr_sf_rw_rsqrt_s=1e-4)
     att_sd_rad: tuple = (np.deg2rad(2.0), np.deg2rad(2.0), np.deg2rad(5.0))
     vel_sd_mps: float = 0.1
     acc_bias_sd_mps2: float = 0.3
-    gyro_bias_sd_radps: float = float(np.deg2rad(0.5))
+    gyr_bias_sd_radps: float = float(np.deg2rad(0.5))
     acc_sf_sd: float = 0.02
-    gyro_sf_sd: float = 0.02
+    gyr_sf_sd: float = 0.02
     nhc_sd_mps: float = 0.05
     wvc_forward_sd_mps: float = 0.15
     wvc_lateral_sd_mps: float = 0.3
@@ -70,7 +70,7 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
         raise ValueError(f"constraint must be 'nhc', 'wvc' or 'none', got {constraint!r}")
     s = settings or PhoneFilterSettings()
     t = walk.t_s
-    still = detect_stationary(t, walk.acc_b_mps2, walk.gyro_b_radps)
+    still = detect_stationary(t, walk.acc_b_mps2, walk.gyr_b_radps)
     ups = [PositionFix(walk.gnss_t_s, walk.gnss_pos_n_m, np.tile(walk.gnss_sd_m, (walk.gnss_t_s.size, 1)),
                        name="GNSS"),
            zupt_updates(t, still, sd_mps=s.zupt_sd_mps)]
@@ -98,8 +98,8 @@ def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: Phon
     roll, pitch = coarse_level(walk.acc_b_mps2[first])
     yaw = float(walk.init["euler_rad"][2])
     P0 = initial_covariance(pos_sd_m=walk.gnss_sd_m, vel_sd_mps=s.vel_sd_mps, att_sd_rad=s.att_sd_rad,
-                            acc_bias_sd_mps2=s.acc_bias_sd_mps2, gyro_bias_sd_radps=s.gyro_bias_sd_radps,
-                            acc_sf_sd=s.acc_sf_sd, gyro_sf_sd=s.gyro_sf_sd)
+                            acc_bias_sd_mps2=s.acc_bias_sd_mps2, gyr_bias_sd_radps=s.gyr_bias_sd_radps,
+                            acc_sf_sd=s.acc_sf_sd, gyr_sf_sd=s.gyr_sf_sd)
     ups = walk_updates(walk, constraint, use_gcp, s, wvc_params)
-    return run_eskf(t, walk.gyro_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
+    return run_eskf(t, walk.gyr_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
                     euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf)

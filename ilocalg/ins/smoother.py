@@ -163,10 +163,10 @@ class ErrorStateINS:
         self.P0 = P0
         self.config = config
 
-    def fit(self, t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, updates=()) -> ErrorStateINS:
+    def fit(self, t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, updates=()) -> ErrorStateINS:
         from ilocalg.ins.eskf import run_eskf
 
-        self.result_ = run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, self.P0, updates,
+        self.result_ = run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, self.P0, updates,
                                 self.config)
         self.gains_ = rts_gains(self.result_)
         return self

@@ -72,11 +72,11 @@ class PhoneProfile:
     name: str
     ticks: tuple[int, int]
     acc_bias_sd_mps2: float
-    gyro_bias_sd_radps: float
+    gyr_bias_sd_radps: float
     acc_sf_sd: float
-    gyro_sf_sd: float
+    gyr_sf_sd: float
     acc_noise_mps2_rsqrt_hz: float
-    gyro_noise_radps_rsqrt_hz: float
+    gyr_noise_radps_rsqrt_hz: float
 
 
 _MG = 9.80665e-3
@@ -113,19 +113,19 @@ class InsWalk:
     """One simulated walk.
 
     Truth at 200 Hz: ``t_ref_s`` (M,), ``pos_ref_n_m`` (M, 3), ``mat_ref_nb`` (M, 3, 3).
-    Phone IMU: ``t_s`` (N,), ``gyro_b_radps`` (N, 3), ``acc_b_mps2`` (N, 3); truth at the phone
+    Phone IMU: ``t_s`` (N,), ``gyr_b_radps`` (N, 3), ``acc_b_mps2`` (N, 3); truth at the phone
     epochs ``pos_true_n_m``, ``vel_true_n_mps``, ``mat_true_nb``, ``stationary_true`` (N,).
     ``gnss_t_s`` / ``gnss_pos_n_m`` / ``gnss_sd_m`` (G,), (G, 3), (3,); control-point passages
     ``gcp_t_s`` (C,), ``gcp_pos_n_m`` (C, 3), ``gcp_id`` (C,), ``gcp_sd_m``; ``t_indoor_s`` the time the
     walker leaves the outdoor loops (errors are analysed after it); ``init``: initial state for the
-    filter; ``sensor_true`` (12,) the drawn ``[b_acc, b_gyro, s_acc, s_gyro]``; ``params``.
+    filter; ``sensor_true`` (12,) the drawn ``[b_acc, b_gyr, s_acc, s_gyr]``; ``params``.
     """
 
     t_ref_s: np.ndarray
     pos_ref_n_m: np.ndarray
     mat_ref_nb: np.ndarray
     t_s: np.ndarray
-    gyro_b_radps: np.ndarray
+    gyr_b_radps: np.ndarray
     acc_b_mps2: np.ndarray
     pos_true_n_m: np.ndarray
     vel_true_n_mps: np.ndarray
@@ -286,16 +286,16 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     valid = nxt > ep
     ep, nxt = ep[valid], nxt[valid]
     dt_ph = (nxt - ep) * dt
-    gyro_true = (cs_th[nxt] - cs_th[ep]) / dt_ph[:, None]
+    gyr_true = (cs_th[nxt] - cs_th[ep]) / dt_ph[:, None]
     acc_true = (cs_dv[nxt] - cs_dv[ep]) / dt_ph[:, None]
     n = ep.size
     ba = rng.normal(0.0, prof.acc_bias_sd_mps2, 3)
-    bg = rng.normal(0.0, prof.gyro_bias_sd_radps, 3)
+    bg = rng.normal(0.0, prof.gyr_bias_sd_radps, 3)
     sa = rng.normal(0.0, prof.acc_sf_sd, 3)
-    sg = rng.normal(0.0, prof.gyro_sf_sd, 3)
+    sg = rng.normal(0.0, prof.gyr_sf_sd, 3)
     acc = (1 + sa) * acc_true + ba + rng.normal(0.0, 1.0, (n, 3)) * (prof.acc_noise_mps2_rsqrt_hz
                                                                      / np.sqrt(dt_ph))[:, None]
-    gyro = (1 + sg) * gyro_true + bg + rng.normal(0.0, 1.0, (n, 3)) * (prof.gyro_noise_radps_rsqrt_hz
+    gyr = (1 + sg) * gyr_true + bg + rng.normal(0.0, 1.0, (n, 3)) * (prof.gyr_noise_radps_rsqrt_hz
                                                                        / np.sqrt(dt_ph))[:, None]
     t_ph = t[ep]
     t_indoor = float(t[i_indoor])
@@ -319,7 +319,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     init_att = np.array([roll[0], pitch[0], yaw_b[0] + np.deg2rad(rng.normal(0.0, init_yaw_sd_deg))])
     stationary = ~walking[ep] & (walk_w[ep] < 0.05)
     return InsWalk(
-        t_ref_s=t, pos_ref_n_m=pos, mat_ref_nb=mat, t_s=t_ph, gyro_b_radps=gyro, acc_b_mps2=acc,
+        t_ref_s=t, pos_ref_n_m=pos, mat_ref_nb=mat, t_s=t_ph, gyr_b_radps=gyr, acc_b_mps2=acc,
         pos_true_n_m=pos[ep], vel_true_n_mps=vel[ep], mat_true_nb=mat[ep], stationary_true=stationary,
         gnss_t_s=t_ph[g_idx], gnss_pos_n_m=gnss_pos, gnss_sd_m=gsd,
         gcp_t_s=np.asarray(gcp_t)[order], gcp_pos_n_m=np.asarray(gcp_p).reshape(-1, 3)[order],
