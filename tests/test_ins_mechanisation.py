@@ -81,3 +81,16 @@ def test_bad_input_raises():
     acc[3, 1] = np.nan
     with pytest.raises(ValueError, match="acc_b_mps2"):
         ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), C0)
+
+
+def test_phone_to_body_rotation():
+    M = ins.MAT_PHONE_TO_BODY
+    assert np.allclose(M @ M.T, np.eye(3)) and np.linalg.det(M) == pytest.approx(1.0)
+    # the top of the phone (y_p) points forward (x_b), its right edge (x_p) to the walker's right (-y_b)
+    assert np.array_equal(ins.phone_to_body([0.0, 1.0, 0.0]), [1.0, 0.0, 0.0])
+    assert np.array_equal(ins.phone_to_body([1.0, 0.0, 0.0]), [0.0, -1.0, 0.0])
+    assert np.allclose(M.T, ins.euler_to_dcm(0.0, 0.0, np.pi / 2))  # body -> phone is +90 deg about z
+    v = np.random.default_rng(0).normal(size=(5, 3))
+    assert np.allclose(ins.phone_to_body(v), v @ M.T)
+    with pytest.raises(ValueError, match="vec_p"):
+        ins.phone_to_body(np.zeros((2, 2)))

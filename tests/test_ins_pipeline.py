@@ -38,3 +38,19 @@ def test_walk_updates_kinds(walk):
     assert k.size > 20 and np.percentile(speed, 80) < 0.1 and speed.max() < 0.3
     with pytest.raises(ValueError, match="constraint"):
         ins.walk_updates(walk, "foo")
+
+
+def test_body_imu_from_a_phone_log():
+    import pandas as pd
+
+    from ilocalg.io.schema import ACC_COLS, GYR_COLS
+
+    t = np.arange(5) * 0.02
+    # a phone lying flat, top pointing forward, accelerating forward and turning left
+    log = pd.DataFrame({**dict(zip(ACC_COLS, ([0.0] * 5, [0.5] * 5, [9.81] * 5), strict=True)),
+                        **dict(zip(GYR_COLS, ([0.0] * 5, [0.0] * 5, [0.3] * 5), strict=True))}, index=t)
+    ts, gyr_b, acc_b = ins.body_imu_from_log(log)
+    assert np.array_equal(ts, t)
+    assert np.allclose(acc_b, [0.5, 0.0, 9.81]) and np.allclose(gyr_b, [0.0, 0.0, 0.3])
+    with pytest.raises(ValueError, match="gyr_x_radps"):
+        ins.body_imu_from_log(log.drop(columns=GYR_COLS[0]))

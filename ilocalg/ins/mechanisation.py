@@ -1,10 +1,10 @@
-"""Strapdown mechanisation in a local-level east-north-up frame.
+"""Strapdown mechanisation in a local-level east-north-up frame, attitude helpers and the phone -> body rotation.
 
-Frames: the navigation frame ``n`` is a local-level east-north-up (ENU) frame fixed to the
-site; the body frame ``b`` is the sensor frame, x forward, y left, z up (FLU) when the device
-is held level and pointing along the walking direction. Attitude is the direction-cosine matrix
-``mat_nb`` (body -> nav) with Z-Y-X Euler angles ``mat_nb = Rz(yaw) Ry(pitch) Rx(roll)``;
-yaw counts counter-clockwise from east.
+Frames are defined once in the :mod:`ilocalg` package docstring: navigation frame ``n`` (ENU), INS
+body frame ``b`` (x forward, y left, z up), phone sensor frame ``p`` (Android axes). Attitude is the
+direction-cosine matrix ``mat_nb`` (body -> nav) with Z-Y-X Euler angles
+``mat_nb = Rz(yaw) Ry(pitch) Rx(roll)``; yaw counts counter-clockwise from east. A phone log is
+brought into the body frame with :data:`MAT_PHONE_TO_BODY` (:func:`phone_to_body`).
 
 Earth rotation (7.3e-5 rad/s) and transport rate are neglected: over an indoor walk of a few
 minutes at walking speed they are far below a phone gyroscope's noise and bias (> 1e-3 rad/s),
@@ -14,7 +14,7 @@ References
 ----------
 Liao, Chiang, Zhou, Li (2016), "Using the on-line smoothing and constraint algorithms to improve
 the accuracy of pedestrian indoor navigation", sec. 3.1 (the INS that eq. 1-6 correct).
-Hartmann et al. (2010) as summarised in the image/inertial survey, eq. (6) (the same Z-Y-X DCM).
+Yeh & Huang, image/inertial positioning survey, eq. (6), citing Hartmann et al. (2010) (the same Z-Y-X DCM).
 """
 
 from __future__ import annotations
@@ -27,6 +27,8 @@ from ilocalg.units import G0_MPS2
 
 __all__ = [
     "GRAVITY_N_MPS2",
+    "MAT_PHONE_TO_BODY",
+    "phone_to_body",
     "skew",
     "rotvec_to_dcm",
     "rotvecs_to_dcm",
@@ -40,6 +42,24 @@ __all__ = [
 
 #: Gravity vector in the ENU navigation frame, m/s^2.
 GRAVITY_N_MPS2 = np.array([0.0, 0.0, -G0_MPS2])
+
+#: Rotation from the phone (Android sensor) frame to the INS body frame, ``v_b = MAT_PHONE_TO_BODY @ v_p``,
+#: for a phone held flat in front of the walker, screen up, its top pointing along the walk:
+#: forward ``x_b = y_p`` (up the screen), left ``y_b = -x_p``, up ``z_b = z_p`` (out of the screen);
+#: a rotation of -90 deg about z.
+MAT_PHONE_TO_BODY = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+
+
+def phone_to_body(vec_p) -> np.ndarray:
+    """Vectors (3,) or (N, 3) from the phone frame to the INS body frame (:data:`MAT_PHONE_TO_BODY`).
+
+    Use it on the accelerometer and gyroscope columns of an IMU log (package data type, phone frame)
+    before :func:`mechanise` or :func:`ilocalg.ins.eskf.run_eskf`.
+    """
+    v = np.asarray(vec_p, dtype=float)
+    if v.shape[-1:] != (3,) or v.ndim > 2:
+        raise ValueError(f"vec_p must have shape (3,) or (N, 3), got {v.shape}")
+    return v @ MAT_PHONE_TO_BODY.T
 
 
 def skew(v) -> np.ndarray:
@@ -102,7 +122,7 @@ def euler_to_dcm(roll_rad, pitch_rad, yaw_rad) -> np.ndarray:
 
     References
     ----------
-    Image/inertial survey, sec. 5.2, eq. (6) (Hartmann et al. 2010).
+    Yeh & Huang, image/inertial positioning survey, sec. 5.2, eq. (6), citing Hartmann et al. (2010).
     """
     r, p, y = (np.asarray(a, dtype=float) for a in (roll_rad, pitch_rad, yaw_rad))
     cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)

@@ -25,9 +25,24 @@ from ilocalg.ins.constraints import (
     zupt_updates,
 )
 from ilocalg.ins.eskf import EskfConfig, EskfResult, Measurement, PositionFix, initial_covariance, run_eskf
-from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm
+from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm, phone_to_body
+from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
-__all__ = ["PhoneFilterSettings", "walk_updates", "run_walk"]
+__all__ = ["PhoneFilterSettings", "body_imu_from_log", "walk_updates", "run_walk"]
+
+
+def body_imu_from_log(imu) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The INS inputs ``(t_s, gyr_b_radps, acc_b_mps2)`` of an IMU log (package data type, phone frame).
+
+    The accelerometer and gyroscope columns are rotated into the body frame with
+    :data:`ilocalg.ins.mechanisation.MAT_PHONE_TO_BODY` (phone held flat, top along the walk).
+    """
+    missing = [c for c in ACC_COLS + GYR_COLS if c not in imu.columns]
+    if missing:
+        raise ValueError(f"IMU log: columns {missing} missing (expected {list(ACC_COLS + GYR_COLS)})")
+    t = imu.index.to_numpy(dtype=float)
+    return t, phone_to_body(imu[list(GYR_COLS)].to_numpy(dtype=float)), phone_to_body(
+        imu[list(ACC_COLS)].to_numpy(dtype=float))
 
 
 @dataclass(frozen=True)
