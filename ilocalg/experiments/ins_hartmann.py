@@ -1,4 +1,4 @@
-"""Hartmann et al. IMU + marker video-tracking EKF (survey sec. 5, Table 2, Figs 11-12).
+"""Hartmann et al. IMU + marker video-tracking EKF (Yeh & Huang's survey, sec. 5, Table 2, Figs 11-12).
 
 For each simulated test sequence: level the object during its initial rest, initialise yaw and
 position from the first tracker measurement, run the 15-state EKF and compare it with the video

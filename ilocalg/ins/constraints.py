@@ -29,10 +29,12 @@ __all__ = [
     "zupt_updates",
 ]
 
+# ---- published values: Chen, Pei, Chen (2011), the step model's reference parameters --------------------
 #: Default model parameters of eq. (7): a, b, c and the user height h (m). The paper uses "the
 #: default height and model parameters" without printing a, b, c; these are the reference values of
 #: Chen et al. (2011) (model reference, not an outcome of the paper).
-WVC_REFERENCE_DEFAULTS = {"a": 0.371, "b": 0.227, "c": 1.0, "height_m": 1.75}  # reference: Chen 2011
+WVC_REFERENCE_DEFAULTS = {"a": 0.371, "b": 0.227, "c": 1.0, "height_m": 1.75}
+# ---- end of published values -------------------------------------------------------------------------------
 
 
 def walking_speed_mps(step_freq_hz, height_m=None, a=None, b=None, c=None):
@@ -55,7 +57,7 @@ def walking_speed_mps(step_freq_hz, height_m=None, a=None, b=None, c=None):
         raise ValueError("step_freq_hz must be finite and >= 0")
     if not (np.isfinite(height_m) and height_m > 0):
         raise ValueError(f"height_m must be > 0, got {height_m}")
-    step_len_m = (0.7 + a * (height_m - 1.75) + b * (f - 1.79) * height_m / 1.75) * c  # paper eq. 7
+    step_len_m = (0.7 + a * (height_m - 1.75) + b * (f - 1.79) * height_m / 1.75) * c
     return step_len_m * f
 
 

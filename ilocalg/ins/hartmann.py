@@ -11,9 +11,9 @@ Process noise ``w = [n_w, n_a, n_bw, n_ba]`` (12): white sensor noise per IMU sa
 
 References
 ----------
-Image/inertial positioning survey (葉濟賢, 黃偉立), sec. 5.2, eq. (6)-(29), after B. Hartmann, N. Link,
-G. F. Trommer, "Indoor 3D position estimation using low-cost inertial sensors and marker-based
-video-tracking", IEEE/ION PLANS 2010, pp. 319-326.
+Yeh & Huang (葉濟賢, 黃偉立), image/inertial positioning survey (teaching report), sec. 5.2, eq. (6)-(29),
+citing B. Hartmann, N. Link, G. F. Trommer (2010), "Indoor 3D position estimation using low-cost inertial
+sensors and marker-based video-tracking", IEEE/ION PLANS 2010, pp. 319-326.
 """
 
 from __future__ import annotations
@@ -164,14 +164,22 @@ def _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw, acc_bias_rw, dt_s):
                                    np.full(3, gyr_bias_rw**2 * dt_s), np.full(3, acc_bias_rw**2 * dt_s)]))
 
 
-#: Default video-tracker measurement sd: yaw (rad), x, y, z (m).
+#: Default video-tracker measurement sd: yaw (rad), x, y, z (m) (assumption: millimetre tracking, see
+#: ``data/hartmann/README.md``).
 VT_SD_DEFAULT = (float(np.deg2rad(1.0)), 0.003, 0.003, 0.008)
-#: Gyroscope white-noise sd per IMU sample stated for the ADIS16350 set-up (survey sec. 5.1), rad/s.
-GYR_SD_DEFAULT_RADPS = float(np.deg2rad(0.4))  # paper (survey sec. 5.1)
+
+# ---- published values: Yeh & Huang's survey, sec. 5.1, the ADIS16350 set-up of Hartmann et al. (2010) -------
+#: Gyroscope white-noise sd per IMU sample, deg/s.
+GYR_SD_DEFAULT_DPS = 0.4
+#: Accelerometer white-noise sd per IMU sample, m/s^2.
+ACC_SD_DEFAULT_MPS2 = 0.05
+# ---- end of published values -------------------------------------------------------------------------------
+#: :data:`GYR_SD_DEFAULT_DPS` in rad/s.
+GYR_SD_DEFAULT_RADPS = float(np.deg2rad(GYR_SD_DEFAULT_DPS))
 
 
 def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
-                 acc_sd_mps2=0.05, gyr_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,  # paper sd
+                 acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,
                  vt_sd=VT_SD_DEFAULT) -> HartmannResult:
     """Run the 15-state EKF over an IMU log (input u) with video-tracker measurements (yaw, x, y, z).
 
@@ -186,7 +194,7 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
 
     References
     ----------
-    Survey sec. 5.2, eq. (12)-(29).
+    Yeh & Huang (survey), sec. 5.2, eq. (12)-(29), citing Hartmann et al. (2010).
     """
     t_s = np.asarray(t_s, dtype=float)
     gyr = np.asarray(gyr_b_radps, dtype=float)

@@ -5,7 +5,7 @@ about 1 m, with quicker passages during which the marker tracker loses the marke
 
 Parameters and their sources
 ----------------------------
-From the survey (sec. 5.1, Table 2):
+From Yeh & Huang's survey (sec. 5.1, Table 2):
   - IMU (ADIS16350) at 400 Hz; white noise sd 0.4 deg/s (gyro) and 0.05 m/s^2 (accelerometer) per sample;
   - video tracking typically 5-10 measurements per second, millimetre precision; the camera looks along
     the z axis, so roll/pitch are unreliable (yaw and position are measured);
@@ -23,7 +23,8 @@ Assumptions (not given by the paper):
 
 References
 ----------
-Survey (葉濟賢, 黃偉立), sec. 5.1-5.3, Table 2; Hartmann, Link, Trommer, PLANS 2010.
+Yeh & Huang (葉濟賢, 黃偉立), image/inertial positioning survey (teaching report), sec. 5.1-5.3, Table 2,
+citing Hartmann, Link, Trommer (2010), IEEE/ION PLANS.
 """
 
 from __future__ import annotations
@@ -32,13 +33,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ilocalg.ins.hartmann import VT_SD_DEFAULT
+from ilocalg.ins.hartmann import ACC_SD_DEFAULT_MPS2, GYR_SD_DEFAULT_DPS, VT_SD_DEFAULT
 from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, euler_to_dcm
 from ilocalg.units import as_rng
 
 __all__ = ["HartmannSequence", "simulate", "IMU_RATE_HZ"]
 
-IMU_RATE_HZ = 400.0  # paper (survey sec. 5.1)
+# ---- published values: Yeh & Huang's survey, sec. 5.1 (with the IMU noise of ilocalg.ins.hartmann) -----------
+#: IMU (ADIS16350) sampling rate, Hz.
+IMU_RATE_HZ = 400.0
+# ---- end of published values -------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -71,7 +75,8 @@ def _sines(rng, t, amp, n=3, fmin=0.05, fmax=0.5):
     return x
 
 
-def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = 0.4, acc_sd_mps2: float = 0.05,  # paper
+def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = GYR_SD_DEFAULT_DPS,
+             acc_sd_mps2: float = ACC_SD_DEFAULT_MPS2,
              gyr_bias_sd_dps: float = 0.3, acc_bias_sd_mps2: float = 0.1, frame_rate_hz: float = 10.0,
              detect_prob: float = 0.85, blur_rate_dps: float = 60.0, blur_speed_mps: float = 0.6,
              vt_sd=VT_SD_DEFAULT, rest_s: float = 3.0) -> HartmannSequence:

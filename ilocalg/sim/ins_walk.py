@@ -59,7 +59,13 @@ from ilocalg.units import as_rng
 
 __all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate"]
 
-TRUTH_RATE_HZ = 200.0  # the paper's reference rate
+# ---- published values: Liao et al. (2016), sec. 4 (reference rate) and Table 3 (MIDG-II) -------------------
+#: Rate of the paper's reference solution, Hz.
+TRUTH_RATE_HZ = 200.0
+#: MIDG-II reference IMU (Table 3): sampling interval in 200 Hz ticks (50 Hz), accelerometer bias (mg), gyro
+#: bias (deg/h), accelerometer and gyro scale factors (5000 ppm gyro, 19700 ppm accelerometer).
+_MIDG2_TICKS, _MIDG2_ACC_BIAS_MG, _MIDG2_GYR_BIAS_DPH, _MIDG2_ACC_SF, _MIDG2_GYR_SF = (4, 4), 6, 4.7, 0.0197, 0.005
+# ---- end of published values -------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -85,9 +91,8 @@ PROFILES = {
                                3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
     "iphone_5s": PhoneProfile("iphone_5s", (10, 14), 20 * _MG, np.deg2rad(0.2), 0.010, 0.010,
                               3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
-    # MIDG-II, paper Table 3: 50 Hz, 4.7 deg/h, 6 mg, 5000 ppm gyro / 19700 ppm acc (paper values)
-    "midg2": PhoneProfile("midg2", (4, 4), 6 * _MG, np.deg2rad(4.7 / 3600), 0.0197, 0.005,  # paper Table 3
-                          300e-6 * 9.80665, np.deg2rad(0.01)),
+    "midg2": PhoneProfile("midg2", _MIDG2_TICKS, _MIDG2_ACC_BIAS_MG * _MG, np.deg2rad(_MIDG2_GYR_BIAS_DPH / 3600),
+                          _MIDG2_ACC_SF, _MIDG2_GYR_SF, 300e-6 * 9.80665, np.deg2rad(0.01)),
 }
 
 #: Indoor control points (ENU, m), at corners and corridor middles as in the paper: the corner at the
