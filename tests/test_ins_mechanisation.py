@@ -94,3 +94,22 @@ def test_phone_to_body_rotation():
     assert np.allclose(ins.phone_to_body(v), v @ M.T)
     with pytest.raises(ValueError, match="vec_p"):
         ins.phone_to_body(np.zeros((2, 2)))
+
+
+def test_rotation_helpers_agree_with_scipy_rotation():
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=(2000, 3)) * 10 ** rng.uniform(-9, 0.4, (2000, 1))  # angles 1e-9 .. ~2.5 rad
+    ref = Rotation.from_rotvec(v)
+    assert np.allclose(ins.rotvecs_to_dcm(v), ref.as_matrix(), rtol=0, atol=1e-15)
+    assert np.array_equal(ins.rotvec_to_dcm(v[7]), ins.rotvecs_to_dcm(v)[7])
+    back = ins.dcm_to_rotvec(ref.as_matrix())
+    assert np.allclose(back, ref.as_rotvec(), rtol=0, atol=1e-12)  # acos loses digits near pi only
+    assert np.allclose(back[:1], ins.dcm_to_rotvec(ref.as_matrix()[0]))
+    e = rng.uniform(-1.2, 1.2, (500, 3))
+    assert np.allclose(ins.euler_to_dcm(e[:, 0], e[:, 1], e[:, 2]),
+                       Rotation.from_euler("ZYX", e[:, ::-1]).as_matrix(), rtol=0, atol=1e-15)
+    assert np.allclose(ins.dcm_to_euler(ins.euler_to_dcm(e[:, 0], e[:, 1], e[:, 2])), e, atol=1e-12)
+    with pytest.raises(ValueError, match="mat"):
+        ins.dcm_to_rotvec(np.eye(4))

@@ -69,23 +69,17 @@ def skew(v) -> np.ndarray:
 
 
 def rotvec_to_dcm(rotvec_rad) -> np.ndarray:
-    """Rotation matrix of a rotation vector (Rodrigues), shape (3, 3)."""
-    x, y, z = float(rotvec_rad[0]), float(rotvec_rad[1]), float(rotvec_rad[2])
-    th2 = x * x + y * y + z * z
-    if th2 < 1e-16:
-        a, b = 1.0 - th2 / 6.0, 0.5 - th2 / 24.0
-    else:
-        th = math.sqrt(th2)
-        a, b = math.sin(th) / th, (1.0 - math.cos(th)) / th2
-    return np.array([
-        [1.0 - b * (y * y + z * z), -a * z + b * x * y, a * y + b * x * z],
-        [a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z],
-        [-a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y)],
-    ])
+    """Rotation matrix of one rotation vector (Rodrigues), shape (3, 3); see :func:`rotvecs_to_dcm`."""
+    return rotvecs_to_dcm(np.asarray(rotvec_rad, dtype=float).reshape(1, 3))[0]
 
 
 def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
-    """Batched :func:`rotvec_to_dcm`: rotation vectors (N, 3) to matrices (N, 3, 3)."""
+    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3) (Rodrigues' formula).
+
+    ``exp([v x]) = I + a [v x] + b [v x]^2`` with ``a = sin(t) / t``, ``b = (1 - cos(t)) / t^2``,
+    ``t = |v|`` (series below ``t^2 = 1e-16``). Agrees with
+    :meth:`scipy.spatial.transform.Rotation.as_matrix` to rounding (tested).
+    """
     v = np.asarray(rotvec_rad, dtype=float)
     x, y, z = v[:, 0], v[:, 1], v[:, 2]
     th2 = x * x + y * y + z * z
@@ -107,14 +101,23 @@ def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
 
 
 def dcm_to_rotvec(mat) -> np.ndarray:
-    """Rotation vector (rad) of a rotation matrix (angle below pi), shape (3,)."""
-    mat = np.asarray(mat, dtype=float)
-    c = min(1.0, max(-1.0, (np.trace(mat) - 1.0) / 2.0))
-    th = math.acos(c)
-    w = np.array([mat[2, 1] - mat[1, 2], mat[0, 2] - mat[2, 0], mat[1, 0] - mat[0, 1]])
-    if th < 1e-8:
-        return 0.5 * w
-    return th / (2.0 * math.sin(th)) * w
+    """Rotation vector (rad) of one (3, 3) or many (N, 3, 3) rotation matrices (angles below pi): (3,) or (N, 3).
+
+    ``theta = acos((trace - 1) / 2)`` and ``rotvec = theta / (2 sin theta) vee(M - M^T)``, with the series
+    ``1/2 + theta^2 / 12`` below 1e-6 rad. Agrees with :meth:`scipy.spatial.transform.Rotation.as_rotvec`
+    to rounding (tested); kept hand-written because the simulators' sensor data are built from it.
+    """
+    m = np.asarray(mat, dtype=float)
+    if m.shape[-2:] != (3, 3) or m.ndim not in (2, 3):
+        raise ValueError(f"mat must have shape (3, 3) or (N, 3, 3), got {m.shape}")
+    mats = m.reshape(-1, 3, 3)
+    c = np.clip((np.trace(mats, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    th = np.arccos(c)
+    w = np.stack([mats[:, 2, 1] - mats[:, 1, 2], mats[:, 0, 2] - mats[:, 2, 0], mats[:, 1, 0] - mats[:, 0, 1]], 1)
+    s = np.sin(th)
+    scale = np.where(th < 1e-6, 0.5 + th**2 / 12.0, th / (2.0 * np.where(th < 1e-6, 1.0, s)))
+    out = w * scale[:, None]
+    return out[0] if m.ndim == 2 else out
 
 
 def euler_to_dcm(roll_rad, pitch_rad, yaw_rad) -> np.ndarray:

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ilocalg.ins.hartmann import ACC_SD_DEFAULT_MPS2, GYR_SD_DEFAULT_DPS, VT_SD_DEFAULT
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, euler_to_dcm
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dcm
 from ilocalg.units import as_rng
 
 __all__ = ["HartmannSequence", "simulate", "IMU_RATE_HZ"]
@@ -98,12 +98,7 @@ def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = GYR_SD_DEFAU
     vel = np.gradient(pos, dt, axis=0)
     pos = pos[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt, axis=0)])
     # increments over [t_k, t_k+1), consistent with the strapdown step (see ilocalg.sim.ins_walk)
-    rel = np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:])
-    c = np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1)
-    th = np.arccos(c)
-    wv = np.stack([rel[:, 2, 1] - rel[:, 1, 2], rel[:, 0, 2] - rel[:, 2, 0], rel[:, 1, 0] - rel[:, 0, 1]], 1)
-    scale = np.where(th < 1e-6, 0.5, th / (2 * np.sin(np.where(th < 1e-6, 1.0, th))))
-    gyr_true = wv * scale[:, None] / dt
+    gyr_true = dcm_to_rotvec(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:])) / dt
     dv_n = vel[1:] - vel[:-1] - GRAVITY_N_MPS2 * dt
     acc_true = np.linalg.solve(0.5 * (mat[1:] + mat[:-1]), dv_n[..., None])[..., 0] / dt
     gyr_true = np.vstack([gyr_true, gyr_true[-1:]])

@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ilocalg.ins.constraints import walking_speed_mps
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, euler_to_dcm
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dcm
 from ilocalg.units import as_rng
 
 __all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate"]
@@ -157,16 +157,6 @@ def _ou(rng, n, dt, sd, tau):
     from scipy.signal import lfilter
 
     return lfilter([1.0], [1.0, -a], e)
-
-
-def _rotvecs(mats):
-    """Rotation vectors (N, 3) of small rotations (N, 3, 3) (angles well below pi)."""
-    c = np.clip((np.trace(mats, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
-    th = np.arccos(c)
-    w = np.stack([mats[:, 2, 1] - mats[:, 1, 2], mats[:, 0, 2] - mats[:, 2, 0], mats[:, 1, 0] - mats[:, 0, 1]], 1)
-    s = np.sin(th)
-    scale = np.where(th < 1e-6, 0.5 + th**2 / 12.0, th / (2.0 * np.where(th < 1e-6, 1.0, s)))
-    return w * scale[:, None]
 
 
 def _gauss_smooth(x, sigma_samples):
@@ -275,7 +265,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     vel = np.gradient(pos, dt, axis=0)
     pos = pos[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt, axis=0)])
     # increments over [t_k, t_k+1): consistent with mechanisation.strapdown
-    dtheta = _rotvecs(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:]))
+    dtheta = dcm_to_rotvec(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:]))
     dv_n = vel[1:] - vel[:-1] - GRAVITY_N_MPS2 * dt
     cmid = 0.5 * (mat[1:] + mat[:-1])
     dvel_b = np.linalg.solve(cmid, dv_n[..., None])[..., 0]
