@@ -24,7 +24,7 @@ Modules
                    2010 as cited by Yeh & Huang, eq. 6-29)
 ``evaluate``       error statistics in the paper's table layout, online-window scoring
 ``paper_values``   published values of Liao et al. (2016) and Hartmann et al. (2010), as labelled references
-``pipeline``       the paper's processing chain for a phone walk (update sets, levelling, filter)
+``pipeline``       the paper's processing chain for a phone walk (measurement sets, levelling, filter)
 """
 
 from ilocalg.ins.constraints import (
@@ -58,7 +58,15 @@ from ilocalg.ins.eskf import (
     transition_matrices,
     transition_matrix,
 )
-from ilocalg.ins.evaluate import error_stats, heading_error_with_lag_deg, nav_errors
+from ilocalg.ins.evaluate import (
+    AXES,
+    WindowSweep,
+    error_stats,
+    heading_error_with_lag_deg,
+    nav_errors,
+    window_sweep,
+    window_sweep_tables,
+)
 from ilocalg.ins.hartmann import (
     HartmannEKF,
     HartmannResult,
@@ -93,6 +101,10 @@ from ilocalg.ins.smoother import (
 )
 
 __all__ = [
+    "AXES",
+    "WindowSweep",
+    "window_sweep",
+    "window_sweep_tables",
     "GRAVITY_N_MPS2",
     "MAT_PHONE_TO_BODY",
     "phone_to_body",
