@@ -15,7 +15,7 @@ Wi-Fi fixes
 PDR
     Steps from the toolkit's robust detector (:mod:`ilocalg.pdr.robust`); Weinberg lengths with
     ``k`` fitted on the other walks (their waypoint path length over their steps); heading: the
-    gyro-integrated heading (:func:`ilocalg.pdr.gyro_heading_theta_rad`) aligned on average to
+    gyro-integrated heading (:func:`ilocalg.pdr.gyr_heading_theta_rad`) aligned on average to
     the compass heading of the same walk (WDM, eq. 18-19), i.e. the gyro's shape with the
     compass's mean, plus the **floor offset**: the circular mean, over the other walks, of the
     rotation that best maps their PDR track onto their waypoints.
@@ -49,7 +49,7 @@ from ilocalg.fusion.particle_filter import OccupancyGrid, map_particle_filter
 from ilocalg.io.ilc import IlcTrace, ilc_fingerprints, interpolate_waypoints
 from ilocalg.io.schema import ACC_COLS, GYR_COLS, MAG_COLS, SCAN_ID, T_S, X_M, Y_M
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.heading import gyro_heading_theta_rad, heading_theta_rad
+from ilocalg.pdr.heading import gyr_heading_theta_rad, heading_theta_rad
 from ilocalg.pdr.robust import detect_steps_robust
 from ilocalg.pdr.signals import moving_mean
 from ilocalg.pdr.step_length import weinberg_length_m
@@ -131,7 +131,7 @@ def walk_steps(trace: IlcTrace, cfg: RealWalkConfig = RealWalkConfig()) -> WalkS
     m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], max(int(0.25 * rate), 1))
                          for j in range(3)])
     wdm = heading_theta_rad(g, m)
-    gyro = gyro_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
+    gyro = gyr_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
     th = wrap_angle_rad(gyro + circular_mean_rad(wdm - gyro))
     i = st["i_peak"].to_numpy()
     return WalkSteps(np.concatenate([[t[0]], st["t_s"].to_numpy()]),

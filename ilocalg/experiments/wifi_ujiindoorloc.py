@@ -22,7 +22,6 @@ all validation rows, so the held-out half is an unbiased estimate of it.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +31,7 @@ from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import WEAKEST_DBM, ground_scale, load_ujiindoorloc
 from ilocalg.papers import paper_ref
-from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate
+from ilocalg.wifi import ESTIMATORS, KnnFingerprint, evaluate_method, locate_flat
 from ilocalg.wifi.knn import neighbour_weights, smallest_k, vote
 from ilocalg.wifi.radar import union_topk_sq_distances
 
@@ -42,12 +41,9 @@ SEED_SWEEP = False
 
 __all__ = [
     "PAPER_UJI",
-    "BEST_CONFIG",
     "METHODS",
     "find_files",
     "load",
-    "make_estimator",
-    "evaluate_method",
     "metrics_row",
     "selection_mask",
     "best_search",
@@ -68,12 +64,7 @@ PAPER_UJI = {
     "paper_evaal_winner_floor": 0.9374,  # paper: EvAAL-ETRI 2015 winner floor hit rate
 }
 
-#: The "best" configuration, chosen by :func:`best_search` on the selection half of the validation
-#: set (seed 0): Simplified-RADAR's union-of-strongest-APs distance (eq. 1) with k = 5 APs,
-#: N = 12 neighbours, 1/d^2 weights (eq. 2), flat search, floor/building by weighted vote.
-BEST_CONFIG = {"kind": "radar", "k_aps": 5, "n_neighbors": 12}
-
-METHODS = ("radar", "horus", "knn", "wknn", "best")
+METHODS = tuple(ESTIMATORS)
 
 
 def find_files(data_dir: str | Path | None = None) -> tuple[Path, Path] | None:
@@ -96,65 +87,6 @@ def load(data_dir: str | Path | None = None) -> tuple[FingerprintSet, Fingerprin
     if files is None:
         return None
     return load_ujiindoorloc(files[0]), load_ujiindoorloc(files[1])
-
-
-def make_estimator(method: str, k: int | None = None, metric: str = "euclidean",
-                   not_heard_dbm: float = WEAKEST_DBM):
-    """The estimator behind each command-line method.
-
-    ``k``: neighbours K for knn / wknn / best; strongest APs for radar / horus (default 5 for all).
-    """
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if metric not in ("manhattan", "euclidean"):
-        raise ValueError(f"metric must be 'manhattan' or 'euclidean', got {metric!r}")
-    p = 1 if metric == "manhattan" else 2
-    if method == "radar":
-        return SimplifiedRadar(k_aps=k or 5, n_neighbors=3, not_heard_dbm=not_heard_dbm)
-    if method == "horus":
-        return SimplifiedHorus(k_aps=k or 5, not_heard_dbm=not_heard_dbm)
-    if method in ("knn", "wknn"):
-        return KnnFingerprint(n_neighbors=k or 5, p=p, weights="uniform" if method == "knn" else "distance",
-                              not_heard_dbm=not_heard_dbm)
-    cfg = BEST_CONFIG
-    return SimplifiedRadar(k_aps=cfg["k_aps"], n_neighbors=k or cfg["n_neighbors"], not_heard_dbm=not_heard_dbm)
-
-
-def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k: int | None = None,
-                    metric: str = "euclidean", not_heard_dbm: float = WEAKEST_DBM) -> dict:
-    """Fit on ``train``, locate ``test``; returns arrays ``error_m``, ``floor``, ``building``,
-    ``xy_m`` and the times ``fit_s``, ``predict_s``.
-
-    ``method`` is one of :data:`METHODS` or ``"hierarchical"`` (KNN building vote -> KNN floor vote
-    inside the building -> KNN position inside the floor, :class:`ilocalg.wifi.HierarchicalLocator`).
-    """
-    t0 = time.perf_counter()
-    if method == "hierarchical":
-        clf = make_estimator("knn", k, metric, not_heard_dbm)
-        loc = HierarchicalLocator(clf).fit(train.rssi_dbm, train.xy_m, train.floor, train.building)
-        t1 = time.perf_counter()
-        df = loc.predict(test.rssi_dbm)
-        t2 = time.perf_counter()
-        xy = df[["x_m", "y_m"]].to_numpy()
-        return {"error_m": np.hypot(xy[:, 0] - test.x_m, xy[:, 1] - test.y_m), "floor": df["floor"].to_numpy(),
-                "building": df["building"].to_numpy(), "xy_m": xy, "fit_s": t1 - t0, "predict_s": t2 - t1}
-    est = make_estimator(method, k, metric, not_heard_dbm)
-    if isinstance(est, SimplifiedHorus):
-        est.fit(train.rssi_dbm, np.column_stack([train.xy_m, train.floor, train.building]))
-    else:
-        est.fit(train.rssi_dbm, train.xy_m)
-    t1 = time.perf_counter()
-    df = locate(est, test.rssi_dbm, train.floor, train.building)
-    t2 = time.perf_counter()
-    xy = df[["x_m", "y_m"]].to_numpy()
-    return {
-        "error_m": np.hypot(xy[:, 0] - test.x_m, xy[:, 1] - test.y_m),
-        "floor": df["floor"].to_numpy(),
-        "building": df["building"].to_numpy(),
-        "xy_m": xy,
-        "fit_s": t1 - t0,
-        "predict_s": t2 - t1,
-    }
 
 
 def metrics_row(res: dict, test: FingerprintSet, rows=None) -> dict:
@@ -215,7 +147,7 @@ def best_search(train: FingerprintSet, test: FingerprintSet, seed: int = 0, k_ap
     for rep in ("positive", "exponential", "powed"):
         for k in knn_k_values:
             est = KnnFingerprint(k, p=2, weights="distance", representation=rep).fit(train.rssi_dbm, train.xy_m)
-            df = locate(est, test.rssi_dbm, train.floor, train.building)
+            df = locate_flat(est, test.rssi_dbm, train.floor, train.building)
             rows.append({"config": f"wknn {rep} K={k}", "kind": "wknn", "k_aps": 0, "n_neighbors": k,
                          "representation": rep,
                          **_score(df[["x_m", "y_m"]].to_numpy(), df["floor"].to_numpy(), df["building"].to_numpy(),

@@ -18,11 +18,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, moving_mean, sample_rate_hz, sliding_max
 
 __all__ = ["detect_steps_peak_window", "PeakWindowDetector"]
 
 
+@register_step_detector("peak_window")
 def detect_steps_peak_window(acc_mps2, t_s, window_s: float = 0.4, threshold_mps2: float = 1.0,
                              min_dt_s: float = 0.2, max_dt_s: float = 2.0, smooth_s: float = 0.1) -> pd.DataFrame:
     """Sliding-window peak search on the smoothed acceleration magnitude.

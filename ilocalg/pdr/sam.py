@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.pdr.signals import check_acc, check_times, sample_rate_hz, sliding_max
+from ilocalg.pdr.registry import register_step_detector
+from ilocalg.pdr.signals import along_gravity_mps2, check_acc, check_times, sample_rate_hz, sliding_max
 
 __all__ = [
     "SAM_FEATURES",
@@ -77,7 +78,7 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
     if np.any(~np.isfinite(n0)) or np.any(n0 <= 0):
         raise ValueError("g0_mps2 must be a finite non-zero vector")
     u = g0 / n0[..., None] if g0.ndim == 2 else g0 / n0
-    proj = a @ u if u.ndim == 1 else np.einsum("ij,ij->i", a, u)
+    proj = along_gravity_mps2(a, g0)
     a_perp = n0 - proj
     horiz = a - proj[:, None] * (u if u.ndim == 2 else u[None, :])
     return a_perp, np.sqrt(np.einsum("ij,ij->i", horiz, horiz))
@@ -209,6 +210,7 @@ def in_ranges(waves: pd.DataFrame, ranges: pd.DataFrame, features=SAM_TESTED_FEA
     return n_ok >= k
 
 
+@register_step_detector("sam", rate_hz=50.0)
 def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=None,
                      w_peak_s: float = 0.25, w_wave_s: float = 0.5, min_pass: int | None = None) -> pd.DataFrame:
     """SAM step detection: the waves of :func:`sam_waves` whose features lie in ``ranges``.

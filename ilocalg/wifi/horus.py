@@ -29,8 +29,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.knn import _check_y
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi
 
 __all__ = ["HorusModel", "fit_horus", "horus_scores", "horus_predict_index", "SimplifiedHorus"]
 
@@ -200,7 +199,7 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Build the per-point histograms from training scans ``X`` at positions ``y``."""
         x = check_rssi(X, "X")
-        yy = _check_y(y, x.shape[0])
+        yy = check_positions(y, x.shape[0])
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         self.model_ = fit_horus(x, yy, self.bin_width_db, self.prob_floor)

@@ -28,6 +28,7 @@ import numpy as np
 __all__ = [
     "REPRESENTATIONS",
     "check_rssi",
+    "check_positions",
     "fill_not_heard",
     "to_features",
     "strongest_ap_mask",
@@ -231,3 +232,17 @@ class RssiPositionTags:
         tags.target_tags.multi_output = True
         return tags
 
+
+def check_positions(y, n: int) -> np.ndarray:
+    """Check the positions ``y`` of ``n`` reference scans: numeric, shape (n,) or (n, d), finite."""
+    if y is None:
+        raise ValueError("this estimator requires y to be passed, but the target y is None (positions in metres)")
+    try:
+        yy = np.asarray(y, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"y must be numeric positions: {exc}") from None
+    if yy.ndim not in (1, 2) or yy.shape[0] != n:
+        raise ValueError(f"y must have shape ({n},) or ({n}, d), got {yy.shape}")
+    if not np.isfinite(yy).all():
+        raise ValueError(f"y is not finite at row {np.argwhere(~np.isfinite(yy))[0][0]}")
+    return yy
