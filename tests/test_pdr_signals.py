@@ -17,7 +17,7 @@ def test_moving_mean_and_resample():
     x = np.arange(10.0)
     np.testing.assert_allclose(sg.moving_mean(x, 2)[2:-2], x[2:-2])
     t = np.array([0.0, 0.3, 1.0])
-    tu, xu = sg.resample_uniform(t, 2 * t, 10.0)
+    xu, tu = sg.resample_uniform(2 * t, t, 10.0)
     np.testing.assert_allclose(tu, np.arange(11) / 10.0)
     np.testing.assert_allclose(xu, 2 * tu)
     assert sg.sample_rate_hz(np.arange(5) / 50.0) == pytest.approx(50.0)

@@ -77,8 +77,8 @@ def prepare(rec: OxfordRecording) -> Prepared:
     """Resample one recording to the common rates."""
     t = rec.imu.index.to_numpy()
     acc = rec.imu[list(ACC_COLS)].to_numpy()
-    tu, au = resample_uniform(t, acc, RATE_HZ)
-    t50, a50 = resample_uniform(t, acc, SAM_RATE_HZ)
+    au, tu = resample_uniform(acc, t, RATE_HZ)
+    a50, t50 = resample_uniform(acc, t, SAM_RATE_HZ)
     return Prepared(rec.name, dict(rec.meta), rec.true_steps, rec.step_t_s, tu, au, t50, a50)
 
 

@@ -33,6 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ilocalg.fusion._linalg import inv2, matvec
+
 __all__ = [
     "PAPER_TABLE4_STEP_M",
     "PAPER_TABLE4_SIGMA_SL_VAR_M2",
@@ -180,21 +182,6 @@ def kf_predict_step(x, P, theta_rad, step_m, sigma_sl_m, sigma_theta_rad=0.0):
     return x + b * d[..., None], P + step_process_noise(theta_rad, sigma_sl_m, d, sigma_theta_rad)
 
 
-def _inv2(S):
-    a, b, c, d = S[..., 0, 0], S[..., 0, 1], S[..., 1, 0], S[..., 1, 1]
-    det = a * d - b * c
-    out = np.empty_like(S)
-    out[..., 0, 0] = d / det
-    out[..., 0, 1] = -b / det
-    out[..., 1, 0] = -c / det
-    out[..., 1, 1] = a / det
-    return out
-
-
-def _mv(A, v):
-    return np.einsum("...ij,...j->...i", A, v)
-
-
 def innovation(x, P, z, R):
     """Innovation ``y = z - x``, its covariance ``S = P + R`` and ``NIS = y^T S^-1 y`` (``H = I``).
 
@@ -203,7 +190,7 @@ def innovation(x, P, z, R):
     x = np.asarray(x, dtype=np.float64)
     y = np.asarray(z, dtype=np.float64) - x
     S = np.asarray(P, dtype=np.float64) + np.asarray(R, dtype=np.float64)
-    nis = np.einsum("...i,...i->...", y, _mv(_inv2(S), y))
+    nis = np.einsum("...i,...i->...", y, matvec(inv2(S), y))
     return y, S, nis
 
 
@@ -233,9 +220,9 @@ def kf_update(x, P, z, R):
     x = np.asarray(x, dtype=np.float64)
     P = np.asarray(P, dtype=np.float64)
     R = np.asarray(R, dtype=np.float64)
-    K = P @ _inv2(P + R)  # eq. (25) with H = I
+    K = P @ inv2(P + R)  # eq. (25) with H = I
     ikh = np.eye(2) - K
-    return x + _mv(K, z - x), ikh @ P @ np.swapaxes(ikh, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
+    return x + matvec(K, z - x), ikh @ P @ np.swapaxes(ikh, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
 
 
 # ----------------------------------------------------------------------------------------------

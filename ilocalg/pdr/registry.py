@@ -95,6 +95,6 @@ def count_steps(name: str, acc_mps2, t_s, **params) -> int:
     fn = step_detector(name)
     a = check_acc(acc_mps2, min_samples=2)
     t = check_times(t_s, n=a.shape[0], regular=False)
-    tu, au = resample_uniform(t, a, DETECTOR_RATE_HZ[name])
+    au, tu = resample_uniform(a, t, DETECTOR_RATE_HZ[name])
     return int(len(fn(au, tu, **params)))
 

@@ -85,7 +85,7 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
     if np.abs(dt * rate_hz - 1.0).max() < 1e-6:        # already on the common grid: no resampling
         tu, mu = t, m
     else:
-        tu, mu = resample_uniform(t, m, rate_hz)
+        mu, tu = resample_uniform(m, t, rate_hz)
     if mu.size < 16:
         raise ValueError(f"acc_mps2 is too short: {t[-1] - t[0]:.3g} s of data")
     y = lowpass_magnitude(mu, rate_hz, cutoff_hz)

@@ -84,14 +84,14 @@ def sample_rate_hz(t_s) -> float:
     return float(1.0 / np.median(np.diff(t)))
 
 
-def resample_uniform(t_s, x, rate_hz: float, t0_s: float | None = None):
+def resample_uniform(x, t_s, rate_hz: float, t0_s: float | None = None):
     """Linearly interpolate samples ``x`` (shape (n,) or (n, k)) onto a uniform grid.
 
     Parameters
     ----------
+    x : array_like, shape (n,) or (n, k)
     t_s : array_like, shape (n,)
         Strictly increasing sample times (any spacing), s.
-    x : array_like, shape (n,) or (n, k)
     rate_hz : float
         Output rate, Hz.
     t0_s : float, optional
@@ -99,8 +99,8 @@ def resample_uniform(t_s, x, rate_hz: float, t0_s: float | None = None):
 
     Returns
     -------
-    t_out_s : ndarray, shape (m,)
     x_out : ndarray, shape (m,) or (m, k)
+    t_out_s : ndarray, shape (m,)
     """
     t = check_times(t_s, regular=False)
     xa = np.asarray(x, dtype=np.float64)
@@ -112,8 +112,8 @@ def resample_uniform(t_s, x, rate_hz: float, t0_s: float | None = None):
     m = int(np.floor((t[-1] - start) * rate_hz)) + 1
     t_out = start + np.arange(m) / rate_hz
     if xa.ndim == 1:
-        return t_out, np.interp(t_out, t, xa)
-    return t_out, np.column_stack([np.interp(t_out, t, xa[:, j]) for j in range(xa.shape[1])])
+        return np.interp(t_out, t, xa), t_out
+    return np.column_stack([np.interp(t_out, t, xa[:, j]) for j in range(xa.shape[1])]), t_out
 
 
 def magnitude_mps2(acc_mps2) -> np.ndarray:
