@@ -89,3 +89,9 @@ def test_sign_change_on_three_axes_equals_its_vertical_input(walk):
     a = pdr.detect_steps("sign_change", acc, t, gravity_half_width=25)
     b = pdr.detect_steps("sign_change", v, t)
     pd.testing.assert_frame_equal(a, b)
+
+
+def test_cli_methods_are_registered_detectors():
+    from ilocalg.workflow.commands import evaluate_steps
+
+    assert set(evaluate_steps.METHODS) <= set(STEP_DETECTORS)

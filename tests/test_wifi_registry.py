@@ -59,3 +59,9 @@ def test_evaluate_method_locates_a_synthetic_floor(method):
     assert np.median(res["error_m"]) < 5.0                 # 20 m x 20 m floor, 8 APs, 2 dB noise
     assert np.mean(res["floor"] == test.floor) > 0.6           # chance: 0.5
     assert res["fit_s"] >= 0 and res["predict_s"] >= 0
+
+
+def test_cli_methods_are_the_registry():
+    from ilocalg.workflow.commands import evaluate_wifi
+
+    assert evaluate_wifi.METHODS == tuple(ESTIMATORS)

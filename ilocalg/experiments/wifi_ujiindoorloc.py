@@ -30,6 +30,7 @@ import pandas as pd
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import WEAKEST_DBM, ground_scale, load_ujiindoorloc
+from ilocalg.metrics import hit_rate
 from ilocalg.papers import paper_ref
 from ilocalg.wifi import ESTIMATORS, KnnFingerprint, evaluate_method, locate_flat
 from ilocalg.wifi.knn import neighbour_weights, smallest_k, vote
@@ -102,8 +103,8 @@ def metrics_row(res: dict, test: FingerprintSet, rows=None) -> dict:
         "p95_m": float(np.percentile(e, 95)),
         "mean_ground_m": float(np.mean(eg)),
         "median_ground_m": float(np.median(eg)),
-        "floor_hit_rate": float(np.mean(res["floor"][rows] == test.floor[rows])),
-        "building_hit_rate": float(np.mean(res["building"][rows] == test.building[rows])),
+        "floor_hit_rate": hit_rate(res["floor"][rows], test.floor[rows]),
+        "building_hit_rate": hit_rate(res["building"][rows], test.building[rows]),
     }
 
 
@@ -120,8 +121,8 @@ def _score(xy, fl, bd, test, sel):
     out = {}
     for tag, m in (("selection", sel), ("heldout", ~sel)):
         out[f"{tag}_mean_m"] = float(e[m].mean())
-        out[f"{tag}_floor_hit_rate"] = float(np.mean(fl[m] == test.floor[m]))
-        out[f"{tag}_building_hit_rate"] = float(np.mean(bd[m] == test.building[m]))
+        out[f"{tag}_floor_hit_rate"] = hit_rate(fl[m], test.floor[m])
+        out[f"{tag}_building_hit_rate"] = hit_rate(bd[m], test.building[m])
     return out
 
 

@@ -16,7 +16,6 @@ __all__ = [
     "resample_uniform",
     "magnitude_mps2",
     "sliding_max",
-    "sliding_min",
     "moving_mean",
     "moving_mean_time",
     "acc_from_log",
@@ -134,11 +133,6 @@ def sliding_max(x, left: int, right: int) -> np.ndarray:
     # scipy's window at centre c starts at c - size // 2 (odd and even sizes alike)
     y = maximum_filter1d(xp, size=size, mode="nearest")
     return y[size // 2: size // 2 + x.size]
-
-
-def sliding_min(x, left: int, right: int) -> np.ndarray:
-    """Minimum of ``x[i-left : i+right+1]`` for every i (edges padded with +inf)."""
-    return -sliding_max(-np.asarray(x, dtype=np.float64), left, right)
 
 
 def moving_mean(x, n: int) -> np.ndarray:

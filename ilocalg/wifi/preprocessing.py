@@ -32,7 +32,6 @@ __all__ = [
     "fill_not_heard",
     "to_features",
     "strongest_ap_mask",
-    "heard_counts",
     "mean_fingerprints",
     "RssiPositionTags",
 ]
@@ -171,11 +170,6 @@ def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
     mask = np.zeros(x.shape, dtype=bool)
     np.put_along_axis(mask, order, True, axis=1)
     return mask & ~np.isnan(x)
-
-
-def heard_counts(rssi_dbm) -> np.ndarray:
-    """Number of heard APs per row."""
-    return np.sum(~np.isnan(np.asarray(rssi_dbm, dtype=np.float64)), axis=1)
 
 
 def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
