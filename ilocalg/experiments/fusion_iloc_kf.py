@@ -19,6 +19,11 @@ Scored: the position error at each of the 28 test points (error of the state at 
 Variants: R per point from the calibration survey (the thesis' model), one constant R (no
 knowledge of where the fix was taken), R = the thesis' own Table 5, innovation gating, and, beyond
 the paper, a heading-error term in Q, fixed-lag and RTS smoothing.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Ch. 3-5, eq. (20)-(26), Tables 4-5, Figs 22-23.
 """
 
 from __future__ import annotations
@@ -48,8 +53,11 @@ from ilocalg.units import as_rng
 __all__ = ["run", "route_walk", "run_filters", "score_points", "PAPER_KF"]
 
 PAPER = "i-Loc thesis"
+# Settings from the paper
+# -----------------------
+# PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.
 #: Published values (paper, thesis ch. 5 text below Table 5 and Fig 23): reference only.
-PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}  # paper: thesis ch. 5, "5.15 m -> 2.82 m"
+PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}
 
 
 def route_walk(sw, ranges, slm_p) -> dict:
@@ -156,7 +164,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     train_walkers, _, ranges, models = _train_pts(rng, n_train)
     walkers = train_walkers[:n_walkers] if n_walkers <= n_train else gait.make_walkers(n_walkers, rng)
     route = ff.route_xy_m
-    paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)  # the thesis' Table 5 (paper values)
+    paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)
     tps, gat, ex = [], [], []
     for w_i, w in enumerate(walkers):
         sw = gait.simulate_walk(route, w, rng)

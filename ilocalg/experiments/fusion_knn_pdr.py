@@ -1,4 +1,4 @@
-"""Fingerprint + PDR positioning (罗思奇 et al. 2017, sec. 3-4, Fig 6) on the simulated i-Loc floor.
+"""Fingerprint + PDR positioning (Luo et al. 2017, sec. 3-4, Fig 6) on the simulated i-Loc floor.
 
 The paper's library floor and its data are not published; the toolkit's simulated i-Loc floor
 (:mod:`ilocalg.sim.iloc_floor`) and gait simulator (:mod:`ilocalg.sim.gait`) stand in, walkers
@@ -18,6 +18,12 @@ walking the floor's 28-point test route (as in :mod:`ilocalg.experiments.fusion_
   error term (the WDM heading error, not the step length, is what makes PDR drift).
 
 Scored: the error at each route point (Fig 6: error per point index).
+
+References
+----------
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 3-4, eq. (1)-(6), Fig 6.
 """
 
 from __future__ import annotations
@@ -38,9 +44,13 @@ from ilocalg.units import as_rng
 __all__ = ["run", "crossover_point", "findings", "PAPER_LUO"]
 
 PAPER = "罗思奇 et al. 2017"
+# Settings from the paper
+# -----------------------
+# PAPER_LUO: Luo et al. (2017) sec. 4, item 2 (Wi-Fi only mean, min, max error) and item 3
+# (combined mean error; PDR better than the combination for the first 6 points); reference only.
 #: Published values (paper, sec. 4 items 2-3): reference only.
-PAPER_LUO = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5,  # paper sec. 4, item 2
-             "combined_mean_m": 6.74, "pdr_better_points": 6}  # paper sec. 4, item 3
+PAPER_LUO = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5,
+             "combined_mean_m": 6.74, "pdr_better_points": 6}
 
 
 def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:

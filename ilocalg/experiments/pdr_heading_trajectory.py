@@ -8,6 +8,11 @@ track is dead-reckoned from the true start. Scored: the per-step heading error (
 13.87 deg mean) and the position error when the walker passes each test point (Figs 17-18, thesis
 5.2 m mean). Beside the thesis's pipeline: gyro-integrated heading (uncalibrated bias), and true steps with WDM
 headings (isolating the heading error).
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.3-4.4, eq. (18)-(19), (22), Figs 16-18.
 """
 
 from __future__ import annotations

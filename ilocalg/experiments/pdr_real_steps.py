@@ -10,8 +10,8 @@ Detectors
 ---------
 ``robust``            the toolkit's best detector (:mod:`ilocalg.pdr.robust`)
 ``find_peaks``        a plain baseline: low-pass + :func:`scipy.signal.find_peaks` with a tuned prominence
-``peak_window``       the fingerprint+PDR paper's detector (004, sec. 3.4.2), tuned threshold
-``sign_change``       the PSO thesis's slope-sign-change detector with the +-RMS band (003, Fig 3.9),
+``peak_window``       the fingerprint+PDR paper's detector (Luo et al. 2017, sec. 3.4.2), tuned threshold
+``sign_change``       the PSO thesis's slope-sign-change detector with the +-RMS band (Chao 2008, Fig 3.9),
                       on the vertical acceleration, tuned moving-average width
 ``sam``               i-Loc SAM (eq. 8-15), ranges learned from the training recordings' true steps
                       (quantiles tuned among 5/95 % (the thesis), 1/99 % and 0/100 %)
@@ -48,13 +48,18 @@ __all__ = ["run", "Prepared", "prepare", "DETECTORS", "detector_params", "count_
            "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN"]
 
 OXFORD_REPORT = "Oxford step counter report"
+# Settings from the paper
+# -----------------------
+# OXFORD_MEAN_PAPER, OXFORD_MEDIAN_PAPER: the Oxford data set's README, its own windowed peak
+# detector on the 48 recordings (reference values). GOAL_MEAN and GOAL_MIN are this toolkit's
+# goals for its best detector, not paper values.
 #: The data set's own report for its windowed peak detector on the 48 recordings (reference values).
-OXFORD_MEAN_PAPER = 0.937  # reference (paper-like): data set report, mean accuracy
-OXFORD_MEDIAN_PAPER = 0.968  # reference (paper-like): data set report, median accuracy
+OXFORD_MEAN_PAPER = 0.937
+OXFORD_MEDIAN_PAPER = 0.968
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
-#: The toolkit's goal for its best detector (issue 7): mean accuracy and worst recording.
+#: The toolkit's goal for its best detector: mean accuracy and worst recording.
 GOAL_MEAN = 0.993
-GOAL_MIN = 0.98  # the goal of issue 7, not a paper value
+GOAL_MIN = 0.98
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
 ARCHIVE = "optimisation_data.tar.xz"
 

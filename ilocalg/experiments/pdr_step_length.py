@@ -6,7 +6,18 @@ regressions of eq. (16)-(17) (Table 3; the thesis fits in centimetres, RMSE 12.3
 Then other walkers walk the fixed lengths again (Fig 14: error boxes, thesis mean error 18.43 %)
 and 20 m freely (Fig 15: distance accuracy, thesis 96.41 %). Steps are found by SAM with ranges
 learned from the training steps; ``q_range`` picks the quantiles (the thesis's 5/95 % by default).
-The Weinberg, Kim and 004 models (k fitted on the same training steps) are scored beside SLM.
+The Weinberg, Kim and Luo et al. models (k fitted on the same training steps) are scored beside SLM.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.2, eq. (16)-(17), Tables 2-3, Figs 13-15.
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 2.1 (Kim), 2.5 (Weinberg).
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Eq. (4).
 """
 
 from __future__ import annotations

@@ -20,6 +20,13 @@ as maxIters), ``fitness evaluations per success`` (all evaluations of all runs, 
 particles`` each, divided by the number of successful runs: the expected cost of reaching
 minFitness when a failed run is restarted, which compares swarm sizes fairly) and ``final |k - k*|`` (median
 distance of the returned k from the closed-form minimiser).
+
+References
+----------
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 4.1-4.4, sec. 5.3.
+Shi, Y. and Eberhart, R. (1998). A modified particle swarm optimizer. IEEE ICEC.
 """
 
 from __future__ import annotations

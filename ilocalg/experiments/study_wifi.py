@@ -18,6 +18,11 @@ AP (not scored)``: a test scan in which the simulated phone heard no AP at all (
 missed detections) cannot be positioned by any of the methods, so it is left out of every method's
 score and counted here. The swept values live in the task parameters ``k_aps``, ``spacing_m``,
 ``scans_per_point``.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3, Figs 3 and 5.
 """
 
 from __future__ import annotations

@@ -14,6 +14,14 @@ scores the three methods on new scans at the thesis' 28 test-route points:
 Radio maps: RADAR and KNN use the per-point mean fingerprints (RADAR's radio map; an AP enters a
 point's fingerprint when heard in at least half of its scans); Horus uses every scan (its
 per-point histograms, Fig 4). "Not heard" is the simulator's detection threshold.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3, eq. (1)-(7), Figs 3-5.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Eq. (1)-(2), sec. 4.
 """
 
 from __future__ import annotations

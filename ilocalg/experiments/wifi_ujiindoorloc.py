@@ -51,18 +51,22 @@ __all__ = [
     "run",
 ]
 
-#: Reference values (labelled; never used in computation). "independent" = the re-measurement
-#: quoted in the issue and in the data set's SOURCE.txt; "paper" = published values.
+# Settings from the paper
+# -----------------------
+# PAPER_UJI (reference values, never used to compute): indep_* = an independent re-measurement
+# quoted in the data set's SOURCE.txt (not a paper table); paper_dataset_1nn_mean_m =
+# Torres-Sospedra et al. (2014) 1-NN baseline (another protocol); paper_evaal_winner_* = the
+# EvAAL-ETRI 2015 winner (private test set, floor penalties).
 PAPER_UJI = {
-    "indep_1nn_mean_m": 9.750,  # independent re-measurement (reference, not a paper table)
-    "indep_1nn_building": 0.9955,  # independent re-measurement (reference)
-    "indep_1nn_floor": 0.9001,  # independent re-measurement (reference)
-    "indep_k5_mean_m": 8.808,  # independent re-measurement (reference)
-    "indep_k5_building": 0.9973,  # independent re-measurement (reference)
-    "indep_k5_floor": 0.9028,  # independent re-measurement (reference)
-    "paper_dataset_1nn_mean_m": 7.9,  # paper: Torres-Sospedra et al. IPIN 2014 1-NN baseline (other protocol)
-    "paper_evaal_winner_mean_m": 6.20,  # paper: EvAAL-ETRI 2015 winner, private test set, floor penalties
-    "paper_evaal_winner_floor": 0.9374,  # paper: EvAAL-ETRI 2015 winner floor hit rate
+    "indep_1nn_mean_m": 9.750,
+    "indep_1nn_building": 0.9955,
+    "indep_1nn_floor": 0.9001,
+    "indep_k5_mean_m": 8.808,
+    "indep_k5_building": 0.9973,
+    "indep_k5_floor": 0.9028,
+    "paper_dataset_1nn_mean_m": 7.9,
+    "paper_evaal_winner_mean_m": 6.20,
+    "paper_evaal_winner_floor": 0.9374,
 }
 
 METHODS = tuple(ESTIMATORS)

@@ -16,7 +16,7 @@ Rauch, Tung & Striebel (1965) ones, as in the smartphone-INS paper of this toolk
 References
 ----------
 H. E. Rauch, F. Tung, C. T. Striebel, "Maximum likelihood estimates of linear dynamic systems",
-AIAA J. 3(8), 1965. Liao et al. 2016 (toolkit paper 001), eq. (8)-(10).
+AIAA J. 3(8), 1965. Liao et al. (2016), eq. (8)-(10).
 """
 
 from __future__ import annotations

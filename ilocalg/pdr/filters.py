@@ -12,8 +12,9 @@ the mean of the first (last) full window. No sample is dropped, the output has t
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), eq. 3.5-3.6 and Table 3-2; W. H. Press et al., Numerical Recipes,
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 3.5-3.6 and Table 3-2; W. H. Press et al., Numerical Recipes,
 sec. 14.8 (Savitzky-Golay smoothing filters).
 """
 

@@ -64,7 +64,7 @@ def wdm_rotation(g_mps2, m_ut) -> np.ndarray:
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.3 (the matrix before eq. (18)).
+    Chiu (2013), sec. 4.3 (the matrix before eq. (18)).
     """
     g = _vec3("g_mps2", g_mps2)
     m = _vec3("m_ut", m_ut)
@@ -92,7 +92,7 @@ def wdm_yaw_rad(g_mps2, m_ut):
 
     References
     ----------
-    i-Loc thesis (000), eq. (18)-(19).
+    Chiu (2013), eq. (18)-(19).
     """
     return axis_yaw_rad(wdm_rotation(g_mps2, m_ut), (1.0, 0.0, 0.0))
 

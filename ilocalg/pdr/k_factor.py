@@ -28,7 +28,8 @@ this toolkit's choice.
 References
 ----------
 Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
-Tunghai University. Eq. 2.5, 4.1-4.4, sec. 5.3.
+Tunghai University.
+Eq. 2.5, 4.1-4.4, sec. 5.3.
 Weinberg, H. (2002). Using the ADXL202 in pedometer and personal navigation applications.
 Analog Devices AN-602.
 """

@@ -10,7 +10,9 @@ not an error).
 
 References
 ----------
-Fingerprint+PDR paper (004), sec. 3.4.1-3.4.2, eq. (3), Fig 5.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 3.4.1-3.4.2, eq. (3), Fig 5.
 """
 
 from __future__ import annotations
@@ -51,7 +53,7 @@ def detect_steps_peak_window(acc_mps2, t_s, window_s: float = 0.4, threshold_mps
 
     References
     ----------
-    Fingerprint+PDR paper (004), sec. 3.4.2 (1)-(2).
+    Luo et al. (2017), sec. 3.4.2 (1)-(2).
     """
     a = check_acc(acc_mps2, min_samples=3)
     t = check_times(t_s, n=a.shape[0])

@@ -15,8 +15,10 @@ sample.
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), sec. 3.4.1 and Fig. 3.9 (after Lei Fang et al., NavMote); RMS
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Sec. 3.4.1 and Fig. 3.9 (after Lei Fang et al., NavMote).
+RMS
 eq. 3.4; MA filter eq. 3.6.
 """
 

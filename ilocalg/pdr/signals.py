@@ -116,7 +116,7 @@ def resample_uniform(x, t_s, rate_hz: float, t0_s: float | None = None):
 
 
 def magnitude_mps2(acc_mps2) -> np.ndarray:
-    """Norm of each 3-axis sample, shape (n,) (fingerprint+PDR paper (004), eq. (3))."""
+    """Norm of each 3-axis sample, shape (n,) (Luo et al. (2017), eq. (3))."""
     a = np.asarray(acc_mps2, dtype=np.float64)
     return np.sqrt(np.einsum("ij,ij->i", a, a))
 

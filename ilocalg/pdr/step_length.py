@@ -5,9 +5,14 @@ and get one length per step, in metres. Accelerations are in m/s^2.
 
 References
 ----------
-PSO thesis (003), eq. (2.1) (Kim) and eq. (2.5) (Weinberg / Lei Fang);
-fingerprint+PDR paper (004), eq. (4);
-i-Loc thesis (000), sec. 4.2, eq. (16)-(17) (SLM linear and quadratic regressions).
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. (2.1) (Kim) and eq. (2.5) (Weinberg / Lei Fang).
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Eq. (4).
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.2, eq. (16)-(17) (SLM linear and quadratic regressions).
 """
 
 from __future__ import annotations
@@ -75,7 +80,7 @@ def weinberg_length_m(a_max_mps2, a_min_mps2, k: float):
 
     References
     ----------
-    PSO thesis (003), eq. (2.5) (after Weinberg; Lei Fang et al.).
+    Chao (2008), eq. (2.5) (after Weinberg; Lei Fang et al.).
     """
     return float(k) * _range(a_max_mps2, a_min_mps2) ** 0.25
 
@@ -85,13 +90,13 @@ def luo_length_m(a_max_mps2, a_min_mps2, k: float):
 
     References
     ----------
-    Fingerprint+PDR paper (004), sec. 3.4.2 (3), eq. (4).
+    Luo et al. (2017), sec. 3.4.2 (3), eq. (4).
     """
     d = _range(a_max_mps2, a_min_mps2)
-    return float(k) * (d * 3.5 + d ** 0.25)  # the paper's eq. (4)
+    return float(k) * (d * 3.5 + d ** 0.25)
 
 
-def kim_length_m(acc_abs_mean_mps2, c: float = 0.98):  # 0.98: paper eq. (2.1)
+def kim_length_m(acc_abs_mean_mps2, c: float = 0.98):
     """Kim step length ``c (mean |A|)^(1/3)`` with the step's mean absolute acceleration.
 
     Parameters
@@ -104,7 +109,7 @@ def kim_length_m(acc_abs_mean_mps2, c: float = 0.98):  # 0.98: paper eq. (2.1)
 
     References
     ----------
-    PSO thesis (003), eq. (2.1) (after Jeng Won Kim et al.).
+    Chao (2008), eq. (2.1) (after Jeng Won Kim et al.).
     """
     a = _as_float("acc_abs_mean_mps2", acc_abs_mean_mps2)
     if a.size and np.any(a < 0):
@@ -179,7 +184,7 @@ def slm_design(A_mps2, X1_mps2, kind: str = "quadratic") -> np.ndarray:
 
     References
     ----------
-    i-Loc thesis (000), eq. (16)-(17).
+    Chiu (2013), eq. (16)-(17).
     """
     A = _as_float("A_mps2", A_mps2).ravel()
     X = _as_float("X1_mps2", X1_mps2).ravel()
@@ -216,7 +221,7 @@ def fit_slm(A_mps2, X1_mps2, length_m, kind: str = "quadratic") -> StepLengthFit
 
     References
     ----------
-    i-Loc thesis (000), eq. (16)-(17), Table 3.
+    Chiu (2013), eq. (16)-(17), Table 3.
     """
     M = slm_design(A_mps2, X1_mps2, kind)
     y = _as_float("length_m", length_m).ravel()
@@ -347,7 +352,8 @@ def kim_mean_abs_mps2(acc_mps2, steps: pd.DataFrame) -> np.ndarray:
     return (c[hi] - c[lo]) / (hi - lo)
 
 
-#: Model names of :func:`fit_step_length_models` (the table labels of the step-length experiments).
+#: Name of the Luo et al. (2017) eq. (4) model in :func:`fit_step_length_models` (the label earlier result
+#: tables carry; kept so they stay byte-identical).
 LUO_MODEL = "004 eq. 4"
 
 

@@ -56,8 +56,11 @@ Ground truth
 
 References
 ----------
-i-Loc thesis (000), sec. 4.1-4.4, Table 1 (feature ranges of the raw signals), Figs 7-18;
-PSO thesis (003), sec. 3.4.1 (the bounce of the centre of mass during a step).
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.1-4.4, Table 1 (feature ranges of the raw signals), Figs 7-18.
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Sec. 3.4.1 (the bounce of the centre of mass during a step).
 """
 
 from __future__ import annotations

@@ -43,7 +43,8 @@ Everything is deterministic from ``seed`` (same seed -> identical arrays).
 
 References
 ----------
-Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.1 (environment, Fig 2). Seidel S. Y., Rappaport T. S.,
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3.1 (environment, Fig 2). Seidel S. Y., Rappaport T. S.,
 "914 MHz path loss prediction models for indoor wireless communications in multifloored
 buildings", IEEE Trans. Antennas Propag. 40(2), 1992. Gudmundson M., "Correlation model for
 shadow fading in mobile radio systems", Electronics Letters 27(23), 1991.
@@ -78,11 +79,16 @@ __all__ = [
     "summary",
 ]
 
-FLOOR_W_M = 75.46  # thesis sec. 3.1: floor length (paper geometry, an input)
-FLOOR_H_M = 50.26  # thesis sec. 3.1: floor width (paper geometry, an input)
-N_TRAIN_POINTS = 63  # thesis: 63 training points 2 m apart (paper survey protocol, an input)
-N_TEST_POINTS = 28  # thesis: test route of 28 points (paper survey protocol, an input)
-SCANS_PER_POINT = 300  # thesis: 300 scans per training point (paper survey protocol, an input)
+# Settings from the paper
+# -----------------------
+# Chiu (2013) sec. 3.1 (inputs): FLOOR_W_M and FLOOR_H_M (floor length and width),
+# N_TRAIN_POINTS (63 training points 2 m apart), N_TEST_POINTS (a test route of 28 points) and
+# SCANS_PER_POINT (300 scans per training point).
+FLOOR_W_M = 75.46
+FLOOR_H_M = 50.26
+N_TRAIN_POINTS = 63
+N_TEST_POINTS = 28
+SCANS_PER_POINT = 300
 SPACING_M = 2.0
 CORRIDOR_Y_M = 25.0
 BRANCH_X_M = 38.0

@@ -19,7 +19,8 @@ is not available to an estimator.
 
 References
 ----------
-Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.2, eq. (5)-(7), Fig 4; Youssef M., Agrawala A.,
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3.2, eq. (5)-(7), Fig 4; Youssef M., Agrawala A.,
 "The Horus WLAN location determination system", MobiSys 2005.
 """
 

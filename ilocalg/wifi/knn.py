@@ -18,8 +18,9 @@ Ties in distance are broken by training order (the earlier reference wins), for 
 
 References
 ----------
-罗思奇 et al., "Indoor positioning technology based on location fingerprint and pedestrian track",
-Computer Systems & Applications 2017, sec. 2.2, eq. (1) (Minkowski distance, a=1 Manhattan, a=2
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 2.2, eq. (1) (Minkowski distance, a=1 Manhattan, a=2
 Euclidean) and eq. (2) (mean of the K nearest positions; K=5, a=1 in the paper).
 """
 

@@ -13,8 +13,9 @@ exact), float64 for anything else.
 
 References
 ----------
-Chiu P.-J., "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU 2013,
-sec. 3.1, eq. (1)-(4); Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+sec. 3.1, eq. (1)-(4).
+Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
 and tracking system", IEEE INFOCOM 2000 (NNSS, N = 3).
 """
 

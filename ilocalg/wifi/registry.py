@@ -14,9 +14,11 @@ the same factories by :func:`paper_estimators`.
 
 References
 ----------
-Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU. Sec. 3.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3.
 Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
-track. Computer Systems & Applications. Eq. (1)-(2).
+track. Computer Systems & Applications.
+Eq. (1)-(2).
 """
 
 from __future__ import annotations
