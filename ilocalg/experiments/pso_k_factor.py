@@ -39,7 +39,7 @@ from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
 from ilocalg.pdr.k_factor import FITNESSES, PSO_SETTINGS_PAPER, learn_k, step_factors
 from ilocalg.pdr.registry import detect_steps
 from ilocalg.pdr.signals import along_gravity_mps2, gravity_lowpass_mps2
-from ilocalg.pdr.step_length import weinberg_length_m
+from ilocalg.pdr.step_length import k_from_distance, weinberg_length_m
 from ilocalg.sim.pso_walks import Walk, simulate_pso_walks, simulate_static_compass
 
 __all__ = [
@@ -245,7 +245,7 @@ def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int):
         summ, res = learn_k(st, d_gps, fitness, rng=np.random.default_rng([seed, 10, i]))
         tr = dr_track(w, st, summ["k_pso"])
         pso_m = path_length_m(tr["lat_deg"].to_numpy(), tr["lon_deg"].to_numpy())
-        k_true = float(np.sum(w.steps["length_m"]) / np.sum((2 * w.steps["amp_mps2"]) ** 0.25))
+        k_true = k_from_distance((2 * w.steps["amp_mps2"]) ** 0.25, np.sum(w.steps["length_m"]))
         rows.append({
             "walker": w.walker, "leg_cm": round(100 * w.leg_m), "place": w.place,
             "cadence_hz": float(1 / w.steps["duration_s"].mean()),

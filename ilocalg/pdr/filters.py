@@ -79,7 +79,7 @@ def _smooth(x, n_left: int, n_right: int, order: int, name: str) -> np.ndarray:
         bad = int(np.flatnonzero(~np.isfinite(x))[0])
         raise ValueError(f"{name}: x must be finite, sample {bad} is {x[bad]}")
     P = _fit_matrix(window, order)
-    c = (float(n_left) ** np.arange(order + 1)) @ P
+    c = savitzky_golay_coeffs(n_left, n_right, order)
     out = np.empty_like(x)
     # interior: full windows, g(t) = sum_i c_i f(t+i)  (eq. 3.5)
     n_full = x.size - window + 1
