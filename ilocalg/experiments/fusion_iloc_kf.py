@@ -43,10 +43,9 @@ from ilocalg.fusion import (
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import comparison_table, paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.heading import log_headings_rad
-from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
-from ilocalg.pdr.signals import acc_from_log
-from ilocalg.pdr.step_length import fit_step_length_models, slm_length_m
+from ilocalg.pdr.pts import pts_steps
+from ilocalg.pdr.sam import learn_feature_ranges
+from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 
@@ -61,17 +60,13 @@ PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}
 
 
 def route_walk(sw, ranges, slm_p) -> dict:
-    """The thesis' PTS on one simulated walk: SAM steps, quadratic SLM lengths, WDM headings.
+    """The thesis' PTS (:func:`ilocalg.pdr.pts.pts_steps`) on one simulated walk, as filter inputs.
 
     Returns ``state_t_s`` (n+1: the log start, then each detected step), ``step_m``, ``theta_rad`` (n).
     """
-    acc, t = acc_from_log(sw.imu)
-    heads = log_headings_rad(sw.imu, sw.config.stand_s)
-    steps = detect_steps_sam(acc, t, ranges)
-    i = steps["i_peak"].to_numpy()
-    lengths = np.maximum(slm_length_m(steps["A"], steps["X1"], slm_p), 0.0)
-    return {"state_t_s": np.concatenate([[t[0]], steps["t_s"].to_numpy()]), "step_m": np.asarray(lengths),
-            "theta_rad": heads["WDM"][i]}
+    st = pts_steps(sw.imu, ranges, slm_p, sw.config.stand_s)
+    return {"state_t_s": np.concatenate([[sw.imu.index[0]], st["t_s"].to_numpy()]),
+            "step_m": st["length_m"].to_numpy(), "theta_rad": st["theta_rad"].to_numpy()}
 
 
 def run_filters(x0_m, pdr: dict, fix_t_s, fix_xy_m, r_var: dict, P0_var_m2: float = 0.25, gate_prob: float = 0.99,

@@ -24,9 +24,10 @@ from ilocalg.metrics import error_cdf
 from ilocalg.papers import paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
-from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
+from ilocalg.pdr.pts import pts_steps
+from ilocalg.pdr.sam import learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
-from ilocalg.pdr.step_length import fit_step_length_models, slm_length_m
+from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait
 from ilocalg.units import as_rng, wrap_angle_rad
 
@@ -79,7 +80,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
         sw = gait.simulate_walk(route, w, rng)
         acc, t = acc_from_log(sw.imu)
         heads = log_headings_rad(sw.imu, sw.config.stand_s)
-        steps = detect_steps_sam(acc, t, ranges)
+        steps = pts_steps(sw.imu, ranges, p_quad, headings=heads)
         i = steps["i_peak"].to_numpy()
         true_st = sw.steps
         j = np.abs(true_st["t_mid_s"].to_numpy()[None, :] - steps["t_s"].to_numpy()[:, None]).argmin(axis=1)
@@ -88,14 +89,14 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
             err = np.rad2deg(np.abs(wrap_angle_rad(h[i] - true_th)))
             hrows.append(pd.DataFrame({"walker": w.name, "heading": name, "step": np.arange(i.size),
                                        "true_deg": np.rad2deg(true_th), "est_deg": np.rad2deg(h[i]), "error_deg": err}))
-        lengths = np.maximum(slm_length_m(steps["A"], steps["X1"], p_quad), 0.0)
+        lengths = steps["length_m"].to_numpy()
         test_t = gait.times_at_arc_s(sw, s_test)
         x0, y0 = route[0]
         # true steps (heel strikes) with true lengths and WDM headings: the heading error alone
         i_true = np.clip(np.searchsorted(t, true_st["t_mid_s"].to_numpy()), 0, t.size - 1)
         variants = {
-            "PTS: SAM + SLM + WDM": (steps["t_s"].to_numpy(), lengths, heads["WDM"][i]),
-            "SAM + SLM + gyro heading": (steps["t_s"].to_numpy(), lengths, heads["gyro"][i]),
+            "PTS: SAM + SLM + WDM": (steps["t_s"].to_numpy(), lengths, steps["theta_rad"].to_numpy()),
+            "SAM + SLM + gyro heading": (steps["t_s"].to_numpy(), lengths, steps["theta_gyr_rad"].to_numpy()),
             "true steps and lengths + WDM": (true_st["t_mid_s"].to_numpy(), true_st["length_m"].to_numpy(),
                                              heads["WDM"][i_true]),
         }

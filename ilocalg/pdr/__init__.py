@@ -20,6 +20,7 @@ Modules
 ``step_length``    Weinberg, Kim, Luo et al. eq. (4), i-Loc SLM regressions (eq. 16-17), k from a distance
 ``k_factor``       learning the Weinberg k of a walker by PSO against a reference distance (Chao eq. 4.4)
 ``heading``        i-Loc WDM (eq. 18-19) and gyro-integrated heading
+``pts``            i-Loc PTS: SAM steps + SLM lengths + WDM headings of one sensor log
 ``dead_reckoning`` position update (i-Loc eq. 22, Luo et al. eq. 5-6)
 ``signals``        input checks, resampling, sliding extrema, moving mean, gravity low-pass and projection
 ``filters``        the moving-average and Savitzky-Golay pre-filters of Chao (2008) eq. 3.5-3.6
@@ -46,6 +47,7 @@ from ilocalg.pdr.heading import (
 )
 from ilocalg.pdr.k_factor import PSO_SETTINGS_PAPER, closed_form_k, learn_k, step_factors
 from ilocalg.pdr.peak_window import PeakWindowDetector, detect_steps_peak_window
+from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.registry import STEP_DETECTORS, count_steps, detect_steps, register_step_detector, step_detector
 from ilocalg.pdr.robust import ROBUST_DEFAULTS, RobustStepDetector, detect_steps_find_peaks, detect_steps_robust
 from ilocalg.pdr.sam import (
@@ -110,6 +112,7 @@ __all__ = [
     "register_step_detector",
     "step_detector",
     "step_factors",
+    "pts_steps",
     "step_lengths_m",
     "ROBUST_DEFAULTS",
     "RobustStepDetector",

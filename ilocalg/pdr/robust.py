@@ -11,9 +11,9 @@ Beyond the papers. Steps:
 4. walking-bout gate: peaks split into bouts wherever two peaks are more than ``max_step_s``
    apart; bouts of fewer than ``min_bout_steps`` peaks (handling the phone, standing) are dropped.
 
-The parameters are chosen by leave-one-recording-out cross-validation on labelled walks
-(:func:`ilocalg.experiments.pdr_real_steps.loro_cv`); the defaults are the values that search
-picks on the Oxford optimisation set.
+The parameters are chosen by leave-one-recording-out cross-validation on labelled walks (the
+experiment ``pdr_real_steps``); the defaults are the values that search picks on the Oxford
+optimisation set.
 """
 
 from __future__ import annotations
