@@ -58,17 +58,21 @@ Everything is deterministic from ``seed`` (same seed -> identical arrays).
 
 References
 ----------
-Chiu P.-J., "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU 2013,
-sec. 3.1, 4.4. Damosso E. (ed.), COST Action 231 final report, "Digital mobile radio towards future
-generation systems", 1999, sec. 4.7 (multi-wall model). Lott M., Forkel I., "A multi-wall-and-floor
-model for indoor radio propagation", IEEE VTC Spring 2001. Bahl P., Padmanabhan V. N., "RADAR: an
-in-building RF-based user location and tracking system", IEEE INFOCOM 2000. Kaemarungsi K.,
-Krishnamurthy P., "Properties of indoor received signal strength for WLAN location fingerprinting",
-MobiQuitous 2004. Chapre Y., Mohapatra P., Jha S., Seneviratne A., "Received signal strength
-indicator and its analysis in a typical WLAN system", IEEE LCN 2013. Rappaport T. S., Wireless
-Communications, 2nd ed., 2002. Gudmundson M., "Correlation model for shadow fading in mobile radio
-systems", Electronics Letters 27(23), 1991. Rahimi A., Recht B., "Random features for large-scale
-kernel machines", NIPS 2007.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3.1 (environment, L295), 4.4 (test route, L515).
+Damosso, E. (ed.) (1999). COST Action 231 final report: Digital mobile radio towards future
+generation systems. Sec. 4.7 (multi-wall model).
+Lott, M., Forkel, I. (2001). A multi-wall-and-floor model for indoor radio propagation. IEEE VTC Spring.
+Bahl, P., Padmanabhan, V. N. (2000). RADAR: an in-building RF-based user location and tracking
+system. IEEE INFOCOM.
+Kaemarungsi, K., Krishnamurthy, P. (2004). Properties of indoor received signal strength for WLAN
+location fingerprinting. MobiQuitous.
+Chapre, Y., Mohapatra, P., Jha, S., Seneviratne, A. (2013). Received signal strength indicator and
+its analysis in a typical WLAN system. IEEE LCN.
+Rappaport, T. S. (2002). Wireless Communications, 2nd ed., table 4.6.
+Gudmundson, M. (1991). Correlation model for shadow fading in mobile radio systems. Electronics
+Letters 27(23).
+Rahimi, A., Recht, B. (2007). Random features for large-scale kernel machines. NIPS.
 """
 
 from __future__ import annotations
@@ -80,8 +84,12 @@ import pandas as pd
 
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.units import as_rng
+from ilocalg.wifi.preprocessing import mean_fingerprints
+from ilocalg.wifi.registry import paper_estimators
 
 __all__ = [
+    "FloorFixes",
+    "floor_fixes",
     "FLOOR_W_M",
     "FLOOR_H_M",
     "N_TRAIN_POINTS",
@@ -103,16 +111,23 @@ __all__ = [
     "summary",
 ]
 
-FLOOR_W_M = 75.46  # thesis L295: floor length (geometry input)
-FLOOR_H_M = 50.26  # thesis L295: floor width (geometry input)
-N_TRAIN_POINTS = 63  # thesis L295: 63 training points 2 m apart
-N_TEST_POINTS = 28  # thesis L295, L515: 28 test points that are also training points
-SCANS_PER_POINT = 300  # thesis L295: 300 scans per training point
-SPACING_M = 2.0  # thesis L295
-ROUTE_SPACING_M = 2 * SPACING_M  # every second training point (thesis L515: 4.11 m)
-RING_X_M = (20.0, 56.0)  # assumed layout (Fig 2 missing): ring corridor centre line
+# Settings from the paper
+# -----------------------
+# Chiu (2013) L295 (inputs): FLOOR_W_M and FLOOR_H_M (floor length and width), N_TRAIN_POINTS
+# (63 training points), SPACING_M (2 m apart), SCANS_PER_POINT (300 scans per training point),
+# N_TEST_POINTS (a test route of 28 points that are also training points; L515: 4.11 m apart).
+# ROUTE_SPACING_M: every second training point. RING_X_M, RING_Y_M, SPUR_X_M: the assumed layout
+# (Fig 2 is missing from the text).
+FLOOR_W_M = 75.46
+FLOOR_H_M = 50.26
+N_TRAIN_POINTS = 63
+N_TEST_POINTS = 28
+SCANS_PER_POINT = 300
+SPACING_M = 2.0
+ROUTE_SPACING_M = 2 * SPACING_M
+RING_X_M = (20.0, 56.0)
 RING_Y_M = (15.0, 35.0)
-SPUR_X_M = 38.0  # corridor to the stairs, south of the ring
+SPUR_X_M = 38.0
 CORRIDOR_HALF_WIDTH_M = 1.2
 BAY_M = 8.0
 STOREY_M = 3.5
@@ -579,3 +594,58 @@ def summary(sim: IlocFloor) -> pd.DataFrame:
         {"quantity": "test points", "value": float(len(sim.test_points))},
         {"quantity": "test-route spacing [m]", "value": ROUTE_SPACING_M},
     ])
+
+
+@dataclass(frozen=True)
+class FloorFixes:
+    """Wi-Fi fixes at the test-route points of a simulated floor.
+
+    Attributes
+    ----------
+    sim : IlocFloor
+    route_xy_m : ndarray (28, 2)
+        The test-route points in walking order.
+    fix_xy_m : ndarray (28, n_scans, 2)
+        The estimator's fix for every new scan at every point.
+    cal_var_m2 : ndarray (28,)
+        Per-point variance of the fix error over the calibration scans (per axis: mean squared
+        error / 2, so ``R = var I`` has the measured total error power; the thesis' Table 5 analogue),
+        at least the quantisation variance of the 2 m grid (``2^2 / 12`` m^2).
+    n_cal : int
+    method : str
+    """
+
+    sim: IlocFloor
+    route_xy_m: np.ndarray
+    fix_xy_m: np.ndarray
+    cal_var_m2: np.ndarray
+    n_cal: int
+    method: str
+
+
+def floor_fixes(rng, n_walkers: int, n_cal: int = 10, method: str = "Simplified-Horus", scans_per_point: int = 300,
+                k_aps: int = 5) -> FloorFixes:
+    """Simulate the floor, fit ``method`` (a key of :data:`ilocalg.wifi.registry.PAPER_ESTIMATORS`) and
+    estimate every new scan at the test-route points (``n_cal + n_walkers`` per point)."""
+    if n_cal < 2 or n_walkers < 1:
+        raise ValueError(f"need n_cal >= 2 and n_walkers >= 1, got {n_cal}, {n_walkers}")
+    spt = n_cal + n_walkers
+    sim = simulate(rng, scans_per_point=scans_per_point, scans_per_test_point=spt)
+    ests = paper_estimators(sim.detect_dbm, k_aps)
+    if method not in ests:
+        raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
+    est = ests[method]
+    if method == "Simplified-Horus":
+        est.fit(sim.train.rssi_dbm, sim.train.xy_m)
+    else:
+        fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
+        est.fit(fp, pts)
+    n_pts = sim.test_points.size
+    # test scans are stored point by point (spt consecutive rows per test point, in route order)
+    fix = est.predict(sim.test.rssi_dbm).reshape(n_pts, spt, 2)
+    route = sim.points_xy_m[sim.test_points]
+    err2 = ((fix[:, :n_cal] - route[:, None]) ** 2).sum(-1)
+    # floor: the quantisation variance of a 2 m reference grid (spacing^2 / 12 per axis), so a point whose
+    # calibration fixes all hit it exactly does not get R = 0
+    var = np.maximum(0.5 * err2.mean(axis=1), SPACING_M**2 / 12.0)
+    return FloorFixes(sim, route, fix, var, n_cal, method)

@@ -21,8 +21,9 @@ exact), float64 for anything else.
 
 References
 ----------
-Chiu P.-J., "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU 2013,
-sec. 3.1, eq. (1)-(4); Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+sec. 3.1, eq. (1)-(4).
+Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
 and tracking system", IEEE INFOCOM 2000 (NNSS, N = 3).
 """
 
@@ -32,8 +33,8 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.knn import _check_y, knn_predict, neighbour_weights, smallest_k
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi, strongest_ap_mask, to_features
+from ilocalg.wifi.knn import knn_predict, neighbour_weights, smallest_k
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi, strongest_ap_mask, to_features
 
 __all__ = ["union_topk_sq_distances", "radar_predict", "SimplifiedRadar"]
 
@@ -175,7 +176,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         if self.point_distance not in ("min", None):
             raise ValueError(f"point_distance must be 'min' or None, got {self.point_distance!r}")
-        yy = _check_y(y, x.shape[0])
+        yy = check_positions(y, x.shape[0])
         if self.point_distance == "min":
             pos = yy.reshape(yy.shape[0], -1)
             self.points_, inv = np.unique(pos, axis=0, return_inverse=True)
