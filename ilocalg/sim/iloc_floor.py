@@ -108,6 +108,8 @@ __all__ = [
     "mean_rssi_dbm",
     "simulate",
     "walking_scans",
+    "session_drift_db",
+    "walking_fixes",
     "summary",
 ]
 
@@ -559,6 +561,40 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     out.insert(0, "x_m", np.interp(ts, t, xy[:, 0]))
     out.insert(0, "t_ready_s", ts + scan_latency_s)
     out.insert(0, "t_start_s", ts)
+    return out
+
+
+def session_drift_db(sim: IlocFloor, rng=None) -> np.ndarray:
+    """A new session's floor-wide per-AP drift ``N(0, drift_sd_db)``, shape (n_aps,), dB (another day)."""
+    return as_rng(rng).normal(0.0, sim.params["drift_sd_db"], sim.ap_xy_m.shape[0])
+
+
+def walking_fixes(sim: IlocFloor, estimator, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s: float = 2.0,
+                  rng=None, session_drift_db=None) -> pd.DataFrame:
+    """Wi-Fi fixes from scans taken while walking: :func:`walking_scans`, then ``estimator.predict``.
+
+    Parameters
+    ----------
+    sim : IlocFloor
+    estimator : fitted estimator with ``predict(X) -> (n, 2)`` (columns in ``sim.train.ap_ids`` order)
+    track_t_s, track_xy_m, scan_start_t_s, scan_latency_s, rng, session_drift_db
+        As :func:`walking_scans`.
+
+    Returns
+    -------
+    DataFrame
+        One row per scan: ``t_start_s``, ``t_ready_s``, ``x_m``, ``y_m`` (true position at the scan's
+        start, the fix's tag), ``fix_x_m``, ``fix_y_m``, ``n_heard``. A scan that hears no AP has a NaN fix.
+    """
+    scans = walking_scans(sim, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s, rng, session_drift_db)
+    X = scans[list(sim.train.ap_ids)].to_numpy()
+    heard = ~np.isnan(X).all(axis=1)
+    fix = np.full((X.shape[0], 2), np.nan)
+    if heard.any():
+        fix[heard] = estimator.predict(X[heard])
+    out = scans[["t_start_s", "t_ready_s", "x_m", "y_m"]].copy()
+    out["fix_x_m"], out["fix_y_m"] = fix[:, 0], fix[:, 1]
+    out["n_heard"] = (~np.isnan(X)).sum(axis=1)
     return out
 
 
