@@ -21,6 +21,8 @@ Sec. 4.3-4.4, eq. (18)-(19), (22), Figs 16-18.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 
@@ -180,8 +182,6 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
                   PTS_ERROR_PAPER_M, summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
     ]
     # WDM sensitivity: the same new-walker population with one heading error source switched off at a time
-    import dataclasses
-
     dec = np.deg2rad(gait.GaitConfig().declination_deg)
     straight = [dataclasses.replace(w, misalign_rad=0.0) for w in walkers]
     calibrated = [dataclasses.replace(w, hard_iron_ut=(0.0, 0.0, 0.0)) for w in walkers]
