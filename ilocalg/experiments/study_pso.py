@@ -34,12 +34,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.study_common import select, study_row, study_tasks
 from ilocalg.gnss import gps_track_length_m
 from ilocalg.optim import pso_minimize
 from ilocalg.pdr.k_factor import K_BOUNDS, PSO_SETTINGS_PAPER, closed_form_k, distance_fitness, step_factors
 from ilocalg.pdr.registry import detect_steps
 from ilocalg.sim.pso_walks import simulate_pso_walks
+from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "SCHEDULES", "GRIDS", "BASE", "tasks", "findings"]
 
@@ -118,7 +118,7 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame) -> str:
-    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    """Sentences computed from the study's curves (:func:`ilocalg.workflow.studies.curves`)."""
     out = []
     for sch in sorted(cv["schedule"].unique(), key=list(SCHEDULES).index):
         sr = select(cv, "success rate", schedule=sch).sort_values("n_particles")
