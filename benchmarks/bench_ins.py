@@ -32,15 +32,15 @@ def _scenario():
                               np.zeros(3), np.array([v, 0, 0]), np.eye(3))
     i1 = np.arange(100, n, 100)
     i2 = np.arange(50, n, 50)
-    ups = [ins.UpdateSet("pos_n", t[i1], pos[i1] + rng.normal(0, 0.3, (i1.size, 3)), np.full((i1.size, 3), 0.3)),
-           ins.UpdateSet("vel_b", t[i2], np.zeros((i2.size, 3)), np.tile([np.nan, 0.1, 0.1], (i2.size, 1)))]
+    ups = [ins.PositionFix(t[i1], pos[i1] + rng.normal(0, 0.3, (i1.size, 3)), np.full((i1.size, 3), 0.3)),
+           ins.BodyVelocity(t[i2], np.zeros((i2.size, 3)), np.tile([np.nan, 0.1, 0.1], (i2.size, 1)))]
     return t, g, f, np.array([v, 0, 0]), ups
 
 
 def _run(with_cov):
     t, g, f, v0, ups = _scenario_cache
     res = ins.run_eskf(t, g, f, np.zeros(3), v0, np.eye(3), ins.initial_covariance(), ups)
-    return ins.rts_smooth(res, with_cov=with_cov)
+    return ins.eskf_rts_smooth(res, with_cov=with_cov)
 
 
 _scenario_cache = _scenario()

@@ -13,6 +13,7 @@ Subpackages
 ``ins``         strapdown mechanisation and error-state EKFs
 ``optim``       particle swarm optimisation
 ``photo``       photo positioning from points of interest
+``track``       a walk in, a track out: the PDR + Wi-Fi (+ map) pipeline of one walk, learned from others
 ``experiments`` each reproduced experiment as a function ``run(seed, fast, **params)``
 ``papers``      the papers' published values, set beside reproduced ones in comparison rows
 ``metrics``     positioning error statistics; ``units``: unit conversions
@@ -27,8 +28,7 @@ Time
 IMU log
     ``DataFrame`` indexed by ``t_s`` with any subset of the columns ``acc_x_mps2``, ``acc_y_mps2``,
     ``acc_z_mps2`` (specific force, m/s^2), ``gyr_x_radps`` ... (angular rate, rad/s) and
-    ``mag_x_ut`` ... (magnetic field, microtesla), all in the phone's sensor frame (Android
-    convention: x right, y up the screen, z out of the screen).
+    ``mag_x_ut`` ... (magnetic field, microtesla), all in the phone frame ``_p`` (below).
 Wi-Fi scans
     Long ``DataFrame`` with columns ``t_s``, ``scan_id`` (int), ``bssid`` (str), ``rssi_dbm``
     (float) and optionally ``freq_mhz``; one row per access point heard in a scan.
@@ -47,8 +47,39 @@ Frames and units
 Positions are metres in a local, planar map frame ``(x_m, y_m)`` (x east, y north for the
 simulated sets; the data set's own map frame for real sets). Headings ``theta_rad`` are measured
 from the map x axis, counter-clockwise; compass yaw ``psi_rad`` from north, clockwise, is
-converted explicitly by :func:`ilocalg.units.yaw_to_theta`. The inertial navigation frame is a
-local-level east-north-up frame (``_n``); the body frame is ``_b``; ``mat_nb`` rotates body to nav.
+converted explicitly by :func:`ilocalg.units.yaw_to_theta`. Three frames of three axes:
+
+Phone frame ``_p``
+    The phone's sensor frame, Android convention: x right, y up the screen (towards the top edge),
+    z out of the screen. IMU logs, step detection and heading (:mod:`ilocalg.pdr`) use it.
+Body frame ``_b``
+    The inertial navigation body frame (:mod:`ilocalg.ins`): x forward, y left, z up. For a phone
+    held flat in front of the walker, screen up, its top pointing along the walk,
+    ``v_b = MAT_PHONE_TO_BODY @ v_p`` (:data:`ilocalg.ins.MAT_PHONE_TO_BODY`, a -90 deg rotation about
+    z: ``x_b = y_p``, ``y_b = -x_p``, ``z_b = z_p``; :func:`ilocalg.ins.phone_to_body`).
+Navigation frame ``_n``
+    Local-level east-north-up, metres, fixed to the site; ``mat_nb`` rotates body to nav
+    (``v_n = mat_nb @ v_b``).
+
+Where code lives
+----------------
+- An algorithm lives in its algorithm package (``wifi``, ``pdr``, ``fusion``, ``ins``, ``optim``,
+  ``photo``, ``track``), written against the data types above, never in ``experiments``. A pipeline a
+  user runs outside any notebook (a walk in, a track out) is an algorithm module too
+  (:mod:`ilocalg.track`, :mod:`ilocalg.ins.pipeline`).
+- An experiment module (``ilocalg.experiments.<name>``) is thin: ``run(seed, fast, **params)`` simulates
+  or loads, calls algorithm packages and returns its tables (with :mod:`ilocalg.papers` rows). It imports
+  algorithm packages, ``sim`` and ``papers``, never another experiment. Parameter studies
+  (``study_*``) also use the task plumbing of :mod:`ilocalg.workflow.studies`.
+- Extension points have one registry each, inside their package: step detectors in
+  :mod:`ilocalg.pdr.registry` (``@register_step_detector(name)``), Wi-Fi estimators in
+  :mod:`ilocalg.wifi.registry` (``register_estimator``), INS measurement updates as objects of the
+  :class:`ilocalg.ins.eskf.Measurement` protocol (innovation, H and R).
+- The same maths is written once: a shared helper is public in its package, or private in one helper
+  module of that package; no module imports another module's private names.
+- :mod:`ilocalg.workflow` (runner, reports, sweeps, the command line) imports the rest, never the
+  reverse; the ``evaluate`` commands call algorithm packages, never experiments.
+- Papers are cited by author and year in each docstring's ``References`` section, with equation numbers.
 
 Randomness
 ----------

@@ -12,8 +12,9 @@
 #
 # Variants, errors at every waypoint: PDR only (from the first fix), Wi-Fi only, KF, KF + RTS, the PDR
 # track fitted onto all the walk's fixes, a particle filter constrained by the floor map
-# (`geojson_map.json`) and its smoother, and a whole-walk map matching. Goal (issue 8, beyond the papers):
-# fused mean waypoint error at most half the Wi-Fi-only error.
+# (`geojson_map.json`) and its smoother, and a whole-walk map matching: the track pipeline of `ilocalg.track`
+# (the same functions a user calls on one walk, or `python -m ilocalg evaluate track`). Goal (beyond the
+# papers): fused mean waypoint error at most half the Wi-Fi-only error.
 
 # %% tags=["parameters"]
 # Seed of the particle filter; FAST scores every fifth walk with fewer particles; OUT_DIR (set by the
@@ -109,7 +110,7 @@ if HAVE_DATA:
 #   fixes accordingly.
 # - PDR is good in shape (gyro heading aligned on average to the compass, steps from the robust detector,
 #   Weinberg lengths with `k` from the other walks), but started from the first Wi-Fi fix it inherits that
-#   fix's error for the whole walk, as the issue warned; the causal KF cannot remove it either.
+#   fix's error for the whole walk; the causal KF cannot remove it either.
 # - Whole-walk smoothing (RTS) and fitting the track onto all of the walk's fixes average the start error
 #   down, and the floor map adds the constraint that the whole track must lie in walkable space (the
 #   particle filter's smoother and the whole-walk map matching). The gains are modest: the fixes of one walk

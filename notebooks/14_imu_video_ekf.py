@@ -1,7 +1,7 @@
 # %% [markdown]
 # # 14 IMU + video-tracking EKF (Hartmann et al.)
 #
-# Reproduces the Hartmann et al. (2010) system described in the image/inertial positioning survey
+# Reproduces the Hartmann et al. (2010) system described in Yeh & Huang's image/inertial positioning survey
 # (葉濟賢, 黃偉立), sec. 5: a 15-state EKF (Euler angles, position, velocity, gyro and accelerometer
 # biases; eq. 12) driven by a 400 Hz MEMS IMU (eq. 13-19) and corrected by yaw and position from a
 # marker-based video tracker (VT, eq. 20), with the Jacobians of eq. 21-24 and the prediction /

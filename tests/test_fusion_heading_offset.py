@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from ilocalg.fusion.heading_offset import circular_mean_rad, fit_rigid_2d, fit_track_to_fixes, rotate_xy
+from ilocalg.fusion.heading_offset import (
+    circular_mean_rad,
+    fit_rigid_2d,
+    fit_track_to_fixes,
+    fit_translation_2d,
+    rotate_xy,
+)
 
 
 def test_rigid_fit_recovers_exact_transform():
@@ -41,6 +47,33 @@ def test_huber_fit_resists_outliers_where_least_squares_does_not():
     assert abs(rb.angle_rad - 0.3) < 0.03 and np.hypot(*(rb.t_m - [10, 20])) < 1.5
     assert np.hypot(*(ls.t_m - [10, 20])) > 10 * np.hypot(*(rb.t_m - [10, 20]))
     assert rb.weights[::5].max() < 0.1 and rb.weights.max() == 1.0
+
+
+def test_translation_only_fit_is_the_huber_m_estimate():
+    """rotation=False: the same IRLS with the heading held; it reaches the Huber minimum (checked by a
+    direct minimiser) and ignores gross outliers."""
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(5)
+    src = np.column_stack([np.linspace(0, 50, 30), 4 * np.cos(np.linspace(0, 5, 30))])
+    dst = src + [-7.0, 12.0] + rng.normal(0, 3.0, (30, 2))
+    dst[::6] += [60.0, -40.0]
+    h = 5.0
+    fit = fit_track_to_fixes(src, dst, huber_m=h, rotation=False)
+    assert fit.angle_rad == 0.0
+
+    def huber(t):
+        d = np.hypot(*(dst - src - t).T)
+        return np.where(d <= h, 0.5 * d**2, h * d - 0.5 * h**2).sum()
+
+    ref = minimize(huber, np.median(dst - src, axis=0), method="Nelder-Mead",
+                   options={"xatol": 1e-9, "fatol": 1e-12, "maxiter": 10000}).x
+    assert np.hypot(*(fit.t_m - ref)) < 1e-3
+    assert np.hypot(*(fit.t_m - [-7, 12])) < 2.5
+    ls = fit_track_to_fixes(src, dst, huber_m=None, rotation=False)
+    np.testing.assert_allclose(ls.t_m, (dst - src).mean(axis=0), atol=1e-12)
+    np.testing.assert_allclose(fit_translation_2d(src, dst, np.r_[np.ones(29), 0.0]), (dst - src)[:29].mean(0),
+                               atol=1e-12)
 
 
 def test_circular_mean_wraps():

@@ -1,5 +1,7 @@
 """Map-constrained particle filter, occupancy raster, systematic resampling."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -17,13 +19,40 @@ def _walkable(x, y):
 
 def test_raster_from_polygons_agrees_with_point_in_polygon():
     g = OccupancyGrid.from_polygons([SQUARE], [HOLE], cell_m=0.5)
-    f = OccupancyGrid.from_function(_walkable, (0, 40), (0, 30), cell_m=0.5)
-    assert g.walkable_mask.shape == f.walkable_mask.shape
-    assert (g.walkable_mask == f.walkable_mask).mean() > 0.98
+    X, Y = np.meshgrid(0.25 + 0.5 * np.arange(80), 0.25 + 0.5 * np.arange(60))
+    assert g.walkable_mask.shape == X.shape
+    assert (g.walkable_mask == _walkable(X, Y)).mean() > 0.98     # cell centres, up to edge cells
     assert g.area_m2 == pytest.approx(40 * 30 - 20 * 10, rel=0.03)
     assert not g.walkable(20, 15) and g.walkable(5, 5) and not g.walkable(-1, 5)
     pts = g.sample(500, rng=0)
     assert g.walkable(pts[:, 0], pts[:, 1]).all()
+
+
+def test_raster_of_a_floor_map_uses_its_size_and_polygons():
+    fm = SimpleNamespace(outline=(SQUARE,), obstacles=(HOLE,), width_m=50.0, height_m=35.0)
+    g = OccupancyGrid.from_floor_map(fm, cell_m=0.5)
+    assert g.walkable_mask.shape == (70, 100) and (g.x0_m, g.y0_m) == (0.0, 0.0)
+    np.testing.assert_array_equal(g.walkable_mask[:60, :80],
+                                  OccupancyGrid.from_polygons([SQUARE], [HOLE], cell_m=0.5).walkable_mask)
+    # nothing beyond the outline (fillPoly also fills the cells its edge touches)
+    assert not g.walkable_mask[61:].any() and not g.walkable_mask[:, 81:].any()
+
+
+def test_coarsen_keeps_a_cell_walkable_when_any_fine_cell_is():
+    rng = np.random.default_rng(4)
+    m = rng.random((41, 63)) < 0.05
+    g = OccupancyGrid(m, 2.0, -1.0, 0.25)
+    c = g.coarsen(1.0)
+    assert c.cell_m == 1.0 and (c.x0_m, c.y0_m) == (2.0, -1.0) and c.walkable_mask.shape == (10, 15)
+    for j, i in np.ndindex(c.walkable_mask.shape):
+        assert c.walkable_mask[j, i] == m[4 * j:4 * j + 4, 4 * i:4 * i + 4].any()
+    # a point walkable on the fine raster is walkable on the coarse one
+    pts = g.sample(300, rng=1)
+    inside = (pts[:, 0] < 2.0 + 15) & (pts[:, 1] < -1.0 + 10)
+    assert c.walkable(pts[inside, 0], pts[inside, 1]).all()
+    assert g.coarsen(0.25) is g and c.coarsen(1.0) is c
+    with pytest.raises(ValueError, match="cell_m"):
+        g.coarsen(0.0)
 
 
 def test_systematic_resample_counts():

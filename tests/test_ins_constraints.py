@@ -21,8 +21,8 @@ def test_step_detection_and_frequency_on_synthetic_gait():
     f_step = 1.9
     acc = np.column_stack([0.2 * rng.normal(size=t.size), 0.2 * rng.normal(size=t.size),
                            9.81 + 2.5 * np.cos(2 * np.pi * f_step * t)])
-    steps = ins.detect_steps(t, acc)
-    assert abs(steps.size - f_step * t[-1]) <= 3
+    steps = ins.step_epochs(t, acc)
+    assert steps.dtype.kind == "i" and abs(steps.size - f_step * t[-1]) <= 3
     f = ins.step_frequency_hz(t, steps)
     assert np.nanmedian(f) == pytest.approx(f_step, rel=0.05)
 
@@ -39,10 +39,12 @@ def test_update_sets_shapes_and_weights():
     t = np.arange(100) * 0.06
     moving = np.ones(100, bool)
     nhc = ins.nhc_updates(t, moving, 0.05, 0.05, interval_s=0.5)
-    assert nhc.kind == "vel_b" and np.isnan(nhc.sd[:, 0]).all() and np.allclose(nhc.sd[:, 1:], 0.05)
+    assert isinstance(nhc, ins.BodyVelocity) and np.isnan(nhc.sd[:, 0]).all() and np.allclose(nhc.sd[:, 1:], 0.05)
     steps = np.arange(5, 100, 9)
     wvc = ins.wvc_updates(t, steps, ins.step_frequency_hz(t, steps), moving)
     assert np.all(wvc.sd[:, 1] > nhc.sd[0, 1])  # relaxed lateral weight
     assert np.allclose(wvc.z[:, 0], ins.walking_speed_mps(1 / 0.54))
+    assert isinstance(wvc, ins.BodyVelocity)
     z = ins.zupt_updates(t, ~moving)
+    assert isinstance(z, ins.NavVelocity)
     assert z.t_s.size == 0

@@ -7,10 +7,10 @@ from ilocalg import ins
 from ilocalg.ins.eskf import ATT, POS, VEL
 
 ACC_N, GYR_N = 0.02, 0.002  # noise densities of the consistency scenario
-CFG = ins.EskfConfig(acc_vrw_mps_rsqrt_s=ACC_N, gyro_arw_rad_rsqrt_s=GYR_N, acc_bias_rw_mps2_rsqrt_s=1e-6,
-                     gyro_bias_rw_radps_rsqrt_s=1e-7, acc_sf_rw_rsqrt_s=1e-7, gyro_sf_rw_rsqrt_s=1e-7)
+CFG = ins.EskfConfig(acc_vrw_mps_rsqrt_s=ACC_N, gyr_arw_rad_rsqrt_s=GYR_N, acc_bias_rw_mps2_rsqrt_s=1e-6,
+                     gyr_bias_rw_radps_rsqrt_s=1e-7, acc_sf_rw_rsqrt_s=1e-7, gyr_sf_rw_rsqrt_s=1e-7)
 P0_SD = dict(pos_sd_m=0.5, vel_sd_mps=0.05, att_sd_rad=(0.01, 0.01, 0.03), acc_bias_sd_mps2=0.05,
-             gyro_bias_sd_radps=0.002, acc_sf_sd=0.01, gyro_sf_sd=0.01)
+             gyr_bias_sd_radps=0.002, acc_sf_sd=0.01, gyr_sf_sd=0.01)
 
 
 def circle_run(seed, n=1200, dt=0.05, fix_every=20, fix_sd=0.3):
@@ -27,8 +27,7 @@ def circle_run(seed, n=1200, dt=0.05, fix_every=20, fix_sd=0.3):
     acc = (1 + sa) * f_true + ba + rng.normal(0, ACC_N / np.sqrt(dt), (n, 3))
     gyr = (1 + sg) * g_true + bg + rng.normal(0, GYR_N / np.sqrt(dt), (n, 3))
     idx = np.arange(fix_every, n, fix_every)
-    fixes = ins.UpdateSet("pos_n", t[idx], pos_t[idx] + rng.normal(0, fix_sd, (idx.size, 3)),
-                          np.full((idx.size, 3), fix_sd))
+    fixes = ins.PositionFix(t[idx], pos_t[idx] + rng.normal(0, fix_sd, (idx.size, 3)), np.full((idx.size, 3), fix_sd))
     # initial estimate = truth - error (error = true - estimated)
     p0 = pos_t[0] - x0[POS]
     v0 = vel_t[0] - x0[VEL]
@@ -119,20 +118,24 @@ def test_transition_matrix_matches_error_propagation():
     dx[12:15] = [0.001, 0.002, -0.001]
     # true = estimate + error; the true sensors are the corrected ones minus the bias errors
     Ct = ins.rotvec_to_dcm(dx[ATT]) @ C
-    pe, ve, Ce = ins.mech_step(np.zeros(3), np.zeros(3), C, w * dt, f * dt, dt)
-    pt, vt, Cm = ins.mech_step(np.zeros(3), np.zeros(3), Ct, (w - dx[12:15]) * dt, (f - dx[9:12]) * dt, dt)
+    pe, ve, Ce = (a[1] for a in ins.strapdown(np.zeros(3), np.zeros(3), C, w[None], f[None], [dt]))
+    pt, vt, Cm = (a[1] for a in ins.strapdown(np.zeros(3), np.zeros(3), Ct, (w - dx[12:15])[None],
+                                              (f - dx[9:12])[None], [dt]))
     pred = Phi @ dx
     assert np.allclose(vt - ve, pred[VEL], atol=6e-5)
     assert np.allclose(ins.dcm_to_rotvec(Cm @ Ce.T), pred[ATT], atol=2e-5)
 
 
-def test_updateset_and_run_validation():
-    with pytest.raises(ValueError, match="kind"):
-        ins.UpdateSet("gps", np.zeros(1), np.zeros((1, 3)), np.ones((1, 3)))
+def test_measurement_and_run_validation():
     with pytest.raises(ValueError, match="sd must be > 0"):
-        ins.UpdateSet("pos_n", np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)))
+        ins.PositionFix(np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)))
+    with pytest.raises(ValueError, match="GNSS: t_s"):
+        ins.PositionFix(np.zeros(2), np.zeros((1, 3)), np.ones((1, 3)), name="GNSS")
     t = np.arange(10) * 0.1
-    u = ins.UpdateSet("pos_n", np.array([5.0]), np.zeros((1, 3)), np.ones((1, 3)))
+    with pytest.raises(ValueError, match="Measurement protocol"):
+        ins.run_eskf(t, np.zeros((10, 3)), np.tile([0, 0, 9.8], (10, 1)), np.zeros(3), np.zeros(3), np.eye(3),
+                     ins.initial_covariance(), [("pos_n", t[:1])])
+    u = ins.PositionFix(np.array([5.0]), np.zeros((1, 3)), np.ones((1, 3)))
     with pytest.raises(ValueError, match="within the IMU log"):
         ins.run_eskf(t, np.zeros((10, 3)), np.tile([0, 0, 9.8], (10, 1)), np.zeros(3), np.zeros(3), np.eye(3),
                      ins.initial_covariance(), [u])
@@ -141,3 +144,52 @@ def test_updateset_and_run_validation():
                      np.eye(15))
     with pytest.raises(ValueError, match="EskfConfig"):
         ins.EskfConfig(acc_vrw_mps_rsqrt_s=-1.0)
+
+
+def test_run_eskf_without_updates_is_the_mechanisation():
+    """With no measurement and zero sensor-error estimates the filter's solution is :func:`mechanise`."""
+    rng = np.random.default_rng(4)
+    t = np.cumsum(rng.uniform(0.04, 0.07, 400))
+    gyr = np.tile([0.01, -0.02, 0.25], (t.size, 1)) + rng.normal(0, 0.01, (t.size, 3))
+    acc = np.tile([0.1, 0.3, 9.81], (t.size, 1)) + rng.normal(0, 0.05, (t.size, 3))
+    C0 = ins.euler_to_dcm(0.02, -0.01, 0.8)
+    res = ins.run_eskf(t, gyr, acc, np.ones(3), np.array([1.0, 0.2, 0.0]), C0, ins.initial_covariance(), [], CFG)
+    pos, vel, mat = ins.mechanise(t, gyr, acc, np.ones(3), np.array([1.0, 0.2, 0.0]), C0)
+    assert np.array_equal(res.pos_n_m, pos) and np.array_equal(res.vel_n_mps, vel)
+    assert np.array_equal(res.mat_nb, mat)
+    assert not res.dx.any() and res.n_meas.sum() == 0 and np.isnan(res.nis).all()
+    # the covariance is the chain of eskf_predict over the stored transition matrices
+    P = res.P_plus[0]
+    for k in range(1, 6):
+        P = ins.eskf_predict(P, res.Phi[k], ins.process_noise_diag(CFG, t[k] - t[k - 1]))
+        assert np.array_equal(P, res.P_minus[k])
+
+
+class _HeightFix:
+    """A new measurement type written outside the package: the height alone (obeys ins.Measurement)."""
+
+    name = "height"
+
+    def __init__(self, t_s, h_m, sd_m):
+        self.t_s, self.h_m, self.sd_m = np.asarray(t_s, dtype=float), np.asarray(h_m, dtype=float), sd_m
+
+    def rows(self, j, pos_n_m, vel_n_mps, mat_nb):
+        H = np.zeros((1, 21))
+        H[0, 2] = 1.0
+        return np.array([self.h_m[j] - pos_n_m[2]]), H, np.array([self.sd_m**2])
+
+
+def test_any_object_obeying_the_protocol_is_applied():
+    res0, pos_t, *_ = circle_run(2, n=400)
+    t = res0.t_s
+    idx = np.arange(10, t.size, 10)
+    assert isinstance(_HeightFix(t[idx], pos_t[idx, 2], 0.05), ins.Measurement)
+    # a height-only fix equals a PositionFix whose horizontal components are unused (NaN sd)
+    fix = ins.PositionFix(t[idx], np.column_stack([np.zeros((idx.size, 2)), pos_t[idx, 2]]),
+                          np.tile([np.nan, np.nan, 0.05], (idx.size, 1)))
+    args = (t, np.tile([0.0, 0.0, 0.3], (t.size, 1)), np.tile([0.0, 0.36, 9.80665], (t.size, 1)), np.zeros(3),
+            np.array([1.2, 0, 0]), np.eye(3), ins.initial_covariance(**P0_SD))
+    a = ins.run_eskf(*args, [_HeightFix(t[idx], pos_t[idx, 2], 0.05)], CFG)
+    b = ins.run_eskf(*args, [fix], CFG)
+    assert np.array_equal(a.pos_n_m, b.pos_n_m) and np.array_equal(a.P_plus, b.P_plus)
+    assert (a.n_meas[idx] == 1).all() and np.sqrt(a.P_plus[-1, 2, 2]) < 0.05

@@ -32,3 +32,25 @@ def test_heading_lag_zero_and_turning():
     assert np.allclose(e, np.rad2deg(0.05), atol=1e-6)
     with pytest.raises(ValueError, match="outside"):
         ins.heading_error_with_lag_deg(t, m, t_ref, mref, 5.0)
+
+
+def test_window_sweep_limits_and_control_point_windows():
+    from ilocalg.ins.evaluate import window_sweep, window_sweep_tables
+    from tests.test_ins_eskf import circle_run
+
+    res, pos_t, _, mat_t, idx = circle_run(6, n=600)
+    scored = np.ones(res.t_s.size, bool)
+    span = res.t_s[-1] - res.t_s[0]
+    ws = window_sweep(res, [2.0, 10 * span], scored, pos_t, mat_t, res.t_s[idx[:10]])
+    assert list(ws.solutions) == ["Filtering", 2.0, 10 * span, "RTS (whole run)"]
+    sw = ws.sweep.set_index(["window_s", "stat"])
+    # one window over the whole run is the whole-run RTS; the filter has no latency
+    assert sw.loc[(10 * span, "rms"), "horizontal"] == pytest.approx(sw.loc[(np.inf, "rms"), "horizontal"])
+    assert sw.loc[(0.0, "rms"), "latency_mean_s"] == 0.0
+    assert sw.loc[(np.inf, "rms"), "horizontal"] < sw.loc[(0.0, "rms"), "horizontal"]
+    g = ws.gcp.set_index("window_s")
+    # fixes only in the first part of the run: 2 s windows after it hold no control point
+    assert 0.0 < g.loc[2.0, "share_without_gcp"] < 1.0 and g.loc[10 * span, "share_without_gcp"] == 0.0
+    tab, gw = window_sweep_tables(ws.sweep.assign(phone="a"), ws.gcp.assign(phone="a"))
+    assert list(tab["window_s"][tab["stat"] == "rms"]) == [0.0, 2.0, 10 * span, np.inf]
+    assert len(gw) == 2

@@ -13,16 +13,16 @@ def _static(n=2000, dt=0.01, euler=(0.1, -0.2, 1.0)):
 
 
 def test_stationary_imu_stays_put():
-    t, C0, acc, gyro = _static()
-    p, v, C = ins.mechanise(t, gyro, acc, np.zeros(3), np.zeros(3), C0)
+    t, C0, acc, gyr = _static()
+    p, v, C = ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), C0)
     assert np.abs(p).max() < 1e-9 and np.abs(v).max() < 1e-10
     assert np.allclose(C, C0, atol=1e-12)
 
 
 def test_constant_velocity_integrates_exactly():
-    t, C0, acc, gyro = _static(n=500, dt=0.037)
+    t, C0, acc, gyr = _static(n=500, dt=0.037)
     v0 = np.array([1.0, -2.0, 0.3])
-    p, v, _ = ins.mechanise(t, gyro, acc, np.array([5.0, 6.0, 7.0]), v0, C0)
+    p, v, _ = ins.mechanise(t, gyr, acc, np.array([5.0, 6.0, 7.0]), v0, C0)
     assert np.allclose(p, np.array([5.0, 6.0, 7.0]) + t[:, None] * v0, atol=1e-9)
     assert np.allclose(v, v0, atol=1e-12)
 
@@ -42,9 +42,9 @@ def test_constant_rate_rotation_matches_closed_form():
     n, dt = 1000, 0.01
     t = np.arange(n) * dt
     w = np.array([0.0, 0.0, 0.5])
-    gyro = np.tile(w, (n, 1))
+    gyr = np.tile(w, (n, 1))
     acc = np.tile([0.0, 0.0, 9.80665], (n, 1))
-    _, _, C = ins.mechanise(t, gyro, acc, np.zeros(3), np.zeros(3), np.eye(3))
+    _, _, C = ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), np.eye(3))
     yaw = ins.dcm_to_euler(C)[:, 2]
     assert np.allclose(np.unwrap(yaw), 0.5 * t, atol=1e-10)
 
@@ -73,11 +73,43 @@ def test_coarse_level_recovers_roll_pitch():
 
 
 def test_bad_input_raises():
-    t, C0, acc, gyro = _static(n=10)
-    with pytest.raises(ValueError, match="gyro_b_radps"):
-        ins.mechanise(t, gyro[:5], acc, np.zeros(3), np.zeros(3), C0)
+    t, C0, acc, gyr = _static(n=10)
+    with pytest.raises(ValueError, match="gyr_b_radps"):
+        ins.mechanise(t, gyr[:5], acc, np.zeros(3), np.zeros(3), C0)
     with pytest.raises(ValueError, match="strictly increasing"):
-        ins.mechanise(t[::-1], gyro, acc, np.zeros(3), np.zeros(3), C0)
+        ins.mechanise(t[::-1], gyr, acc, np.zeros(3), np.zeros(3), C0)
     acc[3, 1] = np.nan
     with pytest.raises(ValueError, match="acc_b_mps2"):
-        ins.mechanise(t, gyro, acc, np.zeros(3), np.zeros(3), C0)
+        ins.mechanise(t, gyr, acc, np.zeros(3), np.zeros(3), C0)
+
+
+def test_phone_to_body_rotation():
+    M = ins.MAT_PHONE_TO_BODY
+    assert np.allclose(M @ M.T, np.eye(3)) and np.linalg.det(M) == pytest.approx(1.0)
+    # the top of the phone (y_p) points forward (x_b), its right edge (x_p) to the walker's right (-y_b)
+    assert np.array_equal(ins.phone_to_body([0.0, 1.0, 0.0]), [1.0, 0.0, 0.0])
+    assert np.array_equal(ins.phone_to_body([1.0, 0.0, 0.0]), [0.0, -1.0, 0.0])
+    assert np.allclose(M.T, ins.euler_to_dcm(0.0, 0.0, np.pi / 2))  # body -> phone is +90 deg about z
+    v = np.random.default_rng(0).normal(size=(5, 3))
+    assert np.allclose(ins.phone_to_body(v), v @ M.T)
+    with pytest.raises(ValueError, match="vec_p"):
+        ins.phone_to_body(np.zeros((2, 2)))
+
+
+def test_rotation_helpers_agree_with_scipy_rotation():
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=(2000, 3)) * 10 ** rng.uniform(-9, 0.4, (2000, 1))  # angles 1e-9 .. ~2.5 rad
+    ref = Rotation.from_rotvec(v)
+    assert np.allclose(ins.rotvecs_to_dcm(v), ref.as_matrix(), rtol=0, atol=1e-15)
+    assert np.array_equal(ins.rotvec_to_dcm(v[7]), ins.rotvecs_to_dcm(v)[7])
+    back = ins.dcm_to_rotvec(ref.as_matrix())
+    assert np.allclose(back, ref.as_rotvec(), rtol=0, atol=1e-12)  # acos loses digits near pi only
+    assert np.allclose(back[:1], ins.dcm_to_rotvec(ref.as_matrix()[0]))
+    e = rng.uniform(-1.2, 1.2, (500, 3))
+    assert np.allclose(ins.euler_to_dcm(e[:, 0], e[:, 1], e[:, 2]),
+                       Rotation.from_euler("ZYX", e[:, ::-1]).as_matrix(), rtol=0, atol=1e-15)
+    assert np.allclose(ins.dcm_to_euler(ins.euler_to_dcm(e[:, 0], e[:, 1], e[:, 2])), e, atol=1e-12)
+    with pytest.raises(ValueError, match="mat"):
+        ins.dcm_to_rotvec(np.eye(4))

@@ -1,9 +1,7 @@
 import numpy as np
-import pandas as pd
 import pytest
 
 from ilocalg import ins
-from ilocalg.experiments.ins_paper_values import INS_PAPER_TABLES, paper_value
 from ilocalg.sim import ins_walk
 
 
@@ -21,7 +19,7 @@ def _rms_h(pos, walk):
 def test_constraints_and_control_points_order_like_the_paper(walk):
     r_wvc = ins.run_walk(walk, "wvc", use_gcp=False)
     r_gcp = ins.run_walk(walk, "wvc", use_gcp=True)
-    sm = ins.rts_smooth(r_gcp, with_cov=False)
+    sm = ins.eskf_rts_smooth(r_gcp, with_cov=False)
     e_wvc, e_gcp, e_sm = _rms_h(r_wvc.pos_n_m, walk), _rms_h(r_gcp.pos_n_m, walk), _rms_h(sm.pos_n_m, walk)
     assert e_gcp < e_wvc and e_sm < e_gcp
     assert e_sm < 3.0
@@ -42,16 +40,17 @@ def test_walk_updates_kinds(walk):
         ins.walk_updates(walk, "foo")
 
 
-def test_paper_values_lookup():
-    assert len(INS_PAPER_TABLES) == 96
-    assert paper_value("Samsung", "Filtering + NHC/ZUPT", "rms", "N") == pytest.approx(14.8002)
-    with pytest.raises(ValueError, match="axis"):
-        paper_value("Samsung", "Filtering", "rms", "X")
+def test_body_imu_from_a_phone_log():
+    import pandas as pd
 
+    from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
-def test_online_experiment_accepts_integer_window_lengths():
-    from ilocalg.experiments import ins_online
-
-    a = ins_online.run(seed=0, fast=True, sweep_windows_s=(5, 10))
-    b = ins_online.run(seed=0, fast=True, sweep_windows_s=(5.0, 10.0))
-    pd.testing.assert_frame_equal(a["window_sweep"], b["window_sweep"])
+    t = np.arange(5) * 0.02
+    # a phone lying flat, top pointing forward, accelerating forward and turning left
+    log = pd.DataFrame({**dict(zip(ACC_COLS, ([0.0] * 5, [0.5] * 5, [9.81] * 5), strict=True)),
+                        **dict(zip(GYR_COLS, ([0.0] * 5, [0.0] * 5, [0.3] * 5), strict=True))}, index=t)
+    ts, gyr_b, acc_b = ins.body_imu_from_log(log)
+    assert np.array_equal(ts, t)
+    assert np.allclose(acc_b, [0.5, 0.0, 9.81]) and np.allclose(gyr_b, [0.0, 0.0, 0.3])
+    with pytest.raises(ValueError, match="gyr_x_radps"):
+        ins.body_imu_from_log(log.drop(columns=GYR_COLS[0]))

@@ -12,7 +12,7 @@ def runs():
 
 def test_rts_never_worse_than_filtering(runs):
     for res, pos_t, vel_t, mat_t, _ in runs:
-        sm = ins.rts_smooth(res)
+        sm = ins.eskf_rts_smooth(res)
         ef = nav_error(res.pos_n_m, res.vel_n_mps, res.mat_nb, pos_t, vel_t, mat_t)
         es = nav_error(sm.pos_n_m, sm.vel_n_mps, sm.mat_nb, pos_t, vel_t, mat_t)
         rms_f = np.sqrt(np.mean(ef**2, axis=0))
@@ -24,7 +24,7 @@ def test_rts_never_worse_than_filtering(runs):
 def test_smoothed_covariance_below_filtered_and_consistent(runs):
     nees = []
     for res, pos_t, vel_t, mat_t, _ in runs:
-        sm = ins.rts_smooth(res)
+        sm = ins.eskf_rts_smooth(res)
         sd_f = np.sqrt(np.diagonal(res.P_plus, axis1=1, axis2=2))
         assert np.all(sm.sd <= sd_f + 1e-9)
         es = nav_error(sm.pos_n_m, sm.vel_n_mps, sm.mat_nb, pos_t, vel_t, mat_t)
@@ -45,7 +45,7 @@ def test_window_ends_and_online_limits(runs):
     t = res.t_s
     ends = ins.window_ends(t, 5.0)
     assert ends[-1] and ends.sum() == int(np.ceil((t[-1] - t[0] + 1e-9) / 5.0))
-    full = ins.rts_smooth(res, with_cov=False)
+    full = ins.eskf_rts_smooth(res, with_cov=False)
     big = ins.online_window_smooth(res, 10 * t[-1])
     assert np.allclose(full.pos_n_m, big.pos_n_m)
     w5 = ins.online_window_smooth(res, 5.0)
@@ -67,7 +67,7 @@ def test_class_wrapper_agrees_with_functions():
     rng = np.random.default_rng(0)
     gyr = np.tile([0.0, 0.0, 0.2], (t.size, 1)) + rng.normal(0, 0.001, (t.size, 3))
     acc = np.tile([0.0, 0.24, 9.81], (t.size, 1))
-    fix = ins.UpdateSet("pos_n", t[::20], np.zeros((t[::20].size, 3)), np.full((t[::20].size, 3), 0.5))
+    fix = ins.PositionFix(t[::20], np.zeros((t[::20].size, 3)), np.full((t[::20].size, 3), 0.5))
     est.fit(t, gyr, acc, np.zeros(3), np.array([1.2, 0, 0]), np.eye(3), [fix])
     ref = ins.run_eskf(t, gyr, acc, np.zeros(3), np.array([1.2, 0, 0]), np.eye(3), ins.initial_covariance(),
                        [fix], CFG)

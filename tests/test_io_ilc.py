@@ -248,3 +248,12 @@ def test_fingerprints_outside_policy_on_real_walks(shared_data):
     assert floor.floor_map.walkable(fp.fingerprints.x_m, fp.fingerprints.y_m).mean() > 0.9
     heard = np.isfinite(fp.fingerprints.rssi_dbm).sum(axis=1)
     assert (heard >= 1).all() and np.median(heard) > 50
+
+
+def test_walkable_is_the_union_of_outline_rings_minus_obstacles():
+    """The rule of the walkable raster (OccupancyGrid.from_polygons): overlapping outline rings add up."""
+    a = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    b = a + [5.0, 0.0]
+    hole = np.array([[12, 2], [14, 2], [14, 4], [12, 4]], float)
+    fm = ilc.IlcFloorMap(width_m=15.0, height_m=10.0, outline=(a, b), obstacles=(hole,), lonlat_bbox=(0, 0, 1, 1))
+    assert fm.walkable([2, 7, 12, 13, 16], [5, 5, 5, 3, 5]).tolist() == [True, True, True, False, False]

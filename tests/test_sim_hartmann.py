@@ -19,8 +19,8 @@ def test_deterministic(seq):
 
 def test_imu_rate_noise_and_volume(seq):
     assert np.allclose(np.diff(seq.t_s), 1 / 400)
-    still = seq.t_s < 2.5  # initial rest: gyro = bias + white noise of 0.4 deg/s
-    sd = np.rad2deg(seq.gyro_b_radps[still].std(axis=0))
+    still = seq.t_s < 2.5  # initial rest: gyr = bias + white noise of 0.4 deg/s
+    sd = np.rad2deg(seq.gyr_b_radps[still].std(axis=0))
     assert np.all((sd > 0.35) & (sd < 0.45))
     span = seq.pos_v_m.max(axis=0) - seq.pos_v_m.min(axis=0)
     assert np.all(span < 1.5) and span[:2].max() > 0.3
@@ -33,9 +33,9 @@ def test_tracker_rate_and_outages(seq):
 
 
 def test_error_free_imu_integrates_to_truth():
-    s = sh.simulate(10.0, seed=1, gyro_sd_dps=0.0, acc_sd_mps2=0.0, gyro_bias_sd_dps=0.0, acc_bias_sd_mps2=0.0)
+    s = sh.simulate(10.0, seed=1, gyr_sd_dps=0.0, acc_sd_mps2=0.0, gyr_bias_sd_dps=0.0, acc_bias_sd_mps2=0.0)
     C0 = euler_to_dcm(*s.euler_rad[0])
-    p, _, _ = mechanise(s.t_s, s.gyro_b_radps, s.acc_b_mps2, s.pos_v_m[0], s.vel_v_mps[0], C0)
+    p, _, _ = mechanise(s.t_s, s.gyr_b_radps, s.acc_b_mps2, s.pos_v_m[0], s.vel_v_mps[0], C0)
     assert np.abs(p - s.pos_v_m).max() < 1e-6
 
 

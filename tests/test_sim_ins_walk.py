@@ -12,7 +12,7 @@ def walk():
 
 def test_same_seed_same_arrays(walk):
     w2 = ins_walk.simulate("samsung", "samsung_s5", seed=3)
-    for name in ("t_s", "gyro_b_radps", "acc_b_mps2", "pos_true_n_m", "gnss_pos_n_m", "gcp_pos_n_m"):
+    for name in ("t_s", "gyr_b_radps", "acc_b_mps2", "pos_true_n_m", "gnss_pos_n_m", "gcp_pos_n_m"):
         assert np.array_equal(getattr(walk, name), getattr(w2, name))
     w3 = ins_walk.simulate("samsung", "samsung_s5", seed=4)
     assert not np.array_equal(walk.acc_b_mps2[:100], w3.acc_b_mps2[:100])
@@ -47,7 +47,7 @@ def test_error_free_sensors_integrate_to_truth():
     prof = ins_walk.PhoneProfile("ideal", (1, 1), 0, 0, 0, 0, 0, 0)
     w = ins_walk.simulate("iphone", prof, seed=0)
     n = 20000
-    p, _, C = ins.mechanise(w.t_s[:n], w.gyro_b_radps[:n], w.acc_b_mps2[:n], w.pos_true_n_m[0],
+    p, _, C = ins.mechanise(w.t_s[:n], w.gyr_b_radps[:n], w.acc_b_mps2[:n], w.pos_true_n_m[0],
                             w.vel_true_n_mps[0], w.mat_true_nb[0])
     assert np.abs(p - w.pos_true_n_m[:n]).max() < 1e-6
     assert np.allclose(C, w.mat_true_nb[:n], atol=1e-9)

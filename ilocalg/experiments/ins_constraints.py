@@ -11,20 +11,18 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.ins_paper_values import paper_value
-from ilocalg.ins import dcm_to_euler, error_stats, heading_error_with_lag_deg, nav_errors, rts_smooth
+from ilocalg.ins import dcm_to_euler, error_stats, eskf_rts_smooth, heading_error_with_lag_deg, nav_errors
+from ilocalg.ins.evaluate import AXES
+from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.papers import paper_ref
 from ilocalg.sim import ins_walk
+from ilocalg.sim.ins_walk import PHONES
 
-__all__ = ["PHONES", "METHODS", "AXES", "run_phone", "run"]
+__all__ = ["METHODS", "run_phone", "run"]
 
-#: (label used by the paper's tables, simulator route, simulator IMU profile)
-PHONES = (("Samsung", "samsung", "samsung_s5"), ("iPhone", "iphone", "iphone_5s"))
 METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT + GCP",
            "Smoothing + WVC/ZUPT + GCP")
-AXES = ("N", "E", "H", "Roll", "Pitch", "Heading")
-PAPER = "Liao et al. 2016 (smartphone INS)"
 _IDEAL_50HZ = ins_walk.PhoneProfile("error-free", (4, 4), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
@@ -38,7 +36,7 @@ def run_phone(route: str, profile: str, seed: int):
     out[METHODS[1]] = (r.pos_n_m, r.mat_nb)
     r = run_walk(walk, "wvc", use_gcp=True)
     out[METHODS[2]] = (r.pos_n_m, r.mat_nb)
-    s = rts_smooth(r, with_cov=False)
+    s = eskf_rts_smooth(r, with_cov=False)
     out[METHODS[3]] = (s.pos_n_m, s.mat_nb)
     return walk, out, r
 
@@ -80,7 +78,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
                               ("Bluetooth (m)", ins_walk.simulate(route, profile, seed=s,
                                                                   gcp_sd_m=bluetooth_gcp_sd_m))):
                 r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True)
-                for method, sol2 in ((METHODS[2], r2), (METHODS[3], rts_smooth(r2, with_cov=False))):
+                for method, sol2 in ((METHODS[2], r2), (METHODS[3], eskf_rts_smooth(r2, with_cov=False))):
                     err = nav_errors(sol2.pos_n_m[ind], sol2.mat_nb[ind], walk.pos_true_n_m[ind],
                                      walk.mat_true_nb[ind])
                     grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
@@ -100,7 +98,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
                 indr = wr.t_s >= wr.t_indoor_s
                 for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
                                          (METHODS[3], "wvc", True)):
-                    sm = rts_smooth(run_walk(wr, cons, use_gcp=gcp), with_cov=False)
+                    sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp), with_cov=False)
                     err = nav_errors(sm.pos_n_m[indr], sm.mat_nb[indr], wr.pos_true_n_m[indr], wr.mat_true_nb[indr])
                     refg.append({"phone route": phone, "imu": imu_label, "method": label,
                                  "seed": s, **error_stats(err)["rms"]})
@@ -123,11 +121,11 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
             sel = errors[(errors.phone == phone) & (errors.method == method) & (errors.stat == "rms")].iloc[0]
             table = "Table 4" if phone == "Samsung" else "Table 6"
             for ax in ("N", "E", "H"):
-                comp.append(paper_ref(PAPER, table, f"{phone} {method}: RMS {ax} error",
+                comp.append(paper_ref(LIAO_2016, table, f"{phone} {method}: RMS {ax} error",
                                       paper_value(phone, method, "rms", ax), sel[ax], unit="m",
                                       note=f"simulated walk, mean of {n_seeds} seed(s)"))
             table = "Table 5" if phone == "Samsung" else "Table 7"
-            comp.append(paper_ref(PAPER, table, f"{phone} {method}: RMS heading error",
+            comp.append(paper_ref(LIAO_2016, table, f"{phone} {method}: RMS heading error",
                                   paper_value(phone, method, "rms", "Heading"), sel["Heading"], unit="deg",
                                   note="paper's heading includes phone/reference time-sync errors"))
     return {
@@ -145,21 +143,6 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
         "reference_grade": (pd.DataFrame(refg).groupby(["phone route", "imu", "method"], sort=False)[list(AXES)]
                             .mean().reset_index() if refg else pd.DataFrame()),
     }
-
-
-def side_by_side(errors: pd.DataFrame, axes) -> pd.DataFrame:
-    """The paper's table layout (phone, stat, method) with ``<axis> paper`` beside ``<axis> sim``."""
-    out = []
-    for _, r in errors.iterrows():
-        row = {"phone": r["phone"], "stat": r["stat"], "method": r["method"]}
-        for ax in axes:
-            row[f"{ax} paper"] = paper_value(r["phone"], r["method"], r["stat"], ax)
-            row[f"{ax} sim"] = r[ax]
-        out.append(row)
-    df = pd.DataFrame(out)
-    order = {"max": 0, "rms": 1, "std": 2}
-    return df.sort_values(["phone", "stat"], key=lambda c: c.map(order) if c.name == "stat" else c,
-                          kind="stable").reset_index(drop=True)
 
 
 def _trajectory(phone, walk, sol, ind):

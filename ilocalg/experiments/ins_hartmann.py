@@ -1,4 +1,4 @@
-"""Hartmann et al. IMU + marker video-tracking EKF (survey sec. 5, Table 2, Figs 11-12).
+"""Hartmann et al. IMU + marker video-tracking EKF (Yeh & Huang's survey, sec. 5, Table 2, Figs 11-12).
 
 For each simulated test sequence: level the object during its initial rest, initialise yaw and
 position from the first tracker measurement, run the 15-state EKF and compare it with the video
@@ -16,18 +16,11 @@ import pandas as pd
 
 from ilocalg.ins.hartmann import run_hartmann
 from ilocalg.ins.mechanisation import coarse_level
+from ilocalg.ins.paper_values import HARTMANN_2010, HARTMANN_TABLE2_OVERALL
 from ilocalg.papers import paper_ref
 from ilocalg.sim import hartmann as sim
 
-__all__ = ["HARTMANN_PAPER_OVERALL", "run_sequence", "run"]
-
-PAPER = "Hartmann et al. 2010 (survey sec. 5)"
-#: Table 2 overall row (paper reference values).
-HARTMANN_PAPER_OVERALL = {  # paper Table 2, overall
-    "mean_dev_x_m": 0.0075, "mean_dev_y_m": 0.0077, "mean_dev_z_m": 0.0164,  # paper Table 2
-    "max_dev_x_m": 0.1540, "max_dev_y_m": 0.1778, "max_dev_z_m": 0.1489,  # paper Table 2
-    "vt_rate_hz": 5.8229, "outage_max_s": 2.2405, "outages_over_1s": 21.5,  # paper Table 2
-}
+__all__ = ["run_sequence", "run"]
 
 
 def run_sequence(seq, level_s: float = 1.0):
@@ -39,7 +32,7 @@ def run_sequence(seq, level_s: float = 1.0):
     x0[3:6] = seq.z_vt[0, 1:4]
     P0 = np.diag(np.square(np.concatenate([np.deg2rad([3.0, 3.0, 2.0]), np.full(3, 0.01), np.full(3, 0.05),
                                            np.full(3, np.deg2rad(0.5)), np.full(3, 0.2)])))
-    return run_hartmann(seq.t_s, seq.gyro_b_radps, seq.acc_b_mps2, seq.t_vt_s, seq.z_vt, x0, P0)
+    return run_hartmann(seq.t_s, seq.gyr_b_radps, seq.acc_b_mps2, seq.t_vt_s, seq.z_vt, x0, P0)
 
 
 def _settling_time(t, est, true, tol):
@@ -103,11 +96,11 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
     t2 = pd.concat([t2, pd.DataFrame([overall])], ignore_index=True)
     ov = t2.iloc[-1]
     comp = []
-    for key, pv in HARTMANN_PAPER_OVERALL.items():
+    for key, pv in HARTMANN_TABLE2_OVERALL.items():
         unit = "Hz" if key.endswith("hz") else "s" if key.endswith("_s") else "" if key.startswith("outages") else "m"
         is_input = key in ("vt_rate_hz", "outage_max_s", "outages_over_1s")
         note = (f"simulated tracker input statistic, {n_sequences} sequences of {duration_s:g} s" if is_input
                 else f"EKF prediction vs VT, {n_sequences} simulated sequences of {duration_s:g} s")
-        comp.append(paper_ref(PAPER, "Table 2", f"overall {key}", pv, float(ov[key]), unit=unit, note=note))
+        comp.append(paper_ref(HARTMANN_2010, "Table 2", f"overall {key}", pv, float(ov[key]), unit=unit, note=note))
     return {"table2": t2, "comparison": pd.DataFrame(comp), "settling": pd.DataFrame(settle), "trace": trace,
             "vt": vt}

@@ -1,6 +1,6 @@
 """Online fixed-window smoothing of the smartphone INS (Liao et al. 2016, sec. 4.2, Tables 8-11, Fig 19).
 
-For each phone and seed: the WVC/ZUPT/GCP filter of :mod:`ilocalg.experiments.ins_constraints`, then
+For each phone and seed: the WVC/ZUPT/GCP filter (:func:`ilocalg.ins.pipeline.run_walk`), then
 the online smoother on fixed windows (5, 10, 20 s in the tables; a sweep for Fig 19) and the
 whole-run RTS. Scored on the indoor part, averaged over seeds. Also: how often a window holds no
 control point, and how the windows without one fare (the paper's explanation of Figs 20-21).
@@ -8,15 +8,14 @@ control point, and how the windows without one fare (the paper's explanation of 
 
 from __future__ import annotations
 
-import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.ins_constraints import AXES, PAPER, PHONES
-from ilocalg.experiments.ins_paper_values import paper_value
-from ilocalg.ins import error_stats, nav_errors, online_window_smooth, rts_gains, rts_smooth, window_ends
+from ilocalg.ins.evaluate import AXES, window_sweep, window_sweep_tables
+from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.papers import paper_ref
 from ilocalg.sim import ins_walk
+from ilocalg.sim.ins_walk import PHONES
 
 __all__ = ["TABLE_WINDOWS_S", "SWEEP_WINDOWS_S", "run"]
 
@@ -52,56 +51,21 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
             walk = ins_walk.simulate(route, profile, seed=s)
             res = run_walk(walk, "wvc", use_gcp=True)
-            G = rts_gains(res)
             ind = walk.t_s >= walk.t_indoor_s
-            truth = (walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
-            sols = {"Filtering": (res.pos_n_m, res.mat_nb, np.zeros(res.t_s.size)), }
-            for w in windows:
-                sm = online_window_smooth(res, w, gains=G)
-                sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
-            full = rts_smooth(res, with_cov=False, gains=G)
-            sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
+            ws = window_sweep(res, windows, ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind], walk.gcp_t_s)
             if s == seed * n_seeds:
-                traj.append(_trajectory(phone, walk, sols, ind))
-            gcp_epoch = np.zeros(res.t_s.size, bool)
-            gcp_epoch[np.searchsorted(res.t_s, walk.gcp_t_s)] = True
-            for key, (pos, mat, lat) in sols.items():
-                err = nav_errors(pos[ind], mat[ind], *truth)
-                st = error_stats(err)
+                traj.append(_trajectory(phone, walk, ws.solutions, ind))
+            for key, st in ws.stats.items():
                 if not isinstance(key, float) or key in TABLE_WINDOWS_S:
                     method = _label(key) if isinstance(key, float) else key
                     rows += [{"phone": phone, "method": method, "seed": s, "stat": k, **st[k]}
                              for k in ("max", "rms", "std")]
-                wsec = key if isinstance(key, float) else (0.0 if key == "Filtering" else np.inf)
-                for k in ("max", "rms", "std"):
-                    sweep.append({"phone": phone, "seed": s, "window_s": wsec, "stat": k,
-                                  **{a: st[k][a] for a in ("N", "E", "H")},
-                                  "horizontal": float(np.hypot(st[k]["N"], st[k]["E"])) if k == "rms" else np.nan,
-                                  "latency_mean_s": float(np.mean(lat[ind]))})
-                if isinstance(key, float):
-                    ends = window_ends(res.t_s, key)
-                    win = np.concatenate([[0], np.cumsum(ends[:-1])])
-                    has = np.zeros(win.max() + 1, bool)
-                    has[win[gcp_epoch]] = True
-                    hz = np.hypot(err["N"], err["E"]).to_numpy()
-                    wi = win[ind]
-                    in_gcp = has[wi]
-                    indoor_windows = np.unique(wi)
-                    gcp_rows.append({
-                        "phone": phone, "seed": s, "window_s": key,
-                        "windows_indoor": indoor_windows.size,
-                        "share_without_gcp": float(np.mean(~has[indoor_windows])),
-                        "rms_h_with_gcp_m": float(np.sqrt(np.mean(hz[in_gcp] ** 2))) if in_gcp.any() else np.nan,
-                        "rms_h_without_gcp_m": (float(np.sqrt(np.mean(hz[~in_gcp] ** 2))) if (~in_gcp).any()
-                                                else np.nan)})
+            for df, out in ((ws.sweep, sweep), (ws.gcp, gcp_rows)):
+                out.append(df.assign(phone=phone, seed=s))
     per_seed = pd.DataFrame(rows)
     errors = per_seed.groupby(["phone", "method", "stat"], sort=False)[list(AXES)].mean().reset_index()
     errors.insert(3, "n_seeds", n_seeds)
-    sw = (pd.DataFrame(sweep).groupby(["phone", "window_s", "stat"], sort=False)
-          [["N", "E", "H", "horizontal", "latency_mean_s"]].mean().reset_index())
-    sw = sw.sort_values(["phone", "stat", "window_s"], kind="stable").reset_index(drop=True)
-    gw = (pd.DataFrame(gcp_rows).groupby(["phone", "window_s"], sort=False)
-          [["windows_indoor", "share_without_gcp", "rms_h_with_gcp_m", "rms_h_without_gcp_m"]].mean().reset_index())
+    sw, gw = window_sweep_tables(pd.concat(sweep, ignore_index=True), pd.concat(gcp_rows, ignore_index=True))
     in_paper = errors[errors.method.isin(["Filtering"] + [_label(w) for w in TABLE_WINDOWS_S])]
     comp = []
     for phone, *_ in PHONES:
@@ -109,15 +73,13 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         for method in ["Filtering"] + [_label(w) for w in TABLE_WINDOWS_S]:
             sel = errors[(errors.phone == phone) & (errors.method == method) & (errors.stat == "rms")].iloc[0]
             for ax in ("N", "E", "H"):
-                comp.append(paper_ref(PAPER, table, f"{phone} WVC/ZUPT/GCP {method}: RMS {ax} error",
+                comp.append(paper_ref(LIAO_2016, table, f"{phone} WVC/ZUPT/GCP {method}: RMS {ax} error",
                                       paper_value(phone, method, "rms", ax), sel[ax], unit="m",
                                       note=f"simulated walk, mean of {n_seeds} seed(s)"))
         r = sw[(sw.phone == phone) & (sw.stat == "rms") & sw.window_s.isin(TABLE_WINDOWS_S)]
         best = float(r.loc[r["horizontal"].idxmin(), "window_s"])
-        comp.append(paper_ref(PAPER, "Fig 19", f"{phone}: best of the 5/10/20 s windows (horizontal RMS)",
+        comp.append(paper_ref(LIAO_2016, "Fig 19", f"{phone}: best of the 5/10/20 s windows (horizontal RMS)",
                               20.0, best, unit="s", note="paper: best window 20 s, 10-20 s recommended"))
-    from ilocalg.experiments.ins_constraints import side_by_side
-
     return {
         "errors": errors,
         "errors_per_seed": per_seed,

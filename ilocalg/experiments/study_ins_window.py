@@ -1,11 +1,10 @@
 """Study: online smoothing error vs window size 2-30 s, inside windows with and without a control
 point (extends Liao et al. 2016, Fig 19 and the explanation of Figs 20-21).
 
-One ``run(seed)`` is one simulated walk per phone of :mod:`ilocalg.experiments.ins_online` (the
-WVC/ZUPT/GCP filter on :mod:`ilocalg.sim.ins_walk`, then the fixed-window online smoother of
-:mod:`ilocalg.ins` for every window size): this module calls that experiment's ``run`` with one
-seed and the window list, and re-labels its ``window_sweep`` and ``windows_without_gcp`` tables
-as a ``sweep_ins_window`` table. Scored on the indoor part of the walk.
+One ``run(seed)`` is one simulated walk per phone (:mod:`ilocalg.sim.ins_walk`), its WVC/ZUPT/GCP
+filter (:func:`ilocalg.ins.pipeline.run_walk`) and the fixed-window online smoother for every window
+size (:func:`ilocalg.ins.evaluate.window_sweep`, as in the online-smoothing experiment), re-labelled as
+a ``sweep_ins_window`` table. Scored on the indoor part of the walk.
 
 Quantities per ``phone`` and window (``item`` = ``phone=...;window_s=...``):
 ``horizontal RMS error`` (m, all indoor epochs), ``horizontal RMS error, windows with a control
@@ -20,8 +19,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments import ins_online
-from ilocalg.experiments.study_common import select, study_row, study_tasks
+from ilocalg.ins.evaluate import window_sweep, window_sweep_tables
+from ilocalg.ins.pipeline import run_walk
+from ilocalg.sim import ins_walk
+from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "WINDOWS_S", "GRIDS", "tasks", "findings"]
 
@@ -47,15 +48,20 @@ def run(seed: int = 0, fast: bool = False, windows_s=None) -> dict[str, pd.DataF
     ws = tuple(float(w) for w in (windows_s if windows_s is not None else (WINDOWS_S_FAST if fast else WINDOWS_S)))
     if not ws or any(not np.isfinite(w) or w <= 0 for w in ws):
         raise ValueError(f"windows_s must be positive finite window sizes in seconds, got {windows_s!r}")
-    t = ins_online.run(seed=seed, fast=fast, n_seeds=1, sweep_windows_s=ws)
-    sw = t["window_sweep"]
+    sweep, gcp = [], []
+    for phone, route, profile in ins_walk.PHONES:
+        walk = ins_walk.simulate(route, profile, seed=seed)
+        ind = walk.t_s >= walk.t_indoor_s
+        res = window_sweep(run_walk(walk, "wvc", use_gcp=True), sorted(set(ws)), ind, walk.pos_true_n_m[ind],
+                           walk.mat_true_nb[ind], walk.gcp_t_s)
+        sweep.append(res.sweep.assign(phone=phone))
+        gcp.append(res.gcp.assign(phone=phone))
+    sw, gw = window_sweep_tables(pd.concat(sweep, ignore_index=True), pd.concat(gcp, ignore_index=True))
     sw = sw[sw["stat"] == "rms"]
-    gw = t["windows_without_gcp"].set_index(["phone", "window_s"])
+    gw = gw.set_index(["phone", "window_s"])
     rows = []
     for r in sw.itertuples(index=False):
         w = float(r.window_s)
-        if w not in ws and np.isfinite(w) and w > 0:
-            continue  # the experiment always adds its table windows (5, 10, 20 s); keep the study's own
         ctx = {"phone": r.phone, "window_s": f"{w:g}"}
         rows.append(study_row("horizontal RMS error", r.horizontal, "m", **ctx))
         rows.append(study_row("height RMS error", r.H, "m", **ctx))
@@ -77,7 +83,7 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame) -> str:
-    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    """Sentences computed from the study's curves (:func:`ilocalg.workflow.studies.curves`)."""
     out = []
     for phone in sorted(cv["phone"].unique()):
         h = select(cv, "horizontal RMS error", phone=phone)

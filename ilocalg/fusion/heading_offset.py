@@ -26,7 +26,7 @@ import numpy as np
 
 from ilocalg.units import wrap_angle_rad
 
-__all__ = ["RigidFit", "fit_rigid_2d", "fit_track_to_fixes", "circular_mean_rad", "rotate_xy"]
+__all__ = ["RigidFit", "fit_rigid_2d", "fit_translation_2d", "fit_track_to_fixes", "circular_mean_rad", "rotate_xy"]
 
 
 @dataclass(frozen=True)
@@ -102,8 +102,25 @@ def fit_rigid_2d(src_xy_m, dst_xy_m, weights=None) -> tuple[float, np.ndarray]:
     return float(wrap_angle_rad(ang)), md - rotate_xy(ms, ang)
 
 
+def fit_translation_2d(src_xy_m, dst_xy_m, weights=None) -> np.ndarray:
+    """Weighted least-squares translation mapping ``src`` onto ``dst`` (rotation held at 0).
+
+    Parameters
+    ----------
+    src_xy_m, dst_xy_m : array_like, shape (n >= 2, 2)
+    weights : array_like, shape (n,), optional
+
+    Returns
+    -------
+    t_m : ndarray (2,)
+        The weighted mean of ``dst - src``.
+    """
+    src, dst, w = _check_pairs(src_xy_m, dst_xy_m, weights)
+    return (w / w.sum()) @ (dst - src)
+
+
 def fit_track_to_fixes(track_xy_m, fix_xy_m, huber_m: float | None = 5.0, n_iter: int = 20,
-                       weights=None) -> RigidFit:
+                       weights=None, rotation: bool = True) -> RigidFit:
     """Robust rigid fit of a relative track (at the fix states) to the fixes (IRLS, Huber weights).
 
     Parameters
@@ -118,23 +135,34 @@ def fit_track_to_fixes(track_xy_m, fix_xy_m, huber_m: float | None = 5.0, n_iter
         Maximum number of reweighting iterations.
     weights : array_like, shape (n,), optional
         Prior weights (e.g. inverse fix variances), multiplied by the robust weights.
+    rotation : bool
+        Fit the rotation too (:func:`fit_rigid_2d`); ``False``: the translation only
+        (:func:`fit_translation_2d`, heading held fixed, ``angle_rad`` 0).
 
     Returns
     -------
     RigidFit
+
+    References
+    ----------
+    Umeyama (1991), rotation + translation; Huber (1981), the robust weights.
     """
     src, dst, w0 = _check_pairs(track_xy_m, fix_xy_m, weights)
     if huber_m is not None and not huber_m > 0:
         raise ValueError(f"huber_m must be > 0 or None, got {huber_m!r}")
+
+    def fit(w):
+        return fit_rigid_2d(src, dst, w) if rotation else (0.0, fit_translation_2d(src, dst, w))
+
     rw = np.ones(src.shape[0])
-    ang, t = fit_rigid_2d(src, dst, w0)
+    ang, t = fit(w0)
     it = 0
     if huber_m is not None:
         while it < n_iter:
             it += 1
             r = np.hypot(*(rotate_xy(src, ang) + t - dst).T)
             new = np.where(r <= huber_m, 1.0, huber_m / np.maximum(r, 1e-12))
-            ang, t = fit_rigid_2d(src, dst, w0 * new)
+            ang, t = fit(w0 * new)
             if np.allclose(new, rw, atol=1e-6):
                 rw = new
                 break

@@ -15,6 +15,11 @@ grid's summary. Offline (uses the whole walk), like the RTS smoother.
 
 Beyond the papers; map matching of PDR tracks in the spirit of the map-constrained particle
 filters (Woodman & Harle 2008), solved here by exhaustive search over rigid placements.
+
+References
+----------
+Woodman O., Harle R., "Pedestrian localisation for indoor environments", UbiComp 2008 (the map
+constraint on a PDR track); Umeyama S., IEEE TPAMI 13(4), 1991 (rigid placements).
 """
 
 from __future__ import annotations

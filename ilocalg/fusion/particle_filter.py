@@ -56,25 +56,6 @@ class OccupancyGrid:
     cell_m: float
 
     @classmethod
-    def from_function(cls, walkable, x_range_m, y_range_m, cell_m: float = 0.5, chunk: int = 20000):
-        """Sample ``walkable(x, y) -> bool array`` at every cell centre (e.g. ``IlcFloorMap.walkable``)."""
-        if not cell_m > 0:
-            raise ValueError(f"cell_m must be > 0, got {cell_m!r}")
-        x0, x1 = map(float, x_range_m)
-        y0, y1 = map(float, y_range_m)
-        if not (x1 > x0 and y1 > y0):
-            raise ValueError("x_range_m and y_range_m must be increasing (min, max) pairs")
-        nx, ny = int(np.ceil((x1 - x0) / cell_m)), int(np.ceil((y1 - y0) / cell_m))
-        xc = x0 + (np.arange(nx) + 0.5) * cell_m
-        yc = y0 + (np.arange(ny) + 0.5) * cell_m
-        X, Y = np.meshgrid(xc, yc)
-        xf, yf = X.ravel(), Y.ravel()
-        out = np.empty(xf.size, dtype=bool)
-        for s in range(0, xf.size, chunk):
-            out[s:s + chunk] = np.asarray(walkable(xf[s:s + chunk], yf[s:s + chunk]), dtype=bool)
-        return cls(out.reshape(ny, nx), x0, y0, float(cell_m))
-
-    @classmethod
     def from_polygons(cls, outline, obstacles=(), x_range_m=None, y_range_m=None, cell_m: float = 0.5):
         """Rasterise walkable = inside an outline ring and outside every obstacle ring (OpenCV ``fillPoly``).
 
@@ -87,8 +68,9 @@ class OccupancyGrid:
         cell_m : float
 
         A cell is walkable when its centre is (up to OpenCV's 1/16-cell sub-pixel precision); several
-        outline rings are combined by union (not the even-odd rule of
-        :meth:`ilocalg.io.ilc.IlcFloorMap.walkable`, which only differs for nested outlines).
+        outline rings are combined by union, obstacles are cut out of it (the rule of
+        :meth:`ilocalg.io.ilc.IlcFloorMap.walkable`). This is the one way the toolkit builds a walkable
+        raster.
         """
         import cv2  # imported here so that `import ilocalg` stays light
 
@@ -118,6 +100,35 @@ class OccupancyGrid:
                 raise ValueError(f"obstacle rings must have shape (n >= 3, 2), got {r.shape}")
             cv2.fillPoly(img, px(r), 0, lineType=cv2.LINE_8, shift=shift)
         return cls(img.astype(bool), float(x0), float(y0), float(cell_m))
+
+    @classmethod
+    def from_floor_map(cls, floor_map, cell_m: float = 0.5) -> OccupancyGrid:
+        """The walkable raster of a floor map over ``[0, width_m] x [0, height_m]`` (:meth:`from_polygons`).
+
+        Parameters
+        ----------
+        floor_map : object with ``outline``, ``obstacles``, ``width_m``, ``height_m``
+            E.g. :class:`ilocalg.io.ilc.IlcFloorMap`.
+        cell_m : float
+        """
+        return cls.from_polygons(floor_map.outline, floor_map.obstacles, (0.0, floor_map.width_m),
+                                 (0.0, floor_map.height_m), cell_m)
+
+    def coarsen(self, cell_m: float = 1.0) -> OccupancyGrid:
+        """A coarser raster: a coarse cell is walkable if any fine cell in it is.
+
+        The factor is ``round(cell_m / self.cell_m)``; a factor <= 1 returns the grid itself. Rows and
+        columns that do not fill a whole coarse cell (at the far edges) are left out.
+        """
+        if not cell_m > 0:
+            raise ValueError(f"cell_m must be > 0, got {cell_m!r}")
+        f = int(round(cell_m / self.cell_m))
+        if f <= 1:
+            return self
+        m = self.walkable_mask
+        ny, nx = (m.shape[0] // f) * f, (m.shape[1] // f) * f
+        c = m[:ny, :nx].reshape(ny // f, f, nx // f, f).any(axis=(1, 3))
+        return OccupancyGrid(c, self.x0_m, self.y0_m, self.cell_m * f)
 
     @property
     def area_m2(self) -> float:

@@ -1,32 +1,37 @@
 """Inertial navigation: strapdown mechanisation, the 21-state error-state EKF with pedestrian
 constraints, RTS / online-window smoothing, and the Hartmann et al. 15-state IMU + video EKF.
 
-Frames and units (used by every module here)
---------------------------------------------
-Navigation frame ``n``: local-level east-north-up (ENU), metres, fixed to the site. Earth
-rotation and transport rate are neglected (indoor scale: far below phone gyro errors); gravity
-is constant, ``[0, 0, -9.80665]`` m/s^2. Body frame ``b``: the sensor frame, x forward, y left,
-z up. Attitude: ``mat_nb`` (body -> nav), Z-Y-X Euler angles ``(roll, pitch, yaw)`` in rad, yaw
-counter-clockwise from east. IMU logs are arrays: ``t_s`` (N,), ``gyro_b_radps`` (N, 3),
-``acc_b_mps2`` (N, 3, specific force); sample k is the mean over ``[t_k, t_{k+1})`` and sampling
-may be irregular (phones).
+Frames and units
+----------------
+The frames are defined once in the :mod:`ilocalg` package docstring: navigation frame ``n``
+(local-level east-north-up, metres, fixed to the site), INS body frame ``b`` (x forward, y left,
+z up) and the phone's sensor frame ``p`` (Android axes), related by
+:data:`ilocalg.ins.mechanisation.MAT_PHONE_TO_BODY`. Earth rotation and transport rate are
+neglected (indoor scale: far below phone gyro errors); gravity is constant, ``[0, 0, -9.80665]``
+m/s^2. Attitude: ``mat_nb`` (body -> nav), Z-Y-X Euler angles ``(roll, pitch, yaw)`` in rad, yaw
+counter-clockwise from east. IMU logs are arrays in the body frame: ``t_s`` (N,), ``gyr_b_radps``
+(N, 3), ``acc_b_mps2`` (N, 3, specific force); sample k is the mean over ``[t_k, t_{k+1})`` and
+sampling may be irregular (phones).
 
 Modules
 -------
 ``mechanisation``  strapdown integration and attitude helpers
-``eskf``           21-state closed-loop error-state EKF (Liao et al. 2016, eq. 1-6)
-``constraints``    step detection, WVC walking speed (eq. 7), NHC, ZUPT update sets
+``eskf``           21-state closed-loop error-state EKF (Liao et al. 2016, eq. 1-6) and its
+                   measurement protocol (innovation, H, R) with PositionFix, NavVelocity, BodyVelocity
+``constraints``    step epochs, WVC walking speed (eq. 7), NHC, ZUPT measurement sets
 ``smoother``       RTS over the whole run and the online fixed-window smoother (eq. 8-10)
-``hartmann``       15-state Euler-angle EKF fusing an IMU with marker video tracking (survey eq. 6-29)
-``evaluate``       error statistics in the paper's table layout
-``pipeline``       the paper's processing chain for a phone walk (update sets, levelling, filter)
+``hartmann``       15-state Euler-angle EKF fusing an IMU with marker video tracking (Hartmann et al.
+                   2010 as cited by Yeh & Huang, eq. 6-29)
+``evaluate``       error statistics in the paper's table layout, online-window scoring
+``paper_values``   published values of Liao et al. (2016) and Hartmann et al. (2010), as labelled references
+``pipeline``       the paper's processing chain for a phone walk (measurement sets, levelling, filter)
 """
 
 from ilocalg.ins.constraints import (
     WVC_REFERENCE_DEFAULTS,
     detect_stationary,
-    detect_steps,
     nhc_updates,
+    step_epochs,
     step_frequency_hz,
     walking_speed_mps,
     wvc_updates,
@@ -34,10 +39,15 @@ from ilocalg.ins.constraints import (
 )
 from ilocalg.ins.eskf import (
     N_STATES,
+    BodyVelocity,
     EskfConfig,
     EskfResult,
-    UpdateSet,
+    Measurement,
+    NavVelocity,
+    PositionFix,
     body_velocity_rows,
+    correct_nav,
+    correct_sensors,
     eskf_predict,
     initial_covariance,
     joseph_update,
@@ -48,7 +58,15 @@ from ilocalg.ins.eskf import (
     transition_matrices,
     transition_matrix,
 )
-from ilocalg.ins.evaluate import error_stats, heading_error_with_lag_deg, nav_errors
+from ilocalg.ins.evaluate import (
+    AXES,
+    WindowSweep,
+    error_stats,
+    heading_error_with_lag_deg,
+    nav_errors,
+    window_sweep,
+    window_sweep_tables,
+)
 from ilocalg.ins.hartmann import (
     HartmannEKF,
     HartmannResult,
@@ -60,31 +78,40 @@ from ilocalg.ins.hartmann import (
 )
 from ilocalg.ins.mechanisation import (
     GRAVITY_N_MPS2,
+    MAT_PHONE_TO_BODY,
     coarse_level,
     dcm_to_euler,
     dcm_to_rotvec,
     euler_to_dcm,
-    mech_step,
     mechanise,
+    phone_to_body,
     rotvec_to_dcm,
     rotvecs_to_dcm,
     skew,
+    strapdown,
 )
-from ilocalg.ins.pipeline import PhoneFilterSettings, run_walk, walk_updates
+from ilocalg.ins.pipeline import PhoneFilterSettings, body_imu_from_log, run_walk, walk_updates
 from ilocalg.ins.smoother import (
     ErrorStateINS,
-    SmoothResult,
+    EskfSmoothResult,
+    eskf_rts_smooth,
     online_window_smooth,
     rts_gains,
-    rts_smooth,
     window_ends,
 )
 
 __all__ = [
+    "AXES",
+    "WindowSweep",
+    "window_sweep",
+    "window_sweep_tables",
     "GRAVITY_N_MPS2",
+    "MAT_PHONE_TO_BODY",
+    "phone_to_body",
     "HartmannEKF",
     "HartmannResult",
     "PhoneFilterSettings",
+    "body_imu_from_log",
     "coarse_level",
     "hartmann_correct",
     "heading_error_with_lag_deg",
@@ -101,19 +128,24 @@ __all__ = [
     "EskfConfig",
     "ErrorStateINS",
     "EskfResult",
-    "SmoothResult",
-    "UpdateSet",
+    "EskfSmoothResult",
+    "Measurement",
+    "PositionFix",
+    "NavVelocity",
+    "BodyVelocity",
+    "correct_nav",
+    "correct_sensors",
     "body_velocity_rows",
     "dcm_to_euler",
     "dcm_to_rotvec",
     "detect_stationary",
-    "detect_steps",
+    "step_epochs",
     "error_stats",
     "eskf_predict",
     "euler_to_dcm",
     "initial_covariance",
     "joseph_update",
-    "mech_step",
+    "strapdown",
     "mechanise",
     "nav_errors",
     "nav_velocity_rows",
@@ -123,7 +155,7 @@ __all__ = [
     "process_noise_diag",
     "rotvec_to_dcm",
     "rts_gains",
-    "rts_smooth",
+    "eskf_rts_smooth",
     "run_eskf",
     "skew",
     "step_frequency_hz",

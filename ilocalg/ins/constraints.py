@@ -14,14 +14,15 @@ PDR solution for indoor navigation", ION GNSS 2011 (the step model and its defau
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import find_peaks
 
-from ilocalg.ins.eskf import UpdateSet
+from ilocalg.ins.eskf import BodyVelocity, NavVelocity
+from ilocalg.pdr.norm_peaks import detect_steps_norm_peaks
+from ilocalg.pdr.signals import moving_mean_time
 
 __all__ = [
     "WVC_REFERENCE_DEFAULTS",
     "walking_speed_mps",
-    "detect_steps",
+    "step_epochs",
     "step_frequency_hz",
     "detect_stationary",
     "nhc_updates",
@@ -29,10 +30,12 @@ __all__ = [
     "zupt_updates",
 ]
 
+# ---- published values: Chen, Pei, Chen (2011), the step model's reference parameters --------------------
 #: Default model parameters of eq. (7): a, b, c and the user height h (m). The paper uses "the
 #: default height and model parameters" without printing a, b, c; these are the reference values of
 #: Chen et al. (2011) (model reference, not an outcome of the paper).
-WVC_REFERENCE_DEFAULTS = {"a": 0.371, "b": 0.227, "c": 1.0, "height_m": 1.75}  # reference: Chen 2011
+WVC_REFERENCE_DEFAULTS = {"a": 0.371, "b": 0.227, "c": 1.0, "height_m": 1.75}
+# ---- end of published values -------------------------------------------------------------------------------
 
 
 def walking_speed_mps(step_freq_hz, height_m=None, a=None, b=None, c=None):
@@ -55,39 +58,23 @@ def walking_speed_mps(step_freq_hz, height_m=None, a=None, b=None, c=None):
         raise ValueError("step_freq_hz must be finite and >= 0")
     if not (np.isfinite(height_m) and height_m > 0):
         raise ValueError(f"height_m must be > 0, got {height_m}")
-    step_len_m = (0.7 + a * (height_m - 1.75) + b * (f - 1.79) * height_m / 1.75) * c  # paper eq. 7
+    step_len_m = (0.7 + a * (height_m - 1.75) + b * (f - 1.79) * height_m / 1.75) * c
     return step_len_m * f
 
 
-def _moving_mean(t_s, x, window_s):
-    """Centred moving mean over a time window (irregular samples), via cumulative sums."""
-    cs = np.concatenate([[0.0], np.cumsum(x)])
-    lo = np.searchsorted(t_s, t_s - window_s / 2, side="left")
-    hi = np.searchsorted(t_s, t_s + window_s / 2, side="right")
-    return (cs[hi] - cs[lo]) / (hi - lo)
+def step_epochs(t_s, acc_b_mps2, min_interval_s=0.3, min_prominence_mps2=0.8, smooth_s=0.15) -> np.ndarray:
+    """Indices (S,) of the IMU epochs at which a step is detected, for the WVC.
 
-
-def detect_steps(t_s, acc_b_mps2, min_interval_s=0.3, min_prominence_mps2=0.8, smooth_s=0.15):
-    """Step epochs from peaks of the smoothed specific-force norm.
-
-    Parameters
-    ----------
-    t_s : (N,) times (s); acc_b_mps2 : (N, 3) specific force
-    min_interval_s : shortest step period accepted; min_prominence_mps2 : peak prominence
-    smooth_s : moving-mean window applied to the norm first
-
-    Returns
-    -------
-    (S,) indices of the detected steps.
+    The detector is :func:`ilocalg.pdr.norm_peaks.detect_steps_norm_peaks` (see there for the parameters);
+    this adapter takes the INS's ``(t_s, acc_b_mps2)`` and keeps only the epochs the filter needs.
     """
     t_s = np.asarray(t_s, dtype=float)
     acc = np.asarray(acc_b_mps2, dtype=float)
     if acc.shape != (t_s.size, 3):
         raise ValueError(f"acc_b_mps2 must have shape ({t_s.size}, 3), got {acc.shape}")
-    norm = _moving_mean(t_s, np.linalg.norm(acc, axis=1), smooth_s)
-    dt = float(np.median(np.diff(t_s)))
-    peaks, _ = find_peaks(norm, distance=max(1, int(round(min_interval_s / dt))), prominence=min_prominence_mps2)
-    return peaks
+    steps = detect_steps_norm_peaks(acc, t_s, min_interval_s=min_interval_s, min_prominence_mps2=min_prominence_mps2,
+                                    smooth_s=smooth_s)
+    return steps["i_peak"].to_numpy()
 
 
 def step_frequency_hz(t_s, step_idx, max_period_s=1.2):
@@ -101,17 +88,17 @@ def step_frequency_hz(t_s, step_idx, max_period_s=1.2):
     return f
 
 
-def detect_stationary(t_s, acc_b_mps2, gyro_b_radps, window_s=1.0, acc_sd_max_mps2=0.3,
-                      gyro_max_radps=0.1):
+def detect_stationary(t_s, acc_b_mps2, gyr_b_radps, window_s=1.0, acc_sd_max_mps2=0.3,
+                      gyr_max_radps=0.1):
     """Boolean (N,): the device is still (moving-window acc-norm spread and gyro norm both small)."""
     t_s = np.asarray(t_s, dtype=float)
     an = np.linalg.norm(np.asarray(acc_b_mps2, dtype=float), axis=1)
-    gn = np.linalg.norm(np.asarray(gyro_b_radps, dtype=float), axis=1)
-    m = _moving_mean(t_s, an, window_s)
-    m2 = _moving_mean(t_s, an**2, window_s)
+    gn = np.linalg.norm(np.asarray(gyr_b_radps, dtype=float), axis=1)
+    m = moving_mean_time(an, t_s, window_s)
+    m2 = moving_mean_time(an**2, t_s, window_s)
     sd = np.sqrt(np.clip(m2 - m**2, 0.0, None))
-    gm = _moving_mean(t_s, gn, window_s)
-    return (sd < acc_sd_max_mps2) & (gm < gyro_max_radps)
+    gm = moving_mean_time(gn, t_s, window_s)
+    return (sd < acc_sd_max_mps2) & (gm < gyr_max_radps)
 
 
 def _every(t_s, mask, interval_s):
@@ -124,17 +111,17 @@ def _every(t_s, mask, interval_s):
     return idx[keep]
 
 
-def nhc_updates(t_s, moving, lateral_sd_mps=0.05, vertical_sd_mps=0.05, interval_s=0.5) -> UpdateSet:
+def nhc_updates(t_s, moving, lateral_sd_mps=0.05, vertical_sd_mps=0.05, interval_s=0.5) -> BodyVelocity:
     """NHC: body lateral and vertical velocity zero while moving, every ``interval_s`` seconds."""
     t_s = np.asarray(t_s, dtype=float)
     idx = _every(t_s, np.asarray(moving, dtype=bool), interval_s)
     z = np.zeros((idx.size, 3))
     sd = np.tile([np.nan, lateral_sd_mps, vertical_sd_mps], (idx.size, 1))
-    return UpdateSet("vel_b", t_s[idx], z, sd, name="NHC")
+    return BodyVelocity(t_s[idx], z, sd, name="NHC")
 
 
 def wvc_updates(t_s, step_idx, step_freq, moving, height_m=None, params=None, forward_sd_mps=0.15,
-                lateral_sd_mps=0.3, vertical_sd_mps=0.3) -> UpdateSet:
+                lateral_sd_mps=0.3, vertical_sd_mps=0.3) -> BodyVelocity:
     """WVC at every detected step with a valid frequency: forward speed from eq. (7), relaxed NHC.
 
     References
@@ -151,11 +138,11 @@ def wvc_updates(t_s, step_idx, step_freq, moving, height_m=None, params=None, fo
     v = walking_speed_mps(f, height_m, **p)
     z = np.column_stack([v, np.zeros_like(v), np.zeros_like(v)])
     sd = np.tile([forward_sd_mps, lateral_sd_mps, vertical_sd_mps], (idx.size, 1))
-    return UpdateSet("vel_b", t_s[idx], z, sd, name="WVC")
+    return BodyVelocity(t_s[idx], z, sd, name="WVC")
 
 
-def zupt_updates(t_s, stationary, sd_mps=0.02, interval_s=0.25) -> UpdateSet:
+def zupt_updates(t_s, stationary, sd_mps=0.02, interval_s=0.25) -> NavVelocity:
     """ZUPT: ENU velocity zero while stationary, every ``interval_s`` seconds."""
     t_s = np.asarray(t_s, dtype=float)
     idx = _every(t_s, np.asarray(stationary, dtype=bool), interval_s)
-    return UpdateSet("vel_n", t_s[idx], np.zeros((idx.size, 3)), np.full((idx.size, 3), sd_mps), name="ZUPT")
+    return NavVelocity(t_s[idx], np.zeros((idx.size, 3)), np.full((idx.size, 3), sd_mps), name="ZUPT")

@@ -1,12 +1,12 @@
 """The 21-state error-state EKF (closed loop) of the smartphone INS.
 
-State (eq. 1), ``x = [dr, dv, dphi, b_acc, b_gyro, s_acc, s_gyro]``, each a 3-vector:
+State (eq. 1), ``x = [dr, dv, dphi, b_acc, b_gyr, s_acc, s_gyr]``, each a 3-vector:
 position error (m, ENU), velocity error (m/s, ENU), attitude error (rad, nav-frame small
 rotation with ``mat_nb_true = (I + [dphi x]) mat_nb_est``), accelerometer bias (m/s^2), gyroscope
 bias (rad/s), accelerometer and gyroscope scale-factor errors (dimensionless). Every error is
 ``true - estimated``.
 
-Sensor model: ``f_raw = (1 + s_acc) f + b_acc + noise`` and ``w_raw = (1 + s_gyro) w + b_gyro + noise``
+Sensor model: ``f_raw = (1 + s_acc) f + b_acc + noise`` and ``w_raw = (1 + s_gyr) w + b_gyr + noise``
 (per axis), so the corrected sensors are ``(raw - b) / (1 + s)``.
 
 Closed loop: after every update the estimated errors are fed back into the mechanisation and
@@ -25,10 +25,11 @@ navigation", UCGE 20219 (the psi-angle error model and closed-loop feedback).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, _check_imu, rotvec_to_dcm, rotvecs_to_dcm, skew
+from ilocalg.ins.mechanisation import _check_imu, rotvec_to_dcm, skew, strapdown
 
 __all__ = [
     "N_STATES",
@@ -40,7 +41,10 @@ __all__ = [
     "SA",
     "SG",
     "EskfConfig",
-    "UpdateSet",
+    "Measurement",
+    "PositionFix",
+    "NavVelocity",
+    "BodyVelocity",
     "EskfResult",
     "initial_covariance",
     "transition_matrix",
@@ -52,6 +56,7 @@ __all__ = [
     "nav_velocity_rows",
     "body_velocity_rows",
     "correct_sensors",
+    "correct_nav",
     "run_eskf",
 ]
 
@@ -69,17 +74,17 @@ class EskfConfig:
     Parameters
     ----------
     acc_vrw_mps_rsqrt_s : velocity random walk of the accelerometer, m/s/sqrt(s)
-    gyro_arw_rad_rsqrt_s : angle random walk of the gyroscope, rad/sqrt(s)
-    acc_bias_rw_mps2_rsqrt_s, gyro_bias_rw_radps_rsqrt_s : bias random-walk densities
-    acc_sf_rw_rsqrt_s, gyro_sf_rw_rsqrt_s : scale-factor random-walk densities, 1/sqrt(s)
+    gyr_arw_rad_rsqrt_s : angle random walk of the gyroscope, rad/sqrt(s)
+    acc_bias_rw_mps2_rsqrt_s, gyr_bias_rw_radps_rsqrt_s : bias random-walk densities
+    acc_sf_rw_rsqrt_s, gyr_sf_rw_rsqrt_s : scale-factor random-walk densities, 1/sqrt(s)
     """
 
     acc_vrw_mps_rsqrt_s: float = 0.05
-    gyro_arw_rad_rsqrt_s: float = 0.005
+    gyr_arw_rad_rsqrt_s: float = 0.005
     acc_bias_rw_mps2_rsqrt_s: float = 1e-3
-    gyro_bias_rw_radps_rsqrt_s: float = 1e-4
+    gyr_bias_rw_radps_rsqrt_s: float = 1e-4
     acc_sf_rw_rsqrt_s: float = 1e-4
-    gyro_sf_rw_rsqrt_s: float = 1e-4
+    gyr_sf_rw_rsqrt_s: float = 1e-4
 
     def __post_init__(self):
         for name, v in self.__dict__.items():
@@ -88,50 +93,11 @@ class EskfConfig:
 
 
 @dataclass(frozen=True)
-class UpdateSet:
-    """A set of measurements of one kind for :func:`run_eskf`.
-
-    Parameters
-    ----------
-    kind : {"pos_n", "vel_n", "vel_b"}
-        ``pos_n``: ENU position fix (GNSS, control point), m. ``vel_n``: ENU velocity (ZUPT: zero), m/s.
-        ``vel_b``: body-frame velocity (NHC: lateral/vertical zero; WVC: plus the forward walking speed), m/s.
-    t_s : (M,) measurement times; each is applied at the first IMU epoch at or after it.
-    z : (M, 3) measured values.
-    sd : (M, 3) standard deviations; ``NaN`` leaves that component unused (e.g. NHC's forward axis).
-    name : label for diagnostics.
-    """
-
-    kind: str
-    t_s: np.ndarray
-    z: np.ndarray
-    sd: np.ndarray
-    name: str = ""
-
-    def __post_init__(self):
-        if self.kind not in ("pos_n", "vel_n", "vel_b"):
-            raise ValueError(f"UpdateSet.kind must be 'pos_n', 'vel_n' or 'vel_b', got {self.kind!r}")
-        t = np.asarray(self.t_s, dtype=float)
-        z = np.asarray(self.z, dtype=float).reshape(-1, 3) if np.size(self.z) else np.zeros((0, 3))
-        sd = np.asarray(self.sd, dtype=float).reshape(-1, 3) if np.size(self.sd) else np.zeros((0, 3))
-        if t.ndim != 1 or z.shape != (t.size, 3) or sd.shape != (t.size, 3):
-            raise ValueError(f"UpdateSet {self.name or self.kind}: t_s (M,), z and sd (M, 3) expected, got "
-                             f"{t.shape}, {z.shape}, {sd.shape}")
-        if not np.all(np.isfinite(t)) or not np.all(np.isfinite(z[np.isfinite(sd)])):
-            raise ValueError(f"UpdateSet {self.name or self.kind}: non-finite time or used measurement")
-        if np.any(sd[np.isfinite(sd)] <= 0):
-            raise ValueError(f"UpdateSet {self.name or self.kind}: sd must be > 0 (NaN = unused)")
-        object.__setattr__(self, "t_s", t)
-        object.__setattr__(self, "z", z)
-        object.__setattr__(self, "sd", sd)
-
-
-@dataclass(frozen=True)
 class EskfResult:
     """Everything the filter produced, per IMU epoch (N epochs).
 
     ``pos_n_m`` (N, 3), ``vel_n_mps`` (N, 3), ``mat_nb`` (N, 3, 3): the navigation solution after
-    feedback; ``sensor`` (N, 12): estimated ``[b_acc, b_gyro, s_acc, s_gyro]``; ``dx`` (N, 21): the
+    feedback; ``sensor`` (N, 12): estimated ``[b_acc, b_gyr, s_acc, s_gyr]``; ``dx`` (N, 21): the
     error estimate fed back at each epoch (zero without an update); ``P_plus`` / ``P_minus`` (N, 21, 21):
     updated / predicted covariance; ``Phi`` (N, 21, 21): ``Phi[k]`` maps epoch k-1 to k (``Phi[0] = I``);
     ``nis`` (N,): normalised innovation squared of the update at each epoch (NaN without one) and
@@ -153,20 +119,23 @@ class EskfResult:
 
 
 def initial_covariance(pos_sd_m=1.0, vel_sd_mps=0.1, att_sd_rad=(0.03, 0.03, 0.2), acc_bias_sd_mps2=0.1,
-                       gyro_bias_sd_radps=0.01, acc_sf_sd=0.02, gyro_sf_sd=0.02) -> np.ndarray:
+                       gyr_bias_sd_radps=0.01, acc_sf_sd=0.02, gyr_sf_sd=0.02) -> np.ndarray:
     """Diagonal initial covariance (21, 21) from per-block standard deviations (scalars or 3-vectors)."""
-    sds = [pos_sd_m, vel_sd_mps, att_sd_rad, acc_bias_sd_mps2, gyro_bias_sd_radps, acc_sf_sd, gyro_sf_sd]
+    sds = [pos_sd_m, vel_sd_mps, att_sd_rad, acc_bias_sd_mps2, gyr_bias_sd_radps, acc_sf_sd, gyr_sf_sd]
     d = np.concatenate([np.broadcast_to(np.asarray(s, dtype=float), 3) for s in sds])
     if np.any(~np.isfinite(d)) or np.any(d <= 0):
         raise ValueError("initial_covariance: every standard deviation must be finite and > 0")
     return np.diag(d**2)
 
 
-def correct_sensors(gyro_raw_radps, acc_raw_mps2, sensor):
-    """Corrected rate and specific force ``(raw - b) / (1 + s)``; ``sensor`` = [b_acc, b_gyro, s_acc, s_gyro]."""
+def correct_sensors(gyr_raw_radps, acc_raw_mps2, sensor):
+    """Corrected rate and specific force ``(raw - b) / (1 + s)``; ``sensor`` = [b_acc, b_gyr, s_acc, s_gyr].
+
+    ``gyr_raw_radps`` and ``acc_raw_mps2`` are (3,) or (L, 3) (one sensor-error estimate for all rows).
+    """
     acc = (acc_raw_mps2 - sensor[0:3]) / (1.0 + sensor[6:9])
-    gyro = (gyro_raw_radps - sensor[3:6]) / (1.0 + sensor[9:12])
-    return gyro, acc
+    gyr = (gyr_raw_radps - sensor[3:6]) / (1.0 + sensor[9:12])
+    return gyr, acc
 
 
 def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
@@ -204,19 +173,22 @@ def transition_matrix(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
                                np.asarray(omega_b_radps)[None], np.array([dt_s]))[0]
 
 
-def process_noise_diag(config: EskfConfig, dt_s: float) -> np.ndarray:
-    """Diagonal of the discrete process noise ``Q`` (21,) over a step of ``dt_s`` (eq. 3)."""
+def process_noise_diag(config: EskfConfig, dt_s) -> np.ndarray:
+    """Diagonal of the discrete process noise ``Q`` over a step of ``dt_s`` (eq. 3): (21,); (L, 21) for (L,) steps."""
     c = config
-    per = [0.0, c.acc_vrw_mps_rsqrt_s, c.gyro_arw_rad_rsqrt_s, c.acc_bias_rw_mps2_rsqrt_s,
-           c.gyro_bias_rw_radps_rsqrt_s, c.acc_sf_rw_rsqrt_s, c.gyro_sf_rw_rsqrt_s]
-    return np.repeat(np.square(per), 3) * dt_s
+    per = [0.0, c.acc_vrw_mps_rsqrt_s, c.gyr_arw_rad_rsqrt_s, c.acc_bias_rw_mps2_rsqrt_s,
+           c.gyr_bias_rw_radps_rsqrt_s, c.acc_sf_rw_rsqrt_s, c.gyr_sf_rw_rsqrt_s]
+    return np.multiply.outer(dt_s, np.repeat(np.square(per), 3))
 
 
 def eskf_predict(P, Phi, q_diag):
-    """Covariance prediction ``P = Phi P Phi^T + Q`` (eq. 3); returns a symmetric (21, 21) array."""
+    """Covariance prediction ``P = Phi P Phi^T + Q`` (eq. 3) over one step, (21, 21).
+
+    Not symmetrised here: :func:`run_eskf` symmetrises once, ``0.5 (P + P^T)``, before each update.
+    """
     P = Phi @ P @ Phi.T
     P[np.diag_indices_from(P)] += q_diag
-    return 0.5 * (P + P.T)
+    return P
 
 
 def joseph_update(P, innov, H, R_diag):
@@ -274,14 +246,102 @@ def body_velocity_rows(mat_nb, vel_n_mps, z_vel_b_mps):
     return z_vel_b_mps - Ct @ vel_n_mps, H
 
 
+def correct_nav(pos_n_m, vel_n_mps, mat_nb, sensor, dx):
+    """Closed-loop feedback of an estimated error ``dx`` (21,) (error = true - estimated).
+
+    Returns the corrected ``pos_n_m``, ``vel_n_mps``, ``mat_nb = exp([dphi x]) mat_nb`` and ``sensor``
+    (12,) = [b_acc, b_gyr, s_acc, s_gyr]; the error state is then zero.
+    """
+    return (pos_n_m + dx[POS], vel_n_mps + dx[VEL], rotvec_to_dcm(dx[ATT]) @ mat_nb, sensor + dx[9:21])
+
+
+@runtime_checkable
+class Measurement(Protocol):
+    """What :func:`run_eskf` needs of a measurement set (any object with these members will do).
+
+    ``t_s`` (M,): measurement times, each applied at the first IMU epoch at or after it; ``name``: a
+    label for messages; ``rows(j, pos_n_m, vel_n_mps, mat_nb)``: for measurement ``j`` and the current
+    navigation state, the innovation ``z - h(x)`` (m,), its Jacobian ``H`` (m, 21) with respect to the
+    error state and the measurement noise variances ``R_diag`` (m,).
+
+    References
+    ----------
+    The same split as pyins' ``Measurement.compute_matrices`` (innovation, H, R from the current state).
+    """
+
+    t_s: np.ndarray
+    name: str
+
+    def rows(self, j: int, pos_n_m, vel_n_mps, mat_nb) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+
+@dataclass(frozen=True)
+class _ThreeAxisMeasurement:
+    """M three-axis measurements ``z`` (M, 3) with standard deviations ``sd`` (M, 3) at times ``t_s`` (M,).
+
+    A ``NaN`` standard deviation leaves that component unused (e.g. NHC's forward axis).
+    """
+
+    t_s: np.ndarray
+    z: np.ndarray
+    sd: np.ndarray
+    name: str = ""
+
+    def __post_init__(self):
+        label = self.name or type(self).__name__
+        t = np.asarray(self.t_s, dtype=float)
+        z = np.asarray(self.z, dtype=float).reshape(-1, 3) if np.size(self.z) else np.zeros((0, 3))
+        sd = np.asarray(self.sd, dtype=float).reshape(-1, 3) if np.size(self.sd) else np.zeros((0, 3))
+        if t.ndim != 1 or z.shape != (t.size, 3) or sd.shape != (t.size, 3):
+            raise ValueError(f"{label}: t_s (M,), z and sd (M, 3) expected, got {t.shape}, {z.shape}, {sd.shape}")
+        if not np.all(np.isfinite(t)) or not np.all(np.isfinite(z[np.isfinite(sd)])):
+            raise ValueError(f"{label}: non-finite time or used measurement")
+        if np.any(sd[np.isfinite(sd)] <= 0):
+            raise ValueError(f"{label}: sd must be > 0 (NaN = unused)")
+        object.__setattr__(self, "t_s", t)
+        object.__setattr__(self, "z", z)
+        object.__setattr__(self, "sd", sd)
+
+    def _model(self, z_j, pos_n_m, vel_n_mps, mat_nb):
+        raise NotImplementedError
+
+    def rows(self, j, pos_n_m, vel_n_mps, mat_nb):
+        """Innovation, H and R of measurement ``j`` restricted to its used components (see :class:`Measurement`)."""
+        e, H = self._model(self.z[j], pos_n_m, vel_n_mps, mat_nb)
+        used = np.isfinite(self.sd[j])
+        return e[used], H[used], self.sd[j][used] ** 2
+
+
+class PositionFix(_ThreeAxisMeasurement):
+    """ENU position fixes (GNSS, surveyed control points): ``z`` in m, ``sd`` in m (:func:`position_rows`)."""
+
+    def _model(self, z_j, pos_n_m, vel_n_mps, mat_nb):
+        return position_rows(pos_n_m, z_j)
+
+
+class NavVelocity(_ThreeAxisMeasurement):
+    """ENU velocity measurements, m/s; ZUPT is ``z = 0`` while standing (:func:`nav_velocity_rows`)."""
+
+    def _model(self, z_j, pos_n_m, vel_n_mps, mat_nb):
+        return nav_velocity_rows(vel_n_mps, z_j)
+
+
+class BodyVelocity(_ThreeAxisMeasurement):
+    """Body-frame velocity measurements, m/s: NHC (lateral and vertical zero, forward unused) and WVC
+    (plus the forward walking speed of eq. 7) (:func:`body_velocity_rows`)."""
+
+    def _model(self, z_j, pos_n_m, vel_n_mps, mat_nb):
+        return body_velocity_rows(mat_nb, vel_n_mps, z_j)
+
+
 def _schedule(t_s, updates):
-    """Map every used measurement row to its IMU epoch: dict epoch -> list of (set index, row)."""
+    """Map every measurement to its IMU epoch: dict epoch -> list of (set index, measurement index)."""
     sched: dict[int, list] = {}
     for i, u in enumerate(updates):
         if u.t_s.size == 0:
             continue
         if u.t_s.min() < t_s[0] or u.t_s.max() > t_s[-1]:
-            raise ValueError(f"UpdateSet {u.name or u.kind}: times must lie within the IMU log "
+            raise ValueError(f"measurements {u.name or type(u).__name__}: times must lie within the IMU log "
                              f"[{t_s[0]}, {t_s[-1]}] s")
         k = np.searchsorted(t_s, u.t_s, side="left")
         for row, kk in enumerate(k.tolist()):
@@ -289,17 +349,24 @@ def _schedule(t_s, updates):
     return sched
 
 
-def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
+def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
              config: EskfConfig | None = None, sensor0=None) -> EskfResult:
     """Run the closed-loop 21-state EKF over an IMU log with the given measurement sets.
+
+    Between two update epochs the driver propagates with constant sensor-error estimates, vectorised
+    over the segment: :func:`correct_sensors`, :func:`~ilocalg.ins.mechanisation.strapdown`,
+    :func:`transition_matrices` and :func:`process_noise_diag`, then :func:`eskf_predict` per epoch.
+    At an update epoch it stacks the rows of every measurement due there (:class:`Measurement`),
+    calls :func:`joseph_update` once and feeds the estimate back (:func:`correct_nav`).
 
     Parameters
     ----------
     t_s : (N,) IMU sample times (s), strictly increasing, any (irregular) spacing
-    gyro_b_radps, acc_b_mps2 : (N, 3) raw sensor samples; sample k is the mean over [t_k, t_{k+1})
+    gyr_b_radps, acc_b_mps2 : (N, 3) raw sensor samples; sample k is the mean over [t_k, t_{k+1})
     pos0_n_m, vel0_n_mps, mat0_nb : initial navigation state at ``t_s[0]``
     P0 : (21, 21) initial covariance (see :func:`initial_covariance`)
-    updates : sequence of :class:`UpdateSet`
+    updates : sequence of :class:`Measurement` objects (:class:`PositionFix`, :class:`NavVelocity`,
+        :class:`BodyVelocity` or any other object obeying the protocol)
     config : :class:`EskfConfig` process noise
     sensor0 : (12,) initial sensor-error estimates (default zeros)
 
@@ -311,15 +378,15 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
     ----------
     Liao et al. (2016), eq. (1)-(6).
     """
-    t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
+    t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
     config = config or EskfConfig()
     P0 = np.asarray(P0, dtype=float)
     if P0.shape != (N_STATES, N_STATES):
         raise ValueError(f"P0 must have shape (21, 21), got {P0.shape}")
     updates = list(updates)
     for u in updates:
-        if not isinstance(u, UpdateSet):
-            raise ValueError(f"updates must be UpdateSet objects, got {type(u).__name__}")
+        if not isinstance(u, Measurement):
+            raise ValueError(f"updates must obey the Measurement protocol (t_s, name, rows), got {type(u).__name__}")
     sched = _schedule(t_s, updates)
     n = t_s.size
     pos = np.empty((n, 3))
@@ -339,67 +406,45 @@ def run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, u
     s = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
     P = 0.5 * (P0 + P0.T)
     Phis[0] = np.eye(N_STATES)
-    q_unit = process_noise_diag(config, 1.0)
     dt_all = np.diff(t_s)
-    g_n = GRAVITY_N_MPS2
-    diag = np.diag_indices(N_STATES)
     # segment boundaries: every update epoch and the last epoch
     stops = sorted(set(sched) | {n - 1})
     k = 0
     for kb in stops:
         if kb > k:
-            # propagate k -> kb with constant sensor-error estimates (vectorised over the segment)
+            # predict k -> kb with constant sensor-error estimates (eq. 2-3)
             seg = slice(k, kb)
             dt = dt_all[seg]
-            w_c = (gyro[seg] - s[3:6]) / (1.0 + s[9:12])
-            f_c = (acc[seg] - s[0:3]) / (1.0 + s[6:9])
-            dC = rotvecs_to_dcm(w_c * dt[:, None])
-            Cs = mat[k:kb + 1]
-            Cs[0] = C
-            for j in range(kb - k):
-                Cs[j + 1] = Cs[j] @ dC[j]
-            dv = 0.5 * dt[:, None] * np.einsum("lij,lj->li", Cs[:-1] + Cs[1:], f_c) + g_n * dt[:, None]
-            vs = v + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])
-            ps = p + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * dt[:, None] * (vs[:-1] + vs[1:]), axis=0)])
-            vel[k:kb + 1], pos[k:kb + 1] = vs, ps
+            w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
+            pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1] = strapdown(p, v, C, w_c, f_c, dt)
             sens[k + 1:kb + 1] = s
-            Ph = transition_matrices(Cs[:-1], f_c, w_c, dt)
+            Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)
             Phis[k + 1:kb + 1] = Ph
-            qd = np.multiply.outer(dt, q_unit)
+            qd = process_noise_diag(config, dt)
             for j in range(kb - k):
-                P = Ph[j] @ P @ Ph[j].T
-                P[diag] += qd[j]
+                P = eskf_predict(P, Ph[j], qd[j])
                 P_minus[k + 1 + j] = P
                 P_plus[k + 1 + j] = P
-            p, v, C = ps[-1].copy(), vs[-1].copy(), Cs[-1].copy()
+            p, v, C = pos[kb].copy(), vel[kb].copy(), mat[kb].copy()
             P = 0.5 * (P + P.T)
         elif kb == 0:
             P_minus[0] = P
         k = kb
         rows = sched.get(kb)
         if rows:
+            # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
             innov, Hs, Rd = [], [], []
-            for i, r in rows:
-                u = updates[i]
-                if u.kind == "pos_n":
-                    e, H = position_rows(p, u.z[r])
-                elif u.kind == "vel_n":
-                    e, H = nav_velocity_rows(v, u.z[r])
-                else:
-                    e, H = body_velocity_rows(C, v, u.z[r])
-                used = np.isfinite(u.sd[r])
-                innov.append(e[used])
-                Hs.append(H[used])
-                Rd.append(u.sd[r][used] ** 2)
+            for i, j in rows:
+                e, H, R = updates[i].rows(j, p, v, C)
+                innov.append(e)
+                Hs.append(H)
+                Rd.append(R)
             innov = np.concatenate(innov)
             if innov.size:
                 dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), np.concatenate(Rd))
                 n_meas[kb] = innov.size
                 dxs[kb] = dx
-                p = p + dx[POS]
-                v = v + dx[VEL]
-                C = rotvec_to_dcm(dx[ATT]) @ C
-                s = s + dx[9:21]
+                p, v, C, s = correct_nav(p, v, C, s, dx)
         pos[kb], vel[kb], mat[kb], sens[kb] = p, v, C, s
         P_plus[kb] = P
     if 0 not in sched:

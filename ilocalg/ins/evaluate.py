@@ -7,13 +7,16 @@ Liao, Chiang, Zhou, Li (2016), Tables 4-11 (N, E, H position and roll, pitch, he
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import pandas as pd
 
 from ilocalg.ins.mechanisation import dcm_to_euler
 from ilocalg.units import wrap_angle_rad
 
-__all__ = ["nav_errors", "error_stats", "heading_error_with_lag_deg", "POS_AXES", "ATT_AXES"]
+__all__ = ["nav_errors", "error_stats", "heading_error_with_lag_deg", "POS_AXES", "ATT_AXES", "AXES", "WindowSweep",
+           "window_sweep", "window_sweep_tables"]
 
 POS_AXES = ("N", "E", "H")
 ATT_AXES = ("Roll", "Pitch", "Heading")
@@ -62,3 +65,94 @@ def heading_error_with_lag_deg(t_s, mat_nb, t_ref_s, mat_ref_nb, lag_s: float) -
         raise ValueError("lag_s moves the evaluation times outside the reference")
     ref = np.interp(tq, t_ref, yaw_ref)
     return np.rad2deg(wrap_angle_rad(dcm_to_euler(mat_nb)[:, 2] - ref))
+
+
+#: Every error axis of :func:`nav_errors`, in the paper's table order.
+AXES = POS_AXES + ATT_AXES
+
+
+@dataclass(frozen=True)
+class WindowSweep:
+    """Online smoothing of one filtered walk for several window sizes (see :func:`window_sweep`).
+
+    ``solutions``: ``{key: (pos_n_m, mat_nb, latency_s)}`` with keys ``"Filtering"``, every window size
+    (float, s, ascending) and ``"RTS (whole run)"``, in that order; ``stats``: ``{key: error_stats}`` on the
+    scored epochs; ``sweep``: one row per key and statistic (``window_s`` 0 for the filter, inf for the
+    whole-run RTS; ``stat``, ``N``, ``E``, ``H``, ``horizontal`` (RMS rows only), ``latency_mean_s``);
+    ``gcp``: one row per window size (``windows_indoor``, ``share_without_gcp``, ``rms_h_with_gcp_m``,
+    ``rms_h_without_gcp_m``: horizontal RMS error inside windows that hold / do not hold a control point).
+    """
+
+    solutions: dict
+    stats: dict
+    sweep: pd.DataFrame
+    gcp: pd.DataFrame
+
+
+def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gains=None) -> WindowSweep:
+    """Filter, online fixed-window smoothers and whole-run RTS of one stored filter, scored against the truth.
+
+    Parameters
+    ----------
+    res : :class:`ilocalg.ins.eskf.EskfResult`
+    windows_s : window sizes (s), ascending floats
+    scored : (N,) bool, the epochs scored (e.g. the indoor part of a walk)
+    pos_true_n_m, mat_true_nb : truth at the scored epochs, (S, 3) and (S, 3, 3)
+    gcp_t_s : (C,) times of the control-point updates (to find the windows that hold one)
+    gains : precomputed :func:`ilocalg.ins.smoother.rts_gains` (computed when None)
+
+    References
+    ----------
+    Liao et al. (2016), sec. 3.3 and 4.2 (Tables 8-11, Fig 19; windows without a control point, Figs 20-21).
+    """
+    from ilocalg.ins.smoother import eskf_rts_smooth, online_window_smooth, rts_gains, window_ends
+
+    G = rts_gains(res) if gains is None else gains
+    sols = {"Filtering": (res.pos_n_m, res.mat_nb, np.zeros(res.t_s.size)), }
+    for w in windows_s:
+        sm = online_window_smooth(res, w, gains=G)
+        sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
+    full = eskf_rts_smooth(res, with_cov=False, gains=G)
+    sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
+    gcp_epoch = np.zeros(res.t_s.size, bool)
+    gcp_epoch[np.searchsorted(res.t_s, gcp_t_s)] = True
+    stats, sweep, gcp_rows = {}, [], []
+    for key, (pos, mat, lat) in sols.items():
+        err = nav_errors(pos[scored], mat[scored], pos_true_n_m, mat_true_nb)
+        st = stats[key] = error_stats(err)
+        wsec = key if isinstance(key, float) else (0.0 if key == "Filtering" else np.inf)
+        for k in ("max", "rms", "std"):
+            sweep.append({"window_s": wsec, "stat": k, **{a: st[k][a] for a in POS_AXES},
+                          "horizontal": float(np.hypot(st[k]["N"], st[k]["E"])) if k == "rms" else np.nan,
+                          "latency_mean_s": float(np.mean(lat[scored]))})
+        if isinstance(key, float):
+            ends = window_ends(res.t_s, key)
+            win = np.concatenate([[0], np.cumsum(ends[:-1])])
+            has = np.zeros(win.max() + 1, bool)
+            has[win[gcp_epoch]] = True
+            hz = np.hypot(err["N"], err["E"]).to_numpy()
+            wi = win[scored]
+            in_gcp = has[wi]
+            scored_windows = np.unique(wi)
+            gcp_rows.append({
+                "window_s": key,
+                "windows_indoor": scored_windows.size,
+                "share_without_gcp": float(np.mean(~has[scored_windows])),
+                "rms_h_with_gcp_m": float(np.sqrt(np.mean(hz[in_gcp] ** 2))) if in_gcp.any() else np.nan,
+                "rms_h_without_gcp_m": (float(np.sqrt(np.mean(hz[~in_gcp] ** 2))) if (~in_gcp).any()
+                                        else np.nan)})
+    return WindowSweep(solutions=sols, stats=stats, sweep=pd.DataFrame(sweep), gcp=pd.DataFrame(gcp_rows))
+
+
+def window_sweep_tables(sweep: pd.DataFrame, gcp: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Means over seeds of stacked :class:`WindowSweep` tables carrying a ``phone`` column.
+
+    Returns ``(window_sweep, windows_without_gcp)``: the first per phone, window and statistic, sorted
+    by phone, statistic and window; the second per phone and window.
+    """
+    sw = (sweep.groupby(["phone", "window_s", "stat"], sort=False)
+          [["N", "E", "H", "horizontal", "latency_mean_s"]].mean().reset_index())
+    sw = sw.sort_values(["phone", "stat", "window_s"], kind="stable").reset_index(drop=True)
+    gw = (gcp.groupby(["phone", "window_s"], sort=False)
+          [["windows_indoor", "share_without_gcp", "rms_h_with_gcp_m", "rms_h_without_gcp_m"]].mean().reset_index())
+    return sw, gw

@@ -11,9 +11,9 @@ Process noise ``w = [n_w, n_a, n_bw, n_ba]`` (12): white sensor noise per IMU sa
 
 References
 ----------
-Image/inertial positioning survey (葉濟賢, 黃偉立), sec. 5.2, eq. (6)-(29), after B. Hartmann, N. Link,
-G. F. Trommer, "Indoor 3D position estimation using low-cost inertial sensors and marker-based
-video-tracking", IEEE/ION PLANS 2010, pp. 319-326.
+Yeh & Huang (葉濟賢, 黃偉立), image/inertial positioning survey (teaching report), sec. 5.2, eq. (6)-(29),
+citing B. Hartmann, N. Link, G. F. Trommer (2010), "Indoor 3D position estimation using low-cost inertial
+sensors and marker-based video-tracking", IEEE/ION PLANS 2010, pp. 319-326.
 """
 
 from __future__ import annotations
@@ -159,41 +159,49 @@ class HartmannResult:
     prior_at_vt: np.ndarray
 
 
-def _noise_cov(gyro_sd_radps, acc_sd_mps2, gyro_bias_rw, acc_bias_rw, dt_s):
-    return np.diag(np.concatenate([np.full(3, gyro_sd_radps**2), np.full(3, acc_sd_mps2**2),
-                                   np.full(3, gyro_bias_rw**2 * dt_s), np.full(3, acc_bias_rw**2 * dt_s)]))
+def _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw, acc_bias_rw, dt_s):
+    return np.diag(np.concatenate([np.full(3, gyr_sd_radps**2), np.full(3, acc_sd_mps2**2),
+                                   np.full(3, gyr_bias_rw**2 * dt_s), np.full(3, acc_bias_rw**2 * dt_s)]))
 
 
-#: Default video-tracker measurement sd: yaw (rad), x, y, z (m).
+#: Default video-tracker measurement sd: yaw (rad), x, y, z (m) (assumption: millimetre tracking, see
+#: ``data/hartmann/README.md``).
 VT_SD_DEFAULT = (float(np.deg2rad(1.0)), 0.003, 0.003, 0.008)
-#: Gyroscope white-noise sd per IMU sample stated for the ADIS16350 set-up (survey sec. 5.1), rad/s.
-GYRO_SD_DEFAULT_RADPS = float(np.deg2rad(0.4))  # paper (survey sec. 5.1)
+
+# ---- published values: Yeh & Huang's survey, sec. 5.1, the ADIS16350 set-up of Hartmann et al. (2010) -------
+#: Gyroscope white-noise sd per IMU sample, deg/s.
+GYR_SD_DEFAULT_DPS = 0.4
+#: Accelerometer white-noise sd per IMU sample, m/s^2.
+ACC_SD_DEFAULT_MPS2 = 0.05
+# ---- end of published values -------------------------------------------------------------------------------
+#: :data:`GYR_SD_DEFAULT_DPS` in rad/s.
+GYR_SD_DEFAULT_RADPS = float(np.deg2rad(GYR_SD_DEFAULT_DPS))
 
 
-def run_hartmann(t_s, gyro_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyro_sd_radps=GYRO_SD_DEFAULT_RADPS,
-                 acc_sd_mps2=0.05, gyro_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,  # paper sd
+def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
+                 acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,
                  vt_sd=VT_SD_DEFAULT) -> HartmannResult:
     """Run the 15-state EKF over an IMU log (input u) with video-tracker measurements (yaw, x, y, z).
 
     Parameters
     ----------
-    t_s : (N,) IMU times; gyro_b_radps, acc_b_mps2 : (N, 3); sample k drives the step k -> k+1
+    t_s : (N,) IMU times; gyr_b_radps, acc_b_mps2 : (N, 3); sample k drives the step k -> k+1
     t_vt_s : (M,) video-tracker times (each applied at the first IMU epoch at or after it)
     z_vt : (M, 4) yaw (rad) and position (m)
     x0 : (15,) initial state; P0 : (15, 15)
-    gyro_sd_radps, acc_sd_mps2 : white noise sd per IMU sample (the paper: 0.4 deg/s, 0.05 m/s^2)
+    gyr_sd_radps, acc_sd_mps2 : white noise sd per IMU sample (the paper: 0.4 deg/s, 0.05 m/s^2)
     vt_sd : sd of the video measurement (yaw rad, x, y, z m)
 
     References
     ----------
-    Survey sec. 5.2, eq. (12)-(29).
+    Yeh & Huang (survey), sec. 5.2, eq. (12)-(29), citing Hartmann et al. (2010).
     """
     t_s = np.asarray(t_s, dtype=float)
-    gyro = np.asarray(gyro_b_radps, dtype=float)
+    gyr = np.asarray(gyr_b_radps, dtype=float)
     acc = np.asarray(acc_b_mps2, dtype=float)
     n = t_s.size
-    if gyro.shape != (n, 3) or acc.shape != (n, 3):
-        raise ValueError(f"gyro_b_radps and acc_b_mps2 must have shape ({n}, 3)")
+    if gyr.shape != (n, 3) or acc.shape != (n, 3):
+        raise ValueError(f"gyr_b_radps and acc_b_mps2 must have shape ({n}, 3)")
     t_vt = np.asarray(t_vt_s, dtype=float)
     z_vt = np.asarray(z_vt, dtype=float)
     if z_vt.shape != (t_vt.size, 4):
@@ -213,14 +221,14 @@ def run_hartmann(t_s, gyro_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyro_sd_ra
     prior = np.empty((t_vt.size, HARTMANN_N_STATES))
     x, P = x0.copy(), np.asarray(P0, dtype=float).copy()
     dt_all = np.diff(t_s)
-    u_all = np.hstack([gyro, acc])
+    u_all = np.hstack([gyr, acc])
     Qw_cache: dict[float, np.ndarray] = {}
     for k in range(n):
         if k > 0:
             dt = float(dt_all[k - 1])
             Qw = Qw_cache.get(dt)
             if Qw is None:
-                Qw = Qw_cache[dt] = _noise_cov(gyro_sd_radps, acc_sd_mps2, gyro_bias_rw_radps_rsqrt_s,
+                Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
                                                acc_bias_rw_mps2_rsqrt_s, dt)
             x, P = hartmann_predict(x, P, u_all[k - 1], dt, Qw)
         for j in vt_at.get(k, ()):

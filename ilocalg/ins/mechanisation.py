@@ -1,10 +1,10 @@
-"""Strapdown mechanisation in a local-level east-north-up frame.
+"""Strapdown mechanisation in a local-level east-north-up frame, attitude helpers and the phone -> body rotation.
 
-Frames: the navigation frame ``n`` is a local-level east-north-up (ENU) frame fixed to the
-site; the body frame ``b`` is the sensor frame, x forward, y left, z up (FLU) when the device
-is held level and pointing along the walking direction. Attitude is the direction-cosine matrix
-``mat_nb`` (body -> nav) with Z-Y-X Euler angles ``mat_nb = Rz(yaw) Ry(pitch) Rx(roll)``;
-yaw counts counter-clockwise from east.
+Frames are defined once in the :mod:`ilocalg` package docstring: navigation frame ``n`` (ENU), INS
+body frame ``b`` (x forward, y left, z up), phone sensor frame ``p`` (Android axes). Attitude is the
+direction-cosine matrix ``mat_nb`` (body -> nav) with Z-Y-X Euler angles
+``mat_nb = Rz(yaw) Ry(pitch) Rx(roll)``; yaw counts counter-clockwise from east. A phone log is
+brought into the body frame with :data:`MAT_PHONE_TO_BODY` (:func:`phone_to_body`).
 
 Earth rotation (7.3e-5 rad/s) and transport rate are neglected: over an indoor walk of a few
 minutes at walking speed they are far below a phone gyroscope's noise and bias (> 1e-3 rad/s),
@@ -14,7 +14,7 @@ References
 ----------
 Liao, Chiang, Zhou, Li (2016), "Using the on-line smoothing and constraint algorithms to improve
 the accuracy of pedestrian indoor navigation", sec. 3.1 (the INS that eq. 1-6 correct).
-Hartmann et al. (2010) as summarised in the image/inertial survey, eq. (6) (the same Z-Y-X DCM).
+Yeh & Huang, image/inertial positioning survey, eq. (6), citing Hartmann et al. (2010) (the same Z-Y-X DCM).
 """
 
 from __future__ import annotations
@@ -27,19 +27,39 @@ from ilocalg.units import G0_MPS2
 
 __all__ = [
     "GRAVITY_N_MPS2",
+    "MAT_PHONE_TO_BODY",
+    "phone_to_body",
     "skew",
     "rotvec_to_dcm",
     "rotvecs_to_dcm",
     "dcm_to_rotvec",
     "euler_to_dcm",
     "dcm_to_euler",
-    "mech_step",
+    "strapdown",
     "mechanise",
     "coarse_level",
 ]
 
 #: Gravity vector in the ENU navigation frame, m/s^2.
 GRAVITY_N_MPS2 = np.array([0.0, 0.0, -G0_MPS2])
+
+#: Rotation from the phone (Android sensor) frame to the INS body frame, ``v_b = MAT_PHONE_TO_BODY @ v_p``,
+#: for a phone held flat in front of the walker, screen up, its top pointing along the walk:
+#: forward ``x_b = y_p`` (up the screen), left ``y_b = -x_p``, up ``z_b = z_p`` (out of the screen);
+#: a rotation of -90 deg about z.
+MAT_PHONE_TO_BODY = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+
+
+def phone_to_body(vec_p) -> np.ndarray:
+    """Vectors (3,) or (N, 3) from the phone frame to the INS body frame (:data:`MAT_PHONE_TO_BODY`).
+
+    Use it on the accelerometer and gyroscope columns of an IMU log (package data type, phone frame)
+    before :func:`mechanise` or :func:`ilocalg.ins.eskf.run_eskf`.
+    """
+    v = np.asarray(vec_p, dtype=float)
+    if v.shape[-1:] != (3,) or v.ndim > 2:
+        raise ValueError(f"vec_p must have shape (3,) or (N, 3), got {v.shape}")
+    return v @ MAT_PHONE_TO_BODY.T
 
 
 def skew(v) -> np.ndarray:
@@ -49,23 +69,17 @@ def skew(v) -> np.ndarray:
 
 
 def rotvec_to_dcm(rotvec_rad) -> np.ndarray:
-    """Rotation matrix of a rotation vector (Rodrigues), shape (3, 3)."""
-    x, y, z = float(rotvec_rad[0]), float(rotvec_rad[1]), float(rotvec_rad[2])
-    th2 = x * x + y * y + z * z
-    if th2 < 1e-16:
-        a, b = 1.0 - th2 / 6.0, 0.5 - th2 / 24.0
-    else:
-        th = math.sqrt(th2)
-        a, b = math.sin(th) / th, (1.0 - math.cos(th)) / th2
-    return np.array([
-        [1.0 - b * (y * y + z * z), -a * z + b * x * y, a * y + b * x * z],
-        [a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z],
-        [-a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y)],
-    ])
+    """Rotation matrix of one rotation vector (Rodrigues), shape (3, 3); see :func:`rotvecs_to_dcm`."""
+    return rotvecs_to_dcm(np.asarray(rotvec_rad, dtype=float).reshape(1, 3))[0]
 
 
 def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
-    """Batched :func:`rotvec_to_dcm`: rotation vectors (N, 3) to matrices (N, 3, 3)."""
+    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3) (Rodrigues' formula).
+
+    ``exp([v x]) = I + a [v x] + b [v x]^2`` with ``a = sin(t) / t``, ``b = (1 - cos(t)) / t^2``,
+    ``t = |v|`` (series below ``t^2 = 1e-16``). Agrees with
+    :meth:`scipy.spatial.transform.Rotation.as_matrix` to rounding (tested).
+    """
     v = np.asarray(rotvec_rad, dtype=float)
     x, y, z = v[:, 0], v[:, 1], v[:, 2]
     th2 = x * x + y * y + z * z
@@ -87,14 +101,23 @@ def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
 
 
 def dcm_to_rotvec(mat) -> np.ndarray:
-    """Rotation vector (rad) of a rotation matrix (angle below pi), shape (3,)."""
-    mat = np.asarray(mat, dtype=float)
-    c = min(1.0, max(-1.0, (np.trace(mat) - 1.0) / 2.0))
-    th = math.acos(c)
-    w = np.array([mat[2, 1] - mat[1, 2], mat[0, 2] - mat[2, 0], mat[1, 0] - mat[0, 1]])
-    if th < 1e-8:
-        return 0.5 * w
-    return th / (2.0 * math.sin(th)) * w
+    """Rotation vector (rad) of one (3, 3) or many (N, 3, 3) rotation matrices (angles below pi): (3,) or (N, 3).
+
+    ``theta = acos((trace - 1) / 2)`` and ``rotvec = theta / (2 sin theta) vee(M - M^T)``, with the series
+    ``1/2 + theta^2 / 12`` below 1e-6 rad. Agrees with :meth:`scipy.spatial.transform.Rotation.as_rotvec`
+    to rounding (tested); kept hand-written because the simulators' sensor data are built from it.
+    """
+    m = np.asarray(mat, dtype=float)
+    if m.shape[-2:] != (3, 3) or m.ndim not in (2, 3):
+        raise ValueError(f"mat must have shape (3, 3) or (N, 3, 3), got {m.shape}")
+    mats = m.reshape(-1, 3, 3)
+    c = np.clip((np.trace(mats, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    th = np.arccos(c)
+    w = np.stack([mats[:, 2, 1] - mats[:, 1, 2], mats[:, 0, 2] - mats[:, 2, 0], mats[:, 1, 0] - mats[:, 0, 1]], 1)
+    s = np.sin(th)
+    scale = np.where(th < 1e-6, 0.5 + th**2 / 12.0, th / (2.0 * np.where(th < 1e-6, 1.0, s)))
+    out = w * scale[:, None]
+    return out[0] if m.ndim == 2 else out
 
 
 def euler_to_dcm(roll_rad, pitch_rad, yaw_rad) -> np.ndarray:
@@ -102,7 +125,7 @@ def euler_to_dcm(roll_rad, pitch_rad, yaw_rad) -> np.ndarray:
 
     References
     ----------
-    Image/inertial survey, sec. 5.2, eq. (6) (Hartmann et al. 2010).
+    Yeh & Huang, image/inertial positioning survey, sec. 5.2, eq. (6), citing Hartmann et al. (2010).
     """
     r, p, y = (np.asarray(a, dtype=float) for a in (roll_rad, pitch_rad, yaw_rad))
     cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
@@ -123,57 +146,69 @@ def dcm_to_euler(mat_nb) -> np.ndarray:
     return np.stack([roll, pitch, yaw], -1)
 
 
-def mech_step(pos_n_m, vel_n_mps, mat_nb, dtheta_b_rad, dvel_b_mps, dt_s):
-    """One strapdown step from angle and velocity increments.
+def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
+    """Strapdown integration over L steps from mean rates: the one copy of the mechanisation equations.
 
-    ``mat_nb(k+1) = mat_nb(k) exp([dtheta x])``; the velocity increment is rotated with the mean
-    of the two attitudes; position integrates the mean velocity (trapezoid), which is exact for
-    constant acceleration.
+    Step ``j`` uses the angular rate ``gyr[j]`` and specific force ``acc[j]`` held over ``dt[j]``:
+    ``mat_nb(j+1) = mat_nb(j) exp([gyr[j] dt[j] x])``; the velocity increment is rotated with the mean
+    of the two attitudes, ``vel(j+1) = vel(j) + dt/2 (mat(j) + mat(j+1)) acc[j] + g dt``; position
+    integrates the mean velocity (trapezoid), which is exact for constant acceleration.
 
     Parameters
     ----------
-    pos_n_m, vel_n_mps : (3,) arrays, ENU position (m) and velocity (m/s)
-    mat_nb : (3, 3) body -> nav DCM
-    dtheta_b_rad : (3,) angular increment ``omega_b * dt`` (rad)
-    dvel_b_mps : (3,) specific-force increment ``f_b * dt`` (m/s)
-    dt_s : float, step length (s)
+    pos0_n_m, vel0_n_mps : (3,) ENU position (m) and velocity (m/s) at the start
+    mat0_nb : (3, 3) body -> nav DCM at the start
+    gyr_b_radps, acc_b_mps2 : (L, 3) angular rate (rad/s) and specific force (m/s^2), body frame
+    dt_s : (L,) step lengths (s)
 
     Returns
     -------
-    pos_n_m, vel_n_mps, mat_nb after the step.
+    pos_n_m (L+1, 3), vel_n_mps (L+1, 3), mat_nb (L+1, 3, 3): the start and the state after every step.
+
+    References
+    ----------
+    Liao et al. (2016), sec. 3.1 (the INS that eq. 1-6 correct); Shin (2005), UCGE 20219, ch. 2.
     """
-    mat_new = mat_nb @ rotvec_to_dcm(dtheta_b_rad)
-    vel_new = vel_n_mps + 0.5 * (mat_nb + mat_new) @ dvel_b_mps + GRAVITY_N_MPS2 * dt_s
-    pos_new = pos_n_m + 0.5 * (vel_n_mps + vel_new) * dt_s
-    return pos_new, vel_new, mat_new
+    dt = np.asarray(dt_s, dtype=float)
+    dC = rotvecs_to_dcm(np.asarray(gyr_b_radps, dtype=float) * dt[:, None])
+    mat = np.empty((dt.size + 1, 3, 3))
+    mat[0] = mat0_nb
+    for j in range(dt.size):
+        mat[j + 1] = mat[j] @ dC[j]
+    dv = (0.5 * dt[:, None] * np.einsum("lij,lj->li", mat[:-1] + mat[1:], acc_b_mps2)
+          + GRAVITY_N_MPS2 * dt[:, None])
+    vel = vel0_n_mps + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])
+    pos = pos0_n_m + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * dt[:, None] * (vel[:-1] + vel[1:]),
+                                                                 axis=0)])
+    return pos, vel, mat
 
 
-def _check_imu(t_s, gyro_b_radps, acc_b_mps2):
+def _check_imu(t_s, gyr_b_radps, acc_b_mps2):
     t_s = np.asarray(t_s, dtype=float)
-    gyro = np.asarray(gyro_b_radps, dtype=float)
+    gyr = np.asarray(gyr_b_radps, dtype=float)
     acc = np.asarray(acc_b_mps2, dtype=float)
     if t_s.ndim != 1 or t_s.size < 2:
         raise ValueError(f"t_s must be 1-D with at least 2 samples, got shape {t_s.shape}")
     if np.any(np.diff(t_s) <= 0):
         raise ValueError("t_s must be strictly increasing")
-    for name, a in (("gyro_b_radps", gyro), ("acc_b_mps2", acc)):
+    for name, a in (("gyr_b_radps", gyr), ("acc_b_mps2", acc)):
         if a.shape != (t_s.size, 3):
             raise ValueError(f"{name} must have shape ({t_s.size}, 3), got {a.shape}")
         if not np.all(np.isfinite(a)):
             raise ValueError(f"{name} contains non-finite values")
-    return t_s, gyro, acc
+    return t_s, gyr, acc
 
 
-def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
+def mechanise(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
     """Pure strapdown integration of an IMU log.
 
     Sample ``k`` holds the mean rate / specific force over ``[t_k, t_{k+1})`` (increments divided
-    by the interval), so the increments of step ``k`` are ``gyro[k] * dt_k`` and ``acc[k] * dt_k``.
+    by the interval), so the increments of step ``k`` are ``gyr[k] * dt_k`` and ``acc[k] * dt_k``.
 
     Parameters
     ----------
     t_s : (N,) strictly increasing sample times, s
-    gyro_b_radps, acc_b_mps2 : (N, 3) angular rate (rad/s) and specific force (m/s^2), body frame
+    gyr_b_radps, acc_b_mps2 : (N, 3) angular rate (rad/s) and specific force (m/s^2), body frame
     pos0_n_m, vel0_n_mps : (3,) initial ENU position and velocity at ``t_s[0]``
     mat0_nb : (3, 3) initial attitude
 
@@ -181,16 +216,8 @@ def mechanise(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb):
     -------
     pos_n_m (N, 3), vel_n_mps (N, 3), mat_nb (N, 3, 3) at the sample times.
     """
-    t_s, gyro, acc = _check_imu(t_s, gyro_b_radps, acc_b_mps2)
-    n = t_s.size
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    mat = np.empty((n, 3, 3))
-    pos[0], vel[0], mat[0] = pos0_n_m, vel0_n_mps, mat0_nb
-    dt = np.diff(t_s)
-    for k in range(n - 1):
-        pos[k + 1], vel[k + 1], mat[k + 1] = mech_step(pos[k], vel[k], mat[k], gyro[k] * dt[k], acc[k] * dt[k], dt[k])
-    return pos, vel, mat
+    t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
+    return strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr[:-1], acc[:-1], np.diff(t_s))
 
 
 def coarse_level(acc_b_mps2) -> tuple[float, float]:

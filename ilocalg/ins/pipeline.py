@@ -18,16 +18,31 @@ import numpy as np
 
 from ilocalg.ins.constraints import (
     detect_stationary,
-    detect_steps,
     nhc_updates,
+    step_epochs,
     step_frequency_hz,
     wvc_updates,
     zupt_updates,
 )
-from ilocalg.ins.eskf import EskfConfig, EskfResult, UpdateSet, initial_covariance, run_eskf
-from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm
+from ilocalg.ins.eskf import EskfConfig, EskfResult, Measurement, PositionFix, initial_covariance, run_eskf
+from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm, phone_to_body
+from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
-__all__ = ["PhoneFilterSettings", "walk_updates", "run_walk"]
+__all__ = ["PhoneFilterSettings", "body_imu_from_log", "walk_updates", "run_walk"]
+
+
+def body_imu_from_log(imu) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The INS inputs ``(t_s, gyr_b_radps, acc_b_mps2)`` of an IMU log (package data type, phone frame).
+
+    The accelerometer and gyroscope columns are rotated into the body frame with
+    :data:`ilocalg.ins.mechanisation.MAT_PHONE_TO_BODY` (phone held flat, top along the walk).
+    """
+    missing = [c for c in ACC_COLS + GYR_COLS if c not in imu.columns]
+    if missing:
+        raise ValueError(f"IMU log: columns {missing} missing (expected {list(ACC_COLS + GYR_COLS)})")
+    t = imu.index.to_numpy(dtype=float)
+    return t, phone_to_body(imu[list(GYR_COLS)].to_numpy(dtype=float)), phone_to_body(
+        imu[list(ACC_COLS)].to_numpy(dtype=float))
 
 
 @dataclass(frozen=True)
@@ -39,15 +54,15 @@ class PhoneFilterSettings:
     vertical plus the forward speed (sec. 3.2).
     """
 
-    eskf: EskfConfig = EskfConfig(acc_vrw_mps_rsqrt_s=0.05, gyro_arw_rad_rsqrt_s=0.002,
-                                  acc_bias_rw_mps2_rsqrt_s=5e-4, gyro_bias_rw_radps_rsqrt_s=5e-5,
-                                  acc_sf_rw_rsqrt_s=1e-4, gyro_sf_rw_rsqrt_s=1e-4)
+    eskf: EskfConfig = EskfConfig(acc_vrw_mps_rsqrt_s=0.05, gyr_arw_rad_rsqrt_s=0.002,
+                                  acc_bias_rw_mps2_rsqrt_s=5e-4, gyr_bias_rw_radps_rsqrt_s=5e-5,
+                                  acc_sf_rw_rsqrt_s=1e-4, gyr_sf_rw_rsqrt_s=1e-4)
     att_sd_rad: tuple = (np.deg2rad(2.0), np.deg2rad(2.0), np.deg2rad(5.0))
     vel_sd_mps: float = 0.1
     acc_bias_sd_mps2: float = 0.3
-    gyro_bias_sd_radps: float = float(np.deg2rad(0.5))
+    gyr_bias_sd_radps: float = float(np.deg2rad(0.5))
     acc_sf_sd: float = 0.02
-    gyro_sf_sd: float = 0.02
+    gyr_sf_sd: float = 0.02
     nhc_sd_mps: float = 0.05
     wvc_forward_sd_mps: float = 0.15
     wvc_lateral_sd_mps: float = 0.3
@@ -56,7 +71,7 @@ class PhoneFilterSettings:
 
 
 def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
-                 wvc_params: dict | None = None) -> list[UpdateSet]:
+                 wvc_params: dict | None = None) -> list[Measurement]:
     """Measurement sets for one walk.
 
     Parameters
@@ -70,22 +85,22 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
         raise ValueError(f"constraint must be 'nhc', 'wvc' or 'none', got {constraint!r}")
     s = settings or PhoneFilterSettings()
     t = walk.t_s
-    still = detect_stationary(t, walk.acc_b_mps2, walk.gyro_b_radps)
-    ups = [UpdateSet("pos_n", walk.gnss_t_s, walk.gnss_pos_n_m,
-                     np.tile(walk.gnss_sd_m, (walk.gnss_t_s.size, 1)), name="GNSS"),
+    still = detect_stationary(t, walk.acc_b_mps2, walk.gyr_b_radps)
+    ups = [PositionFix(walk.gnss_t_s, walk.gnss_pos_n_m, np.tile(walk.gnss_sd_m, (walk.gnss_t_s.size, 1)),
+                       name="GNSS"),
            zupt_updates(t, still, sd_mps=s.zupt_sd_mps)]
     if constraint == "nhc":
         ups.append(nhc_updates(t, ~still, s.nhc_sd_mps, s.nhc_sd_mps))
     elif constraint == "wvc":
-        steps = detect_steps(t, walk.acc_b_mps2)
+        steps = step_epochs(t, walk.acc_b_mps2)
         freq = step_frequency_hz(t, steps)
         p = dict(wvc_params or {})
         h = p.pop("height_m", None)
         ups.append(wvc_updates(t, steps, freq, ~still, height_m=h, params=p, forward_sd_mps=s.wvc_forward_sd_mps,
                                lateral_sd_mps=s.wvc_lateral_sd_mps, vertical_sd_mps=s.wvc_lateral_sd_mps))
     if use_gcp and walk.gcp_t_s.size:
-        ups.append(UpdateSet("pos_n", walk.gcp_t_s, walk.gcp_pos_n_m,
-                             np.full((walk.gcp_t_s.size, 3), walk.gcp_sd_m), name="GCP"))
+        ups.append(PositionFix(walk.gcp_t_s, walk.gcp_pos_n_m, np.full((walk.gcp_t_s.size, 3), walk.gcp_sd_m),
+                               name="GCP"))
     return ups
 
 
@@ -98,8 +113,8 @@ def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: Phon
     roll, pitch = coarse_level(walk.acc_b_mps2[first])
     yaw = float(walk.init["euler_rad"][2])
     P0 = initial_covariance(pos_sd_m=walk.gnss_sd_m, vel_sd_mps=s.vel_sd_mps, att_sd_rad=s.att_sd_rad,
-                            acc_bias_sd_mps2=s.acc_bias_sd_mps2, gyro_bias_sd_radps=s.gyro_bias_sd_radps,
-                            acc_sf_sd=s.acc_sf_sd, gyro_sf_sd=s.gyro_sf_sd)
+                            acc_bias_sd_mps2=s.acc_bias_sd_mps2, gyr_bias_sd_radps=s.gyr_bias_sd_radps,
+                            acc_sf_sd=s.acc_sf_sd, gyr_sf_sd=s.gyr_sf_sd)
     ups = walk_updates(walk, constraint, use_gcp, s, wvc_params)
-    return run_eskf(t, walk.gyro_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
+    return run_eskf(t, walk.gyr_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
                     euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf)

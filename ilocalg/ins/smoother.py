@@ -31,11 +31,11 @@ import numpy as np
 from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult
 from ilocalg.ins.mechanisation import rotvecs_to_dcm
 
-__all__ = ["SmoothResult", "ErrorStateINS", "rts_gains", "rts_smooth", "window_ends", "online_window_smooth"]
+__all__ = ["EskfSmoothResult", "ErrorStateINS", "rts_gains", "eskf_rts_smooth", "window_ends", "online_window_smooth"]
 
 
 @dataclass(frozen=True)
-class SmoothResult:
+class EskfSmoothResult:
     """Smoothed solution per epoch: ``pos_n_m`` (N, 3), ``vel_n_mps`` (N, 3), ``mat_nb`` (N, 3, 3),
     ``sensor`` (N, 12), ``xs`` (N, 21) the smoothed error about the filtered solution, ``sd`` (N, 21)
     smoothed standard deviations (NaN when the covariance was not smoothed), ``latency_s`` (N,) the
@@ -82,8 +82,8 @@ def window_ends(t_s, window_s: float | None) -> np.ndarray:
     return ends
 
 
-def rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = True,
-               gains: np.ndarray | None = None) -> SmoothResult:
+def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = True,
+                    gains: np.ndarray | None = None) -> EskfSmoothResult:
     """RTS smoother over the whole run (``window_s=None``) or over consecutive fixed windows.
 
     Parameters
@@ -130,12 +130,12 @@ def rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = 
     end_idx = np.flatnonzero(ends)
     which = np.searchsorted(end_idx, np.arange(n), side="left")
     latency = res.t_s[end_idx[which]] - res.t_s
-    return SmoothResult(t_s=res.t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sensor, xs=xs, sd=sd,
+    return EskfSmoothResult(t_s=res.t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sensor, xs=xs, sd=sd,
                         latency_s=latency)
 
 
 def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = False,
-                         gains: np.ndarray | None = None) -> SmoothResult:
+                         gains: np.ndarray | None = None) -> EskfSmoothResult:
     """The paper's online smoother: RTS on each fixed window of ``window_s`` seconds as it fills.
 
     References
@@ -144,7 +144,7 @@ def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = Fals
     """
     if window_s is None:
         raise ValueError("window_s must be a window length in seconds for the online smoother")
-    return rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains)
+    return eskf_rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains)
 
 
 class ErrorStateINS:
@@ -163,16 +163,16 @@ class ErrorStateINS:
         self.P0 = P0
         self.config = config
 
-    def fit(self, t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, updates=()) -> ErrorStateINS:
+    def fit(self, t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, updates=()) -> ErrorStateINS:
         from ilocalg.ins.eskf import run_eskf
 
-        self.result_ = run_eskf(t_s, gyro_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, self.P0, updates,
+        self.result_ = run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, self.P0, updates,
                                 self.config)
         self.gains_ = rts_gains(self.result_)
         return self
 
-    def smooth(self, window_s: float | None = None, with_cov: bool = False) -> SmoothResult:
-        """:func:`rts_smooth` of the fitted filter (``window_s=None``: whole run)."""
+    def smooth(self, window_s: float | None = None, with_cov: bool = False) -> EskfSmoothResult:
+        """:func:`eskf_rts_smooth` of the fitted filter (``window_s=None``: whole run)."""
         if not hasattr(self, "result_"):
             raise ValueError("call fit() before smooth()")
-        return rts_smooth(self.result_, window_s=window_s, with_cov=with_cov, gains=self.gains_)
+        return eskf_rts_smooth(self.result_, window_s=window_s, with_cov=with_cov, gains=self.gains_)

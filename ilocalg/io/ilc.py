@@ -62,9 +62,10 @@ Floor map
 ``geojson_map.json`` stores polygons in longitude/latitude. Following the competition's own
 plotting convention (the floor image spans ``floor_info.json``'s ``width`` x ``height`` metres),
 the bounding box of the floor outline (feature 0) is mapped linearly onto ``[0, width] x
-[0, height]`` metres. Walkable area = inside the outline and outside every shop/obstacle polygon
-(features 1...). Polygons are returned as ``(n, 2)`` arrays; :func:`points_in_polygon` tests
-containment (even-odd rule) without shapely.
+[0, height]`` metres. Walkable area = inside the outline (the union of its rings) and outside every
+shop/obstacle polygon (features 1...). Polygons are returned as ``(n, 2)`` arrays;
+:meth:`IlcFloorMap.walkable` tests points (:func:`points_in_polygon`, even-odd rule per ring) and
+:meth:`ilocalg.fusion.particle_filter.OccupancyGrid.from_floor_map` rasterises the same area.
 
 References
 ----------
@@ -84,6 +85,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io.scans import scan_matrix
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -473,12 +475,17 @@ class IlcFloorMap:
     source: str | None = None
 
     def walkable(self, x_m, y_m) -> np.ndarray:
-        """True where ``(x_m, y_m)`` lies inside the outline and outside every obstacle."""
+        """True where ``(x_m, y_m)`` lies inside an outline ring and outside every obstacle.
+
+        The exact point test; the filters use the same area as a raster
+        (:meth:`ilocalg.fusion.particle_filter.OccupancyGrid.from_floor_map`, same rule: union of the
+        outline rings minus the obstacles).
+        """
         x = np.asarray(x_m, dtype=np.float64)
         y = np.asarray(y_m, dtype=np.float64)
         inside = np.zeros(np.broadcast(x, y).shape, dtype=bool)
         for ring in self.outline:
-            inside ^= points_in_polygon(x, y, ring)
+            inside |= points_in_polygon(x, y, ring)
         blocked = np.zeros_like(inside)
         for ring in self.obstacles:
             blocked |= points_in_polygon(x, y, ring)
@@ -692,7 +699,7 @@ def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = N
     items = list(traces.values() if isinstance(traces, dict) else traces)
     if not items:
         raise ValueError("ilc_fingerprints: no traces given")
-    scan_rows, samples = [], []
+    scan_rows, samples, used_rows = [], [], []
     n_stale_total = 0
     for tr in items:
         w = tr.wifi
@@ -707,6 +714,7 @@ def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = N
         stale = np.zeros(len(w), dtype=bool)
         if max_age_s is not None:
             stale = (w[T_S] - w["last_seen_s"]).to_numpy() > max_age_s
+        used = np.zeros(len(w), dtype=bool)
         for i, (sid, t) in enumerate(st.items()):
             rows = (w[SCAN_ID] == sid).to_numpy()
             n_st = int((rows & stale).sum())
@@ -718,17 +726,18 @@ def ilc_fingerprints(traces, outside: str = "error", max_age_s: float | None = N
                 reason = "no AP left"
             else:
                 n_stale_total += n_st
-                samples.append((tr.name, int(sid), float(t), xy[i], w.loc[keep, [BSSID, RSSI_DBM]]))
+                used |= keep
+                samples.append((tr.name, int(sid), float(t), xy[i]))
             scan_rows.append({"trace": tr.name, SCAN_ID: int(sid), T_S: float(t), X_M: xy[i, 0], Y_M: xy[i, 1],
                               "n_aps": int(rows.sum()), "n_stale": n_st, "used": reason == "", "reason": reason})
+        if used.any():
+            used_rows.append(w[used])
     scans = pd.DataFrame(scan_rows)
     if not samples:
         raise ValueError("ilc_fingerprints: no usable scan in the given traces")
-    ap_ids = sorted({b for s in samples for b in s[4][BSSID].tolist()})
-    col = {b: j for j, b in enumerate(ap_ids)}
-    rssi = np.full((len(samples), len(ap_ids)), np.nan)
-    for i, s in enumerate(samples):
-        rssi[i, [col[b] for b in s[4][BSSID].tolist()]] = s[4][RSSI_DBM].to_numpy(dtype=np.float64)
+    ap_ids = sorted({b for w in used_rows for b in w[BSSID].tolist()})
+    # one row per used scan, in trace then scan order (as ``samples``)
+    rssi = np.concatenate([scan_matrix(w, ap_ids)[2] for w in used_rows])
     meta = pd.DataFrame({"trace": [s[0] for s in samples], SCAN_ID: [s[1] for s in samples],
                          T_S: [s[2] for s in samples]})
     xy = np.array([s[3] for s in samples])

@@ -23,8 +23,9 @@ then judged by one of two rules:
 
 References
 ----------
-罗思奇 et al., "Indoor positioning technology based on location fingerprint and pedestrian track",
-Computer Systems & Applications, 2017, sec. 3.4.1-3.4.2, eq. (3), Fig 5.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 3.4.1-3.4.2, eq. (3), Fig 5.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, moving_mean, sample_rate_hz, sliding_max
 
 __all__ = ["detect_steps_peak_window", "PeakWindowDetector", "PEAK_RULES"]
@@ -40,6 +42,7 @@ __all__ = ["detect_steps_peak_window", "PeakWindowDetector", "PEAK_RULES"]
 PEAK_RULES = ("literal", "valley_rise")
 
 
+@register_step_detector("peak_window")
 def detect_steps_peak_window(acc_mps2, t_s, window_s: float = 0.4, threshold_mps2: float = 1.0,
                              min_dt_s: float = 0.2, max_dt_s: float = 2.0, smooth_s: float = 0.1,
                              rule: str = "literal") -> pd.DataFrame:
@@ -70,7 +73,7 @@ def detect_steps_peak_window(acc_mps2, t_s, window_s: float = 0.4, threshold_mps
 
     References
     ----------
-    罗思奇 et al. 2017, sec. 3.4.2 (1)-(2).
+    Luo et al. (2017), sec. 3.4.2 (1)-(2).
     """
     if rule not in PEAK_RULES:
         raise ValueError(f"rule must be one of {PEAK_RULES}, got {rule!r}")

@@ -1,7 +1,7 @@
 """VA: view-angle photo positioning by gradient descent.
 
 The thesis names VA ("view angle based positioning algorithm", a gradient algorithm whose result
-depends on its initial value, i-Loc thesis L694) but gives no VA equation (its eq. 29-30 are the
+depends on its initial value, Chiu 2013, L694) but gives no VA equation (its eq. 29-30 are the
 similar-triangle ST method). The cost function below is therefore the toolkit's own reading of
 "view angle" positioning, not the thesis's.
 
@@ -29,8 +29,9 @@ search globally, which is the behaviour the thesis attributes VA's errors to.
 
 References
 ----------
-P.-J. Chiu, "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU, 2013,
-sec. 6.3, the view-angle algorithm VA, VAGIG and VABIG, Figs 29-32.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 6.3, the view-angle algorithm VA, VAGIG and VABIG,
+Figs 29-32.
 """
 
 from __future__ import annotations

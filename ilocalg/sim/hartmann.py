@@ -5,7 +5,7 @@ about 1 m, with quicker passages during which the marker tracker loses the marke
 
 Parameters and their sources
 ----------------------------
-From the survey (sec. 5.1, Table 2):
+From Yeh & Huang's survey (sec. 5.1, Table 2):
   - IMU (ADIS16350) at 400 Hz; white noise sd 0.4 deg/s (gyro) and 0.05 m/s^2 (accelerometer) per sample;
   - video tracking typically 5-10 measurements per second, millimetre precision; the camera looks along
     the z axis, so roll/pitch are unreliable (yaw and position are measured);
@@ -23,7 +23,8 @@ Assumptions (not given by the paper):
 
 References
 ----------
-Survey (葉濟賢, 黃偉立), sec. 5.1-5.3, Table 2; Hartmann, Link, Trommer, PLANS 2010.
+Yeh & Huang (葉濟賢, 黃偉立), image/inertial positioning survey (teaching report), sec. 5.1-5.3, Table 2,
+citing Hartmann, Link, Trommer (2010), IEEE/ION PLANS.
 """
 
 from __future__ import annotations
@@ -32,26 +33,29 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ilocalg.ins.hartmann import VT_SD_DEFAULT
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, euler_to_dcm
+from ilocalg.ins.hartmann import ACC_SD_DEFAULT_MPS2, GYR_SD_DEFAULT_DPS, VT_SD_DEFAULT
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dcm
 from ilocalg.units import as_rng
 
 __all__ = ["HartmannSequence", "simulate", "IMU_RATE_HZ"]
 
-IMU_RATE_HZ = 400.0  # paper (survey sec. 5.1)
+# ---- published values: Yeh & Huang's survey, sec. 5.1 (with the IMU noise of ilocalg.ins.hartmann) -----------
+#: IMU (ADIS16350) sampling rate, Hz.
+IMU_RATE_HZ = 400.0
+# ---- end of published values -------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
 class HartmannSequence:
     """One test sequence.
 
-    ``t_s`` (N,), ``gyro_b_radps`` / ``acc_b_mps2`` (N, 3) IMU samples (sample k = mean over [t_k, t_k+1));
+    ``t_s`` (N,), ``gyr_b_radps`` / ``acc_b_mps2`` (N, 3) IMU samples (sample k = mean over [t_k, t_k+1));
     truth ``pos_v_m`` (N, 3), ``vel_v_mps`` (N, 3), ``euler_rad`` (N, 3); video tracker ``t_vt_s`` (M,),
     ``z_vt`` (M, 4) = (yaw rad, x, y, z m); ``bias_true`` (6,) = (gyro rad/s, acc m/s^2); ``params``.
     """
 
     t_s: np.ndarray
-    gyro_b_radps: np.ndarray
+    gyr_b_radps: np.ndarray
     acc_b_mps2: np.ndarray
     pos_v_m: np.ndarray
     vel_v_mps: np.ndarray
@@ -71,8 +75,9 @@ def _sines(rng, t, amp, n=3, fmin=0.05, fmax=0.5):
     return x
 
 
-def simulate(duration_s: float = 120.0, seed=0, gyro_sd_dps: float = 0.4, acc_sd_mps2: float = 0.05,  # paper
-             gyro_bias_sd_dps: float = 0.3, acc_bias_sd_mps2: float = 0.1, frame_rate_hz: float = 10.0,
+def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = GYR_SD_DEFAULT_DPS,
+             acc_sd_mps2: float = ACC_SD_DEFAULT_MPS2,
+             gyr_bias_sd_dps: float = 0.3, acc_bias_sd_mps2: float = 0.1, frame_rate_hz: float = 10.0,
              detect_prob: float = 0.85, blur_rate_dps: float = 60.0, blur_speed_mps: float = 0.6,
              vt_sd=VT_SD_DEFAULT, rest_s: float = 3.0) -> HartmannSequence:
     """Simulate one sequence (see the module docstring for every parameter's source)."""
@@ -93,25 +98,20 @@ def simulate(duration_s: float = 120.0, seed=0, gyro_sd_dps: float = 0.4, acc_sd
     vel = np.gradient(pos, dt, axis=0)
     pos = pos[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt, axis=0)])
     # increments over [t_k, t_k+1), consistent with the strapdown step (see ilocalg.sim.ins_walk)
-    rel = np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:])
-    c = np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1)
-    th = np.arccos(c)
-    wv = np.stack([rel[:, 2, 1] - rel[:, 1, 2], rel[:, 0, 2] - rel[:, 2, 0], rel[:, 1, 0] - rel[:, 0, 1]], 1)
-    scale = np.where(th < 1e-6, 0.5, th / (2 * np.sin(np.where(th < 1e-6, 1.0, th))))
-    gyro_true = wv * scale[:, None] / dt
+    gyr_true = dcm_to_rotvec(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:])) / dt
     dv_n = vel[1:] - vel[:-1] - GRAVITY_N_MPS2 * dt
     acc_true = np.linalg.solve(0.5 * (mat[1:] + mat[:-1]), dv_n[..., None])[..., 0] / dt
-    gyro_true = np.vstack([gyro_true, gyro_true[-1:]])
+    gyr_true = np.vstack([gyr_true, gyr_true[-1:]])
     acc_true = np.vstack([acc_true, acc_true[-1:]])
-    bg = rng.normal(0, np.deg2rad(gyro_bias_sd_dps), 3)
+    bg = rng.normal(0, np.deg2rad(gyr_bias_sd_dps), 3)
     ba = rng.normal(0, acc_bias_sd_mps2, 3)
     n = t.size
-    gyro = gyro_true + bg + rng.normal(0, np.deg2rad(gyro_sd_dps), (n, 3))
+    gyr = gyr_true + bg + rng.normal(0, np.deg2rad(gyr_sd_dps), (n, 3))
     acc = acc_true + ba + rng.normal(0, acc_sd_mps2, (n, 3))
     # video tracker: frames at frame_rate_hz, lost on fast motion (blur) or at random
     step = int(round(IMU_RATE_HZ / frame_rate_hz))
     fr = np.arange(0, n, step)
-    rate_dps = np.rad2deg(np.linalg.norm(gyro_true[fr], axis=1))
+    rate_dps = np.rad2deg(np.linalg.norm(gyr_true[fr], axis=1))
     speed = np.linalg.norm(vel[fr], axis=1)
     ok = (rate_dps < blur_rate_dps) & (speed < blur_speed_mps) & (rng.random(fr.size) < detect_prob)
     ok[0] = True
@@ -119,7 +119,7 @@ def simulate(duration_s: float = 120.0, seed=0, gyro_sd_dps: float = 0.4, acc_sd
     sd = np.asarray(vt_sd, dtype=float)
     z = np.column_stack([eul[fr, 2], pos[fr]]) + rng.normal(0, 1, (fr.size, 4)) * sd
     z[:, 0] = (z[:, 0] + np.pi) % (2 * np.pi) - np.pi
-    return HartmannSequence(t_s=t, gyro_b_radps=gyro, acc_b_mps2=acc, pos_v_m=pos, vel_v_mps=vel,
+    return HartmannSequence(t_s=t, gyr_b_radps=gyr, acc_b_mps2=acc, pos_v_m=pos, vel_v_mps=vel,
                             euler_rad=(eul + np.pi) % (2 * np.pi) - np.pi, t_vt_s=t[fr], z_vt=z,
                             bias_true=np.concatenate([bg, ba]),
                             params={"duration_s": duration_s, "vt_sd": sd.tolist(), "rest_s": rest_s})

@@ -54,12 +54,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ilocalg.ins.constraints import walking_speed_mps
-from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, euler_to_dcm
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dcm
 from ilocalg.units import as_rng
 
-__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "GCP_XYZ_M", "InsWalk", "simulate"]
+__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate"]
 
-TRUTH_RATE_HZ = 200.0  # the paper's reference rate
+# ---- published values: Liao et al. (2016), sec. 4 (reference rate) and Table 3 (MIDG-II) -------------------
+#: Rate of the paper's reference solution, Hz.
+TRUTH_RATE_HZ = 200.0
+#: MIDG-II reference IMU (Table 3): sampling interval in 200 Hz ticks (50 Hz), accelerometer bias (mg), gyro
+#: bias (deg/h), accelerometer and gyro scale factors (5000 ppm gyro, 19700 ppm accelerometer).
+_MIDG2_TICKS, _MIDG2_ACC_BIAS_MG, _MIDG2_GYR_BIAS_DPH, _MIDG2_ACC_SF, _MIDG2_GYR_SF = (4, 4), 6, 4.7, 0.0197, 0.005
+# ---- end of published values -------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -72,11 +78,11 @@ class PhoneProfile:
     name: str
     ticks: tuple[int, int]
     acc_bias_sd_mps2: float
-    gyro_bias_sd_radps: float
+    gyr_bias_sd_radps: float
     acc_sf_sd: float
-    gyro_sf_sd: float
+    gyr_sf_sd: float
     acc_noise_mps2_rsqrt_hz: float
-    gyro_noise_radps_rsqrt_hz: float
+    gyr_noise_radps_rsqrt_hz: float
 
 
 _MG = 9.80665e-3
@@ -85,9 +91,8 @@ PROFILES = {
                                3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
     "iphone_5s": PhoneProfile("iphone_5s", (10, 14), 20 * _MG, np.deg2rad(0.2), 0.010, 0.010,
                               3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
-    # MIDG-II, paper Table 3: 50 Hz, 4.7 deg/h, 6 mg, 5000 ppm gyro / 19700 ppm acc (paper values)
-    "midg2": PhoneProfile("midg2", (4, 4), 6 * _MG, np.deg2rad(4.7 / 3600), 0.0197, 0.005,  # paper Table 3
-                          300e-6 * 9.80665, np.deg2rad(0.01)),
+    "midg2": PhoneProfile("midg2", _MIDG2_TICKS, _MIDG2_ACC_BIAS_MG * _MG, np.deg2rad(_MIDG2_GYR_BIAS_DPH / 3600),
+                          _MIDG2_ACC_SF, _MIDG2_GYR_SF, 300e-6 * 9.80665, np.deg2rad(0.01)),
 }
 
 #: Indoor control points (ENU, m), at corners and corridor middles as in the paper: the corner at the
@@ -104,6 +109,8 @@ ROUTES = {
     "iphone": _LOOPS + _IN[:3] + [(30, 22, 4), (30, 15, 4), (20, 15, 4)] + _CLASS + [(24, 15, 4), (24, 13, 4)],
 }
 _N_OUTDOOR_WP = len(_LOOPS)
+#: The paper's two phones: (label in the paper's tables, route, IMU profile).
+PHONES = (("Samsung", "samsung", "samsung_s5"), ("iPhone", "iphone", "iphone_5s"))
 
 
 @dataclass(frozen=True)
@@ -111,19 +118,19 @@ class InsWalk:
     """One simulated walk.
 
     Truth at 200 Hz: ``t_ref_s`` (M,), ``pos_ref_n_m`` (M, 3), ``mat_ref_nb`` (M, 3, 3).
-    Phone IMU: ``t_s`` (N,), ``gyro_b_radps`` (N, 3), ``acc_b_mps2`` (N, 3); truth at the phone
+    Phone IMU: ``t_s`` (N,), ``gyr_b_radps`` (N, 3), ``acc_b_mps2`` (N, 3); truth at the phone
     epochs ``pos_true_n_m``, ``vel_true_n_mps``, ``mat_true_nb``, ``stationary_true`` (N,).
     ``gnss_t_s`` / ``gnss_pos_n_m`` / ``gnss_sd_m`` (G,), (G, 3), (3,); control-point passages
     ``gcp_t_s`` (C,), ``gcp_pos_n_m`` (C, 3), ``gcp_id`` (C,), ``gcp_sd_m``; ``t_indoor_s`` the time the
     walker leaves the outdoor loops (errors are analysed after it); ``init``: initial state for the
-    filter; ``sensor_true`` (12,) the drawn ``[b_acc, b_gyro, s_acc, s_gyro]``; ``params``.
+    filter; ``sensor_true`` (12,) the drawn ``[b_acc, b_gyr, s_acc, s_gyr]``; ``params``.
     """
 
     t_ref_s: np.ndarray
     pos_ref_n_m: np.ndarray
     mat_ref_nb: np.ndarray
     t_s: np.ndarray
-    gyro_b_radps: np.ndarray
+    gyr_b_radps: np.ndarray
     acc_b_mps2: np.ndarray
     pos_true_n_m: np.ndarray
     vel_true_n_mps: np.ndarray
@@ -150,16 +157,6 @@ def _ou(rng, n, dt, sd, tau):
     from scipy.signal import lfilter
 
     return lfilter([1.0], [1.0, -a], e)
-
-
-def _rotvecs(mats):
-    """Rotation vectors (N, 3) of small rotations (N, 3, 3) (angles well below pi)."""
-    c = np.clip((np.trace(mats, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
-    th = np.arccos(c)
-    w = np.stack([mats[:, 2, 1] - mats[:, 1, 2], mats[:, 0, 2] - mats[:, 2, 0], mats[:, 1, 0] - mats[:, 0, 1]], 1)
-    s = np.sin(th)
-    scale = np.where(th < 1e-6, 0.5 + th**2 / 12.0, th / (2.0 * np.where(th < 1e-6, 1.0, s)))
-    return w * scale[:, None]
 
 
 def _gauss_smooth(x, sigma_samples):
@@ -267,8 +264,8 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     # kinematics on the 200 Hz grid; truth position is the trapezoid integral of the velocity
     vel = np.gradient(pos, dt, axis=0)
     pos = pos[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt, axis=0)])
-    # increments over [t_k, t_k+1): consistent with mechanisation.mech_step
-    dtheta = _rotvecs(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:]))
+    # increments over [t_k, t_k+1): consistent with mechanisation.strapdown
+    dtheta = dcm_to_rotvec(np.matmul(np.swapaxes(mat[:-1], 1, 2), mat[1:]))
     dv_n = vel[1:] - vel[:-1] - GRAVITY_N_MPS2 * dt
     cmid = 0.5 * (mat[1:] + mat[:-1])
     dvel_b = np.linalg.solve(cmid, dv_n[..., None])[..., 0]
@@ -284,16 +281,16 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     valid = nxt > ep
     ep, nxt = ep[valid], nxt[valid]
     dt_ph = (nxt - ep) * dt
-    gyro_true = (cs_th[nxt] - cs_th[ep]) / dt_ph[:, None]
+    gyr_true = (cs_th[nxt] - cs_th[ep]) / dt_ph[:, None]
     acc_true = (cs_dv[nxt] - cs_dv[ep]) / dt_ph[:, None]
     n = ep.size
     ba = rng.normal(0.0, prof.acc_bias_sd_mps2, 3)
-    bg = rng.normal(0.0, prof.gyro_bias_sd_radps, 3)
+    bg = rng.normal(0.0, prof.gyr_bias_sd_radps, 3)
     sa = rng.normal(0.0, prof.acc_sf_sd, 3)
-    sg = rng.normal(0.0, prof.gyro_sf_sd, 3)
+    sg = rng.normal(0.0, prof.gyr_sf_sd, 3)
     acc = (1 + sa) * acc_true + ba + rng.normal(0.0, 1.0, (n, 3)) * (prof.acc_noise_mps2_rsqrt_hz
                                                                      / np.sqrt(dt_ph))[:, None]
-    gyro = (1 + sg) * gyro_true + bg + rng.normal(0.0, 1.0, (n, 3)) * (prof.gyro_noise_radps_rsqrt_hz
+    gyr = (1 + sg) * gyr_true + bg + rng.normal(0.0, 1.0, (n, 3)) * (prof.gyr_noise_radps_rsqrt_hz
                                                                        / np.sqrt(dt_ph))[:, None]
     t_ph = t[ep]
     t_indoor = float(t[i_indoor])
@@ -317,7 +314,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     init_att = np.array([roll[0], pitch[0], yaw_b[0] + np.deg2rad(rng.normal(0.0, init_yaw_sd_deg))])
     stationary = ~walking[ep] & (walk_w[ep] < 0.05)
     return InsWalk(
-        t_ref_s=t, pos_ref_n_m=pos, mat_ref_nb=mat, t_s=t_ph, gyro_b_radps=gyro, acc_b_mps2=acc,
+        t_ref_s=t, pos_ref_n_m=pos, mat_ref_nb=mat, t_s=t_ph, gyr_b_radps=gyr, acc_b_mps2=acc,
         pos_true_n_m=pos[ep], vel_true_n_mps=vel[ep], mat_true_nb=mat[ep], stationary_true=stationary,
         gnss_t_s=t_ph[g_idx], gnss_pos_n_m=gnss_pos, gnss_sd_m=gsd,
         gcp_t_s=np.asarray(gcp_t)[order], gcp_pos_n_m=np.asarray(gcp_p).reshape(-1, 3)[order],

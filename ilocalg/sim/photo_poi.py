@@ -11,7 +11,7 @@ magnetometer report the orientation ``T_E->AR`` with a tilt and a heading error.
 Layouts (built from the text; Fig 28, which holds the coordinates, is missing from the copy)
     Every constraint the text gives, checked by :func:`check_layout`:
 
-    * "seven black PoIs distributed on the walls" (i-Loc thesis L658, Fig 25 caption);
+    * "seven black PoIs distributed on the walls" (Chiu 2013, L658, Fig 25 caption);
     * "seven test points ... one metre apart" (L688, Fig 27 caption "test points and PoI map");
     * "for p4, t1 and t7 are the nearest and the farthest" and the VA error grows with the distance
       from p4 (L696): the distance from p4 increases from t1 to t7;
@@ -77,8 +77,8 @@ Nothing here was adjusted to make an outcome table match the thesis.
 
 References
 ----------
-P.-J. Chiu, "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU, 2013,
-sec. 5.2 and 6.2-6.3, eq. (29)-(30), Figs 25-28.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 5.2 and 6.2-6.3, eq. (29)-(30), Figs 25-28.
 """
 
 from __future__ import annotations

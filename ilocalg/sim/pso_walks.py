@@ -48,11 +48,11 @@ Sensors (thesis where it says, else typical values of the MEMS parts of the time
     walking (Crosbie, Vachalathiti & Smith, Gait & Posture 5, 1997, citing the gait studies of the
     1960s); magnetic disturbance of the surroundings as a heading error that varies along the
     route, a first-order Gauss-Markov process in distance with sd 2 deg (the same field study's
-    RMSE outdoors) and correlation length 10 m (assumption, swept by callers).
+    RMSE outdoors) and correlation length 10 m (assumption; not swept).
     GPS: 1 Hz (thesis sec. 5.1.1). Open sky: per-axis first-order Gauss-Markov error with sd
     0.61 m, from the thesis's own GPS test (sec. 5.1.3, Fig. 5.9: static for about 30 s, "accuracy
     better than 1.5 m"), read as the 95 % radius of the horizontal error: 1.5 / sqrt(-2 ln 0.05) =
-    0.61 m per axis; correlation time 20 s (assumption: the thesis gives none; swept by callers).
+    0.61 m per axis; correlation time 20 s (assumption: the thesis gives none; not swept).
     No white component by default (the thesis's test shows none separately; ``gps_white_sd_m``
     adds one). Shaded phase-2 segments (two, each 20 % of the walk): sd 4 m, correlation time 5 s,
     and 30 % of the fixes missing (assumptions: "partial shading", sec. 5.2.3).
@@ -60,9 +60,10 @@ Sensors (thesis where it says, else typical values of the MEMS parts of the time
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), Tables 5-1, 5-2, sec. 5.1-5.3. J. Crosbie, R. Vachalathiti and
-R. Smith, "Patterns of spinal motion during walking", Gait & Posture 5 (1997) 6-12. W. Zijlstra and A. L. Hof,
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Tables 5-1, 5-2, sec. 5.1-5.3. Crosbie, J., Vachalathiti, R. and Smith, R. (1997). Patterns of spinal
+motion during walking. Gait & Posture 5, 6-12. W. Zijlstra and A. L. Hof,
 "Assessment of spatio-temporal gait parameters from trunk accelerations during human walking",
 Gait & Posture 18 (2003). R. W. Bohannon and A. W. Andrews, "Normal walking speed: a descriptive
 meta-analysis", Physiotherapy 97 (2011).
@@ -93,41 +94,48 @@ __all__ = [
     "gps_static_sd_m",
 ]
 
-#: Walk design from the thesis (Table 5-1 legs, Table 5-2 counted steps and phase-1 GPS distance).
-#: ``route_m`` is the thesis's GPS distance: the default true length (times ``route_scale``), an input.
-WALK_DESIGN_PAPER = {  # paper Table 5-1 / 5-2
-    "A1": {"leg_m": 0.94, "n_steps": 217, "route_m": 160.25},  # paper
-    "A2": {"leg_m": 0.94, "n_steps": 116, "route_m": 93.26},  # paper
-    "A3": {"leg_m": 0.94, "n_steps": 128, "route_m": 96.65},  # paper
-    "B1": {"leg_m": 1.00, "n_steps": 108, "route_m": 92.71},  # paper
-    "B2": {"leg_m": 1.00, "n_steps": 118, "route_m": 95.96},  # paper
-    "C": {"leg_m": 1.08, "n_steps": 106, "route_m": 93.73},  # paper
+# Settings from the paper
+# -----------------------
+# Chao (2008): WALK_DESIGN_PAPER from Tables 5-1 (legs) and 5-2 (counted steps, phase-1 GPS distance,
+# the default true route length times ``route_scale``: an input);
+# PHASE2_STEPS_PAPER from the Fig. 5.14 file names; SENSORS: sensor rates from sec. 5.1.1, the
+# accelerometer's 1 g and 0 g counts and the raw static compass RMS from sec. 5.1.3 (inputs), the GPS
+# static bound of sec. 5.1.3 (Fig. 5.9).
+# The other SENSORS values are this simulator's (module docstring).
+#: Walk design from the thesis (Table 5-1 legs, Table 5-2 counted steps and phase-1 length).
+WALK_DESIGN_PAPER = {
+    "A1": {"leg_m": 0.94, "n_steps": 217, "route_m": 160.25},
+    "A2": {"leg_m": 0.94, "n_steps": 116, "route_m": 93.26},
+    "A3": {"leg_m": 0.94, "n_steps": 128, "route_m": 96.65},
+    "B1": {"leg_m": 1.00, "n_steps": 108, "route_m": 92.71},
+    "B2": {"leg_m": 1.00, "n_steps": 118, "route_m": 95.96},
+    "C": {"leg_m": 1.08, "n_steps": 106, "route_m": 93.73},
 }
 
 #: Phase-2 walks: A1's two (paper Fig. 5.14 file names: 250 and 408 steps); 300 steps elsewhere (assumed).
-PHASE2_STEPS_PAPER = {  # paper Fig. 5.14
-    "A1": {"park": 250, "hall": 408},  # paper
+PHASE2_STEPS_PAPER = {
+    "A1": {"park": 250, "hall": 408},
 }
 PHASE2_DEFAULT_STEPS = 300
 
 #: Sensor and gait constants (see the module docstring for each source).
 SENSORS = {
-    "acc_rate_hz": 8.0,  # thesis sec. 5.1.1
-    "compass_rate_hz": 8.0,  # thesis sec. 5.1.1
-    "gps_rate_hz": 1.0,  # thesis sec. 5.1.1
-    "acc_counts_per_g": 661.82 - 417.57,  # thesis sec. 5.1.3 (paper 1 g and 0 g counts)
+    "acc_rate_hz": 8.0,
+    "compass_rate_hz": 8.0,
+    "gps_rate_hz": 1.0,
+    "acc_counts_per_g": 661.82 - 417.57,
     "acc_noise_mps2": 0.10,
-    "compass_static_rms_deg": 0.716,  # thesis sec. 5.1.3 (paper raw static RMS, an input)
+    "compass_static_rms_deg": 0.716,
     "compass_ar1": 0.6,
     "compass_spike_rate": 0.005,
     "compass_spike_sd_deg": 4.0,
-    "compass_bias_sd_deg": 2.0,  # Lviv Polytechnic field study: 1-3 deg after calibration
-    "compass_sway_deg": 4.5,  # Crosbie et al. 1997: trunk axial rotation ~9 deg peak to peak
-    "mag_disturb_sd_deg": 2.0,  # Lviv Polytechnic field study: azimuth RMSE <= 2 deg outdoors
-    "mag_disturb_len_m": 10.0,  # assumption (swept)
-    "gps_static_95_m": 1.5,  # thesis sec. 5.1.3, Fig. 5.9: static accuracy better than 1.5 m
-    "gps_open_tau_s": 20.0,  # assumption (swept)
-    "gps_white_sd_m": 0.0,  # none in the thesis's test; an option
+    "compass_bias_sd_deg": 2.0,
+    "compass_sway_deg": 4.5,
+    "mag_disturb_sd_deg": 2.0,
+    "mag_disturb_len_m": 10.0,
+    "gps_static_95_m": 1.5,
+    "gps_open_tau_s": 20.0,
+    "gps_white_sd_m": 0.0,
     "gps_shaded_sd_m": 4.0,
     "gps_shaded_tau_s": 5.0,
     "gps_shaded_fraction": 0.2,

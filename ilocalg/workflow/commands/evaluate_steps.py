@@ -24,12 +24,13 @@ from ilocalg.io.oxford import _is_archive, load_oxford_archive, load_oxford_step
 NAME = "steps"
 HELP = "count steps in Oxford step counter recordings (folder, archive or validation CSV)"
 
-#: Fixed parameters per method (``robust`` is the toolkit's best detector).
+#: Fixed parameters per registered detector (``robust`` is the toolkit's best; its defaults, and
+#: those of ``find_peaks``, are the tuned values; SAM uses the thesis's Table 1 ranges).
 METHODS = {
     "robust": {},
-    "find_peaks": {"cutoff_hz": 3.0, "prominence_mps2": 1.2, "max_step_s": np.inf, "min_bout_steps": 1},
+    "find_peaks": {},
     "peak_window": {"threshold_mps2": 2.0},
-    "sign_change": {"n": 2},
+    "sign_change": {"n_left": 2, "n_right": 2},
     "sam": {},
 }
 
@@ -44,20 +45,18 @@ def add_arguments(parser) -> None:
 
 
 def count(rec, method: str) -> int:
-    """Steps counted in one :class:`~ilocalg.io.oxford.OxfordRecording` by ``method``."""
-    from ilocalg.experiments.pdr_real_steps import count_steps, prepare
-    from ilocalg.pdr.robust import ROBUST_DEFAULTS
-    from ilocalg.pdr.sam import detect_steps_sam
+    """Steps counted in one :class:`~ilocalg.io.oxford.OxfordRecording` by ``method``.
+
+    The log is resampled to the detector's rate (:data:`ilocalg.pdr.registry.DETECTOR_RATE_HZ`) and
+    run through the registered detector (:func:`ilocalg.pdr.count_steps`).
+    """
+    from ilocalg.pdr import count_steps
+    from ilocalg.pdr.signals import acc_from_log
 
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; choose one of {sorted(METHODS)}")
-    p = prepare(rec)
-    if method == "sam":
-        return len(detect_steps_sam(p.acc50_mps2, p.t50_s))
-    params = METHODS[method]
-    if method == "robust":
-        params = {k: v for k, v in ROBUST_DEFAULTS.items() if k != "rate_hz"}
-    return count_steps(p, method, params)
+    acc, t = acc_from_log(rec.imu)
+    return count_steps(method, acc, t, **METHODS[method])
 
 
 def run(args) -> dict:

@@ -82,8 +82,8 @@ def _load(paths, floor):
 
 
 def run(args) -> dict:
-    from ilocalg.experiments.fusion_real_walks import METHODS, RealWalkConfig, evaluate_track
     from ilocalg.io.ilc import load_ilc_floor_map
+    from ilocalg.track import METHODS, RealWalkConfig, evaluate_track
 
     floor = Path(args.floor) if args.floor else _default_floor()
     if args.particles < 10:

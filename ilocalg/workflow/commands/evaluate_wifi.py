@@ -17,6 +17,7 @@ import numpy as np
 NAME = "wifi"
 HELP = "Wi-Fi fingerprinting (RADAR, Horus, KNN, WKNN, best) on a train/test fingerprint pair"
 
+#: The registered estimators (:data:`ilocalg.wifi.ESTIMATORS`); kept literal so ``--help`` needs no import.
 METHODS = ("radar", "horus", "knn", "wknn", "best")
 FORMATS = ("ujiindoorloc",)
 
@@ -35,8 +36,9 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
-    from ilocalg.experiments.wifi_ujiindoorloc import evaluate_method
     from ilocalg.io.ujiindoorloc import load_ujiindoorloc
+    from ilocalg.metrics import hit_rate
+    from ilocalg.wifi import evaluate_method
 
     if args.format not in FORMATS:
         raise ValueError(f"--format must be one of {FORMATS}, got {args.format!r}")
@@ -53,7 +55,7 @@ def run(args) -> dict:
         "median_error_m": float(np.median(e)),
         "p75_error_m": float(np.percentile(e, 75)),
         "p95_error_m": float(np.percentile(e, 95)),
-        "floor_hit_rate": float(np.mean(res["floor"] == test.floor)),
-        "building_hit_rate": float(np.mean(res["building"] == test.building)),
+        "floor_hit_rate": hit_rate(res["floor"], test.floor),
+        "building_hit_rate": hit_rate(res["building"], test.building),
         "n": int(e.size),
     }
