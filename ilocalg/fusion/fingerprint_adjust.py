@@ -16,8 +16,8 @@ fix ``z_k`` it moves a fraction ``weight`` of the way to the fix, ``x_k <- x_k +
 
 References
 ----------
-罗思奇, 罗笑玲, 李敏澄 et al., "Indoor positioning technology based on location fingerprint and
-pedestrian track", Computer Systems & Applications, 2017, abstract, sec. 3.4.4 eq. (5)-(6), sec. 4.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications. Abstract, sec. 3.4.4 eq. (5)-(6), sec. 4.
 """
 
 from __future__ import annotations
