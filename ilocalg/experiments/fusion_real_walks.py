@@ -62,9 +62,6 @@ __all__ = ["RealWalkConfig", "WalkSteps", "walk_steps", "Calibration", "calibrat
            "METHODS", "WIFI_CANDIDATES", "select_wifi", "DATASET", "load_floor", "findings", "example"]
 
 DATASET = "ilc2020_site2_F4"
-#: Not re-run over seeds by ``reproduce --seeds``: real data, no paper comparison (only the particle filter
-#: depends on the seed).
-SEED_SWEEP = False
 #: Keys of the scored variants (the ``evaluate track`` command's ``errors_m`` keys).
 METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "pf", "pf_smooth", "map_align",
            "map_align_kf_rts")

@@ -41,10 +41,6 @@ from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges
 from ilocalg.pdr.sign_change import detect_steps_sign_change
 from ilocalg.pdr.signals import magnitude_mps2, moving_mean, resample_uniform
 
-#: Real recordings: the values do not depend on a simulation seed, so reproduce does not re-run this
-#: experiment over seeds for confidence intervals (its rows keep n = 1).
-SEED_SWEEP = False
-
 __all__ = ["run", "Prepared", "prepare", "DETECTORS", "count_steps", "loro_cv", "accuracy", "load", "truth_artefacts",
            "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN"]
 

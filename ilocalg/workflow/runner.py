@@ -12,16 +12,16 @@ from __future__ import annotations
 
 import fnmatch
 import os
-import re
 import sys
 import time
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT, data_dir
+from ilocalg.workflow.manifest import experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_readme, write_provenance, write_table
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
-           "notebook_experiments", "sweep_experiments"]
+           "sweep_experiments"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 
@@ -69,40 +69,13 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
     return out_nb
 
 
-_EXPERIMENT_RE = re.compile(r"from ilocalg\.experiments import ([\w, ]+)|ilocalg\.experiments\.(\w+)")
-
-#: Experiments never re-run over seeds (no comparison values). Studies (``study_*``) run their own sweeps,
-#: and an experiment module can opt out with ``SEED_SWEEP = False`` (real data: nothing depends on the seed).
-NOT_SWEPT = ("data_tour",)
-
-
-def notebook_experiments(nb: Path) -> list[str]:
-    """Experiment modules a notebook calls (read from its paired ``.py`` source, else the ``.ipynb``)."""
-    src = nb.with_suffix(".py")
-    text = src.read_text() if src.exists() else Path(nb).read_text()
-    names = []
-    for m in _EXPERIMENT_RE.finditer(text):
-        for n in (m.group(1) or m.group(2)).split(","):
-            n = n.strip().split(" as ")[0].strip()
-            if n and n not in names:
-                names.append(n)
-    return names
-
-
 def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, fast: bool, workers: int,
                       progress: bool, cache_dir=None) -> tuple[int, object]:
-    """Re-run the notebooks' experiments over ``n_seeds`` seeds; write ``sweeps/summary`` and return it."""
-    import importlib
-
+    """Re-run the notebooks' swept experiments (:data:`ilocalg.workflow.manifest.MANIFEST`) over ``n_seeds``
+    seeds; write ``sweeps/summary`` and return it."""
     from ilocalg.workflow import sweep as sw
 
-    exps = []
-    for nb in nbs:
-        for e in notebook_experiments(nb):
-            if e in exps or e in NOT_SWEPT or e.startswith("study_"):
-                continue
-            if getattr(importlib.import_module(f"ilocalg.experiments.{e}"), "SEED_SWEEP", True):
-                exps.append(e)
+    exps = swept_experiments([nb.stem for nb in nbs])
     if not exps:
         return 0, None
     tasks = [t for e in exps for t in sw.make_tasks(e, range(seed, seed + n_seeds), fast=fast)]
@@ -144,6 +117,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     if not nbs:
         print(f"no notebooks match {only!r} in {notebook_dir}", file=sys.stderr)
         return 2
+    for nb in nbs:
+        experiments_of(nb.stem)  # every notebook is in the manifest before anything runs
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "figures").mkdir(exist_ok=True)
     (out_dir / "tables").mkdir(exist_ok=True)
