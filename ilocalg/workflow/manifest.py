@@ -13,9 +13,9 @@ most one notebook: the one whose run at the base seed the sweep reuses.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
-__all__ = ["MANIFEST", "experiments_of", "swept_experiments", "notebook_stems"]
+__all__ = ["MANIFEST", "COST_S", "experiments_of", "swept_experiments", "notebook_stems"]
 
 #: notebook stem -> {experiment module under ``ilocalg.experiments``: swept over seeds?}
 MANIFEST: dict[str, dict[str, bool]] = {
@@ -40,25 +40,33 @@ MANIFEST: dict[str, dict[str, bool]] = {
 }
 
 
+#: Rough wall time in seconds of each notebook (full mode, one core), only to start the longest first when
+#: notebooks run side by side; the runner replaces these by the times it measured on the last run.
+COST_S: dict[str, float] = {}
+
+
 def notebook_stems() -> list[str]:
     """Every notebook the manifest knows, in run order."""
     return sorted(MANIFEST)
 
 
-def experiments_of(stem: str) -> list[str]:
+def experiments_of(stem: str, manifest: Mapping[str, Mapping[str, bool]] | None = None) -> list[str]:
     """Experiments the notebook ``stem`` runs (ValueError for a notebook missing from the manifest)."""
-    if stem not in MANIFEST:
+    manifest = MANIFEST if manifest is None else manifest
+    if stem not in manifest:
         raise ValueError(f"notebook {stem!r} is not in ilocalg/workflow/manifest.py MANIFEST; add it there "
                          f"with the experiments it runs")
-    return list(MANIFEST[stem])
+    return list(manifest[stem])
 
 
-def swept_experiments(stems: Iterable[str], swept_only: bool = True) -> list[str]:
+def swept_experiments(stems: Iterable[str], swept_only: bool = True,
+                      manifest: Mapping[str, Mapping[str, bool]] | None = None) -> list[str]:
     """Experiments the notebooks ``stems`` run (only the seed-swept ones by default), in notebook order."""
+    manifest = MANIFEST if manifest is None else manifest
     out: list[str] = []
     for stem in stems:
-        experiments_of(stem)  # validates the stem
-        for exp, swept in MANIFEST[stem].items():
+        experiments_of(stem, manifest)  # validates the stem
+        for exp, swept in manifest[stem].items():
             if (swept or not swept_only) and exp not in out:
                 out.append(exp)
     return out

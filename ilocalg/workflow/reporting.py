@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import platform
 import subprocess
 from dataclasses import dataclass
@@ -75,6 +76,16 @@ class Report:
 
     out_dir: str | Path | None
     notebook: str
+
+    def __post_init__(self):
+        # Under the reproduce runner, the experiments this notebook runs also fill the seed sweep's cache,
+        # so the sweep reuses this run instead of repeating it (see ilocalg.workflow.sweep.record_runs).
+        from ilocalg.workflow import sweep
+
+        cache = os.environ.get(sweep.RECORD_ENV)
+        exps = [e for e in os.environ.get(sweep.RECORD_EXPERIMENTS_ENV, "").split(",") if e]
+        if cache and exps and self.out_dir is not None:
+            sweep.record_runs(exps, cache)
 
     def table(self, df: pd.DataFrame, name: str, index: bool = False,
               deterministic: bool = True) -> pd.DataFrame:
