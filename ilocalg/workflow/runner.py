@@ -185,6 +185,10 @@ def _timings_path(cache_dir: Path) -> Path:
     return Path(cache_dir).parent / "timings.json"
 
 
+def _timing_key(name: str, fast: bool) -> str:
+    return f"{name} (fast)" if fast else name
+
+
 def _load_timings(cache_dir: Path) -> dict:
     try:
         return {**COST_S, **json.loads(_timings_path(cache_dir).read_text())}
@@ -260,23 +264,32 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         for i, nb in enumerate(nbs, 1):
             print(f"[{i}/{len(nbs)}] {nb.stem}", flush=True)
             r = _notebook_job(nb, out_dir, params_for(nb), html, record_for(nb), progress=progress)
-            timings[nb.stem] = r["seconds"]
+            timings[_timing_key(nb.stem, fast)] = r["seconds"]
             if r["error"]:
                 failed = r["error"]
                 break
             print(f"    done in {r['seconds']:.1f} s", flush=True)
     else:
-        # longest first, so the last notebook to finish is a short one; then the sweep's other seeds
-        order = sorted(nbs, key=lambda p: -timings.get(p.stem, 60.0))
+        # every job (notebooks, then the sweep's other seeds) longest first, so the last to finish is short
         extra = []
         if n_seeds > 1 and workers > 0:
             exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
             extra = [t for e in exps for t in sw.make_tasks(e, range(seed + 1, seed + n_seeds), fast=fast)
                      if not sw._cache_path(cache_dir, t).exists()]
+        owner = {e: nb.stem for nb in nbs for e in swept[nb.stem]}
+        jobs_list = [(timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb) for i, nb in enumerate(nbs)]
+        jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
+                               timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
+                      for i, t in enumerate(extra)]
+        jobs_list.sort(key=lambda j: (-j[0], j[1], j[2]))
         with ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
-            futs = {pool.submit(_notebook_job, nb, out_dir, params_for(nb), html, record_for(nb)): "nb"
-                    for nb in order}
-            futs.update({pool.submit(_sweep_job, t, cache_dir): "sweep" for t in extra})
+            futs = {}
+            for _, _, _, kind, item in jobs_list:
+                if kind == "nb":
+                    futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item))] = \
+                        (kind, item.stem)
+                else:
+                    futs[pool.submit(_sweep_job, item, cache_dir)] = (kind, item.experiment)
             n_done = 0
             pending = set(futs)
             while pending:
@@ -285,15 +298,18 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                     if f.cancelled():
                         continue
                     r = f.result()
-                    if futs[f] == "nb":
-                        n_done += 1
-                        timings[r["name"]] = r["seconds"]
-                        if r["error"] and failed is None:
-                            failed = r["error"]
-                            for other in pending:
-                                other.cancel()  # notebooks not yet started never run
-                        elif not r["error"]:
-                            print(f"[{n_done}/{len(nbs)}] {r['name']} done in {r['seconds']:.1f} s", flush=True)
+                    kind, name = futs[f]
+                    if kind == "sweep":
+                        timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"]
+                        continue
+                    n_done += 1
+                    timings[_timing_key(name, fast)] = r["seconds"]
+                    if r["error"] and failed is None:
+                        failed = r["error"]
+                        for other in pending:
+                            other.cancel()  # jobs not yet started never run
+                    elif not r["error"]:
+                        print(f"[{n_done}/{len(nbs)}] {name} done in {r['seconds']:.1f} s", flush=True)
     try:
         _timings_path(cache_dir).parent.mkdir(parents=True, exist_ok=True)
         _timings_path(cache_dir).write_text(json.dumps(timings, indent=1, sort_keys=True) + "\n")
