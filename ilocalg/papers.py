@@ -35,6 +35,8 @@ __all__ = [
     "PAPERS",
     "PAPER_CITATIONS",
     "paper_key",
+    "SELF_COMPARISON",
+    "is_self_comparison",
     "READINGS_COLUMNS",
     "reading",
     "readings_table",
@@ -94,6 +96,19 @@ def paper_key(label: str) -> str | None:
         if any(a in text for a in aliases):
             return key
     return None
+
+
+#: Label of comparison rows that set the toolkit beside an earlier, independent measurement of its own
+#: (a regression check, not agreement with a paper).
+SELF_COMPARISON = "independent re-measurement"
+
+_SELF_MARKERS = ("re-measurement", "remeasurement", "earlier measurement", "toolkit", "ilocalg")
+
+
+def is_self_comparison(label: str) -> bool:
+    """True for a comparison label naming the toolkit's own earlier measurement (:data:`SELF_COMPARISON`)."""
+    text = str(label).lower()
+    return any(m in text for m in _SELF_MARKERS)
 
 
 #: Columns of a readings table (one row per modelling choice).

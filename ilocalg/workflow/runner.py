@@ -26,7 +26,7 @@ from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT, data_dir
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
-from ilocalg.workflow.reporting import build_readme, write_provenance, write_table
+from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
            "sweep_experiments", "KERNEL_MPLBACKEND"]
@@ -328,8 +328,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         if code:
             return code
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
+    build_index(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds, notebook_dir=notebook_dir)
     write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs],
                      n_seeds=n_seeds)
-    print(f"wrote README.md and provenance.json in {_relative(out_dir, Path.cwd())} "
+    print(f"wrote index.html, README.md and provenance.json in {_relative(out_dir, Path.cwd())} "
           f"({time.perf_counter() - t_start:.0f} s in all)", flush=True)
     return 0
