@@ -46,7 +46,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
     r.add_argument("--seeds", type=int, default=1, metavar="N",
                    help="re-run the experiments over N seeds for 95%% confidence intervals (default 1: none)")
-    r.add_argument("--workers", type=int, default=2, help="Dask worker processes for the seed sweep (default 2)")
+    r.add_argument("--jobs", type=int, default=2,
+                   help="notebooks (and seed-sweep runs) executed side by side (default 2; 1: one after another)")
+    r.add_argument("--workers", type=int, default=2,
+                   help="Dask worker processes for sweep runs left after the notebooks (default 2)")
     r.add_argument("--out", default=None, help="output folder (default: reports/ in the repository)")
     r.add_argument("--no-html", action="store_true", help="skip the HTML export")
 
@@ -114,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
 
         out = Path(args.out) if args.out else REPO_ROOT / "reports"
         return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
-                         n_seeds=args.seeds, workers=args.workers)
+                         n_seeds=args.seeds, workers=args.workers, jobs=args.jobs)
     if args.command == "evaluate":
         try:
             result = args._evaluator.run(args)
