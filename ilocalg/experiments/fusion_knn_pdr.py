@@ -48,7 +48,7 @@ import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import comparison_table, paper_ref
+from ilocalg.papers import comparison_table, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
@@ -178,7 +178,8 @@ def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per
          "the i-Loc floor's 28 route points, static scans at the grid points",
          "limitation: the radio model is evaluated on its reference grid only (no walking, off-grid scans)"),
     ]
-    return pd.DataFrame(rows, columns=["choice", "paper_line", "text_says", "code_does", "source"])
+    return readings_table([reading(c, f"Luo et al. 2017, {ln}" if ln.startswith("L") else ln, t, d, src)
+                           for c, ln, t, d, src in rows])
 
 
 def _summary_rows(tp, label_col, label):

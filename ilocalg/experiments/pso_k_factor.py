@@ -49,7 +49,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.gnss import dead_reckon_latlon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
 from ilocalg.pdr.k_factor import FITNESSES, K_BOUNDS, PSO_SETTINGS_PAPER, learn_k, step_factors
 from ilocalg.pdr.registry import detect_steps
@@ -453,15 +453,15 @@ def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_
         ("what sets the PSO's k", "L811", "stop when the fitness is below minFitness (0.1)",
          "the PSO stops anywhere in [k_stop_lo, k_stop_hi] (fitness < 0.1); k_closed is the exact minimiser",
          "a property of the 1-D problem: the PSO result is set by its stop rule"),
-        ("initial search box", "(not in the thesis)", "-", f"initial swarm uniform in k in {K_BOUNDS}",
+        ("initial search box", "", "silent", f"initial swarm uniform in k in {K_BOUNDS}",
          "toolkit's choice"),
-        ("true route length", "Table 5-2 (GPS distance only)", "the walk's length is known only from GPS",
+        ("true route length", "L927-935 (Table 5-2)", "the walk's length is known only from GPS",
          "true length = route_scale x the thesis's GPS distance, route_scale 1",
          f"assumption; route_scale {ROUTE_SCALES} are sensitivity rows"),
         ("GPS error", "L750-752 (sec. 5.1.3, Fig 5.9)", "static ~30 s, accuracy better than 1.5 m",
          "Gauss-Markov per axis, sd 0.61 m (1.5 m as the 95 % radius), tau 20 s, no white part",
          "thesis bound; tau assumed (data/pso_walks/README.md)"),
-        ("hand sway, magnetic disturbance", "(not in the thesis)", "hand-held device (L769)",
+        ("hand sway, magnetic disturbance", "L769", "the device is held in the hand; no sway or disturbance values",
          "yaw sway 4.5 deg at the stride rate; heading error along the route, sd 2 deg, 10 m correlation",
          "Crosbie et al. 1997 (trunk axial rotation ~9 deg); smartphone azimuth RMSE <= 2 deg (Lviv field study); "
          "correlation length assumed"),
@@ -469,7 +469,8 @@ def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_
          "thesis (compass calibration, Fig 5.4)"),
         ("fixed k of the comparison (TAR)", "L899", "eq. 2.5 with k = 0.5", f"k = {K_FIXED_PAPER}", "thesis"),
     ]
-    return pd.DataFrame(rows, columns=["choice", "paper_line", "text_says", "code_does", "source"])
+    return readings_table([reading(c, f"Chao 2008, {ln}" if ln.startswith("L") else ln, t, d, src)
+                           for c, ln, t, d, src in rows])
 
 
 #: Variants of :func:`sensitivity`: (name, prefilter, band, fitness, route_scale); the first is the default.
