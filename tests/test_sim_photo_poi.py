@@ -71,7 +71,7 @@ def test_every_layout_satisfies_the_text(name):
 
 
 def test_layout_satisfies_line_707_distance_ordering():
-    """i-Loc thesis L707: {1,2} and {6,7} are nearer the test positions than {3,4}, {3,5}, {4,5}, {3,4,5}."""
+    """Chiu (2013), L707: {1,2} and {6,7} are nearer the test positions than {3,4}, {3,5}, {4,5}, {3,4,5}."""
     lay = photo_poi.LAYOUTS[photo_poi.DEFAULT_LAYOUT]
     d = np.linalg.norm(lay.pois_m[None, :, :2] - lay.shots_xy_m[:, None, :], axis=2).mean(axis=0)
     near = [d[[0, 1]].mean(), d[[5, 6]].mean()]
