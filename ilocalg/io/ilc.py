@@ -84,6 +84,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import check_increasing, fail, to_float
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -183,10 +184,6 @@ class IlcTrace:
         return int(self.wifi[SCAN_ID].nunique()) if len(self.wifi) else 0
 
 
-def _fail(source, lineno, msg):
-    raise ValueError(f"{source}: line {lineno}: {msg}")
-
-
 def _parse_header(lines: list[str]) -> dict:
     header: dict = {}
     sensors = []
@@ -206,30 +203,17 @@ def _parse_header(lines: list[str]) -> dict:
 
 
 def _to_float(rows: list[list[str]], linenos: list[int], source: str, rtype: str, names) -> np.ndarray:
-    try:
-        return np.asarray(rows, dtype=np.float64)
-    except ValueError:
-        for ln, r in zip(linenos, rows, strict=True):
-            for j, v in enumerate(r):
-                try:
-                    float(v)
-                except ValueError:
-                    _fail(source, ln, f"{rtype} column {j + 3} ({names[j]}) must be numeric, got {v!r}")
-        raise  # pragma: no cover
+    return to_float(rows, linenos, source, lambda j: f"{rtype} column {j + 3} ({names[j]})", len(names))
 
 
 def _check_increasing(t_ms: np.ndarray, linenos: list[int], source: str, rtype: str, strict: bool = True):
-    d = np.diff(t_ms)
-    bad = np.flatnonzero(d <= 0) if strict else np.flatnonzero(d < 0)
-    if bad.size:
-        i = bad[0] + 1
+    def message(i, kind):
         if strict:
-            kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
-            msg = (f"{kind} {rtype} timestamp {int(t_ms[i])} after {int(t_ms[i - 1])}; "
-                   "timestamps must be strictly increasing per record type")
-        else:
-            msg = f"{rtype} timestamp {int(t_ms[i])} before {int(t_ms[i - 1])}; Wi-Fi scans must be in time order"
-        _fail(source, linenos[i], msg)
+            return (f"{kind} {rtype} timestamp {int(t_ms[i])} after {int(t_ms[i - 1])}; "
+                    "timestamps must be strictly increasing per record type")
+        return f"{rtype} timestamp {int(t_ms[i])} before {int(t_ms[i - 1])}; Wi-Fi scans must be in time order"
+
+    check_increasing(t_ms, linenos, source, message, strict=strict)
 
 
 def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = "error") -> IlcTrace:
@@ -248,12 +232,12 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
             continue
         parts = line.split("\t")
         if len(parts) < 2:
-            _fail(source, lineno, f"expected at least 2 tab-separated columns (time ms, record type), "
+            fail(source, lineno, f"expected at least 2 tab-separated columns (time ms, record type), "
                                   f"got {len(parts)}: {line[:60]!r}")
         try:
             t_ms = int(parts[0])
         except ValueError:
-            _fail(source, lineno, f"column 1 (Unix time, ms) must be an integer, got {parts[0]!r}")
+            fail(source, lineno, f"column 1 (Unix time, ms) must be an integer, got {parts[0]!r}")
         rtype = parts[1]
         counts[rtype] += 1
         nval = _N_VALUES.get(rtype)
@@ -261,7 +245,7 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
             continue
         vals = parts[2:]
         if len(vals) != nval:
-            _fail(source, lineno, f"{rtype} expects {nval} values after time and type "
+            fail(source, lineno, f"{rtype} expects {nval} values after time and type "
                                   f"({2 + nval} columns), got {len(vals)} ({len(parts)} columns)")
         lst = by_type.setdefault(rtype, ([], [], []))
         lst[0].append(lineno)
@@ -331,7 +315,7 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
     bssid = [r[1] for r in rows]
     for ln, b in zip(linenos, bssid, strict=True):
         if not b:
-            _fail(source, ln, "TYPE_WIFI column 4 (bssid) is empty")
+            fail(source, ln, "TYPE_WIFI column 4 (bssid) is empty")
     scan_id = np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64) if t.size else t
     wifi = pd.DataFrame({
         T_S: t * 1e-3,
@@ -348,7 +332,7 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
         if dup.any():
             if duplicate_bssid == "error":
                 i = int(np.flatnonzero(wifi.duplicated(subset=[SCAN_ID, BSSID]).to_numpy())[0])
-                _fail(source, linenos[i], f"TYPE_WIFI bssid {bssid[i]!r} appears twice in the scan at "
+                fail(source, linenos[i], f"TYPE_WIFI bssid {bssid[i]!r} appears twice in the scan at "
                                           f"{int(t[i])} ms; pass duplicate_bssid='keep_latest' to keep the "
                                           "record with the most recent last-seen time (counted)")
             # keep_latest: stable sort by last_seen descending within each (scan, bssid) group

@@ -47,6 +47,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import check_increasing, fail, to_float
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -107,39 +108,18 @@ class IpinLog:
     source: str | None = None
 
 
-def _fail(source, lineno, msg):
-    raise ValueError(f"{source}: line {lineno}: {msg}")
-
-
 def _floats(rows, linenos, cols, names, source, rtype) -> np.ndarray:
     """Columns ``cols`` of ``rows`` as float64, naming line and column of the first bad value."""
     sub = [[r[c] for c in cols] for r in rows]
-    try:
-        out = np.asarray(sub, dtype=np.float64).reshape(len(rows), len(cols))
-    except ValueError:
-        out = None
-    if out is not None and np.isfinite(out).all():
-        return out
-    for ln, r in zip(linenos, sub, strict=True):
-        for j, v in enumerate(r):
-            try:
-                ok = np.isfinite(float(v))
-            except ValueError:
-                ok = False
-            if not ok:
-                _fail(source, ln, f"{rtype} field {cols[j] + 2} ({names[cols[j]]}) must be a finite number, got {v!r}")
-    raise AssertionError("unreachable")  # pragma: no cover
+    return to_float(sub, linenos, source, lambda j: f"{rtype} field {cols[j] + 2} ({names[cols[j]]})", len(cols),
+                    finite=True)
 
 
 def _increasing(t, linenos, source, rtype, strict=True, hint=""):
-    d = np.diff(t)
-    bad = np.flatnonzero(d <= 0 if strict else d < 0)
-    if bad.size:
-        i = bad[0] + 1
-        kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
-        need = "strictly increasing" if strict else "non-decreasing"
-        _fail(source, linenos[i], f"{kind} {rtype} timestamp {float(t[i])!r} after {float(t[i - 1])!r}; "
-                                  f"timestamps must be {need}{hint}")
+    need = "strictly increasing" if strict else "non-decreasing"
+    check_increasing(t, linenos, source, lambda i, kind: f"{kind} {rtype} timestamp {float(t[i])!r} after "
+                                                         f"{float(t[i - 1])!r}; timestamps must be {need}{hint}",
+                     strict=strict)
 
 
 def _empty_imu(cols):
@@ -165,7 +145,7 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
             continue
         vals = [p.strip() for p in parts[1:]]
         if len(vals) != n:
-            _fail(source, lineno, f"{rtype} expects {n} fields after the type, got {len(vals)} "
+            fail(source, lineno, f"{rtype} expects {n} fields after the type, got {len(vals)} "
                                   f"(truncated or malformed line: {line[:60]!r})")
         lst = recs.setdefault(rtype, ([], []))
         lst[0].append(lineno)
@@ -198,7 +178,7 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
         _increasing(t, linenos, source, "WIFI", strict=False)
         for ln, r in zip(linenos, rows, strict=True):
             if not r[3]:
-                _fail(source, ln, "WIFI field 5 (MAC_BSSID) is empty")
+                fail(source, ln, "WIFI field 5 (MAC_BSSID) is empty")
         wifi = pd.DataFrame({
             T_S: t,
             SCAN_ID: np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64),
@@ -211,7 +191,7 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
         dup = wifi.duplicated(subset=[SCAN_ID, BSSID]).to_numpy()
         if dup.any():
             i = int(np.flatnonzero(dup)[0])
-            _fail(source, linenos[i], f"WIFI bssid {wifi[BSSID].iloc[i]!r} appears twice in the scan at "
+            fail(source, linenos[i], f"WIFI bssid {wifi[BSSID].iloc[i]!r} appears twice in the scan at "
                                       f"AppTimestamp {float(t[i])!r}")
         check_wifi_scans(wifi, source)
     else:
@@ -226,11 +206,11 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
     for j, name in ((4, "floor_ID"), (5, "Building_ID")):
         nonint = np.flatnonzero(v[:, j] != np.round(v[:, j]))
         if nonint.size:
-            _fail(source, linenos[nonint[0]], f"POSI field {j + 2} ({name}) must be an integer, got {v[nonint[0], j]}")
+            fail(source, linenos[nonint[0]], f"POSI field {j + 2} ({name}) must be an integer, got {v[nonint[0], j]}")
     lat, lon = v[:, 2], v[:, 3]
     bad = np.flatnonzero((np.abs(lat) > 90) | (np.abs(lon) > 180))
     if bad.size:
-        _fail(source, linenos[bad[0]], f"POSI latitude/longitude out of range: {lat[bad[0]]}, {lon[bad[0]]}")
+        fail(source, linenos[bad[0]], f"POSI latitude/longitude out of range: {lat[bad[0]]}, {lon[bad[0]]}")
     if lat.size:
         lat0, lon0 = np.deg2rad(lat[0]), np.deg2rad(lon[0])
         x = EARTH_RADIUS_M * (np.deg2rad(lon) - lon0) * np.cos(lat0)

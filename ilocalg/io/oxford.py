@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import check_increasing
 from ilocalg.io.schema import ACC_COLS, T_S
 
 __all__ = [
@@ -114,13 +115,10 @@ def _read_numeric_csv(data: bytes, source: str, ncols: int, names) -> np.ndarray
 
 
 def _check_increasing(t_ns: np.ndarray, source: str) -> None:
-    d = np.diff(t_ns)
-    bad = np.flatnonzero(d <= 0)
-    if bad.size:
-        k = int(bad[0]) + 2
-        kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
-        raise ValueError(f"{source}: line {k}, column 1 (timestamp_ns): {kind} timestamp "
-                         f"({int(t_ns[k - 1])} after {int(t_ns[k - 2])}); timestamps must increase")
+    # no header: record i is on line i + 1
+    check_increasing(t_ns, range(1, len(t_ns) + 1), source,
+                     lambda i, kind: f"{kind} timestamp ({int(t_ns[i])} after {int(t_ns[i - 1])}); "
+                                     "timestamps must increase", column="1 (timestamp_ns)")
 
 
 def _imu_frame(t_ns: np.ndarray, acc: np.ndarray) -> pd.DataFrame:
