@@ -47,7 +47,16 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io._text import check_increasing, fail, to_float
+from ilocalg.io._text import (
+    check_increasing,
+    check_record_types,
+    check_truncated_policy,
+    cut_last_line,
+    decode_text,
+    fail,
+    read_bytes,
+    to_float,
+)
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -62,16 +71,20 @@ from ilocalg.io.schema import (
     X_M,
     Y_M,
     check_imu,
+    check_range,
     check_wifi_scans,
 )
 
-__all__ = ["IpinLog", "load_ipin_logfile", "parse_ipin_logfile", "EARTH_RADIUS_M"]
+__all__ = ["IpinLog", "load_ipin_logfile", "parse_ipin_logfile", "EARTH_RADIUS_M", "TRUNCATED_KEY"]
 
 #: Mean Earth radius (WGS-84 / IUGG), metres, for the local tangent-plane positions.
 EARTH_RADIUS_M = 6371008.8
 
 _IMU = {"ACCE": ("acc", ACC_COLS), "GYRO": ("gyr", GYR_COLS), "MAGN": ("mag", MAG_COLS)}
 _N_FIELDS = {"ACCE": 6, "GYRO": 6, "MAGN": 6, "WIFI": 6, "POSI": 6}
+_RANGE = {"ACCE": "acc_mps2", "GYRO": "gyr_radps", "MAGN": "mag_ut"}
+#: Key of :attr:`IpinLog.skipped` that counts a last line dropped by ``truncated_last_line="drop"``.
+TRUNCATED_KEY = "truncated last line"
 _IMU_FIELDS = ("AppTimestamp", "SensorTimestamp", "X", "Y", "Z", "Accuracy")
 _WIFI_FIELDS = ("AppTimestamp", "SensorTimeStamp", "Name_SSID", "MAC_BSSID", "Frequency", "RSS")
 _POSI_FIELDS = ("Timestamp", "Counter", "Latitude", "Longitude", "floor_ID", "Building_ID")
@@ -127,18 +140,39 @@ def _empty_imu(cols):
                         index=pd.Index([], dtype=np.float64, name=T_S))
 
 
-def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -> IpinLog:
+def _is_cut(line: str) -> str | None:
+    """What a last line without a line end lacks, or None if it is a whole record."""
+    parts = line.split(";")
+    rtype = parts[0].strip()
+    n = _N_FIELDS.get(rtype)
+    if n is None:
+        if len(parts) == 1 and any(k.startswith(rtype) for k in _N_FIELDS):
+            return f"record type {rtype!r} is incomplete"
+        return None
+    if len(parts) - 1 != n:
+        return f"{len(parts) - 1} of the {n} fields of {rtype}"
+    return None
+
+
+def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = "app",
+                       truncated_last_line: str = "error") -> IpinLog:
     """Parse the text of an IPIN logfile (see :func:`load_ipin_logfile`)."""
     if time not in ("app", "sensor"):
         raise ValueError(f"time must be 'app' or 'sensor', got {time!r}")
+    check_truncated_policy(truncated_last_line)
+    text = decode_text(text, source)
+    lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
     recs: dict[str, tuple[list[int], list[list[str]]]] = {}
     counts: Counter = Counter()
-    for lineno, raw in enumerate(text.splitlines(), start=1):
+    first_line: dict[str, int] = {}
+    for lineno, raw in enumerate(lines, start=1):
         line = raw.strip()
         if not line or line.startswith("%"):
             continue
         parts = line.split(";")
         rtype = parts[0].strip()
+        if rtype not in counts:
+            first_line[rtype] = lineno
         counts[rtype] += 1
         n = _N_FIELDS.get(rtype)
         if n is None:
@@ -146,12 +180,13 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
         vals = [p.strip() for p in parts[1:]]
         if len(vals) != n:
             fail(source, lineno, f"{rtype} expects {n} fields after the type, got {len(vals)} "
-                                  f"(truncated or malformed line: {line[:60]!r})")
+                                 f"(truncated or malformed line: {line[:60]!r})")
         lst = recs.setdefault(rtype, ([], []))
         lst[0].append(lineno)
         lst[1].append(vals)
     if not counts:
         raise ValueError(f"{source}: no records (empty file or comments only)")
+    check_record_types(counts, first_line, _N_FIELDS, source, ";", "IPIN logfile")
 
     imu = {}
     sensor_t = {}
@@ -163,6 +198,9 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
             continue
         v = _floats(rows, linenos, (0, 1, 2, 3, 4), _IMU_FIELDS, source, rtype)
         t_app, t_sen = v[:, 0], v[:, 1]
+        check_range(t_app, "elapsed_s", source, linenos, "2 (AppTimestamp)")
+        check_range(t_sen - t_sen[0], "elapsed_s", source, linenos, "3 (SensorTimestamp, since the first record)")
+        check_range(v[:, 2:5], _RANGE[rtype], source, linenos, ("4 (X)", "5 (Y)", "6 (Z)"))
         t_idx = t_app if time == "app" else t_sen
         other = "sensor" if time == "app" else "app"
         _increasing(t_idx, linenos, source, rtype,
@@ -175,6 +213,9 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
     if rows:
         v = _floats(rows, linenos, (0, 1, 4, 5), _WIFI_FIELDS, source, "WIFI")
         t = v[:, 0]
+        check_range(t, "elapsed_s", source, linenos, "2 (AppTimestamp)")
+        check_range(v[:, 2], FREQ_MHZ, source, linenos, "6 (Frequency)")
+        check_range(v[:, 3], RSSI_DBM, source, linenos, "7 (RSS)")
         _increasing(t, linenos, source, "WIFI", strict=False)
         for ln, r in zip(linenos, rows, strict=True):
             if not r[3]:
@@ -203,14 +244,13 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
     linenos, rows = recs.get("POSI", ([], []))
     v = _floats(rows, linenos, (0, 1, 2, 3, 4, 5), _POSI_FIELDS, source, "POSI") if rows else np.zeros((0, 6))
     _increasing(v[:, 0], linenos, source, "POSI")
-    for j, name in ((4, "floor_ID"), (5, "Building_ID")):
-        nonint = np.flatnonzero(v[:, j] != np.round(v[:, j]))
-        if nonint.size:
-            fail(source, linenos[nonint[0]], f"POSI field {j + 2} ({name}) must be an integer, got {v[nonint[0], j]}")
+    check_range(v[:, 0], "elapsed_s", source, linenos, "2 (Timestamp)")
+    check_range(v[:, 1], "count", source, linenos, "3 (Counter)")
+    check_range(v[:, 2], "lat_deg", source, linenos, "4 (Latitude)")
+    check_range(v[:, 3], "lon_deg", source, linenos, "5 (Longitude)")
+    check_range(v[:, 4], FLOOR, source, linenos, "6 (floor_ID)")
+    check_range(v[:, 5], BUILDING, source, linenos, "7 (Building_ID)")
     lat, lon = v[:, 2], v[:, 3]
-    bad = np.flatnonzero((np.abs(lat) > 90) | (np.abs(lon) > 180))
-    if bad.size:
-        fail(source, linenos[bad[0]], f"POSI latitude/longitude out of range: {lat[bad[0]]}, {lon[bad[0]]}")
     if lat.size:
         lat0, lon0 = np.deg2rad(lat[0]), np.deg2rad(lon[0])
         x = EARTH_RADIUS_M * (np.deg2rad(lon) - lon0) * np.cos(lat0)
@@ -222,18 +262,25 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
 
     kept = {k: n for k, n in counts.items() if k in _N_FIELDS}
     skipped = {k: n for k, n in counts.items() if k not in _N_FIELDS}
+    if n_cut:
+        skipped[TRUNCATED_KEY] = n_cut
     return IpinLog(acc=imu["acc"], gyr=imu["gyr"], mag=imu["mag"], sensor_t_s=sensor_t, wifi=wifi,
                    positions=positions, kept=kept, skipped=skipped, source=source)
 
 
-def load_ipin_logfile(path, time: str = "app") -> IpinLog:
-    """Load an IPIN competition smartphone logfile.
+def load_ipin_logfile(path, time: str = "app", truncated_last_line: str = "error") -> IpinLog:
+    """Load an IPIN competition smartphone logfile (plain, ``.gz`` or ``.xz``).
 
     Parameters
     ----------
     path : str or Path
+        UTF-8 text (a byte-order mark is stripped, CRLF line ends and trailing blank lines are
+        accepted); gzip or xz compressed files are read transparently.
     time : {"app", "sensor"}
         Which timestamp indexes the IMU logs (AppTimestamp by default, see module docstring).
+    truncated_last_line : {"error", "drop"}
+        A file cut while being written ends without a line end inside its last record: raise
+        naming that line, or drop the line and count it in ``skipped["truncated last line"]``.
 
     Returns
     -------
@@ -241,18 +288,18 @@ def load_ipin_logfile(path, time: str = "app") -> IpinLog:
 
     Raises
     ------
+    FileNotFoundError
+        The file does not exist.
     ValueError
-        Naming the file and 1-based line: wrong field count (truncated line), non-numeric or
-        non-finite value (with its field number and name), unsorted or duplicate timestamps,
-        duplicate BSSID in a scan, non-integer floor/building, or a file without records.
+        Naming the file and 1-based line (and column, for values): wrong field count (truncated
+        line), non-numeric or non-finite value, a value outside its valid range
+        (:data:`ilocalg.io.schema.FIELD_RANGES`), unsorted or duplicate timestamps, duplicate
+        BSSID in a scan, lower-case or ``,``/tab-separated record types, a file in which no
+        known record type occurs, a non-UTF-8 byte, or corrupt compressed data.
 
     References
     ----------
     IPIN competition Track 3 logfile format (see module docstring).
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8", errors="strict")
-    except UnicodeDecodeError:
-        text = path.read_text(encoding="latin-1")
-    return parse_ipin_logfile(text, str(path), time=time)
+    return parse_ipin_logfile(read_bytes(path), str(path), time=time, truncated_last_line=truncated_last_line)
