@@ -20,15 +20,14 @@ fingerprint-based indoor localization problems", IPIN 2014, doi:10.1109/IPIN.201
 
 from __future__ import annotations
 
-import gzip
 import io
-import zlib
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.schema import FingerprintSet
+from ilocalg.io._text import read_text, strip_trailing_blank_lines
+from ilocalg.io.schema import BUILDING, FLOOR, RSSI_DBM, FingerprintSet, check_range
 
 __all__ = [
     "N_WAPS",
@@ -59,21 +58,6 @@ def ground_scale(y_m) -> np.ndarray:
     return np.cos(lat)
 
 
-def _read_text(path: Path) -> str:
-    try:
-        if path.suffix == ".gz":
-            with gzip.open(path, "rb") as fh:
-                raw = fh.read()
-        else:
-            raw = path.read_bytes()
-    except (OSError, EOFError, zlib.error) as exc:
-        raise ValueError(f"{path}: cannot read ({exc})") from None
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not UTF-8 text at byte {exc.start}") from None
-
-
 def load_ujiindoorloc(path) -> FingerprintSet:
     """Load a UJIIndoorLoc CSV (``trainingData.csv`` or ``validationData.csv``, optionally ``.gz``).
 
@@ -95,13 +79,16 @@ def load_ujiindoorloc(path) -> FingerprintSet:
         The file does not exist.
     ValueError
         Empty file, missing or unknown columns, a line with too few or too many fields, a
-        non-numeric value, or an RSSI outside -104..0 other than 100; the message names the file,
-        the line (1 = header) and the column.
+        non-numeric value, a value outside its valid range (:data:`ilocalg.io.schema.FIELD_RANGES`;
+        RSSI other than 100 outside [-110, 0] dBm, an integer column that would overflow), a
+        non-UTF-8 byte or a corrupt ``.gz``/``.xz`` file; the message names the file, the line
+        (1 = header) and the column. Under the common text policy a byte-order mark is stripped,
+        CRLF line ends and trailing blank lines are accepted.
     """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
-    text = _read_text(path)
+    text = strip_trailing_blank_lines(read_text(path))
     if not text.strip():
         raise ValueError(f"{path}: empty file (expected a header and data rows)")
     lines = text.splitlines()
@@ -135,23 +122,25 @@ def load_ujiindoorloc(path) -> FingerprintSet:
         bad = np.flatnonzero(~np.isfinite(v))
         if bad.size:
             r = int(bad[0])
-            raise ValueError(f"{path}: line {r + 2}, column {col!r}: expected a number, got {s.iloc[r]!r}")
+            raise ValueError(f"{path}: line {r + 2}, column {col}: expected a number, got {s.iloc[r]!r}")
         arr[:, j] = v
     pos = {c: j for j, c in enumerate(header)}
+    lines_no = np.arange(2, arr.shape[0] + 2)
     rssi = arr[:, [pos[c] for c in WAP_COLUMNS]]
-    valid = (rssi == NOT_DETECTED) | ((rssi >= WEAKEST_DBM) & (rssi <= 0))
-    if not valid.all():
-        r, c = np.argwhere(~valid)[0]
-        raise ValueError(f"{path}: line {r + 2}, column {WAP_COLUMNS[c]!r}: RSSI {rssi[r, c]:g} is neither "
-                         f"{NOT_DETECTED} (not detected) nor in [{WEAKEST_DBM:g}, 0] dBm")
+    # 100 = not detected; every other reading must be a received power
+    check_range(np.where(rssi == NOT_DETECTED, 0.0, rssi), RSSI_DBM, path, lines_no, WAP_COLUMNS)
     rssi = np.where(rssi == NOT_DETECTED, np.nan, rssi)
+    for c in ("LONGITUDE", "LATITUDE"):
+        check_range(arr[:, pos[c]], "xy_m", path, lines_no, c)
+    kinds = {"FLOOR": FLOOR, "BUILDINGID": BUILDING, "SPACEID": "id", "RELATIVEPOSITION": "id", "USERID": "id",
+             "PHONEID": "id", "TIMESTAMP": "unix_time_s"}
     ints = {}
     for c in ("FLOOR", "BUILDINGID") + META_COLUMNS:
-        v = arr[:, pos[c]]
+        v = check_range(arr[:, pos[c]], kinds[c], path, lines_no, c)  # before the cast: no int64 overflow
         nonint = np.flatnonzero(v != np.round(v))
         if nonint.size:
             r = int(nonint[0])
-            raise ValueError(f"{path}: line {r + 2}, column {c!r}: expected an integer, got {v[r]:g}")
+            raise ValueError(f"{path}: line {r + 2}, column {c}: expected an integer, got {v[r]:g}")
         ints[c] = v.astype(np.int64)
     meta = pd.DataFrame({c: ints[c] for c in META_COLUMNS})
     return FingerprintSet(
