@@ -82,7 +82,7 @@ def _replace(old, new):
     (_replace("POSI;2.100;2;39.000100;-3.000000;1;0", "POSI;2.100;2;39.000100;-3.000000;1.5;0"),
      r"line 16, column 6 \(floor_ID\): value 1.5 is not a whole number"),
     (_replace("POSI;2.100;2;39.000100", "POSI;0.100;2;39.000100"), r"line 16: duplicate POSI timestamp"),
-    (_replace("POSI;2.100;2;39.000100", "POSI;2.100;2;99.000100"), 
+    (_replace("POSI;2.100;2;39.000100", "POSI;2.100;2;99.000100"),
      r"line 16, column 4 \(Latitude\): value 99.0001 is outside \[-90, 90\] deg"),
 ])
 def test_bad_input_names_file_line_and_field(tmp_path, text, match):

@@ -126,6 +126,7 @@ __all__ = [
     "IlcFingerprints",
     "ilc_fingerprints",
     "TRUNCATED_KEY",
+    "require_walk",
 ]
 
 ROTVEC_COLS = ("rv_x", "rv_y", "rv_z")
@@ -447,6 +448,32 @@ def load_ilc_trace(path, duplicate_bssid: str = "error", truncated_last_line: st
     path = Path(path)
     return parse_ilc_trace(read_bytes(path), str(path), duplicate_bssid=duplicate_bssid,
                            truncated_last_line=truncated_last_line)
+
+
+def require_walk(trace: IlcTrace, min_imu: int = 50, min_waypoints: int = 2, min_scans: int = 1) -> IlcTrace:
+    """Refuse, with a sentence, a trace too small to be scored or used as a fingerprint walk.
+
+    A walk needs IMU records (steps and headings), at least two waypoints (positions between them
+    are interpolated in time) and a Wi-Fi scan. Returns ``trace`` unchanged.
+
+    Raises
+    ------
+    ValueError
+        ``FILE: the walk has 1 waypoint (TYPE_WAYPOINT records); at least 2 are needed ...``.
+    """
+    src = trace.source or "<trace>"
+    n_wp, n_imu, n_scans = len(trace.waypoints), len(trace.imu), trace.n_scans
+    if n_imu < min_imu:
+        raise ValueError(f"{src}: the walk has {n_imu} IMU samples (TYPE_ACCELEROMETER/GYROSCOPE/MAGNETIC_FIELD "
+                         f"records); at least {min_imu} (1 s at 50 Hz) are needed to detect steps and headings")
+    if n_wp < min_waypoints:
+        raise ValueError(f"{src}: the walk has {n_wp} waypoint{'s' if n_wp != 1 else ''} (TYPE_WAYPOINT records); "
+                         f"at least {min_waypoints} are needed to place it in time (positions are interpolated "
+                         "between waypoints)")
+    if n_scans < min_scans:
+        raise ValueError(f"{src}: the walk has no Wi-Fi scan (TYPE_WIFI records); fingerprints and Wi-Fi fixes "
+                         "need at least one")
+    return trace
 
 
 # ----------------------------------------------------------------------------------------------
