@@ -132,7 +132,7 @@ def test_one_corrupted_field_loads_or_names_file_and_line(tmp_path, where, value
     except ValueError as e:
         assert str(e).startswith(f"{p}: line {i + 3}"), str(e)
         return
-    assert np.isfinite(float(value))
+    assert np.isfinite(float(value)) and len(tr.imu) == 2
 
 
 # ------------------------------------------------------------------------------------ floor map
@@ -177,8 +177,10 @@ def test_bad_floor_info_names_the_file_and_place(tmp_path, info, match):
      r"features\[0\]\.geometry\.coordinates\[0\]\[1\], column 0 \(longitude\): value nan is outside \[-180, 180\]"),
     (_geo(obstacles=[[[0.0, 0.0], [0.0, 95.0], [0.001, 0.0]]]),
      r"features\[1\]\.geometry\.coordinates\[0\]\[1\], column 1 \(latitude\): value 95 is outside \[-90, 90\] deg"),
-    (_geo(outline=[[0.0, 0.0], [1.0, 1.0]]), r"features\[0\]\.geometry\.coordinates\[0\]: a ring needs at least 3 \[lon, lat\] points"),
-    ({"features": [{"geometry": {"type": "Point", "coordinates": [0, 0]}}]}, r"features\[0\]\.geometry: unsupported geometry type 'Point'"),
+    (_geo(outline=[[0.0, 0.0], [1.0, 1.0]]),
+     r"features\[0\]\.geometry\.coordinates\[0\]: a ring needs at least 3 \[lon, lat\] points"),
+    ({"features": [{"geometry": {"type": "Point", "coordinates": [0, 0]}}]},
+     r"features\[0\]\.geometry: unsupported geometry type 'Point'"),
 ])
 def test_bad_geojson_names_the_file_and_place(tmp_path, geo, match):
     with pytest.raises(ValueError, match=r"geojson_map\.json: " + match):
