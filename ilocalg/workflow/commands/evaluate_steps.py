@@ -72,12 +72,16 @@ def run(args) -> dict:
     dup = getattr(args, "duplicate_timestamps", "error")
     for path in args.paths:
         p = Path(path)
-        if _is_archive(p):
-            recs = load_oxford_archive(p, args.member, duplicate_timestamps=dup)
-            where = [f"{p}:{r.name}" for r in recs]
-        else:
-            recs = [load_oxford_step_counter(p, duplicate_timestamps=dup)]
-            where = [str(p)]
+        try:
+            if _is_archive(p):
+                recs = load_oxford_archive(p, args.member, duplicate_timestamps=dup)
+                where = [f"{p}:{r.name}" for r in recs]
+            else:
+                recs = [load_oxford_step_counter(p, duplicate_timestamps=dup)]
+                where = [str(p)]
+        except ValueError as exc:  # name the command-line option, not the loader's argument
+            raise ValueError(str(exc).replace("pass duplicate_timestamps='drop'",
+                                              "pass --duplicate-timestamps drop")) from None
         for w, rec in zip(where, recs, strict=True):
             t = rec.imu.index.to_numpy()
             if t[-1] - t[0] < MIN_DURATION_S:
