@@ -166,3 +166,46 @@ def test_one_corrupted_field_loads_or_names_file_and_line(tmp_path, where, value
         assert log.wifi.iloc[0][{5: "freq_mhz", 6: "rssi_dbm"}[j]] == float(value)
     else:
         assert log.positions.iloc[1][{3: "lat_deg", 4: "lon_deg", 5: "floor", 6: "building"}[j]] == float(value)
+
+
+# ------------------------------------------------------------------ fast path == line by line
+
+def _big(n_epochs: int) -> str:
+    out = ["% generated"]
+    for i in range(n_epochs):
+        t = 0.01 * i
+        out.append(f"ACCE;{t:.3f};{t + 5:.3f};{np.sin(i):.5f};0.{i % 97};9.8;3")
+        out.append(f"AHRS;{t:.3f};{t + 5:.3f};1;2;3;0.1;0.2;0.3")
+        if i % 7 == 0:
+            out.append(f"PRES;{t:.3f};{t + 5:.3f};1013.{i % 10};3")
+        if i % 500 == 3:
+            out.append(f"WIFI;{t:.3f};{t + 5:.3f};my net {i};00:0b:86:27:36:{i % 256:02x};2412;-{40 + i % 50}")
+        if i % 1000 == 0:
+            out.append(f"POSI;{t + 0.001:.3f};{i};39.{i:06d};-3.0;{i % 3};0")
+    return "\n".join(out) + "\n"
+
+
+@pytest.mark.parametrize("text", [GOOD, GOOD.replace("\n", "\r\n"), _big(30000)], ids=["small", "crlf", "big"])
+def test_fast_path_and_line_by_line_parser_agree(text):
+    data = text.encode()
+    fast = ipin._blocks_fast(data)
+    assert fast is not None  # these files take the fast path
+    slow = ipin._blocks_slow(text.splitlines(), "x")
+    assert fast[1] == slow[1] and list(fast[1]) == list(slow[1])  # counts, in order of first occurrence
+    assert set(fast[0]) == set(slow[0])
+    for k, b in slow[0].items():
+        a = fast[0][k]
+        np.testing.assert_array_equal(a.lines, b.lines)
+        np.testing.assert_array_equal(a.num, b.num)
+        assert a.ssid == b.ssid and a.bssid == b.bssid
+
+
+@pytest.mark.parametrize("old, new", [(";3\n", "; 3\n"), ("0.2;9.8;3", "0.2;TRUE;3"), ("\n", "\n\x0c"),
+                                      (";-65", ";-65;"), ("%", " %")])
+def test_odd_files_leave_the_fast_path(old, new):
+    assert ipin._blocks_fast(GOOD.replace(old, new, 1).encode()) is None
+
+
+def test_ssid_true_stays_text():
+    fast = ipin._blocks_fast(GOOD.replace("eduroam", "TRUE").encode())
+    assert fast[0]["WIFI"].ssid[0] == "TRUE"

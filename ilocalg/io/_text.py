@@ -8,13 +8,16 @@ opens in an editor, never a table row.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import NoReturn
 
 import numpy as np
+import pandas as pd
 
 __all__ = ["fail", "to_float", "first_not_increasing", "check_increasing", "decode_text", "decompress",
            "read_bytes", "read_text", "strip_trailing_blank_lines", "ArchiveReader", "TRUNCATED_POLICIES",
-           "check_truncated_policy", "cut_last_line", "check_record_types"]
+           "check_truncated_policy", "cut_last_line", "check_record_types", "TypedLines", "split_by_type",
+           "read_block"]
 
 
 def fail(source, lineno, msg: str, column: str | None = None) -> NoReturn:
@@ -298,3 +301,208 @@ def check_record_types(counts: dict, first_line: dict, known, source, sep: str, 
         raise ValueError(f"{source}: no known record type found ({', '.join(sorted(known))}); "
                          f"{sum(counts.values())} lines of other types (first on line {first_line[first]}: "
                          f"{first[:40]!r}); is this an {fmt}?")
+
+
+# ----------------------------------------------------------------------------------------------
+# fast path for record-type logs: lines grouped by type with numpy, each group parsed by pandas
+# ----------------------------------------------------------------------------------------------
+
+# Non-ASCII line ends and spaces (U+0085, U+00A0, U+2000-U+202F, U+3000), same reason.
+_NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
+
+
+@dataclass(frozen=True)
+class TypedLines:
+    """A record-type log split by type (see :func:`split_by_type`)."""
+
+    lines: dict        # known type -> int64 array, the 1-based file line of each record
+    blocks: dict       # known type -> bytes: its records without the type field, each with its line end
+    counts: dict       # every record type -> number of lines, in order of first occurrence
+    header: list       # header lines (str, without line end), in order
+
+
+def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: bytes = b"", header: bytes = b"",
+                  spaces_ok: bool = False) -> TypedLines | None:
+    """Group the lines of a record-type log by record type, vectorised (no Python loop per known line).
+
+    The fast path of the IPIN and ILC parsers. It returns ``None`` whenever the file holds
+    anything it might not handle exactly like the line-by-line parser (no final line end, a lone
+    ``\\r``, other line-end or space characters, a space next to a separator unless
+    ``spaces_ok``, a line starting with a space, a line of a known type with another number of
+    fields, an unknown type that looks like a mis-cased or mis-delimited known type, no known
+    type at all); the caller then parses line by line, which names the offending line.
+
+    Parameters
+    ----------
+    data : bytes
+        UTF-8 text without byte-order mark.
+    sep : bytes
+        One-byte field separator.
+    type_col : {0, 1}
+        Column of the record type (1: after a first column of equal width on every line, such as
+        a 13-digit time in milliseconds).
+    known : dict
+        Record type -> number of separators on its lines; these types are returned as blocks,
+        the others are only counted.
+    comment, header : bytes
+        First byte of lines that are skipped (not counted) / returned as header lines.
+    spaces_ok : bool
+        Whether a space next to a separator is kept verbatim by the line-by-line parser.
+    """
+    if not data.endswith(b"\n"):
+        return None
+    arr = np.frombuffer(data, dtype=np.uint8)
+    sep_b = sep[0]
+    n_cr, n_tab = np.count_nonzero(arr == 13), np.count_nonzero(arr == 9)
+    if np.count_nonzero(arr < 32) != np.count_nonzero(arr == 10) + n_cr + n_tab:
+        return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
+    if (sep_b != 9 and n_tab) or (n_cr and n_cr != np.count_nonzero((arr[:-1] == 13) & (arr[1:] == 10))):
+        return None
+    if not data.isascii() and any(b in data for b in _NON_ASCII_SPECIAL):
+        return None
+    sp = np.flatnonzero(arr == 32)
+    if sp.size:
+        nxt, prv = arr[np.minimum(sp + 1, len(arr) - 1)], arr[np.maximum(sp - 1, 0)]
+        if np.any(sp == 0) or np.any(prv == 10) or np.any((nxt == 10) | (nxt == 13)):
+            return None
+        if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
+            return None
+    ends = np.flatnonzero(arr == 10)
+    starts = np.empty_like(ends)
+    starts[0] = 0
+    starts[1:] = ends[:-1] + 1
+    stop = ends - ((arr[np.maximum(ends - 1, 0)] == 13) & (ends > starts))  # content end (before \r\n)
+    nonblank = stop > starts
+    first = np.where(nonblank, arr[np.minimum(starts, len(arr) - 1)], 0)
+    is_head = nonblank & (first == header[0]) if header else np.zeros(len(starts), dtype=bool)
+    is_rec = nonblank & ~is_head
+    if comment:
+        is_rec &= first != comment[0]
+    rec = np.flatnonzero(is_rec)
+    if not rec.size:
+        return None
+    rs, re_ = starts[rec], stop[rec]
+    if type_col == 0:
+        t0 = rs
+    else:
+        width = data.find(sep)
+        if width <= 0 or np.any(re_ - rs <= width) or np.any(arr[rs + width] != sep_b):
+            return None
+        for j in range(width):
+            if np.any(arr[rs + j] == sep_b):
+                return None
+        t0 = rs + width + 1
+    label = np.zeros(len(rec), dtype=np.int8)
+    names = sorted(known)
+    last = len(arr) - 1
+    for code, name in enumerate(names, start=1):
+        kb = name.encode()
+        cand = np.flatnonzero(re_ - t0 > len(kb))
+        for j, ch in enumerate(kb):
+            cand = cand[arr[t0[cand] + j] == ch]
+        cand = cand[arr[np.minimum(t0[cand] + len(kb), last)] == sep_b]
+        label[cand] = code
+    unknown = np.flatnonzero(label == 0)
+    other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], re_[unknown])
+    for t in other:
+        ts = t.decode("utf-8", errors="replace")
+        if ts.upper() in known or any(d in ts for d in (",", ";", "\t", " ") if d != sep.decode()):
+            return None
+    present = [c for c in range(1, len(names) + 1) if np.any(label == c)]
+    if not present:
+        return None
+    # every line of a known type holds its number of separators
+    n_sep = np.add.reduceat(arr == sep_b, starts, dtype=np.int32)[rec]
+    for c in present:
+        if np.any(n_sep[label == c] != known[names[c - 1]]):
+            return None
+    del n_sep
+    first_of = {names[c - 1]: int(rec[np.argmax(label == c)]) for c in present}
+    first_of.update({t.decode(): i for t, i in first_other.items()})
+    n_of = {names[c - 1]: int(np.count_nonzero(label == c)) for c in present}
+    n_of.update({t.decode(): n for t, n in other.items()})
+    counts = {t: n_of[t] for t in sorted(first_of, key=first_of.get)}
+    # per-byte labels: a known line's bytes (with its line end, without its type field) carry its code
+    line_label = np.zeros(len(starts), dtype=np.int8)
+    line_label[rec] = label
+    byte_label = np.repeat(line_label, ends - starts + 1)
+    for c in present:
+        t0c = t0[label == c]
+        for j in range(len(names[c - 1]) + 1):
+            byte_label[t0c + j] = 0
+    lines, blocks = {}, {}
+    for c in present:
+        name = names[c - 1]
+        lines[name] = rec[label == c] + 1
+        if lines[name].size < 20000:  # few lines: slicing is cheaper than a pass over every byte
+            sel = label == c
+            blocks[name] = _rejoin(data, starts[rec[sel]], t0[sel], len(name) + 1, ends[rec[sel]])
+        else:
+            blocks[name] = arr[byte_label == c].tobytes()
+    head = [data[a:b].decode("utf-8") for a, b in zip(starts[is_head].tolist(), stop[is_head].tolist(),
+                                                      strict=True)]
+    return TypedLines(lines=lines, blocks=blocks, counts=counts, header=head)
+
+
+def _rejoin(data: bytes, starts, t0, cut: int, ends) -> bytes:
+    """Lines without their type field (``cut`` bytes from ``t0``), joined with their line ends."""
+    return b"".join(data[a:t] + data[t + cut:e + 1] for a, t, e in zip(starts.tolist(), t0.tolist(), ends.tolist(),
+                                                                      strict=True))
+
+
+def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tuple[dict, dict]:
+    """Record type -> count and -> first line index, for lines of unknown types."""
+    other: dict[bytes, int] = {}
+    first_other: dict[bytes, int] = {}
+    if len(rec) > 20000:  # many: the type's end via the separators' positions, one np.unique
+        seps = np.flatnonzero(arr == sep_b)
+        k = np.searchsorted(seps, t0)
+        end = np.minimum(np.append(seps, len(arr))[k], stop)
+        del seps, k
+        width = int((end - t0).max())
+        if 0 < width <= 64:
+            j = np.arange(width)
+            idx = np.minimum(t0[:, None] + j, len(arr) - 1)
+            mat = np.where(j < (end - t0)[:, None], arr[idx], 0).astype(np.uint8)
+            keys = np.ascontiguousarray(mat).view(f"S{width}").ravel()
+            uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
+            for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
+                other[u] = c
+                first_other[u] = int(rec[f])
+            return other, first_other
+    for i, a, b in zip(rec.tolist(), t0.tolist(), stop.tolist(), strict=True):
+        e = data.find(bytes([sep_b]), a, b)
+        t = data[a:b if e < 0 else e]
+        if t in other:
+            other[t] += 1
+        else:
+            other[t] = 1
+            first_other[t] = i
+    return other, first_other
+
+
+def read_block(block: bytes, sep: str, names, usecols, strings=()) -> pd.DataFrame | None:
+    """One type's records (from :func:`split_by_type`) as a DataFrame, or ``None`` if any is malformed.
+
+    ``names`` lists the fields after the type, ``usecols`` those to read (float64, except the
+    text columns ``strings``, read verbatim: no NA conversion, no quoting). An empty numeric cell
+    or a non-numeric one (pandas raises) returns ``None``: the caller then parses line by line
+    and names the line.
+    """
+    import csv
+    import io
+
+    num = [c for c in usecols if c not in strings]
+    dtype = {c: (str if c in strings else np.float64) for c in usecols}
+    try:
+        df = pd.read_csv(io.BytesIO(block), sep=sep, header=None, names=list(names), usecols=list(usecols),
+                         dtype=dtype, quoting=csv.QUOTE_NONE, keep_default_na=False,
+                         na_values={c: [""] for c in num}, engine="c", skip_blank_lines=False)
+    except (ValueError, TypeError, pd.errors.ParserError):
+        return None
+    v = df[num].to_numpy(dtype=np.float64)
+    if not np.isfinite(v).all():
+        return None
+    if np.any((v == 0.0) | (v == 1.0)) and any(b in block for b in (b"r", b"R", b"l", b"L")):
+        return None  # pandas reads True/False as 1.0/0.0 in a float column; float() refuses them
+    return df

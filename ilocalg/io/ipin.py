@@ -54,7 +54,9 @@ from ilocalg.io._text import (
     cut_last_line,
     decode_text,
     fail,
+    read_block,
     read_bytes,
+    split_by_type,
     to_float,
 )
 from ilocalg.io.schema import (
@@ -154,14 +156,43 @@ def _is_cut(line: str) -> str | None:
     return None
 
 
-def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = "app",
-                       truncated_last_line: str = "error") -> IpinLog:
-    """Parse the text of an IPIN logfile (see :func:`load_ipin_logfile`)."""
-    if time not in ("app", "sensor"):
-        raise ValueError(f"time must be 'app' or 'sensor', got {time!r}")
-    check_truncated_policy(truncated_last_line)
-    text = decode_text(text, source)
-    lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
+@dataclass(frozen=True)
+class _Block:
+    """One record type's records: file lines, numeric fields (float64) and text fields."""
+
+    lines: np.ndarray
+    num: np.ndarray
+    ssid: list | None = None
+    bssid: list | None = None
+
+
+#: Numeric fields (0-based, after the type) converted per record type.
+_NUMERIC = {"ACCE": (0, 1, 2, 3, 4), "GYRO": (0, 1, 2, 3, 4), "MAGN": (0, 1, 2, 3, 4), "WIFI": (0, 1, 4, 5),
+            "POSI": (0, 1, 2, 3, 4, 5)}
+_FIELDS = {"ACCE": _IMU_FIELDS, "GYRO": _IMU_FIELDS, "MAGN": _IMU_FIELDS, "WIFI": _WIFI_FIELDS, "POSI": _POSI_FIELDS}
+def _blocks_fast(data: bytes) -> tuple[dict, dict] | None:
+    """Records grouped by type without a Python loop per line, or None (then :func:`_blocks_slow`)."""
+    tl = split_by_type(data, b";", 0, _N_FIELDS, comment=b"%")  # n fields after the type = n separators
+    if tl is None:
+        return None
+    out = {}
+    for rtype, block in tl.blocks.items():
+        names = [f"f{j}" for j in range(_N_FIELDS[rtype])]
+        num = [f"f{j}" for j in _NUMERIC[rtype]]
+        text = ["f2", "f3"] if rtype == "WIFI" else []  # ssid, bssid (IMU Accuracy is not read)
+        df = read_block(block, ";", names, sorted(num + text), strings=text)
+        if df is None:
+            return None
+        v = df[num].to_numpy(dtype=np.float64)
+        if rtype == "WIFI":
+            out[rtype] = _Block(tl.lines[rtype], v, df["f2"].tolist(), df["f3"].tolist())
+        else:
+            out[rtype] = _Block(tl.lines[rtype], v)
+    return out, tl.counts
+
+
+def _blocks_slow(lines: list[str], source) -> tuple[dict, dict]:
+    """Records grouped by type, line by line; names the first malformed line."""
     recs: dict[str, tuple[list[int], list[list[str]]]] = {}
     counts: Counter = Counter()
     first_line: dict[str, int] = {}
@@ -187,16 +218,43 @@ def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = 
     if not counts:
         raise ValueError(f"{source}: no records (empty file or comments only)")
     check_record_types(counts, first_line, _N_FIELDS, source, ";", "IPIN logfile")
+    out = {}
+    for rtype, (linenos, rows) in recs.items():
+        v = _floats(rows, linenos, _NUMERIC[rtype], _FIELDS[rtype], source, rtype)
+        if rtype == "WIFI":
+            out[rtype] = _Block(np.asarray(linenos), v, [r[2] for r in rows], [r[3] for r in rows])
+        else:
+            out[rtype] = _Block(np.asarray(linenos), v)
+    return out, dict(counts)
+
+
+def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = "app",
+                       truncated_last_line: str = "error") -> IpinLog:
+    """Parse the text of an IPIN logfile (see :func:`load_ipin_logfile`)."""
+    if time not in ("app", "sensor"):
+        raise ValueError(f"time must be 'app' or 'sensor', got {time!r}")
+    check_truncated_policy(truncated_last_line)
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    fast = _blocks_fast(data)
+    n_cut = 0
+    if fast is None:
+        text = decode_text(data, source)
+        lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
+        fast = _blocks_slow(lines, source)
+    recs, counts = fast
 
     imu = {}
     sensor_t = {}
     for rtype, (name, cols) in _IMU.items():
-        linenos, rows = recs.get(rtype, ([], []))
-        if not rows:
+        if rtype not in recs:
             imu[name] = _empty_imu(cols)
             sensor_t[name] = np.array([], dtype=np.float64)
             continue
-        v = _floats(rows, linenos, (0, 1, 2, 3, 4), _IMU_FIELDS, source, rtype)
+        linenos, v = recs[rtype].lines, recs[rtype].num
         t_app, t_sen = v[:, 0], v[:, 1]
         check_range(t_app, "elapsed_s", source, linenos, "2 (AppTimestamp)")
         check_range(t_sen - t_sen[0], "elapsed_s", source, linenos, "3 (SensorTimestamp, since the first record)")
@@ -209,24 +267,23 @@ def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = 
         imu[name] = check_imu(df, source)
         sensor_t[name] = t_sen
 
-    linenos, rows = recs.get("WIFI", ([], []))
-    if rows:
-        v = _floats(rows, linenos, (0, 1, 4, 5), _WIFI_FIELDS, source, "WIFI")
+    if "WIFI" in recs:
+        linenos, v, ssid, bssid = recs["WIFI"].lines, recs["WIFI"].num, recs["WIFI"].ssid, recs["WIFI"].bssid
         t = v[:, 0]
         check_range(t, "elapsed_s", source, linenos, "2 (AppTimestamp)")
         check_range(v[:, 2], FREQ_MHZ, source, linenos, "6 (Frequency)")
         check_range(v[:, 3], RSSI_DBM, source, linenos, "7 (RSS)")
         _increasing(t, linenos, source, "WIFI", strict=False)
-        for ln, r in zip(linenos, rows, strict=True):
-            if not r[3]:
-                fail(source, ln, "WIFI field 5 (MAC_BSSID) is empty")
+        empty = [i for i, b in enumerate(bssid) if not b]
+        if empty:
+            fail(source, linenos[empty[0]], "WIFI field 5 (MAC_BSSID) is empty")
         wifi = pd.DataFrame({
             T_S: t,
             SCAN_ID: np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64),
-            BSSID: pd.array([r[3].lower() for r in rows], dtype="string"),
+            BSSID: pd.array([b.lower() for b in bssid], dtype="string"),
             RSSI_DBM: v[:, 3],
             FREQ_MHZ: v[:, 2],
-            "ssid": pd.array([r[2] for r in rows], dtype="string"),
+            "ssid": pd.array(ssid, dtype="string"),
             "sensor_t_s": v[:, 1],
         })
         dup = wifi.duplicated(subset=[SCAN_ID, BSSID]).to_numpy()
@@ -241,8 +298,8 @@ def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = 
                              FREQ_MHZ: np.array([], dtype=np.float64), "ssid": pd.array([], dtype="string"),
                              "sensor_t_s": np.array([], dtype=np.float64)})
 
-    linenos, rows = recs.get("POSI", ([], []))
-    v = _floats(rows, linenos, (0, 1, 2, 3, 4, 5), _POSI_FIELDS, source, "POSI") if rows else np.zeros((0, 6))
+    linenos, v = (recs["POSI"].lines, recs["POSI"].num) if "POSI" in recs else (np.zeros(0, np.int64),
+                                                                               np.zeros((0, 6)))
     _increasing(v[:, 0], linenos, source, "POSI")
     check_range(v[:, 0], "elapsed_s", source, linenos, "2 (Timestamp)")
     check_range(v[:, 1], "count", source, linenos, "3 (Counter)")
