@@ -234,3 +234,49 @@ def test_require_walk_gives_a_sentence(tmp_path, drop, match):
         ilc.require_walk(tr, min_imu=2)
     with pytest.raises(ValueError, match=r"the walk has 2 IMU samples .* at least 50"):
         ilc.require_walk(ilc.load_ilc_trace(_write(tmp_path, GOOD, "g.txt")))
+
+
+# ------------------------------------------------------------------ fast path == line by line
+
+def _agree(data: bytes):
+    fast = ilc._blocks_fast(data)
+    assert fast is not None
+    slow = ilc._blocks_slow(data.decode("utf-8").splitlines(), "x")
+    assert fast[1] == slow[1] and list(fast[1]) == list(slow[1]) and fast[2] == slow[2]
+    assert set(fast[0]) == set(slow[0])
+    for k, b in slow[0].items():
+        a = fast[0][k]
+        np.testing.assert_array_equal(a.lines, b.lines)
+        np.testing.assert_array_equal(np.asarray(a.t_ms), np.asarray(b.t_ms))
+        np.testing.assert_array_equal(a.num, b.num)
+        assert a.ssid == b.ssid and a.bssid == b.bssid
+
+
+def test_fast_path_and_line_by_line_parser_agree_on_crafted_files():
+    _agree(GOOD.encode())
+    _agree(GOOD.replace("\n", "\r\n").replace("\tnet\t", "\t caf\u00e9 net\t").encode())
+    big = [HEADER.rstrip("\n")]
+    for i in range(25000):
+        t = 1574149352216 + 20 * i
+        big += [f"{t}\tTYPE_ACCELEROMETER\t{np.sin(i):.5f}\t0.2\t9.8\t2",
+                f"{t}\tTYPE_GYROSCOPE_UNCALIBRATED\t1\t2\t3\t4\t5\t6\t3"]
+        if i % 300 == 0:
+            big.append(f"{t}\tTYPE_WIFI\tnet {i}\taa:bb:cc:dd:ee:{i % 256:02x}\t-{40 + i % 50}\t2412\t{t - 100}")
+    _agree(("\n".join(big) + "\n").encode())
+
+
+@pytest.mark.parametrize("old, new", [("\t0.1\t0.2\t9.8\t2", "\t0.1\tTRUE\t9.8\t2"),
+                                      ("1020\tTYPE_GYRO", "1020 \tTYPE_GYRO"), ("1100\t", "11000\t"),
+                                      ("\t24.0", "\t24.0\t")])
+def test_odd_files_leave_the_fast_path(old, new):
+    assert ilc._blocks_fast(GOOD.replace(old, new, 1).encode()) is None
+
+
+def test_every_real_trace_takes_the_fast_path_and_agrees(shared_data):
+    root = shared_data("ilc2020_site2_F4")
+    archive = sorted(root.glob("*.tar.xz"))[0]
+    with tarfile.open(archive) as tf:
+        members = [m for m in tf if m.isfile() and "path_data_files" in m.name and m.name.endswith(".txt")]
+        assert len(members) == 19
+        for m in members:
+            _agree(tf.extractfile(m).read())

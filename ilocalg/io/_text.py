@@ -385,7 +385,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     if type_col == 0:
         t0 = rs
     else:
-        width = data.find(sep)
+        width = data.find(sep, int(rs[0])) - int(rs[0])
         if width <= 0 or np.any(re_ - rs <= width) or np.any(arr[rs + width] != sep_b):
             return None
         for j in range(width):
@@ -481,19 +481,20 @@ def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tup
     return other, first_other
 
 
-def read_block(block: bytes, sep: str, names, usecols, strings=()) -> pd.DataFrame | None:
+def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> pd.DataFrame | None:
     """One type's records (from :func:`split_by_type`) as a DataFrame, or ``None`` if any is malformed.
 
     ``names`` lists the fields after the type, ``usecols`` those to read (float64, except the
-    text columns ``strings``, read verbatim: no NA conversion, no quoting). An empty numeric cell
+    text columns ``strings``, read verbatim: no NA conversion, no quoting, and the int64 columns
+    ``ints``, digits only). An empty numeric cell
     or a non-numeric one (pandas raises) returns ``None``: the caller then parses line by line
     and names the line.
     """
     import csv
     import io
 
-    num = [c for c in usecols if c not in strings]
-    dtype = {c: (str if c in strings else np.float64) for c in usecols}
+    num = [c for c in usecols if c not in strings and c not in ints]
+    dtype = {c: (str if c in strings else np.int64 if c in ints else np.float64) for c in usecols}
     try:
         df = pd.read_csv(io.BytesIO(block), sep=sep, header=None, names=list(names), usecols=list(usecols),
                          dtype=dtype, quoting=csv.QUOTE_NONE, keep_default_na=False,

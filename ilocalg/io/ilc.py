@@ -90,7 +90,9 @@ from ilocalg.io._text import (
     cut_last_line,
     decode_text,
     fail,
+    read_block,
     read_bytes,
+    split_by_type,
     to_float,
 )
 from ilocalg.io.schema import (
@@ -217,10 +219,6 @@ def _parse_header(lines: list[str]) -> dict:
     return header
 
 
-def _to_float(rows: list[list[str]], linenos: list[int], source: str, rtype: str, names) -> np.ndarray:
-    return to_float(rows, linenos, source, lambda j: f"{rtype} column {j + 3} ({names[j]})", len(names))
-
-
 def _check_increasing(t_ms: np.ndarray, linenos: list[int], source: str, rtype: str, strict: bool = True):
     def message(i, kind):
         if strict:
@@ -255,14 +253,47 @@ def _times_ms(t_ms, linenos, source) -> np.ndarray:
     return np.asarray(t_ms, dtype=np.int64)
 
 
-def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid: str = "error",
-                    truncated_last_line: str = "error") -> IlcTrace:
-    """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
-    if duplicate_bssid not in _DUPLICATE_POLICIES:
-        raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
-    check_truncated_policy(truncated_last_line)
-    text = decode_text(text, source)
-    lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
+@dataclass(frozen=True)
+class _Block:
+    """One record type's records: file lines, times (ms), numeric values and, for Wi-Fi, texts."""
+
+    lines: np.ndarray
+    t_ms: list | np.ndarray
+    num: np.ndarray
+    ssid: list | None = None
+    bssid: list | None = None
+
+
+#: Values (0-based, after time and type) converted per record type, and their names.
+_NUMERIC = {**{k: ((0, 1, 2), ("x", "y", "z")) for k in _SENSORS}, "TYPE_WAYPOINT": ((0, 1), ("x", "y")),
+            "TYPE_WIFI": ((2, 3, 4), ("rssi", "frequency", "last seen timestamp"))}
+
+
+def _blocks_fast(data: bytes) -> tuple[dict, dict, list] | None:
+    """Records grouped by type without a Python loop per line, or None (then :func:`_blocks_slow`)."""
+    tl = split_by_type(data, b"\t", 1, {k: n + 1 for k, n in _N_VALUES.items()}, header=b"#", spaces_ok=True)
+    if tl is None:
+        return None
+    out = {}
+    for rtype, block in tl.blocks.items():
+        sel, _ = _NUMERIC[rtype]
+        names = ["t_ms"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
+        num = [f"v{j}" for j in sel]
+        text = ["v0", "v1"] if rtype == "TYPE_WIFI" else []
+        df = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",))
+        if df is None:
+            return None
+        t = df["t_ms"].to_numpy()
+        v = df[num].to_numpy(dtype=np.float64)
+        if rtype == "TYPE_WIFI":
+            out[rtype] = _Block(tl.lines[rtype], t, v, df["v0"].tolist(), df["v1"].tolist())
+        else:
+            out[rtype] = _Block(tl.lines[rtype], t, v)
+    return out, tl.counts, tl.header
+
+
+def _blocks_slow(lines: list[str], source) -> tuple[dict, dict, list]:
+    """Records grouped by type, line by line; names the first malformed line."""
     header_lines: list[str] = []
     by_type: dict[str, tuple[list[int], list[int], list[list[str]]]] = {}
     counts: Counter = Counter()
@@ -277,7 +308,7 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
         parts = line.split("\t")
         if len(parts) < 2:
             fail(source, lineno, f"expected at least 2 tab-separated columns (time ms, record type), "
-                                  f"got {len(parts)}: {line[:60]!r}")
+                                 f"got {len(parts)}: {line[:60]!r}")
         try:
             t_ms = int(parts[0])
         except ValueError:
@@ -292,7 +323,7 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
         vals = parts[2:]
         if len(vals) != nval:
             fail(source, lineno, f"{rtype} expects {nval} values after time and type "
-                                  f"({2 + nval} columns), got {len(vals)} ({len(parts)} columns)")
+                                 f"({2 + nval} columns), got {len(vals)} ({len(parts)} columns)")
         lst = by_type.setdefault(rtype, ([], [], []))
         lst[0].append(lineno)
         lst[1].append(t_ms)
@@ -300,11 +331,43 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     if not counts:
         raise ValueError(f"{source}: no data records (empty file or header only)")
     check_record_types(counts, first_line, _N_VALUES, source, "\t", "ILC trace")
+    out = {}
+    for rtype, (linenos, t_ms, rows) in by_type.items():
+        sel, names = _NUMERIC[rtype]
+        v = to_float([[r[j] for j in sel] for r in rows], linenos, source,
+                     lambda j, rtype=rtype, sel=sel, names=names: f"{rtype} column {sel[j] + 3} ({names[j]})",
+                     len(sel))
+        if rtype == "TYPE_WIFI":
+            out[rtype] = _Block(np.asarray(linenos), t_ms, v, [r[0] for r in rows], [r[1] for r in rows])
+        else:
+            out[rtype] = _Block(np.asarray(linenos), t_ms, v)
+    return out, dict(counts), header_lines
+
+
+def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid: str = "error",
+                    truncated_last_line: str = "error") -> IlcTrace:
+    """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
+    if duplicate_bssid not in _DUPLICATE_POLICIES:
+        raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
+    check_truncated_policy(truncated_last_line)
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    fast = _blocks_fast(data)
+    n_cut = 0
+    if fast is None:
+        text = decode_text(data, source)
+        lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
+        fast = _blocks_slow(lines, source)
+    by_type, counts, header_lines = fast
+    empty = _Block(np.zeros(0, dtype=np.int64), [], np.zeros((0, 3)), [], [])
 
     def sensor(rtype):
-        linenos, t_ms, rows = by_type.get(rtype, ([], [], []))
-        t = _times_ms(t_ms, linenos, source)
-        v = _to_float([r[:3] for r in rows], linenos, source, rtype, ("x", "y", "z"))
+        blk = by_type.get(rtype, empty)
+        linenos, v = blk.lines, blk.num
+        t = _times_ms(blk.t_ms, linenos, source)
         _check_increasing(t, linenos, source, rtype)
         check_range(v, _RANGE[rtype], source, linenos, ("3 (x)", "4 (y)", "5 (z)"))
         if t.size:
@@ -347,10 +410,11 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
                               index=pd.Index([], dtype=np.float64, name=T_S))
 
     # waypoints
-    linenos, t_ms, rows = by_type.get("TYPE_WAYPOINT", ([], [], []))
-    t = _times_ms(t_ms, linenos, source)
+    blk = by_type.get("TYPE_WAYPOINT", empty)
+    linenos = blk.lines
+    t = _times_ms(blk.t_ms, linenos, source)
     _check_increasing(t, linenos, source, "TYPE_WAYPOINT")
-    v = _to_float(rows, linenos, source, "TYPE_WAYPOINT", ("x", "y")).reshape(-1, 2)
+    v = blk.num.reshape(-1, blk.num.shape[1] if blk.num.size else 2)[:, :2]
     check_range(v, "xy_m", source, linenos, ("3 (x)", "4 (y)"))
     waypoints = pd.DataFrame({T_S: t * 1e-3, X_M: v[:, 0], Y_M: v[:, 1]})
     if len(waypoints):
@@ -358,18 +422,18 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
 
     # Wi-Fi
     skipped = {k: n for k, n in counts.items() if k not in _N_VALUES}
-    linenos, t_ms, rows = by_type.get("TYPE_WIFI", ([], [], []))
-    t = _times_ms(t_ms, linenos, source)
+    blk = by_type.get("TYPE_WIFI", empty)
+    linenos = blk.lines
+    t = _times_ms(blk.t_ms, linenos, source)
     _check_increasing(t, linenos, source, "TYPE_WIFI", strict=False)
-    num = _to_float([[r[2], r[3], r[4]] for r in rows], linenos, source, "TYPE_WIFI",
-                    ("rssi", "frequency", "last seen timestamp")).reshape(-1, 3)
+    num = blk.num.reshape(-1, 3)
     check_range(num[:, 0], RSSI_DBM, source, linenos, "5 (rssi)")
     check_range(num[:, 1], FREQ_MHZ, source, linenos, "6 (frequency)")
     check_range(num[:, 2], "unix_time_ms", source, linenos, "7 (last seen timestamp)")
-    bssid = [r[1] for r in rows]
-    for ln, b in zip(linenos, bssid, strict=True):
-        if not b:
-            fail(source, ln, "TYPE_WIFI column 4 (bssid) is empty")
+    bssid = blk.bssid
+    empty_b = [i for i, b in enumerate(bssid) if not b]
+    if empty_b:
+        fail(source, linenos[empty_b[0]], "TYPE_WIFI column 4 (bssid) is empty")
     scan_id = np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64) if t.size else t
     wifi = pd.DataFrame({
         T_S: t * 1e-3,
@@ -377,7 +441,7 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
         BSSID: pd.array(bssid, dtype="string"),
         RSSI_DBM: num[:, 0],
         FREQ_MHZ: num[:, 1],
-        "ssid": pd.array([r[0] for r in rows], dtype="string"),
+        "ssid": pd.array(blk.ssid, dtype="string"),
         "last_seen_s": num[:, 2] * 1e-3,
     })
     keep = np.ones(len(wifi), dtype=bool)
