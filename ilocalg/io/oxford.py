@@ -28,6 +28,7 @@ Oxford step counter DataSet (github.com/Oxford-step-counter/DataSet), CC BY 4.0;
 
 from __future__ import annotations
 
+import csv
 import io
 import re
 import tarfile
@@ -106,30 +107,50 @@ def _read_numeric_csv(data: bytes, source: str, ncols, names) -> np.ndarray:
     ``ncols`` is the expected number of columns, or a tuple of accepted numbers (the first
     line decides). Under the common text policy a byte-order mark is stripped, CRLF line ends
     and trailing blank lines are accepted, a blank line inside the data is an error (it would
-    shift every later line number).
+    shift every later line number). Well-formed files are parsed by pandas' C reader on the
+    bytes as they are; anything else line by line, naming the first bad line and column.
     """
-    text = strip_trailing_blank_lines(decode_text(data, source))
-    if not text.strip():
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    end = len(data)
+    while end and data[end - 1] in b"\r\n \t":
+        end -= 1
+    if end == 0:
         raise ValueError(f"{source}: file is empty")
+    accepted = (ncols,) if isinstance(ncols, int) else tuple(ncols)
+    nl = data.find(b"\n", 0, end)
+    first = data[:nl if nl >= 0 else end]
+    ncols = first.count(b",") + 1 if first.count(b",") + 1 in accepted else accepted[0]
+    if data.find(b"\n\n", 0, end) < 0 and data.find(b"\n\r\n", 0, end) < 0:
+        try:
+            v = pd.read_csv(io.BytesIO(data), header=None, dtype=np.float64, engine="c",
+                            quoting=csv.QUOTE_NONE).to_numpy()
+        except (ValueError, pd.errors.ParserError):
+            v = None
+        if v is not None and v.shape[1] == ncols and np.isfinite(v).all() and not (
+                np.any((v == 0.0) | (v == 1.0)) and any(c in data for c in (b"r", b"R", b"l", b"L"))):
+            return v  # (pandas reads True/False as 1/0; float() refuses them: such files go line by line)
+    return _read_numeric_lines(decode_text(data, source), source, ncols, names)
+
+
+def _read_numeric_lines(text: str, source: str, ncols: int, names) -> np.ndarray:
+    """The line-by-line parser of :func:`_read_numeric_csv`."""
+    text = strip_trailing_blank_lines(text)
     m = _BLANK_LINE.search(text)
     if m is not None:
         raise ValueError(f"{source}: line {text.count(chr(10), 0, m.start() + 1) + 1} is empty "
                          "(blank lines are accepted only at the end of the file)")
-    accepted = (ncols,) if isinstance(ncols, int) else tuple(ncols)
-    first = text[:text.find("\n")] if "\n" in text else text
-    ncols = first.count(",") + 1 if first.count(",") + 1 in accepted else accepted[0]
-    try:
-        df = pd.read_csv(io.StringIO(text), header=None, dtype=np.float64, engine="c")
-    except ValueError:
-        df = None
-    if df is not None and df.shape[1] == ncols and np.isfinite(df.to_numpy()).all():
-        return df.to_numpy()
-    # slow path: find and name the first bad line/column
+    rows = []
     for k, ln in enumerate(text.splitlines(), start=1):
         cells = ln.split(",")
         if len(cells) != ncols:
             raise ValueError(f"{source}: line {k} has {len(cells)} columns, expected {ncols} "
                              f"({', '.join(names[:ncols])})")
+        row = []
         for j, c in enumerate(cells):
             try:
                 v = float(c)
@@ -137,7 +158,9 @@ def _read_numeric_csv(data: bytes, source: str, ncols, names) -> np.ndarray:
                 raise ValueError(f"{source}: line {k}, column {j + 1} ({names[j]}): not a number: {c!r}") from None
             if not np.isfinite(v):
                 raise ValueError(f"{source}: line {k}, column {j + 1} ({names[j]}): not finite: {c!r}")
-    raise ValueError(f"{source}: could not parse as {ncols} numeric columns")
+            row.append(v)
+        rows.append(row)
+    return np.asarray(rows, dtype=np.float64).reshape(len(rows), ncols)
 
 
 def _check_increasing(t_ns: np.ndarray, source: str, policy: str = "error") -> np.ndarray:
