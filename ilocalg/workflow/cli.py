@@ -119,10 +119,21 @@ def main(argv: list[str] | None = None) -> int:
         return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
                          n_seeds=args.seeds, workers=args.workers, jobs=args.jobs)
     if args.command == "evaluate":
+        # Bad input ends as one line, "error: FILE: line N: what is wrong", exit status 2. The
+        # loaders raise ValueError naming file and line (decoding, archive and JSON errors wrapped);
+        # an OS error names its file; running out of memory is reported, never a traceback.
         try:
             result = args._evaluator.run(args)
-        except (ValueError, FileNotFoundError) as exc:
-            print(f"error: {exc}", file=sys.stderr)
+        except ValueError as exc:
+            print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+            return 2
+        except OSError as exc:  # FileNotFoundError, PermissionError, IsADirectoryError ...
+            where = f"{exc.filename}: " if exc.filename else ""
+            print(f"error: {where}{exc.strerror or exc}", file=sys.stderr)
+            return 2
+        except MemoryError:
+            print("error: out of memory while evaluating; the input is larger than this machine can hold "
+                  "(split it into shorter recordings)", file=sys.stderr)
             return 2
         print(json.dumps(_jsonable(result), sort_keys=False))
         return 0
