@@ -39,10 +39,6 @@ from ilocalg.pdr.registry import DETECTOR_RATE_HZ, detect_steps
 from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges, match_waves_to_steps, sam_waves
 from ilocalg.pdr.signals import resample_uniform
 
-#: Real recordings: the values do not depend on a simulation seed, so reproduce does not re-run this
-#: experiment over seeds for confidence intervals (its rows keep n = 1).
-SEED_SWEEP = False
-
 __all__ = ["run", "Prepared", "prepare", "DETECTORS", "detector_params", "count_steps",
            "loro_cv", "accuracy", "load", "truth_artefacts",
            "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN"]
@@ -115,7 +111,9 @@ DETECTORS = {
 def detector_params(detector: str, params: dict) -> dict:
     """A grid point as the registered detector's keyword arguments (``n`` is the sign-change MA half-width)."""
     if detector == "sign_change":
-        return {"n_left": params["n"], "n_right": params["n"]}
+        return {"n_left": params["n"], "n_right": params["n"], "smooth": True}
+    if detector == "peak_window":
+        return {**params, "rule": "valley_rise"}
     return dict(params)
 
 

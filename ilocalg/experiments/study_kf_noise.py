@@ -30,8 +30,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.study_common import select, study_row, study_tasks
 from ilocalg.fusion import PAPER_TABLE5_SIGMA_RF_VAR_M2, filter_walks, rts_smooth, sigma_sl_paper_m, straight_walk
+from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "SIGMA_RF_BASE_M", "STEP_M", "GRIDS", "BASE", "tasks", "findings", "METHODS"]
 
@@ -111,7 +111,7 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame) -> str:
-    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    """Sentences computed from the study's curves (:func:`ilocalg.workflow.studies.curves`)."""
     out = []
     for vary, fixed, label in (("noise_scale", "fix_every", "noise scale"), ("fix_every", "noise_scale",
                                                                               "fix interval (steps)")):

@@ -34,11 +34,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.study_common import study_row, study_tasks
 from ilocalg.metrics import horizontal_error_m, summary
 from ilocalg.sim import iloc_floor
 from ilocalg.wifi import paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
+from ilocalg.workflow.studies import study_row, study_tasks
 
 __all__ = ["run", "thin_points", "GRIDS", "tasks", "findings", "BASE"]
 
@@ -158,8 +158,8 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame, fast: bool = False) -> str:
-    """Sentences computed from :func:`ilocalg.experiments.study_common.curves` output of this study."""
-    from ilocalg.experiments.study_common import select
+    """Sentences computed from :func:`ilocalg.workflow.studies.curves` output of this study."""
+    from ilocalg.workflow.studies import select
 
     base = BASE_FAST if fast else BASE
     out = []

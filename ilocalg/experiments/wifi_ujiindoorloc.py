@@ -36,10 +36,6 @@ from ilocalg.wifi import ESTIMATORS, KnnFingerprint, evaluate_method, locate_fla
 from ilocalg.wifi.knn import neighbour_weights, smallest_k, vote
 from ilocalg.wifi.radar import union_topk_sq_distances
 
-#: Real recordings: the values do not depend on a simulation seed, so reproduce does not re-run this
-#: experiment over seeds for confidence intervals (its rows keep n = 1).
-SEED_SWEEP = False
-
 __all__ = [
     "PAPER_UJI",
     "METHODS",

@@ -5,10 +5,12 @@ recording in it, or ``--member NAME``), or a validation-style single headerless 
 :mod:`ilocalg.io.oxford`). Prints one JSON object::
 
     {"method": ..., "recordings": [{"path", "name", "true_steps", "detected_steps", "accuracy",
-     "hardware_steps"}, ...], "mean_accuracy": ...}
+     "hardware_steps", "duplicate_timestamps_dropped"}, ...], "mean_accuracy": ...}
 
 ``accuracy`` is ``1 - |detected - true| / true`` (a fraction); ``hardware_steps`` is the phone's own
-step counter when the file has it (validation layout), else null. Methods use fixed parameters:
+step counter when the file has it (validation layout), else null. ``--duplicate-timestamps drop``
+accepts files that repeat a timestamp on consecutive lines (some published validation CSVs do);
+``duplicate_timestamps_dropped`` counts the lines it dropped per recording. Methods use fixed parameters:
 those that leave-one-recording-out tuning chose on the Oxford optimisation set (experiment
 ``pdr_real_steps``); SAM uses the i-Loc thesis's Table 1 ranges.
 """
@@ -22,6 +24,8 @@ import numpy as np
 from ilocalg.io.oxford import _is_archive, load_oxford_archive, load_oxford_step_counter
 
 NAME = "steps"
+#: Shortest recording the command scores, s (about two strides: every detector needs a few steps).
+MIN_DURATION_S = 2.0
 HELP = "count steps in Oxford step counter recordings (folder, archive or validation CSV)"
 
 #: Fixed parameters per registered detector (``robust`` is the toolkit's best; its defaults, and
@@ -29,8 +33,8 @@ HELP = "count steps in Oxford step counter recordings (folder, archive or valida
 METHODS = {
     "robust": {},
     "find_peaks": {},
-    "peak_window": {"threshold_mps2": 2.0},
-    "sign_change": {"n_left": 2, "n_right": 2},
+    "peak_window": {"threshold_mps2": 2.0, "rule": "valley_rise"},
+    "sign_change": {"n_left": 2, "n_right": 2, "smooth": True},
     "sam": {},
 }
 
@@ -42,6 +46,9 @@ def add_arguments(parser) -> None:
                         help="step detector (default: robust, the toolkit's best)")
     parser.add_argument("--member", action="append", default=None, metavar="NAME",
                         help="recording name inside an archive (repeatable; default: all; other paths ignore it)")
+    parser.add_argument("--duplicate-timestamps", default="error", choices=("error", "drop"),
+                        help="a timestamp repeated on consecutive lines: refuse (default) or drop the later line "
+                             "(counted per recording)")
 
 
 def count(rec, method: str) -> int:
@@ -61,20 +68,34 @@ def count(rec, method: str) -> int:
 
 def run(args) -> dict:
     rows = []
+    dup = getattr(args, "duplicate_timestamps", "error")
     for path in args.paths:
         p = Path(path)
-        if _is_archive(p):
-            recs = load_oxford_archive(p, args.member)
-            where = [f"{p}:{r.name}" for r in recs]
-        else:
-            recs = [load_oxford_step_counter(p)]
-            where = [str(p)]
+        try:
+            if _is_archive(p):
+                recs = load_oxford_archive(p, args.member, duplicate_timestamps=dup)
+                where = [f"{p}:{r.name}" for r in recs]
+            else:
+                recs = [load_oxford_step_counter(p, duplicate_timestamps=dup)]
+                where = [str(p)]
+        except ValueError as exc:  # name the command-line option, not the loader's argument
+            raise ValueError(str(exc).replace("pass duplicate_timestamps='drop'",
+                                              "pass --duplicate-timestamps drop")) from None
         for w, rec in zip(where, recs, strict=True):
+            t = rec.imu.index.to_numpy()
+            if t[-1] - t[0] < MIN_DURATION_S:
+                raise ValueError(f"{w}: the recording lasts {t[-1] - t[0]:.3g} s ({t.size} samples); step counting "
+                                 f"needs at least {MIN_DURATION_S:g} s of walking")
             if rec.true_steps <= 0:
                 raise ValueError(f"{w}: the recording has no true steps; accuracy is undefined")
-            n = count(rec, args.method)
+            try:
+                n = count(rec, args.method)
+            except ValueError as exc:
+                raise ValueError(f"{w}: --method {args.method} cannot count this recording "
+                                 f"({t[-1] - t[0]:.3g} s, {t.size} samples): {exc}") from None
             rows.append({"path": w, "name": rec.name, "true_steps": int(rec.true_steps), "detected_steps": int(n),
                          "accuracy": float(1.0 - abs(n - rec.true_steps) / rec.true_steps),
-                         "hardware_steps": rec.hardware_steps})
+                         "hardware_steps": rec.hardware_steps,
+                         "duplicate_timestamps_dropped": int(rec.n_duplicate_timestamps_dropped)})
     return {"method": args.method, "recordings": rows,
             "mean_accuracy": float(np.mean([r["accuracy"] for r in rows]))}
