@@ -45,7 +45,7 @@ from ilocalg.fusion import (
     sigma_sl_paper_m,
 )
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import comparison_table, paper_ref
+from ilocalg.papers import comparison_table, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
@@ -57,8 +57,6 @@ from ilocalg.wifi.preprocessing import mean_fingerprints
 
 __all__ = ["run", "route_walk", "run_filters", "score_points", "readings", "PAPER_KF"]
 
-#: Columns of a readings table (one row per modelling choice).
-READINGS_COLUMNS = ["choice", "paper_line", "text_says", "code_does", "source"]
 _T = "i-Loc (Chiu 2013)"
 MAIN = "KF (R calibrated)"
 
@@ -183,7 +181,7 @@ def readings(scan_latency_s: float = 2.0, q_range=(0.05, 0.95), table4_reading: 
         ("F, B, H", f"{_T}, eq. 22-23", "F = I, B = [cos, sin]^T, H = I", "as the text", ""),
         ("update", f"{_T}, eq. 24-26", "Kalman gain, Joseph-form covariance", "as the text", ""),
     ]
-    return pd.DataFrame(rows, columns=READINGS_COLUMNS)
+    return readings_table([reading(*r) for r in rows])
 
 
 def _fit_estimator(sim, method: str, k_aps: int = 5):

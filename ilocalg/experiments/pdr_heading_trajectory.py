@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import error_cdf
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.pts import pts_steps
@@ -39,8 +39,6 @@ from ilocalg.units import as_rng, wrap_angle_rad, yaw_to_theta
 
 __all__ = ["run", "track_errors", "readings", "PAPER"]
 
-#: Columns of a readings table (one row per modelling choice).
-READINGS_COLUMNS = ["choice", "paper_line", "text_says", "code_does", "source"]
 _T = "i-Loc (Chiu 2013)"
 
 PAPER = "i-Loc thesis"
@@ -85,7 +83,7 @@ def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
          "1.5 blobs per 100 m^2, N(0, 12 uT)", "assumption (data/gait)"),
         ("sample rate", "", "silent", "50 Hz", "assumption (X1 scales with it)"),
     ]
-    return pd.DataFrame(rows, columns=READINGS_COLUMNS)
+    return readings_table([reading(*r) for r in rows])
 
 
 def _mean_heading_error_deg(walkers, rng, route, config=None, declination_rad: float = 0.0) -> float:

@@ -28,7 +28,7 @@ import pandas as pd
 
 from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive, parse_recording_name
 from ilocalg.io.paths import dataset_path
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
     SAM_RANGES_PAPER,
@@ -44,8 +44,6 @@ from ilocalg.units import as_rng
 
 __all__ = ["run", "headline", "oxford_loro", "rate_sweep", "readings", "PAPER"]
 
-#: Columns of a readings table (one row per modelling choice).
-READINGS_COLUMNS = ["choice", "paper_line", "text_says", "code_does", "source"]
 _T = "i-Loc (Chiu 2013)"
 OXFORD_ARCHIVE = "optimisation_data.tar.xz"
 
@@ -79,7 +77,7 @@ def readings() -> pd.DataFrame:
         ("real data", "", "not in the thesis", "Oxford step counter, in-hand optimisation recordings, leave one "
          "recording out, 5-95 % ranges, resampled to 50 Hz", "Oxford step counter data set (CC BY 4.0)"),
     ]
-    return pd.DataFrame(rows, columns=READINGS_COLUMNS)
+    return readings_table([reading(*r) for r in rows])
 
 
 def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, position: str = "InHand",

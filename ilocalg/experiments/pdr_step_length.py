@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.fusion import PAPER_TABLE4_SIGMA_SL_VAR_M2, PAPER_TABLE4_STEP_M
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_scale, fit_step_length_models, kim_length_m, kim_mean_abs_mps2, step_lengths_m
@@ -37,8 +37,6 @@ from ilocalg.units import as_rng
 
 __all__ = ["run", "readings", "PAPER"]
 
-#: Columns of a readings table (one row per modelling choice).
-READINGS_COLUMNS = ["choice", "paper_line", "text_says", "code_does", "source"]
 _T = "i-Loc (Chiu 2013)"
 
 PAPER = "i-Loc thesis"
@@ -75,7 +73,7 @@ def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
         ("Table 4 units", f"{_T}, L578, L602-605", "variances of the step length error, no unit",
          "table4: relative-error variance and m^2 variance per target length, both shown", "L478 supports relative"),
     ]
-    return pd.DataFrame(rows, columns=READINGS_COLUMNS)
+    return readings_table([reading(*r) for r in rows])
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_range=(0.05, 0.95),

@@ -39,7 +39,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import iloc_floor
 from ilocalg.wifi import SimplifiedRadar, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
@@ -66,8 +66,6 @@ PAPER_ILOC = {
 }
 
 
-#: Columns of a readings table (one row per modelling choice).
-READINGS_COLUMNS = ["choice", "paper_line", "text_says", "code_does", "source"]
 _T = "i-Loc (Chiu 2013)"
 
 
@@ -99,7 +97,7 @@ def readings() -> pd.DataFrame:
         ("KNN", "Luo et al. 2017, eq. 1-2", "Manhattan, K = 5 (their paper)", "per-point mean map, K = 5",
          "not in the i-Loc thesis"),
     ]
-    return pd.DataFrame(rows, columns=READINGS_COLUMNS)
+    return readings_table([reading(*r) for r in rows])
 
 
 def _fit(name, est, sim, fp, pts):
