@@ -42,7 +42,7 @@ report = Report(OUT_DIR, "07_fusion_iloc_kf")
 
 # %%
 tables = fusion_iloc_kf.run(seed=SEED, fast=FAST)
-for name in ("summary", "test_points", "cdf", "r_table", "gating", "by_wifi_method", "readings"):
+for name in ("summary", "test_points", "cdf", "r_table", "gating", "by_wifi_method", "latency_sweep", "readings"):
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
@@ -66,6 +66,13 @@ tables["summary"].round(2)
 
 # %%
 tables["by_wifi_method"].round(2)
+
+# %% [markdown]
+# ## Scan latency (an assumption: phones take 1-3 s per scan)
+# The same walks and sessions, new scans read over 0-3 s after the walker passes each test point.
+
+# %%
+tables["latency_sweep"].round(2)
 
 # %% [markdown]
 # ## Fix variances: calibrated on the simulated floor beside the thesis' Table 5

@@ -25,6 +25,9 @@ def test_fast_run_is_deterministic_and_reports_every_reading():
     assert "KF" in fusion_iloc_kf.findings(a)
     assert (a["r_table"]["calibrated_var_m2"] >= 4.0 / 12.0 - 1e-12).all()
     assert {"R", "Q", "start", "Wi-Fi fix"} <= set(a["readings"]["choice"])
+    assert list(a["latency_sweep"]["scan_latency_s"]) == [0.0, 1.0, 2.0, 3.0]
+    c = fusion_iloc_kf.run(seed=0, fast=True, wifi_methods=(), latencies_s=())
+    pd.testing.assert_frame_equal(a["summary"], c["summary"])  # the sweep draws after the main tables
 
 
 def test_filter_starts_where_it_is_told_and_a_scan_without_fix_is_skipped():

@@ -164,7 +164,8 @@ def readings(scan_latency_s: float = 2.0, q_range=(0.05, 0.95), table4_reading: 
          "the floor's 28-point route 4 m apart (shared with notebooks 01, 05)", "2 m grid of L295; Fig 2 missing"),
         ("Wi-Fi fix", f"{_T}, L779", "Wi-Fi positions from scans taken while the user walks",
          f"one scan per test point, started when passing it and tagged there; each AP read within "
-         f"{scan_latency_s:g} s; a new session (drift) per walk", "scan latency: assumption (phones 1-3 s), swept"),
+         f"{scan_latency_s:g} s; a new session (drift) per walk",
+         "scan latency: assumption (phones 1-3 s), swept in latency_sweep"),
         ("R", f"{_T}, L586-588, Table 5", "R = sigma_RF^2 I, per test point, from the Wi-Fi experiment at the "
          "28 points", "per-point error variance of the chapter 3 test session (standing scans, another day)",
          "Table 5 as R and a constant R: labelled alternatives"),
@@ -211,8 +212,8 @@ def _calibrated_r(sim, est) -> np.ndarray:
 def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20,
         method: str = "Simplified-Horus", q_range=(0.05, 0.95), scan_latency_s: float = 2.0,
         table4_reading: str = "relative", gate_prob: float = 0.99, sigma_theta_rad: float = 0.2,
-        lag: int = 5, wifi_methods=("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)")
-        ) -> dict[str, pd.DataFrame]:
+        lag: int = 5, wifi_methods=("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"),
+        latencies_s=(0.0, 1.0, 2.0, 3.0)) -> dict[str, pd.DataFrame]:
     """Wi-Fi only, PTS only and the KF variants at the 28 test points (Figs 22-23) for ``n_walkers`` new walkers.
 
     Returns
@@ -221,7 +222,9 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         ``test_points`` (walker, method, point, true/estimated position, error), ``summary``, ``cdf``,
         ``track_example`` (walker 0: every track, the truth and the fixes), ``r_table`` (calibrated
         per-point fix variance beside the thesis's Table 5), ``gating``, ``comparison``,
-        ``by_wifi_method`` (the main variants with each estimator of ``wifi_methods``), ``readings``.
+        ``by_wifi_method`` (the main variants with each estimator of ``wifi_methods``), ``latency_sweep``
+        (Wi-Fi only and the main KF with each scan latency of ``latencies_s``, same walks, new scans),
+        ``readings``.
     """
     rng = as_rng(seed)
     if fast:
@@ -234,7 +237,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     walkers = gait.make_walkers(n_walkers, rng)  # new walkers: not those SAM and SLM were trained on
     route = iloc_floor.route_xy_m()
     paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)
-    tps, gat, ex = [], [], []
+    tps, gat, ex, walks = [], [], [], []
     for w_i, w in enumerate(walkers):
         sw = gait.simulate_walk(route, w, rng)
         pdr = route_walk(sw, ranges, models["SLM quadratic"])
@@ -242,6 +245,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         truth_t = sw.truth.index.to_numpy()
         truth_xy = sw.truth[["x_m", "y_m"]].to_numpy()
         drift = iloc_floor.session_drift_db(sim, rng)  # this walk's session
+        walks.append((truth_t, truth_xy, t_pass, pdr, drift))
         fixes = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, np.r_[truth_t[0], t_pass], scan_latency_s,
                                          rng, drift)
         start_fix = fixes[["fix_x_m", "fix_y_m"]].to_numpy()[0]
@@ -283,11 +287,30 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         for meth in wifi_methods:  # the main KF variant with each Wi-Fi estimator
             by_method.append(_method_row(seed, meth, fast, n_walkers, n_train, n_cal, q_range, scan_latency_s,
                                          table4_reading, sigma_theta_rad))
+    # scan latency (an assumption): the same walks and sessions, new scans at each latency (drawn after
+    # everything above, so the main tables do not depend on the sweep)
+    lat_rows = []
+    for lat in latencies_s:
+        errs_w, errs_k, errs_h = [], [], []
+        for truth_t, truth_xy, t_pass, pdr, drift in walks:
+            fx = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, np.r_[truth_t[0], t_pass], lat, rng, drift)
+            xy = fx[["fix_x_m", "fix_y_m"]].to_numpy()
+            x0 = xy[0] if np.isfinite(xy[0]).all() else route[0]
+            tr, inf = run_filters(x0, pdr, t_pass, xy[1:], {"R calibrated": cal_var}, P0_var_m2=float(cal_var[0]),
+                                  gate_prob=gate_prob, sigma_theta_rad=sigma_theta_rad, lag=lag,
+                                  table4_reading=table4_reading)
+            e = score_points(tr, inf["state_index"], route, xy[1:]).set_index("method")["error_m"]
+            errs_w.append(e.loc["Wi-Fi only"].to_numpy())
+            errs_k.append(e.loc[MAIN].to_numpy())
+            errs_h.append(e.loc[f"{MAIN} + heading noise + RTS"].to_numpy())
+        lat_rows.append({"scan_latency_s": float(lat), "wifi_only_mean_m": float(np.nanmean(np.concatenate(errs_w))),
+                         "kf_mean_m": float(np.nanmean(np.concatenate(errs_k))),
+                         "kf_heading_noise_rts_mean_m": float(np.nanmean(np.concatenate(errs_h)))})
     r_table = pd.DataFrame({"point": np.arange(1, route.shape[0] + 1), "x_m": route[:, 0], "y_m": route[:, 1],
                             "calibrated_var_m2": cal_var, "thesis_table5_var_m2_paper": paper_r})
     return {"test_points": tp, "summary": summ, "cdf": cdf, "track_example": pd.concat(ex, ignore_index=True),
             "r_table": r_table, "gating": pd.DataFrame(gat), "comparison": comparison_table(comp),
-            "by_wifi_method": pd.DataFrame(by_method),
+            "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
             "readings": readings(scan_latency_s, q_range, table4_reading)}
 
 
@@ -295,7 +318,7 @@ def _method_row(seed, method, fast, n_walkers, n_train, n_cal, q_range, scan_lat
                 sigma_theta_rad) -> dict:
     t = run(seed=seed, fast=fast, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal, method=method,
             q_range=q_range, scan_latency_s=scan_latency_s, table4_reading=table4_reading,
-            sigma_theta_rad=sigma_theta_rad, wifi_methods=())
+            sigma_theta_rad=sigma_theta_rad, wifi_methods=(), latencies_s=())
     m = t["summary"].set_index("method")["mean_error_m"]
     return {"wifi_method": method, "wifi_only_mean_m": m["Wi-Fi only"], "pts_mean_m": m["PTS (Wi-Fi start)"],
             "kf_mean_m": m[MAIN], "kf_table5_mean_m": m["KF (R = thesis Table 5)"],

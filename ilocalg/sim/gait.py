@@ -34,8 +34,8 @@ Horizontal acceleration
 Phone attitude
     Held in front, screen up, y axis pointing ``misalign`` from the walking direction, with a
     per-walker ``misalign ~ N(0, misalign_sd_deg = 5)`` deg (how straight a user holds the phone:
-    an assumption, swept), pitched up by ``N(25, 5)`` deg per walker; smooth
-    attitude jitter (roll, pitch, yaw; white noise low-passed to about 1 Hz) with standard
+    an assumption; switched off in the WDM sensitivity of notebook 05), pitched up by ``N(25, 5)``
+    deg per walker; smooth attitude jitter (roll, pitch, yaw; white noise low-passed to about 1 Hz) with standard
     deviations 3.5, 3.5, 4 deg: the tilt leaks gravity into the horizontal axes, which is what the
     feature I (0.6-1.8 m/s^2 in Table 1) mostly measures for a handheld phone.
 Accelerometer
@@ -49,7 +49,7 @@ Magnetometer
     2010, Maus et al. 2010): horizontal 36 microtesla, vertical 27 microtesla down, declination
     ``declination_deg = -4.5`` deg (magnetic north west of true north; map y = true north)
     + a per-walker hard-iron residual ``N(0, hard_iron_sd_ut = 2)`` microtesla per axis in the phone
-    frame (what remains after a phone's automatic calibration; an assumption, swept)
+    frame (what remains after a phone's automatic calibration; an assumption, switched off in notebook 05)
     + indoor disturbances: ``n_disturbances`` Gaussian blobs per 100 m^2 of floor, each a random
     vector of ``N(0, 12)`` microtesla per axis with width ``U(1, 3)`` m (steel and electrical
     installations; the thesis notes the field "may deviate slightly" indoors)
@@ -57,7 +57,7 @@ Magnetometer
 Sample rate
     ``rate_hz = 50`` by default (Android's SENSOR_DELAY_GAME). The thesis does not report its
     phone's rate; X1 (eq. 15) is a sum over ``2N + 1 = 2 floor(0.25 f) - 1`` samples, so its range
-    scales with the rate: 50 Hz is an assumption, swept. Other rates are a parameter.
+    scales with the rate: 50 Hz is an assumption, swept in notebook 03. Other rates are a parameter.
 
 Ground truth
     Per step: heel-strike time ``t_strike_s``, the time of the vertical-acceleration trough
@@ -171,8 +171,8 @@ HEIGHT_RANGE_M = (1.55, 1.90)
 LEG_PER_HEIGHT = 0.530  # Winter 2009: greater trochanter height / body height
 SPEED_MPS = (1.39, 0.15, 1.0, 1.8)  # Bohannon 1997: mean, sd, clip low, clip high
 ALEXANDER_C, ALEXANDER_EXP = 2.3, 0.3  # Alexander 1976, 1984: lambda / l = 2.3 Fr^0.3
-MISALIGN_SD_DEG = 5.0  # assumption, swept
-HARD_IRON_SD_UT = 2.0  # assumption, swept
+MISALIGN_SD_DEG = 5.0  # assumption (switched off in the WDM sensitivity table)
+HARD_IRON_SD_UT = 2.0  # assumption (switched off in the WDM sensitivity table)
 
 
 def alexander_step(leg_m, speed_mps=None, step_length_m=None):

@@ -161,7 +161,8 @@ PARAMS = {
 PARAM_SOURCES = {
     "n_aps_floor": "calibrated to the thesis's 4-18 APs per scan (L295)",
     "n_aps_other": "calibrated to the thesis's 4-18 APs per scan (L295)",
-    "p0_dbm": "RSSI at 1 m of a 2.4 GHz AP read by a phone, about -40 dBm (assumption, swept)",
+    "p0_dbm": "RSSI at 1 m of a 2.4 GHz AP read by a phone, about -40 dBm (assumption; sets the AP counts with "
+              "detect_dbm)",
     "path_loss_exponent": "COST 231 multi-wall model: free-space distance term, walls explicit (Damosso 1999)",
     "light_wall_db": "COST 231 multi-wall model, light wall 3.4 dB (Damosso 1999; Lott & Forkel 2001)",
     "heavy_wall_db": "COST 231 multi-wall model, heavy wall 6.9 dB (Damosso 1999; Lott & Forkel 2001)",
@@ -176,7 +177,7 @@ PARAM_SOURCES = {
     "fade_sd_edge_db": "thesis Fig 2 (windows, corners drift more); value within the same range",
     "edge_m": "assumption (thesis Fig 2 is missing)",
     "body_loss_db": "user's body, AP behind: about 5 dB (Bahl & Padmanabhan 2000, RADAR)",
-    "device_offset_db": "thesis names one Android phone (L515): same phone, 0 dB; swept",
+    "device_offset_db": "thesis names one Android phone (L515): same phone, 0 dB; swept in study_wifi",
     "detect_dbm": "smartphone scan sensitivity -90 to -100 dBm; calibrated to 4-18 APs per scan (L295)",
     "miss_p": "scans are not exhaustive (assumption)",
 }
@@ -510,7 +511,7 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     scan_start_t_s : array_like (n_scans,)
         Scan start times, within the track.
     scan_latency_s : float
-        Scan duration, s (phones: 1-3 s; an assumption, swept).
+        Scan duration, s (phones: 1-3 s; an assumption, swept in fusion_iloc_kf).
     rng : Generator, int or None
     session_drift_db : array_like (n_aps,), optional
         The session's per-AP drift; default ``sim.test_drift_db`` (the test session).
