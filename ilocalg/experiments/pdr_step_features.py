@@ -127,7 +127,9 @@ def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, posi
         side = "below" if med < rg.loc[worst, "min"] else "above" if med > rg.loc[worst, "max"] else "inside"
         c_oth = np.array([cadence[j] for j in others])
         err = abs(counted - r.true_steps) / r.true_steps
-        why = (f"{fail[worst]:.0%} of its true steps fail {worst} (median {med:.2f}, {side} the learned "
+        over = (f"counts {counted - r.true_steps} more steps than taken (extra waves pass every test); "
+                if counted > r.true_steps else "")
+        why = over + (f"{fail[worst]:.0%} of its true steps fail {worst} (median {med:.2f}, {side} the learned "
                f"{rg.loc[worst, 'min']:.2f}-{rg.loc[worst, 'max']:.2f}); cadence {cadence[i]:.2f} steps/s vs "
                f"{c_oth.min():.2f}-{c_oth.max():.2f} in the others; {len(m) / r.true_steps:.0%} of true steps "
                f"have a wave within {tol_s:g} s")
