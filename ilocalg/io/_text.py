@@ -17,7 +17,7 @@ import pandas as pd
 __all__ = ["fail", "to_float", "first_not_increasing", "check_increasing", "decode_text", "decompress",
            "read_bytes", "read_text", "strip_trailing_blank_lines", "ArchiveReader", "TRUNCATED_POLICIES",
            "check_truncated_policy", "cut_last_line", "check_record_types", "TypedLines", "split_by_type",
-           "read_block"]
+           "read_block", "count_per_line"]
 
 
 def fail(source, lineno, msg: str, column: str | None = None) -> NoReturn:
@@ -311,12 +311,54 @@ def check_record_types(counts: dict, first_line: dict, known, source, sep: str, 
 _NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
 
 
+_CHUNK = 1 << 21
+
+
+def _scan(arr: np.ndarray) -> tuple[int, int, int, int, int]:
+    """Counts of bytes < 32, LF, CR, TAB and CRLF pairs, a few megabytes at a time."""
+    n = [0, 0, 0, 0, 0]
+    for i in range(0, len(arr), _CHUNK):
+        sub = arr[i:i + _CHUNK + 1]  # one byte of overlap for CRLF pairs across chunks
+        body = sub[:_CHUNK]
+        n[0] += int(np.count_nonzero(body < 32))
+        n[1] += int(np.count_nonzero(body == 10))
+        n[2] += int(np.count_nonzero(body == 13))
+        n[3] += int(np.count_nonzero(body == 9))
+        if n[2]:
+            n[4] += int(np.count_nonzero((sub[:-1] == 13) & (sub[1:] == 10)))
+    return n[0], n[1], n[2], n[3], n[4]
+
+
+def _positions(arr: np.ndarray, value: int) -> np.ndarray:
+    """``np.flatnonzero(arr == value)`` without a file-sized temporary."""
+    parts = [np.flatnonzero(arr[i:i + _CHUNK] == value) + i for i in range(0, len(arr), _CHUNK)]
+    return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+
+
+def count_per_line(arr: np.ndarray, value: int, starts: np.ndarray, chunk: int = _CHUNK) -> np.ndarray:
+    """How often byte ``value`` occurs on each line (lines start at ``starts``), in bounded memory.
+
+    Works through about ``chunk`` bytes at a time, so the temporary arrays stay a few megabytes
+    whatever the file size.
+    """
+    bounds = np.append(starts, len(arr))
+    out = np.empty(len(starts), dtype=np.int64)
+    i, n = 0, len(starts)
+    while i < n:
+        j = min(max(int(np.searchsorted(bounds, bounds[i] + chunk, side="right")) - 1, i + 1), n)
+        seg = arr[bounds[i]:bounds[j]] == value
+        out[i:j] = np.add.reduceat(seg, starts[i:j] - bounds[i], dtype=np.int32)
+        i = j
+    return out
+
+
 @dataclass(frozen=True)
 class TypedLines:
     """A record-type log split by type (see :func:`split_by_type`)."""
 
     lines: dict        # known type -> int64 array, the 1-based file line of each record
-    blocks: dict       # known type -> bytes: its records without the type field, each with its line end
+    blocks: dict       # known type -> function () -> bytes: its records without the type field, each
+    #                    with its line end (built on demand, so that one type's bytes exist at a time)
     counts: dict       # every record type -> number of lines, in order of first occurrence
     header: list       # header lines (str, without line end), in order
 
@@ -353,21 +395,23 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    n_cr, n_tab = np.count_nonzero(arr == 13), np.count_nonzero(arr == 9)
-    if np.count_nonzero(arr < 32) != np.count_nonzero(arr == 10) + n_cr + n_tab:
+    n_low, n_lf, n_cr, n_tab, n_crlf = _scan(arr)
+    if n_low != n_lf + n_cr + n_tab:
         return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
-    if (sep_b != 9 and n_tab) or (n_cr and n_cr != np.count_nonzero((arr[:-1] == 13) & (arr[1:] == 10))):
+    if (sep_b != 9 and n_tab) or n_cr != n_crlf:
         return None
     if not data.isascii() and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
-    sp = np.flatnonzero(arr == 32)
+    sp = _positions(arr, 32)
     if sp.size:
         nxt, prv = arr[np.minimum(sp + 1, len(arr) - 1)], arr[np.maximum(sp - 1, 0)]
         if np.any(sp == 0) or np.any(prv == 10) or np.any((nxt == 10) | (nxt == 13)):
             return None
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
-    ends = np.flatnonzero(arr == 10)
+    ends = _positions(arr, 10)
+    if len(arr) < 2**31 - 1:
+        ends = ends.astype(np.int32)  # half the memory of the per-line arrays
     starts = np.empty_like(ends)
     starts[0] = 0
     starts[1:] = ends[:-1] + 1
@@ -378,7 +422,8 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     is_rec = nonblank & ~is_head
     if comment:
         is_rec &= first != comment[0]
-    rec = np.flatnonzero(is_rec)
+    rec = np.flatnonzero(is_rec).astype(ends.dtype)
+    del is_rec, first, nonblank
     if not rec.size:
         return None
     rs, re_ = starts[rec], stop[rec]
@@ -412,7 +457,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     if not present:
         return None
     # every line of a known type holds its number of separators
-    n_sep = np.add.reduceat(arr == sep_b, starts, dtype=np.int32)[rec]
+    n_sep = count_per_line(arr, sep_b, starts)[rec]
     for c in present:
         if np.any(n_sep[label == c] != known[names[c - 1]]):
             return None
@@ -422,26 +467,32 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     n_of = {names[c - 1]: int(np.count_nonzero(label == c)) for c in present}
     n_of.update({t.decode(): n for t, n in other.items()})
     counts = {t: n_of[t] for t in sorted(first_of, key=first_of.get)}
-    # per-byte labels: a known line's bytes (with its line end, without its type field) carry its code
-    line_label = np.zeros(len(starts), dtype=np.int8)
-    line_label[rec] = label
-    byte_label = np.repeat(line_label, ends - starts + 1)
-    for c in present:
-        t0c = t0[label == c]
-        for j in range(len(names[c - 1]) + 1):
-            byte_label[t0c + j] = 0
     lines, blocks = {}, {}
-    for c in present:
-        name = names[c - 1]
-        lines[name] = rec[label == c] + 1
-        if lines[name].size < 20000:  # few lines: slicing is cheaper than a pass over every byte
-            sel = label == c
-            blocks[name] = _rejoin(data, starts[rec[sel]], t0[sel], len(name) + 1, ends[rec[sel]])
-        else:
-            blocks[name] = arr[byte_label == c].tobytes()
     head = [data[a:b].decode("utf-8") for a, b in zip(starts[is_head].tolist(), stop[is_head].tolist(),
                                                       strict=True)]
+    del stop, is_head, rs, re_
+    lengths = ends - starts + 1
+    for c in present:
+        name = names[c - 1]
+        sel = label == c
+        lines[name] = rec[sel] + 1
+        blocks[name] = _block_maker(data, arr, starts, ends, lengths, rec[sel], t0[sel], len(name) + 1)
     return TypedLines(lines=lines, blocks=blocks, counts=counts, header=head)
+
+
+def _block_maker(data: bytes, arr: np.ndarray, starts, ends, lengths, rows, t0, cut: int):
+    """A function that returns the bytes of lines ``rows`` without ``cut`` bytes from ``t0``."""
+    def make() -> bytes:
+        if rows.size < 20000:  # few lines: slicing is cheaper than a pass over every byte
+            return _rejoin(data, starts[rows], t0, cut, ends[rows])
+        line_on = np.zeros(len(starts), dtype=bool)
+        line_on[rows] = True
+        mask = np.repeat(line_on, lengths)
+        del line_on
+        for j in range(cut):
+            mask[t0 + j] = False
+        return arr[mask].tobytes()
+    return make
 
 
 def _rejoin(data: bytes, starts, t0, cut: int, ends) -> bytes:
@@ -481,8 +532,9 @@ def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tup
     return other, first_other
 
 
-def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> pd.DataFrame | None:
-    """One type's records (from :func:`split_by_type`) as a DataFrame, or ``None`` if any is malformed.
+def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> tuple | None:
+    """One type's records (from :func:`split_by_type`) as ``(DataFrame, float64 array of the numeric
+    columns)``, or ``None`` if any is malformed.
 
     ``names`` lists the fields after the type, ``usecols`` those to read (float64, except the
     text columns ``strings``, read verbatim: no NA conversion, no quoting, and the int64 columns
@@ -506,4 +558,4 @@ def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> p
         return None
     if np.any((v == 0.0) | (v == 1.0)) and any(b in block for b in (b"r", b"R", b"l", b"L")):
         return None  # pandas reads True/False as 1.0/0.0 in a float column; float() refuses them
-    return df
+    return df.drop(columns=num), v
