@@ -356,9 +356,9 @@ def count_per_line(arr: np.ndarray, value: int, starts: np.ndarray, chunk: int =
 class TypedLines:
     """A record-type log split by type (see :func:`split_by_type`)."""
 
-    lines: dict        # known type -> int64 array, the 1-based file line of each record
-    blocks: dict       # known type -> function () -> bytes: its records without the type field, each
-    #                    with its line end (built on demand, so that one type's bytes exist at a time)
+    lines: dict        # known type -> int array, the 1-based file line of each record
+    blocks: dict       # known type -> function () -> bytes: its lines, each with its line end (built on
+    #                    demand, so that one type's bytes exist at a time)
     counts: dict       # every record type -> number of lines, in order of first occurrence
     header: list       # header lines (str, without line end), in order
 
@@ -427,25 +427,34 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     if not rec.size:
         return None
     rs, re_ = starts[rec], stop[rec]
+    if len(arr) < 8:
+        return None
+    win = np.lib.stride_tricks.as_strided(arr, shape=(len(arr) - 7, 8), strides=(1, 1), writeable=False)
+    top = len(arr) - 8
+
+    def bytes8(pos):
+        """The 8 bytes from each position (clamped at the end of the file), as (n, 8) uint8."""
+        return win[np.minimum(pos, top)]
+
     if type_col == 0:
         t0 = rs
     else:
         width = data.find(sep, int(rs[0])) - int(rs[0])
         if width <= 0 or np.any(re_ - rs <= width) or np.any(arr[rs + width] != sep_b):
             return None
-        for j in range(width):
-            if np.any(arr[rs + j] == sep_b):
+        for o in range(0, width, 8):
+            m = bytes8(rs + o)[:, :min(8, width - o)]
+            if np.any(m == sep_b):
                 return None
         t0 = rs + width + 1
     label = np.zeros(len(rec), dtype=np.int8)
     names = sorted(known)
-    last = len(arr) - 1
     for code, name in enumerate(names, start=1):
-        kb = name.encode()
-        cand = np.flatnonzero(re_ - t0 > len(kb))
-        for j, ch in enumerate(kb):
-            cand = cand[arr[t0[cand] + j] == ch]
-        cand = cand[arr[np.minimum(t0[cand] + len(kb), last)] == sep_b]
+        kb = name.encode() + sep  # the name and the separator that ends it
+        cand = np.flatnonzero(re_ - t0 > len(kb) - 1)
+        for o in range(0, len(kb), 8):  # eight bytes per comparison
+            chunk = np.frombuffer(kb[o:o + 8], dtype=np.uint8)
+            cand = cand[np.all(bytes8(t0[cand] + o)[:, :len(chunk)] == chunk, axis=1)]
         label[cand] = code
     unknown = np.flatnonzero(label == 0)
     other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], re_[unknown])
@@ -471,34 +480,18 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     head = [data[a:b].decode("utf-8") for a, b in zip(starts[is_head].tolist(), stop[is_head].tolist(),
                                                       strict=True)]
     del stop, is_head, rs, re_
-    lengths = ends - starts + 1
     for c in present:
-        name = names[c - 1]
         sel = label == c
-        lines[name] = rec[sel] + 1
-        blocks[name] = _block_maker(data, arr, starts, ends, lengths, rec[sel], t0[sel], len(name) + 1)
+        lines[names[c - 1]] = rec[sel] + 1
+        blocks[names[c - 1]] = _block_maker(data, starts, ends, rec[sel])
     return TypedLines(lines=lines, blocks=blocks, counts=counts, header=head)
 
 
-def _block_maker(data: bytes, arr: np.ndarray, starts, ends, lengths, rows, t0, cut: int):
-    """A function that returns the bytes of lines ``rows`` without ``cut`` bytes from ``t0``."""
+def _block_maker(data: bytes, starts, ends, rows):
+    """A function that returns the bytes of lines ``rows`` (each with its line end), joined."""
     def make() -> bytes:
-        if rows.size < 20000:  # few lines: slicing is cheaper than a pass over every byte
-            return _rejoin(data, starts[rows], t0, cut, ends[rows])
-        line_on = np.zeros(len(starts), dtype=bool)
-        line_on[rows] = True
-        mask = np.repeat(line_on, lengths)
-        del line_on
-        for j in range(cut):
-            mask[t0 + j] = False
-        return arr[mask].tobytes()
+        return b"".join(data[a:b] for a, b in zip(starts[rows].tolist(), (ends[rows] + 1).tolist(), strict=True))
     return make
-
-
-def _rejoin(data: bytes, starts, t0, cut: int, ends) -> bytes:
-    """Lines without their type field (``cut`` bytes from ``t0``), joined with their line ends."""
-    return b"".join(data[a:t] + data[t + cut:e + 1] for a, t, e in zip(starts.tolist(), t0.tolist(), ends.tolist(),
-                                                                      strict=True))
 
 
 def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tuple[dict, dict]:
@@ -532,13 +525,13 @@ def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tup
     return other, first_other
 
 
-def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> tuple | None:
+def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=(), type_name: str = "") -> tuple | None:
     """One type's records (from :func:`split_by_type`) as ``(DataFrame, float64 array of the numeric
     columns)``, or ``None`` if any is malformed.
 
     ``names`` lists the fields after the type, ``usecols`` those to read (float64, except the
     text columns ``strings``, read verbatim: no NA conversion, no quoting, and the int64 columns
-    ``ints``, digits only). An empty numeric cell
+    ``ints``, digits only; ``type_name`` is the record type written on every line). An empty numeric cell
     or a non-numeric one (pandas raises) returns ``None``: the caller then parses line by line
     and names the line.
     """
@@ -556,6 +549,7 @@ def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> t
     v = df[num].to_numpy(dtype=np.float64)
     if not np.isfinite(v).all():
         return None
-    if np.any((v == 0.0) | (v == 1.0)) and any(b in block for b in (b"r", b"R", b"l", b"L")):
+    if np.any((v == 0.0) | (v == 1.0)) and any(block.count(b) > len(df) * type_name.count(b.decode())
+                                                for b in (b"r", b"R", b"l", b"L")):
         return None  # pandas reads True/False as 1.0/0.0 in a float column; float() refuses them
     return df.drop(columns=num), v

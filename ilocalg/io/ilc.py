@@ -280,10 +280,11 @@ def _blocks_fast(data: bytes) -> tuple[dict, dict, list] | None:
     for rtype, make_block in tl.blocks.items():
         block = make_block()
         sel, _ = _NUMERIC[rtype]
-        names = ["t_ms"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
+        names = ["t_ms", "type"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
         num = [f"v{j}" for j in sel]
         text = ["v0", "v1"] if rtype == "TYPE_WIFI" else []
-        got = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",))
+        got = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",),
+                         type_name=rtype)
         del block
         if got is None:
             return None

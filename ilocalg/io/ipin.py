@@ -179,10 +179,10 @@ def _blocks_fast(data: bytes) -> tuple[dict, dict] | None:
     out = {}
     for rtype, make_block in tl.blocks.items():
         block = make_block()
-        names = [f"f{j}" for j in range(_N_FIELDS[rtype])]
+        names = ["type"] + [f"f{j}" for j in range(_N_FIELDS[rtype])]
         num = [f"f{j}" for j in _NUMERIC[rtype]]
         text = ["f2", "f3"] if rtype == "WIFI" else []  # ssid, bssid (IMU Accuracy is not read)
-        got = read_block(block, ";", names, sorted(num + text), strings=text)
+        got = read_block(block, ";", names, sorted(num + text), strings=text, type_name=rtype)
         del block
         if got is None:
             return None
