@@ -488,9 +488,27 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
 
 
 def _block_maker(data: bytes, starts, ends, rows):
-    """A function that returns the bytes of lines ``rows`` (each with its line end), joined."""
+    """A function that returns the bytes of lines ``rows`` (each with its line end), joined.
+
+    Few lines are sliced out one by one; many are selected with a byte mask built a few
+    megabytes of the file at a time (bounded memory, no Python loop per line).
+    """
     def make() -> bytes:
-        return b"".join(data[a:b] for a, b in zip(starts[rows].tolist(), (ends[rows] + 1).tolist(), strict=True))
+        if rows.size < 20000:
+            return b"".join(data[a:b] for a, b in zip(starts[rows].tolist(), (ends[rows] + 1).tolist(), strict=True))
+        arr = np.frombuffer(data, dtype=np.uint8)
+        n = len(starts)
+        on = np.zeros(n, dtype=bool)
+        on[rows] = True
+        parts = []
+        i = 0
+        while i < n:
+            j = min(max(int(np.searchsorted(starts, starts[i] + _CHUNK, side="left")), i + 1), n)
+            lo, hi = int(starts[i]), int(ends[j - 1]) + 1
+            mask = np.repeat(on[i:j], (ends[i:j] - starts[i:j] + 1))
+            parts.append(arr[lo:hi][mask].tobytes())
+            i = j
+        return b"".join(parts)
     return make
 
 
