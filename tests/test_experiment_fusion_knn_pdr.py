@@ -76,3 +76,14 @@ def test_test_scans_are_walking_scans_from_their_own_sessions(monkeypatch):
         assert not np.allclose(drift, sim.test_drift_db)   # ... not the standing calibration session's
         assert lat == 2.0 and starts.size > 20             # walking scans with latency along the walk
     assert not np.allclose(drifts[0], drifts[1])           # each walk is its own session
+
+
+def test_survey_and_latency_sweeps_keep_the_walks():
+    a = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
+    b = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, scans_per_point=20, scan_latency_s=3.0)
+    # PDR only at the same instants: the same walkers and walks whatever the survey size and scan latency
+    pa = a["test_points"].query("method == 'PDR only'").set_index(["walker", "t_s"])["error_m"]
+    pb = b["test_points"].query("method == 'PDR only'").set_index(["walker", "t_s"])["error_m"]
+    common = pa.index.intersection(pb.index)
+    assert len(common) > 10
+    np.testing.assert_array_equal(pa[common].to_numpy(), pb[common].to_numpy())

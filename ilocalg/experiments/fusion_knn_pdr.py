@@ -100,13 +100,16 @@ def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:
 def _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad, adjust_weights, scans_per_point,
                  scan_latency_s):
     """Simulate, detect, combine: the per-position error table and the example tracks."""
-    rng = as_rng(seed)
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
+    # independent streams for the floor, the walks and each walk's scans, so that a sweep of the survey
+    # size or of the scan latency changes only what it sweeps (same walkers, walks and sessions)
+    floor_rng, rng, scan_root = as_rng(seed).spawn(3)
+    scan_rngs = scan_root.spawn(n_walkers)
     method = "KNN (Manhattan, K=5)"
     spp = scans_per_point if scans_per_point is not None else (60 if fast else iloc_floor.SCANS_PER_POINT)
     # survey (its own sessions) and a standing calibration session at the route points (another day)
-    sim = iloc_floor.simulate(rng, scans_per_point=spp, scans_per_test_point=n_cal)
+    sim = iloc_floor.simulate(floor_rng, scans_per_point=spp, scans_per_test_point=n_cal)
     est = iloc_floor.fit_estimator(sim, method)
     r_var = float(iloc_floor.standing_fix_variance_m2(sim, est).mean())
     walkers = gait.make_walkers(max(n_train, n_walkers), rng)
@@ -125,11 +128,11 @@ def _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_ra
         truth_t = sw.truth.index.to_numpy()
         truth_xy = sw.truth[["x_m", "y_m"]].to_numpy()
         # this walk's session: a new per-AP drift (another day than every survey session)
-        drift = iloc_floor.session_drift_db(sim, rng)
+        drift = iloc_floor.session_drift_db(sim, scan_rngs[w_i])
         # the phone scans back to back from the start; scan 0 (at the start, L212) gives the initial position,
         # the scans started while walking are the test positions (off the reference grid)
         starts = iloc_floor.back_to_back_scan_starts_s(truth_t[0], truth_t[-1], scan_latency_s)
-        fx = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, starts, scan_latency_s, rng, drift)
+        fx = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, starts, scan_latency_s, scan_rngs[w_i], drift)
         walk_t0 = float(sw.steps["t_strike_s"].iloc[0])
         walk_t1 = float((sw.steps["t_strike_s"] + sw.steps["duration_s"]).iloc[-1])
         start_fix = fx[["fix_x_m", "fix_y_m"]].to_numpy()[0]
