@@ -367,12 +367,29 @@ def findings(tables: dict) -> str:
     """Sentences computed from the tables (for the notebook's closing cell)."""
     m = tables["summary"].set_index("method")["mean_error_m"]
     pp = tables["per_point"]
+    tp = tables["test_points"]
+    cal = tables["calibration"].set_index("quantity")["value"]
     cross = crossover_point(pp["PDR only"].to_numpy(), pp[COMBINED].to_numpy())
     w, c, p, kf = m["Wi-Fi only (KNN)"], m[COMBINED], m["PDR only"], m[KF_ALT]
-    return "\n".join([
+    we = tp.loc[tp["method"] == "Wi-Fi only (KNN)", "error_m"]
+    lines = [
         f"Mean error: Wi-Fi only {w:.2f} m, PDR only {p:.2f} m, combined (the paper's scheme) {c:.2f} m; "
         f"the i-Loc step KF alternative {kf:.2f} m, + RTS {m[KF_ALT + ' + RTS']:.2f} m (paper values: Wi-Fi "
         f"{PAPER_LUO['wifi_mean_m']} m, combined {PAPER_LUO['combined_mean_m']} m).",
+        f"Wi-Fi only errors span [{we.min():.2f}, {we.max():.2f}] m over {we.size} walking test positions "
+        f"(paper: [{PAPER_LUO['wifi_min_m']}, {PAPER_LUO['wifi_max_m']}] m); the Wi-Fi start is off by "
+        f"{cal['Wi-Fi start: mean error of the initial fix [m]']:.2f} m on average.",
         f"Combined / Wi-Fi only = {c / w:.2f} (paper {PAPER_LUO['combined_mean_m'] / PAPER_LUO['wifi_mean_m']:.2f}); "
         f"PDR only beats the combined scheme up to point {cross} (paper: the first {PAPER_LUO['pdr_better_points']}).",
-    ])
+    ]
+    if "latency_sweep" in tables:
+        ls = tables["latency_sweep"]
+        lines.append("Scan latency " + ", ".join(f"{r.scan_latency_s:g} s" for r in ls.itertuples())
+                     + ": Wi-Fi only " + " / ".join(f"{v:.2f}" for v in ls["wifi_only_mean_m"])
+                     + " m, combined " + " / ".join(f"{v:.2f}" for v in ls["combined_mean_m"]) + " m.")
+    if "survey_sweep" in tables:
+        sv = tables["survey_sweep"]
+        lines.append("Survey scans per point " + ", ".join(f"{int(v)}" for v in sv["scans_per_point"])
+                     + ": Wi-Fi only " + " / ".join(f"{v:.2f}" for v in sv["wifi_only_mean_m"])
+                     + " m, combined " + " / ".join(f"{v:.2f}" for v in sv["combined_mean_m"]) + " m.")
+    return "\n".join(lines)
