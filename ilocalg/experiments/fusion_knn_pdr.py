@@ -224,11 +224,12 @@ def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per
          "scan starts while walking (off the 2 m reference grid); Fig 6's index = the scan's number; the start "
          "scan gives the initial position only (L212)",
          "paper (walking); back-to-back scanning: assumption"),
-        ("test scans", "L222", "scans taken while walking; no duration",
+        ("test scans", "L222", "the tester walks the route holding the phone, which locates as it goes; no scan "
+         "duration or timing",
          f"iloc_floor.walking_scans: each AP read at a uniform time within the {scan_latency_s:g} s scan at the "
          "walker's position then, facing the walking direction (body shadowing); the fix is tagged at the "
-         "scan's start and adjusts the latest PDR state at or before it",
-         "scan latency: assumption (phones 1-3 s), swept in latency_sweep"),
+         "scan's start and adjusts the latest PDR state at or before it (as notebook 07)",
+         "scan latency: assumption (phones 1-3 s), swept in latency_sweep; fix timing: assumption"),
     ]
     return readings_table([reading(c, f"Luo et al. 2017, {ln}" if ln.startswith("L") else ln, t, d, src)
                            for c, ln, t, d, src in rows])
