@@ -703,8 +703,9 @@ def _fix_variance_m2(fix_xy_m: np.ndarray, true_xy_m: np.ndarray) -> np.ndarray:
 def fit_estimator(sim: IlocFloor, method: str = "Simplified-Horus", k_aps: int = 5):
     """Fit ``method`` (a key of :data:`ilocalg.wifi.registry.PAPER_ESTIMATORS`) on the survey of ``sim``.
 
-    Simplified-Horus is fitted on every survey scan; the other estimators on the per-point mean
-    fingerprints (APs heard in at least half of a point's scans).
+    Simplified-Horus and Simplified-RADAR are fitted on every survey scan (the thesis compares a query
+    with every stored scan, L283, L287); the other estimators on the per-point mean fingerprints (APs
+    heard in at least half of a point's scans).
 
     Returns
     -------
@@ -714,11 +715,10 @@ def fit_estimator(sim: IlocFloor, method: str = "Simplified-Horus", k_aps: int =
     if method not in ests:
         raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
     est = ests[method]
-    if method == "Simplified-Horus":
-        est.fit(sim.train.rssi_dbm, sim.train.xy_m)
-    else:
-        fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
-        est.fit(fp, pts)
+    if method in ("Simplified-Horus", "Simplified-RADAR"):  # every stored scan (Chiu 2013, L283, L287, Fig 4)
+        return est.fit(sim.train.rssi_dbm, sim.train.xy_m)
+    fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
+    est.fit(fp, pts)
     return est
 
 
@@ -730,6 +730,11 @@ def standing_fix_variance_m2(sim: IlocFloor, estimator) -> np.ndarray:
     (``SPACING_M^2 / 12``); shape (N_TEST_POINTS,), in walking order. A calibration of a filter's
     measurement noise, as the i-Loc thesis made its Table 5 (Chiu 2013, L588).
     """
-    n_pts = sim.test_points.size
-    fix = estimator.predict(sim.test.rssi_dbm).reshape(n_pts, -1, 2)
-    return _fix_variance_m2(fix, sim.points_xy_m[sim.test_points])
+    X = sim.test.rssi_dbm
+    heard = ~np.isnan(X).all(axis=1)  # a scan hearing no AP gives no fix and is left out of the mean
+    fix = np.full((X.shape[0], 2), np.nan)
+    fix[heard] = estimator.predict(X[heard])
+    pt = sim.test.meta["point"].to_numpy()
+    err2 = ((fix - sim.test.xy_m) ** 2).sum(axis=1)
+    var = np.array([np.nanmean(err2[pt == j]) for j in sim.test_points]) * 0.5
+    return np.maximum(var, SPACING_M**2 / 12.0)
