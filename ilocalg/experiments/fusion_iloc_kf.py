@@ -45,7 +45,7 @@ from ilocalg.fusion import (
     sigma_sl_paper_m,
 )
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
@@ -58,7 +58,7 @@ __all__ = ["run", "route_walk", "run_filters", "score_points", "readings", "PAPE
 _T = "i-Loc (Chiu 2013)"
 MAIN = "KF (R calibrated)"
 
-PAPER = "i-Loc thesis"
+PAPER = PAPERS["iloc"]
 # Settings from the paper
 # -----------------------
 # PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.

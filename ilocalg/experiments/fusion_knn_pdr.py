@@ -51,7 +51,7 @@ import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
@@ -80,7 +80,7 @@ DETECTOR_VARIANTS = (
     ("valley rise >= 1.0 m/s^2 (earlier reading)", {"rule": "valley_rise", "threshold_mps2": 1.0}),
 )
 
-PAPER = "罗思奇 et al. 2017"
+PAPER = PAPERS["luo"]
 # Settings from the paper
 # -----------------------
 # PAPER_LUO: Luo et al. (2017) sec. 4, item 2 (Wi-Fi only mean, min, max error) and item 3

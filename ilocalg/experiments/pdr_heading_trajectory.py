@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import error_cdf
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.pts import pts_steps
@@ -41,7 +41,7 @@ __all__ = ["run", "track_errors", "readings", "PAPER"]
 
 _T = "i-Loc (Chiu 2013)"
 
-PAPER = "i-Loc thesis"
+PAPER = PAPERS["iloc"]
 
 # Settings from the paper
 # -----------------------

@@ -28,7 +28,7 @@ import pandas as pd
 
 from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive, parse_recording_name
 from ilocalg.io.paths import dataset_path
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
     SAM_RANGES_PAPER,
@@ -47,7 +47,7 @@ __all__ = ["run", "headline", "oxford_loro", "rate_sweep", "readings", "PAPER"]
 _T = "i-Loc (Chiu 2013)"
 OXFORD_ARCHIVE = "optimisation_data.tar.xz"
 
-PAPER = "i-Loc thesis"
+PAPER = PAPERS["iloc"]
 
 # Settings from the paper
 # -----------------------

@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.fusion import PAPER_TABLE4_SIGMA_SL_VAR_M2, PAPER_TABLE4_STEP_M
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_scale, fit_step_length_models, kim_length_m, kim_mean_abs_mps2, step_lengths_m
@@ -39,7 +39,7 @@ __all__ = ["run", "readings", "PAPER"]
 
 _T = "i-Loc (Chiu 2013)"
 
-PAPER = "i-Loc thesis"
+PAPER = PAPERS["iloc"]
 
 # Settings from the paper
 # -----------------------

@@ -68,7 +68,7 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
@@ -114,7 +114,7 @@ PAPER = {
 #: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
 NEAR_COLLINEAR_PAPER = ((1, 3), (1, 4), (5, 6), (1, 3, 4))
 
-_PAPER_LABEL = "i-Loc thesis"
+_PAPER_LABEL = PAPERS["iloc"]
 
 
 def combo_label(combo) -> str:

@@ -49,7 +49,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.gnss import dead_reckon_latlon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
 from ilocalg.pdr.k_factor import FITNESSES, K_BOUNDS, PSO_SETTINGS_PAPER, learn_k, step_factors
 from ilocalg.pdr.registry import detect_steps
@@ -82,7 +82,7 @@ __all__ = [
 ]
 
 #: Source label of the comparison rows (kept as in earlier result tables, which must stay byte-identical).
-PAPER = "PSO thesis (003)"
+PAPER = PAPERS["pso"]
 PAPER_TABLE_5_2 = {
     "A1": {"leg_cm": 94, "k": 0.444, "true_steps": 217, "det_steps": 216, "gps_m": 160.25, "pso_m": 158.28, "acc_pct": 98.7},  # noqa: E501
     "A2": {"leg_cm": 94, "k": 0.489, "true_steps": 116, "det_steps": 115, "gps_m": 93.26, "pso_m": 90.15, "acc_pct": 96.7},  # noqa: E501

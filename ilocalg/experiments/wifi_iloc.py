@@ -39,15 +39,15 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.sim import iloc_floor
 from ilocalg.wifi import SimplifiedRadar, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
 __all__ = ["run", "findings", "ap_distribution", "readings", "PAPER_ILOC"]
 
-ILOC = "i-Loc thesis"
-LUO = "罗思奇 et al. 2017"
+ILOC = PAPERS["iloc"]
+LUO = PAPERS["luo"]
 #: Published values used only as labelled references (paper values; never used in computation).
 #
 # Settings from the paper

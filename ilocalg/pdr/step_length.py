@@ -354,7 +354,7 @@ def kim_mean_abs_mps2(acc_mps2, steps: pd.DataFrame) -> np.ndarray:
 
 #: Name of the Luo et al. (2017) eq. (4) model in :func:`fit_step_length_models` (the label earlier result
 #: tables carry; kept so they stay byte-identical).
-LUO_MODEL = "004 eq. 4"
+LUO_MODEL = "Luo et al. 2017 eq. 4"
 
 
 def fit_step_length_models(features: pd.DataFrame) -> tuple[dict, pd.DataFrame]:
