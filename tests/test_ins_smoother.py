@@ -88,3 +88,15 @@ def test_smoothing_without_history_equals_smoothing_with_it():
         sb = ins.eskf_rts_smooth(b, window_s=window, with_cov=True)
         assert np.allclose(sa.xs, sb.xs, rtol=0, atol=1e-12)
         assert np.allclose(sa.sd, sb.sd, rtol=1e-12, atol=1e-15)
+
+
+def test_window_grid_offset_shifts_the_window_ends():
+    from ilocalg.ins.smoother import window_ends
+
+    t = np.arange(0.0, 30.0, 0.5)
+    e0 = window_ends(t, 10.0)
+    e3 = window_ends(t, 10.0, offset_s=3.0)
+    assert t[e0].tolist() == [9.5, 19.5, 29.5]
+    assert t[e3].tolist() == [2.5, 12.5, 22.5, 29.5]
+    with pytest.raises(ValueError, match="offset_s"):
+        window_ends(t, 10.0, offset_s=10.0)

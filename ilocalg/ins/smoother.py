@@ -74,10 +74,12 @@ def rts_gains(res: EskfResult) -> np.ndarray:
     return _gains(res.P_plus, res.P_minus, res.Phi)
 
 
-def window_ends(t_s, window_s: float | None) -> np.ndarray:
-    """Boolean (N,): True at the last epoch of each fixed window ``[t0 + j W, t0 + (j+1) W)``.
+def window_ends(t_s, window_s: float | None, offset_s: float = 0.0) -> np.ndarray:
+    """Boolean (N,): True at the last epoch of each fixed window ``[t0 + o + j W, t0 + o + (j+1) W)``.
 
-    ``window_s=None`` is one window over the whole run (the post-processing RTS smoother).
+    ``window_s=None`` is one window over the whole run (the post-processing RTS smoother); ``offset_s`` (o, in
+    [0, W)) shifts the window grid (the first window is then shorter), so that a result can be averaged over
+    where the grid falls.
     """
     t_s = np.asarray(t_s, dtype=float)
     ends = np.zeros(t_s.size, dtype=bool)
@@ -86,13 +88,15 @@ def window_ends(t_s, window_s: float | None) -> np.ndarray:
         return ends
     if not (np.isfinite(window_s) and window_s > 0):
         raise ValueError(f"window_s must be > 0 seconds or None, got {window_s}")
-    idx = np.floor((t_s - t_s[0]) / window_s).astype(np.int64)
+    if not (np.isfinite(offset_s) and 0 <= offset_s < window_s):
+        raise ValueError(f"offset_s must lie in [0, window_s), got {offset_s}")
+    idx = np.floor((t_s - t_s[0] - offset_s) / window_s).astype(np.int64)
     ends[:-1] |= idx[1:] != idx[:-1]
     return ends
 
 
 def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = True,
-                    gains: np.ndarray | None = None) -> EskfSmoothResult:
+                    gains: np.ndarray | None = None, offset_s: float = 0.0) -> EskfSmoothResult:
     """RTS smoother over the whole run (``window_s=None``) or over consecutive fixed windows.
 
     Parameters
@@ -101,13 +105,14 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
     window_s : float or None, window length for the online smoother (s)
     with_cov : also smooth the covariance (eq. 9) and return standard deviations
     gains : precomputed :func:`rts_gains` (reuse them across window sizes)
+    offset_s : shift of the window grid (s), see :func:`window_ends`
 
     References
     ----------
     Liao et al. (2016), eq. (8)-(10), sec. 3.3.
     """
     n = res.t_s.size
-    ends = window_ends(res.t_s, window_s)
+    ends = window_ends(res.t_s, window_s, offset_s)
     xs = np.zeros((n, N_STATES))
     sd = np.full((n, N_STATES), np.nan)
     dx = res.dx
@@ -155,7 +160,7 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
 
 
 def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = False,
-                         gains: np.ndarray | None = None) -> EskfSmoothResult:
+                         gains: np.ndarray | None = None, offset_s: float = 0.0) -> EskfSmoothResult:
     """The paper's online smoother: RTS on each fixed window of ``window_s`` seconds as it fills.
 
     References
@@ -164,7 +169,7 @@ def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = Fals
     """
     if window_s is None:
         raise ValueError("window_s must be a window length in seconds for the online smoother")
-    return eskf_rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains)
+    return eskf_rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains, offset_s=offset_s)
 
 
 class ErrorStateINS:
