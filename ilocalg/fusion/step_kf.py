@@ -498,7 +498,8 @@ class StepKalmanFilter:
         self.kf.x = np.asarray(x0_m, dtype=np.float64).reshape(2, 1).copy()
         self.kf.P = np.asarray(P0_m2, dtype=np.float64).copy()
         P = self.kf.P
-        if P.shape != (2, 2) or not np.isfinite(P).all() or not np.allclose(P, P.T) or (np.linalg.eigvalsh(P) <= 0).any():
+        if P.shape != (2, 2) or not np.isfinite(P).all() or not np.allclose(P, P.T) or \
+                (np.linalg.eigvalsh(P) <= 0).any():
             raise ValueError("P0_m2 must be a finite symmetric positive definite 2x2")
         _check_scale(P, "P0_m2")
         self.kf.F = np.eye(2)
