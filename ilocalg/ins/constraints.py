@@ -32,8 +32,9 @@ __all__ = [
 
 # ---- published values: Chen, Pei, Chen (2011), the step model's reference parameters --------------------
 #: Default model parameters of eq. (7): a, b, c and the user height h (m). The paper uses "the
-#: default height and model parameters" without printing a, b, c; these are the reference values of
-#: Chen et al. (2011) (model reference, not an outcome of the paper).
+#: default height and model parameters" (L151) without printing a, b, c; a = 0.371, b = 0.227, c = 1 are the
+#: values of the Chen et al. (2011) model as widely reproduced in later smartphone PDR work - they were not
+#: checked against Chen et al. (2011) itself (model reference, not an outcome of the paper).
 WVC_REFERENCE_DEFAULTS = {"a": 0.371, "b": 0.227, "c": 1.0, "height_m": 1.75}
 # ---- end of published values -------------------------------------------------------------------------------
 
