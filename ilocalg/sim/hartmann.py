@@ -136,7 +136,9 @@ def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = GYR_SD_DEFAU
     z = np.column_stack([eul[fr, 2], pos[fr]]) + rng.normal(0, 1, (fr.size, 4)) * sd
     z[:, 0] = (z[:, 0] + np.pi) % (2 * np.pi) - np.pi
     outages = np.zeros((0, 2))
-    if outage_rate_per_s > 0:
+    if not (np.isfinite(outage_rate_per_s) and outage_rate_per_s >= 0 and outage_excess_mean_s > 0):
+        raise ValueError("outage_rate_per_s must be >= 0 and outage_excess_mean_s > 0")
+    if outage_rate_per_s > 0 and duration_s - 3.0 > rest_s + 1.0:
         n_out = rng.poisson(outage_rate_per_s * (duration_s - rest_s))
         start = rng.uniform(rest_s + 1.0, duration_s - 3.0, n_out)
         outages = np.column_stack([start, start + 1.0 + rng.exponential(outage_excess_mean_s, n_out)])
