@@ -97,7 +97,8 @@ with ilocviz.style():
 # ## Stairs: Tables 4-7 with the WVC's stair handling off, from the barometer, and from the true stair flag
 # `none`: eq. (7) everywhere (what a filter that ignores stairs does); `baro`: WVC forward and vertical rows
 # dropped where the barometric height changes faster than 0.1 m/s (the default; iPhone: no barometer, same as
-# `none`); `truth`: the simulator's stair flag (an upper bound of detection, not a method). Mean over seeds.
+# `none`); `baro, downweight`: the forward speed kept with sd 0.5 m/s there; `truth`: the simulator's stair
+# flag (an upper bound of detection, not a method). Mean over seeds.
 
 # %%
 report.table(tables["stair_handling"], "stair_handling")
