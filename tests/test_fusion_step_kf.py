@@ -64,9 +64,16 @@ def test_update_rejects_nan_fix():
 
 
 def test_paper_table4_lookup():
-    s = fu.sigma_sl_paper_m([0.4, 0.6, 0.65, 0.8])
+    L = np.array([0.4, 0.6, 0.65, 0.8])
+    s = fu.sigma_sl_paper_m(L, reading="m2")
     np.testing.assert_allclose(s**2, [0.054, 0.036, 0.0445, 0.065])
-    np.testing.assert_allclose(fu.sigma_sl_paper_m([0.2, 1.1]) ** 2, [0.054, 0.065])
+    np.testing.assert_allclose(fu.sigma_sl_paper_m([0.2, 1.1], reading="m2") ** 2, [0.054, 0.065])
+    # the default reads Table 4 as relative variances (thesis L478): sigma proportional to the step
+    np.testing.assert_allclose(fu.sigma_sl_paper_m(L), s * L)
+    # sqrt(0.054) sqrt(2 / pi) = 18.5 % mean absolute relative error (L478: 18.43 %)
+    assert fu.sigma_sl_paper_m(0.5) / 0.5 * np.sqrt(2 / np.pi) == pytest.approx(0.1854, abs=1e-3)
+    with pytest.raises(ValueError, match="reading"):
+        fu.sigma_sl_paper_m(0.5, reading="cm2")
     with pytest.raises(ValueError, match=r"step_m\[1\] = 1.1 m is outside the paper's Table 4"):
         fu.sigma_sl_paper_m([0.5, 1.1], outside="error")
     assert len(fu.PAPER_TABLE5_SIGMA_RF_VAR_M2) == 28
@@ -223,10 +230,11 @@ def test_kf_beats_dead_reckoning_and_wifi_on_seeded_walks():
 
 
 def test_module_has_paper_constants_labelled():
-    src = open(step_kf.__file__, encoding="utf-8").read().splitlines()
-    for ln in src:
-        if "0.054" in ln or "15.072" in ln:
-            assert "paper" in ln.lower()
+    src = open(step_kf.__file__, encoding="utf-8").read()
+    block = src[src.index("# Settings from the paper"):].split("\n\n")[0]
+    for name in ("PAPER_TABLE4_STEP_M", "PAPER_TABLE4_SIGMA_SL_VAR_M2", "PAPER_TABLE5_SIGMA_RF_VAR_M2"):
+        assert name in block                                  # each paper constant is in the labelled block
+    assert step_kf.PAPER_TABLE4_SIGMA_SL_VAR_M2[0] == 0.054 and step_kf.PAPER_TABLE5_SIGMA_RF_VAR_M2[0] == 15.072
 
 
 def test_covariances_of_absurd_scale_are_refused_at_entry():

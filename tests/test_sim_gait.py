@@ -75,3 +75,69 @@ def test_bad_input():
         gait.simulate_walk(gait.straight_route(5), w, 0, step_length_m=-1)
     with pytest.raises(ValueError, match="n must be"):
         gait.make_walkers(0)
+
+
+def test_step_length_and_cadence_follow_dynamic_similarity():
+    """Alexander's stride / leg = 2.3 Fr^0.3, both ways, and the walkers' natural steps on it."""
+    leg = np.array([0.82, 0.9, 1.0])
+    L, f, v = gait.alexander_step(leg, speed_mps=1.4)
+    np.testing.assert_allclose(2 * L / leg, 2.3 * (1.4**2 / (9.80665 * leg)) ** 0.3)
+    np.testing.assert_allclose(L * f, 1.4)
+    L2, f2, v2 = gait.alexander_step(leg, step_length_m=L)
+    np.testing.assert_allclose(v2, 1.4)
+    np.testing.assert_allclose(f2, f)
+    for w in gait.make_walkers(5, 2):
+        Lw, fw, _ = gait.alexander_step(w.leg_m, speed_mps=w.speed_mps)
+        assert w.step_length_m == pytest.approx(float(Lw)) and w.cadence_hz == pytest.approx(float(fw))
+        assert w.leg_m == pytest.approx(0.53 * w.height_m)
+    with pytest.raises(ValueError, match="exactly one"):
+        gait.alexander_step(0.9)
+
+
+def test_pendulum_amplitude_and_step_variability():
+    # the inverted pendulum: larger and faster steps bounce more
+    a = gait.pendulum_amplitude_mps2([0.4, 0.6, 0.8], 2.0, 0.9)
+    assert np.all(np.diff(a) > 0)
+    assert gait.pendulum_amplitude_mps2(0.6, 2.2, 0.9) > gait.pendulum_amplitude_mps2(0.6, 1.8, 0.9)
+    # leg 0.9 m, L / K = 0.48 m: h = 0.9 - sqrt(0.81 - 0.0576)
+    h = 0.9 - np.sqrt(0.81 - 0.24**2)
+    assert float(gait.pendulum_amplitude_mps2(0.6, 2.0, 0.9)) == pytest.approx((4 * np.pi) ** 2 * h / 2)
+    w = gait.make_walkers(1, 5)[0]
+    sw = gait.simulate_walk(gait.straight_route(200.0), w, 5)
+    st = sw.steps.iloc[1:-1]
+    cv_t = st["duration_s"].std() / st["duration_s"].mean()
+    cv_l = st["length_m"].std() / st["length_m"].mean()
+    assert 0.015 < cv_t < 0.035 and 0.02 < cv_l < 0.04  # cv 2.5 % and 3 % (Hausdorff 2005)
+    np.testing.assert_allclose(st["amp_mps2"], gait.pendulum_amplitude_mps2(st["length_m"], 1 / st["duration_s"],
+                                                                            w.leg_m))
+def test_pass_times_are_increasing_and_within_the_walk():
+    route = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]])
+    w = gait.make_walkers(1, 0)[0]
+    sw = gait.simulate_walk(route, w, 0)
+    t = gait.pass_times_s(sw, route)
+    assert np.all(np.diff(t) > 0)
+    assert t[0] == sw.steps["t_strike_s"].iloc[0]
+    assert t[-1] <= sw.imu.index[-1]
+
+
+def test_times_at_arc_are_the_step_ends():
+    w = gait.make_walkers(1, 1)[0]
+    sw = gait.simulate_walk(gait.straight_route(10.0), w, 1)
+    ends = np.cumsum(sw.steps["length_m"].to_numpy())
+    t_end = (sw.steps["t_strike_s"] + sw.steps["duration_s"]).to_numpy()
+    np.testing.assert_allclose(gait.times_at_arc_s(sw, ends), t_end)
+
+
+def test_training_walks_and_features():
+    rng = np.random.default_rng(0)
+    ws = gait.make_walkers(2, 0)
+    walks = gait.training_walks(ws, rng, (0.5, 0.7), n_steps=10)
+    assert [(w.name, L) for w, L, _ in walks] == [(ws[0].name, 0.5), (ws[0].name, 0.7), (ws[1].name, 0.5),
+                                                  (ws[1].name, 0.7)]
+    assert all(len(sw.steps) == 10 for _, _, sw in walks)
+    f = gait.fixed_length_features(walks)
+    assert set(f["target_m"]) == {0.5, 0.7}
+    assert (f["length_m"] - f["target_m"]).abs().max() < 0.15      # N(target, 0.02 m) steps
+    assert len(f) <= 40 and len(f) > 30                           # most true steps have a wave
+    cw = gait.count_walks(ws, rng, n_steps=20)
+    assert [len(sw.steps) for sw in cw] == [20, 20]

@@ -25,6 +25,11 @@ def test_wifi_iloc_fast_is_deterministic_and_sane():
     comp = comparison_table(a["paper_vs_reproduced"].to_dict("records"))
     assert {"paper_value", "reproduced_value", "agreement"} <= set(comp.columns)
     assert "RADAR median" in wifi_iloc.findings(a)
+    r = a["readings"]
+    assert list(r.columns) == ["choice", "paper_line", "text_says", "code_does", "source"]
+    assert {"RADAR database", "test route", "floor plan"} <= set(r["choice"])
+    # the text's database (every stored scan) and the mean map are both reported
+    assert {"Simplified-RADAR", "Simplified-RADAR (mean map)"} <= set(m.index)
 
 
 @pytest.mark.realdata
@@ -61,11 +66,7 @@ def test_cli_bad_input(tmp_path):
     assert out.returncode == 2 and "empty file" in out.stderr
 
 
-def test_make_estimator_rejects_unknown_method():
-    with pytest.raises(ValueError, match="method must be one of"):
-        wifi_ujiindoorloc.make_estimator("svm")
-    with pytest.raises(ValueError, match="metric"):
-        wifi_ujiindoorloc.make_estimator("knn", metric="cosine")
+def test_selection_mask_is_half():
     assert np.isclose(wifi_ujiindoorloc.selection_mask(11).sum(), 5)
 
 

@@ -8,7 +8,8 @@ lie inside ranges learned as the [5 %, 95 %] quantiles of the features of traini
 
 References
 ----------
-i-Loc thesis (000), sec. 4.1, eq. (8)-(15), Table 1, Figs 7-12.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.1, eq. (8)-(15), Table 1, Figs 7-12.
 """
 
 from __future__ import annotations
@@ -16,13 +17,15 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.pdr.signals import check_acc, check_times, sample_rate_hz, sliding_max
+from ilocalg.pdr.registry import register_step_detector
+from ilocalg.pdr.signals import along_gravity_mps2, check_acc, check_times, sample_rate_hz, sliding_max
 
 __all__ = [
     "SAM_FEATURES",
     "SAM_TESTED_FEATURES",
     "SAM_RANGES_PAPER",
     "vertical_horizontal_mps2",
+    "seconds_to_samples",
     "sam_waves",
     "learn_feature_ranges",
     "in_ranges",
@@ -36,10 +39,13 @@ SAM_FEATURES = ("T1", "T2", "T", "A1", "A2", "A", "I", "X1")
 #: The features the thesis tests against their ranges (A1 is listed in Table 1 but not tested).
 SAM_TESTED_FEATURES = ("A2", "A", "T1", "T2", "T", "X1", "I")
 
+# Settings from the paper
+# -----------------------
+# SAM_RANGES_PAPER: Chiu (2013) Table 1, min and max of each SAM feature (s, m/s^2).
 #: i-Loc thesis Table 1 (paper values: min, max of each feature; seconds and m/s^2).
-SAM_RANGES_PAPER = pd.DataFrame(  # paper Table 1
-    {"min": [0.08, 0.10, 0.36, 2.15, 1.72, 4.24, 0.6, 3.79],  # paper Table 1 minima
-     "max": [0.35, 0.40, 0.62, 8.98, 8.37, 16.77, 1.8, 38.0]},  # paper Table 1 maxima
+SAM_RANGES_PAPER = pd.DataFrame(
+    {"min": [0.08, 0.10, 0.36, 2.15, 1.72, 4.24, 0.6, 3.79],
+     "max": [0.35, 0.40, 0.62, 8.98, 8.37, 16.77, 1.8, 38.0]},
     index=pd.Index(SAM_FEATURES, name="feature"),
 )
 
@@ -65,7 +71,7 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.1 (definition of a_perp before eq. (8)).
+    Chiu (2013), sec. 4.1 (definition of a_perp before eq. (8)).
     """
     a = check_acc(acc_mps2, min_samples=1)
     if a.ndim != 2:
@@ -77,16 +83,47 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
     if np.any(~np.isfinite(n0)) or np.any(n0 <= 0):
         raise ValueError("g0_mps2 must be a finite non-zero vector")
     u = g0 / n0[..., None] if g0.ndim == 2 else g0 / n0
-    proj = a @ u if u.ndim == 1 else np.einsum("ij,ij->i", a, u)
+    proj = along_gravity_mps2(a, g0)
     a_perp = n0 - proj
     horiz = a - proj[:, None] * (u if u.ndim == 2 else u[None, :])
     return a_perp, np.sqrt(np.einsum("ij,ij->i", horiz, horiz))
 
 
+def seconds_to_samples(duration_s: float, rate_hz: float, mode: str = "round") -> int:
+    """A window length in seconds as a number of samples, the same for rates a clock jitter apart.
+
+    ``duration_s * rate_hz`` is first snapped to a multiple of 1e-3 samples (a log's measured rate
+    is off its nominal value by parts per million: 49.99999 Hz and 50.000001 Hz are both 50 Hz),
+    then rounded half up (``mode="round"``) or down (``mode="floor"``).
+
+    Parameters
+    ----------
+    duration_s : float
+        Window length, s (>= 0).
+    rate_hz : float
+        Sample rate, Hz (> 0).
+    mode : {"round", "floor"}
+
+    Returns
+    -------
+    int
+    """
+    if not (np.isfinite(duration_s) and duration_s >= 0):
+        raise ValueError(f"duration_s must be a finite number >= 0, got {duration_s}")
+    if not (np.isfinite(rate_hz) and rate_hz > 0):
+        raise ValueError(f"rate_hz must be a finite number > 0, got {rate_hz}")
+    x = np.round(float(duration_s) * float(rate_hz) * 1e3) / 1e3
+    if mode == "round":
+        return int(np.floor(x + 0.5))
+    if mode == "floor":
+        return int(np.floor(x))
+    raise ValueError(f"mode must be 'round' or 'floor', got {mode!r}")
+
+
 def _window_sizes(rate_hz: float, w_peak_s: float, w_wave_s: float, valley_s: float):
-    half_peak = max(int(round(0.5 * w_peak_s * rate_hz)), 1)
-    half_wave = max(int(round(valley_s * rate_hz)), 1)
-    n_dft = int(np.floor(0.5 * w_wave_s * rate_hz)) - 1
+    half_peak = max(seconds_to_samples(0.5 * w_peak_s, rate_hz), 1)
+    half_wave = max(seconds_to_samples(valley_s, rate_hz), 1)
+    n_dft = seconds_to_samples(0.5 * w_wave_s, rate_hz, "floor") - 1  # N = floor(W_wave f / 2) - 1
     if n_dft < 1:
         raise ValueError(f"sample rate {rate_hz:.3g} Hz is too low for W_wave = {w_wave_s} s (N = {n_dft} < 1)")
     return half_peak, half_wave, n_dft
@@ -107,11 +144,12 @@ def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: flo
     w_peak_s, w_wave_s : float
         W_peak (0.25 s) and W_wave (0.5 s) of the thesis.
     valley_s : float, optional
-        How far either side of the peak the valleys are searched, s. Default ``w_wave_s``: read
-        literally, sec. 4.1 searches ``W_wave / 2`` either side, which bounds T by W_wave = 0.5 s,
-        yet Table 1 reports T up to 0.62 s and T2 up to 0.40 s, so the thesis's valleys must lie
-        further out; searching ``W_wave`` either side reproduces such waves. Pass
-        ``w_wave_s / 2`` for the literal reading.
+        How far either side of the peak the valleys are searched, s. Default ``w_wave_s`` (0.5 s).
+        Read literally, the thesis (L357) searches ``W_wave / 2 = 0.25 s`` either side, which
+        bounds T1 and T2 by 0.25 s and T by 0.5 s, yet Table 1 (L424-425) reports T1 up to 0.35 s,
+        T2 up to 0.40 s and T up to 0.62 s: such waves need valleys further out, so the default
+        searches ``W_wave`` either side. Pass ``w_wave_s / 2`` for the literal reading. Windows
+        are converted to samples with :func:`seconds_to_samples`.
 
     Returns
     -------
@@ -122,7 +160,7 @@ def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: flo
 
     References
     ----------
-    i-Loc thesis (000), eq. (8)-(15).
+    Chiu (2013), eq. (8)-(15).
     """
     a = check_acc(acc_mps2, min_samples=3)
     t = check_times(t_s, n=a.shape[0])
@@ -173,7 +211,7 @@ def learn_feature_ranges(features: pd.DataFrame, q_low: float = 0.05, q_high: fl
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.1 (ranges from the 5 % and 95 % points of the feature CDFs), Table 1.
+    Chiu (2013), sec. 4.1 (ranges from the 5 % and 95 % points of the feature CDFs), Table 1.
     """
     missing = [f for f in SAM_FEATURES if f not in features.columns]
     if missing:
@@ -209,6 +247,7 @@ def in_ranges(waves: pd.DataFrame, ranges: pd.DataFrame, features=SAM_TESTED_FEA
     return n_ok >= k
 
 
+@register_step_detector("sam", rate_hz=50.0)
 def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=None,
                      w_peak_s: float = 0.25, w_wave_s: float = 0.5, min_pass: int | None = None) -> pd.DataFrame:
     """SAM step detection: the waves of :func:`sam_waves` whose features lie in ``ranges``.
@@ -230,7 +269,7 @@ def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.1, eq. (8)-(15), Table 1.
+    Chiu (2013), sec. 4.1, eq. (8)-(15), Table 1.
     """
     waves = sam_waves(acc_mps2, t_s, g0_mps2, w_peak_s, w_wave_s)
     r = SAM_RANGES_PAPER if ranges is None else ranges

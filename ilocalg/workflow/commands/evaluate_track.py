@@ -60,7 +60,7 @@ def _ids_in(floor) -> list[str]:
 
 def _load(paths, floor):
     """Traces for PATHs: files are read directly, the rest are ids inside ``floor`` (one archive pass)."""
-    from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace
+    from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace, require_walk
 
     out, ids = {}, []
     for p in paths:
@@ -78,7 +78,7 @@ def _load(paths, floor):
         fl = load_ilc_floor(floor, names=ids, duplicate_bssid="keep_latest")
         for i in ids:
             out[i] = fl.traces[i]
-    return out
+    return {k: require_walk(v) for k, v in out.items()}
 
 
 def run(args) -> dict:
