@@ -15,7 +15,7 @@ from ilocalg.ins import dcm_to_euler, error_stats, eskf_rts_smooth, heading_erro
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
@@ -57,7 +57,7 @@ def run_phone(route: str, profile: str, seed: int, stairs: str = "baro", stair_a
 def readings(stairs: str, stair_action: str) -> pd.DataFrame:
     """One row per modelling choice: paper line, what the text says, what the code does, source of the value."""
     rows = [
-        ("filter state and update", "L109-L128", "21-state EKF, eq. (1)-(6), Joseph update",
+        ("filter state and update", "L109-L134", "21-state EKF, eq. (1)-(6), Joseph update",
          "ilocalg.ins.eskf.run_eskf, closed loop", "paper"),
         ("WVC forward speed", "L151-L158", "step model of Chen et al. (2011), eq. (7), default height and "
          "parameters", "eq. (7), h = 1.75 m, a = 0.371, b = 0.227, c = 1",
@@ -82,16 +82,17 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
          "iBeacon immediate zone"),
         ("phone sampling", "L171, L324", "15-17 Hz; about 20 Hz, unstable, poor time tags",
          "14.3-20 Hz irregular, point samples, time-tag error sd 10 ms", "10 ms: assumption"),
-        ("sensor errors", "L180, L202", "the phones' IMUs calibrated in Liao et al. (2014), similar",
+        ("sensor errors", "L178, L202", "the phones' IMUs calibrated in Liao et al. (2014), similar",
          "MPU-6500 class turn-on bias, scale factor, noise; Gauss-Markov 0.5 mg / 20 deg/h, 300 s",
          "datasheet class; Gauss-Markov values assumed"),
-        ("GNSS", "L107, L202", "only the two outdoor loops (initialisation)", "1 Hz, sd 2.5 / 2.5 / 4 m",
+        ("GNSS", "L109, L202", "only the two outdoor loops (initialisation)", "1 Hz, sd 2.5 / 2.5 / 4 m",
          "assumption (phone grade)"),
-        ("reference", "L180-L194", "MIDG-II (Table 3) on the same walk, NHC/ZUPT, smoothed", "the simulated "
+        ("reference", "L178-L191", "MIDG-II (Table 3) on the same walk, NHC/ZUPT, smoothed", "the simulated "
          "truth (reference_grade table processes a MIDG-II-grade IMU like the paper's reference)", "Table 3"),
         ("scored part", "L202", "the GNSS-aided start removed", "indoor part after the outdoor loops", "paper"),
     ]
-    return pd.DataFrame(rows, columns=["choice", "paper_line", "text_says", "code_does", "source"])
+    return readings_table([reading(c, "" if line == "-" else "Liao et al. (2016), " + line, text, code, src)
+                           for c, line, text, code, src in rows])
 
 
 def _stats_rows(phone, method, seed, err):

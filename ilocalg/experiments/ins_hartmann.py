@@ -19,7 +19,7 @@ import pandas as pd
 from ilocalg.ins.hartmann import run_hartmann
 from ilocalg.ins.mechanisation import coarse_level
 from ilocalg.ins.paper_values import HARTMANN_2010, HARTMANN_TABLE2_OVERALL
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import hartmann as sim
 
 __all__ = ["run_sequence", "run"]
@@ -89,7 +89,9 @@ def readings() -> pd.DataFrame:
         ("sequences", "Table 2", "6 test sequences of hand motion", "6 simulated sequences of 120 s",
          "duration assumed"),
     ]
-    return pd.DataFrame(rows, columns=["choice", "paper_line", "text_says", "code_does", "source"])
+    where = "Yeh & Huang survey (Hartmann et al. 2010), "
+    return readings_table([reading(c, "" if line == "-" else where + line, text, code, src)
+                           for c, line, text, code, src in rows])
 
 
 def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,

@@ -17,7 +17,7 @@ from ilocalg.ins.evaluate import AXES, nav_errors, window_sweep, window_sweep_ta
 from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.ins.smoother import rts_gains
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
@@ -44,7 +44,7 @@ def readings(stairs: str, offsets) -> pd.DataFrame:
         ("online smoother", "L169-L171, Fig 3", "RTS (eq. 8-10) on fixed time windows, run as each window fills",
          "RTS on consecutive fixed windows; the last epoch of a window keeps its filtered value",
          "paper"),
-        ("RTS gain", "L164 (eq. 10)", "G_k = P_k^update Phi_(k+1) P_(k+1)^predict as printed",
+        ("RTS gain", "L165 (eq. 10)", "G_k = P_k^update Phi_(k+1) P_(k+1)^predict as printed",
          "G_k = P_k^update Phi_(k+1)^T (P_(k+1)^predict)^-1 (standard RTS gain)", "Shin (2005), as cited"),
         ("window sizes", "L328-L330, Tables 8-11, Fig 19", "5, 10, 20 s; best 20 s", "5, 10, 20 s and a sweep",
          "paper"),
@@ -54,7 +54,8 @@ def readings(stairs: str, offsets) -> pd.DataFrame:
         ("filter", "L328", "WVC/ZUPT + indoor control points", f"as notebook 12 (stairs={stairs!r})",
          "see ins_constraints readings"),
     ]
-    return pd.DataFrame(rows, columns=["choice", "paper_line", "text_says", "code_does", "source"])
+    return readings_table([reading(c, "" if line == "-" else "Liao et al. (2016), " + line, text, code, src)
+                           for c, line, text, code, src in rows])
 
 
 def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
