@@ -1,13 +1,25 @@
-"""Speed of the 21-state ESKF + RTS smoother against real time and against filterpy.
+"""Speed and memory of the 21-state ESKF + RTS smoother.
 
-Scenario: 60 s of a 100 Hz IMU (6000 epochs) on a level circle, a position fix every second and a
+Speed. Scenario: 60 s of a 100 Hz IMU (6000 epochs) on a level circle, a position fix every second and a
 body-velocity (NHC-like) update every 0.5 s. Reported: real-time factor (log duration / compute time)
 of filter + RTS (state only, as the online smoother needs it) and with the smoothed covariance, and the
 ratio to filterpy's KalmanFilter + rts_smoother fed the same 21x21 transition matrices (a linear filter
 with precomputed matrices, i.e. a lower bound of what a per-step Python EKF costs).
+
+Memory. The same scenario stretched to N epochs, run in a fresh interpreter that reports its peak
+resident set size: the filter keeping its (N, 21, 21) covariance histories (``keep_covariance=True``)
+against the filter keeping only checkpoints (``keep_covariance=False``), each alone and followed by the
+RTS smoother with smoothed covariance. From the command line::
+
+    PYTHONPATH=$PWD python benchmarks/bench_ins.py memory 200000 checkpoints rts
 """
 
 from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -20,8 +32,8 @@ DURATION_S = 60.0
 RATE_HZ = 100.0
 
 
-def _scenario():
-    n = int(DURATION_S * RATE_HZ)
+def _scenario(n=None):
+    n = int(DURATION_S * RATE_HZ) if n is None else int(n)
     dt = 1.0 / RATE_HZ
     t = np.arange(n) * dt
     v, w = 1.2, 0.25
@@ -82,5 +94,75 @@ def test_eskf_rts_realtime_factor(benchmark, with_cov):
     ref = best_time_s(_filterpy_reference(), repeat=1)
     benchmark.extra_info["filterpy_kf_rts_s"] = ref
     benchmark.extra_info["speedup_vs_filterpy"] = ref / best
+    # CPU time as well: on a shared machine the wall-clock factor mostly measures the load
+    cpu = _best_cpu_s(lambda: _run(with_cov))
+    cpu_ref = _best_cpu_s(_filterpy_reference(), repeat=1)
+    benchmark.extra_info["realtime_factor_cpu"] = DURATION_S / cpu
+    benchmark.extra_info["speedup_vs_filterpy_cpu"] = cpu_ref / cpu
     print(f"\nESKF+RTS ({'with' if with_cov else 'without'} smoothed covariance): {DURATION_S / best:.0f}x real "
-          f"time at {RATE_HZ:g} Hz; filterpy KF+RTS reference {DURATION_S / ref:.0f}x; ratio {ref / best:.1f}")
+          f"time at {RATE_HZ:g} Hz; filterpy KF+RTS reference {DURATION_S / ref:.0f}x; ratio {ref / best:.1f}; "
+          f"in CPU time {DURATION_S / cpu:.0f}x (filterpy {DURATION_S / cpu_ref:.0f}x, ratio {cpu_ref / cpu:.1f})")
+
+
+def _best_cpu_s(fn, repeat: int = 3) -> float:
+    """Best process CPU time of ``repeat`` calls of ``fn()``."""
+    import time
+
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.process_time()
+        fn()
+        best = min(best, time.process_time() - t0)
+    return best
+
+
+def memory_run(n_epochs: int, keep_covariance: bool, smooth: bool) -> dict:
+    """Run the scenario over ``n_epochs`` in this process; return times and this process's peak RSS (MB)."""
+    import resource
+    import time
+
+    t, g, f, v0, ups = _scenario(n_epochs)
+    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    t0 = time.perf_counter()
+    res = ins.run_eskf(t, g, f, np.zeros(3), v0, np.eye(3), ins.initial_covariance(), ups,
+                       keep_covariance=keep_covariance)
+    t1 = time.perf_counter()
+    if smooth:
+        ins.eskf_rts_smooth(res, with_cov=True)
+    t2 = time.perf_counter()
+    return {"n_epochs": n_epochs, "keep_covariance": keep_covariance, "smooth": smooth,
+            "filter_s": t1 - t0, "smooth_s": t2 - t1, "rss_before_mb": base,
+            "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def memory_in_subprocess(n_epochs: int, keep_covariance: bool, smooth: bool) -> dict:
+    """:func:`memory_run` in a fresh interpreter (so that the peak RSS is this run's alone)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    cmd = [sys.executable, os.path.join(here, "bench_ins.py"), "memory", str(int(n_epochs)),
+           "history" if keep_covariance else "checkpoints", "rts" if smooth else "filter"]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env={**os.environ})
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("keep", [True, False], ids=["history", "checkpoints"])
+def test_eskf_memory_long_walk(benchmark, keep):
+    """Peak RSS of filter + RTS (smoothed covariance) over 2e5 epochs (33 min at 100 Hz) in a fresh process.
+
+    The history run needs about 3 x 441 x 8 B = 10.6 kB per epoch for P+, P- and Phi plus the gains; the
+    checkpoint run stores O(N) arrays. 1e6 epochs scale linearly (see the module docstring).
+    """
+    n = 200_000 if not keep else 50_000
+    r = benchmark.pedantic(memory_in_subprocess, args=(n, keep, True), rounds=1, iterations=1)
+    benchmark.extra_info.update(r)
+    per_epoch_kb = (r["peak_rss_mb"] - r["rss_before_mb"]) * 1024 / n
+    benchmark.extra_info["kb_per_epoch"] = per_epoch_kb
+    print(f"\n{'history' if keep else 'checkpoints'}: {n} epochs, peak RSS {r['peak_rss_mb']:.0f} MB "
+          f"({per_epoch_kb:.2f} kB/epoch above the start; 1e6 epochs ~ {per_epoch_kb * 1e6 / 1024**2:.1f} GB), "
+          f"filter {r['filter_s']:.1f} s, RTS {r['smooth_s']:.1f} s")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 5 and sys.argv[1] == "memory":
+        print(json.dumps(memory_run(int(sys.argv[2]), sys.argv[3] == "history", sys.argv[4] == "rts")))
+    else:
+        raise SystemExit("usage: bench_ins.py memory N_EPOCHS history|checkpoints rts|filter")

@@ -6,8 +6,8 @@ import numpy as np
 
 from ilocviz.core import new_axes
 
-__all__ = ["walk_trajectories", "errors_vs_time", "heading_errors_vs_time", "window_study", "vt_positions",
-           "bias_estimates"]
+__all__ = ["walk_trajectories", "errors_vs_time", "heading_errors_vs_time", "window_study", "window_study_band",
+           "attitude_errors_vs_time", "vt_positions", "bias_estimates"]
 
 
 def walk_trajectories(traj, phone: str, ax=None, gcp_xy=None, indoor_only: bool = True):
@@ -80,6 +80,49 @@ def window_study(df, ax=None, stat: str = "rms"):
     ax.set_xlabel("Smoothing window [s]")
     ax.set_ylabel(f"{stat.upper()} position error [m]")
     ax.legend(loc="best", fontsize=7, ncol=2)
+    return ax
+
+
+def window_study_band(df, ax=None):
+    """Fig 19 with its spread: horizontal RMS error against the window (s), mean over seeds and window-grid
+    offsets, with the min-max band over them, one line per phone.
+
+    ``df``: the ``window_sweep`` table of :func:`ilocalg.experiments.ins_online.run` (columns ``phone``,
+    ``window_s``, ``stat``, ``horizontal``, ``horizontal_min``, ``horizontal_max``); finite windows only.
+    """
+    ax = new_axes(ax)
+    d = df[(df["stat"] == "rms") & (df["window_s"] > 0) & np.isfinite(df["window_s"])]
+    for phone, g in d.groupby("phone", sort=False):
+        g = g.sort_values("window_s")
+        line, = ax.plot(g["window_s"], g["horizontal"], marker="o", label=f"{phone} (mean)")
+        ax.fill_between(g["window_s"], g["horizontal_min"], g["horizontal_max"], color=line.get_color(),
+                        alpha=0.2, lw=0, label=f"{phone} (min-max over seeds x grid offsets)")
+    ax.set_xlabel("Smoothing window [s]")
+    ax.set_ylabel("Horizontal RMS error [m]")
+    ax.legend(loc="best", fontsize=7)
+    return ax
+
+
+def attitude_errors_vs_time(traj, phone: str, ax=None, methods=None):
+    """Figs 15 / 18: roll, pitch and heading errors (deg) against time of the filter and the online windows.
+
+    ``traj``: the ``trajectory`` table of :func:`ilocalg.experiments.ins_online.run` (columns ``roll_err_deg``,
+    ``pitch_err_deg``, ``heading_err_deg``); ``ax``: three axes (roll, pitch, heading) or None.
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(3, 1, sharex=True, figsize=(7, 6))
+    d = traj[(traj["phone"] == phone) & traj["indoor"] & (traj["method"] != "Truth")]
+    for method, g in d.groupby("method", sort=False):
+        if methods is not None and method not in methods:
+            continue
+        for a, col in zip(ax, ("roll_err_deg", "pitch_err_deg", "heading_err_deg"), strict=True):
+            a.plot(g["t_s"], g[col], lw=0.9, label=method)
+    for a, name in zip(ax, ("Roll", "Pitch", "Heading"), strict=True):
+        a.set_ylabel(f"{name} error [deg]")
+    ax[-1].set_xlabel("Time [s]")
+    ax[0].legend(loc="best", fontsize=7)
     return ax
 
 

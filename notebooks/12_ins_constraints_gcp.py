@@ -32,11 +32,27 @@ from ilocalg.workflow.reporting import Report
 report = Report(OUT_DIR, "12_ins_constraints_gcp")
 
 # %% [markdown]
-# ## Simulated inputs
-# Duration, phone IMU rate and control-point passages of every simulated walk (inputs, not results).
+# ## Readings: what the paper says and what the code does
+# The WVC forward speed is eq. (7),
+#
+# $$v_k^x = \left(0.7 + a(h - 1.75) + b\frac{(F_k - 1.79)h}{1.75}\right)c \times F_k \quad (7)$$
+#
+# with the default height and parameters the paper says it used (L151) - here a = 0.371, b = 0.227, c = 1,
+# h = 1.75 m, the values of Chen et al. (2011) as widely reproduced (not checked against that paper). The
+# paper says nothing about what its filter does on stairs; here the WVC drops its forward and vertical rows
+# where the Samsung's barometer shows a climb (the iPhone 5S has no barometer: no stair handling there).
 
 # %%
 tables = ins_constraints.run(seed=SEED, fast=FAST)
+report.table(tables["readings"], "readings")
+
+# %% [markdown]
+# ## Simulated inputs
+# Duration, phone IMU rate (from the phone's jittered time tags), control-point passages and their mean
+# Bluetooth delay, the walker's level speed and cadence (drawn from published gait measurements) and the
+# epochs on stairs, for every simulated walk (inputs, not results).
+
+# %%
 report.table(tables["walk_stats"], "walk_stats")
 
 # %% [markdown]
@@ -78,10 +94,26 @@ with ilocviz.style():
     ilocviz.savefig(fig, "12_ins_constraints_gcp_heading_errors", OUT_DIR)
 
 # %% [markdown]
-# ## Control-point grade: total station (cm) vs Bluetooth beacon (m-level) fixes, RMS errors
+# ## Stairs: Tables 4-7 with the WVC's stair handling off, from the barometer, and from the true stair flag
+# `none`: eq. (7) everywhere (what a filter that ignores stairs does); `baro`: WVC forward and vertical rows
+# dropped where the barometric height changes faster than 0.1 m/s (the default; iPhone: no barometer, same as
+# `none`); `baro, downweight`: the forward speed kept with sd 0.5 m/s there; `truth`: the simulator's stair
+# flag (an upper bound of detection, not a method). Mean over seeds.
+
+# %%
+report.table(tables["stair_handling"], "stair_handling")
+
+# %% [markdown]
+# ## Control points: Bluetooth fix (surveyed point, ranging delay, proximity offset) vs the ideal fix, RMS
 
 # %%
 report.table(tables["gcp_grade"], "gcp_grade")
+
+# %% [markdown]
+# ## Sensors: realistic phone timing (time-tag jitter, point samples, bias instability) vs the ideal sensor
+
+# %%
+report.table(tables["sensor_grade"], "sensor_grade")
 
 # %% [markdown]
 # ## Heading error when the phone's time tags are misaligned with the reference
@@ -115,31 +147,24 @@ for phone in ("Samsung", "iPhone"):
 # ## Conclusion
 #
 # The ordering of the paper is reproduced on the simulated walks: the tight vehicle-style NHC drifts
-# most, WVC reduces the horizontal drift (in east here; the north error is held up by the stairs, see
-# below), control-point updates bound the error, and RTS smoothing of the WVC/ZUPT/GCP filter is the most
-# accurate, at the decimetre level like the paper's (computed summary above).
+# most, WVC reduces the drift, control-point updates bound the error, and RTS smoothing of the WVC/ZUPT/GCP
+# filter is the most accurate (computed summary above).
 #
 # Where the numbers differ and why:
-# - The data are simulated (no recordings of the paper are public); only sensor inputs were calibrated
-#   (phone datasheet class errors, 14-20 Hz irregular sampling, MIDG-II Table 3 for the reference grade);
-#   nothing was tuned to Tables 4-7, so magnitudes differ.
-# - Stairs dominate the simulated north error: eq. (7) with the default parameters predicts a level walking
-#   speed while the walker climbs slowly, so between the control points at the foot of the stairs and on
-#   the 2nd-floor corridor the WVC filter overshoots along the stairs (north) until the next fix; the RTS
-#   smoother removes most of it, which is why the smoothed rows come closest to the paper's. The paper's
-#   route also has stairs, but its step detector and walker behaviour on stairs are not described.
-# - The indoor legs are sized so that the four control points are met about every 15 s as in the paper; on
-#   the iPhone route (fewer passages) the spacing is somewhat longer (walk_stats).
+# - The data are simulated (no recordings of the paper are public). The walker's speed and cadence come
+#   from published gait measurements, not from eq. (7), so the default-parameter WVC mis-predicts the speed
+#   of a walker whose step length differs from the model's, as for a real user; nothing was tuned to
+#   Tables 4-7, so magnitudes differ.
+# - Stairs: a walker on stairs takes one tread per step at about half the level speed while eq. (7) predicts a
+#   level speed from the step frequency. The stair-handling table shows what dropping the WVC speed on
+#   stairs does; the paper does not describe its filter's stair behaviour, so its tables may include either.
+# - Control points are Bluetooth fixes at their surveyed coordinates (L109: metre level): the fix arrives up
+#   to a ranging cycle after the walker reaches the beacon and a proximity offset away; the gcp_grade table
+#   compares it with the ideal fix.
 # - Attitude: the paper's heading errors (up to 100+ degrees max) come mostly from time-synchronisation
-#   errors between the phone and the 200 Hz reference; the simulation has exact time tags, so its heading
-#   errors are smaller and its roll/pitch errors much smaller. The time-sync table shows that a lag of a
-#   tenth of a second already multiplies the maximum heading error several-fold (turns), supporting the
-#   paper's explanation.
-# - Control points of Bluetooth (m-level) rather than total-station (cm-level) quality leave metre-level
-#   errors even after smoothing (control-point grade table).
-# - In the simulation, a MIDG-II-grade IMU processed like the paper's reference (NHC/ZUPT + smoothing, no
-#   control points) still drifts by metres, and so does an error-free IMU (full mode): hand-held vibration
-#   and walking dynamics violate NHC, the sensors are not the limit; with WVC/ZUPT/GCP and smoothing it is
-#   about as good as the phones. The paper's reference trajectory is therefore unlikely to be error-free,
-#   which limits how far its tables can be read as absolute accuracies (the paper does not report the
-#   reference's own accuracy).
+#   errors between the phone and the 200 Hz reference (L324); the simulated phone has 10 ms time-tag jitter
+#   but the reference is exact, so the simulated heading errors are smaller. The time-sync table shows that
+#   a lag of a tenth of a second already multiplies the maximum heading error several-fold (turns).
+# - A MIDG-II-grade IMU processed like the paper's reference (NHC/ZUPT + smoothing, no control points)
+#   still drifts by metres in the simulation: hand-held vibration and walking dynamics violate NHC, the
+#   sensors are not the limit; the paper does not report its reference's own accuracy.

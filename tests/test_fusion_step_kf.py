@@ -235,3 +235,18 @@ def test_module_has_paper_constants_labelled():
     for name in ("PAPER_TABLE4_STEP_M", "PAPER_TABLE4_SIGMA_SL_VAR_M2", "PAPER_TABLE5_SIGMA_RF_VAR_M2"):
         assert name in block                                  # each paper constant is in the labelled block
     assert step_kf.PAPER_TABLE4_SIGMA_SL_VAR_M2[0] == 0.054 and step_kf.PAPER_TABLE5_SIGMA_RF_VAR_M2[0] == 15.072
+
+
+def test_covariances_of_absurd_scale_are_refused_at_entry():
+    w = _walk(1, n=10)
+    args = (w.z_m[0], np.eye(2), w.theta_rad, w.step_m, 0.2, np.nan_to_num(w.z_m))
+    with pytest.raises(ValueError, match=r"R of a fix .*variance 1e-300 m\^2 outside"):
+        fu.filter_walk(*args, r_var_m2=1e-300)
+    with pytest.raises(ValueError, match=r"P0_m2: variance 1e\+20 m\^2 outside"):
+        fu.filter_walk(w.z_m[0], 1e20 * np.eye(2), w.theta_rad, w.step_m, 0.2, w.z_m, r_var_m2=9.0)
+    with pytest.raises(ValueError, match="R_m2: variance"):
+        fu.StepKalmanFilter([0, 0], np.eye(2)).update([1.0, 2.0], 1e-300)
+    with pytest.raises(ValueError, match="R_m2 must be a finite symmetric positive definite"):
+        fu.StepKalmanFilter([0, 0], np.eye(2)).update([1.0, 2.0], -np.eye(2))
+    with pytest.raises(ValueError, match="P0_m2 must be a finite symmetric positive definite"):
+        fu.StepKalmanFilter([0, 0], np.array([[1.0, np.nan], [np.nan, 1.0]]))

@@ -48,3 +48,40 @@ def test_update_sets_shapes_and_weights():
     z = ins.zupt_updates(t, ~moving)
     assert isinstance(z, ins.NavVelocity)
     assert z.t_s.size == 0
+
+
+def test_step_frequency_chen_smoothing():
+    t = np.array([0.0, 0.5, 1.1, 1.6, 5.0, 5.5])
+    idx = np.arange(t.size)
+    f = ins.step_frequency_hz(t, idx, smoothing="chen")
+    assert np.isnan(f[0]) and f[1] == pytest.approx(2.0)  # second step of a bout: 1 / dt
+    assert f[2] == pytest.approx(1.0 / (0.8 * 0.6 + 0.2 * 0.5))
+    assert np.isnan(f[4]) and f[5] == pytest.approx(2.0)  # a new bout after a pause
+    with pytest.raises(ValueError, match="smoothing"):
+        ins.step_frequency_hz(t, idx, smoothing="kalman")
+
+
+def test_detect_stairs_baro_finds_a_climb_and_not_noise():
+    rng = np.random.default_rng(0)
+    t = np.arange(0.0, 60.0, 0.06)
+    h = np.interp(t, [0, 20, 35, 60], [0, 0, 4.0, 4.0]) + rng.normal(0, 0.1, t.size)
+    on = ins.detect_stairs_baro(t, t, h)
+    climbing = (t > 22) & (t < 35)
+    assert on[climbing].mean() > 0.95
+    assert on[(t < 19) | (t > 38)].mean() < 0.02
+    with pytest.raises(ValueError, match="barometer"):
+        ins.detect_stairs_baro(t, t[:2], h[:2])
+
+
+def test_wvc_on_stairs_drops_forward_and_vertical():
+    t = np.arange(0.0, 10.0, 0.05)
+    steps = np.arange(10, 190, 10)
+    f = ins.step_frequency_hz(t, steps)
+    st = t > 5.0
+    w = ins.wvc_updates(t, steps, f, np.ones(t.size, bool), on_stairs=st)
+    s_on = st[np.searchsorted(t, w.t_s)]
+    assert np.all(np.isnan(w.sd[s_on][:, [0, 2]])) and np.all(np.isfinite(w.sd[s_on][:, 1]))
+    assert np.all(np.isfinite(w.sd[~s_on]))
+    d = ins.wvc_updates(t, steps, f, np.ones(t.size, bool), on_stairs=st, stair_action="downweight",
+                        stair_forward_sd_mps=0.7)
+    assert np.all(d.sd[s_on][:, 0] == 0.7) and np.all(np.isnan(d.sd[s_on][:, 2]))

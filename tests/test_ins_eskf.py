@@ -193,3 +193,55 @@ def test_any_object_obeying_the_protocol_is_applied():
     b = ins.run_eskf(*args, [fix], CFG)
     assert np.array_equal(a.pos_n_m, b.pos_n_m) and np.array_equal(a.P_plus, b.P_plus)
     assert (a.n_meas[idx] == 1).all() and np.sqrt(a.P_plus[-1, 2, 2]) < 0.05
+
+
+def _tiny_log(n=50):
+    t = np.arange(n) * 0.01
+    return t, np.zeros((n, 3)), np.tile([0.0, 0.0, 9.80665], (n, 1))
+
+
+@pytest.mark.parametrize("bad, msg", [
+    (lambda P: P.__setitem__((4, 4), -1.0), "negative"),
+    (lambda P: P.__setitem__((2, 2), np.nan), "finite"),
+    (lambda P: P.__setitem__((0, 1), 0.5), "symmetric"),
+    (lambda P: P.__setitem__((3, 3), 1e20), "exceeds"),
+])
+def test_run_eskf_refuses_bad_initial_covariance(bad, msg):
+    from ilocalg import ins
+    t, g, f = _tiny_log()
+    P0 = ins.initial_covariance()
+    bad(P0)
+    with pytest.raises(ValueError, match=f"P0.*{msg}"):
+        ins.run_eskf(t, g, f, np.zeros(3), np.zeros(3), np.eye(3), P0)
+
+
+def test_run_eskf_refuses_indefinite_covariance_and_tiny_measurement_noise():
+    from ilocalg import ins
+    t, g, f = _tiny_log()
+    P0 = ins.initial_covariance()
+    P0[0, 1] = P0[1, 0] = 10.0  # symmetric but indefinite
+    with pytest.raises(ValueError, match="P0: not positive semi-definite"):
+        ins.run_eskf(t, g, f, np.zeros(3), np.zeros(3), np.eye(3), P0)
+    fix = ins.PositionFix(t[[10]], np.zeros((1, 3)), np.full((1, 3), 1e-150), name="GCP")
+    with pytest.raises(ValueError, match="GCP: noise variance"):
+        ins.run_eskf(t, g, f, np.zeros(3), np.zeros(3), np.eye(3), ins.initial_covariance(), [fix])
+
+
+def test_filter_without_history_gives_the_same_solution():
+    from ilocalg import ins
+    from ilocalg.ins import eskf as E
+    rng = np.random.default_rng(0)
+    n = 3000
+    t = np.arange(n) * 0.01
+    g = rng.normal(0, 0.01, (n, 3))
+    f = np.tile([0.0, 0.0, 9.80665], (n, 1)) + rng.normal(0, 0.05, (n, 3))
+    i1 = np.arange(100, n, 700)
+    ups = [ins.PositionFix(t[i1], rng.normal(0, 0.3, (i1.size, 3)), np.full((i1.size, 3), 0.3))]
+    a = ins.run_eskf(t, g, f, np.zeros(3), np.zeros(3), np.eye(3), ins.initial_covariance(), ups)
+    b = ins.run_eskf(t, g, f, np.zeros(3), np.zeros(3), np.eye(3), ins.initial_covariance(), ups,
+                     keep_covariance=False)
+    assert b.P_plus is None and np.array_equal(a.pos_n_m, b.pos_n_m) and np.array_equal(a.dx, b.dx)
+    # checkpoints at every update and at least every CHECKPOINT_EPOCHS epochs
+    assert set(i1.tolist()) <= set(b.cp_idx.tolist()) and np.diff(b.cp_idx).max() <= E.CHECKPOINT_EPOCHS
+    for cp, P in zip(b.cp_idx, b.cp_P, strict=True):
+        assert np.array_equal(P, a.P_plus[cp])

@@ -73,3 +73,30 @@ def test_class_wrapper_agrees_with_functions():
                        [fix], CFG)
     assert np.array_equal(est.result_.pos_n_m, ref.pos_n_m)
     assert np.allclose(est.smooth(10.0).pos_n_m, ins.online_window_smooth(ref, 10.0).pos_n_m)
+
+
+def test_smoothing_without_history_equals_smoothing_with_it():
+    from ilocalg import ins
+    from ilocalg.ins.pipeline import run_walk
+    from ilocalg.sim import ins_walk
+
+    w = ins_walk.simulate("iphone", "iphone_5s", seed=5)
+    a = run_walk(w, "wvc")
+    b = run_walk(w, "wvc", keep_covariance=False)
+    for window in (None, 10.0):
+        sa = ins.eskf_rts_smooth(a, window_s=window, with_cov=True)
+        sb = ins.eskf_rts_smooth(b, window_s=window, with_cov=True)
+        assert np.allclose(sa.xs, sb.xs, rtol=0, atol=1e-12)
+        assert np.allclose(sa.sd, sb.sd, rtol=1e-12, atol=1e-15)
+
+
+def test_window_grid_offset_shifts_the_window_ends():
+    from ilocalg.ins.smoother import window_ends
+
+    t = np.arange(0.0, 30.0, 0.5)
+    e0 = window_ends(t, 10.0)
+    e3 = window_ends(t, 10.0, offset_s=3.0)
+    assert t[e0].tolist() == [9.5, 19.5, 29.5]
+    assert t[e3].tolist() == [2.5, 12.5, 22.5, 29.5]
+    with pytest.raises(ValueError, match="offset_s"):
+        window_ends(t, 10.0, offset_s=10.0)

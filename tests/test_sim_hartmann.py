@@ -44,3 +44,19 @@ def test_bad_arguments():
         sh.simulate(2.0)
     with pytest.raises(ValueError, match="detect_prob"):
         sh.simulate(10.0, detect_prob=0.0)
+
+
+def test_table2_outages_are_simulated():
+    s = sh.simulate(120.0, seed=4)
+    out = np.asarray(s.params["outages_s"])
+    assert out.shape[1] == 2 and np.all(out[:, 1] - out[:, 0] > 1.0)
+    # no tracker fix inside an outage
+    for a, b in out:
+        assert not np.any((s.t_vt_s > a) & (s.t_vt_s < b))
+    gaps = np.diff(s.t_vt_s)
+    assert (gaps > 1.0).sum() >= 10 and 1.5 < gaps.max() < 6.0
+    # the expected number over many sequences is the Table 2 rate
+    n = [len(sh.simulate(20.0, seed=k, outage_rate_per_s=1.0).params["outages_s"]) for k in range(10)]
+    assert np.mean(n) == pytest.approx(17.0, rel=0.25)
+    none = sh.simulate(40.0, seed=2, outage_rate_per_s=0.0)
+    assert none.params["outages_s"] == []

@@ -19,9 +19,52 @@ def test_same_seed_same_arrays(walk):
 
 
 def test_phone_rate_irregular_15_to_20_hz(walk):
-    rate = 1.0 / np.diff(walk.t_s)
+    rate = 1.0 / np.diff(walk.t_true_s)
     assert rate.min() >= 14.2 and rate.max() <= 20.01 and 15.5 < rate.mean() < 18.0
-    assert np.unique(np.round(np.diff(walk.t_s), 6)).size > 2
+    assert np.unique(np.round(np.diff(walk.t_true_s), 6)).size > 2
+
+
+def test_time_tags_jitter_within_two_sd_and_stay_ordered(walk):
+    sd = ins_walk.PROFILES["samsung_s5"].time_jitter_sd_s
+    err = walk.t_s - walk.t_true_s
+    assert np.abs(err).max() <= 2 * sd + 1e-12 and 0.8 * sd < err.std() < 1.1 * sd
+    assert np.all(np.diff(walk.t_s) > 0)
+    ideal = ins_walk.simulate("samsung", ins_walk.PROFILES["samsung_s5"].ideal_timing(), seed=3)
+    assert np.array_equal(ideal.t_s, ideal.t_true_s)
+
+
+def test_walker_gait_from_published_relations_not_eq7():
+    g = [ins_walk.walker_gait(np.random.default_rng(s), 1.70) for s in range(400)]
+    v = np.array([d["speed_mps"] for d in g])
+    f = np.array([d["cadence_hz"] for d in g])
+    L = np.array([d["step_length_m"] for d in g])
+    assert np.allclose(v, L * f)
+    assert abs(v.mean() - ins_walk.LEVEL_SPEED_MEAN_MPS) < 0.03 and 0.12 < v.std() < 0.2
+    assert 1.7 < f.mean() < 2.1 and 0.6 < L.mean() < 0.85
+
+
+def test_stairs_one_tread_per_step(walk):
+    st = walk.stairs_true & ~walk.stationary_true
+    vh = np.hypot(walk.vel_true_n_mps[st, 0], walk.vel_true_n_mps[st, 1])
+    tread = 7.0 / round(4.0 / ins_walk.STAIR_RISER_M)
+    fmax = max(walk.params["stair_up_cadence_hz"], walk.params["stair_down_cadence_hz"])
+    # horizontal speed on the flights (median over the stairs) is about tread x stair cadence, ~0.5 m/s
+    assert 0.6 * tread * 1.4 < np.median(vh) < 1.2 * tread * fmax
+
+
+def test_barometer_only_on_the_samsung(walk):
+    assert walk.baro_t_s.size == walk.t_s.size
+    assert np.std(walk.baro_height_m - walk.pos_true_n_m[:, 2]) == pytest.approx(0.1, rel=0.1)
+    assert ins_walk.simulate("iphone", "iphone_5s", seed=0).baro_t_s.size == 0
+
+
+def test_gauss_markov_stationary_sd_and_correlation():
+    t = np.arange(0.0, 20000.0, 0.5)
+    b = ins_walk.gauss_markov(np.random.default_rng(1), t, 2.0, 10.0, 2)
+    assert b.std() == pytest.approx(2.0, rel=0.05)
+    lag = 20  # 10 s = one correlation time
+    r = np.corrcoef(b[:-lag, 0], b[lag:, 0])[0, 1]
+    assert r == pytest.approx(np.exp(-1.0), abs=0.05)
 
 
 def test_route_climbs_to_second_floor_and_returns(walk):
@@ -34,9 +77,21 @@ def test_control_points_met_regularly_indoors(walk):
     assert walk.gcp_t_s.size >= 6 and np.all(walk.gcp_t_s >= walk.t_indoor_s)
     gap = np.diff(walk.gcp_t_s)
     assert 8.0 < gap.mean() < 35.0
-    # the fix is within a few sd of the truth at that time
+    # Bluetooth fix: the surveyed coordinate (exact height) within the proximity offset, after the ranging delay
+    g = ins_walk.GCP_XYZ_M[walk.gcp_id]
+    assert np.array_equal(walk.gcp_pos_n_m[:, 2], g[:, 2])
+    assert np.abs(walk.gcp_pos_n_m[:, :2] - g[:, :2]).max() < 4 * ins_walk.BLE_PROXIMITY_SD_M
+    assert walk.gcp_sd_m == ins_walk.BLE_FIX_SD_M
     k = np.searchsorted(walk.t_s, walk.gcp_t_s)
-    assert np.abs(walk.gcp_pos_n_m - walk.pos_true_n_m[k]).max() < 5 * walk.gcp_sd_m
+    d = np.linalg.norm(walk.pos_true_n_m[k] - g, axis=1)
+    assert d.max() < 0.6 + 2.0 * ins_walk.BLE_RANGING_CYCLE_S  # walked on for at most one ranging cycle
+
+
+def test_ideal_control_point_fix_is_the_true_position():
+    w = ins_walk.simulate("samsung", "samsung_s5", seed=3, gcp_mode="ideal")
+    k = np.searchsorted(w.t_s, w.gcp_t_s)
+    assert w.gcp_sd_m == 0.05
+    assert np.abs(w.gcp_pos_n_m - w.pos_true_n_m[k]).max() < 5 * w.gcp_sd_m
 
 
 def test_gnss_only_outdoors(walk):
@@ -58,3 +113,7 @@ def test_bad_arguments():
         ins_walk.simulate("nokia")
     with pytest.raises(ValueError, match="profile"):
         ins_walk.simulate("samsung", "nokia")
+    with pytest.raises(ValueError, match="gait"):
+        ins_walk.simulate("samsung", gait="fast")
+    with pytest.raises(ValueError, match="gcp_mode"):
+        ins_walk.simulate("samsung", gcp_mode="wifi")

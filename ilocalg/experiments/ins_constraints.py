@@ -15,30 +15,84 @@ from ilocalg.ins import dcm_to_euler, error_stats, eskf_rts_smooth, heading_erro
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
-__all__ = ["METHODS", "run_phone", "run"]
+__all__ = ["METHODS", "STAIR_OPTIONS", "STAIR_VARIANTS", "run_methods", "run_phone", "readings", "run"]
 
 METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT + GCP",
            "Smoothing + WVC/ZUPT + GCP")
 _IDEAL_50HZ = ins_walk.PhoneProfile("error-free", (4, 4), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-def run_phone(route: str, profile: str, seed: int):
-    """Simulate one walk and run the four methods: ``(walk, {method: (pos, mat)}, gcp_filter_result)``."""
-    walk = ins_walk.simulate(route, profile, seed=seed)
+#: Stair handling of the WVC compared in the ``stair_handling`` table (:func:`ilocalg.ins.pipeline.stair_mask`).
+STAIR_OPTIONS = ("none", "baro", "truth")
+#: Columns of the ``stair_handling`` table: (label, stair source, action on stairs).
+STAIR_VARIANTS = (("none", "none", "drop"), ("baro", "baro", "drop"), ("baro, downweight", "baro", "downweight"),
+                  ("truth", "truth", "drop"))
+
+
+def run_methods(walk, stairs: str = "baro", stair_action: str = "drop"):
+    """The four methods on one walk: ``({method: (pos, mat)}, gcp_filter_result)``."""
     out = {}
     r = run_walk(walk, "nhc", use_gcp=False)
     out[METHODS[0]] = (r.pos_n_m, r.mat_nb)
-    r = run_walk(walk, "wvc", use_gcp=False)
+    r = run_walk(walk, "wvc", use_gcp=False, stairs=stairs, stair_action=stair_action)
     out[METHODS[1]] = (r.pos_n_m, r.mat_nb)
-    r = run_walk(walk, "wvc", use_gcp=True)
+    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
     out[METHODS[2]] = (r.pos_n_m, r.mat_nb)
     s = eskf_rts_smooth(r, with_cov=False)
     out[METHODS[3]] = (s.pos_n_m, s.mat_nb)
+    return out, r
+
+
+def run_phone(route: str, profile: str, seed: int, stairs: str = "baro", stair_action: str = "drop", **sim_kw):
+    """Simulate one walk and run the four methods: ``(walk, {method: (pos, mat)}, gcp_filter_result)``."""
+    walk = ins_walk.simulate(route, profile, seed=seed, **sim_kw)
+    out, r = run_methods(walk, stairs, stair_action)
     return walk, out, r
+
+
+def readings(stairs: str, stair_action: str) -> pd.DataFrame:
+    """One row per modelling choice: paper line, what the text says, what the code does, source of the value."""
+    rows = [
+        ("filter state and update", "L109-L134", "21-state EKF, eq. (1)-(6), Joseph update",
+         "ilocalg.ins.eskf.run_eskf, closed loop", "paper"),
+        ("WVC forward speed", "L151-L158", "step model of Chen et al. (2011), eq. (7), default height and "
+         "parameters", "eq. (7), h = 1.75 m, a = 0.371, b = 0.227, c = 1",
+         "a, b, c: the widely reproduced Chen et al. (2011) values, not checked against that paper"),
+        ("step frequency", "L151", "from the step counter in real time", "1 / time since the previous step "
+         "(option: F = 1 / (0.8 dt_k + 0.2 dt_(k-1)))", "smoothing: the same step-model lineage, unchecked"),
+        ("WVC / NHC weights", "L146", "WVC lowers the lateral / vertical weights of NHC", "NHC sd 0.05 m/s; "
+         "WVC forward 0.15 m/s, lateral / vertical 0.3 m/s", "assumption (the paper gives no numbers)"),
+        ("stairs", "L200 (route climbs stairs)", "nothing on the filter's stair behaviour",
+         f"stairs={stairs!r}, stair_action={stair_action!r}: WVC forward and vertical rows dropped where the "
+         "barometric height rises or falls faster than 0.1 m/s (iPhone 5S: no barometer, no handling)",
+         "threshold from stair geometry (half of 0.17 m x 1.3 Hz)"),
+        ("walker on stairs", "-", "not described", "one tread (0.29 m) per step, cadence 1.62 Hz up / "
+         "1.80 Hz down", "Blondel's rule; Riener et al. (2002); Kretz et al. (2008)"),
+        ("walker on level ground", "-", "not described", "speed N(1.40, 0.16) m/s, walk ratio per height",
+         "Bohannon (1997); Sekiya & Nagasaki (1998) (independent of eq. 7)"),
+        ("ZUPT", "L146", "stand still 1-3 s after turns", "ZUPT at detected standstills, sd 0.05 m/s",
+         "paper (stops); sd assumed"),
+        ("control points", "L73, L109, L202", "4 surveyed points sent by Bluetooth, cm (survey) / m (Bluetooth) "
+         "level, about every 15 s", "fix = surveyed coordinate after a 0-1 s ranging delay with 0.5 m "
+         "proximity offset, filter sd 1 m (option: true position + 5 cm)", "iOS ranging once per second; "
+         "iBeacon immediate zone"),
+        ("phone sampling", "L171, L324", "15-17 Hz; about 20 Hz, unstable, poor time tags",
+         "14.3-20 Hz irregular, point samples, time-tag error sd 10 ms", "10 ms: assumption"),
+        ("sensor errors", "L178, L202", "the phones' IMUs calibrated in Liao et al. (2014), similar",
+         "MPU-6500 class turn-on bias, scale factor, noise; Gauss-Markov 0.5 mg / 20 deg/h, 300 s",
+         "datasheet class; Gauss-Markov values assumed"),
+        ("GNSS", "L109, L202", "only the two outdoor loops (initialisation)", "1 Hz, sd 2.5 / 2.5 / 4 m",
+         "assumption (phone grade)"),
+        ("reference", "L178-L191", "MIDG-II (Table 3) on the same walk, NHC/ZUPT, smoothed", "the simulated "
+         "truth (reference_grade table processes a MIDG-II-grade IMU like the paper's reference)", "Table 3"),
+        ("scored part", "L202", "the GNSS-aided start removed", "indoor part after the outdoor loops", "paper"),
+    ]
+    return readings_table([reading(c, "" if line == "-" else "Liao et al. (2016), " + line, text, code, src)
+                           for c, line, text, code, src in rows])
 
 
 def _stats_rows(phone, method, seed, err):
@@ -46,8 +100,9 @@ def _stats_rows(phone, method, seed, err):
     return [{"phone": phone, "method": method, "seed": seed, "stat": k, **st[k]} for k in ("max", "rms", "std")]
 
 
-def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth_gcp_sd_m: float = 1.5,
-        time_lags_s=(0.0, 0.05, 0.1, 0.2), reference_grade: bool = True) -> dict[str, pd.DataFrame]:
+def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags_s=(0.0, 0.05, 0.1, 0.2),
+        reference_grade: bool = True, stairs: str = "baro", stair_action: str = "drop",
+        gait: str = "published") -> dict[str, pd.DataFrame]:
     """Tables 4-7 reproduced on simulated walks.
 
     Returns
@@ -57,48 +112,74 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
     paper value beside the reproduced one), ``comparison`` (paper_ref rows: RMS N/E/H and heading),
     ``walk_stats`` (the simulated inputs: duration, IMU rate, control-point passages), ``trajectory``
     (first seed: per-epoch E, N, H of the truth and of every method), ``gcp_grade`` (RMS errors with
-    cm-level total-station control points vs m-level Bluetooth ones of sd ``bluetooth_gcp_sd_m``) and
+    Bluetooth control-point fixes vs the ideal fix, true position + 5 cm), ``sensor_grade`` (RMS errors with the
+    realistic phone timing vs the ideal sensor), ``stair_handling`` (RMS and max errors of every method with
+    the WVC's stair handling off, from the barometer (forward speed dropped, or down-weighted to 0.5 m/s), and
+    from the true stair flag), ``readings`` and
     ``heading_time_sync`` (heading RMS / max when the reference is read ``time_lags_s`` off) and
     ``reference_grade`` (the same walks measured by a MIDG-II-grade IMU, paper Table 3, processed like the
     paper's reference trajectory - NHC/ZUPT and smoothing - and with WVC/ZUPT/GCP and smoothing; not in
     fast mode also by an error-free IMU).
     """
+    if stairs not in STAIR_OPTIONS:
+        raise ValueError(f"stairs must be one of {STAIR_OPTIONS}, got {stairs!r}")
     n_seeds = n_seeds or (1 if fast else 6)
-    rows, stats, traj, grade, sync, refg = [], [], [], [], [], []
+    rows, stats, traj, grade, sync, refg, stair_rows, sens_rows = [], [], [], [], [], [], [], []
     for phone, route, profile in PHONES:
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
-            walk, sol, rgcp = run_phone(route, profile, s)
+            walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, gait=gait)
             ind = walk.t_s >= walk.t_indoor_s
             for method, (pos, mat) in sol.items():
                 err = nav_errors(pos[ind], mat[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
                 rows += _stats_rows(phone, method, s, err)
-            for gname, w2 in (("total station (cm)", walk),
-                              ("Bluetooth (m)", ins_walk.simulate(route, profile, seed=s,
-                                                                  gcp_sd_m=bluetooth_gcp_sd_m))):
-                r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True)
+            for label, opt, action in STAIR_VARIANTS:
+                same = opt == stairs and (action == stair_action or opt == "none")
+                sol_o = sol if same else run_methods(walk, opt, action)[0]
+                for method, (pos, mat) in sol_o.items():
+                    st = error_stats(nav_errors(pos[ind], mat[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind]))
+                    stair_rows += [{"phone": phone, "stairs": label, "method": method, "seed": s, "stat": k,
+                                    **st[k]} for k in ("max", "rms")]
+            for gname, w2 in (("Bluetooth (surveyed point, delay, offset)", walk),
+                              ("ideal (true position + 5 cm)", ins_walk.simulate(route, profile, seed=s, gait=gait,
+                                                                                 gcp_mode="ideal"))):
+                r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True, stairs=stairs,
+                                                       stair_action=stair_action)
                 for method, sol2 in ((METHODS[2], r2), (METHODS[3], eskf_rts_smooth(r2, with_cov=False))):
                     err = nav_errors(sol2.pos_n_m[ind], sol2.mat_nb[ind], walk.pos_true_n_m[ind],
                                      walk.mat_true_nb[ind])
                     grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
                                   "method": method, "seed": s, **error_stats(err)["rms"]})
+            ideal = ins_walk.simulate(route, ins_walk.PROFILES[profile].ideal_timing(), seed=s, gait=gait)
+            indi = ideal.t_s >= ideal.t_indoor_s
+            for label, w3 in (("realistic phone (jitter, point samples, bias instability)", walk),
+                              ("ideal sensor timing", ideal)):
+                r3 = rgcp if w3 is walk else run_walk(w3, "wvc", use_gcp=True, stairs=stairs,
+                                                       stair_action=stair_action)
+                i3 = ind if w3 is walk else indi
+                for method, sol3 in ((METHODS[2], r3), (METHODS[3], eskf_rts_smooth(r3, with_cov=False))):
+                    err = nav_errors(sol3.pos_n_m[i3], sol3.mat_nb[i3], w3.pos_true_n_m[i3], w3.mat_true_nb[i3])
+                    sens_rows.append({"phone": phone, "sensor": label, "method": method, "seed": s,
+                                      **error_stats(err)["rms"]})
             for method in METHODS[2:]:
                 pos, mat = sol[method]
                 for lag in time_lags_s:
-                    e = heading_error_with_lag_deg(walk.t_s[ind], mat[ind], walk.t_ref_s, walk.mat_ref_nb, lag)
+                    # on the true sampling clock (the phone's jittered tags may fall outside the reference)
+                    e = heading_error_with_lag_deg(walk.t_true_s[ind], mat[ind], walk.t_ref_s, walk.mat_ref_nb, lag)
                     sync.append({"phone": phone, "method": method, "seed": s, "lag_s": lag,
                                  "heading_rms_deg": float(np.sqrt(np.mean(e**2))),
                                  "heading_max_deg": float(np.max(np.abs(e)))})
-            ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]
+            ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
             if not fast:
                 ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
             for imu_label, prof in ref_imus if reference_grade else ():
-                wr = ins_walk.simulate(route, prof, seed=s)
+                wr = ins_walk.simulate(route, prof, seed=s, gait=gait)
                 indr = wr.t_s >= wr.t_indoor_s
                 for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
                                          (METHODS[3], "wvc", True)):
-                    sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp), with_cov=False)
+                    sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
+                                                  stair_action=stair_action), with_cov=False)
                     err = nav_errors(sm.pos_n_m[indr], sm.mat_nb[indr], wr.pos_true_n_m[indr], wr.mat_true_nb[indr])
                     refg.append({"phone route": phone, "imu": imu_label, "method": label,
                                  "seed": s, **error_stats(err)["rms"]})
@@ -109,7 +190,11 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
                           "imu_rate_max_hz": 1.0 / np.min(np.diff(walk.t_s)),
                           "gnss_fixes": walk.gnss_t_s.size, "gcp_passages": walk.gcp_t_s.size,
                           "gcp_interval_mean_s": float(gap.mean()) if gap.size else np.nan,
-                          "walker_step_scale_c": walk.params["user_c"]})
+                          "walker_speed_mps": walk.params.get("speed_mps", np.nan),
+                          "walker_cadence_hz": walk.params.get("cadence_hz", np.nan),
+                          "walker_step_scale_c": walk.params["user_c"],
+                          "stair_epochs": int(walk.stairs_true.sum()),
+                          "gcp_delay_mean_s": _gcp_delay(walk)})
             if s == seed * n_seeds:
                 traj.append(_trajectory(phone, walk, sol, ind))
     per_seed = pd.DataFrame(rows)
@@ -142,7 +227,32 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, bluetooth
                               [["heading_rms_deg", "heading_max_deg"]].mean().reset_index()),
         "reference_grade": (pd.DataFrame(refg).groupby(["phone route", "imu", "method"], sort=False)[list(AXES)]
                             .mean().reset_index() if refg else pd.DataFrame()),
+        "sensor_grade": (pd.DataFrame(sens_rows).groupby(["phone", "sensor", "method"], sort=False)[list(AXES)]
+                         .mean().reset_index()),
+        "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
+        "readings": readings(stairs, stair_action),
     }
+
+
+def _stair_table(df: pd.DataFrame) -> pd.DataFrame:
+    """Mean over seeds, one row per phone, method and statistic; N, E, H and heading per stair option."""
+    m = df.groupby(["phone", "method", "stat", "stairs"], sort=False)[["N", "E", "H", "Heading"]].mean()
+    out = m.unstack("stairs")
+    out.columns = [f"{ax} ({opt})" for ax, opt in out.columns]
+    order = [f"{ax} ({v[0]})" for ax in ("N", "E", "H", "Heading") for v in STAIR_VARIANTS]
+    return out[order].reset_index()
+
+
+def _gcp_delay(walk) -> float:
+    """Mean time from the closest approach to a control point to its fix (s), on the true clock."""
+    k = np.searchsorted(walk.t_s, walk.gcp_t_s)
+    d = []
+    for kk, j in zip(k, walk.gcp_id, strict=True):
+        g = ins_walk.GCP_XYZ_M[j]
+        lo = max(0, kk - 60)
+        dist = np.linalg.norm(walk.pos_true_n_m[lo:kk + 1] - g, axis=1)
+        d.append(walk.t_true_s[kk] - walk.t_true_s[lo + int(np.argmin(dist))])
+    return float(np.mean(d)) if d else np.nan
 
 
 def _trajectory(phone, walk, sol, ind):

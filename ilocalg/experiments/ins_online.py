@@ -2,22 +2,26 @@
 
 For each phone and seed: the WVC/ZUPT/GCP filter (:func:`ilocalg.ins.pipeline.run_walk`), then
 the online smoother on fixed windows (5, 10, 20 s in the tables; a sweep for Fig 19) and the
-whole-run RTS. Scored on the indoor part, averaged over seeds. Also: how often a window holds no
-control point, and how the windows without one fare (the paper's explanation of Figs 20-21).
+whole-run RTS. Scored on the indoor part, averaged over seeds and over where the window grid
+falls (offsets of 0, 1/4, 1/2, 3/4 of the window: the paper does not say where its grid starts).
+Also: how often a window holds no control point, and how the windows without one fare (the paper's
+explanation of Figs 20-21).
 """
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
 
-from ilocalg.ins.evaluate import AXES, window_sweep, window_sweep_tables
+from ilocalg.ins.evaluate import AXES, nav_errors, window_sweep, window_sweep_tables
 from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk
-from ilocalg.papers import paper_ref
+from ilocalg.ins.smoother import rts_gains
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
-__all__ = ["TABLE_WINDOWS_S", "SWEEP_WINDOWS_S", "run"]
+__all__ = ["TABLE_WINDOWS_S", "SWEEP_WINDOWS_S", "OFFSET_FRACS", "readings", "run"]
 
 #: Window sizes of Tables 8-11 (s).
 TABLE_WINDOWS_S = (5.0, 10.0, 20.0)
@@ -29,19 +33,51 @@ def _label(w):
     return f"Online {int(w)}sec"
 
 
+#: Window-grid offsets, as fractions of the window, averaged over (full and fast mode).
+OFFSET_FRACS = (0.0, 0.25, 0.5, 0.75)
+OFFSET_FRACS_FAST = (0.0, 0.5)
+
+
+def readings(stairs: str, offsets) -> pd.DataFrame:
+    """One row per modelling choice of the online-smoothing experiment (see also ins_constraints' readings)."""
+    rows = [
+        ("online smoother", "L169-L171, Fig 3", "RTS (eq. 8-10) on fixed time windows, run as each window fills",
+         "RTS on consecutive fixed windows; the last epoch of a window keeps its filtered value",
+         "paper"),
+        ("RTS gain", "L165 (eq. 10)", "G_k = P_k^update Phi_(k+1) P_(k+1)^predict as printed",
+         "G_k = P_k^update Phi_(k+1)^T (P_(k+1)^predict)^-1 (standard RTS gain)", "Shin (2005), as cited"),
+        ("window sizes", "L328-L330, Tables 8-11, Fig 19", "5, 10, 20 s; best 20 s", "5, 10, 20 s and a sweep",
+         "paper"),
+        ("window grid", "-", "not given (where the first window starts)",
+         f"averaged over grid offsets {tuple(offsets)} x window and over seeds; spread reported",
+         "no value in the paper: averaged instead of chosen"),
+        ("filter", "L328", "WVC/ZUPT + indoor control points", f"as notebook 12 (stairs={stairs!r})",
+         "see ins_constraints readings"),
+    ]
+    return readings_table([reading(c, "" if line == "-" else "Liao et al. (2016), " + line, text, code, src)
+                           for c, line, text, code, src in rows])
+
+
 def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
-        sweep_windows_s=SWEEP_WINDOWS_S) -> dict[str, pd.DataFrame]:
-    """Tables 8-11 and Fig 19 reproduced on simulated walks.
+        sweep_windows_s=SWEEP_WINDOWS_S, offset_fracs=None, stairs: str = "baro") -> dict[str, pd.DataFrame]:
+    """Tables 8-11 and Fig 19 reproduced on simulated walks, averaged over seeds and window-grid offsets.
 
     Returns
     -------
-    dict with ``errors`` (phone, method, stat, N..Heading; mean over seeds), ``position_side_by_side``
-    and ``attitude_side_by_side`` (paper layout), ``window_sweep`` (phone, window_s, stat, N, E, H,
-    horizontal, latency_mean_s), ``windows_without_gcp`` (per window size: share of windows without a
-    control point and the horizontal RMS error inside windows with / without one), ``comparison`` and
-    ``trajectory`` (first seed: per-epoch E, N, H of the truth, the filter and the 5/10/20 s windows).
+    dict with ``errors`` (phone, method, stat, N..Heading; mean over seeds and grid offsets),
+    ``position_side_by_side`` and ``attitude_side_by_side`` (paper layout), ``online_spread`` (per phone and
+    online method: mean, sd, min and max over seeds x offsets of the RMS N, E, H and horizontal errors),
+    ``window_sweep`` (phone, window_s, stat, N, E, H, horizontal, latency_mean_s; mean over seeds and offsets,
+    with ``horizontal_sd``, ``horizontal_min``, ``horizontal_max`` for the Fig 19 band), ``windows_without_gcp``
+    (per window size: share of windows without a control point and the horizontal RMS error inside windows with
+    / without one), ``comparison``, ``trajectory`` (first seed, grid offset 0: per-epoch E, N, H and roll, pitch,
+    heading errors of the truth, the filter and the 5/10/20 s windows) and ``readings``.
     """
     n_seeds = n_seeds or (1 if fast else 6)
+    offsets = tuple(float(f) for f in (offset_fracs if offset_fracs is not None
+                                       else (OFFSET_FRACS_FAST if fast else OFFSET_FRACS)))
+    if not offsets or any(not (0.0 <= f < 1.0) for f in offsets):
+        raise ValueError(f"offset_fracs must be fractions of the window in [0, 1), got {offset_fracs!r}")
     # Window lengths as floats (an int window from a caller or a sweep is the same window).
     windows = sorted({float(w) for w in sweep_windows_s} | {float(w) for w in TABLE_WINDOWS_S})
     rows, sweep, gcp_rows, traj = [], [], [], []
@@ -50,22 +86,35 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
             walk = ins_walk.simulate(route, profile, seed=s)
-            res = run_walk(walk, "wvc", use_gcp=True)
+            res = run_walk(walk, "wvc", use_gcp=True, stairs=stairs)
+            G = rts_gains(res)
             ind = walk.t_s >= walk.t_indoor_s
-            ws = window_sweep(res, windows, ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind], walk.gcp_t_s)
-            if s == seed * n_seeds:
-                traj.append(_trajectory(phone, walk, ws.solutions, ind))
-            for key, st in ws.stats.items():
-                if not isinstance(key, float) or key in TABLE_WINDOWS_S:
-                    method = _label(key) if isinstance(key, float) else key
-                    rows += [{"phone": phone, "method": method, "seed": s, "stat": k, **st[k]}
-                             for k in ("max", "rms", "std")]
-            for df, out in ((ws.sweep, sweep), (ws.gcp, gcp_rows)):
-                out.append(df.assign(phone=phone, seed=s))
-    per_seed = pd.DataFrame(rows)
-    errors = per_seed.groupby(["phone", "method", "stat"], sort=False)[list(AXES)].mean().reset_index()
+            for off in offsets:
+                ws = window_sweep(res, windows, ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind], walk.gcp_t_s,
+                                  gains=G, offset_frac=off)
+                if s == seed * n_seeds and off == offsets[0]:
+                    traj.append(_trajectory(phone, walk, ws.solutions, ind))
+                for key, st in ws.stats.items():
+                    if not isinstance(key, float) or key in TABLE_WINDOWS_S:
+                        method = _label(key) if isinstance(key, float) else key
+                        rows += [{"phone": phone, "method": method, "seed": s, "offset_frac": off, "stat": k,
+                                  **st[k]} for k in ("max", "rms", "std")]
+                for df, out in ((ws.sweep, sweep), (ws.gcp, gcp_rows)):
+                    out.append(df.assign(phone=phone, seed=s, offset_frac=off))
+    per_run = pd.DataFrame(rows)
+    errors = per_run.groupby(["phone", "method", "stat"], sort=False)[list(AXES)].mean().reset_index()
     errors.insert(3, "n_seeds", n_seeds)
-    sw, gw = window_sweep_tables(pd.concat(sweep, ignore_index=True), pd.concat(gcp_rows, ignore_index=True))
+    errors.insert(4, "n_offsets", len(offsets))
+    rms = per_run[per_run.stat == "rms"].assign(horizontal=lambda d: np.hypot(d["N"], d["E"]))
+    spread = (rms.groupby(["phone", "method"], sort=False)[["N", "E", "H", "horizontal"]]
+              .agg(["mean", "std", "min", "max"]))
+    spread.columns = [f"{a}_{b}" for a, b in spread.columns]
+    spread = spread.reset_index()
+    sw_all = pd.concat(sweep, ignore_index=True)
+    sw, gw = window_sweep_tables(sw_all, pd.concat(gcp_rows, ignore_index=True))
+    band = (sw_all[sw_all.stat == "rms"].groupby(["phone", "window_s"])["horizontal"]
+            .agg(horizontal_sd="std", horizontal_min="min", horizontal_max="max").reset_index().assign(stat="rms"))
+    sw = sw.merge(band, on=["phone", "window_s", "stat"], how="left")
     in_paper = errors[errors.method.isin(["Filtering"] + [_label(w) for w in TABLE_WINDOWS_S])]
     comp = []
     for phone, *_ in PHONES:
@@ -75,29 +124,37 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
             for ax in ("N", "E", "H"):
                 comp.append(paper_ref(LIAO_2016, table, f"{phone} WVC/ZUPT/GCP {method}: RMS {ax} error",
                                       paper_value(phone, method, "rms", ax), sel[ax], unit="m",
-                                      note=f"simulated walk, mean of {n_seeds} seed(s)"))
+                                      note=f"simulated walk, mean of {n_seeds} seed(s) x {len(offsets)} grid offsets"))
         r = sw[(sw.phone == phone) & (sw.stat == "rms") & sw.window_s.isin(TABLE_WINDOWS_S)]
         best = float(r.loc[r["horizontal"].idxmin(), "window_s"])
         comp.append(paper_ref(LIAO_2016, "Fig 19", f"{phone}: best of the 5/10/20 s windows (horizontal RMS)",
                               20.0, best, unit="s", note="paper: best window 20 s, 10-20 s recommended"))
     return {
         "errors": errors,
-        "errors_per_seed": per_seed,
+        "errors_per_seed": per_run,
+        "online_spread": spread,
         "position_side_by_side": side_by_side(in_paper, ("N", "E", "H")),
         "attitude_side_by_side": side_by_side(in_paper, ("Roll", "Pitch", "Heading")),
         "window_sweep": sw,
         "windows_without_gcp": gw,
         "comparison": pd.DataFrame(comp),
         "trajectory": pd.concat(traj, ignore_index=True),
+        "readings": readings(stairs, offsets),
     }
 
 
 def _trajectory(phone, walk, sols, ind):
-    """Per-epoch E, N, H of the truth, the filter and the online windows of Tables 8-11 (first seed)."""
+    """Per-epoch E, N, H and roll / pitch / heading errors (deg) of the truth, the filter and the online windows of
+    Tables 8-11 (first seed)."""
+    zero = np.zeros(walk.t_s.size)
     frames = [pd.DataFrame({"phone": phone, "method": "Truth", "t_s": walk.t_s, "indoor": ind,
-                            "E": walk.pos_true_n_m[:, 0], "N": walk.pos_true_n_m[:, 1], "H": walk.pos_true_n_m[:, 2]})]
+                            "E": walk.pos_true_n_m[:, 0], "N": walk.pos_true_n_m[:, 1], "H": walk.pos_true_n_m[:, 2],
+                            "roll_err_deg": zero, "pitch_err_deg": zero, "heading_err_deg": zero})]
     for key in ["Filtering", *TABLE_WINDOWS_S]:
-        pos = sols[key][0]
+        pos, mat = sols[key][0], sols[key][1]
+        err = nav_errors(pos, mat, walk.pos_true_n_m, walk.mat_true_nb)
         frames.append(pd.DataFrame({"phone": phone, "method": key if key == "Filtering" else _label(key),
-                                    "t_s": walk.t_s, "indoor": ind, "E": pos[:, 0], "N": pos[:, 1], "H": pos[:, 2]}))
+                                    "t_s": walk.t_s, "indoor": ind, "E": pos[:, 0], "N": pos[:, 1], "H": pos[:, 2],
+                                    "roll_err_deg": err["Roll"].to_numpy(), "pitch_err_deg": err["Pitch"].to_numpy(),
+                                    "heading_err_deg": err["Heading"].to_numpy()}))
     return pd.concat(frames, ignore_index=True)

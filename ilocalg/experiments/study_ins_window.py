@@ -4,7 +4,8 @@ point (extends Liao et al. 2016, Fig 19 and the explanation of Figs 20-21).
 One ``run(seed)`` is one simulated walk per phone (:mod:`ilocalg.sim.ins_walk`), its WVC/ZUPT/GCP
 filter (:func:`ilocalg.ins.pipeline.run_walk`) and the fixed-window online smoother for every window
 size (:func:`ilocalg.ins.evaluate.window_sweep`, as in the online-smoothing experiment), re-labelled as
-a ``sweep_ins_window`` table. Scored on the indoor part of the walk.
+a ``sweep_ins_window`` table, averaged over four offsets of the window grid (0, 1/4, 1/2, 3/4 of the
+window). Scored on the indoor part of the walk.
 
 Quantities per ``phone`` and window (``item`` = ``phone=...;window_s=...``):
 ``horizontal RMS error`` (m, all indoor epochs), ``horizontal RMS error, windows with a control
@@ -21,6 +22,7 @@ import pandas as pd
 
 from ilocalg.ins.evaluate import window_sweep, window_sweep_tables
 from ilocalg.ins.pipeline import run_walk
+from ilocalg.ins.smoother import rts_gains
 from ilocalg.sim import ins_walk
 from ilocalg.workflow.studies import select, study_row, study_tasks
 
@@ -33,7 +35,11 @@ WINDOWS_S_FAST = (2.0, 5.0, 10.0, 20.0, 30.0)
 GRIDS = {False: {}, True: {}}  # only seeds are swept: every window comes from the same filtered walk
 
 
-def run(seed: int = 0, fast: bool = False, windows_s=None) -> dict[str, pd.DataFrame]:
+#: Window-grid offsets (fractions of the window) averaged inside each task.
+OFFSET_FRACS = (0.0, 0.25, 0.5, 0.75)
+
+
+def run(seed: int = 0, fast: bool = False, windows_s=None, offset_fracs=OFFSET_FRACS) -> dict[str, pd.DataFrame]:
     """Window-size curves of one walk per phone (module docstring).
 
     Parameters
@@ -44,7 +50,12 @@ def run(seed: int = 0, fast: bool = False, windows_s=None) -> dict[str, pd.DataF
         Five window sizes instead of eleven (default of ``windows_s``).
     windows_s : sequence of float, optional
         Window sizes (s), each > 0.
+    offset_fracs : sequence of float
+        Offsets of the window grid as fractions of the window, in [0, 1); every quantity is their mean.
     """
+    offsets = tuple(float(f) for f in offset_fracs)
+    if not offsets or any(not (0.0 <= f < 1.0) for f in offsets):
+        raise ValueError(f"offset_fracs must be fractions of the window in [0, 1), got {offset_fracs!r}")
     ws = tuple(float(w) for w in (windows_s if windows_s is not None else (WINDOWS_S_FAST if fast else WINDOWS_S)))
     if not ws or any(not np.isfinite(w) or w <= 0 for w in ws):
         raise ValueError(f"windows_s must be positive finite window sizes in seconds, got {windows_s!r}")
@@ -52,10 +63,13 @@ def run(seed: int = 0, fast: bool = False, windows_s=None) -> dict[str, pd.DataF
     for phone, route, profile in ins_walk.PHONES:
         walk = ins_walk.simulate(route, profile, seed=seed)
         ind = walk.t_s >= walk.t_indoor_s
-        res = window_sweep(run_walk(walk, "wvc", use_gcp=True), sorted(set(ws)), ind, walk.pos_true_n_m[ind],
-                           walk.mat_true_nb[ind], walk.gcp_t_s)
-        sweep.append(res.sweep.assign(phone=phone))
-        gcp.append(res.gcp.assign(phone=phone))
+        filt = run_walk(walk, "wvc", use_gcp=True, stairs="baro")
+        G = rts_gains(filt)
+        for off in offsets:  # averaged over where the window grid falls
+            res = window_sweep(filt, sorted(set(ws)), ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],
+                               walk.gcp_t_s, gains=G, offset_frac=off)
+            sweep.append(res.sweep.assign(phone=phone))
+            gcp.append(res.gcp.assign(phone=phone))
     sw, gw = window_sweep_tables(pd.concat(sweep, ignore_index=True), pd.concat(gcp, ignore_index=True))
     sw = sw[sw["stat"] == "rms"]
     gw = gw.set_index(["phone", "window_s"])

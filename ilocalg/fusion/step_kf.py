@@ -297,6 +297,19 @@ def _check_finite(a, name):
         raise ValueError(f"{name} is not finite at index {tuple(int(i) for i in bad[0])}")
 
 
+#: Sane range of a position variance (m^2) at the filter's entry: a standard deviation of 1 micrometre to 1000 km.
+VARIANCE_RANGE_M2 = (1e-12, 1e12)
+
+
+def _check_scale(C, name):
+    """Every variance (diagonal) of the covariance(s) ``C`` (..., 2, 2) within :data:`VARIANCE_RANGE_M2`."""
+    d = np.diagonal(np.asarray(C, dtype=np.float64), axis1=-2, axis2=-1)
+    lo, hi = VARIANCE_RANGE_M2
+    bad = (d < lo) | (d > hi)
+    if bad.any():
+        raise ValueError(f"{name}: variance {d[bad][0]:g} m^2 outside [{lo:g}, {hi:g}] m^2 (a unit mistake?)")
+
+
 def _prepare(x0_m, P0_m2, theta_rad, step_m, sigma_sl_m, z_m, r_var_m2, R_m2, sigma_theta_rad=0.0):
     theta = np.asarray(theta_rad, dtype=np.float64)
     if theta.ndim not in (1, 2):
@@ -323,6 +336,7 @@ def _prepare(x0_m, P0_m2, theta_rad, step_m, sigma_sl_m, z_m, r_var_m2, R_m2, si
     _check_finite(P0, "P0_m2")
     if not np.allclose(P0, np.swapaxes(P0, -1, -2)) or (np.linalg.eigvalsh(P0) <= 0).any():
         raise ValueError("P0_m2 must be symmetric positive definite")
+    _check_scale(P0, "P0_m2")
     z = np.asarray(z_m, dtype=np.float64)
     z = _as_batch(z if batch else z[None], (B, n + 1, 2), "z_m (n+1 fixes for n steps)")
     nan = np.isnan(z)
@@ -354,6 +368,7 @@ def _prepare(x0_m, P0_m2, theta_rad, step_m, sigma_sl_m, z_m, r_var_m2, R_m2, si
             w, k = (int(i) for i in np.argwhere(has_fix)[bad[0]])
             raise ValueError(f"R of the fix at state {k}{f' of walk {w}' if batch else ''} must be symmetric "
                              "positive definite")
+        _check_scale(Rf, "R of a fix (r_var_m2 / R_m2)")
     return batch, B, n, theta, step, sig, sth, x0, P0, z, has_fix, R
 
 
@@ -485,6 +500,11 @@ class StepKalmanFilter:
         self.kf = KalmanFilter(dim_x=2, dim_z=2)
         self.kf.x = np.asarray(x0_m, dtype=np.float64).reshape(2, 1).copy()
         self.kf.P = np.asarray(P0_m2, dtype=np.float64).copy()
+        P = self.kf.P
+        if P.shape != (2, 2) or not np.isfinite(P).all() or not np.allclose(P, P.T) or \
+                (np.linalg.eigvalsh(P) <= 0).any():
+            raise ValueError("P0_m2 must be a finite symmetric positive definite 2x2")
+        _check_scale(P, "P0_m2")
         self.kf.F = np.eye(2)
         self.kf.H = np.eye(2)
         self.n_rejected = 0
@@ -514,6 +534,10 @@ class StepKalmanFilter:
             raise ValueError("z_m has one NaN coordinate; a missing fix must be NaN in both")
         R = np.asarray(R_m2, dtype=np.float64)
         R = R * np.eye(2) if R.ndim == 0 else R
+        if R.shape != (2, 2) or not np.isfinite(R).all() or not np.allclose(R, R.T) or \
+                (np.linalg.eigvalsh(0.5 * (R + R.T)) <= 0).any():
+            raise ValueError(f"R_m2 must be a finite symmetric positive definite 2x2 (or a variance), got {R_m2!r}")
+        _check_scale(R, "R_m2")
         if self.gate_nis is not None:
             _, _, nis = innovation(self.x, self.kf.P, z, R)
             if nis > self.gate_nis:

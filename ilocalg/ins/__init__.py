@@ -29,6 +29,7 @@ Modules
 
 from ilocalg.ins.constraints import (
     WVC_REFERENCE_DEFAULTS,
+    detect_stairs_baro,
     detect_stationary,
     nhc_updates,
     step_epochs,
@@ -46,8 +47,10 @@ from ilocalg.ins.eskf import (
     NavVelocity,
     PositionFix,
     body_velocity_rows,
+    check_covariance,
     correct_nav,
     correct_sensors,
+    covariance_chunk,
     eskf_predict,
     initial_covariance,
     joseph_update,
@@ -139,6 +142,9 @@ __all__ = [
     "dcm_to_euler",
     "dcm_to_rotvec",
     "detect_stationary",
+    "detect_stairs_baro",
+    "check_covariance",
+    "covariance_chunk",
     "step_epochs",
     "error_stats",
     "eskf_predict",

@@ -25,6 +25,7 @@ __all__ = [
     "step_epochs",
     "step_frequency_hz",
     "detect_stationary",
+    "detect_stairs_baro",
     "nhc_updates",
     "wvc_updates",
     "zupt_updates",
@@ -32,8 +33,9 @@ __all__ = [
 
 # ---- published values: Chen, Pei, Chen (2011), the step model's reference parameters --------------------
 #: Default model parameters of eq. (7): a, b, c and the user height h (m). The paper uses "the
-#: default height and model parameters" without printing a, b, c; these are the reference values of
-#: Chen et al. (2011) (model reference, not an outcome of the paper).
+#: default height and model parameters" (L151) without printing a, b, c; a = 0.371, b = 0.227, c = 1 are the
+#: values of the Chen et al. (2011) model as widely reproduced in later smartphone PDR work - they were not
+#: checked against Chen et al. (2011) itself (model reference, not an outcome of the paper).
 WVC_REFERENCE_DEFAULTS = {"a": 0.371, "b": 0.227, "c": 1.0, "height_m": 1.75}
 # ---- end of published values -------------------------------------------------------------------------------
 
@@ -77,15 +79,69 @@ def step_epochs(t_s, acc_b_mps2, min_interval_s=0.3, min_prominence_mps2=0.8, sm
     return steps["i_peak"].to_numpy()
 
 
-def step_frequency_hz(t_s, step_idx, max_period_s=1.2):
-    """Step frequency at each step (1 / time since the previous step); NaN for the first step
-    of a walking bout (gap longer than ``max_period_s``)."""
+def step_frequency_hz(t_s, step_idx, max_period_s=1.2, smoothing: str = "none"):
+    """Step frequency at each step; NaN for the first step of a walking bout (gap longer than ``max_period_s``).
+
+    Parameters
+    ----------
+    smoothing : "none" (``F_k = 1 / dt_k``, dt_k the time since the previous step) or "chen" (the smoothed
+        ``F_k = 1 / (0.8 dt_k + 0.2 dt_{k-1})`` of the same step-model lineage; falls back to ``1 / dt_k`` at the
+        second step of a bout)
+
+    References
+    ----------
+    Chen, Pei, Chen (2011), as reproduced in later smartphone PDR work (the 0.8 / 0.2 weights were not checked
+    against the original paper).
+    """
+    if smoothing not in ("none", "chen"):
+        raise ValueError(f"smoothing must be 'none' or 'chen', got {smoothing!r}")
     t_steps = np.asarray(t_s, dtype=float)[np.asarray(step_idx)]
     period = np.diff(t_steps, prepend=np.nan)
+    if smoothing == "chen" and period.size > 1:
+        prev = np.concatenate([[np.nan], period[:-1]])
+        ok_prev = prev <= max_period_s
+        period = np.where(ok_prev & (period <= max_period_s), 0.8 * period + 0.2 * prev, period)
     with np.errstate(invalid="ignore"):
         f = 1.0 / period
     f[~(period <= max_period_s)] = np.nan
     return f
+
+
+def detect_stairs_baro(t_s, baro_t_s, baro_height_m, window_s: float = 2.0, rate_threshold_mps: float = 0.1):
+    """Boolean (N,) at the IMU epochs ``t_s``: the barometric height changes faster than a staircase allows on level
+    ground, i.e. the walker is on stairs.
+
+    The height rate is the least-squares slope of the barometric heights over the trailing ``window_s`` seconds
+    (causal, as a real-time filter needs). The threshold is set from stair geometry, not from results: one riser
+    (0.17 m) per step at the slowest stair cadence (about 1.3 Hz) climbs about 0.22 m/s; half of it is 0.1 m/s,
+    more than three times the slope noise of 0.1 m barometric noise at 15-20 Hz over 2 s (about 0.03 m/s).
+
+    Parameters
+    ----------
+    t_s : (N,) IMU epochs (s); baro_t_s, baro_height_m : (B,) barometer times (s) and heights (m)
+    window_s : trailing window (s); rate_threshold_mps : |dh/dt| above which an epoch is on stairs (m/s)
+    """
+    t_s = np.asarray(t_s, dtype=float)
+    tb = np.asarray(baro_t_s, dtype=float)
+    h = np.asarray(baro_height_m, dtype=float)
+    if tb.shape != h.shape or tb.ndim != 1:
+        raise ValueError(f"baro_t_s and baro_height_m must be 1-D of equal length, got {tb.shape} and {h.shape}")
+    if tb.size < 3:
+        raise ValueError("detect_stairs_baro needs at least 3 barometer samples (the phone has no barometer?)")
+    if not (window_s > 0 and rate_threshold_mps > 0):
+        raise ValueError("window_s and rate_threshold_mps must be > 0")
+    tc = tb - tb[0]
+    cs = [np.concatenate([[0.0], np.cumsum(v)]) for v in (np.ones_like(tc), tc, h, tc * tc, tc * h)]
+    hi = np.arange(1, tb.size + 1)
+    lo = np.searchsorted(tb, tb - window_s, side="left")
+    n, st, sh, stt, sth = (c[hi] - c[lo] for c in cs)
+    den = n * stt - st * st
+    with np.errstate(invalid="ignore", divide="ignore"):
+        slope = np.where(den > 1e-12, (n * sth - st * sh) / den, 0.0)
+    # a slope over a partly filled window (start of the log) is too noisy to trust
+    on = (np.abs(slope) > rate_threshold_mps) & (tb - tb[lo] >= 0.75 * window_s)
+    k = np.clip(np.searchsorted(tb, t_s, side="right") - 1, 0, tb.size - 1)
+    return on[k]
 
 
 def detect_stationary(t_s, acc_b_mps2, gyr_b_radps, window_s=1.0, acc_sd_max_mps2=0.3,
@@ -121,13 +177,22 @@ def nhc_updates(t_s, moving, lateral_sd_mps=0.05, vertical_sd_mps=0.05, interval
 
 
 def wvc_updates(t_s, step_idx, step_freq, moving, height_m=None, params=None, forward_sd_mps=0.15,
-                lateral_sd_mps=0.3, vertical_sd_mps=0.3) -> BodyVelocity:
+                lateral_sd_mps=0.3, vertical_sd_mps=0.3, on_stairs=None, stair_action: str = "drop",
+                stair_forward_sd_mps: float = 0.5) -> BodyVelocity:
     """WVC at every detected step with a valid frequency: forward speed from eq. (7), relaxed NHC.
+
+    On stairs (``on_stairs`` (N,) bool at the IMU epochs, e.g. :func:`detect_stairs_baro`) the level-walking
+    model of eq. (7) does not hold (one tread per step, about half the level speed) and the body climbs, so
+    ``stair_action="drop"`` leaves the forward and vertical rows out there (lateral kept) and ``"downweight"``
+    keeps them with sd ``stair_forward_sd_mps`` (forward) and no vertical row. The paper does not say what its
+    filter does on stairs.
 
     References
     ----------
     Liao et al. (2016), sec. 3.2 and eq. (7).
     """
+    if stair_action not in ("drop", "downweight"):
+        raise ValueError(f"stair_action must be 'drop' or 'downweight', got {stair_action!r}")
     p = {k: v for k, v in WVC_REFERENCE_DEFAULTS.items() if k != "height_m"}
     p.update(params or {})
     t_s = np.asarray(t_s, dtype=float)
@@ -138,6 +203,13 @@ def wvc_updates(t_s, step_idx, step_freq, moving, height_m=None, params=None, fo
     v = walking_speed_mps(f, height_m, **p)
     z = np.column_stack([v, np.zeros_like(v), np.zeros_like(v)])
     sd = np.tile([forward_sd_mps, lateral_sd_mps, vertical_sd_mps], (idx.size, 1))
+    if on_stairs is not None:
+        st = np.asarray(on_stairs, dtype=bool)
+        if st.shape != t_s.shape:
+            raise ValueError(f"on_stairs must have shape {t_s.shape}, got {st.shape}")
+        st = st[idx]
+        sd[st, 0] = np.nan if stair_action == "drop" else stair_forward_sd_mps
+        sd[st, 2] = np.nan
     return BodyVelocity(t_s[idx], z, sd, name="WVC")
 
 

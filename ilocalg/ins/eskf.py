@@ -57,6 +57,11 @@ __all__ = [
     "body_velocity_rows",
     "correct_sensors",
     "correct_nav",
+    "check_covariance",
+    "covariance_chunk",
+    "MAX_VARIANCE",
+    "MIN_MEAS_VARIANCE",
+    "CHECKPOINT_EPOCHS",
     "run_eskf",
 ]
 
@@ -102,6 +107,11 @@ class EskfResult:
     updated / predicted covariance; ``Phi`` (N, 21, 21): ``Phi[k]`` maps epoch k-1 to k (``Phi[0] = I``);
     ``nis`` (N,): normalised innovation squared of the update at each epoch (NaN without one) and
     ``n_meas`` (N,) its number of rows.
+
+    A run with ``keep_covariance=False`` stores no (N, 21, 21) history (``P_plus``, ``P_minus``, ``Phi`` are
+    None) but checkpoints: ``cp_idx`` (K,) epochs (every update epoch and at least every
+    :data:`CHECKPOINT_EPOCHS` epochs) and ``cp_P`` (K, 21, 21) the covariance there, with the raw sensors
+    ``gyr_b_radps`` / ``acc_b_mps2`` (N, 3), from which :func:`covariance_chunk` recomputes any stretch exactly.
     """
 
     t_s: np.ndarray
@@ -116,6 +126,10 @@ class EskfResult:
     nis: np.ndarray
     n_meas: np.ndarray
     config: EskfConfig = field(default_factory=EskfConfig)
+    cp_idx: np.ndarray | None = None
+    cp_P: np.ndarray | None = None
+    gyr_b_radps: np.ndarray | None = None
+    acc_b_mps2: np.ndarray | None = None
 
 
 def initial_covariance(pos_sd_m=1.0, vel_sd_mps=0.1, att_sd_rad=(0.03, 0.03, 0.2), acc_bias_sd_mps2=0.1,
@@ -349,8 +363,73 @@ def _schedule(t_s, updates):
     return sched
 
 
+#: Largest sane variance of any state of the 21-state model (a standard deviation of 1e6 in its unit).
+MAX_VARIANCE = 1e12
+#: Smallest measurement variance :func:`run_eskf` accepts (a standard deviation of 1 micrometre or
+#: micrometre per second): below it the innovation covariance loses precision.
+MIN_MEAS_VARIANCE = 1e-12
+#: Longest stretch (epochs) kept in memory at once by a run without covariance history.
+CHECKPOINT_EPOCHS = 2000
+
+
+def check_covariance(name: str, P, n: int | None = None, max_variance: float = MAX_VARIANCE,
+                     min_eig_rel: float = 1e-9) -> np.ndarray:
+    """Check a covariance matrix at a filter's entry and return it as a float array.
+
+    It must be square (``n`` x ``n`` when given), finite, symmetric (to 1e-9 relative), positive semi-definite
+    (smallest eigenvalue >= ``-min_eig_rel`` x largest) and of a sane scale (every variance <= ``max_variance``).
+
+    Raises
+    ------
+    ValueError naming ``name`` and what is wrong.
+    """
+    P = np.asarray(P, dtype=float)
+    if P.ndim != 2 or P.shape[0] != P.shape[1] or (n is not None and P.shape != (n, n)):
+        want = f"({n}, {n})" if n is not None else "square"
+        raise ValueError(f"{name}: expected a {want} covariance matrix, got shape {P.shape}")
+    if not np.all(np.isfinite(P)):
+        i, j = np.argwhere(~np.isfinite(P))[0]
+        raise ValueError(f"{name}: element [{i}, {j}] is {P[i, j]}; a covariance must be finite")
+    d = np.diag(P)
+    if np.any(d < 0):
+        i = int(np.argmin(d))
+        raise ValueError(f"{name}: variance [{i}, {i}] is negative ({d[i]:g}); a covariance has variances >= 0")
+    if np.any(d > max_variance):
+        i = int(np.argmax(d))
+        raise ValueError(f"{name}: variance [{i}, {i}] = {d[i]:g} exceeds {max_variance:g} (a unit mistake?)")
+    scale = max(float(np.max(np.abs(P))), 1e-300)
+    asym = float(np.max(np.abs(P - P.T)))
+    if asym > 1e-9 * scale:
+        raise ValueError(f"{name}: not symmetric (largest |P - P^T| = {asym:g})")
+    ev = np.linalg.eigvalsh(0.5 * (P + P.T))
+    if ev[0] < -min_eig_rel * max(ev[-1], 0.0) - 1e-300:
+        raise ValueError(f"{name}: not positive semi-definite (smallest eigenvalue {ev[0]:g})")
+    return P
+
+
+def _check_measurement_noise(name: str, R_diag) -> None:
+    R = np.asarray(R_diag, dtype=float)
+    bad = ~np.isfinite(R) | (R < MIN_MEAS_VARIANCE) | (R > MAX_VARIANCE)
+    if np.any(bad):
+        v = R[bad][0]
+        raise ValueError(f"measurements {name}: noise variance {v:g} outside [{MIN_MEAS_VARIANCE:g}, "
+                         f"{MAX_VARIANCE:g}] (R must be finite, > 0 and of a sane scale)")
+
+
+def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=0):
+    """Covariance prediction over a stretch (eq. 3), one epoch at a time; stores histories or checkpoints."""
+    for j in range(Ph.shape[0]):
+        P = eskf_predict(P, Ph[j], qd[j])
+        if P_minus_out is not None:
+            P_minus_out[j] = P
+            P_plus_out[j] = P
+        elif cps is not None and (k0 + 1 + j) % CHECKPOINT_EPOCHS == 0:
+            cps.append((k0 + 1 + j, P.copy()))
+    return P
+
+
 def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
-             config: EskfConfig | None = None, sensor0=None) -> EskfResult:
+             config: EskfConfig | None = None, sensor0=None, keep_covariance: bool = True) -> EskfResult:
     """Run the closed-loop 21-state EKF over an IMU log with the given measurement sets.
 
     Between two update epochs the driver propagates with constant sensor-error estimates, vectorised
@@ -364,11 +443,15 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     t_s : (N,) IMU sample times (s), strictly increasing, any (irregular) spacing
     gyr_b_radps, acc_b_mps2 : (N, 3) raw sensor samples; sample k is the mean over [t_k, t_{k+1})
     pos0_n_m, vel0_n_mps, mat0_nb : initial navigation state at ``t_s[0]``
-    P0 : (21, 21) initial covariance (see :func:`initial_covariance`)
+    P0 : (21, 21) initial covariance (see :func:`initial_covariance`); checked by :func:`check_covariance`
     updates : sequence of :class:`Measurement` objects (:class:`PositionFix`, :class:`NavVelocity`,
-        :class:`BodyVelocity` or any other object obeying the protocol)
-    config : :class:`EskfConfig` process noise
+        :class:`BodyVelocity` or any other object obeying the protocol); every noise variance R must lie in
+        [:data:`MIN_MEAS_VARIANCE`, :data:`MAX_VARIANCE`]
+    config : :class:`EskfConfig` process noise (Q)
     sensor0 : (12,) initial sensor-error estimates (default zeros)
+    keep_covariance : True stores the (N, 21, 21) histories ``P_plus``, ``P_minus`` and ``Phi`` (what
+        :func:`~ilocalg.ins.smoother.eskf_rts_smooth` reads fastest); False stores only checkpoints (memory
+        O(N) instead of O(441 N); the smoother recomputes each stretch from them)
 
     Returns
     -------
@@ -380,13 +463,20 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     """
     t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
     config = config or EskfConfig()
-    P0 = np.asarray(P0, dtype=float)
-    if P0.shape != (N_STATES, N_STATES):
-        raise ValueError(f"P0 must have shape (21, 21), got {P0.shape}")
+    P0 = check_covariance("P0", P0, N_STATES)
+    for name, v, shape in (("pos0_n_m", pos0_n_m, (3,)), ("vel0_n_mps", vel0_n_mps, (3,)),
+                           ("mat0_nb", mat0_nb, (3, 3))):
+        a = np.asarray(v, dtype=float)
+        if a.shape != shape or not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} must be a finite array of shape {shape}, got {a.shape}")
     updates = list(updates)
     for u in updates:
         if not isinstance(u, Measurement):
             raise ValueError(f"updates must obey the Measurement protocol (t_s, name, rows), got {type(u).__name__}")
+        sd = getattr(u, "sd", None)
+        if sd is not None:
+            sdv = np.asarray(sd, dtype=float)
+            _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
     sched = _schedule(t_s, updates)
     n = t_s.size
     pos = np.empty((n, 3))
@@ -394,9 +484,15 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     mat = np.empty((n, 3, 3))
     sens = np.empty((n, 12))
     dxs = np.zeros((n, N_STATES))
-    P_plus = np.empty((n, N_STATES, N_STATES))
-    P_minus = np.empty((n, N_STATES, N_STATES))
-    Phis = np.empty((n, N_STATES, N_STATES))
+    full = bool(keep_covariance)
+    if full:
+        P_plus = np.empty((n, N_STATES, N_STATES))
+        P_minus = np.empty((n, N_STATES, N_STATES))
+        Phis = np.empty((n, N_STATES, N_STATES))
+        Phis[0] = np.eye(N_STATES)
+    else:
+        P_plus = P_minus = Phis = None
+    cps: list = []
     nis = np.full(n, np.nan)
     n_meas = np.zeros(n, dtype=np.int64)
 
@@ -405,7 +501,8 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     C = np.asarray(mat0_nb, dtype=float).copy()
     s = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
     P = 0.5 * (P0 + P0.T)
-    Phis[0] = np.eye(N_STATES)
+    if not full:
+        cps.append((0, P.copy()))
     dt_all = np.diff(t_s)
     # segment boundaries: every update epoch and the last epoch
     stops = sorted(set(sched) | {n - 1})
@@ -418,16 +515,20 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
             pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1] = strapdown(p, v, C, w_c, f_c, dt)
             sens[k + 1:kb + 1] = s
-            Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)
-            Phis[k + 1:kb + 1] = Ph
             qd = process_noise_diag(config, dt)
-            for j in range(kb - k):
-                P = eskf_predict(P, Ph[j], qd[j])
-                P_minus[k + 1 + j] = P
-                P_plus[k + 1 + j] = P
+            if full:
+                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)
+                Phis[k + 1:kb + 1] = Ph
+                P = _predict_stretch(P, Ph, qd, P_minus[k + 1:kb + 1], P_plus[k + 1:kb + 1])
+            else:
+                # bounded memory: transition matrices a stretch at a time, checkpoints every CHECKPOINT_EPOCHS
+                for a in range(0, kb - k, CHECKPOINT_EPOCHS):
+                    b = min(a + CHECKPOINT_EPOCHS, kb - k)
+                    Ph = transition_matrices(mat[k + a:k + b], f_c[a:b], w_c[a:b], dt[a:b])
+                    P = _predict_stretch(P, Ph, qd[a:b], cps=cps, k0=k + a)
             p, v, C = pos[kb].copy(), vel[kb].copy(), mat[kb].copy()
             P = 0.5 * (P + P.T)
-        elif kb == 0:
+        elif kb == 0 and full:
             P_minus[0] = P
         k = kb
         rows = sched.get(kb)
@@ -441,15 +542,60 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
                 Rd.append(R)
             innov = np.concatenate(innov)
             if innov.size:
-                dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), np.concatenate(Rd))
+                Rc = np.concatenate(Rd)
+                _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
+                                                           for i, _ in rows})), Rc)
+                dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), Rc)
                 n_meas[kb] = innov.size
                 dxs[kb] = dx
                 p, v, C, s = correct_nav(p, v, C, s, dx)
         pos[kb], vel[kb], mat[kb], sens[kb] = p, v, C, s
-        P_plus[kb] = P
+        if full:
+            P_plus[kb] = P
+        else:
+            if cps[-1][0] == kb:
+                cps[-1] = (kb, P.copy())
+            else:
+                cps.append((kb, P.copy()))
     if 0 not in sched:
-        P_minus[0] = P_plus[0] = 0.5 * (P0 + P0.T)
+        if full:
+            P_minus[0] = P_plus[0] = 0.5 * (P0 + P0.T)
         pos[0], vel[0], mat[0], sens[0] = pos0_n_m, vel0_n_mps, mat0_nb, (np.zeros(12) if sensor0 is None
                                                                          else sensor0)
+    extra = {}
+    if not full:
+        extra = {"cp_idx": np.array([c[0] for c in cps], dtype=np.int64), "cp_P": np.array([c[1] for c in cps]),
+                 "gyr_b_radps": gyr, "acc_b_mps2": acc}
     return EskfResult(t_s=t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sens, dx=dxs, P_plus=P_plus,
-                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config)
+                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config, **extra)
+
+
+def covariance_chunk(res: EskfResult, a: int, b: int):
+    """``(P_plus, P_minus, Phi)`` over epochs ``a..b`` (each (b - a + 1, 21, 21)) of a stored filter.
+
+    From the histories when the run kept them (views, no copy); otherwise recomputed exactly from the
+    checkpoint at ``a`` (``a`` must be one of ``res.cp_idx`` and no update may fall strictly inside (a, b)),
+    the stored navigation solution and sensor estimates and the raw sensors. ``Phi[0]`` and ``P_minus[0]`` of a
+    recomputed chunk are NaN (not needed by the smoother).
+    """
+    if res.P_plus is not None:
+        return res.P_plus[a:b + 1], res.P_minus[a:b + 1], res.Phi[a:b + 1]
+    if res.cp_P is None:
+        raise ValueError("the filter result holds neither covariance histories nor checkpoints")
+    i = int(np.searchsorted(res.cp_idx, a))
+    if i >= res.cp_idx.size or res.cp_idx[i] != a:
+        raise ValueError(f"epoch {a} is not a covariance checkpoint")
+    m = b - a
+    Pp = np.empty((m + 1, N_STATES, N_STATES))
+    Pm = np.full((m + 1, N_STATES, N_STATES), np.nan)
+    Ph = np.full((m + 1, N_STATES, N_STATES), np.nan)
+    Pp[0] = res.cp_P[i]
+    if m:
+        dt = np.diff(res.t_s[a:b + 1])
+        w_c, f_c = correct_sensors(res.gyr_b_radps[a:b], res.acc_b_mps2[a:b], res.sensor[a])
+        Ph[1:] = transition_matrices(res.mat_nb[a:b], f_c, w_c, dt)
+        _predict_stretch(res.cp_P[i], Ph[1:], process_noise_diag(res.config, dt), Pm[1:], Pp[1:])
+        j = int(np.searchsorted(res.cp_idx, b))
+        if j < res.cp_idx.size and res.cp_idx[j] == b:
+            Pp[m] = res.cp_P[j]  # after the update at b (or the symmetrised prediction)
+    return Pp, Pm, Ph

@@ -89,7 +89,8 @@ class WindowSweep:
     gcp: pd.DataFrame
 
 
-def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gains=None) -> WindowSweep:
+def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gains=None,
+                 offset_frac: float = 0.0) -> WindowSweep:
     """Filter, online fixed-window smoothers and whole-run RTS of one stored filter, scored against the truth.
 
     Parameters
@@ -100,6 +101,7 @@ def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gai
     pos_true_n_m, mat_true_nb : truth at the scored epochs, (S, 3) and (S, 3, 3)
     gcp_t_s : (C,) times of the control-point updates (to find the windows that hold one)
     gains : precomputed :func:`ilocalg.ins.smoother.rts_gains` (computed when None)
+    offset_frac : the window grid starts ``offset_frac x window`` seconds after the first epoch, in [0, 1)
 
     References
     ----------
@@ -110,7 +112,7 @@ def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gai
     G = rts_gains(res) if gains is None else gains
     sols = {"Filtering": (res.pos_n_m, res.mat_nb, np.zeros(res.t_s.size)), }
     for w in windows_s:
-        sm = online_window_smooth(res, w, gains=G)
+        sm = online_window_smooth(res, w, gains=G, offset_s=offset_frac * w)
         sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
     full = eskf_rts_smooth(res, with_cov=False, gains=G)
     sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
@@ -126,7 +128,7 @@ def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gai
                           "horizontal": float(np.hypot(st[k]["N"], st[k]["E"])) if k == "rms" else np.nan,
                           "latency_mean_s": float(np.mean(lat[scored]))})
         if isinstance(key, float):
-            ends = window_ends(res.t_s, key)
+            ends = window_ends(res.t_s, key, offset_frac * key)
             win = np.concatenate([[0], np.cumsum(ends[:-1])])
             has = np.zeros(win.max() + 1, bool)
             has[win[gcp_epoch]] = True

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ilocalg.ins.eskf import check_covariance
 from ilocalg.ins.mechanisation import GRAVITY_N_MPS2
 from ilocalg.units import wrap_angle_rad
 
@@ -35,6 +36,7 @@ __all__ = [
     "HARTMANN_H",
     "hartmann_predict",
     "hartmann_correct",
+    "repair_psd",
     "HartmannResult",
     "run_hartmann",
     "HartmannEKF",
@@ -134,6 +136,10 @@ def hartmann_predict(x, P, u, dt_s: float, Qw):
 def hartmann_correct(x, P, z, R):
     """EKF correction (eq. 27-29) with ``V = I``; the yaw innovation is wrapped to [-pi, pi).
 
+    The covariance update is written in Joseph form, ``(I - K H) P (I - K H)^T + K R K^T`` - algebraically eq.
+    (29)'s ``(I - K H) P`` with the optimal gain, but symmetric and positive semi-definite under rounding
+    (which matters after a long tracker outage, when P is ill-conditioned).
+
     Returns ``x, P, innovation``.
     """
     H = HARTMANN_H
@@ -143,20 +149,36 @@ def hartmann_correct(x, P, z, R):
     K = np.linalg.solve(S, H @ P).T
     x = x + K @ innov
     x[0:3] = wrap_angle_rad(x[0:3])
-    P = (np.eye(HARTMANN_N_STATES) - K @ H) @ P
+    A = np.eye(HARTMANN_N_STATES) - K @ H
+    P = A @ P @ A.T + K @ R @ K.T
     return x, 0.5 * (P + P.T), innov
+
+
+def repair_psd(P, rel_floor: float = 1e-15):
+    """``(P, repaired)``: P itself when a Cholesky factorisation succeeds; otherwise P with its eigenvalues
+    raised to ``rel_floor`` x the largest (the symmetric positive-definite matrix nearest P at that floor)."""
+    try:
+        np.linalg.cholesky(P)
+        return P, False
+    except np.linalg.LinAlgError:
+        w, V = np.linalg.eigh(0.5 * (P + P.T))
+        w = np.maximum(w, rel_floor * max(w[-1], 1e-300))
+        return (V * w) @ V.T, True
 
 
 @dataclass(frozen=True)
 class HartmannResult:
     """``x`` (N, 15) and ``sd`` (N, 15) after each IMU epoch; ``vt_idx`` (M,) IMU epoch of each
-    video-tracker measurement, ``prior_at_vt`` (M, 15) the predicted state just before its correction."""
+    video-tracker measurement, ``prior_at_vt`` (M, 15) the predicted state just before its correction;
+    ``n_psd_repairs`` how often the predicted covariance failed a Cholesky test during an outage and was
+    repaired (:func:`repair_psd`)."""
 
     t_s: np.ndarray
     x: np.ndarray
     sd: np.ndarray
     vt_idx: np.ndarray
     prior_at_vt: np.ndarray
+    n_psd_repairs: int = 0
 
 
 def _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw, acc_bias_rw, dt_s):
@@ -176,6 +198,10 @@ ACC_SD_DEFAULT_MPS2 = 0.05
 # ---- end of published values -------------------------------------------------------------------------------
 #: :data:`GYR_SD_DEFAULT_DPS` in rad/s.
 GYR_SD_DEFAULT_RADPS = float(np.deg2rad(GYR_SD_DEFAULT_DPS))
+
+
+#: During an outage the predicted covariance is tested for positive definiteness every this many IMU epochs.
+_PSD_CHECK_EPOCHS = 400
 
 
 def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
@@ -209,9 +235,18 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
     if t_vt.size and (t_vt.min() < t_s[0] or t_vt.max() > t_s[-1]):
         raise ValueError("t_vt_s must lie within the IMU log")
     x0 = np.asarray(x0, dtype=float)
-    if x0.shape != (HARTMANN_N_STATES,):
-        raise ValueError(f"x0 must have shape (15,), got {x0.shape}")
-    R = np.diag(np.square(vt_sd))
+    if x0.shape != (HARTMANN_N_STATES,) or not np.all(np.isfinite(x0)):
+        raise ValueError(f"x0 must be a finite array of shape (15,), got {x0.shape}")
+    P0 = check_covariance("P0", P0, HARTMANN_N_STATES)
+    for name, v in (("gyr_sd_radps", gyr_sd_radps), ("acc_sd_mps2", acc_sd_mps2),
+                    ("gyr_bias_rw_radps_rsqrt_s", gyr_bias_rw_radps_rsqrt_s),
+                    ("acc_bias_rw_mps2_rsqrt_s", acc_bias_rw_mps2_rsqrt_s)):
+        if not (np.isfinite(v) and 0 <= v < 1e6):
+            raise ValueError(f"{name} (process noise Q) must be finite and in [0, 1e6), got {v}")
+    vt = np.asarray(vt_sd, dtype=float)
+    if vt.shape != (4,) or not np.all(np.isfinite(vt)) or np.any(vt < 1e-6) or np.any(vt > 1e6):
+        raise ValueError(f"vt_sd (measurement noise R) must be 4 finite sds in [1e-6, 1e6], got {vt_sd!r}")
+    R = np.diag(np.square(vt))
     vt_idx = np.searchsorted(t_s, t_vt, side="left")
     vt_at = {}
     for j, k in enumerate(vt_idx.tolist()):
@@ -223,6 +258,8 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
     dt_all = np.diff(t_s)
     u_all = np.hstack([gyr, acc])
     Qw_cache: dict[float, np.ndarray] = {}
+    n_rep = 0
+    since_fix = 0
     for k in range(n):
         if k > 0:
             dt = float(dt_all[k - 1])
@@ -231,12 +268,19 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
                 Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
                                                acc_bias_rw_mps2_rsqrt_s, dt)
             x, P = hartmann_predict(x, P, u_all[k - 1], dt, Qw)
+            since_fix += 1
+            if since_fix % _PSD_CHECK_EPOCHS == 0:
+                # long prediction without a fix: keep P positive definite at rounding level
+                P, rep = repair_psd(P)
+                n_rep += rep
+        if k in vt_at:
+            since_fix = 0
         for j in vt_at.get(k, ()):
             prior[j] = x
             x, P, _ = hartmann_correct(x, P, z_vt[j], R)
         xs[k] = x
         sds[k] = np.sqrt(np.diag(P))
-    return HartmannResult(t_s=t_s, x=xs, sd=sds, vt_idx=vt_idx, prior_at_vt=prior)
+    return HartmannResult(t_s=t_s, x=xs, sd=sds, vt_idx=vt_idx, prior_at_vt=prior, n_psd_repairs=n_rep)
 
 
 class HartmannEKF:
@@ -249,9 +293,11 @@ class HartmannEKF:
 
     def __init__(self, x0, P0, Qw, R):
         self.x = np.asarray(x0, dtype=float).copy()
-        self.P = np.asarray(P0, dtype=float).copy()
-        self.Qw = np.asarray(Qw, dtype=float)
-        self.R = np.asarray(R, dtype=float)
+        self.P = check_covariance("P0", P0, HARTMANN_N_STATES).copy()
+        self.Qw = check_covariance("Qw", Qw, 12)
+        self.R = check_covariance("R", R, 4)
+        if np.linalg.eigvalsh(self.R)[0] <= 0:
+            raise ValueError("R: the video-tracker noise covariance must be positive definite")
 
     def predict(self, u, dt_s: float) -> HartmannEKF:
         self.x, self.P = hartmann_predict(self.x, self.P, np.asarray(u, dtype=float), dt_s, self.Qw)

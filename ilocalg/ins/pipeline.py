@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ilocalg.ins.constraints import (
+    detect_stairs_baro,
     detect_stationary,
     nhc_updates,
     step_epochs,
@@ -28,7 +29,7 @@ from ilocalg.ins.eskf import EskfConfig, EskfResult, Measurement, PositionFix, i
 from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm, phone_to_body
 from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
-__all__ = ["PhoneFilterSettings", "body_imu_from_log", "walk_updates", "run_walk"]
+__all__ = ["PhoneFilterSettings", "body_imu_from_log", "stair_mask", "walk_updates", "run_walk"]
 
 
 def body_imu_from_log(imu) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -68,10 +69,27 @@ class PhoneFilterSettings:
     wvc_lateral_sd_mps: float = 0.3
     zupt_sd_mps: float = 0.05
     level_s: float = 1.0
+    stair_forward_sd_mps: float = 0.5
+
+
+def stair_mask(walk, stairs: str = "baro") -> np.ndarray | None:
+    """Epochs (N,) the WVC treats as stairs: ``"baro"`` detected from the phone's barometer
+    (:func:`~ilocalg.ins.constraints.detect_stairs_baro`; None for a phone without one), ``"truth"`` the
+    simulator's flag (an upper bound, not a detector), ``"none"`` no stair handling (None)."""
+    if stairs not in ("baro", "truth", "none"):
+        raise ValueError(f"stairs must be 'baro', 'truth' or 'none', got {stairs!r}")
+    if stairs == "none":
+        return None
+    if stairs == "truth":
+        return np.asarray(walk.stairs_true, dtype=bool)
+    if np.size(getattr(walk, "baro_t_s", ())) < 3:
+        return None
+    return detect_stairs_baro(walk.t_s, walk.baro_t_s, walk.baro_height_m)
 
 
 def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
-                 wvc_params: dict | None = None) -> list[Measurement]:
+                 wvc_params: dict | None = None, stairs: str = "none", stair_action: str = "drop",
+                 step_smoothing: str = "none") -> list[Measurement]:
     """Measurement sets for one walk.
 
     Parameters
@@ -80,6 +98,8 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
     constraint : "nhc" (NHC/ZUPT), "wvc" (WVC/ZUPT) or "none" (ZUPT only)
     use_gcp : add the control-point position fixes
     wvc_params : overrides of eq. (7) (``a``, ``b``, ``c``) and ``height_m`` (default: the defaults)
+    stairs, stair_action : stair handling of the WVC (:func:`stair_mask`, :func:`~ilocalg.ins.constraints.wvc_updates`)
+    step_smoothing : "none" or "chen" (:func:`~ilocalg.ins.constraints.step_frequency_hz`)
     """
     if constraint not in ("nhc", "wvc", "none"):
         raise ValueError(f"constraint must be 'nhc', 'wvc' or 'none', got {constraint!r}")
@@ -93,11 +113,13 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
         ups.append(nhc_updates(t, ~still, s.nhc_sd_mps, s.nhc_sd_mps))
     elif constraint == "wvc":
         steps = step_epochs(t, walk.acc_b_mps2)
-        freq = step_frequency_hz(t, steps)
+        freq = step_frequency_hz(t, steps, smoothing=step_smoothing)
         p = dict(wvc_params or {})
         h = p.pop("height_m", None)
         ups.append(wvc_updates(t, steps, freq, ~still, height_m=h, params=p, forward_sd_mps=s.wvc_forward_sd_mps,
-                               lateral_sd_mps=s.wvc_lateral_sd_mps, vertical_sd_mps=s.wvc_lateral_sd_mps))
+                               lateral_sd_mps=s.wvc_lateral_sd_mps, vertical_sd_mps=s.wvc_lateral_sd_mps,
+                               on_stairs=stair_mask(walk, stairs), stair_action=stair_action,
+                               stair_forward_sd_mps=s.stair_forward_sd_mps))
     if use_gcp and walk.gcp_t_s.size:
         ups.append(PositionFix(walk.gcp_t_s, walk.gcp_pos_n_m, np.full((walk.gcp_t_s.size, 3), walk.gcp_sd_m),
                                name="GCP"))
@@ -105,8 +127,13 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
 
 
 def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
-             wvc_params: dict | None = None) -> EskfResult:
-    """Level the phone over its first ``level_s`` seconds, initialise and run the 21-state filter."""
+             wvc_params: dict | None = None, stairs: str = "none", stair_action: str = "drop",
+             step_smoothing: str = "none", keep_covariance: bool = True) -> EskfResult:
+    """Level the phone over its first ``level_s`` seconds, initialise and run the 21-state filter.
+
+    ``stairs``, ``stair_action``, ``step_smoothing``: see :func:`walk_updates`; ``keep_covariance``: see
+    :func:`~ilocalg.ins.eskf.run_eskf`.
+    """
     s = settings or PhoneFilterSettings()
     t = walk.t_s
     first = t < t[0] + s.level_s
@@ -115,6 +142,6 @@ def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: Phon
     P0 = initial_covariance(pos_sd_m=walk.gnss_sd_m, vel_sd_mps=s.vel_sd_mps, att_sd_rad=s.att_sd_rad,
                             acc_bias_sd_mps2=s.acc_bias_sd_mps2, gyr_bias_sd_radps=s.gyr_bias_sd_radps,
                             acc_sf_sd=s.acc_sf_sd, gyr_sf_sd=s.gyr_sf_sd)
-    ups = walk_updates(walk, constraint, use_gcp, s, wvc_params)
+    ups = walk_updates(walk, constraint, use_gcp, s, wvc_params, stairs, stair_action, step_smoothing)
     return run_eskf(t, walk.gyr_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
-                    euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf)
+                    euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf, keep_covariance=keep_covariance)

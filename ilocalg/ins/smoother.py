@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult
+from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult, covariance_chunk
 from ilocalg.ins.mechanisation import rotvecs_to_dcm
 
 __all__ = ["EskfSmoothResult", "ErrorStateINS", "rts_gains", "eskf_rts_smooth", "window_ends", "online_window_smooth"]
@@ -52,23 +52,34 @@ class EskfSmoothResult:
     latency_s: np.ndarray
 
 
-def rts_gains(res: EskfResult) -> np.ndarray:
-    """All smoother gains at once, (N, 21, 21); ``G[k]`` for k < N-1 (``G[N-1] = 0``).
-
-    Batched: ``G_k^T = solve(P_{k+1}^predict, Phi_{k+1} P_k^update)`` (both covariances symmetric).
-    """
-    n = res.t_s.size
-    G = np.zeros((n, N_STATES, N_STATES))
-    if n > 1:
-        rhs = np.matmul(res.Phi[1:], res.P_plus[:-1])
-        G[:-1] = np.swapaxes(np.linalg.solve(res.P_minus[1:], rhs), 1, 2)
+def _gains(P_plus, P_minus, Phi) -> np.ndarray:
+    """Gains of a chunk (L, 21, 21): ``G[i] = P_plus[i] Phi[i+1]^T P_minus[i+1]^-1`` for i < L-1, ``G[L-1] = 0``."""
+    L = P_plus.shape[0]
+    G = np.zeros((L, N_STATES, N_STATES))
+    if L > 1:
+        rhs = np.matmul(Phi[1:], P_plus[:-1])
+        G[:-1] = np.swapaxes(np.linalg.solve(P_minus[1:], rhs), 1, 2)
     return G
 
 
-def window_ends(t_s, window_s: float | None) -> np.ndarray:
-    """Boolean (N,): True at the last epoch of each fixed window ``[t0 + j W, t0 + (j+1) W)``.
+def rts_gains(res: EskfResult) -> np.ndarray:
+    """All smoother gains at once, (N, 21, 21); ``G[k]`` for k < N-1 (``G[N-1] = 0``).
 
-    ``window_s=None`` is one window over the whole run (the post-processing RTS smoother).
+    Batched: ``G_k^T = solve(P_{k+1}^predict, Phi_{k+1} P_k^update)`` (both covariances symmetric). Needs a
+    filter run that kept its covariance history (``run_eskf(..., keep_covariance=True)``).
+    """
+    if res.P_plus is None:
+        raise ValueError("rts_gains needs the covariance history: run the filter with keep_covariance=True, or "
+                         "call eskf_rts_smooth, which recomputes it chunk by chunk")
+    return _gains(res.P_plus, res.P_minus, res.Phi)
+
+
+def window_ends(t_s, window_s: float | None, offset_s: float = 0.0) -> np.ndarray:
+    """Boolean (N,): True at the last epoch of each fixed window ``[t0 + o + j W, t0 + o + (j+1) W)``.
+
+    ``window_s=None`` is one window over the whole run (the post-processing RTS smoother); ``offset_s`` (o, in
+    [0, W)) shifts the window grid (the first window is then shorter), so that a result can be averaged over
+    where the grid falls.
     """
     t_s = np.asarray(t_s, dtype=float)
     ends = np.zeros(t_s.size, dtype=bool)
@@ -77,13 +88,15 @@ def window_ends(t_s, window_s: float | None) -> np.ndarray:
         return ends
     if not (np.isfinite(window_s) and window_s > 0):
         raise ValueError(f"window_s must be > 0 seconds or None, got {window_s}")
-    idx = np.floor((t_s - t_s[0]) / window_s).astype(np.int64)
+    if not (np.isfinite(offset_s) and 0 <= offset_s < window_s):
+        raise ValueError(f"offset_s must lie in [0, window_s), got {offset_s}")
+    idx = np.floor((t_s - t_s[0] - offset_s) / window_s).astype(np.int64)
     ends[:-1] |= idx[1:] != idx[:-1]
     return ends
 
 
 def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = True,
-                    gains: np.ndarray | None = None) -> EskfSmoothResult:
+                    gains: np.ndarray | None = None, offset_s: float = 0.0) -> EskfSmoothResult:
     """RTS smoother over the whole run (``window_s=None``) or over consecutive fixed windows.
 
     Parameters
@@ -92,36 +105,48 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
     window_s : float or None, window length for the online smoother (s)
     with_cov : also smooth the covariance (eq. 9) and return standard deviations
     gains : precomputed :func:`rts_gains` (reuse them across window sizes)
+    offset_s : shift of the window grid (s), see :func:`window_ends`
 
     References
     ----------
     Liao et al. (2016), eq. (8)-(10), sec. 3.3.
     """
     n = res.t_s.size
-    G = rts_gains(res) if gains is None else gains
-    ends = window_ends(res.t_s, window_s)
+    ends = window_ends(res.t_s, window_s, offset_s)
     xs = np.zeros((n, N_STATES))
     sd = np.full((n, N_STATES), np.nan)
     dx = res.dx
-    if with_cov:
-        # eq. (8) and (9): state and covariance
-        Ps = res.P_plus[-1].copy()
-        sd[-1] = np.diag(Ps)
-        for k in range(n - 2, -1, -1):
-            if ends[k]:
-                Ps = res.P_plus[k].copy()
-            else:
-                Gk = G[k]
-                xs[k] = Gk @ (xs[k + 1] + dx[k + 1])
-                Ps = res.P_plus[k] + Gk @ (Ps - res.P_minus[k + 1]) @ Gk.T
-            sd[k] = np.diag(Ps)
-        sd = np.sqrt(np.clip(sd, 0.0, None))  # variances -> standard deviations
+    if res.P_plus is not None:
+        chunks = [(0, n - 1)]
     else:
-        # eq. (8) only (what real-time use needs): one matrix-vector product per epoch
-        x = np.zeros(N_STATES)
-        for k in range(n - 2, -1, -1):
-            x = np.zeros(N_STATES) if ends[k] else G[k] @ (x + dx[k + 1])
+        # no history kept: recompute the covariances between consecutive checkpoints, last stretch first
+        cp = res.cp_idx
+        chunks = list(zip(cp[:-1].tolist(), cp[1:].tolist(), strict=True)) or [(0, n - 1)]
+    x = np.zeros(N_STATES)
+    Ps = None
+    for a, b in reversed(chunks):
+        Pp, Pm, Ph = covariance_chunk(res, a, b)
+        G = gains[a:b + 1] if (gains is not None and res.P_plus is not None) else _gains(Pp, Pm, Ph)
+        if Ps is None:
+            Ps = Pp[-1].copy() if with_cov else None
+            if with_cov:
+                sd[b] = np.diag(Ps)
+        for k in range(b - 1, a - 1, -1):
+            i = k - a
+            if ends[k]:
+                x = np.zeros(N_STATES)
+                if with_cov:
+                    Ps = Pp[i].copy()
+            else:
+                # eq. (8) (and eq. (9) for the covariance)
+                x = G[i] @ (x + dx[k + 1])
+                if with_cov:
+                    Ps = Pp[i] + G[i] @ (Ps - Pm[i + 1]) @ G[i].T
             xs[k] = x
+            if with_cov:
+                sd[k] = np.diag(Ps)
+    if with_cov:
+        sd = np.sqrt(np.clip(sd, 0.0, None))  # variances -> standard deviations
     pos = res.pos_n_m + xs[:, POS]
     vel = res.vel_n_mps + xs[:, VEL]
     mat = np.matmul(rotvecs_to_dcm(xs[:, ATT]), res.mat_nb)
@@ -135,7 +160,7 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
 
 
 def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = False,
-                         gains: np.ndarray | None = None) -> EskfSmoothResult:
+                         gains: np.ndarray | None = None, offset_s: float = 0.0) -> EskfSmoothResult:
     """The paper's online smoother: RTS on each fixed window of ``window_s`` seconds as it fills.
 
     References
@@ -144,7 +169,7 @@ def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = Fals
     """
     if window_s is None:
         raise ValueError("window_s must be a window length in seconds for the online smoother")
-    return eskf_rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains)
+    return eskf_rts_smooth(res, window_s=window_s, with_cov=with_cov, gains=gains, offset_s=offset_s)
 
 
 class ErrorStateINS:

@@ -14,10 +14,15 @@ From Yeh & Huang's survey (sec. 5.1, Table 2):
     measurement unless the marker moves too fast (angular rate above ``blur_rate_dps`` = 60 deg/s or speed
     above ``blur_speed_mps`` = 0.6 m/s, motion blur) and otherwise with probability 0.85 (occlusion, detection
     failures).
+  - outages over 1 s (occlusion, marker out of view), on top of the frame losses: Poisson, 21.5 per 120 s,
+    lasting 1 s + Exp(0.34 s) (Table 2: 21.5 outages over 1 s per sequence, longest 2.24 s on average; the
+    sequence length is not given, 120 s is assumed).
 Assumptions (not given by the paper):
   - IMU biases drawn once: gyro sd 0.3 deg/s, accelerometer sd 0.1 m/s^2 (ADIS16350-class residual
     turn-on biases); constant during a sequence;
-  - tracker noise sd: 3 mm in x and y, 8 mm in z (depth along the optical axis), 1 deg in yaw;
+  - tracker noise sd: 3 mm in x and y, 8 mm in z (depth along the optical axis), 1 deg in yaw (the survey,
+    L218: "position precision in the millimetre range"; the numbers are an assumption and an input of
+    Table 2's mean deviation, which largely echoes them);
   - motion: per axis a sum of three sinusoids (0.05-0.5 Hz) with +-0.35 m amplitude in x, y and +-0.2 m in z;
     roll and pitch +-25 deg, yaw +-60 deg; a 3 s rest at the start (levelling).
 
@@ -42,6 +47,11 @@ __all__ = ["HartmannSequence", "simulate", "IMU_RATE_HZ"]
 # ---- published values: Yeh & Huang's survey, sec. 5.1 (with the IMU noise of ilocalg.ins.hartmann) -----------
 #: IMU (ADIS16350) sampling rate, Hz.
 IMU_RATE_HZ = 400.0
+#: Tracker outages over 1 s (Table 2 describes the input data): 21.5 per test sequence on average, the longest
+#: 2.24 s on average. The survey gives no sequence durations; with this package's 120 s sequences the rate is
+#: 21.5 / 120 per second. Durations 1 s + Exp(0.34 s): the expected longest of 21.5 draws is then
+#: 1 + 0.34 x H_21 ~ 2.24 s (H_n the harmonic number).
+OUTAGE_RATE_PER_S, OUTAGE_EXCESS_MEAN_S = 21.5 / 120.0, 0.34
 # ---- end of published values -------------------------------------------------------------------------------
 
 
@@ -79,8 +89,14 @@ def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = GYR_SD_DEFAU
              acc_sd_mps2: float = ACC_SD_DEFAULT_MPS2,
              gyr_bias_sd_dps: float = 0.3, acc_bias_sd_mps2: float = 0.1, frame_rate_hz: float = 10.0,
              detect_prob: float = 0.85, blur_rate_dps: float = 60.0, blur_speed_mps: float = 0.6,
-             vt_sd=VT_SD_DEFAULT, rest_s: float = 3.0) -> HartmannSequence:
-    """Simulate one sequence (see the module docstring for every parameter's source)."""
+             vt_sd=VT_SD_DEFAULT, rest_s: float = 3.0, outage_rate_per_s: float = OUTAGE_RATE_PER_S,
+             outage_excess_mean_s: float = OUTAGE_EXCESS_MEAN_S) -> HartmannSequence:
+    """Simulate one sequence (see the module docstring for every parameter's source).
+
+    Besides the frame-by-frame losses (motion blur, detection failures), the tracker has outages longer than
+    1 s (the marker occluded or out of view): a Poisson number, ``outage_rate_per_s`` per second after the rest,
+    starting uniformly, lasting ``1 s + Exp(outage_excess_mean_s)``; ``outage_rate_per_s=0`` turns them off.
+    """
     if not duration_s > rest_s + 1:
         raise ValueError(f"duration_s must exceed rest_s + 1 s, got {duration_s}")
     if not 0 < detect_prob <= 1:
@@ -119,7 +135,21 @@ def simulate(duration_s: float = 120.0, seed=0, gyr_sd_dps: float = GYR_SD_DEFAU
     sd = np.asarray(vt_sd, dtype=float)
     z = np.column_stack([eul[fr, 2], pos[fr]]) + rng.normal(0, 1, (fr.size, 4)) * sd
     z[:, 0] = (z[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    outages = np.zeros((0, 2))
+    if not (np.isfinite(outage_rate_per_s) and outage_rate_per_s >= 0 and outage_excess_mean_s > 0):
+        raise ValueError("outage_rate_per_s must be >= 0 and outage_excess_mean_s > 0")
+    if outage_rate_per_s > 0 and duration_s - 3.0 > rest_s + 1.0:
+        n_out = rng.poisson(outage_rate_per_s * (duration_s - rest_s))
+        start = rng.uniform(rest_s + 1.0, duration_s - 3.0, n_out)
+        outages = np.column_stack([start, start + 1.0 + rng.exponential(outage_excess_mean_s, n_out)])
+        tf = t[fr]
+        lost = np.zeros(fr.size, bool)
+        for a, b in outages:
+            lost |= (tf > a) & (tf < b)
+        lost[0] = False
+        fr, z = fr[~lost], z[~lost]
     return HartmannSequence(t_s=t, gyr_b_radps=gyr, acc_b_mps2=acc, pos_v_m=pos, vel_v_mps=vel,
                             euler_rad=(eul + np.pi) % (2 * np.pi) - np.pi, t_vt_s=t[fr], z_vt=z,
                             bias_true=np.concatenate([bg, ba]),
-                            params={"duration_s": duration_s, "vt_sd": sd.tolist(), "rest_s": rest_s})
+                            params={"duration_s": duration_s, "vt_sd": sd.tolist(), "rest_s": rest_s,
+                                    "outages_s": outages.tolist()})

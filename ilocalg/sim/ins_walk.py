@@ -7,49 +7,66 @@ it and on to a lab (route ``"iphone"``, Fig 6). The walker stops 1-3 s after eve
 indoor control points (corners and corridor middles) are met along the way.
 
 Everything is deterministic from ``seed``. The truth is generated at 200 Hz (the paper's reference
-rate); the phone IMU samples it at irregular 14.3-20 Hz intervals as interval means with
-phone-grade biases, scale factors and white noise.
+rate); the phone IMU samples it at irregular 14.3-20 Hz intervals with phone-grade biases, scale factors,
+white noise, bias instability and poor time tags (the ideal sensor: ``PROFILES[k].ideal_timing()``).
 
 Parameters and their sources
 ----------------------------
-Paper (Liao et al. 2016):
-  - reference solution rate 200 Hz; phone IMU "15-17 Hz ... about 20 Hz, irregular" -> phone intervals of
-    10-14 ticks of the 200 Hz grid (uniform), mean 16.7 Hz;
-  - stops of 1-3 s after turns (ZUPT), uniform in [1, 3] s;
-  - GNSS only during the two outdoor loops; four indoor control points, met "about every 15 s" (the
-    indoor legs are sized so that the passages come every ~15 s);
-    control points surveyed by total station (cm level): position-fix sd ``gcp_sd_m`` = 0.05 m;
+Paper (Liao et al. 2016; L = line of the paper's text file):
+  - reference solution rate 200 Hz (L324); phone IMU "15-17 Hz" (L171), "low and unstable (about 20 Hz)",
+    time tags of poor precision (L324) -> phone intervals of 10-14 ticks of the 200 Hz grid (uniform), mean
+    16.7 Hz; time-tag error sd 10 ms (assumption, clipped at 2 sd) and instantaneous (point) samples;
+  - stops of 1-3 s after turns (ZUPT, L146), uniform in [1, 3] s;
+  - GNSS only during the two outdoor loops (L202); four indoor control points met "about every 15 s" (L202);
+    control points are total-station surveyed (cm level) and delivered by Bluetooth (m level) (L109, L202;
+    Bluetooth proximity: "the user is taken to be at the beacon when it is sensed", L73): the fix is the
+    surveyed coordinate, given after the beacon ranging cycle (U(0, 1 s): iOS Core Location ranges once per
+    second) with a horizontal proximity offset sd 0.5 m (the iBeacon "immediate" zone) and handed to the
+    filter with sd 1.0 m; ``gcp_mode="ideal"`` keeps the true position + 5 cm at closest approach;
   - MIDG-II (Table 3): 50 Hz, gyro bias 4.7 deg/h, accelerometer bias 6 mg, scale factors 5000 ppm
     (gyro) and 19700 ppm (accelerometer): the ``"midg2"`` reference-grade profile.
 Phone profiles (datasheet class; the paper defers to Liao et al. 2014 and states only that the two
-phones' IMUs are similar, the iPhone's somewhat better): InvenSense MPU-6500 class parts:
+phones' IMUs are similar, L202): InvenSense MPU-6500 class parts:
   - ``samsung_s5``: accelerometer bias sd 30 mg (datasheet zero-g offset +-60 mg, read as 2 sd),
     gyro residual bias sd 0.3 deg/s (after the phone's own at-rest calibration), scale factors sd
     1.5 % (datasheet sensitivity tolerance +-3 %), noise densities 300 ug/sqrt(Hz) and
-    0.01 deg/s/sqrt(Hz) x 3 (phone output filtering and electrical noise);
-  - ``iphone_5s``: 20 mg, 0.2 deg/s, 1.0 %, same noise densities.
-Walker (modelling assumptions, not from the paper):
-  - step frequency 1.85 Hz (sd 0.05 Hz, slow Ornstein-Uhlenbeck variation, 10 s correlation);
-  - true step length from eq. (7) with the walker's own height 1.70 m and a personal scale factor
-    ``c`` ~ N(1.0, 0.05): the default-parameter WVC therefore mis-predicts speed by a few percent
-    (the paper cites 40-50 % step-length variation between walkers; we keep one walker modest);
-  - stairs: 0.5 m/s horizontal, rise 4 m over 7 m (about 24 steps of 0.17 m x 0.29 m at 1.75 steps/s);
+    0.01 deg/s/sqrt(Hz) x 3 (phone output filtering and electrical noise); barometer (BMP280 class,
+    height noise sd 0.1 m);
+  - ``iphone_5s``: 20 mg, 0.2 deg/s, 1.0 %, same noise densities; no barometer;
+  - both: first-order Gauss-Markov bias instability, accelerometer 0.5 mg and gyro 20 deg/h with a 300 s
+    correlation time (assumption of the order of consumer-MEMS Allan-variance bias instabilities; no
+    specific measurement was checked for these two numbers).
+Walker (published gait measurements, independent of the filter's eq. 7):
+  - level: comfortable speed N(1.40, 0.16) m/s (Bohannon 1997), personal walk ratio (step length /
+    cadence) 0.0064 m min/step per 1.70 m of height, 10 % between walkers (Sekiya & Nagasaki 1998; Hof
+    1996 body-size scaling); cadence and step length follow from the speed and the walk ratio; the cadence
+    wanders slowly (Ornstein-Uhlenbeck, sd 0.05 Hz, 10 s) with the walk ratio fixed;
+  - stairs: riser 0.17 m, tread 0.29 m (Blondel's 2R + T = 0.63 m), one tread per step, cadence per walker
+    N(1.62, 0.12) Hz up and N(1.80, 0.12) Hz down (gait-laboratory stair cadences, Riener et al. 2002,
+    Protopapadaki et al. 2007), i.e. about 0.47 m/s horizontal upstairs (measured upstairs horizontal
+    speeds peak at 0.4-0.5 m/s, Kretz et al. 2008);
+  - ``gait="legacy"``: the earlier walker (eq. 7 with a personal scale c ~ N(1, 0.05), stairs at 0.5 m/s
+    with the level cadence);
   - hand-held vibration and dynamic misalignment: vertical bounce 2.5 cm at the step frequency,
     lateral sway 1.5 cm at half of it; attitude oscillation roll 2 deg, pitch 2 deg, yaw 3 deg; a slowly
     wandering yaw misalignment (sd 3 deg, 5 s correlation); hand tremor at rest (0.3 deg, 0.3 s); the
     random attitude terms are Ornstein-Uhlenbeck sequences smoothed over 0.5 s / 0.1 s (Gaussian sigma)
-    so that their angular rates stay physical.
+    so that their angular rates stay physical (assumptions).
 GNSS outdoors (phone grade, assumption): 1 Hz, sd 2.5 m horizontal, 4 m vertical.
 Initial heading (assumption): truth + N(0, 5 deg), as from a map-aligned start.
 
 References
 ----------
-Liao, Chiang, Zhou, Li (2016), sec. 4, Figs 5-6, Table 3; Chen et al. (2011) step model.
+Liao, Chiang, Zhou, Li (2016), sec. 4, Figs 5-6, Table 3; Chen et al. (2011) step model;
+Bohannon (1997), Age and Ageing 26:15-19; Sekiya & Nagasaki (1998), Gait & Posture 7:225-227;
+Hof (1996), Gait & Posture 4:222-223; Riener, Rabuffetti, Frigo (2002), Gait & Posture 15:32-44;
+Protopapadaki et al. (2007), Clinical Biomechanics 22:203-210; Kretz et al. (2008), Safety Science
+46:72-78 (upstairs walking speed distributions); Gelb (1974) Applied Optimal Estimation (Gauss-Markov).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -57,7 +74,8 @@ from ilocalg.ins.constraints import walking_speed_mps
 from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dcm
 from ilocalg.units import as_rng
 
-__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate"]
+__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate", "walker_gait",
+           "gauss_markov"]
 
 # ---- published values: Liao et al. (2016), sec. 4 (reference rate) and Table 3 (MIDG-II) -------------------
 #: Rate of the paper's reference solution, Hz.
@@ -67,12 +85,47 @@ TRUTH_RATE_HZ = 200.0
 _MIDG2_TICKS, _MIDG2_ACC_BIAS_MG, _MIDG2_GYR_BIAS_DPH, _MIDG2_ACC_SF, _MIDG2_GYR_SF = (4, 4), 6, 4.7, 0.0197, 0.005
 # ---- end of published values -------------------------------------------------------------------------------
 
+# ---- published values: walker gait (independent of the filter's eq. 7) -------------------------------------
+#: Comfortable level walking speed (m/s) of adults in their twenties to forties, mean and between-walker sd:
+#: Bohannon (1997), Table 2 (men 20-29: 139.3 +- 15.3 cm/s; women 20-29: 140.7 +- 17.0 cm/s), pooled.
+LEVEL_SPEED_MEAN_MPS, LEVEL_SPEED_SD_MPS = 1.40, 0.16
+#: Walk ratio (step length / cadence, m per step/min) per metre of height, mean and between-walker sd:
+#: Sekiya & Nagasaki (1998) walk ratio of young adults, about 0.0064 m min/step at about 1.70 m height, with a
+#: between-walker coefficient of variation of about 10 %; step length scales with body size (Hof 1996).
+WALK_RATIO_PER_HEIGHT, WALK_RATIO_PER_HEIGHT_SD = 0.0064 / 1.70, 0.1 * 0.0064 / 1.70
+#: Stair riser (m): 2 R + T = 0.63 m with tread T = 0.29 m (Blondel's rule, kept by building codes); the route's
+#: 4 m rise over 7 m then has 24 steps of 0.17 m x 0.29 m.
+STAIR_RISER_M = 0.17
+#: Self-paced stair cadence (Hz), ascent and descent, between-walker sd: about 95-110 steps/min in gait
+#: laboratories (Riener et al. 2002; Protopapadaki et al. 2007). With one tread (0.29 m) per step the ascent's
+#: horizontal speed is about 0.47 m/s, inside the 0.4-0.5 m/s peak of the measured upstairs horizontal speeds
+#: of Kretz et al. (2008).
+STAIR_UP_CADENCE_HZ, STAIR_DOWN_CADENCE_HZ, STAIR_CADENCE_SD_HZ = 1.62, 1.80, 0.12
+# ---- end of published values -------------------------------------------------------------------------------
+
+# ---- published values: Bluetooth control points -----------------------------------------------------------
+#: Beacon ranging cycle (s): iOS Core Location delivers beacon ranging results once per second, Android beacon
+#: libraries scan in cycles of about 1.1 s (AltBeacon default); the trigger comes U(0, cycle) after the phone
+#: reaches the beacon. The beacon's surveyed coordinate is the fix (Liao et al. 2016, L109, L202).
+BLE_RANGING_CYCLE_S = 1.0
+#: Proximity offset (m, horizontal sd per axis): the phone is "at" a beacon when its RSSI says "immediate"
+#: (within about 0.5 m; Apple iBeacon proximity classes), not at the surveyed point itself.
+BLE_PROXIMITY_SD_M = 0.5
+#: Filter noise of a Bluetooth control-point fix (m): "metre level" (Liao et al. 2016, L109).
+BLE_FIX_SD_M = 1.0
+# ---- end of published values -------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class PhoneProfile:
     """IMU error profile. Biases/scale factors are drawn once per run (sd given); noise is white.
 
-    ``ticks`` is the allowed range of sample intervals in 200 Hz ticks (inclusive).
+    ``ticks`` is the allowed range of sample intervals in 200 Hz ticks (inclusive). The remaining fields
+    default to the ideal sensor: ``time_jitter_sd_s`` sd of the error of each time tag (s, clipped at 2 sd);
+    ``point_sampling`` samples are instantaneous values (True) or interval means (False, what the filter's
+    strapdown assumes); ``acc_gm_sd_mps2`` / ``gyr_gm_sd_radps`` and ``gm_tau_s``: first-order Gauss-Markov
+    bias instability (sd and correlation time) on top of the turn-on bias; ``baro_sd_m`` barometric height
+    noise sd (m), None for a phone without a barometer.
     """
 
     name: str
@@ -83,14 +136,31 @@ class PhoneProfile:
     gyr_sf_sd: float
     acc_noise_mps2_rsqrt_hz: float
     gyr_noise_radps_rsqrt_hz: float
+    time_jitter_sd_s: float = 0.0
+    point_sampling: bool = False
+    acc_gm_sd_mps2: float = 0.0
+    gyr_gm_sd_radps: float = 0.0
+    gm_tau_s: float = 300.0
+    baro_sd_m: float | None = None
+
+    def ideal_timing(self) -> PhoneProfile:
+        """The same sensor errors with exact time tags, interval-mean samples and no bias instability."""
+        return replace(self, time_jitter_sd_s=0.0, point_sampling=False, acc_gm_sd_mps2=0.0, gyr_gm_sd_radps=0.0)
 
 
 _MG = 9.80665e-3
+#: Phone timing and bias instability (assumptions, see the module docstring): time-tag error sd (s); Gauss-Markov
+#: bias sd of the accelerometer (0.5 mg) and gyroscope (20 deg/h) with a 300 s correlation time.
+_PHONE_TIMING = {"time_jitter_sd_s": 0.01, "point_sampling": True, "acc_gm_sd_mps2": 0.5 * 9.80665e-3,
+                 "gyr_gm_sd_radps": float(np.deg2rad(20.0 / 3600.0)), "gm_tau_s": 300.0}
+#: Barometric height noise (m): Bosch BMP280-class pressure sensor, RMS noise about 1.2 Pa (standard
+#: resolution), about 0.1 m. The Galaxy S5 has a barometer, the iPhone 5S has none.
+_BARO_SD_M = 0.1
 PROFILES = {
     "samsung_s5": PhoneProfile("samsung_s5", (10, 14), 30 * _MG, np.deg2rad(0.3), 0.015, 0.015,
-                               3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
+                               3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01), **_PHONE_TIMING, baro_sd_m=_BARO_SD_M),
     "iphone_5s": PhoneProfile("iphone_5s", (10, 14), 20 * _MG, np.deg2rad(0.2), 0.010, 0.010,
-                              3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01)),
+                              3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01), **_PHONE_TIMING),
     "midg2": PhoneProfile("midg2", _MIDG2_TICKS, _MIDG2_ACC_BIAS_MG * _MG, np.deg2rad(_MIDG2_GYR_BIAS_DPH / 3600),
                           _MIDG2_ACC_SF, _MIDG2_GYR_SF, 300e-6 * 9.80665, np.deg2rad(0.01)),
 }
@@ -123,7 +193,9 @@ class InsWalk:
     ``gnss_t_s`` / ``gnss_pos_n_m`` / ``gnss_sd_m`` (G,), (G, 3), (3,); control-point passages
     ``gcp_t_s`` (C,), ``gcp_pos_n_m`` (C, 3), ``gcp_id`` (C,), ``gcp_sd_m``; ``t_indoor_s`` the time the
     walker leaves the outdoor loops (errors are analysed after it); ``init``: initial state for the
-    filter; ``sensor_true`` (12,) the drawn ``[b_acc, b_gyr, s_acc, s_gyr]``; ``params``.
+    filter; ``sensor_true`` (12,) the drawn ``[b_acc, b_gyr, s_acc, s_gyr]`` (turn-on values); ``stairs_true``
+    (N,) the walker is on a staircase; ``baro_t_s`` / ``baro_height_m`` (B,) barometric heights (empty without
+    a barometer); ``t_true_s`` (N,) the true sampling instants (``t_s`` are the phone's time tags); ``params``.
     """
 
     t_ref_s: np.ndarray
@@ -146,6 +218,10 @@ class InsWalk:
     t_indoor_s: float
     init: dict
     sensor_true: np.ndarray
+    stairs_true: np.ndarray
+    baro_t_s: np.ndarray
+    baro_height_m: np.ndarray
+    t_true_s: np.ndarray
     params: dict = field(default_factory=dict)
 
 
@@ -165,18 +241,55 @@ def _gauss_smooth(x, sigma_samples):
     return gaussian_filter1d(x, sigma_samples, axis=0, mode="nearest")
 
 
-def _path(rng, waypoints, dt, user_c, user_height_m, stair_speed_mps, step_freq_mean_hz):
-    """Walk the waypoints: (t, pos (M,3) unsmoothed, walking flag (M,), step freq (M,), index of indoor start)."""
+def walker_gait(rng, user_height_m: float = 1.70, speed_mean_mps: float = LEVEL_SPEED_MEAN_MPS,
+                speed_sd_mps: float = LEVEL_SPEED_SD_MPS) -> dict:
+    """Draw one walker's gait, independently of the WVC model (eq. 7) used by the filter.
+
+    Level walking: comfortable speed ``v ~ N(speed_mean_mps, speed_sd_mps)`` (Bohannon 1997) and a personal
+    walk ratio (step length over cadence) ``W = w_h h`` with ``w_h ~ N(WALK_RATIO_PER_HEIGHT, sd)``
+    (Sekiya & Nagasaki 1998, scaled with body size after Hof 1996). Cadence and step length follow from
+    ``v = L F`` and ``L = 60 W F``: ``F = sqrt(v / (60 W))`` (Hz), ``L = 60 W F`` (m). Stairs: one tread per
+    step, cadence ``N(STAIR_*_CADENCE_HZ, STAIR_CADENCE_SD_HZ)`` per walker (see the module docstring).
+
+    Returns
+    -------
+    dict with ``speed_mps``, ``walk_ratio_m_min``, ``cadence_hz``, ``step_length_m``, ``stair_up_cadence_hz``,
+    ``stair_down_cadence_hz``.
+
+    References
+    ----------
+    Bohannon (1997), Age and Ageing 26:15-19; Sekiya & Nagasaki (1998), Gait & Posture 7:225-227;
+    Hof (1996), Gait & Posture 4:222-223.
+    """
+    v = max(0.6, rng.normal(speed_mean_mps, speed_sd_mps))
+    w = max(0.002, rng.normal(WALK_RATIO_PER_HEIGHT, WALK_RATIO_PER_HEIGHT_SD)) * user_height_m
+    f = float(np.sqrt(v / (60.0 * w)))
+    up = max(1.0, rng.normal(STAIR_UP_CADENCE_HZ, STAIR_CADENCE_SD_HZ))
+    down = max(1.0, rng.normal(STAIR_DOWN_CADENCE_HZ, STAIR_CADENCE_SD_HZ))
+    return {"speed_mps": float(v), "walk_ratio_m_min": float(w), "cadence_hz": f, "step_length_m": 60.0 * w * f,
+            "stair_up_cadence_hz": float(up), "stair_down_cadence_hz": float(down)}
+
+
+def _path(rng, waypoints, dt, gait, legacy):
+    """Walk the waypoints.
+
+    Returns ``(pos (M,3) unsmoothed, walking flag (M,), step freq (M,), on-stairs flag (M,), index of indoor start)``.
+    ``legacy`` = (user_c, user_height_m): the earlier walker (speed from eq. 7, stairs at 0.5 m/s, level cadence).
+    """
     wp = np.asarray(waypoints, dtype=float)
-    pos_chunks, walk_chunks = [], []
+    pos_chunks, walk_chunks, stair_chunks = [], [], []
     t_indoor_idx = None
     n_total = 0
     # initial standstill for levelling
     n0 = int(5.0 / dt)
     pos_chunks.append(np.repeat(wp[:1], n0, axis=0))
     walk_chunks.append(np.zeros(n0, bool))
+    stair_chunks.append(np.zeros(n0, bool))
     n_total += n0
-    freq_proc = step_freq_mean_hz + _ou(rng, 200000, dt, 0.05, 10.0)
+    f0 = 1.85 if legacy else gait["cadence_hz"]
+    fluct = _ou(rng, 200000, dt, 0.05, 10.0)
+    freq_proc = f0 + fluct
+    freq_out = freq_proc.copy()
     for i in range(len(wp) - 1):
         if i == _N_OUTDOOR_WP - 1:
             t_indoor_idx = n_total
@@ -185,48 +298,84 @@ def _path(rng, waypoints, dt, user_c, user_height_m, stair_speed_mps, step_freq_
         horiz = float(np.hypot(d[0], d[1]))
         stairs = abs(d[2]) > 0.1
         f = freq_proc[n_total:n_total + int(120 / dt)]
-        v = np.full(f.size, stair_speed_mps) if stairs else walking_speed_mps(f, user_height_m, c=user_c)
+        if legacy:
+            user_c, user_height_m = legacy
+            v = np.full(f.size, 0.5) if stairs else walking_speed_mps(f, user_height_m, c=user_c)
+        elif stairs:
+            n_steps = max(1, int(round(abs(d[2]) / STAIR_RISER_M)))
+            tread = horiz / n_steps
+            fs = gait["stair_up_cadence_hz"] if d[2] > 0 else gait["stair_down_cadence_hz"]
+            f = fs + fluct[n_total:n_total + f.size]
+            freq_out[n_total:n_total + f.size] = f
+            v = tread * f  # one tread per step
+        else:
+            v = 60.0 * gait["walk_ratio_m_min"] * f * f  # v = L F with L = 60 W F (constant walk ratio)
         s = np.cumsum(v) * dt
         m = int(np.searchsorted(s, horiz)) + 1
         frac = np.clip(s[:m] / horiz, 0.0, 1.0)
         pos_chunks.append(a + frac[:, None] * d)
         walk_chunks.append(np.ones(m, bool))
+        stair_chunks.append(np.full(m, stairs))
         n_total += m
         # stop 1-3 s after every turn (at every waypoint)
         ns = int(rng.uniform(1.0, 3.0) / dt)
         pos_chunks.append(np.repeat(b[None], ns, axis=0))
         walk_chunks.append(np.zeros(ns, bool))
+        stair_chunks.append(np.zeros(ns, bool))
         n_total += ns
     pos = np.concatenate(pos_chunks)
     walking = np.concatenate(walk_chunks)
-    return pos, walking, freq_proc[:pos.shape[0]], t_indoor_idx
+    return pos, walking, freq_out[:pos.shape[0]], np.concatenate(stair_chunks), t_indoor_idx
 
 
-def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float = 0.05,
+def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float | None = None,
              gnss_sd_m=(2.5, 2.5, 4.0), user_height_m: float = 1.70, user_c_sd: float = 0.05,
-             init_yaw_sd_deg: float = 5.0) -> InsWalk:
+             init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "ble",
+             ble_lag_s: float = 0.0) -> InsWalk:
     """Simulate one hand-held phone walk (see the module docstring for every parameter's source).
 
     Parameters
     ----------
     route : "samsung" or "iphone" (Figs 5 and 6)
-    profile : a key of :data:`PROFILES` or a :class:`PhoneProfile`
+    profile : a key of :data:`PROFILES` or a :class:`PhoneProfile` (``PROFILES[k].ideal_timing()`` for exact
+        time tags, interval means and no bias instability)
     seed : int, Generator or None
-    gcp_sd_m : control-point position-fix sd (m); gnss_sd_m : GNSS sd (E, N, U) in m
-    user_height_m, user_c_sd : the walker's true height and the sd of their personal step scale
+    gcp_sd_m : control-point fix sd handed to the filter (m); default 1.0 m for Bluetooth fixes
+        (:data:`BLE_FIX_SD_M`), 0.05 m for the ideal fix; gnss_sd_m : GNSS sd (E, N, U) in m
+    user_height_m : the walker's true height (m)
+    user_c_sd : sd of the personal step scale of the ``"legacy"`` walker
     init_yaw_sd_deg : sd of the initial heading error handed to the filter
+    gait : "published" (level speed and cadence from :func:`walker_gait`, stairs one tread per step) or
+        "legacy" (speed from eq. 7 with a personal scale, stairs at 0.5 m/s with the level cadence)
+    gcp_mode : "ble" (the surveyed coordinate, triggered by a Bluetooth beacon after a ranging delay, with a
+        proximity offset) or "ideal" (the true phone position plus ``gcp_sd_m`` noise at closest approach)
+    ble_lag_s : extra trigger delay of the Bluetooth fix (s), e.g. RSSI averaging (default none)
     """
     if route not in ROUTES:
         raise ValueError(f"route must be one of {sorted(ROUTES)}, got {route!r}")
     prof = PROFILES[profile] if isinstance(profile, str) and profile in PROFILES else profile
     if not isinstance(prof, PhoneProfile):
         raise ValueError(f"profile must be one of {sorted(PROFILES)} or a PhoneProfile, got {profile!r}")
+    if gait not in ("published", "legacy"):
+        raise ValueError(f"gait must be 'published' or 'legacy', got {gait!r}")
+    if gcp_mode not in ("ble", "ideal"):
+        raise ValueError(f"gcp_mode must be 'ble' or 'ideal', got {gcp_mode!r}")
+    if gcp_sd_m is None:
+        gcp_sd_m = BLE_FIX_SD_M if gcp_mode == "ble" else 0.05
     if not gcp_sd_m > 0:
         raise ValueError(f"gcp_sd_m must be > 0, got {gcp_sd_m}")
+    if not (np.isfinite(ble_lag_s) and ble_lag_s >= 0):
+        raise ValueError(f"ble_lag_s must be >= 0 s, got {ble_lag_s}")
     rng = as_rng(seed)
     dt = 1.0 / TRUTH_RATE_HZ
-    user_c = 1.0 + rng.normal(0.0, user_c_sd)
-    raw, walking, freq, i_indoor = _path(rng, ROUTES[route], dt, user_c, user_height_m, 0.5, 1.85)
+    if gait == "legacy":
+        user_c = 1.0 + rng.normal(0.0, user_c_sd)
+        gait_d = {}
+        raw, walking, freq, on_stairs, i_indoor = _path(rng, ROUTES[route], dt, None, (user_c, user_height_m))
+    else:
+        user_c = float("nan")
+        gait_d = walker_gait(rng, user_height_m)
+        raw, walking, freq, on_stairs, i_indoor = _path(rng, ROUTES[route], dt, gait_d, None)
     m = raw.shape[0]
     t = np.arange(m) * dt
     sig = int(0.25 / dt)
@@ -281,8 +430,13 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     valid = nxt > ep
     ep, nxt = ep[valid], nxt[valid]
     dt_ph = (nxt - ep) * dt
-    gyr_true = (cs_th[nxt] - cs_th[ep]) / dt_ph[:, None]
-    acc_true = (cs_dv[nxt] - cs_dv[ep]) / dt_ph[:, None]
+    if prof.point_sampling:
+        # instantaneous values (one 200 Hz increment), not means over the phone interval
+        gyr_true = dtheta[ep] / dt
+        acc_true = dvel_b[ep] / dt
+    else:
+        gyr_true = (cs_th[nxt] - cs_th[ep]) / dt_ph[:, None]
+        acc_true = (cs_dv[nxt] - cs_dv[ep]) / dt_ph[:, None]
     n = ep.size
     ba = rng.normal(0.0, prof.acc_bias_sd_mps2, 3)
     bg = rng.normal(0.0, prof.gyr_bias_sd_radps, 3)
@@ -292,27 +446,52 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
                                                                      / np.sqrt(dt_ph))[:, None]
     gyr = (1 + sg) * gyr_true + bg + rng.normal(0.0, 1.0, (n, 3)) * (prof.gyr_noise_radps_rsqrt_hz
                                                                        / np.sqrt(dt_ph))[:, None]
-    t_ph = t[ep]
+    t_true = t[ep]
+    t_ph = t_true.copy()
+    # realistic phone: Gauss-Markov bias instability and poor time tags (drawn after the ideal sensor's
+    # numbers, so an ideal-timing profile keeps the same random stream)
+    if prof.acc_gm_sd_mps2 > 0 or prof.gyr_gm_sd_radps > 0:
+        for arr, sd in ((acc, prof.acc_gm_sd_mps2), (gyr, prof.gyr_gm_sd_radps)):
+            if sd > 0:
+                arr += gauss_markov(rng, t_true, sd, prof.gm_tau_s, 3)
+    if prof.time_jitter_sd_s > 0:
+        j = np.clip(rng.normal(0.0, prof.time_jitter_sd_s, n), -2 * prof.time_jitter_sd_s,
+                    2 * prof.time_jitter_sd_s)
+        t_ph = t_true + j
+        if np.any(np.diff(t_ph) <= 0):  # 2 sd clip < half the shortest interval keeps the order
+            raise ValueError("time_jitter_sd_s too large for the sampling interval: time tags out of order")
     t_indoor = float(t[i_indoor])
     # GNSS at 1 Hz on the outdoor part (at phone epochs)
     gsd = np.asarray(gnss_sd_m, dtype=float)
     g_idx = np.unique(np.searchsorted(t_ph, np.arange(0.0, t_indoor, 1.0)))
     gnss_pos = pos[ep[g_idx]] + rng.normal(0.0, 1.0, (g_idx.size, 3)) * gsd
-    # control-point passages: local minima of the distance below 0.5 m, on the indoor part
+    # control-point passages: local minima of the distance below 0.6 m, on the indoor part
     gcp_t, gcp_p, gcp_i = [], [], []
     ph_pos = pos[ep]
-    for j, g in enumerate(GCP_XYZ_M):
+    for jj, g in enumerate(GCP_XYZ_M):
         dist = np.linalg.norm(ph_pos - g, axis=1)
-        close = (dist < 0.6) & (t_ph >= t_indoor)
+        close = (dist < 0.6) & (t_true >= t_indoor)
         runs = np.flatnonzero(np.diff(np.concatenate([[0], close.astype(int), [0]])))
         for a0, b0 in zip(runs[::2], runs[1::2], strict=True):
             k = a0 + int(np.argmin(dist[a0:b0]))
-            gcp_t.append(t_ph[k])
-            gcp_p.append(ph_pos[k] + rng.normal(0.0, gcp_sd_m, 3))
-            gcp_i.append(j)
+            if gcp_mode == "ideal":
+                gcp_t.append(t_ph[k])
+                gcp_p.append(ph_pos[k] + rng.normal(0.0, gcp_sd_m, 3))
+            else:
+                # Bluetooth: the surveyed coordinate, after the ranging cycle (and any lag), with the offset
+                # between the phone and the beacon at which proximity is declared
+                t_trig = t_true[k] + rng.uniform(0.0, BLE_RANGING_CYCLE_S) + ble_lag_s
+                k2 = min(int(np.searchsorted(t_true, t_trig)), n - 1)
+                gcp_t.append(t_ph[k2])
+                gcp_p.append(g + np.append(rng.normal(0.0, BLE_PROXIMITY_SD_M, 2), 0.0))
+            gcp_i.append(jj)
     order = np.argsort(gcp_t)
     init_att = np.array([roll[0], pitch[0], yaw_b[0] + np.deg2rad(rng.normal(0.0, init_yaw_sd_deg))])
     stationary = ~walking[ep] & (walk_w[ep] < 0.05)
+    if prof.baro_sd_m is not None:
+        baro_t, baro_h = t_ph.copy(), pos[ep, 2] + rng.normal(0.0, prof.baro_sd_m, n)
+    else:
+        baro_t, baro_h = np.zeros(0), np.zeros(0)
     return InsWalk(
         t_ref_s=t, pos_ref_n_m=pos, mat_ref_nb=mat, t_s=t_ph, gyr_b_radps=gyr, acc_b_mps2=acc,
         pos_true_n_m=pos[ep], vel_true_n_mps=vel[ep], mat_true_nb=mat[ep], stationary_true=stationary,
@@ -320,6 +499,29 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         gcp_t_s=np.asarray(gcp_t)[order], gcp_pos_n_m=np.asarray(gcp_p).reshape(-1, 3)[order],
         gcp_id=np.asarray(gcp_i, dtype=np.int64)[order], gcp_sd_m=float(gcp_sd_m), t_indoor_s=t_indoor,
         init={"pos_n_m": gnss_pos[0].copy(), "vel_n_mps": np.zeros(3), "euler_rad": init_att},
-        sensor_true=np.concatenate([ba, bg, sa, sg]),
-        params={"route": route, "profile": prof.name, "user_c": float(user_c), "user_height_m": user_height_m},
+        sensor_true=np.concatenate([ba, bg, sa, sg]), stairs_true=on_stairs[ep], baro_t_s=baro_t,
+        baro_height_m=baro_h, t_true_s=t_true,
+        params={"route": route, "profile": prof.name, "user_c": float(user_c), "user_height_m": user_height_m,
+                "gait": gait, "gcp_mode": gcp_mode, **gait_d},
     )
+
+
+def gauss_markov(rng, t_s, sd, tau_s, n_axes=3) -> np.ndarray:
+    """First-order Gauss-Markov sequences (N, n_axes) at (irregular) times ``t_s``: stationary sd, correlation time.
+
+    ``b_k = exp(-dt/tau) b_{k-1} + w_k``, ``var(w_k) = sd^2 (1 - exp(-2 dt/tau))``, ``b_0 ~ N(0, sd^2)``.
+
+    References
+    ----------
+    Gelb (1974), Applied Optimal Estimation, Table 3.8-1 (first-order Markov process).
+    """
+    t_s = np.asarray(t_s, dtype=float)
+    a = np.exp(-np.diff(t_s) / tau_s)
+    w = rng.normal(0.0, 1.0, (t_s.size, n_axes))
+    w[0] *= sd
+    w[1:] *= (sd * np.sqrt(1.0 - a * a))[:, None]
+    out = np.empty_like(w)
+    out[0] = w[0]
+    for k in range(1, t_s.size):
+        out[k] = a[k - 1] * out[k - 1] + w[k]
+    return out

@@ -1,0 +1,40 @@
+"""The smartphone INS constraints experiment (ilocalg.experiments.ins_constraints)."""
+
+import numpy as np
+import pytest
+
+from ilocalg.experiments import ins_constraints
+
+
+@pytest.fixture(scope="module")
+def tables():
+    return ins_constraints.run(seed=0, fast=True, reference_grade=False)
+
+
+def test_stair_handling_table_compares_off_barometer_and_truth(tables):
+    st = tables["stair_handling"]
+    assert {"N (none)", "N (baro)", "N (truth)"} <= set(st.columns)
+    rms = st[st.stat == "rms"].set_index(["phone", "method"])
+    # NHC has no WVC: stair handling cannot change it
+    nhc = rms.loc[("Samsung", "Filtering + NHC/ZUPT")]
+    assert nhc["N (none)"] == nhc["N (baro)"] == nhc["N (truth)"]
+    # the iPhone 5S has no barometer: 'baro' is no handling
+    ip = rms.loc[("iPhone", "Filtering + WVC/ZUPT")]
+    assert ip["N (none)"] == ip["N (baro)"]
+    # the default rows are the barometer rows
+    e = tables["errors"].set_index(["phone", "method", "stat"])
+    assert e.loc[("Samsung", "Filtering + WVC/ZUPT", "rms"), "N"] == pytest.approx(
+        rms.loc[("Samsung", "Filtering + WVC/ZUPT"), "N (baro)"])
+
+
+def test_inputs_and_readings_are_reported(tables):
+    ws = tables["walk_stats"]
+    assert np.all((ws["walker_speed_mps"] > 0.8) & (ws["walker_speed_mps"] < 2.0))
+    assert np.all((ws["gcp_delay_mean_s"] >= 0) & (ws["gcp_delay_mean_s"] <= 1.0))
+    assert set(tables["gcp_grade"]["control points"]) == {"Bluetooth (surveyed point, delay, offset)",
+                                                         "ideal (true position + 5 cm)"}
+    r = tables["readings"]
+    assert list(r.columns) == ["choice", "paper_line", "text_says", "code_does", "source"]
+    assert r["choice"].is_unique and (r["source"].str.len() > 0).all()
+    with pytest.raises(ValueError, match="stairs"):
+        ins_constraints.run(fast=True, stairs="lidar")
