@@ -164,6 +164,12 @@ class WalkSteps:
     theta_rel_rad: np.ndarray
 
 
+def _n_samples(duration_s: float, rate_hz: float) -> int:
+    """Samples in a window: ``floor(duration * rate)`` (at least 1), immune to the rounding of the rate
+    estimated from timestamps (a 50 Hz log stored as Unix milliseconds gives 49.99999 or 50.00005 Hz)."""
+    return max(int(duration_s * rate_hz + 1e-3), 1)
+
+
 def walk_steps(trace, cfg: RealWalkConfig = RealWalkConfig()) -> WalkSteps:
     """Detect the steps of a walk and their heading (gyro shape, compass mean); uses no waypoint.
 
@@ -181,8 +187,8 @@ def walk_steps(trace, cfg: RealWalkConfig = RealWalkConfig()) -> WalkSteps:
     acc = imu[list(ACC_COLS)].to_numpy()
     rate = 1.0 / float(np.median(np.diff(t)))
     st = detect_steps_robust(acc, t, min_bout_steps=cfg.min_bout_steps)
-    g = np.column_stack([moving_mean(acc[:, j], max(int(0.5 * rate), 1)) for j in range(3)])
-    m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], max(int(0.25 * rate), 1))
+    g = np.column_stack([moving_mean(acc[:, j], _n_samples(0.5, rate)) for j in range(3)])
+    m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], _n_samples(0.25, rate))
                          for j in range(3)])
     wdm = heading_theta_rad(g, m)
     gyro = gyro_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
@@ -448,8 +454,11 @@ class FloorEstimate:
     vote_floor: np.ndarray
 
     def _segment(self, t_s):
-        return np.clip(np.searchsorted(self.segments["t0_s"].to_numpy(), t_s, side="right") - 1, 0,
-                       len(self.segments) - 1)
+        """Segment of each time; a time during a level change belongs to the level it is nearer in time
+        (the change's midpoint splits it)."""
+        seg = self.segments
+        cut = 0.5 * (seg["t1_s"].to_numpy()[:-1] + seg["t0_s"].to_numpy()[1:])
+        return np.searchsorted(cut, t_s, side="right")
 
     def at(self, t_s, causal: bool, n_votes: int = 5) -> np.ndarray:
         """Floor at times ``t_s`` (NaN before the first vote of a causal estimate without a barometer)."""
