@@ -32,7 +32,7 @@ def test_pso_1d_thesis_settings(benchmark):
 def test_dead_reckon_400_steps(benchmark):
     b = np.random.default_rng(1).uniform(0, 360, 400)
     s = np.full(400, 0.75)
-    benchmark(gnss.dead_reckon, 24.18, 120.6, b, s)
+    benchmark(gnss.dead_reckon_latlon, 24.18, 120.6, b, s)
 
     def one_by_one():
         la, lo = 24.18, 120.6
@@ -40,4 +40,4 @@ def test_dead_reckon_400_steps(benchmark):
             la, lo = gnss.destination(la, lo, b[i], s[i])
 
     benchmark.extra_info["ratio_to_chained_destination"] = (
-        best_time_s(lambda: gnss.dead_reckon(24.18, 120.6, b, s)) / best_time_s(one_by_one))
+        best_time_s(lambda: gnss.dead_reckon_latlon(24.18, 120.6, b, s)) / best_time_s(one_by_one))

@@ -74,6 +74,26 @@ Navigation frame ``_n``
     Local-level east-north-up, metres, fixed to the site; ``mat_nb`` rotates body to nav
     (``v_n = mat_nb @ v_b``).
 
+Where code lives
+----------------
+- An algorithm lives in its algorithm package (``wifi``, ``pdr``, ``fusion``, ``ins``, ``optim``,
+  ``photo``, ``track``), written against the data types above, never in ``experiments``. A pipeline a
+  user runs outside any notebook (a walk in, a track out) is an algorithm module too
+  (:mod:`ilocalg.track`, :mod:`ilocalg.ins.pipeline`).
+- An experiment module (``ilocalg.experiments.<name>``) is thin: ``run(seed, fast, **params)`` simulates
+  or loads, calls algorithm packages and returns its tables (with :mod:`ilocalg.papers` rows). It imports
+  algorithm packages, ``sim`` and ``papers``, never another experiment. Parameter studies
+  (``study_*``) also use the task plumbing of :mod:`ilocalg.workflow.studies`.
+- Extension points have one registry each, inside their package: step detectors in
+  :mod:`ilocalg.pdr.registry` (``@register_step_detector(name)``), Wi-Fi estimators in
+  :mod:`ilocalg.wifi.registry` (``register_estimator``), INS measurement updates as objects of the
+  :class:`ilocalg.ins.eskf.Measurement` protocol (innovation, H and R).
+- The same maths is written once: a shared helper is public in its package, or private in one helper
+  module of that package; no module imports another module's private names.
+- :mod:`ilocalg.workflow` (runner, reports, sweeps, the command line) imports the rest, never the
+  reverse; the ``evaluate`` commands call algorithm packages, never experiments.
+- Papers are cited by author and year in each docstring's ``References`` section, with equation numbers.
+
 Randomness
 ----------
 Every stochastic function takes ``rng: numpy.random.Generator | int | None`` (see

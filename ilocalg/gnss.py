@@ -30,7 +30,7 @@ __all__ = [
     "EARTH_RADIUS_M",
     "haversine_m",
     "destination",
-    "dead_reckon",
+    "dead_reckon_latlon",
     "path_length_m",
     "latlon_to_local_m",
     "local_to_latlon",
@@ -115,7 +115,7 @@ def destination(lat_deg, lon_deg, bearing_deg, dist_m, radius_m: float = EARTH_R
     return np.rad2deg(p2), np.rad2deg(l2)
 
 
-def dead_reckon(lat0_deg: float, lon0_deg: float, bearing_deg, step_m):
+def dead_reckon_latlon(lat0_deg: float, lon0_deg: float, bearing_deg, step_m):
     """Chain :func:`destination` over steps: the pedestrian dead-reckoning path.
 
     Parameters

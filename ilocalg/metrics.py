@@ -18,6 +18,7 @@ __all__ = [
     "hit_rate",
     "penalised_error_m",
     "SUMMARY_COLUMNS",
+    "summarise_by_method",
 ]
 
 SUMMARY_COLUMNS = ("n", "mean_m", "median_m", "p75_m", "p80_m", "p95_m", "rms_m", "std_m", "max_m")
@@ -111,3 +112,30 @@ def penalised_error_m(est_xy, true_xy, floor_pred=None, floor_true=None, buildin
     if building_pred is not None:
         e = e + building_penalty_m * (np.asarray(building_pred) != np.asarray(building_true))
     return e
+
+
+def summarise_by_method(points: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Per-method mean / median / p90 / max error and the error CDFs of a scored-points table.
+
+    Parameters
+    ----------
+    points : DataFrame
+        One row per scored point, columns ``method`` and ``error_m``.
+
+    Returns
+    -------
+    summary : DataFrame
+        ``method``, ``mean_error_m``, ``median_error_m``, ``p90_error_m``, ``max_error_m``, ``n``
+        (methods in order of appearance).
+    cdf : DataFrame
+        :func:`error_cdf` of each method, with a ``method`` column.
+    """
+    for c in ("method", "error_m"):
+        if c not in points.columns:
+            raise ValueError(f"points lack column {c!r}")
+    g = points.groupby("method", sort=False)["error_m"]
+    summ = pd.DataFrame({"mean_error_m": g.mean(), "median_error_m": g.median(),
+                         "p90_error_m": g.quantile(0.9), "max_error_m": g.max(), "n": g.size()}).reset_index()
+    cdf = pd.concat([error_cdf(e["error_m"].to_numpy()).assign(method=m)
+                     for m, e in points.groupby("method", sort=False)], ignore_index=True)
+    return summ, cdf

@@ -1,8 +1,28 @@
-"""Published reference values beside reproduced ones: the comparison rows every experiment returns.
+"""The five papers, their published values beside reproduced ones, and the readings of each paper.
 
 A comparison table has one row per paper result and the columns :data:`COMPARISON_COLUMNS`. Paper
 values enter only through :func:`paper_ref` / :func:`comparison_table`, labelled as the reference they
 are, and are never used to compute anything.
+
+A readings table (:func:`readings_table`, columns :data:`READINGS_COLUMNS`) has one row per modelling
+choice an experiment makes: the paper's line, what the text says, what the code does and the source of
+any value the paper does not give.
+
+Each paper has one short name, used everywhere (comparison rows, reports, notebooks):
+:data:`PAPERS` maps a key to it, :data:`PAPER_CITATIONS` to the full reference.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an Integrated Indoor Positioning System (i-Loc). M.S. thesis,
+National Chiao Tung University.
+Liao, C.-K., Chiang, K.-W., Zhou, Z.-M., Li, C.-H. (2016). Using the on-line smoothing and
+constraint algorithms to improve the accuracy of pedestrian indoor navigation.
+Yeh, C.-H., Huang, W.-L. (advisor Huang, C.-C.) (2012). Positioning by combining images and inertial
+sensors. Teaching report, National Kaohsiung University of Applied Sciences.
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
 """
 
 from __future__ import annotations
@@ -12,6 +32,14 @@ import math
 import pandas as pd
 
 __all__ = [
+    "PAPERS",
+    "PAPER_CITATIONS",
+    "paper_key",
+    "SELF_COMPARISON",
+    "is_self_comparison",
+    "READINGS_COLUMNS",
+    "reading",
+    "readings_table",
     "COMPARISON_COLUMNS",
     "PAPER_REF_COLUMNS",
     "AGREE_REL",
@@ -20,6 +48,126 @@ __all__ = [
     "agreement",
     "comparison_table",
 ]
+
+#: One short name per paper, used everywhere: key -> short name.
+PAPERS = {
+    "iloc": "i-Loc (Chiu 2013)",
+    "liao": "Liao et al. 2016",
+    "survey": "Yeh & Huang survey",
+    "pso": "PSO (Chao 2008)",
+    "luo": "Luo et al. 2017",
+}
+
+#: key -> full reference (and the plain-text copy in the shared papers folder).
+PAPER_CITATIONS = {
+    "iloc": "Po-Jung Chiu, \"Implement an Integrated Indoor Positioning System\" (i-Loc), M.S. thesis, "
+            "National Chiao Tung University, 2013",
+    "liao": "Liao, Chiang, Zhou, Li, \"Using the on-line smoothing and constraint algorithms to improve the "
+            "accuracy of pedestrian indoor navigation\", 2016",
+    "survey": "Yeh Chi-Hsien, Huang Wei-Li (advisor Huang Ching-Chun), \"Positioning by combining images and "
+              "inertial sensors\", teaching report, National Kaohsiung University of Applied Sciences, 2012",
+    "pso": "Chao Shih-Hsien, \"Pedestrian navigation based on particle swarm optimization\", M.S. thesis, "
+           "Tunghai University, 2008",
+    "luo": "Luo Siqi et al., \"Indoor positioning technology based on location fingerprint and pedestrian "
+           "track\", Computer Systems & Applications, 2017",
+}
+
+# Earlier labels of the same papers (and of works the survey reports), mapped to their key.
+_PAPER_ALIASES = {
+    "iloc": ("i-loc", "chiu"),
+    "liao": ("liao", "smartphone ins"),
+    "survey": ("yeh", "survey", "hartmann", "movips"),
+    "pso": ("pso", "chao", "趙士賢", "003"),
+    "luo": ("luo", "罗思奇", "羅思奇"),
+}
+
+
+def paper_key(label: str) -> str | None:
+    """Key of :data:`PAPERS` that a paper label names, or ``None`` for a label naming none of them.
+
+    Accepts the short names themselves and earlier spellings (``"i-Loc thesis"``, ``"PSO thesis (003)"``,
+    ``"罗思奇 et al. 2017"``, ``"Hartmann et al. 2010 (survey sec. 5)"``).
+    """
+    text = str(label).strip().lower()
+    for key, name in PAPERS.items():
+        if text == name.lower():
+            return key
+    for key, aliases in _PAPER_ALIASES.items():
+        if any(a in text for a in aliases):
+            return key
+    return None
+
+
+#: Label of comparison rows that set the toolkit beside an earlier, independent measurement of its own
+#: (a regression check, not agreement with a paper).
+SELF_COMPARISON = "independent re-measurement"
+
+_SELF_MARKERS = ("re-measurement", "remeasurement", "earlier measurement", "toolkit", "ilocalg")
+
+
+def is_self_comparison(label: str) -> bool:
+    """True for a comparison label naming the toolkit's own earlier measurement (:data:`SELF_COMPARISON`)."""
+    text = str(label).lower()
+    return any(m in text for m in _SELF_MARKERS)
+
+
+#: Columns of a readings table (one row per modelling choice).
+READINGS_COLUMNS = ("choice", "paper_line", "text_says", "code_does", "source")
+
+
+def reading(choice: str, paper_line: str, text_says: str, code_does: str, source: str = "") -> dict:
+    """One readings row: a modelling choice, where the paper speaks of it and what the code does.
+
+    Parameters
+    ----------
+    choice : str
+        The modelling choice, e.g. ``"step length model"``.
+    paper_line : str
+        Where the paper speaks, e.g. ``"i-Loc (Chiu 2013), L295"``; ``""`` where it is silent.
+    text_says : str
+        What the paper's text says (or ``"silent"``).
+    code_does : str
+        What the code does.
+    source : str
+        Source of a value the paper does not give (a cited measurement, a sweep), else ``""``.
+    """
+    return {"choice": choice, "paper_line": paper_line, "text_says": text_says, "code_does": code_does,
+            "source": source}
+
+
+def readings_table(rows: list[dict]) -> pd.DataFrame:
+    """DataFrame of readings rows, columns :data:`READINGS_COLUMNS` first (extra columns kept after).
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows with the keys of :data:`READINGS_COLUMNS` (build them with :func:`reading` or as dicts).
+
+    Raises
+    ------
+    ValueError
+        No rows, a row lacking a column, a non-string value, or an empty ``choice``, ``text_says`` or
+        ``code_does`` (the message names the row and column).
+    """
+    rows = list(rows)
+    if not rows:
+        raise ValueError("readings_table needs at least one row (one per modelling choice)")
+    for i, row in enumerate(rows):
+        if not isinstance(row, dict):
+            raise ValueError(f"readings row {i}: expected a dict, got {type(row).__name__}")
+        missing = [c for c in READINGS_COLUMNS if c not in row]
+        if missing:
+            raise ValueError(f"readings row {i} ({row.get('choice', '?')!r}): lacks column(s) {missing}")
+        for c in READINGS_COLUMNS:
+            if not isinstance(row[c], str):
+                raise ValueError(f"readings row {i}, column {c}: expected a string, got {row[c]!r}")
+        for c in ("choice", "text_says", "code_does"):
+            if not row[c].strip():
+                raise ValueError(f"readings row {i}, column {c}: empty (say what the paper/code does)")
+    df = pd.DataFrame(rows)
+    extra = [c for c in df.columns if c not in READINGS_COLUMNS]
+    return df[list(READINGS_COLUMNS) + extra].reset_index(drop=True)
+
 
 #: Columns of a comparison table (one row per paper result).
 COMPARISON_COLUMNS = (

@@ -8,7 +8,7 @@ goes through:
 
 Steps and headings (:func:`walk_steps`)
     Steps from the toolkit's robust detector (:func:`ilocalg.pdr.robust.detect_steps_robust`); the
-    gyro-integrated heading (:func:`ilocalg.pdr.gyro_heading_theta_rad`) aligned on average to the
+    gyro-integrated heading (:func:`ilocalg.pdr.gyr_heading_theta_rad`) aligned on average to the
     compass heading of the same walk (WDM, Chiu 2013 eq. 18-19): the gyro's shape with the
     compass's mean. No waypoint is used.
 What the other walks teach (:func:`calibrate`, :class:`WifiDatabase`, :func:`calibrate_fix_var`)
@@ -89,7 +89,7 @@ from ilocalg.io.scans import scan_matrix
 from ilocalg.io.schema import ACC_COLS, FLOOR, GYR_COLS, MAG_COLS, T_S, X_M, Y_M
 from ilocalg.metrics import penalised_error_m
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.heading import gyro_heading_theta_rad, heading_theta_rad
+from ilocalg.pdr.heading import gyr_heading_theta_rad, heading_theta_rad
 from ilocalg.pdr.robust import detect_steps_robust
 from ilocalg.pdr.signals import moving_mean
 from ilocalg.pdr.step_length import weinberg_length_m
@@ -191,7 +191,7 @@ def walk_steps(trace, cfg: RealWalkConfig = RealWalkConfig()) -> WalkSteps:
     m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], _n_samples(0.25, rate))
                          for j in range(3)])
     wdm = heading_theta_rad(g, m)
-    gyro = gyro_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
+    gyro = gyr_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
     th = wrap_angle_rad(gyro + circular_mean_rad(wdm - gyro))
     i = st["i_peak"].to_numpy()
     return WalkSteps(np.concatenate([[t[0]], st["t_s"].to_numpy()]),

@@ -35,9 +35,19 @@ STYLE = {
 
 @contextmanager
 def style():
-    """Context manager applying :data:`STYLE` (restores the previous rcParams afterwards)."""
-    with mpl.rc_context(STYLE):
+    """Context manager applying :data:`STYLE`; on exit restores only the rcParams it set.
+
+    Unlike :func:`matplotlib.rc_context`, which restores every rcParam it saw on entry, this leaves
+    ``interactive`` (and the backend) alone: the inline backend turns interactive mode on when
+    pyplot first loads inside the block, and restoring it to off would stop every later figure
+    from appearing in a notebook.
+    """
+    saved = {k: mpl.rcParams[k] for k in STYLE}
+    mpl.rcParams.update(STYLE)
+    try:
         yield
+    finally:
+        mpl.rcParams.update(saved)
 
 
 def new_axes(ax=None, **subplots_kw):

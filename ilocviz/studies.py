@@ -1,6 +1,6 @@
 """Plots of the parameter studies: means with 95 % confidence intervals over simulation seeds.
 
-Inputs are :func:`ilocalg.experiments.study_common.curves` frames (one row per parameter point
+Inputs are :func:`ilocalg.workflow.studies.curves` frames (one row per parameter point
 with ``mean``, ``ci95_low``, ``ci95_high``, ``n`` and the parameters as columns).
 """
 

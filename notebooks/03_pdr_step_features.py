@@ -21,8 +21,8 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_step_features
-from ilocalg.io.schema import ACC_COLS
 from ilocalg.pdr.sam import detect_steps_sam, vertical_horizontal_mps2
+from ilocalg.pdr.signals import acc_from_log
 from ilocalg.sim import gait
 from ilocalg.workflow.reporting import Report
 
@@ -43,7 +43,7 @@ comparison
 # %%
 w = gait.make_walkers(1, SEED)[0]
 sw = gait.simulate_walk(gait.straight_route(6.0), w, SEED)
-acc, t = sw.imu[list(ACC_COLS)].to_numpy(), sw.imu.index.to_numpy()
+acc, t = acc_from_log(sw.imu)
 steps = detect_steps_sam(acc, t, ranges)
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(8, 3.2))

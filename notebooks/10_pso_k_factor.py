@@ -29,6 +29,7 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 from ilocalg.experiments import pso_k_factor
+from ilocalg.pdr.k_factor import PSO_SETTINGS_PAPER
 from ilocalg.workflow.reporting import Report
 from ilocviz import pso as vpso
 
@@ -56,7 +57,7 @@ with ilocviz.style():
     fig, axs = plt.subplots(1, 2, figsize=(10, 3.6))
     vpso.swarm_iterations(res["pso_a1_swarm"], ax=axs[0], max_iter=12)
     vpso.gbest_convergence(res["pso_a1_history"], ax=axs[1],
-                           min_fitness=pso_k_factor.PSO_SETTINGS_PAPER["min_fitness"])
+                           min_fitness=PSO_SETTINGS_PAPER["min_fitness"])
     ilocviz.savefig(fig, "10_pso_k_factor_swarm", OUT_DIR)
 report.table(res["pso_a1_history"], "pso_a1_history")
 report.table(res["pso_a1_result"], "pso_a1_result")

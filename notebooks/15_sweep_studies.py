@@ -36,9 +36,9 @@ from IPython.display import Markdown, display
 import ilocviz
 import ilocviz.studies as vs
 from ilocalg.experiments import study_ins_window, study_kf_noise, study_pso, study_wifi
-from ilocalg.experiments.study_common import curves, select
 from ilocalg.experiments.wifi_iloc import PAPER_ILOC
 from ilocalg.workflow.reporting import Report
+from ilocalg.workflow.studies import curves, select
 from ilocalg.workflow.sweep import aggregate, sweep
 
 report = Report(OUT_DIR, "15_sweep_studies")

@@ -223,7 +223,8 @@ def test_kf_beats_dead_reckoning_and_wifi_on_seeded_walks():
 
 
 def test_module_has_paper_constants_labelled():
-    src = open(step_kf.__file__, encoding="utf-8").read().splitlines()
-    for ln in src:
-        if "0.054" in ln or "15.072" in ln:
-            assert "paper" in ln.lower()
+    src = open(step_kf.__file__, encoding="utf-8").read()
+    block = src[src.index("# Settings from the paper"):].split("\n\n")[0]
+    for name in ("PAPER_TABLE4_STEP_M", "PAPER_TABLE4_SIGMA_SL_VAR_M2", "PAPER_TABLE5_SIGMA_RF_VAR_M2"):
+        assert name in block                                  # each paper constant is in the labelled block
+    assert step_kf.PAPER_TABLE4_SIGMA_SL_VAR_M2[0] == 0.054 and step_kf.PAPER_TABLE5_SIGMA_RF_VAR_M2[0] == 15.072

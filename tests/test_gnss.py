@@ -37,7 +37,7 @@ def test_dead_reckoning_matches_haversine(bearing):
 
 def test_dead_reckon_closed_square_returns_home():
     b = np.repeat([0.0, 90.0, 180.0, 270.0], 50)
-    lat, lon = gnss.dead_reckon(24.18, 120.60, b, np.full(b.size, 0.8))
+    lat, lon = gnss.dead_reckon_latlon(24.18, 120.60, b, np.full(b.size, 0.8))
     assert lat.shape == (201,)
     assert gnss.haversine_m(lat[0], lon[0], lat[-1], lon[-1]) < 1e-3
     assert gnss.path_length_m(lat, lon) == pytest.approx(160.0, rel=1e-9)
@@ -46,7 +46,7 @@ def test_dead_reckon_closed_square_returns_home():
 def test_dead_reckon_matches_chained_destination():
     rng = np.random.default_rng(0)
     b, d = rng.uniform(0, 360, 50), rng.uniform(0.5, 1.0, 50)
-    lat, lon = gnss.dead_reckon(24.18, 120.60, b, d)
+    lat, lon = gnss.dead_reckon_latlon(24.18, 120.60, b, d)
     la, lo = 24.18, 120.60
     for i in range(50):
         la, lo = gnss.destination(la, lo, b[i], d[i])
@@ -67,7 +67,7 @@ def test_local_roundtrip():
 
 def test_gps_track_length_and_gaps():
     t = np.arange(5.0)
-    lat, lon = gnss.dead_reckon(24.18, 120.60, np.zeros(4), np.full(4, 1.0))
+    lat, lon = gnss.dead_reckon_latlon(24.18, 120.60, np.zeros(4), np.full(4, 1.0))
     fixes = pd.DataFrame({"t_s": t, "lat_deg": lat, "lon_deg": lon})
     assert gnss.gps_track_length_m(fixes) == pytest.approx(4.0)
     with pytest.raises(ValueError, match="GPS gap"):

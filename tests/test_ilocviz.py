@@ -26,3 +26,19 @@ def test_error_cdf_refuses_nan():
     with pytest.raises(ValueError, match="NaN"):
         ilocviz.error_cdf({"a": [1.0, np.nan]})
     plt.close("all")
+
+
+def test_style_restores_only_what_it_set_and_keeps_interactive_mode():
+    before = {k: matplotlib.rcParams[k] for k in ilocviz.STYLE}
+    was_interactive = matplotlib.is_interactive()
+    try:
+        with ilocviz.style():
+            assert matplotlib.rcParams["axes.grid"] is True
+            matplotlib.interactive(True)  # what the inline backend does when pyplot first loads in the block
+            matplotlib.rcParams["lines.markersize"] = 11.0  # not a STYLE key: kept after the block
+        assert matplotlib.is_interactive()
+        assert matplotlib.rcParams["lines.markersize"] == 11.0
+        assert {k: matplotlib.rcParams[k] for k in ilocviz.STYLE} == before
+    finally:
+        matplotlib.interactive(was_interactive)
+        matplotlib.rcParams["lines.markersize"] = matplotlib.rcParamsDefault["lines.markersize"]

@@ -80,9 +80,10 @@ def _replace(old, new):
     (_replace("WIFI;1.500;1001.400;eduroam;00:0b:86:27:36:c1;2412;-62", "WIFI;1.500;1001.400;eduroam"),
      r"line 14: WIFI expects 6 fields"),
     (_replace("POSI;2.100;2;39.000100;-3.000000;1;0", "POSI;2.100;2;39.000100;-3.000000;1.5;0"),
-     r"line 16: POSI field 6 \(floor_ID\) must be an integer"),
+     r"line 16, column 6 \(floor_ID\): value 1.5 is not a whole number"),
     (_replace("POSI;2.100;2;39.000100", "POSI;0.100;2;39.000100"), r"line 16: duplicate POSI timestamp"),
-    (_replace("POSI;2.100;2;39.000100", "POSI;2.100;2;99.000100"), r"line 16: POSI latitude/longitude out of range"),
+    (_replace("POSI;2.100;2;39.000100", "POSI;2.100;2;99.000100"),
+     r"line 16, column 4 \(Latitude\): value 99.0001 is outside \[-90, 90\] deg"),
 ])
 def test_bad_input_names_file_line_and_field(tmp_path, text, match):
     p = _write(tmp_path, text, name="bad_log.txt")

@@ -48,3 +48,22 @@ def test_hit_rate_and_penalised_error():
     e = metrics.penalised_error_m([[0, 0], [0, 0]], [[3, 4], [0, 0]], floor_pred=[1, 3], floor_true=[1, 1],
                                   building_pred=[0, 1], building_true=[0, 0])
     np.testing.assert_allclose(e, [5.0, 2 * 15.0 + 50.0])
+
+
+def test_summarise_by_method_keeps_order_and_matches_numpy():
+    import pandas as pd
+
+    from ilocalg.metrics import summarise_by_method
+
+    rng = np.random.default_rng(0)
+    e = {"B": rng.uniform(0, 5, 50), "A": rng.uniform(0, 9, 40)}
+    pts = pd.concat([pd.DataFrame({"method": m, "error_m": v}) for m, v in e.items()], ignore_index=True)
+    summ, cdf = summarise_by_method(pts)
+    assert list(summ["method"]) == ["B", "A"]
+    for m, v in e.items():
+        r = summ.set_index("method").loc[m]
+        assert r["mean_error_m"] == pytest.approx(v.mean()) and r["max_error_m"] == v.max()
+        assert r["p90_error_m"] == pytest.approx(np.quantile(v, 0.9)) and r["n"] == v.size
+    assert set(cdf["method"]) == {"A", "B"}
+    with pytest.raises(ValueError, match="error_m"):
+        summarise_by_method(pts.drop(columns="error_m"))

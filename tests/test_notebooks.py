@@ -71,7 +71,7 @@ def test_failing_notebook_stops_the_run_with_its_error(tmp_path, capsys):
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     nbformat.write(nb, nbdir / "01_fails.ipynb")
     nbformat.write(nb, nbdir / "02_never_runs.ipynb")
-    code = reproduce(tmp_path / "out", notebook_dir=nbdir, html=False, progress=False)
+    code = reproduce(tmp_path / "out", notebook_dir=nbdir, html=False, progress=False, jobs=1)
     assert code == 1
     err = capsys.readouterr().err
     assert "01_fails.ipynb" in err and "ValueError" in err and "boom in cell" in err
@@ -97,7 +97,6 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
     monkeypatch.setitem(sys.modules, "ilocalg.experiments.fake_exp", fake)
     nbdir = tmp_path / "nbs"
     nbdir.mkdir()
-    (nbdir / "01_fake.py").write_text("from ilocalg.experiments import fake_exp\n")
     nb = nbformat.v4.new_notebook()
     nb.cells = [
         nbformat.v4.new_code_cell("SEED = 0\nOUT_DIR = None", metadata={"tags": ["parameters"]}),
@@ -110,7 +109,7 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
     out = tmp_path / "out"
     # workers=0 runs the sweep in this process (the monkeypatched module is visible there)
     code = reproduce(out, notebook_dir=nbdir, html=False, progress=False, n_seeds=3, workers=0,
-                     cache_dir=tmp_path / "cache")
+                     cache_dir=tmp_path / "cache", manifest={"01_fake": {"fake_exp": True}})
     assert code == 0
     summary = pd.read_csv(out / "sweeps" / "summary.csv")
     assert summary["n"].tolist() == [3]
@@ -138,3 +137,98 @@ def test_rerun_replaces_a_notebooks_old_outputs(tmp_path):
     assert reproduce(out, notebook_dir=nbdir, html=False, progress=False) == 0
     names = sorted(p.name for p in (out / "tables").glob("*.csv"))
     assert names == ["01_x__new.csv", "02_other__kept.csv"]
+
+
+def _nb(cells: list[str]) -> nbformat.NotebookNode:
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("SEED = 0\nFAST = False\nOUT_DIR = None\nDATA_DIR = None",
+                                          metadata={"tags": ["parameters"]})]
+    nb.cells += [nbformat.v4.new_code_cell(c) for c in cells]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    return nb
+
+
+def _png_cells(path) -> list[int]:
+    nb = nbformat.read(path, as_version=4)
+    return [i for i, c in enumerate(nb.cells) if c.cell_type == "code"
+            and any("image/png" in o.get("data", {}) for o in c.get("outputs", []))]
+
+
+def test_figures_are_inline_after_a_styled_one_and_saved_and_paths_are_relative(tmp_path):
+    """Figures appear in the executed notebook and its HTML (a plain figure after a styled one too), are
+    saved as PNG + PDF, and the injected parameters hold no absolute path."""
+    nbdir = tmp_path / "nbs"
+    nbdir.mkdir()
+    nbformat.write(_nb([
+        "import matplotlib.pyplot as plt\nimport ilocviz\n"
+        "with ilocviz.style():\n    fig, ax = plt.subplots()\n    ax.plot([0, 1], [0, 1])\n"
+        "    ilocviz.savefig(fig, '01_plots_line', OUT_DIR)",
+        "fig, ax = plt.subplots()\nax.plot([1, 0])",
+        "print(OUT_DIR, DATA_DIR)",
+    ]), nbdir / "01_plots.ipynb")
+    out = tmp_path / "out"
+    assert reproduce(out, notebook_dir=nbdir, html=True, progress=False, jobs=1) == 0
+    cells = nbformat.read(out / "01_plots.ipynb", as_version=4).cells
+    assert [i for i, c in enumerate(cells) if "plt.subplots" in c.source] == _png_cells(out / "01_plots.ipynb")
+    assert (out / "01_plots.html").read_text().count("<img") == 2
+    assert sorted(p.name for p in (out / "figures").iterdir()) == ["01_plots_line.pdf", "01_plots_line.png"]
+    text = (out / "01_plots.ipynb").read_text()
+    assert str(tmp_path) not in text and str(NOTEBOOK_DIR.parent) not in text
+    injected = next(c.source for c in cells if "injected-parameters" in c.metadata.get("tags", []))
+    assert 'OUT_DIR = "../out"' in injected
+    assert str(tmp_path) not in (out / "01_plots.html").read_text()
+
+
+def test_a_real_notebook_holds_its_figures(tmp_path):
+    """notebooks/07 (fast mode) through the runner: every saved figure is also an image output."""
+    out = tmp_path / "out"
+    assert reproduce(out, fast=True, only="07_", html=True, progress=False, jobs=1,
+                     cache_dir=tmp_path / "cache") == 0
+    n_saved = len(list((out / "figures").glob("07_*.png")))
+    assert n_saved >= 2
+    assert len(_png_cells(out / "07_fusion_iloc_kf.ipynb")) >= n_saved
+    assert (out / "07_fusion_iloc_kf.html").read_text().count("<img") >= n_saved
+
+
+def test_side_by_side_run_reuses_the_notebooks_own_base_seed_runs(tmp_path, monkeypatch):
+    """jobs=2: two notebooks in parallel; the sweep's base-seed run is the one the notebook's kernel made
+    (the sweep cache holds it before the sweep starts), the other seeds ran in the same pool."""
+    import os
+
+    import pandas as pd
+
+    from ilocalg.workflow import sweep as sw
+
+    root = NOTEBOOK_DIR.parent
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")]))
+    nbdir = tmp_path / "nbs"
+    nbdir.mkdir()
+    for stem in ("01_a", "02_b"):
+        nbformat.write(_nb([
+            "import importlib\nfrom ilocalg.workflow.reporting import Report\n"
+            f"report = Report(OUT_DIR, '{stem}')\ntoy = importlib.import_module('tests.sweep_toy')\n"
+            "tables = toy.run(seed=SEED, fast=FAST)\nreport.compare(tables['comparison'].to_dict('records'))",
+        ]), nbdir / f"{stem}.ipynb")
+    cache = tmp_path / "cache"
+    out = tmp_path / "out"
+    manifest = {"01_a": {"tests.sweep_toy": True}, "02_b": {}}
+    assert reproduce(out, notebook_dir=nbdir, html=False, progress=False, n_seeds=3, workers=2, jobs=2,
+                     cache_dir=cache, manifest=manifest) == 0
+    recorded = sw._cache_path(cache, sw.SweepTask("tests.sweep_toy", (), 0, False))
+    assert recorded.exists()
+    expected = sw.run_task(sw.SweepTask("tests.sweep_toy", (), 0, False))
+    pd.testing.assert_frame_equal(pd.read_parquet(recorded), expected)
+    summary = pd.read_csv(out / "sweeps" / "summary.csv")
+    assert set(summary["n"]) == {3}
+    assert (out / "01_a.ipynb").exists() and (out / "02_b.ipynb").exists()
+
+
+def test_side_by_side_failure_is_reported_and_exits_1(tmp_path, capsys):
+    nbdir = tmp_path / "nbs"
+    nbdir.mkdir()
+    nbformat.write(_nb(["raise ValueError('boom side by side')"]), nbdir / "01_fails.ipynb")
+    nbformat.write(_nb(["x = 1"]), nbdir / "02_ok.ipynb")
+    assert reproduce(tmp_path / "out", notebook_dir=nbdir, html=False, progress=False, jobs=2) == 1
+    err = capsys.readouterr().err
+    assert "01_fails.ipynb" in err and "boom side by side" in err
+    assert not (tmp_path / "out" / "README.md").exists()

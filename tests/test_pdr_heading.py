@@ -58,7 +58,7 @@ def test_wdm_on_simulated_walk_and_gyro_heading():
     np.testing.assert_allclose(th, hd.heading_theta_rad(g, mag))
     err = np.rad2deg(np.abs(wrap_angle_rad(th - sw.truth["theta_rad"].to_numpy())))
     assert np.median(err) < 20.0
-    tg = hd.gyro_heading_theta_rad(gyr, g, sw.imu.index.to_numpy(), sw.truth["theta_rad"].iloc[0])
+    tg = hd.gyr_heading_theta_rad(gyr, g, sw.imu.index.to_numpy(), sw.truth["theta_rad"].iloc[0])
     eg = np.rad2deg(np.abs(wrap_angle_rad(tg - sw.truth["theta_rad"].to_numpy())))
     assert np.median(eg) < 20.0
 
@@ -71,4 +71,4 @@ def test_bad_input():
     with pytest.raises(ValueError, match="shape"):
         hd.wdm_rotation([0, 9.8], [0, 1, 0])
     with pytest.raises(ValueError, match="strictly increasing"):
-        hd.gyro_heading_theta_rad(np.zeros((3, 3)), [0, 0, 1.0], [0.0, 0.0, 1.0])
+        hd.gyr_heading_theta_rad(np.zeros((3, 3)), [0, 0, 1.0], [0.0, 0.0, 1.0])

@@ -2,8 +2,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ilocalg.pdr.norm_peaks import detect_steps_norm_peaks, moving_mean_time
-from ilocalg.pdr.signals import moving_mean
+from ilocalg.pdr.norm_peaks import detect_steps_norm_peaks
+from ilocalg.pdr.signals import moving_mean, moving_mean_time
 
 
 def _gait(seed=0, f_step=1.9, n=1200):

@@ -2,6 +2,8 @@ import numpy as np
 import pytest
 
 from ilocalg.pdr import step_length as sl
+from ilocalg.pdr.signals import acc_from_log
+from ilocalg.sim import gait
 
 
 def test_weinberg_formula_and_k_fit():
@@ -47,13 +49,10 @@ def test_bad_input():
 
 
 def test_models_on_simulated_fixed_length_walks():
-    from ilocalg.experiments.pdr_step_features import fixed_length_features, training_walks
-    from ilocalg.sim import gait
-
     rng = np.random.default_rng(4)
     ws = gait.make_walkers(4, 8)
-    train = fixed_length_features(training_walks(ws, rng))
-    test = fixed_length_features(training_walks(ws, rng))
+    train = gait.fixed_length_features(gait.training_walks(ws, rng))
+    test = gait.fixed_length_features(gait.training_walks(ws, rng))
     quad = sl.fit_slm(train["A"], train["X1"], train["length_m"], "quadratic")
     k = sl.fit_weinberg_k(train["a_max_mps2"], train["a_min_mps2"], train["length_m"])
     L = test["length_m"].to_numpy()
@@ -64,3 +63,55 @@ def test_models_on_simulated_fixed_length_walks():
     # both beat a constant guess of the mean training length
     err_const = np.abs(train["length_m"].mean() - L) / L
     assert err_slm.mean() < err_const.mean() and err_w.mean() < err_const.mean()
+
+
+def test_fit_luo_k_recovers_walk_length():
+    rng = np.random.default_rng(0)
+    walks = [sw for _, _, sw in gait.training_walks(gait.make_walkers(2, rng), rng)]
+    k, sig = sl.fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for sw in walks])
+    assert 0 < sig < 0.5
+    tot_est = sum(sl.luo_steps(*acc_from_log(sw.imu), k)["length_m"].sum()
+                  for sw in walks)
+    tot_true = sum(sw.steps["length_m"].sum() for sw in walks)
+    assert tot_est == pytest.approx(tot_true, rel=1e-9)
+
+
+def test_fit_luo_k_without_steps_fails():
+    t = np.arange(200) / 50.0
+    still = np.tile([0.0, 0.0, 9.81], (200, 1))
+    with pytest.raises(ValueError, match="no step detected"):
+        sl.fit_luo_k([(still, t, np.full(3, 0.7))])
+
+
+def test_k_from_distance_and_fit_scale():
+    f = np.array([1.0, 2.0, 3.0])
+    assert sl.k_from_distance(f, 12.0) == 2.0
+    assert sl.fit_scale(f, 2.0 * f) == pytest.approx(2.0)
+    with pytest.raises(ValueError, match="distance_m"):
+        sl.k_from_distance(f, 0.0)
+    with pytest.raises(ValueError, match="adds up to zero"):
+        sl.k_from_distance([], 5.0)
+    with pytest.raises(ValueError, match="zero model length"):
+        sl.fit_scale([0.0, 0.0], [1.0, 1.0])
+
+
+def test_fit_step_length_models_and_lengths_on_simulated_walks():
+    rng = np.random.default_rng(3)
+    ws = gait.make_walkers(3, 5)
+    feats = gait.fixed_length_features(gait.training_walks(ws, rng))
+    models, fits = sl.fit_step_length_models(feats)
+    assert set(models) == {"SLM linear", "SLM quadratic", "Weinberg", sl.LUO_MODEL}
+    assert list(fits["model"]) == ["SLM linear", "SLM quadratic"]
+    assert fits["rmse_cm"].iloc[1] <= fits["rmse_cm"].iloc[0] + 1e-9   # nested models
+    sw = gait.training_walks(ws[:1], rng, (0.6,))[0][2]
+    acc, t = acc_from_log(sw.imu)
+    from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
+    st = detect_steps_sam(acc, t, learn_feature_ranges(feats, 0.01, 0.99))
+    kim = sl.kim_mean_abs_mps2(acc, st)
+    assert np.all(kim > 0)
+    models["Kim"] = 0.5
+    est = sl.step_lengths_m(acc, st, models)
+    assert list(est.columns) == ["SLM linear", "SLM quadratic", "Weinberg", sl.LUO_MODEL, "Kim"]
+    assert abs(est["SLM quadratic"].median() - 0.6) < 0.15
+    with pytest.raises(ValueError, match="lack columns"):
+        sl.fit_step_length_models(feats.drop(columns="X1"))

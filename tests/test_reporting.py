@@ -66,3 +66,101 @@ def test_readme_shows_unitless_rows_with_an_empty_unit(tmp_path):
     Report(tmp_path, "97_u").compare([paper_ref("P", "T", "correlation", 0.5, 0.5)])
     readme = reporting.build_readme(tmp_path).read_text()
     assert "| P | T | correlation |  | 0.5 | 0.5 |" in readme and "nan" not in readme
+
+
+# --- the landing page --------------------------------------------------------------------------------
+
+def _demo_reports(tmp_path):
+    """A reports folder as reproduce leaves it: comparison tables of two papers, a self-comparison,
+    figures and an executed notebook with a conclusion."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import nbformat
+
+    import ilocviz
+
+    rep = Report(tmp_path, "07_demo")
+    rep.compare([paper_ref("i-Loc thesis", "Fig 23", "KF mean error", 2.82, 2.9, unit="m"),
+                 paper_ref("i-Loc thesis", "Fig 23", "PTS mean error", 5.15, 9.0, unit="m"),
+                 paper_ref("罗思奇 et al. 2017", "sec. 4", "fused mean error", 6.74, 5.9, unit="m")])
+    Report(tmp_path, "02_demo").compare([paper_ref(papers.SELF_COMPARISON, "UJI", "1-NN mean", 9.75, 9.75, "m")])
+    for name in ("07_demo_cdf", "07_demo_tracks"):
+        fig, ax = plt.subplots()
+        ax.plot([0, 1], [1, 0])
+        ilocviz.savefig(fig, name, tmp_path)
+        plt.close(fig)
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("## Conclusion\n\nThe **KF** halves the PTS error.")]
+    nbformat.write(nb, tmp_path / "07_demo.ipynb")
+    return tmp_path
+
+
+def test_landing_page_has_one_section_per_paper_and_regression_checks_apart(tmp_path):
+    out = _demo_reports(tmp_path)
+    readme = reporting.build_readme(out, seed=0).read_text()
+    html = reporting.build_index(out, seed=0).read_text()
+    for text in (readme, html):
+        assert text.index("i-Loc (Chiu 2013)") < text.index("Luo et al. 2017") < text.index("Regression checks")
+        assert "i-Loc thesis" not in text and "罗思奇" not in text  # one short name per paper
+    iloc = html.split('id="iloc"')[1].split("</section>")[0]
+    assert "<td>1</td>" not in iloc  # numbers are right-aligned cells
+    assert '<td class="num">2</td><td class="num">1</td><td class="num">0</td><td class="num">1</td>' in iloc
+    assert 'href="07_demo.html"><img src="figures/07_demo_cdf.png"' in iloc
+    assert "<strong>KF</strong> halves" in iloc and "<details" in iloc
+    regression = html.split('id="regression"')[1]
+    assert "1-NN mean" in regression and "1-NN mean" not in iloc
+    rows = reporting.comparison_rows(out)
+    assert rows.set_index("quantity")["verdict"].to_dict() == {
+        "KF mean error": "inside", "PTS mean error": "far off", "fused mean error": "beside", "1-NN mean": "inside"}
+
+
+def _chromium():
+    import os
+    import shutil
+
+    exe = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+    if exe is None:
+        msg = "headless Chromium not found (Debian: apt-get install chromium; `make test` installs it)"
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    return exe
+
+
+_IMG_CHECK = """<script>
+window.addEventListener('load', () => {
+  const imgs = [...document.images];
+  const d = document.createElement('div');
+  d.id = 'imgcheck';
+  d.dataset.total = imgs.length;
+  d.dataset.broken = imgs.filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.getAttribute('src')).join(' ');
+  document.body.appendChild(d);
+});
+</script></body>"""
+
+
+def _images_in_browser(page):
+    """(number of <img>, the src of those that did not load) as headless Chromium renders ``page``."""
+    import re
+    import subprocess
+
+    probe = page.with_name("_imgcheck_" + page.name)
+    probe.write_text(page.read_text().replace("</body>", _IMG_CHECK))
+    dom = subprocess.run([_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--allow-file-access-from-files",
+                          "--virtual-time-budget=10000", "--dump-dom", probe.as_uri()],
+                         capture_output=True, text=True, timeout=120).stdout
+    probe.unlink()
+    m = re.search(r'<div id="imgcheck" data-total="(\d+)" data-broken="([^"]*)"', dom)
+    assert m, f"no image report in the rendered page: {dom[-500:]}"
+    return int(m.group(1)), m.group(2).split()
+
+
+def test_landing_page_images_load_in_headless_chromium(tmp_path):
+    out = _demo_reports(tmp_path)
+    page = reporting.build_index(out, seed=0)
+    total, broken = _images_in_browser(page)
+    assert total == 4 and broken == []  # notebook 07_demo's two figures, in the i-Loc and the Luo section
+    (out / "figures" / "07_demo_tracks.png").write_bytes(b"not a png")  # the check does see a broken image
+    assert _images_in_browser(page) == (4, ["figures/07_demo_tracks.png"] * 2)

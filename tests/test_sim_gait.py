@@ -75,3 +75,36 @@ def test_bad_input():
         gait.simulate_walk(gait.straight_route(5), w, 0, step_length_m=-1)
     with pytest.raises(ValueError, match="n must be"):
         gait.make_walkers(0)
+
+
+def test_pass_times_are_increasing_and_within_the_walk():
+    route = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]])
+    w = gait.make_walkers(1, 0)[0]
+    sw = gait.simulate_walk(route, w, 0)
+    t = gait.pass_times_s(sw, route)
+    assert np.all(np.diff(t) > 0)
+    assert t[0] == sw.steps["t_strike_s"].iloc[0]
+    assert t[-1] <= sw.imu.index[-1]
+
+
+def test_times_at_arc_are_the_step_ends():
+    w = gait.make_walkers(1, 1)[0]
+    sw = gait.simulate_walk(gait.straight_route(10.0), w, 1)
+    ends = np.cumsum(sw.steps["length_m"].to_numpy())
+    t_end = (sw.steps["t_strike_s"] + sw.steps["duration_s"]).to_numpy()
+    np.testing.assert_allclose(gait.times_at_arc_s(sw, ends), t_end)
+
+
+def test_training_walks_and_features():
+    rng = np.random.default_rng(0)
+    ws = gait.make_walkers(2, 0)
+    walks = gait.training_walks(ws, rng, (0.5, 0.7), n_steps=10)
+    assert [(w.name, L) for w, L, _ in walks] == [(ws[0].name, 0.5), (ws[0].name, 0.7), (ws[1].name, 0.5),
+                                                  (ws[1].name, 0.7)]
+    assert all(len(sw.steps) == 10 for _, _, sw in walks)
+    f = gait.fixed_length_features(walks)
+    assert set(f["target_m"]) == {0.5, 0.7}
+    assert (f["length_m"] - f["target_m"]).abs().max() < 0.15      # N(target, 0.02 m) steps
+    assert len(f) <= 40 and len(f) > 30                           # most true steps have a wave
+    cw = gait.count_walks(ws, rng, n_steps=20)
+    assert [len(sw.steps) for sw in cw] == [20, 20]

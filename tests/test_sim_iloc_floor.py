@@ -45,3 +45,15 @@ def test_calibrated_inputs():
 def test_unknown_parameter_raises():
     with pytest.raises(ValueError, match="unknown simulator parameters"):
         iloc_floor.simulate(0, path_loss=3)
+
+
+def test_floor_fixes_shapes_and_variance_floor():
+    ff = iloc_floor.floor_fixes(0, n_walkers=2, n_cal=3, method="KNN (Manhattan, K=5)", scans_per_point=20)
+    n_pts = ff.route_xy_m.shape[0]
+    assert ff.fix_xy_m.shape == (n_pts, 5, 2) and ff.cal_var_m2.shape == (n_pts,)
+    assert (ff.cal_var_m2 >= iloc_floor.SPACING_M**2 / 12.0 - 1e-12).all()
+    assert np.median(np.hypot(*(ff.fix_xy_m[:, 0] - ff.route_xy_m).T)) < 15.0
+    with pytest.raises(ValueError, match="method must be one of"):
+        iloc_floor.floor_fixes(0, 1, 2, method="SVM", scans_per_point=5)
+    with pytest.raises(ValueError, match="n_cal"):
+        iloc_floor.floor_fixes(0, 1, 1, scans_per_point=5)

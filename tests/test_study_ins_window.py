@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from ilocalg.experiments import study_ins_window
-from ilocalg.experiments.study_common import parse_item
+from ilocalg.workflow.studies import parse_item
 
 WINDOWS = (2.0, 10.0, 30.0)
 

@@ -137,3 +137,21 @@ def test_paper_ref_rows_without_agreement_are_swept_too():
     raw = pd.DataFrame([paper_ref("P", "T", "q", 1.0, 2.0, "m")])  # no agreement column
     long = sw.tables_to_long({"comparison": raw, "other": pd.DataFrame({"x": [1]})})
     assert long[["quantity", "value", "paper_value", "unit"]].values.tolist() == [["q", 2.0, 1.0, "m"]]
+
+
+def test_record_runs_stores_default_calls_in_the_cache_and_returns_the_same_tables(tmp_path, monkeypatch):
+    import importlib
+
+    toy = importlib.import_module(TOY)
+    monkeypatch.setattr(toy, "run", toy.run)  # restored after the test
+    plain = toy.run(seed=4, fast=True)
+    assert sw.record_runs([TOY, "no_such_experiment"], tmp_path) == [TOY]
+    assert sw.record_runs([TOY], tmp_path) == []  # never wrapped twice
+    got = toy.run(seed=4, fast=True)
+    pd.testing.assert_frame_equal(got["comparison"], plain["comparison"])
+    task = sw.SweepTask(TOY, (), 4, True)
+    pd.testing.assert_frame_equal(pd.read_parquet(sw._cache_path(tmp_path, task)), sw.run_task(task))
+    toy.run(seed=5, fast=True, n=10)  # not the sweep's task (n differs): not recorded
+    assert not sw._cache_path(tmp_path, sw.SweepTask(TOY, (), 5, True)).exists()
+    res = sw.sweep([task], workers=0, cache_dir=tmp_path, progress=False)
+    assert res.n_cached == 1

@@ -1,9 +1,9 @@
-"""Building -> floor -> position, and flat locate() with votes."""
+"""Building -> floor -> position, and flat locate_flat() with votes."""
 
 import numpy as np
 import pytest
 
-from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate
+from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate_flat
 
 
 def _two_buildings(rng, n=240, n_aps=30):
@@ -43,7 +43,7 @@ def test_locate_flat_votes(est):
     X, xy, f, b = _two_buildings(rng)
     Xq, xyq, fq, bq = _two_buildings(np.random.default_rng(3), n=60)
     y = np.column_stack([xy, f, b]) if isinstance(est, SimplifiedHorus) else xy
-    out = locate(est.fit(X, y), Xq, f, b)
+    out = locate_flat(est.fit(X, y), Xq, f, b)
     assert list(out.columns) == ["x_m", "y_m", "floor", "building"]
     assert np.mean(out["building"].to_numpy() == bq) == 1.0
     assert np.mean(out["floor"].to_numpy() == fq) > 0.6
@@ -53,7 +53,7 @@ def test_locate_knn_matches_predict():
     rng = np.random.default_rng(4)
     X, xy, f, b = _two_buildings(rng)
     est = KnnFingerprint(4, p=1, weights="distance", not_heard_dbm=-105).fit(X, xy)
-    out = locate(est, X[:20], f, b)
+    out = locate_flat(est, X[:20], f, b)
     np.testing.assert_allclose(out[["x_m", "y_m"]].to_numpy(), est.predict(X[:20]))
 
 

@@ -19,6 +19,11 @@ Scored: the position error at each of the 28 test points (error of the state at 
 Variants: R per point from the calibration survey (the thesis' model), one constant R (no
 knowledge of where the fix was taken), R = the thesis' own Table 5, innovation gating, and, beyond
 the paper, a heading-error term in Q, fixed-lag and RTS smoothing.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Ch. 3-5, eq. (20)-(26), Tables 4-5, Figs 22-23.
 """
 
 from __future__ import annotations
@@ -26,10 +31,6 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.pdr_heading_trajectory import sample_headings
-from ilocalg.experiments.pdr_step_features import _acc_t, fixed_length_features, training_walks
-from ilocalg.experiments.pdr_step_length import fit_models
-from ilocalg.experiments.wifi_iloc import make_estimators
 from ilocalg.fusion import (
     PAPER_TABLE5_SIGMA_RF_VAR_M2,
     filter_walk,
@@ -39,96 +40,33 @@ from ilocalg.fusion import (
     rts_smooth,
     sigma_sl_paper_m,
 )
-from ilocalg.metrics import error_cdf
+from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import comparison_table, paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
-from ilocalg.pdr.step_length import slm_length_m
+from ilocalg.pdr.pts import pts_steps
+from ilocalg.pdr.sam import learn_feature_ranges
+from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
-from ilocalg.wifi.preprocessing import mean_fingerprints
 
-__all__ = ["run", "FloorFixes", "floor_fixes", "route_walk", "pass_times_s", "run_filters", "score_points",
-           "summarise", "PAPER_KF"]
+__all__ = ["run", "route_walk", "run_filters", "score_points", "PAPER_KF"]
 
 PAPER = "i-Loc thesis"
+# Settings from the paper
+# -----------------------
+# PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.
 #: Published values (paper, thesis ch. 5 text below Table 5 and Fig 23): reference only.
-PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}  # paper: thesis ch. 5, "5.15 m -> 2.82 m"
-
-
-class FloorFixes:
-    """Wi-Fi fixes at the test-route points of a simulated floor.
-
-    Attributes
-    ----------
-    sim : IlocFloor
-    route_xy_m : ndarray (28, 2)
-        The test-route points in walking order.
-    fix_xy_m : ndarray (28, n_scans, 2)
-        The estimator's fix for every new scan at every point.
-    cal_var_m2 : ndarray (28,)
-        Per-point variance of the fix error over the calibration scans (per axis: mean squared
-        error / 2, so ``R = var I`` has the measured total error power; the thesis' Table 5 analogue),
-        at least the quantisation variance of the 2 m grid (``2^2 / 12`` m^2).
-    n_cal : int
-    method : str
-    """
-
-    def __init__(self, sim, route_xy_m, fix_xy_m, cal_var_m2, n_cal, method):
-        self.sim, self.route_xy_m, self.fix_xy_m = sim, route_xy_m, fix_xy_m
-        self.cal_var_m2, self.n_cal, self.method = cal_var_m2, n_cal, method
-
-
-def floor_fixes(rng, n_walkers: int, n_cal: int = 10, method: str = "Simplified-Horus", scans_per_point: int = 300,
-                k_aps: int = 5) -> FloorFixes:
-    """Simulate the floor, fit ``method`` (a key of :func:`ilocalg.experiments.wifi_iloc.make_estimators`) and
-    estimate every new scan at the test-route points (``n_cal + n_walkers`` per point)."""
-    if n_cal < 2 or n_walkers < 1:
-        raise ValueError(f"need n_cal >= 2 and n_walkers >= 1, got {n_cal}, {n_walkers}")
-    spt = n_cal + n_walkers
-    sim = iloc_floor.simulate(rng, scans_per_point=scans_per_point, scans_per_test_point=spt)
-    ests = make_estimators(sim.detect_dbm, k_aps)
-    if method not in ests:
-        raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
-    est = ests[method]
-    if method == "Simplified-Horus":
-        est.fit(sim.train.rssi_dbm, sim.train.xy_m)
-    else:
-        fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
-        est.fit(fp, pts)
-    n_pts = sim.test_points.size
-    # test scans are stored point by point (spt consecutive rows per test point, in route order)
-    fix = est.predict(sim.test.rssi_dbm).reshape(n_pts, spt, 2)
-    route = sim.points_xy_m[sim.test_points]
-    err2 = ((fix[:, :n_cal] - route[:, None]) ** 2).sum(-1)
-    # floor: the quantisation variance of a 2 m reference grid (spacing^2 / 12 per axis), so a point whose
-    # calibration fixes all hit it exactly does not get R = 0
-    var = np.maximum(0.5 * err2.mean(axis=1), iloc_floor.SPACING_M**2 / 12.0)
-    return FloorFixes(sim, route, fix, var, n_cal, method)
-
-
-def pass_times_s(sw, route_xy_m) -> np.ndarray:
-    """Time at which a simulated walk passes each route vertex (by arc length along its true steps)."""
-    seg = np.hypot(*np.diff(route_xy_m, axis=0).T)
-    s_pts = np.concatenate([[0.0], np.cumsum(seg)])
-    st = sw.steps
-    ends = np.concatenate([[0.0], np.cumsum(st["length_m"].to_numpy())])
-    t_ends = np.concatenate([[st["t_strike_s"].iloc[0]], (st["t_strike_s"] + st["duration_s"]).to_numpy()])
-    return np.interp(s_pts, ends, t_ends)
+PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}
 
 
 def route_walk(sw, ranges, slm_p) -> dict:
-    """The thesis' PTS on one simulated walk: SAM steps, quadratic SLM lengths, WDM headings.
+    """The thesis' PTS (:func:`ilocalg.pdr.pts.pts_steps`) on one simulated walk, as filter inputs.
 
     Returns ``state_t_s`` (n+1: the log start, then each detected step), ``step_m``, ``theta_rad`` (n).
     """
-    acc, t = _acc_t(sw)
-    heads = sample_headings(sw)
-    steps = detect_steps_sam(acc, t, ranges)
-    i = steps["i_peak"].to_numpy()
-    lengths = np.maximum(slm_length_m(steps["A"], steps["X1"], slm_p), 0.0)
-    return {"state_t_s": np.concatenate([[t[0]], steps["t_s"].to_numpy()]), "step_m": np.asarray(lengths),
-            "theta_rad": heads["WDM"][i]}
+    st = pts_steps(sw.imu, ranges, slm_p, sw.config.stand_s)
+    return {"state_t_s": np.concatenate([[sw.imu.index[0]], st["t_s"].to_numpy()]),
+            "step_m": st["length_m"].to_numpy(), "theta_rad": st["theta_rad"].to_numpy()}
 
 
 def run_filters(x0_m, pdr: dict, fix_t_s, fix_xy_m, r_var: dict, P0_var_m2: float = 0.25, gate_prob: float = 0.99,
@@ -191,20 +129,10 @@ def score_points(tracks: dict, state_index: np.ndarray, true_xy_m: np.ndarray, f
     return pd.concat(rows, ignore_index=True)
 
 
-def summarise(tp: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Per-method mean / median / p90 / max error and the error CDFs."""
-    g = tp.groupby("method", sort=False)["error_m"]
-    summ = pd.DataFrame({"mean_error_m": g.mean(), "median_error_m": g.median(),
-                         "p90_error_m": g.quantile(0.9), "max_error_m": g.max(), "n": g.size()}).reset_index()
-    cdf = pd.concat([error_cdf(e["error_m"].to_numpy()).assign(method=m) for m, e in tp.groupby("method", sort=False)],
-                    ignore_index=True)
-    return summ, cdf
-
-
 def _train_pts(rng, n_train, q_range=(0.01, 0.99)):
     walkers = gait.make_walkers(n_train, rng)
-    feats = fixed_length_features(training_walks(walkers, rng))
-    models, _ = fit_models(feats)
+    feats = gait.fixed_length_features(gait.training_walks(walkers, rng))
+    models, _ = fit_step_length_models(feats)
     return walkers, feats, learn_feature_ranges(feats, *q_range), models
 
 
@@ -226,16 +154,17 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     rng = as_rng(seed)
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
-    ff = floor_fixes(rng, n_walkers, n_cal, method, scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT)
+    ff = iloc_floor.floor_fixes(rng, n_walkers, n_cal, method,
+                                scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT)
     train_walkers, _, ranges, models = _train_pts(rng, n_train)
     walkers = train_walkers[:n_walkers] if n_walkers <= n_train else gait.make_walkers(n_walkers, rng)
     route = ff.route_xy_m
-    paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)  # the thesis' Table 5 (paper values)
+    paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)
     tps, gat, ex = [], [], []
     for w_i, w in enumerate(walkers):
         sw = gait.simulate_walk(route, w, rng)
         pdr = route_walk(sw, ranges, models["SLM quadratic"])
-        t_pass = pass_times_s(sw, route)
+        t_pass = gait.pass_times_s(sw, route)
         fix = ff.fix_xy_m[:, ff.n_cal + w_i]
         r_var = {"R per point, calibrated": ff.cal_var_m2,
                  "R constant": np.full(route.shape[0], ff.cal_var_m2.mean()),
@@ -253,7 +182,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             ex += [pd.DataFrame({"method": k, "x_m": v[:, 0], "y_m": v[:, 1]}) for k, v in tracks.items()]
     tp = pd.concat(tps, ignore_index=True)
     tp = tp[["walker"] + [c for c in tp.columns if c != "walker"]]
-    summ, cdf = summarise(tp)
+    summ, cdf = summarise_by_method(tp)
     m = summ.set_index("method")["mean_error_m"]
     note = f"{len(walkers)} simulated walkers on the simulated floor's 28-point route; Wi-Fi: {method}"
     comp = [

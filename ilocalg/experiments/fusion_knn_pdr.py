@@ -1,4 +1,4 @@
-"""Fingerprint + PDR positioning (罗思奇 et al. 2017, sec. 3-4, Fig 6) on the simulated i-Loc floor.
+"""Fingerprint + PDR positioning (Luo et al. 2017, sec. 3-4, Fig 6) on the simulated i-Loc floor.
 
 The paper's library floor and its data are not published; the toolkit's simulated i-Loc floor
 (:mod:`ilocalg.sim.iloc_floor`) and gait simulator (:mod:`ilocalg.sim.gait`) stand in, walkers
@@ -18,6 +18,12 @@ walking the floor's 28-point test route (as in :mod:`ilocalg.experiments.fusion_
   error term (the WDM heading error, not the step length, is what makes PDR drift).
 
 Scored: the error at each route point (Fig 6: error per point index).
+
+References
+----------
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 3-4, eq. (1)-(6), Fig 6.
 """
 
 from __future__ import annotations
@@ -25,53 +31,26 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.fusion_iloc_kf import floor_fixes, pass_times_s, summarise
-from ilocalg.experiments.pdr_heading_trajectory import sample_headings
-from ilocalg.experiments.pdr_step_features import _acc_t, training_walks
 from ilocalg.fusion import filter_walk, fixes_at_states, rts_smooth
+from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import comparison_table, paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.peak_window import detect_steps_peak_window
-from ilocalg.pdr.step_length import luo_length_m
+from ilocalg.pdr.heading import log_headings_rad
+from ilocalg.pdr.signals import acc_from_log
+from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 
-__all__ = ["run", "fit_luo_k", "pdr_004", "crossover_point", "findings", "PAPER_LUO"]
+__all__ = ["run", "crossover_point", "findings", "PAPER_LUO"]
 
 PAPER = "罗思奇 et al. 2017"
+# Settings from the paper
+# -----------------------
+# PAPER_LUO: Luo et al. (2017) sec. 4, item 2 (Wi-Fi only mean, min, max error) and item 3
+# (combined mean error; PDR better than the combination for the first 6 points); reference only.
 #: Published values (paper, sec. 4 items 2-3): reference only.
-PAPER_LUO = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5,  # paper sec. 4, item 2
-             "combined_mean_m": 6.74, "pdr_better_points": 6}  # paper sec. 4, item 3
-
-
-def pdr_004(acc_mps2, t_s, k: float, detector: dict | None = None) -> pd.DataFrame:
-    """The paper's PDR steps: peak-window detection (sec. 3.4.2) and eq. (4) lengths; adds ``length_m``."""
-    st = detect_steps_peak_window(acc_mps2, t_s, **(detector or {}))
-    return st.assign(length_m=luo_length_m(st["a_max_mps2"], st["a_min_mps2"], k))
-
-
-def fit_luo_k(walks, detector: dict | None = None) -> tuple[float, float]:
-    """``k`` of eq. (4) from walks of known length: total true length over total ``eq. (4)`` length (k = 1).
-
-    Returns ``(k, sigma_step_m)``: the fitted k and the standard deviation of the per-step length
-    error (true mean step of each walk vs its estimated steps), used as the filter's ``sigma_SL``.
-    """
-    f_tot, l_tot, res = 0.0, 0.0, []
-    per_walk = []
-    for sw in walks:
-        acc, t = _acc_t(sw)
-        st = pdr_004(acc, t, 1.0, detector)
-        if not len(st):
-            continue
-        f_tot += float(st["length_m"].sum())
-        l_tot += float(sw.steps["length_m"].sum())
-        per_walk.append((st["length_m"].to_numpy(), float(sw.steps["length_m"].mean())))
-    if f_tot <= 0:
-        raise ValueError("fit_luo_k: no step detected in the training walks")
-    k = l_tot / f_tot
-    for f, mean_true in per_walk:
-        res.append(k * f - mean_true)
-    return k, float(np.std(np.concatenate(res)))
+PAPER_LUO = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5,
+             "combined_mean_m": 6.74, "pdr_better_points": 6}
 
 
 def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:
@@ -98,22 +77,24 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
     method = "KNN (Manhattan, K=5)"
-    ff = floor_fixes(rng, n_walkers, n_cal, method, scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT)
+    ff = iloc_floor.floor_fixes(rng, n_walkers, n_cal, method,
+                                scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT)
     walkers = gait.make_walkers(max(n_train, n_walkers), rng)
-    k, sig_sl = fit_luo_k([sw for _, _, sw in training_walks(walkers[:n_train], rng)], detector)
+    train = gait.training_walks(walkers[:n_train], rng)
+    k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in train], detector)
     r_var = float(ff.cal_var_m2.mean())
     route = ff.route_xy_m
     n_pts = route.shape[0]
     tps, ex = [], []
     for w_i, w in enumerate(walkers[:n_walkers]):
         sw = gait.simulate_walk(route, w, rng)
-        acc, t = _acc_t(sw)
-        st = pdr_004(acc, t, k, detector)
-        th = sample_headings(sw)["WDM"][st["i_peak"].to_numpy()]
+        acc, t = acc_from_log(sw.imu)
+        st = luo_steps(acc, t, k, detector)
+        th = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"][st["i_peak"].to_numpy()]
         d = st["length_m"].to_numpy()
         ts = np.concatenate([[t[0]], st["t_s"].to_numpy()])
         fix = ff.fix_xy_m[:, ff.n_cal + w_i]
-        al = fixes_at_states(ts, pass_times_s(sw, route), fix, before_start="drop", same_state="last")
+        al = fixes_at_states(ts, gait.pass_times_s(sw, route), fix, before_start="drop", same_state="last")
         z = al.z_m.copy()
         x0 = fix[0]                      # the combined scheme starts from the first Wi-Fi fix (sec. 3.4.4)
         z[al.state_index[0]] = np.nan    # ... which is therefore not used a second time
@@ -134,7 +115,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             ex.append(pd.DataFrame({"method": "Wi-Fi only (KNN)", "x_m": fix[:, 0], "y_m": fix[:, 1]}))
             ex += [pd.DataFrame({"method": m, "x_m": v[:, 0], "y_m": v[:, 1]}) for m, v in tracks.items()]
     tp = pd.concat(tps, ignore_index=True)
-    summ, cdf = summarise(tp)
+    summ, cdf = summarise_by_method(tp)
     pp = tp.groupby(["method", "point"], sort=False)["error_m"].mean().unstack("method").reset_index()
     m = summ.set_index("method")["mean_error_m"]
     cross = crossover_point(pp["PDR only"].to_numpy(), pp["combined (KF)"].to_numpy())

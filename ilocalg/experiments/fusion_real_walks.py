@@ -39,9 +39,6 @@ from ilocalg.units import as_rng
 __all__ = ["DATASET", "load_floor", "run", "example", "findings"]
 
 DATASET = "ilc2020_site2_F4"
-#: Not re-run over seeds by ``reproduce --seeds``: real data, no paper comparison (only the particle filter
-#: depends on the seed).
-SEED_SWEEP = False
 
 
 def load_floor(data_dir=None):

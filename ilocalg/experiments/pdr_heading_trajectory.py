@@ -8,6 +8,11 @@ track is dead-reckoned from the true start. Scored: the per-step heading error (
 13.87 deg mean) and the position error when the walker passes each test point (Figs 17-18, thesis
 5.2 m mean). Beside the thesis's pipeline: gyro-integrated heading (uncalibrated bias), and true steps with WDM
 headings (isolating the heading error).
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.3-4.4, eq. (18)-(19), (22), Figs 16-18.
 """
 
 from __future__ import annotations
@@ -15,48 +20,28 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.pdr_step_features import _acc_t, fixed_length_features, training_walks
-from ilocalg.experiments.pdr_step_length import fit_models
-from ilocalg.io.schema import GYR_COLS, MAG_COLS
 from ilocalg.metrics import error_cdf
 from ilocalg.papers import paper_ref
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.heading import gyro_heading_theta_rad, heading_theta_rad
-from ilocalg.pdr.sam import detect_steps_sam, learn_feature_ranges
-from ilocalg.pdr.signals import moving_mean
-from ilocalg.pdr.step_length import slm_length_m
+from ilocalg.pdr.heading import log_headings_rad
+from ilocalg.pdr.pts import pts_steps
+from ilocalg.pdr.sam import learn_feature_ranges
+from ilocalg.pdr.signals import acc_from_log
+from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait
 from ilocalg.units import as_rng, wrap_angle_rad
 
-__all__ = ["run", "sample_headings", "track_errors", "PAPER"]
+__all__ = ["run", "track_errors", "PAPER"]
 
 PAPER = "i-Loc thesis"
-HEADING_ERROR_PAPER_DEG = 13.87  # paper Fig 16 text: WDM mean heading error
-PTS_ERROR_PAPER_M = 5.2  # paper Fig 18 text: PTS mean position error
 
-
-def sample_headings(sw, g_window_s: float = 1.0, m_window_s: float = 0.5) -> dict[str, np.ndarray]:
-    """Per-sample WDM and gyro headings (rad, map convention) of a simulated walk."""
-    acc, t = _acc_t(sw)
-    rate = 1.0 / np.median(np.diff(t))
-    mag = sw.imu[list(MAG_COLS)].to_numpy()
-    gyr = sw.imu[list(GYR_COLS)].to_numpy()
-    ng, nm = int(round(0.5 * g_window_s * rate)), int(round(0.5 * m_window_s * rate))
-    g = np.column_stack([moving_mean(acc[:, j], ng) for j in range(3)])
-    m = np.column_stack([moving_mean(mag[:, j], nm) for j in range(3)])
-    wdm = heading_theta_rad(g, m)
-    # gyro: started from the WDM heading averaged over the standing second; the bias is not
-    # estimated (over one second of hand jitter its estimate is worse than the bias itself)
-    rest = t < sw.config.stand_s
-    th0 = float(np.angle(np.mean(np.exp(1j * wdm[rest])))) if rest.any() else float(wdm[0])
-    return {"WDM": wdm, "gyro": gyro_heading_theta_rad(gyr, g, t, th0)}
-
-
-def _times_at_arc(sw, s_m: np.ndarray) -> np.ndarray:
-    st = sw.steps
-    ends = np.concatenate([[0.0], np.cumsum(st["length_m"].to_numpy())])
-    t_ends = np.concatenate([[st["t_strike_s"].iloc[0]], (st["t_strike_s"] + st["duration_s"]).to_numpy()])
-    return np.interp(s_m, ends, t_ends)
+# Settings from the paper
+# -----------------------
+# Chiu (2013): HEADING_ERROR_PAPER_DEG, Fig 16 text (WDM mean heading error); PTS_ERROR_PAPER_M,
+# Fig 18 text (PTS mean position error): reference values only. The test loop of run() (28
+# points 4.11 m apart) is sec. 4.4.
+HEADING_ERROR_PAPER_DEG = 13.87
+PTS_ERROR_PAPER_M = 5.2
 
 
 def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarray, test_t_s: np.ndarray):
@@ -67,7 +52,7 @@ def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarra
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8, q_range=(0.01, 0.99),
-        n_points: int = 28, spacing_m: float = 4.11) -> dict[str, pd.DataFrame]:  # thesis test loop
+        n_points: int = 28, spacing_m: float = 4.11) -> dict[str, pd.DataFrame]:
     """Heading errors beside Fig 16 and test-point position errors beside Figs 17-18.
 
     Returns
@@ -81,9 +66,9 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
     if fast:
         n_train, n_walkers = min(n_train, 4), min(n_walkers, 2)
     train_walkers = gait.make_walkers(n_train, rng)
-    feats = fixed_length_features(training_walks(train_walkers, rng))
+    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
     ranges = learn_feature_ranges(feats, *q_range)
-    models, _ = fit_models(feats)
+    models, _ = fit_step_length_models(feats)
     p_quad = models["SLM quadratic"]
     route = gait.loop_route(n_points, spacing_m)
     walkers = gait.make_walkers(n_walkers, rng) if n_walkers > n_train else train_walkers[:n_walkers]
@@ -93,9 +78,9 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
     hrows, prow, examples = [], [], []
     for w in walkers:
         sw = gait.simulate_walk(route, w, rng)
-        acc, t = _acc_t(sw)
-        heads = sample_headings(sw)
-        steps = detect_steps_sam(acc, t, ranges)
+        acc, t = acc_from_log(sw.imu)
+        heads = log_headings_rad(sw.imu, sw.config.stand_s)
+        steps = pts_steps(sw.imu, ranges, p_quad, headings=heads)
         i = steps["i_peak"].to_numpy()
         true_st = sw.steps
         j = np.abs(true_st["t_mid_s"].to_numpy()[None, :] - steps["t_s"].to_numpy()[:, None]).argmin(axis=1)
@@ -104,14 +89,14 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
             err = np.rad2deg(np.abs(wrap_angle_rad(h[i] - true_th)))
             hrows.append(pd.DataFrame({"walker": w.name, "heading": name, "step": np.arange(i.size),
                                        "true_deg": np.rad2deg(true_th), "est_deg": np.rad2deg(h[i]), "error_deg": err}))
-        lengths = np.maximum(slm_length_m(steps["A"], steps["X1"], p_quad), 0.0)
-        test_t = _times_at_arc(sw, s_test)
+        lengths = steps["length_m"].to_numpy()
+        test_t = gait.times_at_arc_s(sw, s_test)
         x0, y0 = route[0]
         # true steps (heel strikes) with true lengths and WDM headings: the heading error alone
         i_true = np.clip(np.searchsorted(t, true_st["t_mid_s"].to_numpy()), 0, t.size - 1)
         variants = {
-            "PTS: SAM + SLM + WDM": (steps["t_s"].to_numpy(), lengths, heads["WDM"][i]),
-            "SAM + SLM + gyro heading": (steps["t_s"].to_numpy(), lengths, heads["gyro"][i]),
+            "PTS: SAM + SLM + WDM": (steps["t_s"].to_numpy(), lengths, steps["theta_rad"].to_numpy()),
+            "SAM + SLM + gyro heading": (steps["t_s"].to_numpy(), lengths, steps["theta_gyr_rad"].to_numpy()),
             "true steps and lengths + WDM": (true_st["t_mid_s"].to_numpy(), true_st["length_m"].to_numpy(),
                                              heads["WDM"][i_true]),
         }

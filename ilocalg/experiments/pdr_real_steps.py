@@ -10,8 +10,8 @@ Detectors
 ---------
 ``robust``            the toolkit's best detector (:mod:`ilocalg.pdr.robust`)
 ``find_peaks``        a plain baseline: low-pass + :func:`scipy.signal.find_peaks` with a tuned prominence
-``peak_window``       the fingerprint+PDR paper's detector (004, sec. 3.4.2), tuned threshold
-``sign_change``       the PSO thesis's slope-sign-change detector with the +-RMS band (003, Fig 3.9),
+``peak_window``       the fingerprint+PDR paper's detector (Luo et al. 2017, sec. 3.4.2), tuned threshold
+``sign_change``       the PSO thesis's slope-sign-change detector with the +-RMS band (Chao 2008, Fig 3.9),
                       on the vertical acceleration, tuned moving-average width
 ``sam``               i-Loc SAM (eq. 8-15), ranges learned from the training recordings' true steps
                       (quantiles tuned among 5/95 % (the thesis), 1/99 % and 0/100 %)
@@ -35,28 +35,28 @@ from ilocalg.io.oxford import OxfordRecording, load_oxford_archive
 from ilocalg.io.paths import dataset_path
 from ilocalg.io.schema import ACC_COLS
 from ilocalg.papers import paper_ref
-from ilocalg.pdr.peak_window import detect_steps_peak_window
-from ilocalg.pdr.robust import detect_steps_robust
+from ilocalg.pdr.registry import DETECTOR_RATE_HZ, detect_steps
 from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges, match_waves_to_steps, sam_waves
-from ilocalg.pdr.sign_change import detect_steps_sign_change
-from ilocalg.pdr.signals import magnitude_mps2, moving_mean, resample_uniform
+from ilocalg.pdr.signals import resample_uniform
 
-#: Real recordings: the values do not depend on a simulation seed, so reproduce does not re-run this
-#: experiment over seeds for confidence intervals (its rows keep n = 1).
-SEED_SWEEP = False
-
-__all__ = ["run", "Prepared", "prepare", "DETECTORS", "count_steps", "loro_cv", "accuracy", "load", "truth_artefacts",
+__all__ = ["run", "Prepared", "prepare", "DETECTORS", "detector_params", "count_steps",
+           "loro_cv", "accuracy", "load", "truth_artefacts",
            "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN"]
 
 OXFORD_REPORT = "Oxford step counter report"
+# Settings from the paper
+# -----------------------
+# OXFORD_MEAN_PAPER, OXFORD_MEDIAN_PAPER: the Oxford data set's README, its own windowed peak
+# detector on the 48 recordings (reference values). GOAL_MEAN and GOAL_MIN are this toolkit's
+# goals for its best detector, not paper values.
 #: The data set's own report for its windowed peak detector on the 48 recordings (reference values).
-OXFORD_MEAN_PAPER = 0.937  # reference (paper-like): data set report, mean accuracy
-OXFORD_MEDIAN_PAPER = 0.968  # reference (paper-like): data set report, median accuracy
-RATE_HZ = 100.0
-#: The toolkit's goal for its best detector (issue 7): mean accuracy and worst recording.
+OXFORD_MEAN_PAPER = 0.937
+OXFORD_MEDIAN_PAPER = 0.968
+RATE_HZ = DETECTOR_RATE_HZ["robust"]
+#: The toolkit's goal for its best detector: mean accuracy and worst recording.
 GOAL_MEAN = 0.993
-GOAL_MIN = 0.98  # the goal of issue 7, not a paper value
-SAM_RATE_HZ = 50.0
+GOAL_MIN = 0.98
+SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
 ARCHIVE = "optimisation_data.tar.xz"
 
 
@@ -69,8 +69,7 @@ class Prepared:
     true_steps: int
     step_t_s: np.ndarray
     t_s: np.ndarray            # 100 Hz grid
-    mag_mps2: np.ndarray       # |a| on the grid
-    vert_mps2: np.ndarray      # specific force along gravity (1 s mean of the acceleration) on the grid
+    acc_mps2: np.ndarray       # (n, 3) on the grid
     t50_s: np.ndarray          # 50 Hz grid (SAM)
     acc50_mps2: np.ndarray
 
@@ -79,12 +78,9 @@ def prepare(rec: OxfordRecording) -> Prepared:
     """Resample one recording to the common rates."""
     t = rec.imu.index.to_numpy()
     acc = rec.imu[list(ACC_COLS)].to_numpy()
-    tu, au = resample_uniform(t, acc, RATE_HZ)
-    g = np.column_stack([moving_mean(au[:, j], int(RATE_HZ // 2)) for j in range(3)])
-    u = g / np.linalg.norm(g, axis=1, keepdims=True)
-    t50, a50 = resample_uniform(t, acc, SAM_RATE_HZ)
-    return Prepared(rec.name, dict(rec.meta), rec.true_steps, rec.step_t_s, tu, magnitude_mps2(au),
-                    np.einsum("ij,ij->i", au, u), t50, a50)
+    au, tu = resample_uniform(acc, t, RATE_HZ)
+    a50, t50 = resample_uniform(acc, t, SAM_RATE_HZ)
+    return Prepared(rec.name, dict(rec.meta), rec.true_steps, rec.step_t_s, tu, au, t50, a50)
 
 
 def accuracy(counted, true) -> np.ndarray:
@@ -112,15 +108,18 @@ DETECTORS = {
 }
 
 
+def detector_params(detector: str, params: dict) -> dict:
+    """A grid point as the registered detector's keyword arguments (``n`` is the sign-change MA half-width)."""
+    if detector == "sign_change":
+        return {"n_left": params["n"], "n_right": params["n"]}
+    return dict(params)
+
+
 def count_steps(p: Prepared, detector: str, params: dict) -> int:
     """Steps counted in one prepared recording by a grid detector (not SAM, which needs training)."""
-    if detector in ("robust", "find_peaks"):
-        return len(detect_steps_robust(p.mag_mps2, p.t_s, rate_hz=RATE_HZ, **params))
-    if detector == "peak_window":
-        return len(detect_steps_peak_window(p.mag_mps2, p.t_s, **params))
-    if detector == "sign_change":
-        return len(detect_steps_sign_change(p.vert_mps2, p.t_s, n_left=params["n"], n_right=params["n"]))
-    raise ValueError(f"unknown detector {detector!r}; known: {sorted(DETECTORS)}")
+    if detector not in DETECTORS or detector == "sam":
+        raise ValueError(f"unknown grid detector {detector!r}; known: {sorted(set(DETECTORS) - {'sam'})}")
+    return len(detect_steps(detector, p.acc_mps2, p.t_s, **detector_params(detector, params)))
 
 
 def loro_cv(score: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -4,14 +4,17 @@ Design, as in the thesis: training walkers of different builds each walk 15 step
 lengths of 40, 50, 60, 70 and 80 cm; the features of their true steps give the learned ranges
 (the [5 %, 95 %] points of each feature's CDF, Table 1). Then 8 other walkers each walk 100 steps
 and SAM, with the learned ranges, counts them (Fig 12; the thesis reports a 4.13 % error).
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.1, Table 1, Figs 8-12.
 """
 
 from __future__ import annotations
 
-import numpy as np
 import pandas as pd
 
-from ilocalg.io.schema import ACC_COLS
 from ilocalg.papers import paper_ref
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
@@ -19,53 +22,21 @@ from ilocalg.pdr.sam import (
     SAM_TESTED_FEATURES,
     in_ranges,
     learn_feature_ranges,
-    match_waves_to_steps,
     sam_waves,
 )
+from ilocalg.pdr.signals import acc_from_log
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 
-__all__ = ["run", "training_walks", "fixed_length_features", "headline", "PAPER"]
+__all__ = ["run", "headline", "PAPER"]
 
 PAPER = "i-Loc thesis"
-#: Fig 12 of the thesis: SAM step-count error on 8 walkers x 100 steps (paper value).
-SAM_COUNT_ERROR_PAPER = 0.0413  # paper Fig 12 / sec. 4.1 text
-LENGTHS_M = (0.4, 0.5, 0.6, 0.7, 0.8)
-MATCH_TOL_S = 0.15
 
-
-def _acc_t(sw):
-    return sw.imu[list(ACC_COLS)].to_numpy(), sw.imu.index.to_numpy()
-
-
-def training_walks(walkers, rng, lengths_m=LENGTHS_M, n_steps: int = 15, config=None):
-    """Fixed-length walks: every walker x every length, ``n_steps`` steps each (list of (walker, L, SimWalk))."""
-    out = []
-    for w in walkers:
-        for L in lengths_m:
-            sw = gait.simulate_walk(gait.straight_route(max(2.0 * L * n_steps, 5.0)), w, rng, config,
-                                    step_length_m=L, n_steps=n_steps)
-            out.append((w, L, sw))
-    return out
-
-
-def fixed_length_features(walks) -> pd.DataFrame:
-    """SAM features of the true steps of fixed-length walks, with ``walker``, ``target_m``, ``length_m``."""
-    rows = []
-    for w, L, sw in walks:
-        acc, t = _acc_t(sw)
-        waves = sam_waves(acc, t)
-        m = match_waves_to_steps(waves, sw.steps["t_mid_s"], MATCH_TOL_S)
-        # the true length of the step each wave belongs to
-        j = np.abs(sw.steps["t_mid_s"].to_numpy()[None, :] - m["t_s"].to_numpy()[:, None]).argmin(axis=1)
-        rows.append(m.assign(walker=w.name, target_m=L, length_m=sw.steps["length_m"].to_numpy()[j]))
-    return pd.concat(rows, ignore_index=True)
-
-
-def count_walks(walkers, rng, n_steps: int = 100, config=None):
-    """Each walker walks ``n_steps`` natural steps along a straight corridor."""
-    return [gait.simulate_walk(gait.straight_route(1.2 * n_steps), w, rng, config, n_steps=n_steps)
-            for w in walkers]
+# Settings from the paper
+# -----------------------
+# SAM_COUNT_ERROR_PAPER: Chiu (2013) Fig 12 and sec. 4.1 text, SAM step-count error on 8 walkers
+# x 100 steps (a reference value, never used to compute).
+SAM_COUNT_ERROR_PAPER = 0.0413
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_steps: int = 100,
@@ -84,7 +55,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
     train_walkers = gait.make_walkers(n_train, rng)
     test_walkers = [gait.Walker(**{**w.__dict__, "name": f"test{i}"})
                     for i, w in enumerate(gait.make_walkers(n_test, rng))]
-    feats = fixed_length_features(training_walks(train_walkers, rng))
+    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
     ranges = {q: learn_feature_ranges(feats, *q) for q in quantiles}
     paper_q = quantiles[0]
     rtab = ranges[paper_q].rename(columns={"min": "learned_min", "max": "learned_max"})
@@ -101,8 +72,8 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
     groups = {"training walkers": train_walkers[:n_test], "new walkers": test_walkers}
     tests = [(name, r, None) for name, r in variants.items()] + [(vote, ranges[paper_q], 6)]
     for group, ws in groups.items():
-        for sw in count_walks(ws, rng, n_steps):
-            acc, t = _acc_t(sw)
+        for sw in gait.count_walks(ws, rng, n_steps):
+            acc, t = acc_from_log(sw.imu)
             waves = sam_waves(acc, t)
             for name, r, k in tests:
                 c = int(in_ranges(waves, r, SAM_TESTED_FEATURES, k).sum())

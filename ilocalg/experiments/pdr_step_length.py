@@ -6,7 +6,18 @@ regressions of eq. (16)-(17) (Table 3; the thesis fits in centimetres, RMSE 12.3
 Then other walkers walk the fixed lengths again (Fig 14: error boxes, thesis mean error 18.43 %)
 and 20 m freely (Fig 15: distance accuracy, thesis 96.41 %). Steps are found by SAM with ranges
 learned from the training steps; ``q_range`` picks the quantiles (the thesis's 5/95 % by default).
-The Weinberg, Kim and 004 models (k fitted on the same training steps) are scored beside SLM.
+The Weinberg, Kim and Luo et al. models (k fitted on the same training steps) are scored beside SLM.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.2, eq. (16)-(17), Tables 2-3, Figs 13-15.
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 2.1 (Kim), 2.5 (Weinberg).
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Eq. (4).
 """
 
 from __future__ import annotations
@@ -14,74 +25,31 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.pdr_step_features import (
-    LENGTHS_M,
-    _acc_t,
-    fixed_length_features,
-    training_walks,
-)
 from ilocalg.papers import paper_ref
-from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges, vertical_horizontal_mps2
-from ilocalg.pdr.step_length import (
-    fit_slm,
-    fit_weinberg_k,
-    kim_length_m,
-    luo_length_m,
-    slm_length_m,
-    weinberg_length_m,
-)
+from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges
+from ilocalg.pdr.signals import acc_from_log
+from ilocalg.pdr.step_length import fit_scale, fit_step_length_models, kim_length_m, kim_mean_abs_mps2, step_lengths_m
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 
-__all__ = ["run", "step_lengths", "PAPER"]
+__all__ = ["run", "PAPER"]
 
 PAPER = "i-Loc thesis"
-#: Table 2 of the thesis: correlation of each feature with step length (paper values).
-CORR_PAPER = {"A1": 0.53, "A2": 0.5, "A": 0.55, "T1": 0.25, "T2": 0.06, "T": 0.32, "X1": 0.37, "I": 0.61}  # paper
-#: Table 3 of the thesis: regression coefficients, cm (paper values).
-P_LINEAR_PAPER = (50.66, -0.42, 0.75)  # paper Table 3, eq. (16)
-P_QUAD_PAPER = (54.49, -2.90, 1.50, -0.02, 0.15, -0.01)  # paper Table 3, eq. (17)
-RMSE_PAPER_CM = {"linear": 12.32, "quadratic": 12.15}  # paper sec. 4.2 text
-FIXED_ERROR_PAPER = 0.1843  # paper Fig 14 text: mean error at fixed lengths
-FREE20_ACCURACY_PAPER = 0.9641  # paper Fig 15 text: 20 m free-walk accuracy
 
-
-def _kim_mean_abs(acc, t, steps: pd.DataFrame) -> np.ndarray:
-    """Mean |a_perp| over each step's wave (left valley to right valley)."""
-    v, _ = vertical_horizontal_mps2(acc)
-    c = np.concatenate([[0.0], np.cumsum(np.abs(v))])
-    lo, hi = steps["i_left"].to_numpy(), steps["i_right"].to_numpy() + 1
-    return (c[hi] - c[lo]) / (hi - lo)
-
-
-def step_lengths(acc, t, steps: pd.DataFrame, models: dict) -> pd.DataFrame:
-    """Per-step lengths (m) of every fitted model for SAM-detected ``steps``."""
-    A, X1 = steps["A"].to_numpy(), steps["X1"].to_numpy()
-    hi, lo = steps["a_max_mps2"].to_numpy(), steps["a_min_mps2"].to_numpy()
-    out = {
-        "SLM linear": slm_length_m(A, X1, models["SLM linear"], "linear"),
-        "SLM quadratic": slm_length_m(A, X1, models["SLM quadratic"], "quadratic"),
-        "Weinberg": weinberg_length_m(hi, lo, models["Weinberg"]),
-        "004 eq. 4": luo_length_m(hi, lo, models["004 eq. 4"]),
-        "Kim": kim_length_m(_kim_mean_abs(acc, t, steps), models["Kim"]),
-    }
-    return pd.DataFrame(out)
-
-
-def fit_models(feats: pd.DataFrame) -> tuple[dict, pd.DataFrame]:
-    """Fit every step-length model on training steps; return the parameters and a fit table."""
-    A, X1, L = feats["A"].to_numpy(), feats["X1"].to_numpy(), feats["length_m"].to_numpy()
-    hi, lo = feats["a_max_mps2"].to_numpy(), feats["a_min_mps2"].to_numpy()
-    lin, quad = fit_slm(A, X1, L, "linear"), fit_slm(A, X1, L, "quadratic")
-    kw = fit_weinberg_k(hi, lo, L)
-    fl = luo_length_m(hi, lo, 1.0)
-    kl = float(fl @ L / (fl @ fl))
-    models = {"SLM linear": np.array(lin.p), "SLM quadratic": np.array(quad.p), "Weinberg": kw, "004 eq. 4": kl}
-    return models, pd.DataFrame([
-        {"model": "SLM linear", "rmse_cm": lin.rmse_m * 100, **{f"p{i + 1}_cm": v * 100 for i, v in enumerate(lin.p)}},
-        {"model": "SLM quadratic", "rmse_cm": quad.rmse_m * 100,
-         **{f"p{i + 1}_cm": v * 100 for i, v in enumerate(quad.p)}},
-    ])
+# Settings from the paper
+# -----------------------
+# Reference values of Chiu (2013), never used to compute:
+# CORR_PAPER        Table 2, correlation of each feature with step length;
+# P_LINEAR_PAPER    Table 3, eq. (16) coefficients (cm);  P_QUAD_PAPER  Table 3, eq. (17) (cm);
+# RMSE_PAPER_CM     sec. 4.2 text, regression RMSE;
+# FIXED_ERROR_PAPER Fig 14 text, mean error at the fixed lengths;
+# FREE20_ACCURACY_PAPER  Fig 15 text, 20 m free-walk distance accuracy.
+CORR_PAPER = {"A1": 0.53, "A2": 0.5, "A": 0.55, "T1": 0.25, "T2": 0.06, "T": 0.32, "X1": 0.37, "I": 0.61}
+P_LINEAR_PAPER = (50.66, -0.42, 0.75)
+P_QUAD_PAPER = (54.49, -2.90, 1.50, -0.02, 0.15, -0.01)
+RMSE_PAPER_CM = {"linear": 12.32, "quadratic": 12.15}
+FIXED_ERROR_PAPER = 0.1843
+FREE20_ACCURACY_PAPER = 0.9641
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_range=(0.01, 0.99),
@@ -100,24 +68,24 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     if fast:
         n_train, n_test = min(n_train, 4), min(n_test, 4)
     train_walkers = gait.make_walkers(n_train, rng)
-    feats = fixed_length_features(training_walks(train_walkers, rng))
+    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
     # Table 2: correlations
     corr = pd.DataFrame({"feature": list(SAM_FEATURES),
                          "corr_reproduced": [float(np.corrcoef(feats[f], feats["length_m"])[0, 1])
                                              for f in SAM_FEATURES],
                          "corr_paper": [CORR_PAPER[f] for f in SAM_FEATURES]})
-    models, fits = fit_models(feats)
+    models, fits = fit_step_length_models(feats)
     # Kim: the scale c fitted on the training walks' mean |a_perp| (0.98 in the thesis's eq. 2.1, for a foot sensor)
-    tw = training_walks(train_walkers[:2], rng)
+    tw = gait.training_walks(train_walkers[:2], rng)
     ranges = learn_feature_ranges(feats, *q_range)
     kim_x, kim_y = [], []
     for _, _, sw in tw:
-        acc, t = _acc_t(sw)
+        acc, t = acc_from_log(sw.imu)
         st = detect_steps_sam(acc, t, ranges)
-        kim_x.append(kim_length_m(_kim_mean_abs(acc, t, st), 1.0))
+        kim_x.append(kim_length_m(kim_mean_abs_mps2(acc, st), 1.0))
         kim_y.append(np.full(len(st), sw.steps["length_m"].mean()))
     kx, ky = np.concatenate(kim_x), np.concatenate(kim_y)
-    models["Kim"] = float(kx @ ky / (kx @ kx))
+    models["Kim"] = fit_scale(kx, ky)
 
     test_walkers = [gait.Walker(**{**w.__dict__, "name": f"new{i}"})
                     for i, w in enumerate(gait.make_walkers(n_test, rng))]
@@ -126,12 +94,12 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     # Fig 14: fixed lengths, per-step estimates of detected steps
     rows = []
     for group, ws in groups.items():
-        for w, L, sw in training_walks(ws, rng, LENGTHS_M, 15):
-            acc, t = _acc_t(sw)
+        for w, L, sw in gait.training_walks(ws, rng, gait.LENGTHS_M, 15):
+            acc, t = acc_from_log(sw.imu)
             st = detect_steps_sam(acc, t, ranges)
             if len(st) == 0:
                 continue
-            est = step_lengths(acc, t, st, models)
+            est = step_lengths_m(acc, st, models)
             est.insert(0, "target_m", L)
             est.insert(0, "walker", w.name)
             est.insert(0, "test_set", group)
@@ -152,9 +120,9 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
         for group, ws in groups.items():
             for w in ws:
                 sw = gait.simulate_walk(gait.straight_route(free_length_m), w, r2)
-                acc, t = _acc_t(sw)
+                acc, t = acc_from_log(sw.imu)
                 st = detect_steps_sam(acc, t, rq)
-                est = step_lengths(acc, t, st, models).sum() if len(st) else pd.Series(0.0, index=model_names)
+                est = step_lengths_m(acc, st, models).sum() if len(st) else pd.Series(0.0, index=model_names)
                 free.append({"ranges": f"q{q[0]:g}-{q[1]:g}", "test_set": group, "walker": w.name,
                              "true_steps": len(sw.steps), "detected_steps": len(st),
                              **{m: float(est[m]) for m in model_names}})

@@ -42,7 +42,10 @@ Tables returned
 
 References
 ----------
-i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.3, Figs 29-32; survey 002, sec. 4, eq. (3)-(5).
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 6.3, Figs 29-32.
+Ye, C.-H. and Huang, W.-L. Positioning by combining images and inertial sensors (a survey). Teaching
+report, National Kaohsiung University of Applied Sciences. Sec. 4, eq. (3)-(5).
 """
 
 from __future__ import annotations
@@ -75,15 +78,19 @@ __all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_D
 #: Methods of the thesis's comparison (Figs 29-32).
 METHODS = ("ST", "VAGIG", "VABIG")
 
-#: Published values, thesis sec. 6.3 (paper reference only; never used in any computation).
+# Settings from the paper
+# -----------------------
+# PAPER: Chiu (2013) sec. 6.3 and Fig 30, reference only (never used to compute): ST and VABIG
+# errors with 2 and 7 PoIs (fig30_*) and the overall mean errors of ST, VAGIG and VABIG (mean_*), cm.
+# NEAR_COLLINEAR_PAPER: the PoI combinations Fig 32 names as nearly collinear (1-based).
 PAPER = {
-    "fig30_ST_k2_cm": 112.0,  # paper: ST error with 2 PoIs
-    "fig30_ST_k7_cm": 48.0,  # paper: ST error with 7 PoIs
-    "fig30_VABIG_k2_cm": 870.0,  # paper: VABIG error with 2 PoIs
-    "fig30_VABIG_k7_cm": 50.0,  # paper: VABIG error with 7 PoIs
-    "mean_ST_cm": 74.3,  # paper: overall mean, ST
-    "mean_VAGIG_cm": 88.9,  # paper: overall mean, VAGIG
-    "mean_VABIG_cm": 246.0,  # paper: overall mean, VABIG
+    "fig30_ST_k2_cm": 112.0,
+    "fig30_ST_k7_cm": 48.0,
+    "fig30_VABIG_k2_cm": 870.0,
+    "fig30_VABIG_k7_cm": 50.0,
+    "mean_ST_cm": 74.3,
+    "mean_VAGIG_cm": 88.9,
+    "mean_VABIG_cm": 246.0,
 }
 
 #: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
@@ -368,7 +375,7 @@ def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0
 
     References
     ----------
-    Survey 002, sec. 4, eq. (3)-(5) and Fig 8 (distance from the 2-D code to the camera).
+    Ye and Huang (survey), sec. 4, eq. (3)-(5) and Fig 8 (distance from the 2-D code to the camera).
     """
     unknown = sorted(set(marker) - set(MARKER_DEFAULTS))
     if unknown:

@@ -1,31 +1,29 @@
-"""PSO learning of the Weinberg step-length factor against GPS: the thesis's two-phase experiment.
+"""PSO learning of the Weinberg step-length factor against GPS: Chao (2008)'s two-phase experiment.
 
 Phase 1 (good sky, straight or looped walk): detect steps by slope sign change (Fig. 3.9) on the
 vertical acceleration, measure the walk's length from the 1 Hz GPS track (haversine sum), and learn
 the walker's ``k`` by PSO on the fitness of eq. 4.4 with the Weinberg length ``k (Amax - Amin)^(1/4)``
-(eq. 2.5). Phase 2 (partly shaded loops): dead-reckon with the learned ``k`` and the compass heading on
-latitude/longitude (eq. 3.1-3.3) from the first GPS fix, and report the start-end (closure) distance
-beside the fixed ``k = 0.5`` of the thesis ("TAR").
+(eq. 2.5; :mod:`ilocalg.pdr.k_factor`). Phase 2 (partly shaded loops): dead-reckon with the learned
+``k`` and the compass heading on latitude/longitude (eq. 3.1-3.3) from the first GPS fix, and report
+the start-end (closure) distance beside the fixed ``k = 0.5`` of the thesis ("TAR").
 
-Fitness. Eq. 4.4 reads ``f(k) = |S_gps - S_ins|`` with ``S_ins = k (|Amax - Amin|)^(1/4)`` and calls
-``S_gps`` "the step length computed from GPS"; how the per-step terms are combined over a walk is not
-written. Two readings are computed:
+Fitness: eq. 4.4 has two readings over a walk, ``"total"`` (default) and ``"per_step"``
+(:mod:`ilocalg.pdr.k_factor`); both are computed. The PSO is :func:`ilocalg.optim.pso_minimize` with
+the thesis's settings (:data:`ilocalg.pdr.k_factor.PSO_SETTINGS_PAPER`).
 
-``"total"`` (the issue's reading, default)
-    ``|D_gps - k sum_j q_j|`` with ``q_j = (Amax_j - Amin_j)^(1/4)`` and ``D_gps`` the GPS track
-    length; its zero is the closed form ``k = D_gps / sum q_j`` (also the least-squares solution).
-``"per_step"`` (the literal per-step reading)
-    ``mean_j |D_gps / N - k q_j|`` (GPS step length = track length / number of detected steps); its
-    minimiser is the weighted median of ``(D_gps / N) / q_j`` with weights ``q_j``; the least-squares
-    analogue is ``k = (D_gps / N) sum q / sum q^2``.
-
-References: the closed forms above and ``scipy.optimize.minimize_scalar`` (bounded) on the same
-fitness. The PSO is :func:`ilocalg.optim.pso_minimize` with the thesis's settings.
+Settings from the paper
+-----------------------
+All of Chao (2008), used as labelled reference values only: :data:`PAPER_TABLE_5_2` (Table 5-2:
+leg length, PSO k, true and detected steps, GPS and PSO distance, accuracy), :data:`PAPER_PHASE2_A1`
+(Figs. 5.14-5.15: closure m and %, PSO, TAR and GPS distances), :data:`PAPER_COMPASS_RMS` (sec. 5.1.3:
+static compass RMS raw, after MA and SG). Used to compute: the fixed ``K_FIXED_PAPER = 0.5`` of
+eq. 2.5 ("TAR", Fig. 5.15) and the PSO settings of sec. 5.3.
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), eq. 2.5, 3.1-3.6, 4.1-4.4, Figs. 3.9, 5.10-5.21, Table 5-2.
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 2.5, 3.1-3.6, 4.1-4.4, Figs. 3.9, 5.10-5.21, Table 5-2.
 """
 
 from __future__ import annotations
@@ -34,14 +32,14 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import minimize_scalar
 
-from ilocalg.gnss import dead_reckon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
-from ilocalg.optim import PSOResult, pso_minimize
+from ilocalg.gnss import dead_reckon_latlon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
 from ilocalg.papers import paper_ref
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
-from ilocalg.pdr.sign_change import detect_steps_sign_change
-from ilocalg.pdr.step_length import weinberg_length_m
+from ilocalg.pdr.k_factor import FITNESSES, PSO_SETTINGS_PAPER, learn_k, step_factors
+from ilocalg.pdr.registry import detect_steps
+from ilocalg.pdr.signals import along_gravity_mps2, gravity_lowpass_mps2
+from ilocalg.pdr.step_length import k_from_distance, weinberg_length_m
 from ilocalg.sim.pso_walks import Walk, simulate_pso_walks, simulate_static_compass
 
 __all__ = [
@@ -49,13 +47,7 @@ __all__ = [
     "PAPER_TABLE_5_2",
     "PAPER_PHASE2_A1",
     "PAPER_COMPASS_RMS",
-    "PSO_SETTINGS_PAPER",
     "K_FIXED_PAPER",
-    "step_factors",
-    "distance_fitness",
-    "per_step_fitness",
-    "closed_form_k",
-    "learn_k",
     "detect_walk_steps",
     "step_headings_deg",
     "dr_track",
@@ -65,147 +57,24 @@ __all__ = [
     "run",
 ]
 
+#: Source label of the comparison rows (kept as in earlier result tables, which must stay byte-identical).
 PAPER = "PSO thesis (003)"
-#: Table 5-2 of the thesis: k by PSO, true (detected) steps, GPS (PSO) distance m, accuracy %.
-PAPER_TABLE_5_2 = {  # paper Table 5-2
-    "A1": {"leg_cm": 94, "k": 0.444, "true_steps": 217, "det_steps": 216, "gps_m": 160.25, "pso_m": 158.28, "acc_pct": 98.7},  # paper  # noqa: E501
-    "A2": {"leg_cm": 94, "k": 0.489, "true_steps": 116, "det_steps": 115, "gps_m": 93.26, "pso_m": 90.15, "acc_pct": 96.7},  # paper  # noqa: E501
-    "A3": {"leg_cm": 94, "k": 0.477, "true_steps": 128, "det_steps": 123, "gps_m": 96.65, "pso_m": 91.07, "acc_pct": 94.2},  # paper  # noqa: E501
-    "B1": {"leg_cm": 100, "k": 0.554, "true_steps": 108, "det_steps": 110, "gps_m": 92.71, "pso_m": 89.53, "acc_pct": 96.6},  # paper  # noqa: E501
-    "B2": {"leg_cm": 100, "k": 0.494, "true_steps": 118, "det_steps": 116, "gps_m": 95.96, "pso_m": 91.84, "acc_pct": 95.7},  # paper  # noqa: E501
-    "C": {"leg_cm": 108, "k": 0.522, "true_steps": 106, "det_steps": 107, "gps_m": 93.73, "pso_m": 96.13, "acc_pct": 97.5},  # paper  # noqa: E501
+PAPER_TABLE_5_2 = {
+    "A1": {"leg_cm": 94, "k": 0.444, "true_steps": 217, "det_steps": 216, "gps_m": 160.25, "pso_m": 158.28, "acc_pct": 98.7},  # noqa: E501
+    "A2": {"leg_cm": 94, "k": 0.489, "true_steps": 116, "det_steps": 115, "gps_m": 93.26, "pso_m": 90.15, "acc_pct": 96.7},  # noqa: E501
+    "A3": {"leg_cm": 94, "k": 0.477, "true_steps": 128, "det_steps": 123, "gps_m": 96.65, "pso_m": 91.07, "acc_pct": 94.2},  # noqa: E501
+    "B1": {"leg_cm": 100, "k": 0.554, "true_steps": 108, "det_steps": 110, "gps_m": 92.71, "pso_m": 89.53, "acc_pct": 96.6},  # noqa: E501
+    "B2": {"leg_cm": 100, "k": 0.494, "true_steps": 118, "det_steps": 116, "gps_m": 95.96, "pso_m": 91.84, "acc_pct": 95.7},  # noqa: E501
+    "C": {"leg_cm": 108, "k": 0.522, "true_steps": 106, "det_steps": 107, "gps_m": 93.73, "pso_m": 96.13, "acc_pct": 97.5},  # noqa: E501
 }
-#: Paper values, A1 phase 2 (Figs. 5.14-5.15): closure m and % of the PSO distance, PSO and TAR (k = 0.5)
-#: distance, GPS distance (paper).
-PAPER_PHASE2_A1 = {  # paper Fig. 5.14-5.15
-    "park": {"closure_m": 2.81, "closure_pct": 1.6, "pso_m": 180.52, "tar_m": 203.18, "gps_m": 277.41},  # paper
-    "hall": {"closure_m": 5.79, "closure_pct": 1.9, "pso_m": 298.92, "tar_m": 336.10, "gps_m": 423.55},  # paper
+PAPER_PHASE2_A1 = {
+    "park": {"closure_m": 2.81, "closure_pct": 1.6, "pso_m": 180.52, "tar_m": 203.18, "gps_m": 277.41},
+    "hall": {"closure_m": 5.79, "closure_pct": 1.9, "pso_m": 298.92, "tar_m": 336.10, "gps_m": 423.55},
 }
-#: Static compass RMS, raw and after MA / SG filtering (sec. 5.1.3).
-PAPER_COMPASS_RMS = {"raw": 0.716, "ma": 0.563, "sg": 0.638}  # paper sec. 5.1.3
-#: PSO settings of the thesis (sec. 5.3).
-PSO_SETTINGS_PAPER = {"n_particles": 10, "max_iters": 100, "max_speed": 0.1, "min_fitness": 0.1,  # paper sec. 5.3
-                      "w_init": 1.0, "w_final": 0.1, "c1": 2.0, "c2": 2.0}  # paper sec. 5.3
-#: The fixed k of eq. 2.5 the thesis compares against ("TAR", Fig. 5.15 green path).
-K_FIXED_PAPER = 0.5  # paper Fig. 5.15
-#: Search box for the initial swarm (k, m / (m/s^2)^(1/4)).
-K_BOUNDS = (0.0, 1.0)
+PAPER_COMPASS_RMS = {"raw": 0.716, "ma": 0.563, "sg": 0.638}
+K_FIXED_PAPER = 0.5
 
 PREFILTERS = ("ma", "none")
-
-
-# ------------------------------------------------------------------------------------------------
-# fitness and learning
-# ------------------------------------------------------------------------------------------------
-
-def step_factors(steps: pd.DataFrame) -> np.ndarray:
-    """``q_j = (Amax_j - Amin_j)^(1/4)`` of every detected step (the Weinberg length for k = 1).
-
-    Raises
-    ------
-    ValueError
-        When ``steps`` is empty (no steps detected: k cannot be learned) or lacks the columns.
-    """
-    for c in ("a_max_mps2", "a_min_mps2"):
-        if c not in steps.columns:
-            raise ValueError(f"steps lack column {c!r} (use a step detector's output)")
-    if len(steps) == 0:
-        raise ValueError("no steps detected: the walk gives nothing to learn k from")
-    return weinberg_length_m(steps["a_max_mps2"].to_numpy(float), steps["a_min_mps2"].to_numpy(float), 1.0)
-
-
-def distance_fitness(k, q: np.ndarray, d_gps_m: float) -> np.ndarray:
-    """Eq. 4.4 over a walk: ``|D_gps - k sum q|`` (vectorised over ``k``), m."""
-    k = np.asarray(k, dtype=float)
-    return np.abs(d_gps_m - k * float(np.sum(q)))
-
-
-def per_step_fitness(k, q: np.ndarray, d_gps_m: float) -> np.ndarray:
-    """Eq. 4.4 per step, averaged: ``mean_j |D_gps / N - k q_j|`` (vectorised over ``k``), m."""
-    k = np.atleast_1d(np.asarray(k, dtype=float))
-    s_gps = d_gps_m / q.size
-    out = np.mean(np.abs(s_gps - k[:, None] * q[None, :]), axis=1)
-    return out
-
-
-def closed_form_k(q: np.ndarray, d_gps_m: float, fitness: str = "total") -> dict:
-    """Closed-form references: the fitness minimiser and the least-squares k.
-
-    Returns
-    -------
-    dict
-        ``k_min``: exact minimiser of the chosen fitness (total: ``D/sum q``; per_step: weighted
-        median of ``(D/N)/q_j`` with weights ``q_j``); ``k_ls``: least squares (total: ``D/sum q``;
-        per_step: ``(D/N) sum q / sum q^2``).
-    """
-    q = np.asarray(q, dtype=float)
-    if fitness == "total":
-        k = d_gps_m / q.sum()
-        return {"k_min": k, "k_ls": k}
-    if fitness == "per_step":
-        s = d_gps_m / q.size
-        r = s / q
-        order = np.argsort(r)
-        cw = np.cumsum(q[order])
-        k_med = float(r[order][np.searchsorted(cw, 0.5 * cw[-1])])
-        return {"k_min": k_med, "k_ls": float(s * q.sum() / (q @ q))}
-    raise ValueError(f"fitness must be 'total' or 'per_step', got {fitness!r}")
-
-
-def _fitness_fn(fitness: str, q, d):
-    if fitness == "total":
-        return lambda K: distance_fitness(K[:, 0], q, d)
-    if fitness == "per_step":
-        return lambda K: per_step_fitness(K[:, 0], q, d)
-    raise ValueError(f"fitness must be 'total' or 'per_step', got {fitness!r}")
-
-
-def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "total", rng=None,
-            pso_settings: dict | None = None) -> tuple[dict, PSOResult]:
-    """Learn the Weinberg factor of one walk by PSO, with the closed-form and scipy references.
-
-    Parameters
-    ----------
-    steps : DataFrame
-        Detected steps (``a_max_mps2``, ``a_min_mps2``).
-    d_gps_m : float
-        GPS distance of the walk, m.
-    fitness : {"total", "per_step"}
-        Reading of eq. 4.4 (module docstring).
-    rng : Generator, int or None
-        PSO random source.
-    pso_settings : dict, optional
-        Overrides of :data:`PSO_SETTINGS_PAPER`.
-
-    Returns
-    -------
-    summary : dict
-        ``k_pso``, ``fitness_pso``, ``iters``, ``best_particle``, ``k_closed``, ``k_ls``,
-        ``k_scipy``, ``fitness_closed``, ``n_steps``, ``sum_q``.
-    result : PSOResult
-    """
-    if not np.isfinite(d_gps_m) or d_gps_m <= 0:
-        raise ValueError(f"d_gps_m must be a positive distance, got {d_gps_m!r}")
-    q = step_factors(steps)
-    f = _fitness_fn(fitness, q, d_gps_m)
-    settings = {**PSO_SETTINGS_PAPER, **(pso_settings or {})}
-    res = pso_minimize(f, K_BOUNDS, rng=rng, vectorized=True, **settings)
-    ref = closed_form_k(q, d_gps_m, fitness)
-    sp = minimize_scalar(lambda k: float(f(np.array([[k]]))[0]), bounds=(0.0, 5.0), method="bounded",
-                         options={"xatol": 1e-8})
-    summary = {
-        "k_pso": float(res.x_best[0]),
-        "fitness_pso_m": res.f_best,
-        "iters": res.n_iters,
-        "best_particle": res.best_particle,
-        "k_closed": float(ref["k_min"]),
-        "k_ls": float(ref["k_ls"]),
-        "k_scipy": float(sp.x),
-        "fitness_closed_m": float(f(np.array([[ref["k_min"]]]))[0]),
-        "n_steps": int(q.size),
-        "sum_q": float(q.sum()),
-    }
-    return summary, res
 
 
 # ------------------------------------------------------------------------------------------------
@@ -217,7 +86,7 @@ def detect_walk_steps(walk: Walk, prefilter: str = "ma") -> pd.DataFrame:
     if prefilter not in PREFILTERS:
         raise ValueError(f"prefilter must be one of {PREFILTERS}, got {prefilter!r}")
     imu = walk.imu
-    return detect_steps_sign_change(imu["acc_z_mps2"].to_numpy(), imu["t_s"].to_numpy(), smooth=prefilter == "ma")
+    return detect_steps("sign_change", imu["acc_z_mps2"].to_numpy(), imu["t_s"].to_numpy(), smooth=prefilter == "ma")
 
 
 def step_headings_deg(imu: pd.DataFrame, steps: pd.DataFrame) -> np.ndarray:
@@ -239,7 +108,7 @@ def dr_track(walk: Walk, steps: pd.DataFrame, k: float) -> pd.DataFrame:
         raise ValueError(f"walk {walk.walker}/{walk.place}: no GPS fix to start from")
     lat0, lon0 = walk.gps["lat_deg"].iloc[0], walk.gps["lon_deg"].iloc[0]
     L = weinberg_length_m(steps["a_max_mps2"].to_numpy(float), steps["a_min_mps2"].to_numpy(float), k)
-    lat, lon = dead_reckon(lat0, lon0, step_headings_deg(walk.imu, steps), L)
+    lat, lon = dead_reckon_latlon(lat0, lon0, step_headings_deg(walk.imu, steps), L)
     x, y = latlon_to_local_m(lat, lon, *walk.origin_deg)
     return pd.DataFrame({"lat_deg": lat, "lon_deg": lon, "x_m": x, "y_m": y})
 
@@ -294,9 +163,7 @@ def ilc_vertical_acc(imu: pd.DataFrame, gravity_halfwidth: int = 25) -> np.ndarr
     (about 1 s at the ILC's 50 Hz).
     """
     A = imu[["acc_x_mps2", "acc_y_mps2", "acc_z_mps2"]].to_numpy(float)
-    g = np.column_stack([moving_average(A[:, i], gravity_halfwidth, gravity_halfwidth) for i in range(3)])
-    gh = g / np.linalg.norm(g, axis=1, keepdims=True)
-    return np.sum(A * gh, axis=1)
+    return along_gravity_mps2(A, gravity_lowpass_mps2(A, gravity_halfwidth))
 
 
 def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_halfwidth: int = 6,
@@ -334,7 +201,7 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
         t = tr.imu.index.to_numpy(float)
         av = ilc_vertical_acc(tr.imu)
         m = (t >= wp["t_s"].iloc[0]) & (t <= wp["t_s"].iloc[-1])
-        st = detect_steps_sign_change(av[m], t[m], n_left=ma_halfwidth, n_right=ma_halfwidth)
+        st = detect_steps("sign_change", av[m], t[m], n_left=ma_halfwidth, n_right=ma_halfwidth)
         dur = float(wp["t_s"].iloc[-1] - wp["t_s"].iloc[0])
         rows.append({"trace": tr.name, "n_waypoints": len(wp), "duration_s": dur, "waypoint_dist_m": d,
                      "det_steps": len(st), "steps_per_s": len(st) / dur,
@@ -378,7 +245,7 @@ def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int):
         summ, res = learn_k(st, d_gps, fitness, rng=np.random.default_rng([seed, 10, i]))
         tr = dr_track(w, st, summ["k_pso"])
         pso_m = path_length_m(tr["lat_deg"].to_numpy(), tr["lon_deg"].to_numpy())
-        k_true = float(np.sum(w.steps["length_m"]) / np.sum((2 * w.steps["amp_mps2"]) ** 0.25))
+        k_true = k_from_distance((2 * w.steps["amp_mps2"]) ** 0.25, np.sum(w.steps["length_m"]))
         rows.append({
             "walker": w.walker, "leg_cm": round(100 * w.leg_m), "place": w.place,
             "cadence_hz": float(1 / w.steps["duration_s"].mean()),
@@ -512,8 +379,8 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
     """
     if prefilter not in PREFILTERS:
         raise ValueError(f"prefilter must be one of {PREFILTERS}, got {prefilter!r}")
-    if fitness not in ("total", "per_step"):
-        raise ValueError(f"fitness must be 'total' or 'per_step', got {fitness!r}")
+    if fitness not in FITNESSES:
+        raise ValueError(f"fitness must be one of {FITNESSES}, got {fitness!r}")
     walks = simulate_pso_walks(seed)
     other = "none" if prefilter == "ma" else "ma"
     p1, results, tracks1 = _phase1(walks["1"], prefilter, fitness, seed)

@@ -19,10 +19,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.study_common import select, study_row, study_tasks
 from ilocalg.ins.evaluate import window_sweep, window_sweep_tables
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.sim import ins_walk
+from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "WINDOWS_S", "GRIDS", "tasks", "findings"]
 
@@ -83,7 +83,7 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame) -> str:
-    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    """Sentences computed from the study's curves (:func:`ilocalg.workflow.studies.curves`)."""
     out = []
     for phone in sorted(cv["phone"].unique()):
         h = select(cv, "horizontal RMS error", phone=phone)

@@ -18,6 +18,11 @@ one) and over the ``n_walks`` walks of the run.
 
 Returns ``{"sweep_kf_noise": ...}`` with quantity ``mean error`` (m) per ``method`` (in ``item``);
 the swept values are the task parameters ``noise_scale`` and ``fix_every``.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Ch. 5, eq. (20)-(26), Tables 4-5.
 """
 
 from __future__ import annotations
@@ -25,14 +30,17 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.study_common import select, study_row, study_tasks
 from ilocalg.fusion import PAPER_TABLE5_SIGMA_RF_VAR_M2, filter_walks, rts_smooth, sigma_sl_paper_m, straight_walk
+from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "SIGMA_RF_BASE_M", "STEP_M", "GRIDS", "BASE", "tasks", "findings", "METHODS"]
 
 EXPERIMENT = "study_kf_noise"
+# Settings from the paper
+# -----------------------
+# SIGMA_RF_BASE_M: square root of the median of Chiu (2013) Table 5's Wi-Fi error variances.
 #: Base Wi-Fi fix sd (m): sqrt of the median Table 5 variance of the i-Loc thesis (derived from paper values).
-SIGMA_RF_BASE_M = float(np.sqrt(np.median(PAPER_TABLE5_SIGMA_RF_VAR_M2)))  # from the paper's Table 5
+SIGMA_RF_BASE_M = float(np.sqrt(np.median(PAPER_TABLE5_SIGMA_RF_VAR_M2)))
 STEP_M = 0.7
 HEADING_SD_RAD = 0.05
 METHODS = ("step KF", "RTS smoother", "Wi-Fi fixes", "dead reckoning")
@@ -103,7 +111,7 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame) -> str:
-    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    """Sentences computed from the study's curves (:func:`ilocalg.workflow.studies.curves`)."""
     out = []
     for vary, fixed, label in (("noise_scale", "fix_every", "noise scale"), ("fix_every", "noise_scale",
                                                                               "fix interval (steps)")):

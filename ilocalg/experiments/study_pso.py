@@ -1,9 +1,9 @@
 """Study: PSO convergence (iterations to minFitness, success rate) vs swarm size and inertia schedule.
 
 The fitness is the PSO thesis' eq. 4.4 as the PSO experiment reads it
-(:func:`ilocalg.experiments.pso_k_factor.distance_fitness`, ``|D_gps - k sum q|`` in metres) on
+(:func:`ilocalg.pdr.k_factor.distance_fitness`, ``|D_gps - k sum q|`` in metres) on
 the six simulated phase-1 walks of that experiment (:func:`ilocalg.sim.pso_walks.simulate_pso_walks`;
-steps by :func:`~ilocalg.experiments.pso_k_factor.detect_walk_steps`, GPS distance by
+steps by the sign-change detector with the thesis's MA(2,2), GPS distance by
 :func:`ilocalg.gnss.gps_track_length_m`). The optimiser is :func:`ilocalg.optim.pso_minimize` with the
 thesis' settings (maxIters 100, maxSpeed 0.1, minFitness 0.1 m, c1 = c2 = 2; swarm seeded in
 k in [0, 1]) except the two studied: the number of particles and the inertia schedule.
@@ -20,6 +20,13 @@ as maxIters), ``fitness evaluations per success`` (all evaluations of all runs, 
 particles`` each, divided by the number of successful runs: the expected cost of reaching
 minFitness when a failed run is restarted, which compares swarm sizes fairly) and ``final |k - k*|`` (median
 distance of the returned k from the closed-form minimiser).
+
+References
+----------
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 4.1-4.4, sec. 5.3.
+Shi, Y. and Eberhart, R. (1998). A modified particle swarm optimizer. IEEE ICEC.
 """
 
 from __future__ import annotations
@@ -27,25 +34,19 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.pso_k_factor import (
-    K_BOUNDS,
-    PSO_SETTINGS_PAPER,
-    closed_form_k,
-    detect_walk_steps,
-    distance_fitness,
-    step_factors,
-)
-from ilocalg.experiments.study_common import select, study_row, study_tasks
 from ilocalg.gnss import gps_track_length_m
 from ilocalg.optim import pso_minimize
+from ilocalg.pdr.k_factor import K_BOUNDS, PSO_SETTINGS_PAPER, closed_form_k, distance_fitness, step_factors
+from ilocalg.pdr.registry import detect_steps
 from ilocalg.sim.pso_walks import simulate_pso_walks
+from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "SCHEDULES", "GRIDS", "BASE", "tasks", "findings"]
 
 EXPERIMENT = "study_pso"
 #: Inertia schedules (w_init, w_final) of eq. 4.3; "paper" is the thesis' setting.
 SCHEDULES = {
-    "paper": (PSO_SETTINGS_PAPER["w_init"], PSO_SETTINGS_PAPER["w_final"]),  # paper sec. 5.3
+    "paper": (PSO_SETTINGS_PAPER["w_init"], PSO_SETTINGS_PAPER["w_final"]),
     "w0.9to0.4": (0.9, 0.4),
     "const0.7": (0.7, 0.7),
     "const0.4": (0.4, 0.4),
@@ -83,7 +84,8 @@ def run(seed: int = 0, fast: bool = False, n_particles: int = 10, schedule: str 
     max_iters = settings["max_iters"]
     iters, ok, dk = [], [], []
     for i, walk in enumerate(simulate_pso_walks(seed)["1"]):
-        q = step_factors(detect_walk_steps(walk, "ma"))
+        q = step_factors(detect_steps("sign_change", walk.imu["acc_z_mps2"].to_numpy(), walk.imu["t_s"].to_numpy(),
+                                      smooth=True))
         d = gps_track_length_m(walk.gps)
         k_star = closed_form_k(q, d, "total")["k_min"]
 
@@ -116,7 +118,7 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame) -> str:
-    """Sentences computed from the study's curves (:func:`ilocalg.experiments.study_common.curves`)."""
+    """Sentences computed from the study's curves (:func:`ilocalg.workflow.studies.curves`)."""
     out = []
     for sch in sorted(cv["schedule"].unique(), key=list(SCHEDULES).index):
         sr = select(cv, "success rate", schedule=sch).sort_values("n_particles")

@@ -5,7 +5,7 @@ One ``run(seed, ...)`` simulates the floor (:mod:`ilocalg.sim.iloc_floor`) with 
 training scans per point, thins the 2 m training grid to ``spacing_m`` (:func:`thin_points`), builds
 the radio maps exactly as :mod:`ilocalg.experiments.wifi_iloc` does (RADAR and KNN on the per-point
 mean fingerprints, Horus on every scan; estimators from
-:func:`ilocalg.experiments.wifi_iloc.make_estimators`) and scores the three methods on new scans at
+:func:`ilocalg.wifi.paper_estimators`) and scores the three methods on new scans at
 the thesis' 28 test-route points. The test route stays the thesis' one, so with a coarser grid
 some test points are no longer training points (which is what coarser surveys cost).
 
@@ -18,6 +18,11 @@ AP (not scored)``: a test scan in which the simulated phone heard no AP at all (
 missed detections) cannot be positioned by any of the methods, so it is left out of every method's
 score and counted here. The swept values live in the task parameters ``k_aps``, ``spacing_m``,
 ``scans_per_point``.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3, Figs 3 and 5.
 """
 
 from __future__ import annotations
@@ -25,11 +30,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.experiments.study_common import study_row, study_tasks
-from ilocalg.experiments.wifi_iloc import make_estimators
 from ilocalg.metrics import horizontal_error_m, summary
 from ilocalg.sim import iloc_floor
+from ilocalg.wifi import paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
+from ilocalg.workflow.studies import study_row, study_tasks
 
 __all__ = ["run", "thin_points", "GRIDS", "tasks", "findings", "BASE"]
 
@@ -111,7 +116,7 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
     true, Xq = sim.test.xy_m[heard], sim.test.rssi_dbm[heard]
     rows = [study_row("training points", len(keep), "points"),
             study_row("test scans hearing no AP (not scored)", np.sum(~heard), "scans")]
-    for name, est in make_estimators(sim.detect_dbm, int(k_aps)).items():
+    for name, est in paper_estimators(sim.detect_dbm, int(k_aps)).items():
         if name == "Simplified-Horus":
             est.fit(X, xy)  # Horus keeps every scan (its per-point histograms)
         else:
@@ -129,8 +134,8 @@ def tasks(seeds, fast: bool = False) -> list:
 
 
 def findings(cv: pd.DataFrame, fast: bool = False) -> str:
-    """Sentences computed from :func:`ilocalg.experiments.study_common.curves` output of this study."""
-    from ilocalg.experiments.study_common import select
+    """Sentences computed from :func:`ilocalg.workflow.studies.curves` output of this study."""
+    from ilocalg.workflow.studies import select
 
     base = BASE_FAST if fast else BASE
     out = []

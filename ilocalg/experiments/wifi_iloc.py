@@ -14,6 +14,14 @@ scores the three methods on new scans at the thesis' 28 test-route points:
 Radio maps: RADAR and KNN use the per-point mean fingerprints (RADAR's radio map; an AP enters a
 point's fingerprint when heard in at least half of its scans); Horus uses every scan (its
 per-point histograms, Fig 4). "Not heard" is the simulator's detection threshold.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3, eq. (1)-(7), Figs 3-5.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Eq. (1)-(2), sec. 4.
 """
 
 from __future__ import annotations
@@ -26,32 +34,29 @@ import pandas as pd
 from ilocalg.metrics import horizontal_error_m, summary
 from ilocalg.papers import paper_ref
 from ilocalg.sim import iloc_floor
-from ilocalg.wifi import KnnFingerprint, SimplifiedHorus, SimplifiedRadar
+from ilocalg.wifi import SimplifiedRadar, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
-__all__ = ["run", "make_estimators", "findings", "ap_distribution", "PAPER_ILOC"]
+__all__ = ["run", "findings", "ap_distribution", "PAPER_ILOC"]
 
 ILOC = "i-Loc thesis"
 LUO = "罗思奇 et al. 2017"
 #: Published values used only as labelled references (paper values; never used in computation).
+#
+# Settings from the paper
+# -----------------------
+# radar_median_m  Chiu (2013) sec. 3.1, Fig 3, k = 5     radar_p80_m   sec. 3.1, "80 % within 14 m"
+# radar_best_k    sec. 3.1, "k = 5 is the most accurate"  horus_median_m  sec. 3.2, Fig 5
+# horus_p80_m     sec. 3.2, "80 % within 9 m"
+# knn_mean_m      Luo et al. (2017) sec. 4, Wi-Fi only mean error (their building)
 PAPER_ILOC = {
-    "radar_median_m": 4.5,  # paper: thesis sec. 3.1, Fig 3, k = 5
-    "radar_p80_m": 14.0,  # paper: thesis sec. 3.1, "80 % within 14 m"
-    "radar_best_k": 5,  # paper: thesis sec. 3.1, "k = 5 is the most accurate"
-    "horus_median_m": 4.5,  # paper: thesis sec. 3.2, Fig 5
-    "horus_p80_m": 9.0,  # paper: thesis sec. 3.2, "80 % within 9 m"
-    "knn_mean_m": 11.38,  # paper: 罗思奇 et al. 2017, Wi-Fi only mean error (their building)
+    "radar_median_m": 4.5,
+    "radar_p80_m": 14.0,
+    "radar_best_k": 5,
+    "horus_median_m": 4.5,
+    "horus_p80_m": 9.0,
+    "knn_mean_m": 11.38,
 }
-
-
-def make_estimators(not_heard_dbm: float, k_aps: int = 5) -> dict:
-    """The three estimators as configured in the papers (RADAR N = 3; KNN a = 1, K = 5)."""
-    return {
-        "Simplified-RADAR": SimplifiedRadar(k_aps=k_aps, n_neighbors=3, not_heard_dbm=not_heard_dbm),
-        "Simplified-Horus": SimplifiedHorus(k_aps=k_aps, bin_width_db=1.0, prob_floor=1e-3,
-                                            not_heard_dbm=not_heard_dbm),
-        "KNN (Manhattan, K=5)": KnnFingerprint(n_neighbors=5, p=1, weights="uniform", not_heard_dbm=not_heard_dbm),
-    }
 
 
 def _fit(name, est, sim, fp, pts):
@@ -97,7 +102,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
     k_study = pd.DataFrame(rows)
 
     methods, errs, timing = [], [], []
-    for name, est in make_estimators(nh, k_aps).items():
+    for name, est in paper_estimators(nh, k_aps).items():
         _fit(name, est, sim, fp, pts)
         est_xy = est.predict(Xq)
         e = horizontal_error_m(est_xy, true)

@@ -22,7 +22,6 @@ all validation rows, so the held-out half is an unbiased estimate of it.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
@@ -31,49 +30,42 @@ import pandas as pd
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import WEAKEST_DBM, ground_scale, load_ujiindoorloc
+from ilocalg.metrics import hit_rate
 from ilocalg.papers import paper_ref
-from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate
+from ilocalg.wifi import ESTIMATORS, KnnFingerprint, evaluate_method, locate_flat
 from ilocalg.wifi.knn import neighbour_weights, smallest_k, vote
 from ilocalg.wifi.radar import union_topk_sq_distances
 
-#: Real recordings: the values do not depend on a simulation seed, so reproduce does not re-run this
-#: experiment over seeds for confidence intervals (its rows keep n = 1).
-SEED_SWEEP = False
-
 __all__ = [
     "PAPER_UJI",
-    "BEST_CONFIG",
     "METHODS",
     "find_files",
     "load",
-    "make_estimator",
-    "evaluate_method",
     "metrics_row",
     "selection_mask",
     "best_search",
     "run",
 ]
 
-#: Reference values (labelled; never used in computation). "independent" = the re-measurement
-#: quoted in the issue and in the data set's SOURCE.txt; "paper" = published values.
+# Settings from the paper
+# -----------------------
+# PAPER_UJI (reference values, never used to compute): indep_* = an independent re-measurement
+# quoted in the data set's SOURCE.txt (not a paper table); paper_dataset_1nn_mean_m =
+# Torres-Sospedra et al. (2014) 1-NN baseline (another protocol); paper_evaal_winner_* = the
+# EvAAL-ETRI 2015 winner (private test set, floor penalties).
 PAPER_UJI = {
-    "indep_1nn_mean_m": 9.750,  # independent re-measurement (reference, not a paper table)
-    "indep_1nn_building": 0.9955,  # independent re-measurement (reference)
-    "indep_1nn_floor": 0.9001,  # independent re-measurement (reference)
-    "indep_k5_mean_m": 8.808,  # independent re-measurement (reference)
-    "indep_k5_building": 0.9973,  # independent re-measurement (reference)
-    "indep_k5_floor": 0.9028,  # independent re-measurement (reference)
-    "paper_dataset_1nn_mean_m": 7.9,  # paper: Torres-Sospedra et al. IPIN 2014 1-NN baseline (other protocol)
-    "paper_evaal_winner_mean_m": 6.20,  # paper: EvAAL-ETRI 2015 winner, private test set, floor penalties
-    "paper_evaal_winner_floor": 0.9374,  # paper: EvAAL-ETRI 2015 winner floor hit rate
+    "indep_1nn_mean_m": 9.750,
+    "indep_1nn_building": 0.9955,
+    "indep_1nn_floor": 0.9001,
+    "indep_k5_mean_m": 8.808,
+    "indep_k5_building": 0.9973,
+    "indep_k5_floor": 0.9028,
+    "paper_dataset_1nn_mean_m": 7.9,
+    "paper_evaal_winner_mean_m": 6.20,
+    "paper_evaal_winner_floor": 0.9374,
 }
 
-#: The "best" configuration, chosen by :func:`best_search` on the selection half of the validation
-#: set (seed 0): Simplified-RADAR's union-of-strongest-APs distance (eq. 1) with k = 5 APs,
-#: N = 12 neighbours, 1/d^2 weights (eq. 2), flat search, floor/building by weighted vote.
-BEST_CONFIG = {"kind": "radar", "k_aps": 5, "n_neighbors": 12}
-
-METHODS = ("radar", "horus", "knn", "wknn", "best")
+METHODS = tuple(ESTIMATORS)
 
 
 def find_files(data_dir: str | Path | None = None) -> tuple[Path, Path] | None:
@@ -98,65 +90,6 @@ def load(data_dir: str | Path | None = None) -> tuple[FingerprintSet, Fingerprin
     return load_ujiindoorloc(files[0]), load_ujiindoorloc(files[1])
 
 
-def make_estimator(method: str, k: int | None = None, metric: str = "euclidean",
-                   not_heard_dbm: float = WEAKEST_DBM):
-    """The estimator behind each command-line method.
-
-    ``k``: neighbours K for knn / wknn / best; strongest APs for radar / horus (default 5 for all).
-    """
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if metric not in ("manhattan", "euclidean"):
-        raise ValueError(f"metric must be 'manhattan' or 'euclidean', got {metric!r}")
-    p = 1 if metric == "manhattan" else 2
-    if method == "radar":
-        return SimplifiedRadar(k_aps=k or 5, n_neighbors=3, not_heard_dbm=not_heard_dbm)
-    if method == "horus":
-        return SimplifiedHorus(k_aps=k or 5, not_heard_dbm=not_heard_dbm)
-    if method in ("knn", "wknn"):
-        return KnnFingerprint(n_neighbors=k or 5, p=p, weights="uniform" if method == "knn" else "distance",
-                              not_heard_dbm=not_heard_dbm)
-    cfg = BEST_CONFIG
-    return SimplifiedRadar(k_aps=cfg["k_aps"], n_neighbors=k or cfg["n_neighbors"], not_heard_dbm=not_heard_dbm)
-
-
-def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k: int | None = None,
-                    metric: str = "euclidean", not_heard_dbm: float = WEAKEST_DBM) -> dict:
-    """Fit on ``train``, locate ``test``; returns arrays ``error_m``, ``floor``, ``building``,
-    ``xy_m`` and the times ``fit_s``, ``predict_s``.
-
-    ``method`` is one of :data:`METHODS` or ``"hierarchical"`` (KNN building vote -> KNN floor vote
-    inside the building -> KNN position inside the floor, :class:`ilocalg.wifi.HierarchicalLocator`).
-    """
-    t0 = time.perf_counter()
-    if method == "hierarchical":
-        clf = make_estimator("knn", k, metric, not_heard_dbm)
-        loc = HierarchicalLocator(clf).fit(train.rssi_dbm, train.xy_m, train.floor, train.building)
-        t1 = time.perf_counter()
-        df = loc.predict(test.rssi_dbm)
-        t2 = time.perf_counter()
-        xy = df[["x_m", "y_m"]].to_numpy()
-        return {"error_m": np.hypot(xy[:, 0] - test.x_m, xy[:, 1] - test.y_m), "floor": df["floor"].to_numpy(),
-                "building": df["building"].to_numpy(), "xy_m": xy, "fit_s": t1 - t0, "predict_s": t2 - t1}
-    est = make_estimator(method, k, metric, not_heard_dbm)
-    if isinstance(est, SimplifiedHorus):
-        est.fit(train.rssi_dbm, np.column_stack([train.xy_m, train.floor, train.building]))
-    else:
-        est.fit(train.rssi_dbm, train.xy_m)
-    t1 = time.perf_counter()
-    df = locate(est, test.rssi_dbm, train.floor, train.building)
-    t2 = time.perf_counter()
-    xy = df[["x_m", "y_m"]].to_numpy()
-    return {
-        "error_m": np.hypot(xy[:, 0] - test.x_m, xy[:, 1] - test.y_m),
-        "floor": df["floor"].to_numpy(),
-        "building": df["building"].to_numpy(),
-        "xy_m": xy,
-        "fit_s": t1 - t0,
-        "predict_s": t2 - t1,
-    }
-
-
 def metrics_row(res: dict, test: FingerprintSet, rows=None) -> dict:
     """Error statistics (projected and ground metres) and hit rates of one result."""
     rows = np.arange(test.n_samples) if rows is None else np.asarray(rows)
@@ -170,8 +103,8 @@ def metrics_row(res: dict, test: FingerprintSet, rows=None) -> dict:
         "p95_m": float(np.percentile(e, 95)),
         "mean_ground_m": float(np.mean(eg)),
         "median_ground_m": float(np.median(eg)),
-        "floor_hit_rate": float(np.mean(res["floor"][rows] == test.floor[rows])),
-        "building_hit_rate": float(np.mean(res["building"][rows] == test.building[rows])),
+        "floor_hit_rate": hit_rate(res["floor"][rows], test.floor[rows]),
+        "building_hit_rate": hit_rate(res["building"][rows], test.building[rows]),
     }
 
 
@@ -188,8 +121,8 @@ def _score(xy, fl, bd, test, sel):
     out = {}
     for tag, m in (("selection", sel), ("heldout", ~sel)):
         out[f"{tag}_mean_m"] = float(e[m].mean())
-        out[f"{tag}_floor_hit_rate"] = float(np.mean(fl[m] == test.floor[m]))
-        out[f"{tag}_building_hit_rate"] = float(np.mean(bd[m] == test.building[m]))
+        out[f"{tag}_floor_hit_rate"] = hit_rate(fl[m], test.floor[m])
+        out[f"{tag}_building_hit_rate"] = hit_rate(bd[m], test.building[m])
     return out
 
 
@@ -215,7 +148,7 @@ def best_search(train: FingerprintSet, test: FingerprintSet, seed: int = 0, k_ap
     for rep in ("positive", "exponential", "powed"):
         for k in knn_k_values:
             est = KnnFingerprint(k, p=2, weights="distance", representation=rep).fit(train.rssi_dbm, train.xy_m)
-            df = locate(est, test.rssi_dbm, train.floor, train.building)
+            df = locate_flat(est, test.rssi_dbm, train.floor, train.building)
             rows.append({"config": f"wknn {rep} K={k}", "kind": "wknn", "k_aps": 0, "n_neighbors": k,
                          "representation": rep,
                          **_score(df[["x_m", "y_m"]].to_numpy(), df["floor"].to_numpy(), df["building"].to_numpy(),

@@ -2,7 +2,8 @@
 
 References
 ----------
-Po-Jung Chiu, i-Loc M.S. thesis (NCTU 2013), ch. 5, eq. (20)-(26), Tables 4-5.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Ch. 5, eq. (20)-(26), Tables 4-5.
 """
 
 from ilocalg.fusion.align import AlignedFixes, fixes_at_states

@@ -7,7 +7,8 @@ into ``R_k`` (plus a floor, so that ``K`` coincident neighbours never give a zer
 
 References
 ----------
-i-Loc thesis, eq. (23) and Table 5 (the fixed-table alternative).
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Eq. (23) and Table 5 (the fixed-table alternative).
 """
 
 from __future__ import annotations

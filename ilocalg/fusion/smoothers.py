@@ -16,7 +16,7 @@ Rauch, Tung & Striebel (1965) ones, as in the smartphone-INS paper of this toolk
 References
 ----------
 H. E. Rauch, F. Tung, C. T. Striebel, "Maximum likelihood estimates of linear dynamic systems",
-AIAA J. 3(8), 1965. Liao et al. 2016 (toolkit paper 001), eq. (8)-(10).
+AIAA J. 3(8), 1965. Liao et al. (2016), eq. (8)-(10).
 """
 
 from __future__ import annotations
@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ilocalg.fusion.step_kf import StepKFResult, _inv2, _mv
+from ilocalg.fusion._linalg import inv2, matvec
+from ilocalg.fusion.step_kf import StepKFResult
 
 __all__ = ["SmoothResult", "rts_smooth", "fixed_lag_smooth"]
 
@@ -40,7 +41,7 @@ class SmoothResult:
 
 
 def _rts_gain(P_f, P_prior_next):
-    return P_f @ _inv2(P_prior_next)
+    return P_f @ inv2(P_prior_next)
 
 
 def rts_smooth(result: StepKFResult) -> SmoothResult:
@@ -67,7 +68,7 @@ def rts_smooth(result: StepKFResult) -> SmoothResult:
     n1 = xs.shape[-2]
     for k in range(n1 - 2, -1, -1):
         C = _rts_gain(Pf[..., k, :, :], Pp[..., k + 1, :, :])
-        xs[..., k, :] = xf[..., k, :] + _mv(C, xs[..., k + 1, :] - xp[..., k + 1, :])
+        xs[..., k, :] = xf[..., k, :] + matvec(C, xs[..., k + 1, :] - xp[..., k + 1, :])
         Ps[..., k, :, :] = Pf[..., k, :, :] + C @ (Ps[..., k + 1, :, :] - Pp[..., k + 1, :, :]) @ np.swapaxes(C, -1, -2)
     return SmoothResult(xs, Ps, None)
 
@@ -104,7 +105,7 @@ def fixed_lag_smooth(result: StepKFResult, lag: int) -> SmoothResult:
             continue
         mm = np.minimum(m, n1 - 2)
         C = _rts_gain(Pf[..., mm, :, :], Pp[..., mm + 1, :, :])
-        xn = xf[..., mm, :] + _mv(C, xs - xp[..., mm + 1, :])
+        xn = xf[..., mm, :] + matvec(C, xs - xp[..., mm + 1, :])
         Pn = Pf[..., mm, :, :] + C @ (Ps - Pp[..., mm + 1, :, :]) @ np.swapaxes(C, -1, -2)
         xs = np.where(active[:, None], xn, xs)
         Ps = np.where(active[:, None, None], Pn, Ps)

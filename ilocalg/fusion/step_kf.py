@@ -23,8 +23,8 @@ tests and ``benchmarks/bench_fusion.py`` compare against).
 
 References
 ----------
-Po-Jung Chiu, "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, National
-Chiao Tung University, 2013, ch. 5, eq. (20)-(26), Tables 4-5.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Ch. 5, eq. (20)-(26), Tables 4-5.
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from ilocalg.fusion._linalg import inv2, matvec
 
 __all__ = [
     "PAPER_TABLE4_STEP_M",
@@ -50,17 +52,21 @@ __all__ = [
     "StepKalmanFilter",
 ]
 
+# Settings from the paper
+# -----------------------
+# Chiu (2013): PAPER_TABLE4_STEP_M and PAPER_TABLE4_SIGMA_SL_VAR_M2 are Table 4 (header and
+# variances); PAPER_TABLE5_SIGMA_RF_VAR_M2 is Table 5, test points 1-28 in order.
 #: Table 4 of the i-Loc thesis (paper): step lengths of the step-length experiment, metres (40-80 cm in the paper).
-PAPER_TABLE4_STEP_M = (0.40, 0.50, 0.60, 0.70, 0.80)  # paper Table 4 header
+PAPER_TABLE4_STEP_M = (0.40, 0.50, 0.60, 0.70, 0.80)
 #: Table 4 of the i-Loc thesis (paper): step-length error variance sigma_SL^2 per step length. The paper prints no
 #: unit; read as m^2 (paper values; a cm^2 reading would mean sub-centimetre errors, implausible for a phone).
-PAPER_TABLE4_SIGMA_SL_VAR_M2 = (0.054, 0.054, 0.036, 0.053, 0.065)  # paper Table 4
+PAPER_TABLE4_SIGMA_SL_VAR_M2 = (0.054, 0.054, 0.036, 0.053, 0.065)
 #: Table 5 of the i-Loc thesis (paper): Wi-Fi position error variance sigma_RF^2 at the 28 test points (m^2).
-PAPER_TABLE5_SIGMA_RF_VAR_M2 = (  # paper Table 5, test points 1-28
-    15.072, 8.184, 0.523, 5.995, 2.853, 0.899, 4.305,  # paper Table 5 points 1-7
-    0.171, 11.219, 1.616, 1.891, 7.055, 1.960, 3.365,  # paper Table 5 points 8-14
-    6.400, 8.238, 5.533, 2.054, 1.929, 2.883, 1.985,  # paper Table 5 points 15-21
-    3.250, 1.789, 2.255, 3.453, 2.985, 1.145, 2.596,  # paper Table 5 points 22-28
+PAPER_TABLE5_SIGMA_RF_VAR_M2 = (
+    15.072, 8.184, 0.523, 5.995, 2.853, 0.899, 4.305,
+    0.171, 11.219, 1.616, 1.891, 7.055, 1.960, 3.365,
+    6.400, 8.238, 5.533, 2.054, 1.929, 2.883, 1.985,
+    3.250, 1.789, 2.255, 3.453, 2.985, 1.145, 2.596,
 )
 
 
@@ -180,21 +186,6 @@ def kf_predict_step(x, P, theta_rad, step_m, sigma_sl_m, sigma_theta_rad=0.0):
     return x + b * d[..., None], P + step_process_noise(theta_rad, sigma_sl_m, d, sigma_theta_rad)
 
 
-def _inv2(S):
-    a, b, c, d = S[..., 0, 0], S[..., 0, 1], S[..., 1, 0], S[..., 1, 1]
-    det = a * d - b * c
-    out = np.empty_like(S)
-    out[..., 0, 0] = d / det
-    out[..., 0, 1] = -b / det
-    out[..., 1, 0] = -c / det
-    out[..., 1, 1] = a / det
-    return out
-
-
-def _mv(A, v):
-    return np.einsum("...ij,...j->...i", A, v)
-
-
 def innovation(x, P, z, R):
     """Innovation ``y = z - x``, its covariance ``S = P + R`` and ``NIS = y^T S^-1 y`` (``H = I``).
 
@@ -203,7 +194,7 @@ def innovation(x, P, z, R):
     x = np.asarray(x, dtype=np.float64)
     y = np.asarray(z, dtype=np.float64) - x
     S = np.asarray(P, dtype=np.float64) + np.asarray(R, dtype=np.float64)
-    nis = np.einsum("...i,...i->...", y, _mv(_inv2(S), y))
+    nis = np.einsum("...i,...i->...", y, matvec(inv2(S), y))
     return y, S, nis
 
 
@@ -233,9 +224,9 @@ def kf_update(x, P, z, R):
     x = np.asarray(x, dtype=np.float64)
     P = np.asarray(P, dtype=np.float64)
     R = np.asarray(R, dtype=np.float64)
-    K = P @ _inv2(P + R)  # eq. (25) with H = I
+    K = P @ inv2(P + R)  # eq. (25) with H = I
     ikh = np.eye(2) - K
-    return x + _mv(K, z - x), ikh @ P @ np.swapaxes(ikh, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
+    return x + matvec(K, z - x), ikh @ P @ np.swapaxes(ikh, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
 
 
 # ----------------------------------------------------------------------------------------------

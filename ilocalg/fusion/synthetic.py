@@ -1,7 +1,8 @@
 """Small seeded synthetic walks for testing and benchmarking the step filter.
 
-Not a simulator of any paper's data (the i-Loc floor and walks are simulated by the Wi-Fi and PDR
-slices): a pedestrian walks a polyline at constant step length; the "detected" steps get
+Not a simulator of any paper's data (the i-Loc floor and walks are simulated by
+:mod:`ilocalg.sim.iloc_floor` and :mod:`ilocalg.sim.gait`): a pedestrian walks a polyline at constant
+step length; the "detected" steps get
 Gaussian step-length errors (standard deviation ``sigma_sl_m``) and heading errors
 (``sigma_heading_rad``, optionally a constant heading bias); Wi-Fi fixes arrive every
 ``fix_every`` states with isotropic Gaussian errors (``sigma_rf_m``) and, optionally, a fraction of

@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from ilocalg.ins.eskf import BodyVelocity, NavVelocity
-from ilocalg.pdr.norm_peaks import detect_steps_norm_peaks, moving_mean_time
+from ilocalg.pdr.norm_peaks import detect_steps_norm_peaks
+from ilocalg.pdr.signals import moving_mean_time
 
 __all__ = [
     "WVC_REFERENCE_DEFAULTS",

@@ -75,9 +75,7 @@ github.com/location-competition/indoor-location-competition-20 (commit 8ab177cd)
 
 from __future__ import annotations
 
-import io
 import json
-import tarfile
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -85,6 +83,19 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import (
+    ArchiveReader,
+    check_increasing,
+    check_record_types,
+    check_truncated_policy,
+    cut_last_line,
+    decode_text,
+    fail,
+    read_block,
+    read_bytes,
+    split_by_type,
+    to_float,
+)
 from ilocalg.io.scans import scan_matrix
 from ilocalg.io.schema import (
     ACC_COLS,
@@ -99,6 +110,7 @@ from ilocalg.io.schema import (
     Y_M,
     FingerprintSet,
     check_imu,
+    check_range,
     check_waypoints,
     check_wifi_scans,
 )
@@ -117,6 +129,8 @@ __all__ = [
     "interpolate_waypoints",
     "IlcFingerprints",
     "ilc_fingerprints",
+    "TRUNCATED_KEY",
+    "require_walk",
 ]
 
 ROTVEC_COLS = ("rv_x", "rv_y", "rv_z")
@@ -137,6 +151,10 @@ _N_VALUES = {
     "TYPE_WIFI": 5,
 }
 _DUPLICATE_POLICIES = ("error", "keep_latest")
+_RANGE = {"TYPE_ACCELEROMETER": "acc_mps2", "TYPE_GYROSCOPE": "gyr_radps", "TYPE_MAGNETIC_FIELD": "mag_ut",
+          "TYPE_ROTATION_VECTOR": "rotvec"}
+#: Key of :attr:`IlcTrace.skipped` that counts a last line dropped by ``truncated_last_line="drop"``.
+TRUNCATED_KEY = "truncated last line"
 
 
 @dataclass(frozen=True)
@@ -185,10 +203,6 @@ class IlcTrace:
         return int(self.wifi[SCAN_ID].nunique()) if len(self.wifi) else 0
 
 
-def _fail(source, lineno, msg):
-    raise ValueError(f"{source}: line {lineno}: {msg}")
-
-
 def _parse_header(lines: list[str]) -> dict:
     header: dict = {}
     sensors = []
@@ -207,41 +221,86 @@ def _parse_header(lines: list[str]) -> dict:
     return header
 
 
-def _to_float(rows: list[list[str]], linenos: list[int], source: str, rtype: str, names) -> np.ndarray:
-    try:
-        return np.asarray(rows, dtype=np.float64)
-    except ValueError:
-        for ln, r in zip(linenos, rows, strict=True):
-            for j, v in enumerate(r):
-                try:
-                    float(v)
-                except ValueError:
-                    _fail(source, ln, f"{rtype} column {j + 3} ({names[j]}) must be numeric, got {v!r}")
-        raise  # pragma: no cover
-
-
 def _check_increasing(t_ms: np.ndarray, linenos: list[int], source: str, rtype: str, strict: bool = True):
-    d = np.diff(t_ms)
-    bad = np.flatnonzero(d <= 0) if strict else np.flatnonzero(d < 0)
-    if bad.size:
-        i = bad[0] + 1
+    def message(i, kind):
         if strict:
-            kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
-            msg = (f"{kind} {rtype} timestamp {int(t_ms[i])} after {int(t_ms[i - 1])}; "
-                   "timestamps must be strictly increasing per record type")
+            return (f"{kind} {rtype} timestamp {int(t_ms[i])} after {int(t_ms[i - 1])}; "
+                    "timestamps must be strictly increasing per record type")
+        return f"{rtype} timestamp {int(t_ms[i])} before {int(t_ms[i - 1])}; Wi-Fi scans must be in time order"
+
+    check_increasing(t_ms, linenos, source, message, strict=strict)
+
+
+def _is_cut(line: str) -> str | None:
+    """What a last line without a line end lacks, or None if it is a whole record."""
+    if line.startswith("#"):
+        return None
+    parts = line.split("\t")
+    if len(parts) < 2:
+        return "only the time column"
+    rtype = parts[1]
+    n = _N_VALUES.get(rtype)
+    if n is None:
+        if any(k.startswith(rtype) for k in _N_VALUES):
+            return f"record type {rtype!r} is incomplete"
+        return None
+    if len(parts) - 2 != n:
+        return f"{len(parts) - 2} of the {n} values of {rtype}"
+    return None
+
+
+def _times_ms(t_ms, linenos, source) -> np.ndarray:
+    """Column 1 as int64 after its range check (a huge integer is an error, not an overflow)."""
+    check_range(np.asarray(t_ms, dtype=np.float64), "unix_time_ms", source, linenos, "1 (Unix time)")
+    return np.asarray(t_ms, dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class _Block:
+    """One record type's records: file lines, times (ms), numeric values and, for Wi-Fi, texts."""
+
+    lines: np.ndarray
+    t_ms: list | np.ndarray
+    num: np.ndarray
+    ssid: list | None = None
+    bssid: list | None = None
+
+
+#: Values (0-based, after time and type) converted per record type, and their names.
+_NUMERIC = {**{k: ((0, 1, 2), ("x", "y", "z")) for k in _SENSORS}, "TYPE_WAYPOINT": ((0, 1), ("x", "y")),
+            "TYPE_WIFI": ((2, 3, 4), ("rssi", "frequency", "last seen timestamp"))}
+
+
+def _blocks_fast(data: bytes) -> tuple[dict, dict, list] | None:
+    """Records grouped by type without a Python loop per line, or None (then :func:`_blocks_slow`)."""
+    tl = split_by_type(data, b"\t", 1, {k: n + 1 for k, n in _N_VALUES.items()}, header=b"#", spaces_ok=True)
+    if tl is None:
+        return None
+    out = {}
+    for rtype, block in tl.blocks.items():
+        sel, _ = _NUMERIC[rtype]
+        names = ["t_ms"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
+        num = [f"v{j}" for j in sel]
+        text = ["v0", "v1"] if rtype == "TYPE_WIFI" else []
+        df = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",))
+        if df is None:
+            return None
+        t = df["t_ms"].to_numpy()
+        v = df[num].to_numpy(dtype=np.float64)
+        if rtype == "TYPE_WIFI":
+            out[rtype] = _Block(tl.lines[rtype], t, v, df["v0"].tolist(), df["v1"].tolist())
         else:
-            msg = f"{rtype} timestamp {int(t_ms[i])} before {int(t_ms[i - 1])}; Wi-Fi scans must be in time order"
-        _fail(source, linenos[i], msg)
+            out[rtype] = _Block(tl.lines[rtype], t, v)
+    return out, tl.counts, tl.header
 
 
-def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = "error") -> IlcTrace:
-    """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
-    if duplicate_bssid not in _DUPLICATE_POLICIES:
-        raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
+def _blocks_slow(lines: list[str], source) -> tuple[dict, dict, list]:
+    """Records grouped by type, line by line; names the first malformed line."""
     header_lines: list[str] = []
     by_type: dict[str, tuple[list[int], list[int], list[list[str]]]] = {}
     counts: Counter = Counter()
-    for lineno, raw in enumerate(text.splitlines(), start=1):
+    first_line: dict[str, int] = {}
+    for lineno, raw in enumerate(lines, start=1):
         line = raw.rstrip("\r")
         if not line.strip():
             continue
@@ -250,33 +309,71 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
             continue
         parts = line.split("\t")
         if len(parts) < 2:
-            _fail(source, lineno, f"expected at least 2 tab-separated columns (time ms, record type), "
-                                  f"got {len(parts)}: {line[:60]!r}")
+            fail(source, lineno, f"expected at least 2 tab-separated columns (time ms, record type), "
+                                 f"got {len(parts)}: {line[:60]!r}")
         try:
             t_ms = int(parts[0])
         except ValueError:
-            _fail(source, lineno, f"column 1 (Unix time, ms) must be an integer, got {parts[0]!r}")
+            fail(source, lineno, f"column 1 (Unix time, ms) must be an integer, got {parts[0]!r}")
         rtype = parts[1]
+        if rtype not in counts:
+            first_line[rtype] = lineno
         counts[rtype] += 1
         nval = _N_VALUES.get(rtype)
         if nval is None:
             continue
         vals = parts[2:]
         if len(vals) != nval:
-            _fail(source, lineno, f"{rtype} expects {nval} values after time and type "
-                                  f"({2 + nval} columns), got {len(vals)} ({len(parts)} columns)")
+            fail(source, lineno, f"{rtype} expects {nval} values after time and type "
+                                 f"({2 + nval} columns), got {len(vals)} ({len(parts)} columns)")
         lst = by_type.setdefault(rtype, ([], [], []))
         lst[0].append(lineno)
         lst[1].append(t_ms)
         lst[2].append(vals)
     if not counts:
         raise ValueError(f"{source}: no data records (empty file or header only)")
+    check_record_types(counts, first_line, _N_VALUES, source, "\t", "ILC trace")
+    out = {}
+    for rtype, (linenos, t_ms, rows) in by_type.items():
+        sel, names = _NUMERIC[rtype]
+        v = to_float([[r[j] for j in sel] for r in rows], linenos, source,
+                     lambda j, rtype=rtype, sel=sel, names=names: f"{rtype} column {sel[j] + 3} ({names[j]})",
+                     len(sel))
+        if rtype == "TYPE_WIFI":
+            out[rtype] = _Block(np.asarray(linenos), t_ms, v, [r[0] for r in rows], [r[1] for r in rows])
+        else:
+            out[rtype] = _Block(np.asarray(linenos), t_ms, v)
+    return out, dict(counts), header_lines
+
+
+def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid: str = "error",
+                    truncated_last_line: str = "error") -> IlcTrace:
+    """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
+    if duplicate_bssid not in _DUPLICATE_POLICIES:
+        raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
+    check_truncated_policy(truncated_last_line)
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    fast = _blocks_fast(data)
+    n_cut = 0
+    if fast is None:
+        text = decode_text(data, source)
+        lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
+        fast = _blocks_slow(lines, source)
+    by_type, counts, header_lines = fast
+    empty = _Block(np.zeros(0, dtype=np.int64), [], np.zeros((0, 3)), [], [])
 
     def sensor(rtype):
-        linenos, t_ms, rows = by_type.get(rtype, ([], [], []))
-        t = np.asarray(t_ms, dtype=np.int64)
-        v = _to_float([r[:3] for r in rows], linenos, source, rtype, ("x", "y", "z"))
+        blk = by_type.get(rtype, empty)
+        linenos, v = blk.lines, blk.num
+        t = _times_ms(blk.t_ms, linenos, source)
         _check_increasing(t, linenos, source, rtype)
+        check_range(v, _RANGE[rtype], source, linenos, ("3 (x)", "4 (y)", "5 (z)"))
+        if t.size:
+            check_range((t - t[0]) * 1e-3, "elapsed_s", source, linenos, "1 (Unix time, since the first record)")
         return linenos, t, v.reshape(-1, 3)
 
     # IMU on one common time index
@@ -315,25 +412,30 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
                               index=pd.Index([], dtype=np.float64, name=T_S))
 
     # waypoints
-    linenos, t_ms, rows = by_type.get("TYPE_WAYPOINT", ([], [], []))
-    t = np.asarray(t_ms, dtype=np.int64)
+    blk = by_type.get("TYPE_WAYPOINT", empty)
+    linenos = blk.lines
+    t = _times_ms(blk.t_ms, linenos, source)
     _check_increasing(t, linenos, source, "TYPE_WAYPOINT")
-    v = _to_float(rows, linenos, source, "TYPE_WAYPOINT", ("x", "y")).reshape(-1, 2)
+    v = blk.num.reshape(-1, blk.num.shape[1] if blk.num.size else 2)[:, :2]
+    check_range(v, "xy_m", source, linenos, ("3 (x)", "4 (y)"))
     waypoints = pd.DataFrame({T_S: t * 1e-3, X_M: v[:, 0], Y_M: v[:, 1]})
     if len(waypoints):
         check_waypoints(waypoints, source)
 
     # Wi-Fi
     skipped = {k: n for k, n in counts.items() if k not in _N_VALUES}
-    linenos, t_ms, rows = by_type.get("TYPE_WIFI", ([], [], []))
-    t = np.asarray(t_ms, dtype=np.int64)
+    blk = by_type.get("TYPE_WIFI", empty)
+    linenos = blk.lines
+    t = _times_ms(blk.t_ms, linenos, source)
     _check_increasing(t, linenos, source, "TYPE_WIFI", strict=False)
-    num = _to_float([[r[2], r[3], r[4]] for r in rows], linenos, source, "TYPE_WIFI",
-                    ("rssi", "frequency", "last seen timestamp")).reshape(-1, 3)
-    bssid = [r[1] for r in rows]
-    for ln, b in zip(linenos, bssid, strict=True):
-        if not b:
-            _fail(source, ln, "TYPE_WIFI column 4 (bssid) is empty")
+    num = blk.num.reshape(-1, 3)
+    check_range(num[:, 0], RSSI_DBM, source, linenos, "5 (rssi)")
+    check_range(num[:, 1], FREQ_MHZ, source, linenos, "6 (frequency)")
+    check_range(num[:, 2], "unix_time_ms", source, linenos, "7 (last seen timestamp)")
+    bssid = blk.bssid
+    empty_b = [i for i, b in enumerate(bssid) if not b]
+    if empty_b:
+        fail(source, linenos[empty_b[0]], "TYPE_WIFI column 4 (bssid) is empty")
     scan_id = np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64) if t.size else t
     wifi = pd.DataFrame({
         T_S: t * 1e-3,
@@ -341,7 +443,7 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
         BSSID: pd.array(bssid, dtype="string"),
         RSSI_DBM: num[:, 0],
         FREQ_MHZ: num[:, 1],
-        "ssid": pd.array([r[0] for r in rows], dtype="string"),
+        "ssid": pd.array(blk.ssid, dtype="string"),
         "last_seen_s": num[:, 2] * 1e-3,
     })
     keep = np.ones(len(wifi), dtype=bool)
@@ -350,7 +452,7 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
         if dup.any():
             if duplicate_bssid == "error":
                 i = int(np.flatnonzero(wifi.duplicated(subset=[SCAN_ID, BSSID]).to_numpy())[0])
-                _fail(source, linenos[i], f"TYPE_WIFI bssid {bssid[i]!r} appears twice in the scan at "
+                fail(source, linenos[i], f"TYPE_WIFI bssid {bssid[i]!r} appears twice in the scan at "
                                           f"{int(t[i])} ms; pass duplicate_bssid='keep_latest' to keep the "
                                           "record with the most recent last-seen time (counted)")
             # keep_latest: stable sort by last_seen descending within each (scan, bssid) group
@@ -365,6 +467,8 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
         check_wifi_scans(wifi, source)
 
     kept = {k: n for k, n in counts.items() if k in _N_VALUES}
+    if n_cut:
+        skipped[TRUNCATED_KEY] = n_cut
     if n_dropped:
         kept["TYPE_WIFI"] -= n_dropped
         skipped["TYPE_WIFI duplicate bssid"] = n_dropped
@@ -373,16 +477,20 @@ def parse_ilc_trace(text: str, source: str = "<string>", duplicate_bssid: str = 
                     n_duplicate_bssid_dropped=n_dropped, source=source)
 
 
-def load_ilc_trace(path, duplicate_bssid: str = "error") -> IlcTrace:
+def load_ilc_trace(path, duplicate_bssid: str = "error", truncated_last_line: str = "error") -> IlcTrace:
     """Load one ILC 2.0 trace file.
 
     Parameters
     ----------
     path : str or Path
-        A ``*.txt`` trace (UTF-8, tab-separated).
+        A ``*.txt`` trace (UTF-8, tab-separated; a byte-order mark is stripped, CRLF line ends
+        and trailing blank lines are accepted), plain or ``.gz`` / ``.xz`` compressed.
     duplicate_bssid : {"error", "keep_latest"}
         What to do when a scan lists a BSSID twice (see the module docstring). Six of the 19
         site2/F4 traces need ``"keep_latest"``.
+    truncated_last_line : {"error", "drop"}
+        A file cut while being written ends without a line end inside its last record: raise
+        naming that line, or drop the line and count it in ``skipped["truncated last line"]``.
 
     Returns
     -------
@@ -390,21 +498,48 @@ def load_ilc_trace(path, duplicate_bssid: str = "error") -> IlcTrace:
 
     Raises
     ------
+    FileNotFoundError
+        The file does not exist.
     ValueError
-        Naming the file and 1-based line: wrong number of columns, non-numeric value, unsorted or
-        duplicate sensor/waypoint timestamps, misaligned IMU sensors, duplicate BSSID (policy
-        ``"error"``), or a file without data records.
+        Naming the file and 1-based line (and column, for values): wrong number of columns,
+        non-numeric value, a value outside its valid range (:data:`ilocalg.io.schema.FIELD_RANGES`),
+        unsorted or duplicate sensor/waypoint timestamps, misaligned IMU sensors, duplicate BSSID
+        (policy ``"error"``), lower-case record types, a file without any known record type, a
+        non-UTF-8 byte or corrupt compressed data.
 
     References
     ----------
     Indoor Location Competition 2.0, trace file format (README of the competition repository).
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as e:
-        raise ValueError(f"{path}: not UTF-8 text ({e})") from e
-    return parse_ilc_trace(text, str(path), duplicate_bssid=duplicate_bssid)
+    return parse_ilc_trace(read_bytes(path), str(path), duplicate_bssid=duplicate_bssid,
+                           truncated_last_line=truncated_last_line)
+
+
+def require_walk(trace: IlcTrace, min_imu: int = 50, min_waypoints: int = 2, min_scans: int = 1) -> IlcTrace:
+    """Refuse, with a sentence, a trace too small to be scored or used as a fingerprint walk.
+
+    A walk needs IMU records (steps and headings), at least two waypoints (positions between them
+    are interpolated in time) and a Wi-Fi scan. Returns ``trace`` unchanged.
+
+    Raises
+    ------
+    ValueError
+        ``FILE: the walk has 1 waypoint (TYPE_WAYPOINT records); at least 2 are needed ...``.
+    """
+    src = trace.source or "<trace>"
+    n_wp, n_imu, n_scans = len(trace.waypoints), len(trace.imu), trace.n_scans
+    if n_imu < min_imu:
+        raise ValueError(f"{src}: the walk has {n_imu} IMU samples (TYPE_ACCELEROMETER/GYROSCOPE/MAGNETIC_FIELD "
+                         f"records); at least {min_imu} (1 s at 50 Hz) are needed to detect steps and headings")
+    if n_wp < min_waypoints:
+        raise ValueError(f"{src}: the walk has {n_wp} waypoint{'s' if n_wp != 1 else ''} (TYPE_WAYPOINT records); "
+                         f"at least {min_waypoints} are needed to place it in time (positions are interpolated "
+                         "between waypoints)")
+    if n_scans < min_scans:
+        raise ValueError(f"{src}: the walk has no Wi-Fi scan (TYPE_WIFI records); fingerprints and Wi-Fi fixes "
+                         "need at least one")
+    return trace
 
 
 # ----------------------------------------------------------------------------------------------
@@ -433,10 +568,12 @@ def _resolve_root(root) -> Path:
 def _read_members(archive: Path, want) -> dict[str, bytes]:
     """Read the archive members whose name passes ``want(name)`` in one sequential pass."""
     out = {}
-    with tarfile.open(archive, "r:*") as tf:
-        for m in tf:
+    with ArchiveReader(archive) as ar:
+        for m in ar.tar:
             if m.isfile() and want(m.name):
-                out[m.name] = tf.extractfile(m).read()
+                ar.member = m.name
+                out[m.name] = ar.tar.extractfile(m).read()
+                ar.member = None
     return out
 
 
@@ -445,8 +582,8 @@ def list_ilc_traces(root) -> list[str]:
     r = _resolve_root(root)
     if r.is_dir():
         return sorted(f.stem for f in (r / "path_data_files").glob("*.txt"))
-    with tarfile.open(r, "r:*") as tf:
-        names = [m.name for m in tf if m.isfile() and "/path_data_files/" in "/" + m.name
+    with ArchiveReader(r) as ar:
+        names = [m.name for m in ar.tar if m.isfile() and "/path_data_files/" in "/" + m.name
                  and m.name.endswith(".txt")]
     return sorted(Path(n).stem for n in names)
 
@@ -514,33 +651,68 @@ def points_in_polygon(x_m, y_m, ring: np.ndarray) -> np.ndarray:
     return (np.count_nonzero(cond & (x < xc), axis=-1) % 2) == 1
 
 
-def _exteriors(geom) -> list[np.ndarray]:
-    if geom["type"] == "Polygon":
-        return [np.asarray(geom["coordinates"][0], dtype=np.float64)]
-    if geom["type"] == "MultiPolygon":
-        return [np.asarray(p[0], dtype=np.float64) for p in geom["coordinates"]]
-    raise ValueError(f"unsupported geometry type {geom['type']!r}; expected Polygon or MultiPolygon")
+def _exteriors(geom, where: str) -> list[np.ndarray]:
+    try:
+        kind, coords = geom["type"], geom["coordinates"]
+        if kind == "Polygon":
+            rings = [(f"{where}.coordinates[0]", coords[0])]
+        elif kind == "MultiPolygon":
+            rings = [(f"{where}.coordinates[{i}][0]", p[0]) for i, p in enumerate(coords)]
+        else:
+            raise ValueError(f"{where}: unsupported geometry type {kind!r}; expected Polygon or MultiPolygon")
+        out = []
+        for w, r in rings:
+            a = np.asarray(r, dtype=np.float64)
+            if a.ndim != 2 or a.shape[1] < 2 or a.shape[0] < 3:
+                raise ValueError(f"{w}: a ring needs at least 3 [lon, lat] points, got shape {a.shape}")
+            at = [f"{w}[{k}]" for k in range(a.shape[0])]
+            check_range(a[:, 0], "lon_deg", None, at, "0 (longitude)")
+            check_range(a[:, 1], "lat_deg", None, at, "1 (latitude)")
+            out.append(a[:, :2])
+        return out
+    except (KeyError, TypeError, IndexError) as e:
+        raise ValueError(f"{where}: not a GeoJSON Polygon/MultiPolygon geometry ({type(e).__name__}: {e})") from None
+
+
+def _json(data: bytes, source: str):
+    text = decode_text(data, source)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{source}: line {e.lineno}, column {e.colno}: not valid JSON ({e.msg})") from None
 
 
 def _floor_map(info_bytes: bytes, geo_bytes: bytes, source: str) -> IlcFloorMap:
-    info = json.loads(info_bytes)
+    info_src, geo_src = f"{source}/floor_info.json", f"{source}/geojson_map.json"
+    info = _json(info_bytes, info_src)
     try:
         w = float(info["map_info"]["width"])
         h = float(info["map_info"]["height"])
     except (KeyError, TypeError, ValueError) as e:
-        raise ValueError(f"{source}: floor_info.json lacks map_info.width/height ({e})") from e
-    geo = json.loads(geo_bytes)
-    feats = geo.get("features") or []
+        raise ValueError(f"{info_src}: lacks numeric map_info.width/height ({type(e).__name__}: {e})") from e
+    check_range([w, h], "map_size_m", info_src, ["map_info.width", "map_info.height"], "")
+    geo = _json(geo_bytes, geo_src)
+    feats = geo.get("features") if isinstance(geo, dict) else None
     if not feats:
-        raise ValueError(f"{source}: geojson_map.json has no features")
-    outline_ll = _exteriors(feats[0]["geometry"])
+        raise ValueError(f"{geo_src}: geojson_map.json has no features")
+    try:
+        outline_ll = _exteriors(feats[0]["geometry"], "features[0].geometry")
+        obstacles_ll = [r for i, f in enumerate(feats[1:], start=1)
+                        for r in _exteriors(f["geometry"], f"features[{i}].geometry")]
+    except (KeyError, TypeError) as e:
+        raise ValueError(f"{geo_src}: a feature lacks its geometry ({type(e).__name__}: {e})") from None
+    except ValueError as e:
+        raise ValueError(f"{geo_src}: {e}") from None
     allpts = np.concatenate(outline_ll)
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    if not (hi[0] > lo[0] and hi[1] > lo[1]):
+        raise ValueError(f"{geo_src}: features[0] (the floor outline) spans no area: longitudes "
+                         f"[{lo[0]!r}, {hi[0]!r}], latitudes [{lo[1]!r}, {hi[1]!r}]")
 
     def to_m(r):
         return np.column_stack([(r[:, 0] - lo[0]) / (hi[0] - lo[0]) * w, (r[:, 1] - lo[1]) / (hi[1] - lo[1]) * h])
 
-    obstacles = [to_m(r) for f in feats[1:] for r in _exteriors(f["geometry"])]
+    obstacles = [to_m(r) for r in obstacles_ll]
     return IlcFloorMap(width_m=w, height_m=h, outline=tuple(to_m(r) for r in outline_ll),
                        obstacles=tuple(obstacles), lonlat_bbox=(lo[0], lo[1], hi[0], hi[1]), source=source)
 
@@ -549,7 +721,7 @@ def load_ilc_floor_map(root) -> IlcFloorMap:
     """Floor size and walkable polygons from a floor folder or its archive (see module docstring)."""
     r = _resolve_root(root)
     if r.is_dir():
-        return _floor_map((r / "floor_info.json").read_bytes(), (r / "geojson_map.json").read_bytes(), str(r))
+        return _floor_map(read_bytes(r / "floor_info.json"), read_bytes(r / "geojson_map.json"), str(r))
     m = _read_members(r, lambda n: n.endswith(("floor_info.json", "geojson_map.json")))
     info = [v for k, v in m.items() if k.endswith("floor_info.json")]
     geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
@@ -579,13 +751,14 @@ class IlcFloor:
         return list(self.traces)
 
 
-def load_ilc_floor(root, names=None, duplicate_bssid: str = "error") -> IlcFloor:
+def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_last_line: str = "error") -> IlcFloor:
     """Load a floor's traces (all, or ``names``) and map from a folder or directly from its archive.
 
     ``root`` may be the extracted floor folder (``.../site2_F4`` with ``path_data_files/``), the
     data-set folder holding the ``.tar.xz`` or the archive itself; archive members are read in
-    memory with :mod:`tarfile` (nothing is extracted). ``duplicate_bssid`` is passed to
-    :func:`parse_ilc_trace` for every trace.
+    memory with :mod:`tarfile` (nothing is extracted); a corrupt or truncated archive raises a
+    ValueError naming it (and the member being read). ``duplicate_bssid`` and
+    ``truncated_last_line`` are passed to :func:`parse_ilc_trace` for every trace.
     """
     r = _resolve_root(root)
     want = None if names is None else set(names)
@@ -593,13 +766,13 @@ def load_ilc_floor(root, names=None, duplicate_bssid: str = "error") -> IlcFloor
     if r.is_dir():
         for f in sorted((r / "path_data_files").glob("*.txt")):
             if want is None or f.stem in want:
-                texts[f.stem] = (f.read_text(encoding="utf-8"), str(f))
+                texts[f.stem] = (read_bytes(f), str(f))
         fmap = load_ilc_floor_map(r)
     else:
         m = _read_members(r, lambda n: n.endswith((".txt", "floor_info.json", "geojson_map.json")))
         for k, v in sorted(m.items()):
             if "path_data_files/" in k and k.endswith(".txt") and (want is None or Path(k).stem in want):
-                texts[Path(k).stem] = (io.TextIOWrapper(io.BytesIO(v), encoding="utf-8").read(), f"{r}:{k}")
+                texts[Path(k).stem] = (v, f"{r}:{k}")
         info = [v for k, v in m.items() if k.endswith("floor_info.json")]
         geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
         if len(info) != 1 or len(geo) != 1:
@@ -609,7 +782,8 @@ def load_ilc_floor(root, names=None, duplicate_bssid: str = "error") -> IlcFloor
         raise ValueError(f"{r}: traces not found: {sorted(want - set(texts))}")
     if not texts:
         raise ValueError(f"{r}: no trace files (path_data_files/*.txt)")
-    traces = {k: parse_ilc_trace(t, src, duplicate_bssid=duplicate_bssid) for k, (t, src) in sorted(texts.items())}
+    traces = {k: parse_ilc_trace(t, src, duplicate_bssid=duplicate_bssid, truncated_last_line=truncated_last_line)
+              for k, (t, src) in sorted(texts.items())}
     return IlcFloor(traces=traces, floor_map=fmap, source=str(r))
 
 

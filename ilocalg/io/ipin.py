@@ -47,6 +47,18 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import (
+    check_increasing,
+    check_record_types,
+    check_truncated_policy,
+    cut_last_line,
+    decode_text,
+    fail,
+    read_block,
+    read_bytes,
+    split_by_type,
+    to_float,
+)
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -61,16 +73,20 @@ from ilocalg.io.schema import (
     X_M,
     Y_M,
     check_imu,
+    check_range,
     check_wifi_scans,
 )
 
-__all__ = ["IpinLog", "load_ipin_logfile", "parse_ipin_logfile", "EARTH_RADIUS_M"]
+__all__ = ["IpinLog", "load_ipin_logfile", "parse_ipin_logfile", "EARTH_RADIUS_M", "TRUNCATED_KEY"]
 
 #: Mean Earth radius (WGS-84 / IUGG), metres, for the local tangent-plane positions.
 EARTH_RADIUS_M = 6371008.8
 
 _IMU = {"ACCE": ("acc", ACC_COLS), "GYRO": ("gyr", GYR_COLS), "MAGN": ("mag", MAG_COLS)}
 _N_FIELDS = {"ACCE": 6, "GYRO": 6, "MAGN": 6, "WIFI": 6, "POSI": 6}
+_RANGE = {"ACCE": "acc_mps2", "GYRO": "gyr_radps", "MAGN": "mag_ut"}
+#: Key of :attr:`IpinLog.skipped` that counts a last line dropped by ``truncated_last_line="drop"``.
+TRUNCATED_KEY = "truncated last line"
 _IMU_FIELDS = ("AppTimestamp", "SensorTimestamp", "X", "Y", "Z", "Accuracy")
 _WIFI_FIELDS = ("AppTimestamp", "SensorTimeStamp", "Name_SSID", "MAC_BSSID", "Frequency", "RSS")
 _POSI_FIELDS = ("Timestamp", "Counter", "Latitude", "Longitude", "floor_ID", "Building_ID")
@@ -107,39 +123,18 @@ class IpinLog:
     source: str | None = None
 
 
-def _fail(source, lineno, msg):
-    raise ValueError(f"{source}: line {lineno}: {msg}")
-
-
 def _floats(rows, linenos, cols, names, source, rtype) -> np.ndarray:
     """Columns ``cols`` of ``rows`` as float64, naming line and column of the first bad value."""
     sub = [[r[c] for c in cols] for r in rows]
-    try:
-        out = np.asarray(sub, dtype=np.float64).reshape(len(rows), len(cols))
-    except ValueError:
-        out = None
-    if out is not None and np.isfinite(out).all():
-        return out
-    for ln, r in zip(linenos, sub, strict=True):
-        for j, v in enumerate(r):
-            try:
-                ok = np.isfinite(float(v))
-            except ValueError:
-                ok = False
-            if not ok:
-                _fail(source, ln, f"{rtype} field {cols[j] + 2} ({names[cols[j]]}) must be a finite number, got {v!r}")
-    raise AssertionError("unreachable")  # pragma: no cover
+    return to_float(sub, linenos, source, lambda j: f"{rtype} field {cols[j] + 2} ({names[cols[j]]})", len(cols),
+                    finite=True)
 
 
 def _increasing(t, linenos, source, rtype, strict=True, hint=""):
-    d = np.diff(t)
-    bad = np.flatnonzero(d <= 0 if strict else d < 0)
-    if bad.size:
-        i = bad[0] + 1
-        kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
-        need = "strictly increasing" if strict else "non-decreasing"
-        _fail(source, linenos[i], f"{kind} {rtype} timestamp {float(t[i])!r} after {float(t[i - 1])!r}; "
-                                  f"timestamps must be {need}{hint}")
+    need = "strictly increasing" if strict else "non-decreasing"
+    check_increasing(t, linenos, source, lambda i, kind: f"{kind} {rtype} timestamp {float(t[i])!r} after "
+                                                         f"{float(t[i - 1])!r}; timestamps must be {need}{hint}",
+                     strict=strict)
 
 
 def _empty_imu(cols):
@@ -147,42 +142,123 @@ def _empty_imu(cols):
                         index=pd.Index([], dtype=np.float64, name=T_S))
 
 
-def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -> IpinLog:
-    """Parse the text of an IPIN logfile (see :func:`load_ipin_logfile`)."""
-    if time not in ("app", "sensor"):
-        raise ValueError(f"time must be 'app' or 'sensor', got {time!r}")
+def _is_cut(line: str) -> str | None:
+    """What a last line without a line end lacks, or None if it is a whole record."""
+    parts = line.split(";")
+    rtype = parts[0].strip()
+    n = _N_FIELDS.get(rtype)
+    if n is None:
+        if len(parts) == 1 and any(k.startswith(rtype) for k in _N_FIELDS):
+            return f"record type {rtype!r} is incomplete"
+        return None
+    if len(parts) - 1 != n:
+        return f"{len(parts) - 1} of the {n} fields of {rtype}"
+    return None
+
+
+@dataclass(frozen=True)
+class _Block:
+    """One record type's records: file lines, numeric fields (float64) and text fields."""
+
+    lines: np.ndarray
+    num: np.ndarray
+    ssid: list | None = None
+    bssid: list | None = None
+
+
+#: Numeric fields (0-based, after the type) converted per record type.
+_NUMERIC = {"ACCE": (0, 1, 2, 3, 4), "GYRO": (0, 1, 2, 3, 4), "MAGN": (0, 1, 2, 3, 4), "WIFI": (0, 1, 4, 5),
+            "POSI": (0, 1, 2, 3, 4, 5)}
+_FIELDS = {"ACCE": _IMU_FIELDS, "GYRO": _IMU_FIELDS, "MAGN": _IMU_FIELDS, "WIFI": _WIFI_FIELDS, "POSI": _POSI_FIELDS}
+def _blocks_fast(data: bytes) -> tuple[dict, dict] | None:
+    """Records grouped by type without a Python loop per line, or None (then :func:`_blocks_slow`)."""
+    tl = split_by_type(data, b";", 0, _N_FIELDS, comment=b"%")  # n fields after the type = n separators
+    if tl is None:
+        return None
+    out = {}
+    for rtype, block in tl.blocks.items():
+        names = [f"f{j}" for j in range(_N_FIELDS[rtype])]
+        num = [f"f{j}" for j in _NUMERIC[rtype]]
+        text = ["f2", "f3"] if rtype == "WIFI" else []  # ssid, bssid (IMU Accuracy is not read)
+        df = read_block(block, ";", names, sorted(num + text), strings=text)
+        if df is None:
+            return None
+        v = df[num].to_numpy(dtype=np.float64)
+        if rtype == "WIFI":
+            out[rtype] = _Block(tl.lines[rtype], v, df["f2"].tolist(), df["f3"].tolist())
+        else:
+            out[rtype] = _Block(tl.lines[rtype], v)
+    return out, tl.counts
+
+
+def _blocks_slow(lines: list[str], source) -> tuple[dict, dict]:
+    """Records grouped by type, line by line; names the first malformed line."""
     recs: dict[str, tuple[list[int], list[list[str]]]] = {}
     counts: Counter = Counter()
-    for lineno, raw in enumerate(text.splitlines(), start=1):
+    first_line: dict[str, int] = {}
+    for lineno, raw in enumerate(lines, start=1):
         line = raw.strip()
         if not line or line.startswith("%"):
             continue
         parts = line.split(";")
         rtype = parts[0].strip()
+        if rtype not in counts:
+            first_line[rtype] = lineno
         counts[rtype] += 1
         n = _N_FIELDS.get(rtype)
         if n is None:
             continue
         vals = [p.strip() for p in parts[1:]]
         if len(vals) != n:
-            _fail(source, lineno, f"{rtype} expects {n} fields after the type, got {len(vals)} "
-                                  f"(truncated or malformed line: {line[:60]!r})")
+            fail(source, lineno, f"{rtype} expects {n} fields after the type, got {len(vals)} "
+                                 f"(truncated or malformed line: {line[:60]!r})")
         lst = recs.setdefault(rtype, ([], []))
         lst[0].append(lineno)
         lst[1].append(vals)
     if not counts:
         raise ValueError(f"{source}: no records (empty file or comments only)")
+    check_record_types(counts, first_line, _N_FIELDS, source, ";", "IPIN logfile")
+    out = {}
+    for rtype, (linenos, rows) in recs.items():
+        v = _floats(rows, linenos, _NUMERIC[rtype], _FIELDS[rtype], source, rtype)
+        if rtype == "WIFI":
+            out[rtype] = _Block(np.asarray(linenos), v, [r[2] for r in rows], [r[3] for r in rows])
+        else:
+            out[rtype] = _Block(np.asarray(linenos), v)
+    return out, dict(counts)
+
+
+def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = "app",
+                       truncated_last_line: str = "error") -> IpinLog:
+    """Parse the text of an IPIN logfile (see :func:`load_ipin_logfile`)."""
+    if time not in ("app", "sensor"):
+        raise ValueError(f"time must be 'app' or 'sensor', got {time!r}")
+    check_truncated_policy(truncated_last_line)
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    fast = _blocks_fast(data)
+    n_cut = 0
+    if fast is None:
+        text = decode_text(data, source)
+        lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
+        fast = _blocks_slow(lines, source)
+    recs, counts = fast
 
     imu = {}
     sensor_t = {}
     for rtype, (name, cols) in _IMU.items():
-        linenos, rows = recs.get(rtype, ([], []))
-        if not rows:
+        if rtype not in recs:
             imu[name] = _empty_imu(cols)
             sensor_t[name] = np.array([], dtype=np.float64)
             continue
-        v = _floats(rows, linenos, (0, 1, 2, 3, 4), _IMU_FIELDS, source, rtype)
+        linenos, v = recs[rtype].lines, recs[rtype].num
         t_app, t_sen = v[:, 0], v[:, 1]
+        check_range(t_app, "elapsed_s", source, linenos, "2 (AppTimestamp)")
+        check_range(t_sen - t_sen[0], "elapsed_s", source, linenos, "3 (SensorTimestamp, since the first record)")
+        check_range(v[:, 2:5], _RANGE[rtype], source, linenos, ("4 (X)", "5 (Y)", "6 (Z)"))
         t_idx = t_app if time == "app" else t_sen
         other = "sensor" if time == "app" else "app"
         _increasing(t_idx, linenos, source, rtype,
@@ -191,27 +267,29 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
         imu[name] = check_imu(df, source)
         sensor_t[name] = t_sen
 
-    linenos, rows = recs.get("WIFI", ([], []))
-    if rows:
-        v = _floats(rows, linenos, (0, 1, 4, 5), _WIFI_FIELDS, source, "WIFI")
+    if "WIFI" in recs:
+        linenos, v, ssid, bssid = recs["WIFI"].lines, recs["WIFI"].num, recs["WIFI"].ssid, recs["WIFI"].bssid
         t = v[:, 0]
+        check_range(t, "elapsed_s", source, linenos, "2 (AppTimestamp)")
+        check_range(v[:, 2], FREQ_MHZ, source, linenos, "6 (Frequency)")
+        check_range(v[:, 3], RSSI_DBM, source, linenos, "7 (RSS)")
         _increasing(t, linenos, source, "WIFI", strict=False)
-        for ln, r in zip(linenos, rows, strict=True):
-            if not r[3]:
-                _fail(source, ln, "WIFI field 5 (MAC_BSSID) is empty")
+        empty = [i for i, b in enumerate(bssid) if not b]
+        if empty:
+            fail(source, linenos[empty[0]], "WIFI field 5 (MAC_BSSID) is empty")
         wifi = pd.DataFrame({
             T_S: t,
             SCAN_ID: np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64),
-            BSSID: pd.array([r[3].lower() for r in rows], dtype="string"),
+            BSSID: pd.array([b.lower() for b in bssid], dtype="string"),
             RSSI_DBM: v[:, 3],
             FREQ_MHZ: v[:, 2],
-            "ssid": pd.array([r[2] for r in rows], dtype="string"),
+            "ssid": pd.array(ssid, dtype="string"),
             "sensor_t_s": v[:, 1],
         })
         dup = wifi.duplicated(subset=[SCAN_ID, BSSID]).to_numpy()
         if dup.any():
             i = int(np.flatnonzero(dup)[0])
-            _fail(source, linenos[i], f"WIFI bssid {wifi[BSSID].iloc[i]!r} appears twice in the scan at "
+            fail(source, linenos[i], f"WIFI bssid {wifi[BSSID].iloc[i]!r} appears twice in the scan at "
                                       f"AppTimestamp {float(t[i])!r}")
         check_wifi_scans(wifi, source)
     else:
@@ -220,17 +298,16 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
                              FREQ_MHZ: np.array([], dtype=np.float64), "ssid": pd.array([], dtype="string"),
                              "sensor_t_s": np.array([], dtype=np.float64)})
 
-    linenos, rows = recs.get("POSI", ([], []))
-    v = _floats(rows, linenos, (0, 1, 2, 3, 4, 5), _POSI_FIELDS, source, "POSI") if rows else np.zeros((0, 6))
+    linenos, v = (recs["POSI"].lines, recs["POSI"].num) if "POSI" in recs else (np.zeros(0, np.int64),
+                                                                               np.zeros((0, 6)))
     _increasing(v[:, 0], linenos, source, "POSI")
-    for j, name in ((4, "floor_ID"), (5, "Building_ID")):
-        nonint = np.flatnonzero(v[:, j] != np.round(v[:, j]))
-        if nonint.size:
-            _fail(source, linenos[nonint[0]], f"POSI field {j + 2} ({name}) must be an integer, got {v[nonint[0], j]}")
+    check_range(v[:, 0], "elapsed_s", source, linenos, "2 (Timestamp)")
+    check_range(v[:, 1], "count", source, linenos, "3 (Counter)")
+    check_range(v[:, 2], "lat_deg", source, linenos, "4 (Latitude)")
+    check_range(v[:, 3], "lon_deg", source, linenos, "5 (Longitude)")
+    check_range(v[:, 4], FLOOR, source, linenos, "6 (floor_ID)")
+    check_range(v[:, 5], BUILDING, source, linenos, "7 (Building_ID)")
     lat, lon = v[:, 2], v[:, 3]
-    bad = np.flatnonzero((np.abs(lat) > 90) | (np.abs(lon) > 180))
-    if bad.size:
-        _fail(source, linenos[bad[0]], f"POSI latitude/longitude out of range: {lat[bad[0]]}, {lon[bad[0]]}")
     if lat.size:
         lat0, lon0 = np.deg2rad(lat[0]), np.deg2rad(lon[0])
         x = EARTH_RADIUS_M * (np.deg2rad(lon) - lon0) * np.cos(lat0)
@@ -242,18 +319,25 @@ def parse_ipin_logfile(text: str, source: str = "<string>", time: str = "app") -
 
     kept = {k: n for k, n in counts.items() if k in _N_FIELDS}
     skipped = {k: n for k, n in counts.items() if k not in _N_FIELDS}
+    if n_cut:
+        skipped[TRUNCATED_KEY] = n_cut
     return IpinLog(acc=imu["acc"], gyr=imu["gyr"], mag=imu["mag"], sensor_t_s=sensor_t, wifi=wifi,
                    positions=positions, kept=kept, skipped=skipped, source=source)
 
 
-def load_ipin_logfile(path, time: str = "app") -> IpinLog:
-    """Load an IPIN competition smartphone logfile.
+def load_ipin_logfile(path, time: str = "app", truncated_last_line: str = "error") -> IpinLog:
+    """Load an IPIN competition smartphone logfile (plain, ``.gz`` or ``.xz``).
 
     Parameters
     ----------
     path : str or Path
+        UTF-8 text (a byte-order mark is stripped, CRLF line ends and trailing blank lines are
+        accepted); gzip or xz compressed files are read transparently.
     time : {"app", "sensor"}
         Which timestamp indexes the IMU logs (AppTimestamp by default, see module docstring).
+    truncated_last_line : {"error", "drop"}
+        A file cut while being written ends without a line end inside its last record: raise
+        naming that line, or drop the line and count it in ``skipped["truncated last line"]``.
 
     Returns
     -------
@@ -261,18 +345,18 @@ def load_ipin_logfile(path, time: str = "app") -> IpinLog:
 
     Raises
     ------
+    FileNotFoundError
+        The file does not exist.
     ValueError
-        Naming the file and 1-based line: wrong field count (truncated line), non-numeric or
-        non-finite value (with its field number and name), unsorted or duplicate timestamps,
-        duplicate BSSID in a scan, non-integer floor/building, or a file without records.
+        Naming the file and 1-based line (and column, for values): wrong field count (truncated
+        line), non-numeric or non-finite value, a value outside its valid range
+        (:data:`ilocalg.io.schema.FIELD_RANGES`), unsorted or duplicate timestamps, duplicate
+        BSSID in a scan, lower-case or ``,``/tab-separated record types, a file in which no
+        known record type occurs, a non-UTF-8 byte, or corrupt compressed data.
 
     References
     ----------
     IPIN competition Track 3 logfile format (see module docstring).
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8", errors="strict")
-    except UnicodeDecodeError:
-        text = path.read_text(encoding="latin-1")
-    return parse_ipin_logfile(text, str(path), time=time)
+    return parse_ipin_logfile(read_bytes(path), str(path), time=time, truncated_last_line=truncated_last_line)

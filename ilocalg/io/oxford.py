@@ -11,10 +11,15 @@ Optimisation recording
 Validation recording
     One headerless CSV with seven columns: timestamp (ns), ax, ay, az (m/s^2), the app's
     cumulative step count, the true cumulative step count, the phone's hardware cumulative step
-    count. True steps are the increments of the true count; the total is its last value.
+    count. True steps are the increments of the true count (the total is its last minus its first
+    value, so that the step times and the total always agree). The cumulative counts must be
+    whole numbers that never decrease; a hardware count column that is 0 throughout means the
+    phone has no hardware counter (``hardware_steps=None``).
 
-Times are returned in seconds relative to the first accelerometer sample. Nothing is dropped or
-repaired: a malformed file raises ValueError naming the file, the line and the column.
+Times are returned in seconds relative to the first accelerometer sample. Nothing is silently
+dropped or repaired: a malformed file raises ValueError naming the file, the line and the column.
+The one real-world quirk with a policy is a timestamp repeated on consecutive lines
+(``duplicate_timestamps="drop"``, counted); the error message names that option.
 
 References
 ----------
@@ -23,7 +28,9 @@ Oxford step counter DataSet (github.com/Oxford-step-counter/DataSet), CC BY 4.0;
 
 from __future__ import annotations
 
+import csv
 import io
+import re
 import tarfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +38,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.schema import ACC_COLS, T_S
+from ilocalg.io._text import ArchiveReader, check_increasing, decode_text, read_bytes, strip_trailing_blank_lines
+from ilocalg.io.schema import ACC_COLS, T_S, check_range
 
 __all__ = [
     "OxfordRecording",
@@ -39,7 +47,12 @@ __all__ = [
     "load_oxford_archive",
     "list_oxford_archive",
     "parse_recording_name",
+    "DUPLICATE_POLICIES",
 ]
+
+#: Policies for a timestamp repeated on consecutive lines (see :func:`load_oxford_step_counter`).
+DUPLICATE_POLICIES = ("error", "drop")
+_BLANK_LINE = re.compile(r"\n[ \t\r]*\n")
 
 ACC_FILE = "accelerometer.csv"
 STEP_FILE = "stepcounter.csv"
@@ -60,10 +73,13 @@ class OxfordRecording:
     true_steps : int
         Number of true steps.
     hardware_steps : int or None
-        The phone's hardware step counter over the walk (validation layout only).
+        The phone's hardware step counter over the walk (validation layout only); ``None`` when
+        the file has no hardware counter (six columns, or a seventh column that is 0 throughout).
     meta : dict
         ``phone``, ``user``, ``surface``, ``position`` parsed from the name when it follows the
         optimisation naming scheme.
+    n_duplicate_timestamps_dropped : int
+        Rows dropped by ``duplicate_timestamps="drop"`` (0 under ``"error"``).
     """
 
     name: str
@@ -72,6 +88,7 @@ class OxfordRecording:
     true_steps: int
     hardware_steps: int | None = None
     meta: dict = field(default_factory=dict)
+    n_duplicate_timestamps_dropped: int = 0
 
 
 def parse_recording_name(name: str) -> dict:
@@ -84,25 +101,56 @@ def parse_recording_name(name: str) -> dict:
     return {"phone": phone, "user": user, "surface": surface, "position": norm.get(position.lower(), position)}
 
 
-def _read_numeric_csv(data: bytes, source: str, ncols: int, names) -> np.ndarray:
-    """Parse a headerless numeric CSV; ValueError naming file, line and column on bad content."""
-    text = data.decode("utf-8", errors="strict") if isinstance(data, bytes) else data
-    rows = [ln for ln in text.splitlines()]
-    if not any(r.strip() for r in rows):
+def _read_numeric_csv(data: bytes, source: str, ncols, names) -> np.ndarray:
+    """Parse a headerless numeric CSV; ValueError naming file, line and column on bad content.
+
+    ``ncols`` is the expected number of columns, or a tuple of accepted numbers (the first
+    line decides). Under the common text policy a byte-order mark is stripped, CRLF line ends
+    and trailing blank lines are accepted, a blank line inside the data is an error (it would
+    shift every later line number). Well-formed files are parsed by pandas' C reader on the
+    bytes as they are; anything else line by line, naming the first bad line and column.
+    """
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    end = len(data)
+    while end and data[end - 1] in b"\r\n \t":
+        end -= 1
+    if end == 0:
         raise ValueError(f"{source}: file is empty")
-    try:
-        df = pd.read_csv(io.StringIO(text), header=None, dtype=np.float64, engine="c")
-    except ValueError:
-        df = None
-    if df is not None and df.shape[1] == ncols and np.isfinite(df.to_numpy()).all():
-        return df.to_numpy()
-    # slow path: find and name the first bad line/column
-    for k, ln in enumerate(rows, start=1):
-        if not ln.strip():
-            raise ValueError(f"{source}: line {k} is empty")
+    accepted = (ncols,) if isinstance(ncols, int) else tuple(ncols)
+    nl = data.find(b"\n", 0, end)
+    first = data[:nl if nl >= 0 else end]
+    ncols = first.count(b",") + 1 if first.count(b",") + 1 in accepted else accepted[0]
+    if data.find(b"\n\n", 0, end) < 0 and data.find(b"\n\r\n", 0, end) < 0:
+        try:
+            v = pd.read_csv(io.BytesIO(data), header=None, dtype=np.float64, engine="c",
+                            quoting=csv.QUOTE_NONE).to_numpy()
+        except (ValueError, pd.errors.ParserError):
+            v = None
+        if v is not None and v.shape[1] == ncols and np.isfinite(v).all() and not (
+                np.any((v == 0.0) | (v == 1.0)) and any(c in data for c in (b"r", b"R", b"l", b"L"))):
+            return v  # (pandas reads True/False as 1/0; float() refuses them: such files go line by line)
+    return _read_numeric_lines(decode_text(data, source), source, ncols, names)
+
+
+def _read_numeric_lines(text: str, source: str, ncols: int, names) -> np.ndarray:
+    """The line-by-line parser of :func:`_read_numeric_csv`."""
+    text = strip_trailing_blank_lines(text)
+    m = _BLANK_LINE.search(text)
+    if m is not None:
+        raise ValueError(f"{source}: line {text.count(chr(10), 0, m.start() + 1) + 1} is empty "
+                         "(blank lines are accepted only at the end of the file)")
+    rows = []
+    for k, ln in enumerate(text.splitlines(), start=1):
         cells = ln.split(",")
         if len(cells) != ncols:
-            raise ValueError(f"{source}: line {k} has {len(cells)} columns, expected {ncols} ({', '.join(names)})")
+            raise ValueError(f"{source}: line {k} has {len(cells)} columns, expected {ncols} "
+                             f"({', '.join(names[:ncols])})")
+        row = []
         for j, c in enumerate(cells):
             try:
                 v = float(c)
@@ -110,17 +158,31 @@ def _read_numeric_csv(data: bytes, source: str, ncols: int, names) -> np.ndarray
                 raise ValueError(f"{source}: line {k}, column {j + 1} ({names[j]}): not a number: {c!r}") from None
             if not np.isfinite(v):
                 raise ValueError(f"{source}: line {k}, column {j + 1} ({names[j]}): not finite: {c!r}")
-    raise ValueError(f"{source}: could not parse as {ncols} numeric columns")
+            row.append(v)
+        rows.append(row)
+    return np.asarray(rows, dtype=np.float64).reshape(len(rows), ncols)
 
 
-def _check_increasing(t_ns: np.ndarray, source: str) -> None:
-    d = np.diff(t_ns)
-    bad = np.flatnonzero(d <= 0)
-    if bad.size:
-        k = int(bad[0]) + 2
-        kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
-        raise ValueError(f"{source}: line {k}, column 1 (timestamp_ns): {kind} timestamp "
-                         f"({int(t_ns[k - 1])} after {int(t_ns[k - 2])}); timestamps must increase")
+def _check_increasing(t_ns: np.ndarray, source: str, policy: str = "error") -> np.ndarray:
+    """Rows to keep: all (times strictly increase), or, under ``duplicate_timestamps="drop"``,
+    all but the later row of each repeated timestamp. A decreasing time is always an error.
+    """
+    lines = np.arange(1, len(t_ns) + 1)  # no header: record i is on line i + 1
+    hint = ("; pass duplicate_timestamps='drop' to drop the later row of each repeated timestamp (counted)"
+            if policy == "error" else "")
+    check_increasing(t_ns, lines, source,
+                     lambda i, kind: f"{kind} timestamp ({int(t_ns[i])} after {int(t_ns[i - 1])}); "
+                                     f"timestamps must increase{hint if kind == 'duplicate' else ''}",
+                     strict=policy == "error", column="1 (timestamp_ns)")
+    keep = np.ones(len(t_ns), dtype=bool)
+    keep[1:] = np.diff(t_ns) != 0
+    return keep
+
+
+def _check_span(t_ns: np.ndarray, source: str) -> None:
+    """At most one day from the first sample (bounds the memory of any later resampling)."""
+    check_range((t_ns - t_ns[0]) * 1e-9, "elapsed_s", source, np.arange(1, len(t_ns) + 1),
+                "1 (timestamp_ns, seconds after the first line)")
 
 
 def _imu_frame(t_ns: np.ndarray, acc: np.ndarray) -> pd.DataFrame:
@@ -129,62 +191,105 @@ def _imu_frame(t_ns: np.ndarray, acc: np.ndarray) -> pd.DataFrame:
     return df
 
 
-def _optimisation_recording(name: str, acc_bytes: bytes, step_bytes: bytes, source: str) -> OxfordRecording:
+def _check_policy(duplicate_timestamps: str) -> None:
+    if duplicate_timestamps not in DUPLICATE_POLICIES:
+        raise ValueError(f"duplicate_timestamps must be one of {DUPLICATE_POLICIES}, got {duplicate_timestamps!r}")
+
+
+def _optimisation_recording(name: str, acc_bytes: bytes, step_bytes: bytes, source: str,
+                            duplicate_timestamps: str = "error") -> OxfordRecording:
     acc_src = f"{source}/{ACC_FILE}"
     step_src = f"{source}/{STEP_FILE}"
     a = _read_numeric_csv(acc_bytes, acc_src, 5, ("timestamp_ns", "accuracy", "ax_mps2", "ay_mps2", "az_mps2"))
     s = _read_numeric_csv(step_bytes, step_src, 3, ("timestamp_ns", "left_foot", "right_foot"))
     if a.shape[0] < 2:
         raise ValueError(f"{acc_src}: needs at least 2 samples, got {a.shape[0]}")
-    _check_increasing(a[:, 0], acc_src)
-    _check_increasing(s[:, 0], step_src)
+    lines_a = np.arange(1, a.shape[0] + 1)
+    check_range(a[:, 2:5], "acc_mps2", acc_src, lines_a, ("3 (ax_mps2)", "4 (ay_mps2)", "5 (az_mps2)"))
+    keep_a = _check_increasing(a[:, 0], acc_src, duplicate_timestamps)
+    keep_s = _check_increasing(s[:, 0], step_src, duplicate_timestamps)
+    _check_span(a[:, 0], acc_src)
+    _check_span(s[:, 0], step_src)
     feet = s[:, 1:]
     bad = np.argwhere((feet != 0) & (feet != 1))
     if bad.size:
         k, j = bad[0]
         raise ValueError(f"{step_src}: line {k + 1}, column {j + 2} "
                          f"({('left_foot', 'right_foot')[j]}): foot state must be 0 or 1, got {feet[k, j]}")
+    n_dup = int((~keep_a).sum() + (~keep_s).sum())
+    a, s = a[keep_a], s[keep_s]
+    if a.shape[0] < 2:
+        raise ValueError(f"{acc_src}: needs at least 2 samples with distinct timestamps, got {a.shape[0]}")
+    feet = s[:, 1:]
     up = (feet[1:] == 1) & (feet[:-1] == 0)
     k_step = np.flatnonzero(up.any(axis=1)) + 1
     n_steps = int(up.sum())
     # a row where both feet land at once counts twice (it never happens in the set)
     step_t = np.repeat((s[k_step, 0] - a[0, 0]) * 1e-9, up[k_step - 1].sum(axis=1))
     return OxfordRecording(name=name, imu=_imu_frame(a[:, 0], a[:, 2:5]), step_t_s=step_t,
-                           true_steps=n_steps, hardware_steps=None, meta=parse_recording_name(name))
+                           true_steps=n_steps, hardware_steps=None, meta=parse_recording_name(name),
+                           n_duplicate_timestamps_dropped=n_dup)
 
 
-def _validation_recording(path: Path) -> OxfordRecording:
+_VALIDATION_NAMES = ("timestamp_ns", "ax_mps2", "ay_mps2", "az_mps2", "app_count", "true_count", "hardware_count")
+
+
+def _cumulative(v: np.ndarray, j: int, src: str, lines) -> np.ndarray:
+    """Column ``j`` (0-based) of a validation CSV: whole, non-negative and never decreasing."""
+    col = f"{j + 1} ({_VALIDATION_NAMES[j]})"
+    check_range(v[:, j], "count", src, lines, col)
+    d = np.diff(v[:, j])
+    if np.any(d < 0):
+        k = int(np.flatnonzero(d < 0)[0]) + 1
+        raise ValueError(f"{src}: line {lines[k]}, column {col}: cumulative count decreases "
+                         f"({v[k, j]:g} after {v[k - 1, j]:g})")
+    return d
+
+
+def _validation_recording(path: Path, duplicate_timestamps: str = "error") -> OxfordRecording:
     src = str(path)
-    names = ("timestamp_ns", "ax_mps2", "ay_mps2", "az_mps2", "app_count", "true_count", "hardware_count")
-    v = _read_numeric_csv(path.read_bytes(), src, 7, names)
+    v = _read_numeric_csv(read_bytes(path), src, (7, 6), _VALIDATION_NAMES)
     if v.shape[0] < 2:
         raise ValueError(f"{src}: needs at least 2 samples, got {v.shape[0]}")
-    _check_increasing(v[:, 0], src)
+    lines = np.arange(1, v.shape[0] + 1)
+    check_range(v[:, 1:4], "acc_mps2", src, lines, ("2 (ax_mps2)", "3 (ay_mps2)", "4 (az_mps2)"))
+    keep = _check_increasing(v[:, 0], src, duplicate_timestamps)
+    _check_span(v[:, 0], src)
+    _cumulative(v, 4, src, lines)
+    _cumulative(v, 5, src, lines)
+    has_hw = v.shape[1] == 7 and bool(np.any(v[:, 6] != 0))
+    if has_hw:
+        _cumulative(v, 6, src, lines)
+    n_dup = int((~keep).sum())
+    v = v[keep]
     true = v[:, 5]
     d = np.diff(true)
-    if np.any(d < 0):
-        k = int(np.flatnonzero(d < 0)[0]) + 2
-        raise ValueError(f"{src}: line {k}, column 6 (true_count): cumulative count decreases")
     inc = np.flatnonzero(d > 0) + 1
     step_t = np.repeat((v[inc, 0] - v[0, 0]) * 1e-9, d[inc - 1].astype(np.int64))
-    hw = v[:, 6]
+    true_steps = int(true[-1] - true[0])
+    hw = int(v[-1, 6] - v[0, 6]) if has_hw else None
     return OxfordRecording(name=path.stem, imu=_imu_frame(v[:, 0], v[:, 1:4]), step_t_s=step_t,
-                           true_steps=int(round(true[-1])), hardware_steps=int(round(hw[-1] - hw[0])),
-                           meta=parse_recording_name(path.stem))
+                           true_steps=true_steps, hardware_steps=hw, meta=parse_recording_name(path.stem),
+                           n_duplicate_timestamps_dropped=n_dup)
 
 
 def _is_archive(p: Path) -> bool:
     return p.is_file() and (p.name.endswith((".tar.xz", ".tar", ".tar.gz", ".tgz", ".txz")))
 
 
-def _archive_members(tf: tarfile.TarFile) -> dict[str, dict[str, tarfile.TarInfo]]:
+def _archive_members(ar: ArchiveReader) -> dict[str, dict[str, tarfile.TarInfo]]:
+    """Recording name -> {file name -> member}; the same name in two folders is an error."""
     recs: dict[str, dict[str, tarfile.TarInfo]] = {}
-    for m in tf.getmembers():
+    for m in ar.tar:
         if not m.isfile():
             continue
         parts = m.name.split("/")
         if len(parts) >= 2 and parts[-1] in (ACC_FILE, STEP_FILE):
-            recs.setdefault(parts[-2], {})[parts[-1]] = m
+            have = recs.setdefault(parts[-2], {})
+            if parts[-1] in have:
+                raise ValueError(f"{ar.path}: recording {parts[-2]!r} appears in two folders ({have[parts[-1]].name} "
+                                 f"and {m.name}); rename one so that a name picks one recording")
+            have[parts[-1]] = m
     return recs
 
 
@@ -193,31 +298,41 @@ def list_oxford_archive(path) -> list[str]:
     p = Path(path)
     if not _is_archive(p):
         raise ValueError(f"{p}: not a tar archive")
-    with tarfile.open(p) as tf:
-        recs = _archive_members(tf)
+    with ArchiveReader(p) as ar:
+        recs = _archive_members(ar)
     return sorted(k for k, v in recs.items() if len(v) == 2)
 
 
-def load_oxford_archive(path, names=None) -> list[OxfordRecording]:
-    """Every recording (or those named) of an optimisation archive, in one pass, sorted by name."""
+def load_oxford_archive(path, names=None, duplicate_timestamps: str = "error") -> list[OxfordRecording]:
+    """Every recording (or those named) of an optimisation archive, in one pass, sorted by name.
+
+    A corrupt or truncated archive raises a ValueError naming it and the member being read; see
+    :func:`load_oxford_step_counter` for ``duplicate_timestamps``.
+    """
+    _check_policy(duplicate_timestamps)
     p = Path(path)
     if not _is_archive(p):
         raise ValueError(f"{p}: not a tar archive")
     out = []
-    with tarfile.open(p) as tf:
-        recs = _archive_members(tf)
+    with ArchiveReader(p) as ar:
+        recs = _archive_members(ar)
         wanted = sorted(k for k, v in recs.items() if len(v) == 2) if names is None else list(names)
+        if not wanted:
+            raise ValueError(f"{p}: no recording folder with both {ACC_FILE} and {STEP_FILE}")
         for n in wanted:
             if n not in recs or len(recs[n]) != 2:
                 raise ValueError(f"{p}: no recording {n!r} with {ACC_FILE} and {STEP_FILE}; "
                                  f"recordings: {sorted(recs)[:5]}...")
-            acc = tf.extractfile(recs[n][ACC_FILE]).read()
-            st = tf.extractfile(recs[n][STEP_FILE]).read()
-            out.append(_optimisation_recording(n, acc, st, f"{p}:{n}"))
+            ar.member = recs[n][ACC_FILE].name
+            acc = ar.tar.extractfile(recs[n][ACC_FILE]).read()
+            ar.member = recs[n][STEP_FILE].name
+            st = ar.tar.extractfile(recs[n][STEP_FILE]).read()
+            ar.member = None
+            out.append(_optimisation_recording(n, acc, st, f"{p}:{n}", duplicate_timestamps))
     return sorted(out, key=lambda r: r.name)
 
 
-def load_oxford_step_counter(path, member: str | None = None) -> OxfordRecording:
+def load_oxford_step_counter(path, member: str | None = None, duplicate_timestamps: str = "error") -> OxfordRecording:
     """Load one Oxford step counter recording.
 
     Parameters
@@ -225,9 +340,15 @@ def load_oxford_step_counter(path, member: str | None = None) -> OxfordRecording
     path : str or Path
         A recording folder (holding ``accelerometer.csv`` and ``stepcounter.csv``), the
         ``optimisation_data.tar.xz`` archive (then ``member`` names the recording), or a
-        validation-style single headerless CSV (seven columns, see the module docstring).
+        validation-style single headerless CSV (seven columns, see the module docstring; plain,
+        ``.gz`` or ``.xz``).
     member : str, optional
         Recording name inside an archive (e.g. ``"Pixel_Jamie_Hard_InHand_1"``).
+    duplicate_timestamps : {"error", "drop"}
+        Two consecutive lines with the same timestamp (found in some of the published validation
+        CSVs): raise naming the line, or keep the first and drop the later line, counted in
+        :attr:`OxfordRecording.n_duplicate_timestamps_dropped`. True steps are counted from the
+        kept lines (a cumulative count loses nothing; a step time moves to the next kept line).
 
     Returns
     -------
@@ -236,8 +357,12 @@ def load_oxford_step_counter(path, member: str | None = None) -> OxfordRecording
     Raises
     ------
     ValueError
-        Missing files, malformed lines (naming file, line and column), non-increasing timestamps.
+        Missing files, malformed lines (naming file, line and column), values outside their valid
+        range (:data:`ilocalg.io.schema.FIELD_RANGES`), a recording longer than a day,
+        non-increasing timestamps, a fractional or decreasing cumulative count (true or hardware),
+        the same recording name in two archive folders, a corrupt archive or non-UTF-8 text.
     """
+    _check_policy(duplicate_timestamps)
     p = Path(path)
     if not p.exists():
         raise ValueError(f"{p}: no such file or folder")
@@ -246,12 +371,12 @@ def load_oxford_step_counter(path, member: str | None = None) -> OxfordRecording
         for f in (acc, st):
             if not f.is_file():
                 raise ValueError(f"{p}: recording folder lacks {f.name}")
-        return _optimisation_recording(p.name, acc.read_bytes(), st.read_bytes(), str(p))
+        return _optimisation_recording(p.name, read_bytes(acc), read_bytes(st), str(p), duplicate_timestamps)
     if _is_archive(p):
         if member is None:
             raise ValueError(f"{p}: an archive holds several recordings; pass member= one of "
                              f"{list_oxford_archive(p)[:3]}...")
-        return load_oxford_archive(p, [member])[0]
-    if p.suffix.lower() in (".csv", ".txt"):
-        return _validation_recording(p)
+        return load_oxford_archive(p, [member], duplicate_timestamps)[0]
+    if p.name.lower().endswith((".csv", ".txt", ".csv.gz", ".csv.xz", ".txt.gz", ".txt.xz")):
+        return _validation_recording(p, duplicate_timestamps)
     raise ValueError(f"{p}: expected a recording folder, a .tar.xz archive or a validation .csv file")

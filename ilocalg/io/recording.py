@@ -79,6 +79,7 @@ __all__ = [
     "sniff_format",
     "truth_at",
     "common_frame",
+    "require_recording_walk",
     "recording_fingerprints",
     "FORMATS",
 ]
@@ -326,6 +327,25 @@ def common_frame(recordings) -> LocalFrame:
                          f"{recs[0].source or recs[0].name} and they do not convert (pool walks of one floor map, "
                          "or walks with latitude/longitude)")
     return f0
+
+
+def require_recording_walk(rec: Recording, min_imu: int = 50, min_truth: int = 2, min_scans: int = 1) -> Recording:
+    """Refuse, with a sentence, a recording too small to be scored or used as a fingerprint walk.
+
+    A walk needs IMU samples (steps and headings), at least two ground-truth points (positions
+    between them are interpolated in time) and a Wi-Fi scan. Returns ``rec`` unchanged.
+    """
+    src = rec.source or rec.name or "<recording>"
+    n_scans = int(rec.wifi[SCAN_ID].nunique()) if len(rec.wifi) else 0
+    if len(rec.imu) < min_imu:
+        raise ValueError(f"{src}: the walk has {len(rec.imu)} IMU samples; at least {min_imu} (1 s at 50 Hz) are "
+                         "needed to detect steps and headings")
+    if len(rec.truth) < min_truth:
+        raise ValueError(f"{src}: the walk has {len(rec.truth)} ground-truth point(s) (IPIN: POSI records); at least "
+                         f"{min_truth} are needed to place it in time")
+    if n_scans < min_scans:
+        raise ValueError(f"{src}: the walk has no Wi-Fi scan; fingerprints and Wi-Fi fixes need at least one")
+    return rec
 
 
 # ----------------------------------------------------------------------------------------------

@@ -1,7 +1,19 @@
-"""Column-name constants and validators for the toolkit's data types (see :mod:`ilocalg`).
+"""Column-name constants, valid ranges and validators for the toolkit's data types (see :mod:`ilocalg`).
 
 Validators raise :class:`ValueError` naming the source, the column or row and what was expected;
 they never drop, clip or fill anything.
+
+Valid ranges
+------------
+:data:`FIELD_RANGES` declares, once, the physically possible range of every field a loader reads
+(field -> minimum, maximum, unit, integer or not, where the bound comes from). Every loader checks
+its values with :func:`check_range` right after parsing, so an error names the file's line and
+column: ``trainingData.csv: line 1203, column WAP017: value 50 is outside [-110, 0] dBm``.
+Integers are checked before they are cast, so a value that would overflow int64 (``1e20``) is an
+error, not a numpy warning. NaN is outside every range. The bounds are deliberately wide (what a
+phone can physically report, not what a walk usually shows): they catch corrupt values, not
+unusual walks. A plain table and one vectorised check are enough here; a schema library
+(pandera) would add a dependency for the same comparison and could not name a file's line.
 """
 
 from __future__ import annotations
@@ -28,6 +40,10 @@ __all__ = [
     "BUILDING",
     "WAYPOINT_COLS",
     "FingerprintSet",
+    "FieldRange",
+    "FIELD_RANGES",
+    "MAX_RECORDING_S",
+    "check_range",
     "check_time_index",
     "check_imu",
     "check_wifi_scans",
@@ -51,6 +67,111 @@ Y_M = "y_m"
 FLOOR = "floor"
 BUILDING = "building"
 WAYPOINT_COLS = (T_S, X_M, Y_M)
+
+
+@dataclass(frozen=True)
+class FieldRange:
+    """Valid range of one field: ``lo <= value <= hi`` (in ``unit``), whole numbers if ``integer``."""
+
+    lo: float
+    hi: float
+    unit: str
+    integer: bool = False
+    why: str = ""
+
+
+#: Longest recording a loader accepts, s (one day). Bounds the memory of any resampling that
+#: follows (50 Hz x 3 axes x 1 day = 100 MB) and catches a corrupt timestamp far in the future.
+MAX_RECORDING_S = 86400.0
+
+#: The valid range of every field read by a loader (one place; see the module docstring).
+FIELD_RANGES: dict[str, FieldRange] = {
+    RSSI_DBM: FieldRange(-110.0, 0.0, "dBm", why="received power of a Wi-Fi beacon at a phone; the weakest "
+                                                 "readings in UJIIndoorLoc (Torres-Sospedra 2014) are -104 dBm"),
+    FREQ_MHZ: FieldRange(2400.0, 7125.0, "MHz", why="IEEE 802.11 2.4, 5 and 6 GHz bands"),
+    "acc_mps2": FieldRange(-400.0, 400.0, "m/s^2", why="above any phone accelerometer's full scale (+-16 g or "
+                                                       "+-32 g = 314 m/s^2)"),
+    "gyr_radps": FieldRange(-70.0, 70.0, "rad/s", why="+-4000 deg/s, twice the largest phone gyroscope range"),
+    "mag_ut": FieldRange(-5000.0, 5000.0, "uT", why="phone magnetometer full scale (+-4912 uT, AK09916)"),
+    "rotvec": FieldRange(-1.0, 1.0, "", why="vector part of a unit quaternion"),
+    "lat_deg": FieldRange(-90.0, 90.0, "deg"),
+    "lon_deg": FieldRange(-180.0, 180.0, "deg"),
+    "xy_m": FieldRange(-2.0037508e7, 2.0037508e7, "m", why="half the Web-Mercator world width; holds every local "
+                                                          "and projected frame the loaders return"),
+    "map_size_m": FieldRange(1.0, 1.0e4, "m", why="a floor map between 1 m and 10 km wide"),
+    FLOOR: FieldRange(-20.0, 200.0, "", integer=True, why="floor numbers of existing buildings"),
+    BUILDING: FieldRange(0.0, 1.0e6, "", integer=True),
+    "id": FieldRange(0.0, 1.0e9, "", integer=True, why="small non-negative identifiers (space, user, phone)"),
+    "count": FieldRange(0.0, 1.0e9, "", integer=True, why="cumulative step or record counters"),
+    "foot_state": FieldRange(0.0, 1.0, "", integer=True, why="heel sensor: 0 = foot up, 1 = foot down"),
+    "unix_time_s": FieldRange(0.0, 4.102444800e9, "s", why="1970 to 2100"),
+    "unix_time_ms": FieldRange(0.0, 4.102444800e12, "ms", why="1970 to 2100"),
+    "elapsed_s": FieldRange(0.0, MAX_RECORDING_S, "s", why="time since the recording's first sample"),
+}
+
+
+def _fmt(v) -> str:
+    v = float(v)
+    return f"{v:.15g}" if np.isfinite(v) else str(v)
+
+
+def check_range(values, field_name: str, source=None, lines=None, columns=None) -> np.ndarray:
+    """Check values against :data:`FIELD_RANGES` (vectorised); return them as float64.
+
+    Parameters
+    ----------
+    values : array_like, shape (n,) or (n, k)
+    field_name : str
+        Key of :data:`FIELD_RANGES`.
+    source : str, optional
+        File name for the message.
+    lines : sequence of int or str, length n, optional
+        The file line of each row (or, for files without lines such as JSON, a str naming the
+        row's place); without it the message names the row (0-based).
+    columns : str or sequence of str, optional
+        Column name(s) for the message (one per column of a 2-D ``values``); default
+        ``field_name``; ``""`` names no column.
+
+    Raises
+    ------
+    ValueError
+        ``SOURCE: line N, column COL: value V is outside [LO, HI] UNIT`` for the first bad value
+        (row-major order), or ``... value V is not a whole number`` for an integer field.
+    """
+    spec = FIELD_RANGES[field_name]
+    v = np.asarray(values, dtype=np.float64)
+    if v.size == 0:
+        return v
+    v2 = v.reshape(v.shape[0], -1) if v.ndim else v.reshape(1, 1)
+    ok = (v2 >= spec.lo) & (v2 <= spec.hi)
+    whole = True
+    if spec.integer:
+        with np.errstate(invalid="ignore"):
+            frac = ok & (v2 != np.floor(v2))
+        whole = not frac.any()
+    if ok.all() and whole:
+        return v
+    bad = np.argwhere(~ok) if not ok.all() else np.argwhere(frac)
+    i, j = (int(x) for x in bad[0])
+    if columns is None:
+        col = field_name
+    elif isinstance(columns, str):
+        col = columns
+    else:
+        col = columns[j]
+    if lines is None:
+        where = f"row {i}"
+    elif isinstance(lines[i], str):
+        where = lines[i]
+    else:
+        where = f"line {int(lines[i])}"
+    where += f", column {col}" if col else ""
+    unit = f" {spec.unit}" if spec.unit else ""
+    if not ok[i, j]:
+        what = f"value {_fmt(v2[i, j])} is outside [{_fmt(spec.lo)}, {_fmt(spec.hi)}]{unit}"
+    else:
+        what = f"value {_fmt(v2[i, j])} is not a whole number"
+    raise ValueError(f"{_where(source)}{where}: {what}")
 
 
 def _where(source: str | None) -> str:

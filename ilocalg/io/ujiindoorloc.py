@@ -20,15 +20,14 @@ fingerprint-based indoor localization problems", IPIN 2014, doi:10.1109/IPIN.201
 
 from __future__ import annotations
 
-import gzip
 import io
-import zlib
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.schema import FingerprintSet
+from ilocalg.io._text import decode_text, read_bytes
+from ilocalg.io.schema import BUILDING, FLOOR, RSSI_DBM, FingerprintSet, check_range
 
 __all__ = [
     "N_WAPS",
@@ -59,21 +58,6 @@ def ground_scale(y_m) -> np.ndarray:
     return np.cos(lat)
 
 
-def _read_text(path: Path) -> str:
-    try:
-        if path.suffix == ".gz":
-            with gzip.open(path, "rb") as fh:
-                raw = fh.read()
-        else:
-            raw = path.read_bytes()
-    except (OSError, EOFError, zlib.error) as exc:
-        raise ValueError(f"{path}: cannot read ({exc})") from None
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not UTF-8 text at byte {exc.start}") from None
-
-
 def load_ujiindoorloc(path) -> FingerprintSet:
     """Load a UJIIndoorLoc CSV (``trainingData.csv`` or ``validationData.csv``, optionally ``.gz``).
 
@@ -95,17 +79,34 @@ def load_ujiindoorloc(path) -> FingerprintSet:
         The file does not exist.
     ValueError
         Empty file, missing or unknown columns, a line with too few or too many fields, a
-        non-numeric value, or an RSSI outside -104..0 other than 100; the message names the file,
-        the line (1 = header) and the column.
+        non-numeric value, a value outside its valid range (:data:`ilocalg.io.schema.FIELD_RANGES`;
+        RSSI other than 100 outside [-110, 0] dBm, an integer column that would overflow), a
+        non-UTF-8 byte or a corrupt ``.gz``/``.xz`` file; the message names the file, the line
+        (1 = header) and the column. Under the common text policy a byte-order mark is stripped,
+        CRLF line ends and trailing blank lines are accepted.
     """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
-    text = _read_text(path)
-    if not text.strip():
+    data = read_bytes(path)
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, path)  # a non-UTF-8 byte is an error naming its line
+    end = len(data)
+    while end and data[end - 1] in b"\r\n \t":  # trailing blank lines are accepted
+        end -= 1
+    if end == 0:
         raise ValueError(f"{path}: empty file (expected a header and data rows)")
-    lines = text.splitlines()
-    header = [h.strip().strip('"') for h in lines[0].split(",")]
+    if data.count(b"\r", 0, end) != data.count(b"\r\n", 0, end):
+        k = data.find(b"\r", 0, end)
+        while data[k + 1:k + 2] == b"\n":
+            k = data.find(b"\r", k + 1, end)
+        line = data.count(b"\n", 0, k) + 1
+        raise ValueError(f"{path}: line {line}: a carriage return without a line feed "
+                         "(old Mac line ends); re-save the file with LF or CRLF line ends")
+    nl = data.find(b"\n", 0, end)
+    header = [h.strip().strip('"') for h in data[:nl if nl >= 0 else end].decode("utf-8").rstrip("\r").split(",")]
     expected = list(WAP_COLUMNS) + list(POSITION_COLUMNS) + list(META_COLUMNS)
     missing = [c for c in expected if c not in header]
     if missing:
@@ -116,42 +117,63 @@ def load_ujiindoorloc(path) -> FingerprintSet:
         raise ValueError(f"{path}: line 1 (header) has unknown columns {extra[:5]}")
     if len(set(header)) != len(header):
         raise ValueError(f"{path}: line 1 (header) repeats a column name")
-    if len(lines) < 2 or not any(ln.strip() for ln in lines[1:]):
+    if nl < 0:
         raise ValueError(f"{path}: no data rows after the header")
     n_fields = len(header)
-    for i, ln in enumerate(lines[1:], start=2):
-        c = ln.count(",") + 1
-        if c != n_fields:
-            what = "truncated line" if c < n_fields else "too many fields"
-            raise ValueError(f"{path}: line {i}: {what}: {c} fields, expected {n_fields}")
-    df = pd.read_csv(io.StringIO(text), keep_default_na=False, na_values=[], skip_blank_lines=False)
-    arr = np.empty((len(df), n_fields), dtype=np.float64)
-    for j, col in enumerate(header):
-        s = df[col]
-        if pd.api.types.is_numeric_dtype(s.dtype):
-            v = s.to_numpy(dtype=np.float64)
-        else:  # locate the first non-numeric cell
-            v = pd.to_numeric(s.astype(str).str.strip(), errors="coerce").to_numpy(dtype=np.float64)
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
-            r = int(bad[0])
-            raise ValueError(f"{path}: line {r + 2}, column {col!r}: expected a number, got {s.iloc[r]!r}")
-        arr[:, j] = v
+    # fields per data line (commas + 1), vectorised: the first line with another count is named
+    body = np.frombuffer(data, dtype=np.uint8, count=end - nl - 1, offset=nl + 1)
+    starts = np.concatenate([[0], np.flatnonzero(body == 10) + 1])
+    n_per_line = np.add.reduceat(body == 44, starts, dtype=np.int64) + 1
+    bad = np.flatnonzero(n_per_line != n_fields)
+    if bad.size:
+        i, c = int(bad[0]), int(n_per_line[bad[0]])
+        what = "truncated line" if c < n_fields else "too many fields"
+        raise ValueError(f"{path}: line {i + 2}: {what}: {c} fields, expected {n_fields}")
+    del body, starts, n_per_line
+    n_rows = int(data.count(b"\n", nl + 1, end)) + 1
+    arr = None
+    try:
+        df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, dtype=np.float64,
+                         keep_default_na=False, na_values=[], engine="c")
+        arr = df.to_numpy(dtype=np.float64)
+        del df
+        if not np.isfinite(arr).all() or (np.any((arr == 0.0) | (arr == 1.0))
+                                          and any(data.find(c, nl) >= 0 for c in (b"r", b"R", b"l", b"L"))):
+            arr = None  # (pandas reads True/False as 1/0: such a cell is named below)
+    except (ValueError, pd.errors.ParserError):
+        arr = None
+    if arr is None:  # locate the first cell that is not a finite number
+        df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, keep_default_na=False,
+                         na_values=[], skip_blank_lines=False, dtype=str)
+        for col in header:
+            s = df[col]
+            v = pd.to_numeric(s.str.strip(), errors="coerce").to_numpy(dtype=np.float64)
+            bad = np.flatnonzero(~np.isfinite(v))
+            if bad.size:
+                r = int(bad[0])
+                raise ValueError(f"{path}: line {r + 2}, column {col}: expected a number, got {s.iloc[r]!r}")
+        raise ValueError(f"{path}: could not parse as {n_fields} numeric columns")  # pragma: no cover
+    del data
     pos = {c: j for j, c in enumerate(header)}
-    rssi = arr[:, [pos[c] for c in WAP_COLUMNS]]
-    valid = (rssi == NOT_DETECTED) | ((rssi >= WEAKEST_DBM) & (rssi <= 0))
-    if not valid.all():
-        r, c = np.argwhere(~valid)[0]
-        raise ValueError(f"{path}: line {r + 2}, column {WAP_COLUMNS[c]!r}: RSSI {rssi[r, c]:g} is neither "
-                         f"{NOT_DETECTED} (not detected) nor in [{WEAKEST_DBM:g}, 0] dBm")
-    rssi = np.where(rssi == NOT_DETECTED, np.nan, rssi)
+    lines_no = np.arange(2, arr.shape[0] + 2)
+    rssi = arr[:, [pos[c] for c in WAP_COLUMNS]]  # a C-ordered copy, modified in place below
+    # 100 = not detected; every other reading must be a received power
+    not_heard = rssi == NOT_DETECTED
+    rssi[not_heard] = 0.0
+    check_range(rssi, RSSI_DBM, path, lines_no, WAP_COLUMNS)
+    rssi[not_heard] = np.nan
+    del not_heard
+    for c in ("LONGITUDE", "LATITUDE"):
+        check_range(arr[:, pos[c]], "xy_m", path, lines_no, c)
+    kinds = {"FLOOR": FLOOR, "BUILDINGID": BUILDING, "SPACEID": "id", "RELATIVEPOSITION": "id", "USERID": "id",
+             "PHONEID": "id", "TIMESTAMP": "unix_time_s"}
     ints = {}
     for c in ("FLOOR", "BUILDINGID") + META_COLUMNS:
-        v = arr[:, pos[c]]
+        v = check_range(arr[:, pos[c]], kinds[c], path, lines_no, c)  # before the cast: no int64 overflow
         nonint = np.flatnonzero(v != np.round(v))
         if nonint.size:
             r = int(nonint[0])
-            raise ValueError(f"{path}: line {r + 2}, column {c!r}: expected an integer, got {v[r]:g}")
+            raise ValueError(f"{path}: line {r + 2}, column {c}: expected an integer, got {v[r]:g}")
         ints[c] = v.astype(np.int64)
     meta = pd.DataFrame({c: ints[c] for c in META_COLUMNS})
     return FingerprintSet(

@@ -26,8 +26,9 @@ w_init 1.0, w_final 0.1, c1 = c2 = 2.0; they are this module's defaults.
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), eq. 4.1-4.3, Figs. 4.1-4.2, sec. 5.3; J. Kennedy and
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 4.1-4.3, Figs. 4.1-4.2, sec. 5.3; J. Kennedy and
 R. Eberhart, "Particle swarm optimization", Proc. ICNN 1995.
 """
 

@@ -2,7 +2,11 @@
 
 References
 ----------
-i-Loc thesis (000), eq. (22) (without the noise term); fingerprint+PDR paper (004), eq. (5)-(6).
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Eq. (22) (without the noise term).
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Eq. (5)-(6).
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ def dead_reckon(length_m, theta_rad, x0_m: float = 0.0, y0_m: float = 0.0) -> pd
 
     References
     ----------
-    i-Loc thesis (000), eq. (22); fingerprint+PDR paper (004), eq. (5)-(6).
+    Chiu (2013), eq. (22); Luo et al. (2017), eq. (5)-(6).
     """
     d = np.asarray(length_m, dtype=np.float64).ravel()
     th = np.asarray(theta_rad, dtype=np.float64).ravel()

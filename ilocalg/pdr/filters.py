@@ -12,8 +12,9 @@ the mean of the first (last) full window. No sample is dropped, the output has t
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), eq. 3.5-3.6 and Table 3-2; W. H. Press et al., Numerical Recipes,
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Eq. 3.5-3.6 and Table 3-2; W. H. Press et al., Numerical Recipes,
 sec. 14.8 (Savitzky-Golay smoothing filters).
 """
 
@@ -78,7 +79,7 @@ def _smooth(x, n_left: int, n_right: int, order: int, name: str) -> np.ndarray:
         bad = int(np.flatnonzero(~np.isfinite(x))[0])
         raise ValueError(f"{name}: x must be finite, sample {bad} is {x[bad]}")
     P = _fit_matrix(window, order)
-    c = (float(n_left) ** np.arange(order + 1)) @ P
+    c = savitzky_golay_coeffs(n_left, n_right, order)
     out = np.empty_like(x)
     # interior: full windows, g(t) = sum_i c_i f(t+i)  (eq. 3.5)
     n_full = x.size - window + 1

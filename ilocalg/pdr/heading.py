@@ -6,13 +6,15 @@ coordinates; its rows are the north, east and down axes written in the sensor fr
 
 References
 ----------
-i-Loc thesis (000), sec. 4.3, eq. (18)-(19), Fig 16.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.3, eq. (18)-(19), Fig 16.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ilocalg.pdr.signals import acc_from_log, gravity_lowpass_mps2, moving_mean
 from ilocalg.units import wrap_angle_rad, yaw_to_theta
 
 __all__ = [
@@ -20,7 +22,8 @@ __all__ = [
     "wdm_yaw_rad",
     "axis_yaw_rad",
     "heading_theta_rad",
-    "gyro_heading_theta_rad",
+    "gyr_heading_theta_rad",
+    "log_headings_rad",
     "WDM",
 ]
 
@@ -61,7 +64,7 @@ def wdm_rotation(g_mps2, m_ut) -> np.ndarray:
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.3 (the matrix before eq. (18)).
+    Chiu (2013), sec. 4.3 (the matrix before eq. (18)).
     """
     g = _vec3("g_mps2", g_mps2)
     m = _vec3("m_ut", m_ut)
@@ -89,7 +92,7 @@ def wdm_yaw_rad(g_mps2, m_ut):
 
     References
     ----------
-    i-Loc thesis (000), eq. (18)-(19).
+    Chiu (2013), eq. (18)-(19).
     """
     return axis_yaw_rad(wdm_rotation(g_mps2, m_ut), (1.0, 0.0, 0.0))
 
@@ -106,7 +109,7 @@ def heading_theta_rad(g_mps2, m_ut, forward_axis=(0.0, 1.0, 0.0), declination_ra
     return yaw_to_theta(psi)
 
 
-def gyro_heading_theta_rad(gyr_radps, g_mps2, t_s, theta0_rad: float = 0.0):
+def gyr_heading_theta_rad(gyr_radps, g_mps2, t_s, theta0_rad: float = 0.0):
     """Heading by integrating the angular rate about the vertical (beyond the paper).
 
     ``theta_k = theta0 + sum_{j<k} (w_j . u_j) dt_j`` with ``u = g / |g|`` (up), trapezoid-free
@@ -129,6 +132,49 @@ def gyro_heading_theta_rad(gyr_radps, g_mps2, t_s, theta0_rad: float = 0.0):
     rate = (w * u).sum(axis=-1) if u.ndim == 2 else w @ u
     dt = np.diff(t, prepend=t[0])
     return wrap_angle_rad(theta0_rad + np.cumsum(rate * dt))
+
+
+def log_headings_rad(imu, rest_s: float, g_window_s: float = 1.0, m_window_s: float = 0.5) -> dict[str, np.ndarray]:
+    """Per-sample WDM and gyro-integrated headings of a sensor log (rad, map convention).
+
+    Gravity is the moving mean of the accelerometer over ``g_window_s`` and the magnetic field the
+    moving mean of the magnetometer over ``m_window_s``; WDM is :func:`heading_theta_rad` of the two.
+    The gyro heading (:func:`gyr_heading_theta_rad`) starts from the circular mean of the WDM
+    heading over the first ``rest_s`` seconds (the phone held still); the gyro bias is not estimated
+    (over one second of hand jitter its estimate is worse than the bias itself).
+
+    Parameters
+    ----------
+    imu : DataFrame
+        Sensor log indexed by time, s, with the accelerometer, gyroscope and magnetometer columns
+        of :mod:`ilocalg.io.schema`.
+    rest_s : float
+        Duration at rest at the start of the log, s (0: start from the first WDM heading).
+    g_window_s, m_window_s : float
+        Moving-mean windows, s.
+
+    Returns
+    -------
+    dict
+        ``"WDM"`` and ``"gyro"``: arrays of shape (n,).
+
+    References
+    ----------
+    Chiu (2013), sec. 4.3, eq. (18)-(19).
+    """
+    from ilocalg.io.schema import GYR_COLS, MAG_COLS
+
+    acc, t = acc_from_log(imu)
+    rate = 1.0 / np.median(np.diff(t))
+    mag = imu[list(MAG_COLS)].to_numpy()
+    gyr = imu[list(GYR_COLS)].to_numpy()
+    ng, nm = int(round(0.5 * g_window_s * rate)), int(round(0.5 * m_window_s * rate))
+    g = gravity_lowpass_mps2(acc, ng)
+    m = np.column_stack([moving_mean(mag[:, j], nm) for j in range(3)])
+    wdm = heading_theta_rad(g, m)
+    rest = t < rest_s
+    th0 = float(np.angle(np.mean(np.exp(1j * wdm[rest])))) if rest.any() else float(wdm[0])
+    return {"WDM": wdm, "gyro": gyr_heading_theta_rad(gyr, g, t, th0)}
 
 
 class WDM:

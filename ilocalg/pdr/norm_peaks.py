@@ -19,31 +19,13 @@ import numpy as np
 import pandas as pd
 from scipy.signal import find_peaks
 
-from ilocalg.pdr.signals import check_acc, check_times
+from ilocalg.pdr.registry import register_step_detector
+from ilocalg.pdr.signals import check_acc, check_times, moving_mean_time
 
-__all__ = ["moving_mean_time", "detect_steps_norm_peaks"]
-
-
-def moving_mean_time(x, t_s, window_s: float) -> np.ndarray:
-    """Centred moving mean over a time window, for irregular samples (via cumulative sums).
-
-    Sample ``i`` is the mean of every sample with ``|t_j - t_i| <= window_s / 2`` (so the window holds
-    at least the sample itself). For uniform sampling by a sample count see
-    :func:`ilocalg.pdr.signals.moving_mean`.
-
-    Parameters
-    ----------
-    x : (n,) signal; t_s : (n,) strictly increasing times, s; window_s : window width, s (>= 0)
-    """
-    t_s = np.asarray(t_s, dtype=float)
-    if not (np.isfinite(window_s) and window_s >= 0):
-        raise ValueError(f"window_s must be finite and >= 0 seconds, got {window_s}")
-    cs = np.concatenate([[0.0], np.cumsum(x)])
-    lo = np.searchsorted(t_s, t_s - window_s / 2, side="left")
-    hi = np.searchsorted(t_s, t_s + window_s / 2, side="right")
-    return (cs[hi] - cs[lo]) / (hi - lo)
+__all__ = ["detect_steps_norm_peaks"]
 
 
+@register_step_detector("norm_peaks")
 def detect_steps_norm_peaks(acc_mps2, t_s, min_interval_s: float = 0.3, min_prominence_mps2: float = 0.8,
                             smooth_s: float = 0.15) -> pd.DataFrame:
     """Steps at prominent peaks of the time-window-smoothed specific-force norm.

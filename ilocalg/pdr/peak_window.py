@@ -10,7 +10,9 @@ not an error).
 
 References
 ----------
-Fingerprint+PDR paper (004), sec. 3.4.1-3.4.2, eq. (3), Fig 5.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 3.4.1-3.4.2, eq. (3), Fig 5.
 """
 
 from __future__ import annotations
@@ -18,11 +20,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, moving_mean, sample_rate_hz, sliding_max
 
 __all__ = ["detect_steps_peak_window", "PeakWindowDetector"]
 
 
+@register_step_detector("peak_window")
 def detect_steps_peak_window(acc_mps2, t_s, window_s: float = 0.4, threshold_mps2: float = 1.0,
                              min_dt_s: float = 0.2, max_dt_s: float = 2.0, smooth_s: float = 0.1) -> pd.DataFrame:
     """Sliding-window peak search on the smoothed acceleration magnitude.
@@ -49,7 +53,7 @@ def detect_steps_peak_window(acc_mps2, t_s, window_s: float = 0.4, threshold_mps
 
     References
     ----------
-    Fingerprint+PDR paper (004), sec. 3.4.2 (1)-(2).
+    Luo et al. (2017), sec. 3.4.2 (1)-(2).
     """
     a = check_acc(acc_mps2, min_samples=3)
     t = check_times(t_s, n=a.shape[0])

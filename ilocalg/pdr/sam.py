@@ -8,7 +8,8 @@ lie inside ranges learned as the [5 %, 95 %] quantiles of the features of traini
 
 References
 ----------
-i-Loc thesis (000), sec. 4.1, eq. (8)-(15), Table 1, Figs 7-12.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.1, eq. (8)-(15), Table 1, Figs 7-12.
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.pdr.signals import check_acc, check_times, sample_rate_hz, sliding_max
+from ilocalg.pdr.registry import register_step_detector
+from ilocalg.pdr.signals import along_gravity_mps2, check_acc, check_times, sample_rate_hz, sliding_max
 
 __all__ = [
     "SAM_FEATURES",
@@ -36,10 +38,13 @@ SAM_FEATURES = ("T1", "T2", "T", "A1", "A2", "A", "I", "X1")
 #: The features the thesis tests against their ranges (A1 is listed in Table 1 but not tested).
 SAM_TESTED_FEATURES = ("A2", "A", "T1", "T2", "T", "X1", "I")
 
+# Settings from the paper
+# -----------------------
+# SAM_RANGES_PAPER: Chiu (2013) Table 1, min and max of each SAM feature (s, m/s^2).
 #: i-Loc thesis Table 1 (paper values: min, max of each feature; seconds and m/s^2).
-SAM_RANGES_PAPER = pd.DataFrame(  # paper Table 1
-    {"min": [0.08, 0.10, 0.36, 2.15, 1.72, 4.24, 0.6, 3.79],  # paper Table 1 minima
-     "max": [0.35, 0.40, 0.62, 8.98, 8.37, 16.77, 1.8, 38.0]},  # paper Table 1 maxima
+SAM_RANGES_PAPER = pd.DataFrame(
+    {"min": [0.08, 0.10, 0.36, 2.15, 1.72, 4.24, 0.6, 3.79],
+     "max": [0.35, 0.40, 0.62, 8.98, 8.37, 16.77, 1.8, 38.0]},
     index=pd.Index(SAM_FEATURES, name="feature"),
 )
 
@@ -65,7 +70,7 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.1 (definition of a_perp before eq. (8)).
+    Chiu (2013), sec. 4.1 (definition of a_perp before eq. (8)).
     """
     a = check_acc(acc_mps2, min_samples=1)
     if a.ndim != 2:
@@ -77,7 +82,7 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
     if np.any(~np.isfinite(n0)) or np.any(n0 <= 0):
         raise ValueError("g0_mps2 must be a finite non-zero vector")
     u = g0 / n0[..., None] if g0.ndim == 2 else g0 / n0
-    proj = a @ u if u.ndim == 1 else np.einsum("ij,ij->i", a, u)
+    proj = along_gravity_mps2(a, g0)
     a_perp = n0 - proj
     horiz = a - proj[:, None] * (u if u.ndim == 2 else u[None, :])
     return a_perp, np.sqrt(np.einsum("ij,ij->i", horiz, horiz))
@@ -122,7 +127,7 @@ def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: flo
 
     References
     ----------
-    i-Loc thesis (000), eq. (8)-(15).
+    Chiu (2013), eq. (8)-(15).
     """
     a = check_acc(acc_mps2, min_samples=3)
     t = check_times(t_s, n=a.shape[0])
@@ -173,7 +178,7 @@ def learn_feature_ranges(features: pd.DataFrame, q_low: float = 0.05, q_high: fl
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.1 (ranges from the 5 % and 95 % points of the feature CDFs), Table 1.
+    Chiu (2013), sec. 4.1 (ranges from the 5 % and 95 % points of the feature CDFs), Table 1.
     """
     missing = [f for f in SAM_FEATURES if f not in features.columns]
     if missing:
@@ -209,6 +214,7 @@ def in_ranges(waves: pd.DataFrame, ranges: pd.DataFrame, features=SAM_TESTED_FEA
     return n_ok >= k
 
 
+@register_step_detector("sam", rate_hz=50.0)
 def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=None,
                      w_peak_s: float = 0.25, w_wave_s: float = 0.5, min_pass: int | None = None) -> pd.DataFrame:
     """SAM step detection: the waves of :func:`sam_waves` whose features lie in ``ranges``.
@@ -230,7 +236,7 @@ def detect_steps_sam(acc_mps2, t_s, ranges: pd.DataFrame | None = None, g0_mps2=
 
     References
     ----------
-    i-Loc thesis (000), sec. 4.1, eq. (8)-(15), Table 1.
+    Chiu (2013), sec. 4.1, eq. (8)-(15), Table 1.
     """
     waves = sam_waves(acc_mps2, t_s, g0_mps2, w_peak_s, w_wave_s)
     r = SAM_RANGES_PAPER if ranges is None else ranges

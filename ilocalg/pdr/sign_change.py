@@ -15,8 +15,10 @@ sample.
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), sec. 3.4.1 and Fig. 3.9 (after Lei Fang et al., NavMote); RMS
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Sec. 3.4.1 and Fig. 3.9 (after Lei Fang et al., NavMote).
+RMS
 eq. 3.4; MA filter eq. 3.6.
 """
 
@@ -26,6 +28,8 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.pdr.filters import moving_average
+from ilocalg.pdr.registry import register_step_detector
+from ilocalg.pdr.signals import along_gravity_mps2, gravity_lowpass_mps2
 
 __all__ = ["STEP_COLUMNS", "slope_sign_extrema", "detect_steps_sign_change"]
 
@@ -66,14 +70,18 @@ def slope_sign_extrema(g) -> tuple[np.ndarray, np.ndarray]:
     return i_max, i_min
 
 
+@register_step_detector("sign_change")
 def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, smooth: bool = True,
-                             rms_mps2: float | None = None) -> pd.DataFrame:
+                             rms_mps2: float | None = None, gravity_half_width: int = 50) -> pd.DataFrame:
     """Detect steps on vertical acceleration by slope sign change and the +-RMS band.
 
     Parameters
     ----------
-    acc_mps2 : array_like, shape (n,)
-        Vertical (z) acceleration, m/s^2, with or without gravity (the band is centred on the mean).
+    acc_mps2 : array_like, shape (n,) or (n, 3)
+        Vertical (z) acceleration, m/s^2, with or without gravity (the band is centred on the mean);
+        or a 3-axis log, whose specific force along gravity is used
+        (:func:`~ilocalg.pdr.signals.along_gravity_mps2` with gravity the moving mean over
+        ``2 gravity_half_width + 1`` samples, :func:`~ilocalg.pdr.signals.gravity_lowpass_mps2`).
     t_s : array_like, shape (n,)
         Sample times, s, strictly increasing.
     n_left, n_right : int
@@ -82,6 +90,8 @@ def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, s
         Apply the moving average first (the thesis does).
     rms_mps2 : float, optional
         Half-width of the rejection band; default: RMS of the smoothed signal about its mean (eq. 3.4).
+    gravity_half_width : int
+        Gravity low-pass half-width, samples, for a 3-axis ``acc_mps2`` (50: 1 s at 100 Hz).
 
     Returns
     -------
@@ -97,8 +107,10 @@ def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, s
     """
     a = np.asarray(acc_mps2, dtype=float)
     t = np.asarray(t_s, dtype=float)
+    if a.ndim == 2 and a.shape[1] == 3:
+        a = along_gravity_mps2(a, gravity_lowpass_mps2(a, gravity_half_width))
     if a.ndim != 1:
-        raise ValueError(f"acc_mps2 must be 1-D, got shape {a.shape}")
+        raise ValueError(f"acc_mps2 must have shape (n,) or (n, 3), got {a.shape}")
     if t.shape != a.shape:
         raise ValueError(f"t_s must have the shape of acc_mps2 {a.shape}, got {t.shape}")
     if a.size < 3:

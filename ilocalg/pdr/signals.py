@@ -16,8 +16,11 @@ __all__ = [
     "resample_uniform",
     "magnitude_mps2",
     "sliding_max",
-    "sliding_min",
     "moving_mean",
+    "moving_mean_time",
+    "acc_from_log",
+    "gravity_lowpass_mps2",
+    "along_gravity_mps2",
 ]
 
 #: Largest relative deviation of a sampling interval from the median interval accepted as "regular".
@@ -80,14 +83,14 @@ def sample_rate_hz(t_s) -> float:
     return float(1.0 / np.median(np.diff(t)))
 
 
-def resample_uniform(t_s, x, rate_hz: float, t0_s: float | None = None):
+def resample_uniform(x, t_s, rate_hz: float, t0_s: float | None = None):
     """Linearly interpolate samples ``x`` (shape (n,) or (n, k)) onto a uniform grid.
 
     Parameters
     ----------
+    x : array_like, shape (n,) or (n, k)
     t_s : array_like, shape (n,)
         Strictly increasing sample times (any spacing), s.
-    x : array_like, shape (n,) or (n, k)
     rate_hz : float
         Output rate, Hz.
     t0_s : float, optional
@@ -95,8 +98,8 @@ def resample_uniform(t_s, x, rate_hz: float, t0_s: float | None = None):
 
     Returns
     -------
-    t_out_s : ndarray, shape (m,)
     x_out : ndarray, shape (m,) or (m, k)
+    t_out_s : ndarray, shape (m,)
     """
     t = check_times(t_s, regular=False)
     xa = np.asarray(x, dtype=np.float64)
@@ -108,12 +111,12 @@ def resample_uniform(t_s, x, rate_hz: float, t0_s: float | None = None):
     m = int(np.floor((t[-1] - start) * rate_hz)) + 1
     t_out = start + np.arange(m) / rate_hz
     if xa.ndim == 1:
-        return t_out, np.interp(t_out, t, xa)
-    return t_out, np.column_stack([np.interp(t_out, t, xa[:, j]) for j in range(xa.shape[1])])
+        return np.interp(t_out, t, xa), t_out
+    return np.column_stack([np.interp(t_out, t, xa[:, j]) for j in range(xa.shape[1])]), t_out
 
 
 def magnitude_mps2(acc_mps2) -> np.ndarray:
-    """Norm of each 3-axis sample, shape (n,) (fingerprint+PDR paper (004), eq. (3))."""
+    """Norm of each 3-axis sample, shape (n,) (Luo et al. (2017), eq. (3))."""
     a = np.asarray(acc_mps2, dtype=np.float64)
     return np.sqrt(np.einsum("ij,ij->i", a, a))
 
@@ -132,16 +135,99 @@ def sliding_max(x, left: int, right: int) -> np.ndarray:
     return y[size // 2: size // 2 + x.size]
 
 
-def sliding_min(x, left: int, right: int) -> np.ndarray:
-    """Minimum of ``x[i-left : i+right+1]`` for every i (edges padded with +inf)."""
-    return -sliding_max(-np.asarray(x, dtype=np.float64), left, right)
-
-
 def moving_mean(x, n: int) -> np.ndarray:
-    """Centred moving mean over ``2 n + 1`` samples (edges: mean of the available samples)."""
+    """Centred moving mean over ``2 n + 1`` samples (edges: mean of the available samples).
+
+    The toolkit's one moving mean over a sample count; :func:`moving_mean_time` is the same mean
+    over a time window for irregular samples. (The PSO thesis's MA pre-filter,
+    :func:`ilocalg.pdr.filters.moving_average`, is a Savitzky-Golay filter of order 0 with the
+    thesis's edge rule, not a second copy of this.)
+    """
     x = np.asarray(x, dtype=np.float64)
     c = np.concatenate([[0.0], np.cumsum(x)])
     i = np.arange(x.size)
     lo = np.maximum(i - n, 0)
     hi = np.minimum(i + n + 1, x.size)
     return (c[hi] - c[lo]) / (hi - lo)
+
+
+def moving_mean_time(x, t_s, window_s: float) -> np.ndarray:
+    """Centred moving mean over a time window of ``window_s`` seconds (irregular samples allowed).
+
+    Sample ``i`` averages every sample with ``|t_j - t_i| <= window_s / 2`` (edges: the available
+    samples), via cumulative sums.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+    t_s : array_like, shape (n,)
+        Non-decreasing times, s.
+    window_s : float
+        Window width, s (>= 0; 0 returns ``x``: each window holds only its own sample).
+    """
+    x = np.asarray(x, dtype=np.float64)
+    t = np.asarray(t_s, dtype=np.float64)
+    if t.shape != x.shape:
+        raise ValueError(f"t_s must have the shape of x {x.shape}, got {t.shape}")
+    if not (np.isfinite(window_s) and window_s >= 0):
+        raise ValueError(f"window_s must be finite and >= 0 seconds, got {window_s}")
+    cs = np.concatenate([[0.0], np.cumsum(x)])
+    lo = np.searchsorted(t, t - window_s / 2, side="left")
+    hi = np.searchsorted(t, t + window_s / 2, side="right")
+    return (cs[hi] - cs[lo]) / (hi - lo)
+
+
+def acc_from_log(imu) -> tuple[np.ndarray, np.ndarray]:
+    """Accelerometer array and times of a sensor log (the package's DataFrame indexed by time, s).
+
+    Returns
+    -------
+    acc_mps2 : ndarray, shape (n, 3)
+        Columns :data:`ilocalg.io.schema.ACC_COLS`, m/s^2.
+    t_s : ndarray, shape (n,)
+        The log's index, s.
+    """
+    from ilocalg.io.schema import ACC_COLS
+
+    missing = [c for c in ACC_COLS if c not in imu.columns]
+    if missing:
+        raise ValueError(f"sensor log lacks accelerometer columns {missing}")
+    return imu[list(ACC_COLS)].to_numpy(), imu.index.to_numpy()
+
+
+def gravity_lowpass_mps2(acc_mps2, half_width: int) -> np.ndarray:
+    """Gravity in the phone frame as the moving mean of each accelerometer axis, shape (n, 3).
+
+    Parameters
+    ----------
+    acc_mps2 : array_like, shape (n, 3)
+    half_width : int
+        Samples either side (:func:`moving_mean` over ``2 half_width + 1`` samples; about 1 s
+        of data is the usual choice).
+    """
+    a = check_acc(acc_mps2, min_samples=1)
+    if a.ndim != 2:
+        raise ValueError(f"acc_mps2 must have shape (n, 3), got {a.shape}")
+    if int(half_width) != half_width or half_width < 0:
+        raise ValueError(f"half_width must be a non-negative int, got {half_width!r}")
+    return np.column_stack([moving_mean(a[:, j], int(half_width)) for j in range(3)])
+
+
+def along_gravity_mps2(acc_mps2, g_mps2) -> np.ndarray:
+    """Specific force along the gravity direction, ``a_i . g_i / |g_i|``, shape (n,).
+
+    Positive (about +9.8 m/s^2) for a phone at rest. ``g_mps2`` is one vector (3,) or one per
+    sample (n, 3), e.g. :func:`gravity_lowpass_mps2`.
+    """
+    a = check_acc(acc_mps2, min_samples=1)
+    if a.ndim != 2:
+        raise ValueError(f"acc_mps2 must have shape (n, 3), got {a.shape}")
+    g = np.asarray(g_mps2, dtype=np.float64)
+    if g.shape not in ((3,), a.shape):
+        raise ValueError(f"g_mps2 must have shape (3,) or {a.shape}, got {g.shape}")
+    n0 = np.linalg.norm(g, axis=-1)
+    if np.any(~np.isfinite(n0)) or np.any(n0 <= 0):
+        raise ValueError("g_mps2 must be a finite non-zero vector")
+    if g.ndim == 1:
+        return a @ (g / n0)
+    return np.einsum("ij,ij->i", a, g / n0[:, None])

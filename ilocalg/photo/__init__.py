@@ -8,7 +8,7 @@ image; from the matched screen points the camera centre ``c`` follows by
 - VA, view angles (:mod:`.view_angle`): gradient descent on the PoI-pair view-angle mismatch,
   orientation-free, from a good or bad initial guess (VAGIG / VABIG);
 - PnP (:mod:`.pnp`): OpenCV SQPnP, estimating orientation too (modern reference);
-- homography (:mod:`.homography`): ``H = K [r1 r2 t]`` from a planar target (survey 002 eq. 3-5).
+- homography (:mod:`.homography`): ``H = K [r1 r2 t]`` from a planar target (Ye and Huang's survey, eq. 3-5).
 
 Frames and units are described in :mod:`.camera`.
 """

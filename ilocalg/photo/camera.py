@@ -15,7 +15,7 @@ Screen points
 
 References
 ----------
-P.-J. Chiu, "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU, 2013,
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
 sec. 6.1-6.2, eq. (27)-(30), Fig 24 and Fig 26.
 """
 

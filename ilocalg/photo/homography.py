@@ -45,7 +45,7 @@ def homography_dlt(plane_xy, img_px) -> np.ndarray:
 
     References
     ----------
-    Survey 002, eq. (3)-(5); Hartley & Zisserman alg. 4.2.
+    Ye and Huang (survey), eq. (3)-(5); Hartley & Zisserman alg. 4.2.
     """
     X = np.asarray(plane_xy, dtype=float)
     x = np.asarray(img_px, dtype=float)
@@ -101,7 +101,7 @@ def homography_pose(H, f_px: float, cx_px: float = 0.0, cy_px: float = 0.0) -> H
 
     References
     ----------
-    Survey 002, eq. (4) and Fig 8; Zhang (2000), sec. 2.2 and appendix C.
+    Ye and Huang (survey), eq. (4) and Fig 8; Zhang (2000), sec. 2.2 and appendix C.
     """
     H = np.asarray(H, dtype=float)
     if H.shape != (3, 3) or not np.isfinite(H).all():
@@ -132,7 +132,7 @@ def homography_locate(pois_m, img_px, f_px: float, origin_m, e1, e2) -> np.ndarr
 
     References
     ----------
-    Survey 002, eq. (3)-(5), applied to the thesis's wall of PoIs.
+    Ye and Huang (survey), eq. (3)-(5), applied to the thesis's wall of PoIs.
     """
     e1 = np.asarray(e1, dtype=float)
     e2 = np.asarray(e2, dtype=float)

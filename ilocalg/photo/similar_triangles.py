@@ -17,7 +17,8 @@ shrinks. :func:`st_solve` raises :class:`RankDeficientError` in the first case a
 
 References
 ----------
-i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.2, eq. (29)-(30) and the LSM remark after them.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 6.2, eq. (29)-(30) and the LSM remark after them.
 """
 
 from __future__ import annotations

@@ -19,7 +19,8 @@ search globally, which is the behaviour the thesis attributes VA's errors to.
 
 References
 ----------
-i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 6.3, the view-angle algorithm VA, VAGIG and VABIG,
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 6.3, the view-angle algorithm VA, VAGIG and VABIG,
 Figs 29-32.
 """
 

@@ -56,8 +56,11 @@ Ground truth
 
 References
 ----------
-i-Loc thesis (000), sec. 4.1-4.4, Table 1 (feature ranges of the raw signals), Figs 7-18;
-PSO thesis (003), sec. 3.4.1 (the bounce of the centre of mass during a step).
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 4.1-4.4, Table 1 (feature ranges of the raw signals), Figs 7-18.
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Sec. 3.4.1 (the bounce of the centre of mass during a step).
 """
 
 from __future__ import annotations
@@ -79,7 +82,18 @@ __all__ = [
     "loop_route",
     "straight_route",
     "magnetic_disturbances",
+    "LENGTHS_M",
+    "training_walks",
+    "count_walks",
+    "fixed_length_features",
+    "times_at_arc_s",
+    "pass_times_s",
 ]
+
+#: The fixed step lengths of the i-Loc thesis's training walks (sec. 4.1-4.2: 40-80 cm), m.
+LENGTHS_M = (0.4, 0.5, 0.6, 0.7, 0.8)
+#: A SAM wave belongs to a true step when its peak lies within this time of the step's mid-point, s.
+MATCH_TOL_S = 0.15
 
 
 @dataclass(frozen=True)
@@ -356,3 +370,66 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     truth = pd.DataFrame({"x_m": xy[:, 0], "y_m": xy[:, 1], "theta_rad": theta_body, "walking": walking},
                          index=pd.Index(t, name=T_S))
     return SimWalk(imu=imu, steps=steps, truth=truth, walker=walker, config=cfg)
+
+
+def training_walks(walkers, rng, lengths_m=LENGTHS_M, n_steps: int = 15, config=None):
+    """Fixed-length walks: every walker x every length, ``n_steps`` steps each.
+
+    Returns
+    -------
+    list of (Walker, float, SimWalk)
+        ``(walker, imposed step length m, walk)``, walkers outer, lengths inner.
+    """
+    out = []
+    for w in walkers:
+        for L in lengths_m:
+            sw = simulate_walk(straight_route(max(2.0 * L * n_steps, 5.0)), w, rng, config,
+                               step_length_m=L, n_steps=n_steps)
+            out.append((w, L, sw))
+    return out
+
+
+def count_walks(walkers, rng, n_steps: int = 100, config=None) -> list[SimWalk]:
+    """Each walker walks ``n_steps`` natural steps along a straight corridor."""
+    return [simulate_walk(straight_route(1.2 * n_steps), w, rng, config, n_steps=n_steps) for w in walkers]
+
+
+def fixed_length_features(walks, tol_s: float = MATCH_TOL_S) -> pd.DataFrame:
+    """SAM features of the true steps of fixed-length walks (the thesis's training set).
+
+    Each true step is matched to the SAM wave nearest its mid-point (within ``tol_s``,
+    :func:`ilocalg.pdr.sam.match_waves_to_steps`) and labelled with the walk's ``walker`` name,
+    the imposed ``target_m`` and the step's true ``length_m``.
+
+    Parameters
+    ----------
+    walks : list of (Walker, float, SimWalk)
+        From :func:`training_walks`.
+    """
+    from ilocalg.pdr.sam import match_waves_to_steps, sam_waves
+    from ilocalg.pdr.signals import acc_from_log
+
+    rows = []
+    for w, L, sw in walks:
+        acc, t = acc_from_log(sw.imu)
+        waves = sam_waves(acc, t)
+        m = match_waves_to_steps(waves, sw.steps["t_mid_s"], tol_s)
+        # the true length of the step each wave belongs to
+        j = np.abs(sw.steps["t_mid_s"].to_numpy()[None, :] - m["t_s"].to_numpy()[:, None]).argmin(axis=1)
+        rows.append(m.assign(walker=w.name, target_m=L, length_m=sw.steps["length_m"].to_numpy()[j]))
+    return pd.concat(rows, ignore_index=True)
+
+
+def times_at_arc_s(sw: SimWalk, s_m) -> np.ndarray:
+    """Time at which a simulated walk has covered the arc lengths ``s_m`` (m) along its true steps, s."""
+    st = sw.steps
+    ends = np.concatenate([[0.0], np.cumsum(st["length_m"].to_numpy())])
+    t_ends = np.concatenate([[st["t_strike_s"].iloc[0]], (st["t_strike_s"] + st["duration_s"]).to_numpy()])
+    return np.interp(s_m, ends, t_ends)
+
+
+def pass_times_s(sw: SimWalk, route_xy_m) -> np.ndarray:
+    """Time at which a simulated walk passes each vertex of its route (by arc length), s."""
+    route = np.asarray(route_xy_m, dtype=np.float64)
+    seg = np.hypot(*np.diff(route, axis=0).T)
+    return times_at_arc_s(sw, np.concatenate([[0.0], np.cumsum(seg)]))

@@ -43,7 +43,8 @@ Everything is deterministic from ``seed`` (same seed -> identical arrays).
 
 References
 ----------
-Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.1 (environment, Fig 2). Seidel S. Y., Rappaport T. S.,
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3.1 (environment, Fig 2). Seidel S. Y., Rappaport T. S.,
 "914 MHz path loss prediction models for indoor wireless communications in multifloored
 buildings", IEEE Trans. Antennas Propag. 40(2), 1992. Gudmundson M., "Correlation model for
 shadow fading in mobile radio systems", Electronics Letters 27(23), 1991.
@@ -58,8 +59,12 @@ import pandas as pd
 
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.units import as_rng
+from ilocalg.wifi.preprocessing import mean_fingerprints
+from ilocalg.wifi.registry import paper_estimators
 
 __all__ = [
+    "FloorFixes",
+    "floor_fixes",
     "FLOOR_W_M",
     "FLOOR_H_M",
     "N_TRAIN_POINTS",
@@ -74,11 +79,16 @@ __all__ = [
     "summary",
 ]
 
-FLOOR_W_M = 75.46  # thesis sec. 3.1: floor length (paper geometry, an input)
-FLOOR_H_M = 50.26  # thesis sec. 3.1: floor width (paper geometry, an input)
-N_TRAIN_POINTS = 63  # thesis: 63 training points 2 m apart (paper survey protocol, an input)
-N_TEST_POINTS = 28  # thesis: test route of 28 points (paper survey protocol, an input)
-SCANS_PER_POINT = 300  # thesis: 300 scans per training point (paper survey protocol, an input)
+# Settings from the paper
+# -----------------------
+# Chiu (2013) sec. 3.1 (inputs): FLOOR_W_M and FLOOR_H_M (floor length and width),
+# N_TRAIN_POINTS (63 training points 2 m apart), N_TEST_POINTS (a test route of 28 points) and
+# SCANS_PER_POINT (300 scans per training point).
+FLOOR_W_M = 75.46
+FLOOR_H_M = 50.26
+N_TRAIN_POINTS = 63
+N_TEST_POINTS = 28
+SCANS_PER_POINT = 300
 SPACING_M = 2.0
 CORRIDOR_Y_M = 25.0
 BRANCH_X_M = 38.0
@@ -303,3 +313,58 @@ def summary(sim: IlocFloor) -> pd.DataFrame:
         {"quantity": "training points", "value": float(len(sim.points_xy_m))},
         {"quantity": "test points", "value": float(len(sim.test_points))},
     ])
+
+
+@dataclass(frozen=True)
+class FloorFixes:
+    """Wi-Fi fixes at the test-route points of a simulated floor.
+
+    Attributes
+    ----------
+    sim : IlocFloor
+    route_xy_m : ndarray (28, 2)
+        The test-route points in walking order.
+    fix_xy_m : ndarray (28, n_scans, 2)
+        The estimator's fix for every new scan at every point.
+    cal_var_m2 : ndarray (28,)
+        Per-point variance of the fix error over the calibration scans (per axis: mean squared
+        error / 2, so ``R = var I`` has the measured total error power; the thesis' Table 5 analogue),
+        at least the quantisation variance of the 2 m grid (``2^2 / 12`` m^2).
+    n_cal : int
+    method : str
+    """
+
+    sim: IlocFloor
+    route_xy_m: np.ndarray
+    fix_xy_m: np.ndarray
+    cal_var_m2: np.ndarray
+    n_cal: int
+    method: str
+
+
+def floor_fixes(rng, n_walkers: int, n_cal: int = 10, method: str = "Simplified-Horus", scans_per_point: int = 300,
+                k_aps: int = 5) -> FloorFixes:
+    """Simulate the floor, fit ``method`` (a key of :data:`ilocalg.wifi.registry.PAPER_ESTIMATORS`) and
+    estimate every new scan at the test-route points (``n_cal + n_walkers`` per point)."""
+    if n_cal < 2 or n_walkers < 1:
+        raise ValueError(f"need n_cal >= 2 and n_walkers >= 1, got {n_cal}, {n_walkers}")
+    spt = n_cal + n_walkers
+    sim = simulate(rng, scans_per_point=scans_per_point, scans_per_test_point=spt)
+    ests = paper_estimators(sim.detect_dbm, k_aps)
+    if method not in ests:
+        raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
+    est = ests[method]
+    if method == "Simplified-Horus":
+        est.fit(sim.train.rssi_dbm, sim.train.xy_m)
+    else:
+        fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
+        est.fit(fp, pts)
+    n_pts = sim.test_points.size
+    # test scans are stored point by point (spt consecutive rows per test point, in route order)
+    fix = est.predict(sim.test.rssi_dbm).reshape(n_pts, spt, 2)
+    route = sim.points_xy_m[sim.test_points]
+    err2 = ((fix[:, :n_cal] - route[:, None]) ** 2).sum(-1)
+    # floor: the quantisation variance of a 2 m reference grid (spacing^2 / 12 per axis), so a point whose
+    # calibration fixes all hit it exactly does not get R = 0
+    var = np.maximum(0.5 * err2.mean(axis=1), SPACING_M**2 / 12.0)
+    return FloorFixes(sim, route, fix, var, n_cal, method)

@@ -61,7 +61,8 @@ Nothing here was adjusted to make an outcome table match the thesis.
 
 References
 ----------
-i-Loc thesis (P.-J. Chiu, NCTU 2013), sec. 5.2 and 6.2-6.3, eq. (29)-(30), Figs 25-28.
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 5.2 and 6.2-6.3, eq. (29)-(30), Figs 25-28.
 """
 
 from __future__ import annotations

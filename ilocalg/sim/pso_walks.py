@@ -43,8 +43,9 @@ Sensors (thesis where it says, else typical values of the MEMS parts of the time
 
 References
 ----------
-趙士賢, "Pedestrian navigation based on particle swarm optimization", M.S. thesis, Tunghai
-University, 2008 (the PSO thesis), Tables 5-1, 5-2, sec. 5.1-5.3. W. Zijlstra and A. L. Hof,
+Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
+Tunghai University.
+Tables 5-1, 5-2, sec. 5.1-5.3. W. Zijlstra and A. L. Hof,
 "Assessment of spatio-temporal gait parameters from trunk accelerations during human walking",
 Gait & Posture 18 (2003). R. W. Bohannon and A. W. Andrews, "Normal walking speed: a descriptive
 meta-analysis", Physiotherapy 97 (2011).
@@ -73,30 +74,36 @@ __all__ = [
     "simulate_static_compass",
 ]
 
+# Settings from the paper
+# -----------------------
+# Chao (2008): WALK_DESIGN_PAPER from Tables 5-1 (legs) and 5-2 (counted steps, phase-1 length);
+# PHASE2_STEPS_PAPER from the Fig. 5.14 file names; SENSORS: sensor rates from sec. 5.1.1, the
+# accelerometer's 1 g and 0 g counts and the raw static compass RMS from sec. 5.1.3 (inputs).
+# The other SENSORS values are this simulator's (module docstring).
 #: Walk design from the thesis (Table 5-1 legs, Table 5-2 counted steps and phase-1 length).
-WALK_DESIGN_PAPER = {  # paper Table 5-1 / 5-2
-    "A1": {"leg_m": 0.94, "n_steps": 217, "route_m": 160.25},  # paper
-    "A2": {"leg_m": 0.94, "n_steps": 116, "route_m": 93.26},  # paper
-    "A3": {"leg_m": 0.94, "n_steps": 128, "route_m": 96.65},  # paper
-    "B1": {"leg_m": 1.00, "n_steps": 108, "route_m": 92.71},  # paper
-    "B2": {"leg_m": 1.00, "n_steps": 118, "route_m": 95.96},  # paper
-    "C": {"leg_m": 1.08, "n_steps": 106, "route_m": 93.73},  # paper
+WALK_DESIGN_PAPER = {
+    "A1": {"leg_m": 0.94, "n_steps": 217, "route_m": 160.25},
+    "A2": {"leg_m": 0.94, "n_steps": 116, "route_m": 93.26},
+    "A3": {"leg_m": 0.94, "n_steps": 128, "route_m": 96.65},
+    "B1": {"leg_m": 1.00, "n_steps": 108, "route_m": 92.71},
+    "B2": {"leg_m": 1.00, "n_steps": 118, "route_m": 95.96},
+    "C": {"leg_m": 1.08, "n_steps": 106, "route_m": 93.73},
 }
 
 #: Phase-2 walks: A1's two (paper Fig. 5.14 file names: 250 and 408 steps); 300 steps elsewhere (assumed).
-PHASE2_STEPS_PAPER = {  # paper Fig. 5.14
-    "A1": {"park": 250, "hall": 408},  # paper
+PHASE2_STEPS_PAPER = {
+    "A1": {"park": 250, "hall": 408},
 }
 PHASE2_DEFAULT_STEPS = 300
 
 #: Sensor and gait constants (see the module docstring for each source).
 SENSORS = {
-    "acc_rate_hz": 8.0,  # thesis sec. 5.1.1
-    "compass_rate_hz": 8.0,  # thesis sec. 5.1.1
-    "gps_rate_hz": 1.0,  # thesis sec. 5.1.1
-    "acc_counts_per_g": 661.82 - 417.57,  # thesis sec. 5.1.3 (paper 1 g and 0 g counts)
+    "acc_rate_hz": 8.0,
+    "compass_rate_hz": 8.0,
+    "gps_rate_hz": 1.0,
+    "acc_counts_per_g": 661.82 - 417.57,
     "acc_noise_mps2": 0.10,
-    "compass_static_rms_deg": 0.716,  # thesis sec. 5.1.3 (paper raw static RMS, an input)
+    "compass_static_rms_deg": 0.716,
     "compass_ar1": 0.6,
     "compass_spike_rate": 0.005,
     "compass_spike_sd_deg": 4.0,

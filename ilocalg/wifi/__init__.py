@@ -8,21 +8,38 @@ Inputs are RSSI matrices ``X`` of shape (n_samples, n_aps) in dBm with ``NaN`` =
 Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:`~ilocalg.wifi.knn`
 (KNN / WKNN, 罗思奇 et al. 2017 eq. 1-2), :mod:`~ilocalg.wifi.radar` (i-Loc thesis eq. 1-3),
 :mod:`~ilocalg.wifi.horus` (i-Loc thesis eq. 5-7), :mod:`~ilocalg.wifi.hierarchical`
-(building -> floor -> position).
+(building -> floor -> position), :mod:`~ilocalg.wifi.registry` (the one registry of estimator
+factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
+(fit a registered method on one fingerprint set, locate another).
 """
 
-from ilocalg.wifi.hierarchical import HierarchicalLocator, locate
+from ilocalg.wifi.evaluate import evaluate_method
+from ilocalg.wifi.hierarchical import HierarchicalLocator, locate_flat
 from ilocalg.wifi.horus import SimplifiedHorus, fit_horus, horus_predict_index, horus_scores
 from ilocalg.wifi.knn import KnnFingerprint, build_index, knn_predict, knn_search, neighbour_weights, vote
-from ilocalg.wifi.preprocessing import REPRESENTATIONS, check_rssi, fill_not_heard, strongest_ap_mask, to_features
+from ilocalg.wifi.preprocessing import (
+    REPRESENTATIONS,
+    check_positions,
+    check_rssi,
+    fill_not_heard,
+    strongest_ap_mask,
+    to_features,
+)
 from ilocalg.wifi.radar import SimplifiedRadar, radar_predict, union_topk_sq_distances
+from ilocalg.wifi.registry import ESTIMATORS, make_estimator, paper_estimators, register_estimator
 
 __all__ = [
     "KnnFingerprint",
     "SimplifiedRadar",
     "SimplifiedHorus",
     "HierarchicalLocator",
-    "locate",
+    "locate_flat",
+    "ESTIMATORS",
+    "register_estimator",
+    "make_estimator",
+    "paper_estimators",
+    "evaluate_method",
+    "check_positions",
     "build_index",
     "knn_search",
     "knn_predict",

@@ -2,7 +2,7 @@
 
 Two ways to add floor and building to a fingerprint estimator:
 
-``locate(est, X, floor, building)``
+``locate_flat(est, X, floor, building)``
     *flat*: one search over the whole database; the position is the estimator's, floor and building
     are the (weighted) majority vote of the same neighbours (KNN, RADAR) or the labels of the most
     likely point (Horus).
@@ -26,7 +26,7 @@ from ilocalg.wifi.knn import KnnFingerprint, neighbour_weights, vote
 from ilocalg.wifi.preprocessing import check_rssi
 from ilocalg.wifi.radar import SimplifiedRadar
 
-__all__ = ["locate", "HierarchicalLocator"]
+__all__ = ["locate_flat", "HierarchicalLocator"]
 
 
 def _labels(v, n, name):
@@ -45,7 +45,7 @@ def _nbr_weights(est, dist):
     return neighbour_weights(dist, est.weights)
 
 
-def locate(est, X, floor=None, building=None) -> pd.DataFrame:
+def locate_flat(est, X, floor=None, building=None) -> pd.DataFrame:
     """Position (and floor, building) of each query with a fitted flat estimator.
 
     Parameters
@@ -78,7 +78,7 @@ def locate(est, X, floor=None, building=None) -> pd.DataFrame:
         lab = {FLOOR: None if floor is None else vote(floor[idx], w),
                BUILDING: None if building is None else vote(building[idx], w)}
     else:
-        raise ValueError(f"locate() supports KnnFingerprint, SimplifiedRadar, SimplifiedHorus; "
+        raise ValueError(f"locate_flat() supports KnnFingerprint, SimplifiedRadar, SimplifiedHorus; "
                          f"got {type(est).__name__}")
     out = pd.DataFrame({X_M: xy[:, 0], Y_M: xy[:, 1]})
     for k, v in lab.items():

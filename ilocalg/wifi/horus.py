@@ -19,7 +19,8 @@ is not available to an estimator.
 
 References
 ----------
-Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.2, eq. (5)-(7), Fig 4; Youssef M., Agrawala A.,
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+Sec. 3.2, eq. (5)-(7), Fig 4; Youssef M., Agrawala A.,
 "The Horus WLAN location determination system", MobiSys 2005.
 """
 
@@ -29,8 +30,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.knn import _check_y
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi
 
 __all__ = ["HorusModel", "fit_horus", "horus_scores", "horus_predict_index", "SimplifiedHorus"]
 
@@ -200,7 +200,7 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Build the per-point histograms from training scans ``X`` at positions ``y``."""
         x = check_rssi(X, "X")
-        yy = _check_y(y, x.shape[0])
+        yy = check_positions(y, x.shape[0])
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         self.model_ = fit_horus(x, yy, self.bin_width_db, self.prob_floor)

@@ -18,8 +18,9 @@ Ties in distance are broken by training order (the earlier reference wins), for 
 
 References
 ----------
-罗思奇 et al., "Indoor positioning technology based on location fingerprint and pedestrian track",
-Computer Systems & Applications 2017, sec. 2.2, eq. (1) (Minkowski distance, a=1 Manhattan, a=2
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications.
+Sec. 2.2, eq. (1) (Minkowski distance, a=1 Manhattan, a=2
 Euclidean) and eq. (2) (mean of the K nearest positions; K=5, a=1 in the paper).
 """
 
@@ -29,7 +30,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi, to_features
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi, to_features
 
 __all__ = [
     "InvertedIndex",
@@ -352,7 +353,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         if self.weights not in ("uniform", "distance"):
             raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
         f = self._features(X)
-        y = _check_y(y, f.shape[0])
+        y = check_positions(y, f.shape[0])
         if not 1 <= int(self.n_neighbors) <= f.shape[0]:
             raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={f.shape[0]}]")
         self.index_ = build_index(f)
@@ -371,17 +372,3 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``."""
         dist, idx = self.kneighbors(X)
         return knn_predict(self.y_, idx, neighbour_weights(dist, self.weights))
-
-
-def _check_y(y, n: int) -> np.ndarray:
-    if y is None:
-        raise ValueError("this estimator requires y to be passed, but the target y is None (positions in metres)")
-    try:
-        yy = np.asarray(y, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"y must be numeric positions: {exc}") from None
-    if yy.ndim not in (1, 2) or yy.shape[0] != n:
-        raise ValueError(f"y must have shape ({n},) or ({n}, d), got {yy.shape}")
-    if not np.isfinite(yy).all():
-        raise ValueError(f"y is not finite at row {np.argwhere(~np.isfinite(yy))[0][0]}")
-    return yy

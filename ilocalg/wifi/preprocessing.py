@@ -28,10 +28,10 @@ import numpy as np
 __all__ = [
     "REPRESENTATIONS",
     "check_rssi",
+    "check_positions",
     "fill_not_heard",
     "to_features",
     "strongest_ap_mask",
-    "heard_counts",
     "mean_fingerprints",
     "RssiPositionTags",
 ]
@@ -172,11 +172,6 @@ def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
     return mask & ~np.isnan(x)
 
 
-def heard_counts(rssi_dbm) -> np.ndarray:
-    """Number of heard APs per row."""
-    return np.sum(~np.isnan(np.asarray(rssi_dbm, dtype=np.float64)), axis=1)
-
-
 def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Average the scans of each reference point into one fingerprint (a RADAR-style radio map).
 
@@ -231,3 +226,17 @@ class RssiPositionTags:
         tags.target_tags.multi_output = True
         return tags
 
+
+def check_positions(y, n: int) -> np.ndarray:
+    """Check the positions ``y`` of ``n`` reference scans: numeric, shape (n,) or (n, d), finite."""
+    if y is None:
+        raise ValueError("this estimator requires y to be passed, but the target y is None (positions in metres)")
+    try:
+        yy = np.asarray(y, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"y must be numeric positions: {exc}") from None
+    if yy.ndim not in (1, 2) or yy.shape[0] != n:
+        raise ValueError(f"y must have shape ({n},) or ({n}, d), got {yy.shape}")
+    if not np.isfinite(yy).all():
+        raise ValueError(f"y is not finite at row {np.argwhere(~np.isfinite(yy))[0][0]}")
+    return yy

@@ -13,8 +13,9 @@ exact), float64 for anything else.
 
 References
 ----------
-Chiu P.-J., "Implement an Integrated Indoor Positioning System" (i-Loc), M.S. thesis, NCTU 2013,
-sec. 3.1, eq. (1)-(4); Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
+sec. 3.1, eq. (1)-(4).
+Bahl P., Padmanabhan V. N., "RADAR: an in-building RF-based user location
 and tracking system", IEEE INFOCOM 2000 (NNSS, N = 3).
 """
 
@@ -24,8 +25,8 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.knn import _check_y, knn_predict, neighbour_weights, smallest_k
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi, strongest_ap_mask, to_features
+from ilocalg.wifi.knn import knn_predict, neighbour_weights, smallest_k
+from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi, strongest_ap_mask, to_features
 
 __all__ = ["union_topk_sq_distances", "radar_predict", "SimplifiedRadar"]
 
@@ -160,7 +161,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         if not 1 <= int(self.n_neighbors) <= x.shape[0]:
             raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={x.shape[0]}]")
-        self.y_ = _check_y(y, x.shape[0])
+        self.y_ = check_positions(y, x.shape[0])
         self.ref_rssi_dbm_ = x
         self._r = to_features(x, self.not_heard_dbm, dtype=np.float64)
         self._b = strongest_ap_mask(x, self.k_aps).astype(np.float64)

@@ -46,7 +46,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
     r.add_argument("--seeds", type=int, default=1, metavar="N",
                    help="re-run the experiments over N seeds for 95%% confidence intervals (default 1: none)")
-    r.add_argument("--workers", type=int, default=2, help="Dask worker processes for the seed sweep (default 2)")
+    r.add_argument("--jobs", type=int, default=2,
+                   help="notebooks (and seed-sweep runs) executed side by side (default 2; 1: one after another)")
+    r.add_argument("--workers", type=int, default=2,
+                   help="Dask worker processes for sweep runs left after the notebooks (default 2)")
     r.add_argument("--out", default=None, help="output folder (default: reports/ in the repository)")
     r.add_argument("--no-html", action="store_true", help="skip the HTML export")
 
@@ -114,12 +117,23 @@ def main(argv: list[str] | None = None) -> int:
 
         out = Path(args.out) if args.out else REPO_ROOT / "reports"
         return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
-                         n_seeds=args.seeds, workers=args.workers)
+                         n_seeds=args.seeds, workers=args.workers, jobs=args.jobs)
     if args.command == "evaluate":
+        # Bad input ends as one line, "error: FILE: line N: what is wrong", exit status 2. The
+        # loaders raise ValueError naming file and line (decoding, archive and JSON errors wrapped);
+        # an OS error names its file; running out of memory is reported, never a traceback.
         try:
             result = args._evaluator.run(args)
-        except (ValueError, FileNotFoundError) as exc:
-            print(f"error: {exc}", file=sys.stderr)
+        except ValueError as exc:
+            print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+            return 2
+        except OSError as exc:  # FileNotFoundError, PermissionError, IsADirectoryError ...
+            where = f"{exc.filename}: " if exc.filename else ""
+            print(f"error: {where}{exc.strerror or exc}", file=sys.stderr)
+            return 2
+        except MemoryError:
+            print("error: out of memory while evaluating; the input is larger than this machine can hold "
+                  "(split it into shorter recordings)", file=sys.stderr)
             return 2
         print(json.dumps(_jsonable(result), sort_keys=False))
         return 0

@@ -1,29 +1,41 @@
 """The reproduce runner: execute every notebook with parameters and write ``reports/``.
 
-``python -m ilocalg reproduce [--fast] [--only PATTERN] [--seed N]`` executes ``notebooks/NN_*.ipynb``
-in order with papermill (each notebook's cell tagged ``parameters`` receives ``SEED``, ``FAST``,
-``OUT_DIR`` and ``DATA_DIR``), shows a progress bar per notebook, exports each executed notebook to
-``reports/<name>.ipynb`` and ``.html``, then builds ``reports/README.md`` from the comparison tables
-the notebooks wrote and ``reports/provenance.json``. The first failing notebook stops the run with
-its failing cell's error and a non-zero exit code.
+``python -m ilocalg reproduce [--fast] [--only PATTERN] [--seed N] [--seeds N] [--jobs J]`` executes
+``notebooks/NN_*.ipynb`` with papermill (each notebook's cell tagged ``parameters`` receives ``SEED``,
+``FAST``, ``OUT_DIR`` and ``DATA_DIR``, the paths relative to the notebook's folder), ``J`` notebooks side
+by side (independent processes, longest first), and exports each executed notebook, figures inline,
+to ``reports/<name>.ipynb`` and ``.html``. With ``--seeds N`` the swept experiments of
+:data:`ilocalg.workflow.manifest.MANIFEST` are re-run over seeds: the runs at the other seeds share the
+same process pool as the notebooks, and the run at the base seed is the notebook's own (recorded into
+the sweep cache by its kernel, see :func:`ilocalg.workflow.sweep.record_runs`), never repeated.
+Afterwards ``reports/README.md``, ``reports/index.html`` (the landing page) and
+``reports/provenance.json`` are built from what the notebooks wrote. A failing notebook stops the run
+(notebooks not yet started are cancelled) with its failing cell's error and a non-zero exit code.
 """
 
 from __future__ import annotations
 
 import fnmatch
+import json
 import os
-import re
 import sys
 import time
+from collections.abc import Mapping
+from contextlib import contextmanager
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT, data_dir
-from ilocalg.workflow.reporting import build_readme, write_provenance, write_table
+from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
+from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
-           "notebook_experiments", "sweep_experiments"]
+           "sweep_experiments", "KERNEL_MPLBACKEND"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
+
+#: Matplotlib backend of the notebook kernels: inline, so every figure is in the executed notebook and its
+#: HTML (the notebooks also save each figure as PNG + PDF under reports/figures/).
+KERNEL_MPLBACKEND = "module://matplotlib_inline.backend_inline"
 
 
 class NotebookFailed(RuntimeError):
@@ -39,75 +51,96 @@ def discover_notebooks(notebook_dir: Path = NOTEBOOK_DIR, only: str | None = Non
     return nbs
 
 
+@contextmanager
+def _environ(**values: str | None):
+    """Set (or, with None, unset) environment variables for the block: a kernel started inside inherits them."""
+    old = {k: os.environ.get(k) for k in values}
+    try:
+        for k, v in values.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _relative(path: str | Path, start: Path) -> str:
+    """``path`` relative to ``start`` (POSIX separators), so executed notebooks show no machine's absolute paths."""
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), Path(start).resolve())).as_posix()
+    except ValueError:  # another drive (Windows): nothing relative exists
+        return str(path)
+
+
 def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool = True,
-                     html: bool = True) -> Path:
-    """Execute one notebook with papermill into ``out_dir/<name>.ipynb`` (+ ``.html``)."""
+                     html: bool = True, record: tuple[str, list[str]] | None = None) -> Path:
+    """Execute one notebook with papermill into ``out_dir/<name>.ipynb`` (+ ``.html``), figures inline.
+
+    ``record`` = (sweep cache folder, experiments): the kernel stores those experiments' runs in the
+    sweep cache (:func:`ilocalg.workflow.sweep.record_runs`).
+    """
     import papermill as pm  # heavy; imported only when notebooks run
 
+    from ilocalg.workflow import sweep as sw
+
     out_nb = out_dir / nb.name
+    env = {"MPLBACKEND": KERNEL_MPLBACKEND,
+           sw.RECORD_ENV: str(record[0]) if record and record[1] else None,
+           sw.RECORD_EXPERIMENTS_ENV: ",".join(record[1]) if record and record[1] else None}
     try:
-        pm.execute_notebook(
-            str(nb),
-            str(out_nb),
-            parameters=parameters,
-            kernel_name="python3",
-            progress_bar=progress,
-            cwd=str(nb.parent),
-            log_output=False,
-        )
+        with _environ(**env):
+            pm.execute_notebook(
+                str(nb),
+                str(out_nb),
+                parameters=parameters,
+                kernel_name="python3",
+                progress_bar=progress,
+                cwd=str(nb.parent),
+                log_output=False,
+            )
     except pm.PapermillExecutionError as exc:
         raise NotebookFailed(
             f"{nb.name}: cell {exc.exec_count} raised {exc.ename}: {exc.evalue}\n"
-            f"executed copy with the traceback: {out_nb}"
+            f"executed copy with the traceback: {_relative(out_nb, Path.cwd())}"
         ) from None
+    import nbformat
+
+    node = nbformat.read(out_nb, as_version=4)
+    pmeta = node.metadata.get("papermill", {})
+    base = Path(os.path.commonpath([Path(nb).resolve(), out_nb.resolve()]))  # the project, for its own notebooks
+    for key in ("input_path", "output_path"):  # papermill records the paths it was given: keep them relative
+        if pmeta.get(key):
+            pmeta[key] = _relative(pmeta[key], base)
+    nbformat.write(node, out_nb)
     if html:
-        import nbformat
         from nbconvert import HTMLExporter
 
-        body, _ = HTMLExporter().from_notebook_node(nbformat.read(out_nb, as_version=4))
+        body, _ = HTMLExporter().from_notebook_node(node)
         out_nb.with_suffix(".html").write_text(body)
     return out_nb
 
 
-_EXPERIMENT_RE = re.compile(r"from ilocalg\.experiments import ([\w, ]+)|ilocalg\.experiments\.(\w+)")
-
-#: Experiments never re-run over seeds (no comparison values). Studies (``study_*``) run their own sweeps,
-#: and an experiment module can opt out with ``SEED_SWEEP = False`` (real data: nothing depends on the seed).
-NOT_SWEPT = ("data_tour",)
-
-
-def notebook_experiments(nb: Path) -> list[str]:
-    """Experiment modules a notebook calls (read from its paired ``.py`` source, else the ``.ipynb``)."""
-    src = nb.with_suffix(".py")
-    text = src.read_text() if src.exists() else Path(nb).read_text()
-    names = []
-    for m in _EXPERIMENT_RE.finditer(text):
-        for n in (m.group(1) or m.group(2)).split(","):
-            n = n.strip().split(" as ")[0].strip()
-            if n and n not in names:
-                names.append(n)
-    return names
-
-
 def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, fast: bool, workers: int,
-                      progress: bool, cache_dir=None) -> tuple[int, object]:
-    """Re-run the notebooks' experiments over ``n_seeds`` seeds; write ``sweeps/summary`` and return it."""
-    import importlib
-
+                      progress: bool, cache_dir=None,
+                      manifest: Mapping[str, Mapping[str, bool]] | None = None) -> tuple[int, object]:
+    """Re-run the notebooks' swept experiments (:data:`ilocalg.workflow.manifest.MANIFEST`) over ``n_seeds``
+    seeds; write ``sweeps/summary`` and return it. Runs already in the cache (the notebooks' own, at the
+    base seed, and those the runner's pool made) are read, not repeated."""
     from ilocalg.workflow import sweep as sw
 
-    exps = []
-    for nb in nbs:
-        for e in notebook_experiments(nb):
-            if e in exps or e in NOT_SWEPT or e.startswith("study_"):
-                continue
-            if getattr(importlib.import_module(f"ilocalg.experiments.{e}"), "SEED_SWEEP", True):
-                exps.append(e)
+    exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
     if not exps:
         return 0, None
     tasks = [t for e in exps for t in sw.make_tasks(e, range(seed, seed + n_seeds), fast=fast)]
-    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds on {workers} worker(s)", flush=True)
     res = sw.sweep(tasks, workers=workers, cache_dir=cache_dir or sw.DEFAULT_CACHE, progress=progress)
+    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds ({res.n_cached} of "
+          f"{res.n_tasks} runs reused, {res.n_tasks - res.n_cached} run now on {workers} worker(s))", flush=True)
     for f in res.failures:
         print(f"FAILED {f['task']}: {f['error']}", file=sys.stderr, flush=True)
     if res.results.empty:
@@ -126,53 +159,178 @@ def _clear_outputs(out_dir: Path, stem: str) -> None:
                 f.unlink()
 
 
+def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, progress: bool = False) -> dict:
+    """One notebook as a pool job: never raises, returns its name, wall time and error (or None)."""
+    t0 = time.perf_counter()
+    try:
+        execute_notebook(nb, out_dir, params, progress=progress, html=html, record=record)
+        err = None
+    except NotebookFailed as exc:
+        err = str(exc)
+    except Exception as exc:  # noqa: BLE001 - a kernel that dies is a failed notebook, reported by name
+        err = f"{nb.name}: {type(exc).__name__}: {exc}"
+    return {"name": nb.stem, "seconds": time.perf_counter() - t0, "error": err}
+
+
+def _sweep_job(task, cache_dir: Path) -> dict:
+    """One seed-sweep run as a pool job: result into the cache; failures are reported by the sweep later."""
+    from ilocalg.workflow import sweep as sw
+
+    t0 = time.perf_counter()
+    sw.sweep([task], workers=0, cache_dir=cache_dir, progress=False)
+    return {"name": task.describe(), "seconds": time.perf_counter() - t0, "error": None}
+
+
+def _timings_path(cache_dir: Path) -> Path:
+    return Path(cache_dir).parent / "timings.json"
+
+
+def _timing_key(name: str, fast: bool) -> str:
+    return f"{name} (fast)" if fast else name
+
+
+def _load_timings(cache_dir: Path) -> dict:
+    try:
+        return {**COST_S, **json.loads(_timings_path(cache_dir).read_text())}
+    except (OSError, ValueError):
+        return dict(COST_S)
+
+
 def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, only: str | None = None,
               seed: int = 0, notebook_dir: Path = NOTEBOOK_DIR, html: bool = True,
-              progress: bool = True, n_seeds: int = 1, workers: int = 2, cache_dir: Path | None = None) -> int:
+              progress: bool = True, n_seeds: int = 1, workers: int = 2, cache_dir: Path | None = None,
+              jobs: int = 2, manifest: Mapping[str, Mapping[str, bool]] | None = None) -> int:
     """Run the notebooks and write the reports. Returns a process exit code.
 
-    With ``n_seeds`` > 1 the experiments the notebooks call are re-run over seeds
-    ``seed .. seed + n_seeds - 1`` on a Dask LocalCluster of ``workers`` processes, and every row
-    of ``README.md`` carries N, the mean and the 95 % confidence interval. Each (experiment, seed)
-    result is cached under ``cache_dir`` (default :data:`ilocalg.workflow.sweep.DEFAULT_CACHE`), keyed by the
-    code's fingerprint, so a re-run after an interruption resumes.
+    Parameters
+    ----------
+    jobs : int
+        Notebooks (and seed-sweep runs) executed side by side, each in its own process; 1 runs the
+        notebooks one after another in name order.
+    n_seeds : int
+        With more than 1, the swept experiments of the notebooks (``manifest``) are re-run over seeds
+        ``seed .. seed + n_seeds - 1`` and every row of ``README.md`` carries N, the mean and the 95 %
+        confidence interval. Each (experiment, seed) result is cached under ``cache_dir`` (default
+        :data:`ilocalg.workflow.sweep.DEFAULT_CACHE`), keyed by the code's fingerprint; the base seed's
+        result is the one the notebook itself computed.
+    workers : int
+        Processes for seed-sweep runs that remain after the notebooks (0: in this process, no pool).
+    manifest : mapping, optional
+        Notebook stem -> {experiment: swept}; default :data:`ilocalg.workflow.manifest.MANIFEST`, where
+        every notebook of the project's folder must be listed.
     """
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from multiprocessing import get_context
+
+    from ilocalg.workflow import sweep as sw
+
     if n_seeds < 1:
         raise ValueError(f"n_seeds must be >= 1, got {n_seeds}")
+    if jobs < 1:
+        raise ValueError(f"jobs must be >= 1, got {jobs}")
     out_dir = Path(out_dir).resolve()
     nbs = discover_notebooks(notebook_dir, only)
     if not nbs:
         print(f"no notebooks match {only!r} in {notebook_dir}", file=sys.stderr)
         return 2
+    if manifest is None:
+        manifest = MANIFEST if Path(notebook_dir).resolve() == NOTEBOOK_DIR.resolve() else {}
+        if manifest:
+            for nb in nbs:
+                experiments_of(nb.stem)  # every project notebook is in the manifest before anything runs
+    cache_dir = Path(cache_dir) if cache_dir is not None else sw.DEFAULT_CACHE
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "figures").mkdir(exist_ok=True)
     (out_dir / "tables").mkdir(exist_ok=True)
     inputs_dir = out_dir / ".inputs"
-    params = {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": str(out_dir), "DATA_DIR": str(data_dir())}
-    # Kernels inherit the environment: headless plots.
-    os.environ.setdefault("MPLBACKEND", "Agg")
-    print(f"reproducing {len(nbs)} notebook(s) into {out_dir} (seed={seed}, fast={fast})", flush=True)
-    for i, nb in enumerate(nbs, 1):
-        t0 = time.perf_counter()
-        print(f"[{i}/{len(nbs)}] {nb.stem}", flush=True)
+    t_start = time.perf_counter()
+    timings = _load_timings(cache_dir)
+    swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
+    print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
+          f"{jobs} side by side)", flush=True)
+    for nb in nbs:
         _clear_outputs(out_dir, nb.stem)
-        try:
-            execute_notebook(nb, out_dir, params, progress=progress, html=html)
-        except NotebookFailed as exc:
-            print(f"FAILED {exc}", file=sys.stderr, flush=True)
-            return 1
-        print(f"    done in {time.perf_counter() - t0:.1f} s", flush=True)
+
+    def params_for(nb: Path) -> dict:
+        # relative to the notebook's folder (the kernel's working directory): no absolute paths in the reports
+        return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent),
+                "DATA_DIR": _relative(data_dir(), nb.parent)}
+
+    def record_for(nb: Path):
+        return (str(cache_dir), swept[nb.stem]) if n_seeds > 1 else None
+
+    failed = None
+    if jobs == 1:
+        for i, nb in enumerate(nbs, 1):
+            print(f"[{i}/{len(nbs)}] {nb.stem}", flush=True)
+            r = _notebook_job(nb, out_dir, params_for(nb), html, record_for(nb), progress=progress)
+            timings[_timing_key(nb.stem, fast)] = r["seconds"]
+            if r["error"]:
+                failed = r["error"]
+                break
+            print(f"    done in {r['seconds']:.1f} s", flush=True)
+    else:
+        # every job (notebooks, then the sweep's other seeds) longest first, so the last to finish is short
+        extra = []
+        if n_seeds > 1 and workers > 0:
+            exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
+            extra = [t for e in exps for t in sw.make_tasks(e, range(seed + 1, seed + n_seeds), fast=fast)
+                     if not sw._cache_path(cache_dir, t).exists()]
+        owner = {e: nb.stem for nb in nbs for e in swept[nb.stem]}
+        jobs_list = [(timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb) for i, nb in enumerate(nbs)]
+        jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
+                               timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
+                      for i, t in enumerate(extra)]
+        jobs_list.sort(key=lambda j: (-j[0], j[1], j[2]))
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
+            futs = {}
+            for _, _, _, kind, item in jobs_list:
+                if kind == "nb":
+                    futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item))] = \
+                        (kind, item.stem)
+                else:
+                    futs[pool.submit(_sweep_job, item, cache_dir)] = (kind, item.experiment)
+            n_done = 0
+            pending = set(futs)
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for f in done:
+                    if f.cancelled():
+                        continue
+                    r = f.result()
+                    kind, name = futs[f]
+                    if kind == "sweep":
+                        timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"]
+                        continue
+                    n_done += 1
+                    timings[_timing_key(name, fast)] = r["seconds"]
+                    if r["error"] and failed is None:
+                        failed = r["error"]
+                        for other in pending:
+                            other.cancel()  # jobs not yet started never run
+                    elif not r["error"]:
+                        print(f"[{n_done}/{len(nbs)}] {name} done in {r['seconds']:.1f} s", flush=True)
+    try:
+        _timings_path(cache_dir).parent.mkdir(parents=True, exist_ok=True)
+        _timings_path(cache_dir).write_text(json.dumps(timings, indent=1, sort_keys=True) + "\n")
+    except OSError:
+        pass
+    if failed:
+        print(f"FAILED {failed}", file=sys.stderr, flush=True)
+        return 1
     inputs = []
     if inputs_dir.is_dir():
         for f in sorted(inputs_dir.glob("*.txt")):
             inputs += [line for line in f.read_text().splitlines() if line]
     summary = None
     if n_seeds > 1:
-        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir)
+        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest)
         if code:
             return code
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
+    build_index(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds, notebook_dir=notebook_dir)
     write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs],
                      n_seeds=n_seeds)
-    print(f"wrote {out_dir / 'README.md'} and {out_dir / 'provenance.json'}", flush=True)
+    print(f"wrote index.html, README.md and provenance.json in {_relative(out_dir, Path.cwd())} "
+          f"({time.perf_counter() - t_start:.0f} s in all)", flush=True)
     return 0

@@ -18,10 +18,13 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib
+import inspect
 import itertools
 import json
 import logging
 import math
+import os
+import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,6 +44,7 @@ __all__ = [
     "aggregate",
     "ci_agreement",
     "parse_param",
+    "record_runs",
     "DEFAULT_CACHE",
 ]
 
@@ -165,10 +169,7 @@ def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     return out
 
 
-def run_task(task: SweepTask) -> pd.DataFrame:
-    """Run one task and return its long-format result (importable by Dask workers)."""
-    mod = _experiment(task.experiment)
-    tables = mod.run(seed=task.seed, fast=task.fast, **dict(task.params))
+def _task_result(task: SweepTask, tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     out = tables_to_long(tables)
     out.insert(0, "seed", task.seed)
     out.insert(0, "params", json.dumps(dict(task.params), sort_keys=True, default=str))
@@ -176,8 +177,89 @@ def run_task(task: SweepTask) -> pd.DataFrame:
     return out
 
 
+def run_task(task: SweepTask) -> pd.DataFrame:
+    """Run one task and return its long-format result (importable by Dask workers)."""
+    mod = _experiment(task.experiment)
+    return _task_result(task, mod.run(seed=task.seed, fast=task.fast, **dict(task.params)))
+
+
 def _cache_path(cache_dir: Path, task: SweepTask) -> Path:
     return Path(cache_dir) / task.experiment / f"{task.key}.parquet"
+
+
+def _write_cache(cache_dir: Path, task: SweepTask, df: pd.DataFrame) -> None:
+    cp = _cache_path(cache_dir, task)
+    cp.parent.mkdir(parents=True, exist_ok=True)
+    tmp = cp.with_suffix(f".{os.getpid()}.tmp")
+    df.to_parquet(tmp, index=False)
+    tmp.replace(cp)
+
+
+#: Environment variables through which the reproduce runner asks a notebook's kernel to record its runs.
+RECORD_ENV = "ILOCALG_RECORD_RUNS_CACHE"
+RECORD_EXPERIMENTS_ENV = "ILOCALG_RECORD_RUNS_EXPERIMENTS"
+
+
+def _default_call(sig: inspect.Signature, arguments: Mapping) -> bool:
+    """True when every argument but ``seed`` and ``fast`` is its default (``data_dir``: the default folder)."""
+    from ilocalg.io.paths import data_dir
+
+    for name, value in arguments.items():
+        if name in ("seed", "fast"):
+            continue
+        if name == "data_dir":
+            if value is not None and Path(value).resolve() != data_dir():
+                return False
+            continue
+        default = sig.parameters[name].default
+        if value is default:
+            continue
+        try:
+            if default is inspect.Parameter.empty or not bool(value == default):
+                return False
+        except (TypeError, ValueError):
+            return False
+    return True
+
+
+def record_runs(experiments: Iterable[str], cache_dir: str | Path) -> list[str]:
+    """Make each experiment's ``run`` also store its result in the sweep cache, as a sweep task would.
+
+    The reproduce runner calls this (through :class:`ilocalg.workflow.reporting.Report`) in a
+    notebook's kernel, so the seed sweep that follows reuses the notebook's own run at its seed
+    instead of repeating it. Only calls with every other argument at its default are recorded
+    (those are the sweep's tasks); what ``run`` returns is unchanged, and a result that cannot be
+    recorded is simply recomputed by the sweep. Returns the experiments wrapped.
+    """
+    wrapped = []
+    for name in experiments:
+        try:
+            mod = _experiment(name)
+        except (ValueError, ImportError):
+            continue
+        orig = mod.run
+        if getattr(orig, "_ilocalg_records_to", None) is not None:
+            continue
+        sig = inspect.signature(orig)
+
+        def run(*args, _orig=orig, _name=name, _sig=sig, **kwargs):
+            tables = _orig(*args, **kwargs)
+            try:
+                bound = _sig.bind(*args, **kwargs)
+                if _default_call(_sig, bound.arguments):
+                    bound.apply_defaults()
+                    task = SweepTask(_name, (), int(bound.arguments["seed"]), bool(bound.arguments["fast"]))
+                    _write_cache(Path(cache_dir), task, _task_result(task, tables))
+            except Exception as exc:  # noqa: BLE001 - recording never changes what the notebook gets
+                warnings.warn(f"{_name}.run result not recorded for the sweep ({type(exc).__name__}: {exc}); "
+                              f"the sweep recomputes it", stacklevel=2)
+            return tables
+
+        functools.update_wrapper(run, orig)
+        run._ilocalg_records_to = str(cache_dir)
+        mod.run = run
+        wrapped.append(name)
+    return wrapped
 
 
 def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2,
@@ -216,11 +298,7 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
     def _store(t: SweepTask, df: pd.DataFrame):
         done[t.key] = df
         if cache is not None:
-            cp = _cache_path(cache, t)
-            cp.parent.mkdir(parents=True, exist_ok=True)
-            tmp = cp.with_suffix(".tmp")
-            df.to_parquet(tmp, index=False)
-            tmp.replace(cp)
+            _write_cache(cache, t, df)
 
     bar = tqdm(total=len(tasks), initial=n_cached, desc="sweep", unit="run", disable=not progress)
     if todo and workers == 0 and scheduler is None and client is None:

@@ -5,10 +5,12 @@ recording in it, or ``--member NAME``), or a validation-style single headerless 
 :mod:`ilocalg.io.oxford`). Prints one JSON object::
 
     {"method": ..., "recordings": [{"path", "name", "true_steps", "detected_steps", "accuracy",
-     "hardware_steps"}, ...], "mean_accuracy": ...}
+     "hardware_steps", "duplicate_timestamps_dropped"}, ...], "mean_accuracy": ...}
 
 ``accuracy`` is ``1 - |detected - true| / true`` (a fraction); ``hardware_steps`` is the phone's own
-step counter when the file has it (validation layout), else null. Methods use fixed parameters:
+step counter when the file has it (validation layout), else null. ``--duplicate-timestamps drop``
+accepts files that repeat a timestamp on consecutive lines (some published validation CSVs do);
+``duplicate_timestamps_dropped`` counts the lines it dropped per recording. Methods use fixed parameters:
 those that leave-one-recording-out tuning chose on the Oxford optimisation set (experiment
 ``pdr_real_steps``); SAM uses the i-Loc thesis's Table 1 ranges.
 """
@@ -22,14 +24,17 @@ import numpy as np
 from ilocalg.io.oxford import _is_archive, load_oxford_archive, load_oxford_step_counter
 
 NAME = "steps"
+#: Shortest recording the command scores, s (about two strides: every detector needs a few steps).
+MIN_DURATION_S = 2.0
 HELP = "count steps in Oxford step counter recordings (folder, archive or validation CSV)"
 
-#: Fixed parameters per method (``robust`` is the toolkit's best detector).
+#: Fixed parameters per registered detector (``robust`` is the toolkit's best; its defaults, and
+#: those of ``find_peaks``, are the tuned values; SAM uses the thesis's Table 1 ranges).
 METHODS = {
     "robust": {},
-    "find_peaks": {"cutoff_hz": 3.0, "prominence_mps2": 1.2, "max_step_s": np.inf, "min_bout_steps": 1},
+    "find_peaks": {},
     "peak_window": {"threshold_mps2": 2.0},
-    "sign_change": {"n": 2},
+    "sign_change": {"n_left": 2, "n_right": 2},
     "sam": {},
 }
 
@@ -41,41 +46,56 @@ def add_arguments(parser) -> None:
                         help="step detector (default: robust, the toolkit's best)")
     parser.add_argument("--member", action="append", default=None, metavar="NAME",
                         help="recording name inside an archive (repeatable; default: all; other paths ignore it)")
+    parser.add_argument("--duplicate-timestamps", default="error", choices=("error", "drop"),
+                        help="a timestamp repeated on consecutive lines: refuse (default) or drop the later line "
+                             "(counted per recording)")
 
 
 def count(rec, method: str) -> int:
-    """Steps counted in one :class:`~ilocalg.io.oxford.OxfordRecording` by ``method``."""
-    from ilocalg.experiments.pdr_real_steps import count_steps, prepare
-    from ilocalg.pdr.robust import ROBUST_DEFAULTS
-    from ilocalg.pdr.sam import detect_steps_sam
+    """Steps counted in one :class:`~ilocalg.io.oxford.OxfordRecording` by ``method``.
+
+    The log is resampled to the detector's rate (:data:`ilocalg.pdr.registry.DETECTOR_RATE_HZ`) and
+    run through the registered detector (:func:`ilocalg.pdr.count_steps`).
+    """
+    from ilocalg.pdr import count_steps
+    from ilocalg.pdr.signals import acc_from_log
 
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; choose one of {sorted(METHODS)}")
-    p = prepare(rec)
-    if method == "sam":
-        return len(detect_steps_sam(p.acc50_mps2, p.t50_s))
-    params = METHODS[method]
-    if method == "robust":
-        params = {k: v for k, v in ROBUST_DEFAULTS.items() if k != "rate_hz"}
-    return count_steps(p, method, params)
+    acc, t = acc_from_log(rec.imu)
+    return count_steps(method, acc, t, **METHODS[method])
 
 
 def run(args) -> dict:
     rows = []
+    dup = getattr(args, "duplicate_timestamps", "error")
     for path in args.paths:
         p = Path(path)
-        if _is_archive(p):
-            recs = load_oxford_archive(p, args.member)
-            where = [f"{p}:{r.name}" for r in recs]
-        else:
-            recs = [load_oxford_step_counter(p)]
-            where = [str(p)]
+        try:
+            if _is_archive(p):
+                recs = load_oxford_archive(p, args.member, duplicate_timestamps=dup)
+                where = [f"{p}:{r.name}" for r in recs]
+            else:
+                recs = [load_oxford_step_counter(p, duplicate_timestamps=dup)]
+                where = [str(p)]
+        except ValueError as exc:  # name the command-line option, not the loader's argument
+            raise ValueError(str(exc).replace("pass duplicate_timestamps='drop'",
+                                              "pass --duplicate-timestamps drop")) from None
         for w, rec in zip(where, recs, strict=True):
+            t = rec.imu.index.to_numpy()
+            if t[-1] - t[0] < MIN_DURATION_S:
+                raise ValueError(f"{w}: the recording lasts {t[-1] - t[0]:.3g} s ({t.size} samples); step counting "
+                                 f"needs at least {MIN_DURATION_S:g} s of walking")
             if rec.true_steps <= 0:
                 raise ValueError(f"{w}: the recording has no true steps; accuracy is undefined")
-            n = count(rec, args.method)
+            try:
+                n = count(rec, args.method)
+            except ValueError as exc:
+                raise ValueError(f"{w}: --method {args.method} cannot count this recording "
+                                 f"({t[-1] - t[0]:.3g} s, {t.size} samples): {exc}") from None
             rows.append({"path": w, "name": rec.name, "true_steps": int(rec.true_steps), "detected_steps": int(n),
                          "accuracy": float(1.0 - abs(n - rec.true_steps) / rec.true_steps),
-                         "hardware_steps": rec.hardware_steps})
+                         "hardware_steps": rec.hardware_steps,
+                         "duplicate_timestamps_dropped": int(rec.n_duplicate_timestamps_dropped)})
     return {"method": args.method, "recordings": rows,
             "mean_accuracy": float(np.mean([r["accuracy"] for r in rows]))}

@@ -70,8 +70,8 @@ def _ids_in(floor) -> list[str]:
 def _load(paths, floor, fmt="auto"):
     """Walks for PATHs: files are read directly (format ``fmt`` or from the content), the rest are ILC
     trace ids inside ``floor`` (one archive pass)."""
-    from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace
-    from ilocalg.io.recording import load_recording, sniff_format
+    from ilocalg.io.ilc import IlcTrace, load_ilc_floor, load_ilc_trace, require_walk
+    from ilocalg.io.recording import load_recording, require_recording_walk, sniff_format
 
     out, ids = {}, []
     for p in paths:
@@ -96,7 +96,7 @@ def _load(paths, floor, fmt="auto"):
         fl = load_ilc_floor(floor, names=ids, duplicate_bssid="keep_latest")
         for i in ids:
             out[i] = fl.traces[i]
-    return out
+    return {k: require_walk(v) if isinstance(v, IlcTrace) else require_recording_walk(v) for k, v in out.items()}
 
 
 def run(args) -> dict:

@@ -17,6 +17,7 @@ import numpy as np
 NAME = "wifi"
 HELP = "Wi-Fi fingerprinting (RADAR, Horus, KNN, WKNN, best) on a train/test fingerprint pair"
 
+#: The registered estimators (:data:`ilocalg.wifi.ESTIMATORS`); kept literal so ``--help`` needs no import.
 METHODS = ("radar", "horus", "knn", "wknn", "best")
 FORMATS = ("ujiindoorloc",)
 
@@ -35,8 +36,9 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
-    from ilocalg.experiments.wifi_ujiindoorloc import evaluate_method
     from ilocalg.io.ujiindoorloc import load_ujiindoorloc
+    from ilocalg.metrics import hit_rate
+    from ilocalg.wifi import evaluate_method, make_estimator
 
     if args.format not in FORMATS:
         raise ValueError(f"--format must be one of {FORMATS}, got {args.format!r}")
@@ -46,6 +48,11 @@ def run(args) -> dict:
     test = load_ujiindoorloc(args.test)
     if train.ap_ids != test.ap_ids:
         raise ValueError(f"--train and --test have different access-point columns ({args.train}, {args.test})")
+    need = int(getattr(make_estimator(args.method, args.k, args.metric, args.not_heard_dbm), "n_neighbors", 1))
+    if train.n_samples < need:
+        hint = f"pass --k {train.n_samples} or less, or " if args.method in ("knn", "wknn", "best") else ""
+        raise ValueError(f"{args.train}: {train.n_samples} training rows, fewer than the {need} neighbours "
+                         f"--method {args.method} averages; {hint}give more training rows")
     res = evaluate_method(train, test, args.method, k=args.k, metric=args.metric, not_heard_dbm=args.not_heard_dbm)
     e = res["error_m"]
     return {
@@ -53,7 +60,7 @@ def run(args) -> dict:
         "median_error_m": float(np.median(e)),
         "p75_error_m": float(np.percentile(e, 75)),
         "p95_error_m": float(np.percentile(e, 95)),
-        "floor_hit_rate": float(np.mean(res["floor"] == test.floor)),
-        "building_hit_rate": float(np.mean(res["building"] == test.building)),
+        "floor_hit_rate": hit_rate(res["floor"], test.floor),
+        "building_hit_rate": hit_rate(res["building"], test.building),
         "n": int(e.size),
     }

@@ -7,7 +7,7 @@ quantity). Within a run, a curve's abscissa that is cheaper to compute in one go
 one filtered walk, say) is written into ``item`` as ``"name=value;name2=value2"``; a swept
 parameter lives in the task's ``params``. :func:`curves` turns both back into columns.
 
-This module has no ``run``: it is not an experiment.
+Studies live in ``ilocalg.experiments.study_*``; this plumbing is workflow code (it builds sweep tasks).
 """
 
 from __future__ import annotations

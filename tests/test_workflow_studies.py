@@ -1,4 +1,4 @@
-"""Study plumbing (ilocalg.experiments.study_common) and the study plots (ilocviz.studies)."""
+"""Study plumbing (ilocalg.workflow.studies) and the study plots (ilocviz.studies)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from ilocalg.experiments import study_common as sc  # noqa: E402
 from ilocalg.experiments import study_kf_noise  # noqa: E402
+from ilocalg.workflow import studies as sc  # noqa: E402
 from ilocalg.workflow import sweep as sw  # noqa: E402
 from ilocviz import studies as vs  # noqa: E402
 

@@ -1,0 +1,72 @@
+"""Which experiments each notebook runs, and which of them reproduce re-runs over seeds.
+
+One explicit table, read by the reproduce runner (what to sweep for confidence intervals, which
+seed-0 runs a notebook records for the sweep) and checked by a test against the notebooks and the
+experiment modules on disk, so adding a notebook or an experiment means adding one line here.
+
+An experiment is *swept* when its comparison rows depend on the simulation seed: reproduce then
+re-runs it over ``--seeds`` seeds and gives every row a 95 % confidence interval. Not swept:
+experiments on real recordings (nothing depends on the seed), the data tour (no comparison rows),
+and the studies (``study_*``), which run their own parameter sweeps. An experiment is swept in at
+most one notebook: the one whose run at the base seed the sweep reuses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+__all__ = ["MANIFEST", "COST_S", "experiments_of", "swept_experiments", "notebook_stems"]
+
+#: notebook stem -> {experiment module under ``ilocalg.experiments``: swept over seeds?}
+MANIFEST: dict[str, dict[str, bool]] = {
+    "00_data_tour": {"data_tour": False},  # no comparison rows
+    "01_wifi_radar_horus_knn": {"wifi_iloc": True},
+    "02_wifi_ujiindoorloc": {"wifi_ujiindoorloc": False},  # real recordings
+    "03_pdr_step_features": {"pdr_step_features": True},
+    "04_pdr_step_length": {"pdr_step_length": True},
+    # pso_k_factor: only its compass filter study here; swept with notebook 10
+    "05_pdr_heading_trajectory": {"pdr_heading_trajectory": True, "pso_k_factor": False},
+    "06_pdr_real_steps": {"pdr_real_steps": False},  # real recordings
+    "07_fusion_iloc_kf": {"fusion_iloc_kf": True},
+    "08_fusion_knn_pdr": {"fusion_knn_pdr": True},
+    "09_fusion_real_walks": {"fusion_real_walks": False},  # real recordings, no paper comparison
+    "10_pso_k_factor": {"pso_k_factor": True},
+    "11_photo_positioning": {"photo_positioning": True},
+    "12_ins_constraints_gcp": {"ins_constraints": True},
+    "13_ins_online_window": {"ins_online": True},
+    "14_imu_video_ekf": {"ins_hartmann": True},
+    "15_sweep_studies": {"study_wifi": False, "study_ins_window": False, "study_kf_noise": False,
+                         "study_pso": False},  # each study sweeps its own parameters
+}
+
+
+#: Rough wall time in seconds of each notebook (full mode, one core), only to start the longest first when
+#: notebooks run side by side; the runner replaces these by the times it measured on the last run.
+COST_S: dict[str, float] = {}
+
+
+def notebook_stems() -> list[str]:
+    """Every notebook the manifest knows, in run order."""
+    return sorted(MANIFEST)
+
+
+def experiments_of(stem: str, manifest: Mapping[str, Mapping[str, bool]] | None = None) -> list[str]:
+    """Experiments the notebook ``stem`` runs (ValueError for a notebook missing from the manifest)."""
+    manifest = MANIFEST if manifest is None else manifest
+    if stem not in manifest:
+        raise ValueError(f"notebook {stem!r} is not in ilocalg/workflow/manifest.py MANIFEST; add it there "
+                         f"with the experiments it runs")
+    return list(manifest[stem])
+
+
+def swept_experiments(stems: Iterable[str], swept_only: bool = True,
+                      manifest: Mapping[str, Mapping[str, bool]] | None = None) -> list[str]:
+    """Experiments the notebooks ``stems`` run (only the seed-swept ones by default), in notebook order."""
+    manifest = MANIFEST if manifest is None else manifest
+    out: list[str] = []
+    for stem in stems:
+        experiments_of(stem, manifest)  # validates the stem
+        for exp, swept in manifest[stem].items():
+            if (swept or not swept_only) and exp not in out:
+                out.append(exp)
+    return out

@@ -1,0 +1,33 @@
+"""PTS (ilocalg.pdr.pts): SAM steps with SLM lengths and WDM headings on a seeded simulated walk."""
+
+import numpy as np
+import pytest
+
+from ilocalg.pdr import fit_step_length_models, learn_feature_ranges, log_headings_rad, pts_steps
+from ilocalg.sim import gait
+from ilocalg.units import wrap_angle_rad
+
+
+@pytest.fixture(scope="module")
+def trained():
+    rng = np.random.default_rng(3)
+    walkers = gait.make_walkers(3, 3)
+    feats = gait.fixed_length_features(gait.training_walks(walkers, rng))
+    models, _ = fit_step_length_models(feats)
+    return walkers, learn_feature_ranges(feats, 0.01, 0.99), models["SLM quadratic"]
+
+
+def test_pts_on_a_training_walker(trained):
+    walkers, ranges, p = trained
+    sw = gait.simulate_walk(gait.straight_route(30.0, 0.7), walkers[0], 4)
+    st = pts_steps(sw.imu, ranges, p, sw.config.stand_s)
+    assert {"i_peak", "t_s", "length_m", "theta_rad", "theta_gyr_rad"} <= set(st.columns)
+    assert (st["length_m"] >= 0).all()
+    assert abs(len(st) - len(sw.steps)) <= 0.2 * len(sw.steps)
+    assert abs(st["length_m"].sum() - 30.0) < 6.0                           # distance within 20 %
+    err = np.abs(wrap_angle_rad(st["theta_rad"].to_numpy() - 0.7))
+    assert np.median(err) < np.deg2rad(20)                                   # WDM heading of a straight walk
+    heads = log_headings_rad(sw.imu, sw.config.stand_s)
+    same = pts_steps(sw.imu, ranges, p, headings=heads)                      # precomputed headings: same table
+    np.testing.assert_array_equal(same["theta_rad"], st["theta_rad"])
+    np.testing.assert_array_equal(same["theta_rad"], heads["WDM"][st["i_peak"].to_numpy()])
