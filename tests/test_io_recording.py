@@ -147,3 +147,13 @@ def test_recording_checks_its_parts(walks):
         as_recording(object())
     assert as_recording(r) is r and isinstance(r, Recording)
     assert r.has_floors and not dataclasses.replace(r, truth=r.truth.assign(floor=np.nan)).has_floors
+
+
+def test_pressure_records_are_read_and_checked(walks, tmp_path):
+    p = write_ipin_logfile(walks[1], tmp_path / "w.txt")
+    lines = p.read_text().splitlines()
+    i = next(k for k, ln in enumerate(lines) if ln.startswith("PRES;"))
+    lines[i] = "PRES;1.0;1.0;abc;3"
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=rf"w.txt: line {i + 1}: PRES expects"):
+        load_recording(p)

@@ -42,6 +42,11 @@ def _num(a) -> list[str]:
     return [repr(float(v)) for v in np.asarray(a, dtype=np.float64)]
 
 
+def _comment(s: str) -> str:
+    """Text safe in a ``%`` comment line: no separator, no control character."""
+    return "".join(c if c.isprintable() and c != ";" else " " for c in str(s)).strip()
+
+
 def _clean(s: str) -> str:
     return str(s).replace(";", ",").replace("\n", " ").replace("\r", " ")
 
@@ -109,8 +114,8 @@ def ipin_logfile_text(recording: Recording, t0_s: float | None = None, origin: t
     t_all = np.concatenate([b[0] for b in blocks])
     lines = [ln for b in blocks for ln in b[1]]
     order = np.argsort(t_all, kind="stable")
-    head = [f"% IPIN logfile written by ilocalg.io.ipin_write from {rec.name or 'a recording'}",
-            f"% source: {_clean(rec.source or '')}; AppTimestamp = t_s - {t0!r}",
+    head = [f"% IPIN logfile written by ilocalg.io.ipin_write from {_comment(rec.name or 'a recording')}",
+            f"% source: {_comment(rec.source or '')}, AppTimestamp = t_s - {t0!r}",
             "% ACCE/GYRO/MAGN: AppTimestamp;SensorTimestamp;X;Y;Z;Accuracy  PRES: AppTimestamp;SensorTimestamp;"
             "Pressure(mbar);Accuracy",
             "% WIFI: AppTimestamp;SensorTimeStamp;Name_SSID;MAC_BSSID;Frequency;RSS  "

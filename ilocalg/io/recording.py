@@ -498,7 +498,21 @@ def sniff_format(path) -> str:
 
 
 def _ipin_pressure(path: Path) -> pd.DataFrame:
-    """PRES records (``PRES;AppTimestamp;SensorTimestamp;Pressure(mbar);Accuracy``) of an IPIN logfile."""
+    """PRES records (``PRES;AppTimestamp;SensorTimestamp;Pressure(mbar);Accuracy``) of an IPIN logfile.
+
+    A fast pass over the lines; a file where some PRES line is malformed is read again line by line,
+    which names the line.
+    """
+    data = path.read_bytes()
+    rows = [ln.rstrip(b"\r").split(b";") for ln in data.split(b"\n") if ln.startswith(b"PRES;")]
+    if all(len(r) == 5 for r in rows):
+        try:
+            ta = np.array([r[1] for r in rows], dtype=np.float64).reshape(-1)
+            va = np.array([r[3] for r in rows], dtype=np.float64).reshape(-1)
+        except ValueError:
+            ta = None
+        if ta is not None:
+            return _pressure_frame(ta, va, path)
     t, v = [], []
     with open(path, encoding="utf-8", errors="replace") as fh:
         for lineno, line in enumerate(fh, start=1):
@@ -511,8 +525,10 @@ def _ipin_pressure(path: Path) -> pd.DataFrame:
             except (IndexError, ValueError):
                 raise ValueError(f"{path}: line {lineno}: PRES expects AppTimestamp;SensorTimestamp;Pressure;Accuracy "
                                  f"numbers, got {line.strip()[:60]!r}") from None
-    ta = np.asarray(t, dtype=np.float64)
-    va = np.asarray(v, dtype=np.float64)
+    return _pressure_frame(np.asarray(t, dtype=np.float64), np.asarray(v, dtype=np.float64), path)
+
+
+def _pressure_frame(ta: np.ndarray, va: np.ndarray, path) -> pd.DataFrame:
     if ta.size:
         check_time_index(ta, str(path), name="PRES AppTimestamp")
         bad = np.flatnonzero(~((va > 300) & (va < 1100)))
