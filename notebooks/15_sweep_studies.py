@@ -134,7 +134,11 @@ with ilocviz.style():
 # %% [markdown]
 # ## 4 PSO: convergence vs swarm size and inertia schedule
 # Thesis settings otherwise (maxIters 100, maxSpeed 0.1, minFitness 0.1 m, c1 = c2 = 2); the
-# fitness is eq. 4.4 on the six simulated phase-1 walks, several independent swarms per walk.
+# fitness is eq. 4.4 in its per-step reading (the one the thesis's Fig 5.12 supports) on the six simulated
+# phase-1 walks, steps detected without a moving average and with the static-noise RMS band (notebook 10's
+# defaults), several independent swarms per walk. In this 1-D problem the swarm stops as soon as one particle
+# is below minFitness, often in the initial swarm (k uniform in [0, 1], a box the thesis does not give), so
+# these curves describe the stop rule and the initial box as much as the swarm's dynamics.
 
 # %%
 pso = report.table(cv["pso"], "pso_curves")

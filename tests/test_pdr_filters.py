@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.signal import savgol_coeffs, savgol_filter
 
-from ilocalg.pdr.filters import moving_average, rms, savitzky_golay, savitzky_golay_coeffs
+from ilocalg.pdr.filters import moving_average, rms, savitzky_golay, savitzky_golay_coeffs, smoother_gain
 
 # Table 3-2 of the PSO thesis (Numerical Recipes' table); the thesis prints the (m=2, nL=4, nR=0) row
 # as "0.886 -0.143 -0.886 0.257 0.886", a typo of Numerical Recipes' 0.086 -0.143 -0.086 0.257 0.886.
@@ -75,3 +75,24 @@ def test_bad_input():
         moving_average(np.ones(10), n_left=-1)
     with pytest.raises(ValueError, match="1-D"):
         moving_average(np.ones((5, 5)))
+
+
+def test_moving_average_frequency_response():
+    rate = 8.0
+    # MA(2,2) at 8 Hz: first zero at rate / 5 = 1.6 Hz (inside the walking step-rate band), DC gain 1
+    assert smoother_gain(1.6, rate, 2, 2) == pytest.approx(0.0, abs=1e-12)
+    assert smoother_gain(0.0, rate, 2, 2) == pytest.approx(1.0)
+    # MA(1,1): first zero at 8 / 3 Hz
+    assert smoother_gain(rate / 3, rate, 1, 1) == pytest.approx(0.0, abs=1e-12)
+    # closed form |sin(pi f N / fs) / (N sin(pi f / fs))|
+    f = np.linspace(0.05, 3.95, 40)
+    for n in (1, 2, 3):
+        N = 2 * n + 1
+        ref = np.abs(np.sin(np.pi * f * N / rate) / (N * np.sin(np.pi * f / rate)))
+        np.testing.assert_allclose(smoother_gain(f, rate, n, n), ref, atol=1e-12)
+    # and the filter itself: a 1.6 Hz sine sampled at 8 Hz vanishes in the interior
+    t = np.arange(200) / rate
+    y = moving_average(np.sin(2 * np.pi * 1.6 * t + 0.3), 2, 2)
+    assert np.max(np.abs(y[2:-2])) < 1e-12
+    with pytest.raises(ValueError, match="rate_hz"):
+        smoother_gain(1.0, 0.0)

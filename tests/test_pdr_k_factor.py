@@ -59,3 +59,34 @@ def test_bad_input_no_steps_and_gps():
 def test_total_closed_form_is_k_from_distance():
     q = np.random.default_rng(5).uniform(1.2, 1.8, 40)
     assert K.closed_form_k(q, 30.0, "total")["k_min"] == k_from_distance(q, 30.0) == 30.0 / q.sum()
+
+
+def test_per_step_fitness_on_a_hand_worked_walk():
+    """Eq. 4.4 per step (the default reading): three steps, GPS distance 3 m (1 m per step).
+
+    q = 1.0, 1.25, 2.0; k = 0.8 gives Weinberg steps 0.8, 1.0, 1.6 m, so |1 - s_j| = 0.2, 0, 0.6 and the
+    fitness is their mean, 0.8 / 3 m. The walk-total reading is |3 - 0.8 * 4.25| = 0.4 m.
+    """
+    q = np.array([1.0, 1.25, 2.0])
+    assert K.per_step_fitness(0.8, q, 3.0)[0] == pytest.approx(0.8 / 3)
+    assert K.distance_fitness(0.8, q, 3.0) == pytest.approx(0.4)
+    # weighted median of (D/N)/q_j = 1, 0.8, 0.5 with weights q: cumulative weights from the smallest ratio
+    # 2.0 (0.5), 3.25 (0.8) reach half of 4.25 at 0.8
+    assert K.closed_form_k(q, 3.0)["k_min"] == pytest.approx(0.8)
+    assert K.FITNESSES[0] == "per_step"
+
+
+def test_stop_interval_brackets_where_the_pso_stops():
+    rng = np.random.default_rng(3)
+    q = rng.uniform(1.3, 1.7, 120)
+    d = 0.47 * q.sum()
+    lo, hi = K.stop_interval(q, d)
+    k0 = K.closed_form_k(q, d)["k_min"]
+    assert lo < k0 < hi
+    assert K.per_step_fitness([lo, hi], q, d) == pytest.approx([0.1, 0.1])
+    for r in range(5):
+        s, _ = K.learn_k(_steps(q), d, rng=r)
+        if s["iters"] < K.PSO_SETTINGS_PAPER["max_iters"]:
+            assert lo <= s["k_pso"] <= hi
+    # a walk whose best fitness is above minFitness has no stop interval
+    assert np.isnan(K.stop_interval(q, d, min_fitness=1e-6)[0])

@@ -11,7 +11,8 @@ from ilocalg.sim import gait
 
 #: Parameters for the simulated walk at 50 Hz (SAM: ranges learned below; sign change: an MA wide
 #: enough for 50 Hz, as the ILC study uses; the others: their defaults).
-PARAMS = {"peak_window": {"threshold_mps2": 1.0}, "sign_change": {"n_left": 6, "n_right": 6, "gravity_half_width": 25}}
+PARAMS = {"peak_window": {"threshold_mps2": 1.0}, "sign_change": {"n_left": 6, "n_right": 6, "smooth": True,
+                                                                "gravity_half_width": 25}}
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from ilocalg.pdr.filters import moving_average
-from ilocalg.pdr.sign_change import STEP_COLUMNS, detect_steps_sign_change, slope_sign_extrema
+from ilocalg.pdr.sign_change import STEP_COLUMNS, detect_steps_sign_change, slope_sign_extrema, static_rms_mps2
 
 
 def _walk(n_steps=60, f_hz=1.0, fs_hz=8.0, amp=2.5, noise=0.2, seed=0):
@@ -39,11 +39,11 @@ def test_rms_band_rejects_small_wiggles():
     # add small ripples during a standing phase: no steps there
     t2 = np.arange(t[-1] + 0.125, t[-1] + 20, 0.125)
     a2 = 9.81 + 0.05 * np.sin(2 * np.pi * 0.6 * t2)
-    steps = detect_steps_sign_change(np.r_[a, a2], np.r_[t, t2])
+    steps = detect_steps_sign_change(np.r_[a, a2], np.r_[t, t2], smooth=True)
     assert abs(len(steps) - 30) <= 1
     assert steps.t_s.max() < t[-1] + 0.5
     # without the band (rms 0) the ripples are counted too
-    assert len(detect_steps_sign_change(np.r_[a, a2], np.r_[t, t2], rms_mps2=0.0)) > 38
+    assert len(detect_steps_sign_change(np.r_[a, a2], np.r_[t, t2], rms_mps2=0.0, smooth=True)) > 38
 
 
 def test_ma_2_2_at_8hz_nulls_a_1_6hz_cadence():
@@ -71,3 +71,16 @@ def test_bad_input():
         detect_steps_sign_change(a, t)
     with pytest.raises(ValueError, match="rms_mps2"):
         detect_steps_sign_change(np.ones(10), np.arange(10.0), rms_mps2=-1.0)
+
+
+def test_default_is_no_moving_average_and_static_rms_band():
+    t, a = _walk(n_steps=40, f_hz=1.8, noise=0.0)
+    np.testing.assert_array_equal(detect_steps_sign_change(a, t), detect_steps_sign_change(a, t, smooth=False))
+    rng = np.random.default_rng(0)
+    static = 9.81 + rng.normal(0, 0.1, 480)
+    band = static_rms_mps2(static)
+    assert band == pytest.approx(np.std(static))
+    # the moving average lowers the static RMS about by sqrt(5) for white noise
+    assert static_rms_mps2(static, smooth=True) == pytest.approx(band / np.sqrt(5), rel=0.15)
+    with pytest.raises(ValueError, match="static_acc_mps2"):
+        static_rms_mps2(np.ones((3, 3)))

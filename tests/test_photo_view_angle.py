@@ -44,7 +44,7 @@ def test_gradient_matches_finite_differences():
 def test_exact_recovery_from_good_guess(c):
     c = np.asarray(c)
     U = _photo(c)
-    res = va_solve(POIS, U, F, c + [0.5, -0.6, 0.1])
+    res = va_solve(POIS, U, F, c + [0.5, -0.6, 0.1], free_z=True)
     assert res.converged
     np.testing.assert_allclose(res.c_m, c, atol=1e-4)
     assert res.cost < 1e-16
@@ -54,7 +54,7 @@ def test_exact_recovery_three_pois_and_two_d_search():
     c = np.array([0.2, 4.0, 1.45])
     U = _photo(c)
     idx = [0, 1, 6]
-    res = va_solve(POIS[idx], U[idx], F, c + [0.3, 0.4, -0.1], max_iter=5000)
+    res = va_solve(POIS[idx], U[idx], F, c + [0.3, 0.4, -0.1], max_iter=5000, free_z=True)
     np.testing.assert_allclose(res.c_m, c, atol=1e-4)
     res2 = va_solve(POIS, U, F, np.r_[c[:2] + [0.5, 0.5], c[2]], free_z=False)
     np.testing.assert_allclose(res2.c_m, c, atol=1e-4)
@@ -67,7 +67,7 @@ def test_agrees_with_scipy_least_squares_on_noisy_data():
     c0 = c + [0.4, 0.3, 0.0]
     a = measured_view_angles_rad(U, F)
     ref = least_squares(lambda x: view_angles_rad(x[None], POIS[None])[0] - a, c0, xtol=1e-14, ftol=1e-14).x
-    ours = va_solve(POIS, U, F, c0, max_iter=20000).c_m
+    ours = va_solve(POIS, U, F, c0, max_iter=20000, free_z=True).c_m
     np.testing.assert_allclose(ours, ref, atol=1e-3)
 
 
@@ -104,3 +104,30 @@ def test_bad_input_raises():
         va_solve(POIS, U, F, [0, 4])
     with pytest.raises(ValueError, match="angles_rad"):
         va_solve_batch(POIS, np.zeros((1, 5)), np.zeros((1, 3)))
+
+
+def test_default_search_is_on_the_floor_plane():
+    c = np.array([0.2, 4.0, 1.45])
+    U = _photo(c) + 3.0
+    c0 = np.array([0.9, 3.2, 1.30])
+    res = va_solve(POIS, U, F, c0)
+    assert res.c_m[2] == c0[2]                      # height kept: the camera height is known
+    assert va_solve(POIS, U, F, c0, free_z=True).c_m[2] != c0[2]
+
+
+@pytest.mark.parametrize("layout", ["A", "D", "G"])
+def test_va_from_the_truth_converges_on_noise_free_photos(layout):
+    """Started at (or near) the true centre with the true height, VA on noise-free photos ends at the truth."""
+    from ilocalg.sim import photo_poi
+
+    lay = photo_poi.LAYOUTS[layout]
+    P = lay.pois_m
+    C = np.c_[lay.shots_xy_m, np.full(7, 1.45)]
+    U = project(P, C, look_at(C, P.mean(axis=0), 0.02), F)
+    a = measured_view_angles_rad(U, F)
+    at = va_solve_batch(P, a, C)
+    np.testing.assert_allclose(at["c_m"], C, atol=1e-9)
+    assert np.all(at["cost"] < 1e-20)
+    near = va_solve_batch(P, a, C + [0.3, -0.4, 0.0], max_iter=5000)
+    assert near["converged"].all()
+    np.testing.assert_allclose(near["c_m"], C, atol=1e-4)

@@ -62,3 +62,45 @@ def test_changing_one_input_leaves_other_draws_unchanged():
     np.testing.assert_array_equal(a.c0_bad_m, b.c0_bad_m)
     np.testing.assert_array_equal(a.T_meas, b.T_meas)
     np.testing.assert_allclose((b.img_px - b.img_true_px) * 4.0, a.img_px - a.img_true_px)
+
+
+@pytest.mark.parametrize("name", [k for k in photo_poi.LAYOUTS if k != "row"])
+def test_every_layout_satisfies_the_text(name):
+    chk = photo_poi.check_layout(name)
+    assert chk["satisfied"].all(), chk.loc[~chk["satisfied"], ["constraint", "value"]].to_string()
+
+
+def test_layout_satisfies_line_707_distance_ordering():
+    """Chiu (2013), L707: {1,2} and {6,7} are nearer the test positions than {3,4}, {3,5}, {4,5}, {3,4,5}."""
+    lay = photo_poi.LAYOUTS[photo_poi.DEFAULT_LAYOUT]
+    d = np.linalg.norm(lay.pois_m[None, :, :2] - lay.shots_xy_m[:, None, :], axis=2).mean(axis=0)
+    near = [d[[0, 1]].mean(), d[[5, 6]].mean()]
+    far = [d[[2, 3]].mean(), d[[2, 4]].mean(), d[[3, 4]].mean(), d[[2, 3, 4]].mean()]
+    assert max(near) < min(far)
+    # the earlier one-wall row breaks it (kept only as a labelled sensitivity case)
+    row = photo_poi.check_layout("row").set_index("paper_line")
+    assert not row.loc["L707"]["satisfied"].all()
+
+
+def test_layouts_are_the_documented_selection_from_the_grid():
+    import itertools
+    g = photo_poi.LAYOUT_GRID
+    keys = ("t1_to_end_wall_m", "half_width_m", "side_y_m", "end_spacing_m")
+    ok = [d for d in itertools.product(*(g[k] for k in keys))
+          if photo_poi.check_layout(photo_poi.make_layout("x", *d))["satisfied"].all()]
+    picks = [ok[i] for i in np.round(np.linspace(0, len(ok) - 1, 6)).astype(int)]
+    assert [photo_poi.LAYOUT_DIMENSIONS[k][:4] for k in "BCDEFG"] == picks
+    span = {k: (min(g[k]), max(g[k])) for k in keys}
+    mid = np.array([(a + b) / 2 for a, b in span.values()])
+    width = np.array([b - a for a, b in span.values()])
+    nearest = min(ok, key=lambda d: float(np.sum(((np.array(d) - mid) / width) ** 2)))
+    assert photo_poi.LAYOUT_DIMENSIONS["A"][:4] == nearest
+
+
+def test_layout_choice_changes_the_geometry_only():
+    a = photo_poi.simulate(0, n_photos=2)
+    b = photo_poi.simulate(0, n_photos=2, layout="D")
+    assert a.params["layout"] == "A" and b.params["layout"] == "D"
+    assert not np.array_equal(a.pois_m, b.pois_m)
+    with pytest.raises(ValueError, match="layout"):
+        photo_poi.simulate(0, n_photos=1, layout="nope")

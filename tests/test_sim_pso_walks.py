@@ -83,3 +83,30 @@ def test_routes():
     assert np.hypot(*np.diff(lp, axis=0).T).sum() == pytest.approx(200.0, rel=1e-6)
     with pytest.raises(ValueError, match="n_steps"):
         S.simulate_walk("X", "1", "x", S.line_route(10), 1, 0.9, 1.3, 0.3, (24.0, 120.0), False, 0)
+
+
+def test_route_length_is_an_input():
+    w = S.simulate_pso_walks(0, route_scale=0.9, route_m={"C": 80.0})
+    by = {x.walker: x for x in w["1"]}
+    assert by["A1"].route_m == pytest.approx(0.9 * S.WALK_DESIGN_PAPER["A1"]["route_m"], rel=1e-3)
+    assert by["C"].route_m == pytest.approx(80.0, rel=1e-3)
+    with pytest.raises(ValueError, match="unknown walkers"):
+        S.simulate_pso_walks(0, route_m={"Z": 10.0})
+    with pytest.raises(ValueError, match="route_scale"):
+        S.simulate_pso_walks(0, route_scale=0.0)
+
+
+def test_gps_sd_from_the_thesis_static_bound():
+    sd = S.gps_static_sd_m(1.5)
+    # 95 % of a circular Gaussian's radii fall inside 1.5 m
+    r = np.hypot(*np.random.default_rng(0).normal(0, sd, (2, 200_000)))
+    assert np.mean(r < 1.5) == pytest.approx(0.95, abs=0.003)
+    with pytest.raises(ValueError):
+        S.gps_static_sd_m(-1.0)
+
+
+def test_static_acc_log_rms_is_the_sensor_noise():
+    lsb = 9.80665 / S.SENSORS["acc_counts_per_g"]
+    r = [rms(S.simulate_static_acc(np.random.default_rng(i))["acc_z_mps2"]) for i in range(50)]
+    expected = np.sqrt(S.SENSORS["acc_noise_mps2"] ** 2 + lsb**2 / 12)
+    assert np.mean(r) == pytest.approx(expected, rel=0.05)

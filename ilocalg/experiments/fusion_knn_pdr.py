@@ -4,20 +4,35 @@ The paper's library floor and its data are not published; the toolkit's simulate
 (:mod:`ilocalg.sim.iloc_floor`) and gait simulator (:mod:`ilocalg.sim.gait`) stand in, walkers
 walking the floor's 28-point test route (as in :mod:`ilocalg.experiments.fusion_iloc_kf`).
 
-* Wi-Fi only: KNN, Manhattan distance (a = 1), K = 5 (eq. 1-2) on the per-point mean
-  fingerprints; walker ``w`` gets a new scan at every route point.
-* PDR only: the paper's sliding-window peak detector on |a| (0.2-2 s time window, sec. 3.4.2),
-  step length eq. (4) with ``k`` fitted on fixed-length training walks (total true length /
-  total eq. (4) length), WDM heading (accelerometer + magnetometer, sec. 3.4.3); started at the
-  true start, as in the paper ("PDR 的起点与实际起点一致").
-* Combined: a Kalman filter (sec. 3.1) with the PDR steps as control input and the KNN fixes as
-  observations (the i-Loc step filter, :mod:`ilocalg.fusion.step_kf`); it starts at the first
-  Wi-Fi fix (sec. 3.4.4: the initial position comes from Wi-Fi) with that fix's variance. ``Q`` uses
-  the step-length error spread of the training walks, ``R`` the KNN's error variance over a
-  calibration survey. Beyond the paper: the same filter smoothed (RTS), and a ``Q`` with a heading
-  error term (the WDM heading error, not the step length, is what makes PDR drift).
+* Wi-Fi only: KNN, Manhattan distance (a = 1), K = 5 (eq. 1-2, L83) on the per-point mean
+  fingerprints of the survey; walker ``w`` gets a new scan at every route point.
+* PDR only: the paper's sliding-window peak detector on |a| with its literal rule b (a peak is
+  rejected when it differs from the previous peak by more than the threshold or comes outside
+  0.2-2 s after it, L185, L189), step length eq. (4) with ``k`` fitted on fixed-length training walks
+  (total true length / total eq. (4) length), WDM heading (accelerometer + magnetometer, sec.
+  3.4.3); started at the true start, as in the paper (L235).
+* Combined (default, the paper's own combination): the walk starts at the first Wi-Fi fix (L212:
+  "the initial position is obtained by Wi-Fi positioning"), PDR carries it from step to step
+  (eq. 5-6) and each fingerprint fix adjusts the position ("the absoluteness of fingerprint
+  positioning adjusts the position and removes PDR's accumulated error", L9, L245):
+  :func:`ilocalg.fusion.fingerprint_adjusted_track`. The paper gives no weight for the adjustment:
+  ``adjust_weight`` (0.5) is an assumption, swept in ``adjust_sweep``.
+* Labelled alternative, not in the paper: the i-Loc step Kalman filter (Chiu 2013,
+  :mod:`ilocalg.fusion.step_kf`) with the PDR steps as control input and the KNN fixes as
+  observations, from the same Wi-Fi start; its ``Q`` (step-length error spread of the training
+  walks) and ``R`` (KNN error variance over a calibration survey) are the toolkit's, not the paper's:
+  Luo et al. give no filter for the combination (their sec. 3.1 is a generic Kalman filter for
+  KF-based inertial navigation, which their sec. 3.2, L141-143, argues against on phones). Also the
+  same filter smoothed (RTS) and with a heading error term.
 
-Scored: the error at each route point (Fig 6: error per point index).
+Limitation: the radio model evaluates the floor only at its 2 m reference grid, so the Wi-Fi test
+positions are route points of that grid (KNN can hit them exactly) and the test scans are static
+scans from later sessions than the survey. Luo et al. give no scan counts or survey details beyond
+two phases (sec. 2.3, L89-91): the survey's scans per point are an assumption, swept in
+``survey_sweep``.
+
+Scored: the error at each route point (Fig 6: error per point index). Every modelling choice is in
+:func:`readings`.
 
 References
 ----------
@@ -31,9 +46,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.fusion import filter_walk, fixes_at_states, rts_smooth
+from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import comparison_table, paper_ref
+from ilocalg.papers import comparison_table, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
@@ -41,7 +56,24 @@ from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
 
-__all__ = ["run", "crossover_point", "findings", "PAPER_LUO"]
+__all__ = ["run", "crossover_point", "findings", "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS",
+           "SURVEY_SCANS", "DETECTOR_VARIANTS"]
+
+#: Name of the default combination (the paper's) and of the labelled i-Loc Kalman-filter alternative.
+COMBINED = "combined (Wi-Fi start + fingerprint adjustment)"
+KF_ALT = "i-Loc step KF (alternative)"
+#: Adjustment weights swept (the paper gives none; 0.5 is the default).
+ADJUST_WEIGHTS = (0.25, 0.5, 0.75, 1.0)
+#: Survey scans per reference point swept (the paper gives none).
+SURVEY_SCANS = (10, 30, 300)
+#: Peak-detector variants swept: the literal rule b with several thresholds, and the valley-rise reading.
+DETECTOR_VARIANTS = (
+    ("literal rule b, threshold 1.0 m/s^2 (default)", {"rule": "literal", "threshold_mps2": 1.0}),
+    ("literal rule b, threshold 0.5 m/s^2", {"rule": "literal", "threshold_mps2": 0.5}),
+    ("literal rule b, threshold 2.0 m/s^2", {"rule": "literal", "threshold_mps2": 2.0}),
+    ("literal rule b, threshold 4.0 m/s^2", {"rule": "literal", "threshold_mps2": 4.0}),
+    ("valley rise >= 1.0 m/s^2 (earlier reading)", {"rule": "valley_rise", "threshold_mps2": 1.0}),
+)
 
 PAPER = "罗思奇 et al. 2017"
 # Settings from the paper
@@ -60,49 +92,41 @@ def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:
     return int(better[-1] + 1) if better.size else 0
 
 
-def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 10,
-        detector: dict | None = None, sigma_theta_rad: float = 0.2) -> dict[str, pd.DataFrame]:
-    """PDR only, Wi-Fi only (KNN) and combined at the route points (Fig 6).
-
-    ``sigma_theta_rad``: heading error sd of the beyond-the-paper variant whose ``Q`` also covers the
-    heading (the paper's ``Q`` covers the step length only).
-
-    Returns
-    -------
-    dict of DataFrame
-        ``test_points``, ``summary``, ``cdf``, ``per_point`` (mean error per point and method, the
-        Fig 6 curves), ``track_example``, ``calibration`` (k, sigma_SL, R), ``comparison``.
-    """
+def _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad, adjust_weights, scans_per_point):
+    """Simulate, detect, combine: the per-point error table and the example tracks."""
     rng = as_rng(seed)
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
     method = "KNN (Manhattan, K=5)"
-    ff = iloc_floor.floor_fixes(rng, n_walkers, n_cal, method,
-                                scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT)
+    spp = scans_per_point if scans_per_point is not None else (60 if fast else iloc_floor.SCANS_PER_POINT)
+    ff = iloc_floor.floor_fixes(rng, n_walkers, n_cal, method, scans_per_point=spp)
     walkers = gait.make_walkers(max(n_train, n_walkers), rng)
     train = gait.training_walks(walkers[:n_train], rng)
     k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in train], detector)
     r_var = float(ff.cal_var_m2.mean())
     route = ff.route_xy_m
     n_pts = route.shape[0]
-    tps, ex = [], []
+    tps, ex, nsteps = [], [], []
     for w_i, w in enumerate(walkers[:n_walkers]):
         sw = gait.simulate_walk(route, w, rng)
         acc, t = acc_from_log(sw.imu)
         st = luo_steps(acc, t, k, detector)
+        nsteps.append((len(st), len(sw.steps)))
         th = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"][st["i_peak"].to_numpy()]
         d = st["length_m"].to_numpy()
         ts = np.concatenate([[t[0]], st["t_s"].to_numpy()])
         fix = ff.fix_xy_m[:, ff.n_cal + w_i]
         al = fixes_at_states(ts, gait.pass_times_s(sw, route), fix, before_start="drop", same_state="last")
         z = al.z_m.copy()
-        x0 = fix[0]                      # the combined scheme starts from the first Wi-Fi fix (sec. 3.4.4)
+        x0 = fix[0]                      # the combination starts from the first Wi-Fi fix (L212)
         z[al.state_index[0]] = np.nan    # ... which is therefore not used a second time
+        tracks = {"PDR only": dead_reckon(d, th, *route[0])[["x_m", "y_m"]].to_numpy()}
+        for wgt in adjust_weights:
+            tracks[f"{COMBINED}, weight {wgt:g}"] = fingerprint_adjusted_track(x0, th, d, z, wgt)
         res = filter_walk(x0, r_var * np.eye(2), th, d, sig_sl, z, r_var_m2=r_var)
         hres = filter_walk(x0, r_var * np.eye(2), th, d, sig_sl, z, r_var_m2=r_var, sigma_theta_rad=sigma_theta_rad)
-        tracks = {"PDR only": dead_reckon(d, th, *route[0])[["x_m", "y_m"]].to_numpy(),
-                  "combined (KF)": res.x, "combined (KF) + RTS": rts_smooth(res).x,
-                  "combined (KF) + heading noise": hres.x, "combined (KF) + heading noise + RTS": rts_smooth(hres).x}
+        tracks.update({KF_ALT: res.x, f"{KF_ALT} + RTS": rts_smooth(res).x,
+                       f"{KF_ALT} + heading noise": hres.x, f"{KF_ALT} + heading noise + RTS": rts_smooth(hres).x})
         idx = np.where(al.state_index >= 0, al.state_index, 0)
         rows = [("Wi-Fi only (KNN)", fix)] + [(m, xy[idx]) for m, xy in tracks.items()]
         for m, est in rows:
@@ -115,47 +139,161 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             ex.append(pd.DataFrame({"method": "Wi-Fi only (KNN)", "x_m": fix[:, 0], "y_m": fix[:, 1]}))
             ex += [pd.DataFrame({"method": m, "x_m": v[:, 0], "y_m": v[:, 1]}) for m, v in tracks.items()]
     tp = pd.concat(tps, ignore_index=True)
+    det = np.asarray(nsteps, dtype=float)
+    info = {"k": k, "sig_sl": sig_sl, "r_var": r_var, "n_walkers": n_walkers, "scans_per_point": spp,
+            "det_over_true_steps": float(det[:, 0].sum() / det[:, 1].sum())}
+    return tp, ex, info
+
+
+def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None) -> pd.DataFrame:
+    """One row per modelling choice of :func:`run` (line numbers of Luo et al. 2017's text copy)."""
+    det = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
+    rows = [
+        ("combination of Wi-Fi and PDR", "L9, L212, L245",
+         "Wi-Fi gives the initial position; fingerprint positioning adjusts the PDR position and removes its "
+         "accumulated error; no filter or weight given",
+         f"Wi-Fi start, PDR between fixes, each fix pulls the track by {adjust_weight:g} of the gap",
+         "paper's scheme; the weight is an assumption, swept in adjust_sweep"),
+        ("Kalman filter", "L103-139 (sec. 3.1), L141-143 (sec. 3.2)",
+         "sec. 3.1: a generic KF for KF-based inertial navigation; sec. 3.2 argues against it on phones; no Q",
+         "the i-Loc step KF (Chiu 2013) with the toolkit's Q and R, from the same Wi-Fi start",
+         "labelled alternative, not the paper's method"),
+        ("KNN", "L77-85 (eq. 1-2)", "Manhattan distance (a = 1), K = 5", "KNN, Manhattan, K = 5, mean fingerprints",
+         "paper"),
+        ("peak rule", "L185", "reject a peak whose value differs from the previous peak by more than the threshold "
+         "or whose interval is outside the time window", f"rule {det['rule']!r}",
+         "paper; the valley-rise reading (the toolkit's earlier default) is a sensitivity row"),
+        ("peak threshold", "L175-185", "a threshold; no value", f"{det['threshold_mps2']:g} m/s^2",
+         "assumption, swept in detector_sweep"),
+        ("time window", "L189", "0.2-2 s", "0.2-2 s", "paper"),
+        ("sliding window, smoothing", "L175-177, L183", "window size matters; filtered before peak detection; "
+         "no values", "0.4 s window, 0.1 s moving mean", "assumption"),
+        ("step length", "L202 (eq. 4)", "k((a_max - a_min) * 3.5 + (a_max - a_min)^(1/4))",
+         "eq. 4 with k fitted on training walks of known length", "paper (k: not given, fitted)"),
+        ("PDR start", "L235", "PDR starts at the true start", "PDR only starts at the true start", "paper"),
+        ("survey", "L89-91 (sec. 2.3)", "two phases: collect scans at sample points, then locate; no counts",
+         f"{scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT} scans per 2 m grid "
+         "point, test scans from later sessions", "assumption (i-Loc floor survey), swept in survey_sweep"),
+        ("test positions", "L222-224", "walk a preset route in the library's 4th floor",
+         "the i-Loc floor's 28 route points, static scans at the grid points",
+         "limitation: the radio model is evaluated on its reference grid only (no walking, off-grid scans)"),
+    ]
+    return readings_table([reading(c, f"Luo et al. 2017, {ln}" if ln.startswith("L") else ln, t, d, src)
+                           for c, ln, t, d, src in rows])
+
+
+def _summary_rows(tp, label_col, label):
+    m = tp.groupby("method", sort=False)["error_m"].mean()
+    return {label_col: label, **{f"{k} mean error [m]": float(v) for k, v in m.items()}}
+
+
+def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 10,
+        detector: dict | None = None, sigma_theta_rad: float = 0.2, adjust_weight: float = 0.5,
+        scans_per_point: int | None = None, sweeps: bool = True) -> dict[str, pd.DataFrame]:
+    """PDR only, Wi-Fi only (KNN) and the paper's combination at the route points (Fig 6).
+
+    Parameters
+    ----------
+    detector : dict, optional
+        Parameters of :func:`ilocalg.pdr.peak_window.detect_steps_peak_window` (default: its literal
+        rule b, threshold 1.0 m/s^2).
+    sigma_theta_rad : float
+        Heading error sd of the KF variant whose ``Q`` also covers the heading.
+    adjust_weight : float
+        Weight of the fingerprint adjustment of the default combination (swept in ``adjust_sweep``).
+    scans_per_point : int, optional
+        Survey scans per reference point (default: the i-Loc floor's 300; fast: 60).
+    sweeps : bool
+        Also run the adjustment-weight, survey and detector sweeps.
+
+    Returns
+    -------
+    dict of DataFrame
+        ``test_points``, ``summary``, ``cdf``, ``per_point`` (mean error per point and method, the
+        Fig 6 curves), ``track_example``, ``calibration`` (k, sigma_SL, R), ``comparison``,
+        ``readings``, and with ``sweeps`` ``adjust_sweep``, ``survey_sweep``, ``detector_sweep``.
+    """
+    weights = tuple(sorted(set(ADJUST_WEIGHTS) | {float(adjust_weight)}))
+    tp, ex, info = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad, weights,
+                                scans_per_point)
+    default = f"{COMBINED}, weight {adjust_weight:g}"
+    adjust_rows = [_summary_rows(tp[tp["method"].str.startswith(COMBINED + ",")
+                                    & (tp["method"] == f"{COMBINED}, weight {w:g}")], "weight", w) for w in weights]
+    adjust = pd.DataFrame([{"weight": r["weight"], "mean_error_m": list(r.values())[1]} for r in adjust_rows])
+    keep = ~tp["method"].str.startswith(COMBINED + ",") | (tp["method"] == default)
+    tp = tp[keep].replace({"method": {default: COMBINED}}).reset_index(drop=True)
+    ex = [e.replace({"method": {default: COMBINED}}) for e in ex
+          if not (e["method"].iloc[0].startswith(COMBINED + ",") and e["method"].iloc[0] != default)]
     summ, cdf = summarise_by_method(tp)
     pp = tp.groupby(["method", "point"], sort=False)["error_m"].mean().unstack("method").reset_index()
     m = summ.set_index("method")["mean_error_m"]
-    cross = crossover_point(pp["PDR only"].to_numpy(), pp["combined (KF)"].to_numpy())
+    cross = crossover_point(pp["PDR only"].to_numpy(), pp[COMBINED].to_numpy())
+    cross_kf = crossover_point(pp["PDR only"].to_numpy(), pp[KF_ALT].to_numpy())
     wifi_pp = pp["Wi-Fi only (KNN)"]
-    note = f"{n_walkers} simulated walkers, simulated i-Loc floor (not the paper's library)"
+    note = f"{info['n_walkers']} simulated walkers, simulated i-Loc floor (not the paper's library)"
     comp = [
         paper_ref(PAPER, "Fig 6", "Wi-Fi only (KNN, Manhattan, K=5) mean error", PAPER_LUO["wifi_mean_m"],
-                  m["Wi-Fi only (KNN)"], "m", note),
+                  m["Wi-Fi only (KNN)"], "m", note + "; test points on the reference grid (limitation)"),
         paper_ref(PAPER, "Fig 6", "Wi-Fi only, smallest per-point error", PAPER_LUO["wifi_min_m"],
                   tp.loc[tp["method"] == "Wi-Fi only (KNN)", "error_m"].min(), "m", "over every walker and point"),
         paper_ref(PAPER, "Fig 6", "Wi-Fi only, largest per-point error", PAPER_LUO["wifi_max_m"],
                   tp.loc[tp["method"] == "Wi-Fi only (KNN)", "error_m"].max(), "m", "over every walker and point"),
-        paper_ref(PAPER, "Fig 6", "combined (KF) mean error", PAPER_LUO["combined_mean_m"], m["combined (KF)"], "m",
-                  note),
+        paper_ref(PAPER, "Fig 6", "combined mean error (Wi-Fi start + fingerprint adjustment)",
+                  PAPER_LUO["combined_mean_m"], m[COMBINED], "m", note + f"; weight {adjust_weight:g} (assumption)"),
         paper_ref(PAPER, "Fig 6", "combined / Wi-Fi only mean error",
                   PAPER_LUO["combined_mean_m"] / PAPER_LUO["wifi_mean_m"],
-                  m["combined (KF)"] / m["Wi-Fi only (KNN)"], "-", "the improvement ratio"),
+                  m[COMBINED] / m["Wi-Fi only (KNN)"], "-", "the improvement ratio"),
         paper_ref(PAPER, "Fig 6", "last point where PDR only beats combined", PAPER_LUO["pdr_better_points"], cross,
                   "points", "mean over walkers per point"),
+        paper_ref(PAPER, "Fig 6 (alternative, not the paper's)", "i-Loc step KF mean error",
+                  PAPER_LUO["combined_mean_m"], m[KF_ALT], "m", "labelled alternative: Chiu 2013's filter"),
+        paper_ref(PAPER, "Fig 6 (alternative, not the paper's)", "last point where PDR only beats the i-Loc step KF",
+                  PAPER_LUO["pdr_better_points"], cross_kf, "points", "labelled alternative"),
     ]
-    calib = pd.DataFrame([{"quantity": "eq. (4) k (fitted on training walks)", "value": k},
-                          {"quantity": "sigma_SL, step-length error sd [m]", "value": sig_sl},
-                          {"quantity": "R, KNN fix variance per axis [m^2]", "value": r_var},
+    calib = pd.DataFrame([{"quantity": "eq. (4) k (fitted on training walks)", "value": info["k"]},
+                          {"quantity": "detected / true steps on the test walks", "value": info["det_over_true_steps"]},
+                          {"quantity": "sigma_SL, step-length error sd [m] (KF alternative)", "value": info["sig_sl"]},
+                          {"quantity": "R, KNN fix variance per axis [m^2] (KF alternative)", "value": info["r_var"]},
+                          {"quantity": "survey scans per reference point", "value": info["scans_per_point"]},
                           {"quantity": "Wi-Fi only per-point mean error, min over points [m]", "value": wifi_pp.min()},
                           {"quantity": "Wi-Fi only per-point mean error, max over points [m]", "value": wifi_pp.max()}])
-    return {"test_points": tp, "summary": summ, "cdf": cdf, "per_point": pp,
-            "track_example": pd.concat(ex, ignore_index=True), "calibration": calib,
-            "comparison": comparison_table(comp)}
+    out = {"test_points": tp, "summary": summ, "cdf": cdf, "per_point": pp,
+           "track_example": pd.concat(ex, ignore_index=True), "calibration": calib,
+           "comparison": comparison_table(comp), "readings": readings(adjust_weight, detector, scans_per_point),
+           "adjust_sweep": adjust}
+    if sweeps:
+        srows = []
+        for spp in ((60,) if fast else SURVEY_SCANS):
+            t2, _, i2 = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad,
+                                     (adjust_weight,), spp)
+            mm = t2.groupby("method", sort=False)["error_m"].mean()
+            srows.append({"scans_per_point": i2["scans_per_point"], "wifi_only_mean_m": mm["Wi-Fi only (KNN)"],
+                          "combined_mean_m": mm[f"{COMBINED}, weight {adjust_weight:g}"],
+                          "kf_alt_mean_m": mm[KF_ALT], "pdr_only_mean_m": mm["PDR only"]})
+        out["survey_sweep"] = pd.DataFrame(srows)
+        drows = []
+        for name, det in (DETECTOR_VARIANTS[:2] if fast else DETECTOR_VARIANTS):
+            t2, _, i2 = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, det, sigma_theta_rad,
+                                     (adjust_weight,), scans_per_point)
+            mm = t2.groupby("method", sort=False)["error_m"].mean()
+            drows.append({"detector": name, "det_over_true_steps": i2["det_over_true_steps"], "k": i2["k"],
+                          "pdr_only_mean_m": mm["PDR only"],
+                          "combined_mean_m": mm[f"{COMBINED}, weight {adjust_weight:g}"],
+                          "kf_alt_mean_m": mm[KF_ALT]})
+        out["detector_sweep"] = pd.DataFrame(drows)
+    return out
 
 
 def findings(tables: dict) -> str:
     """Sentences computed from the tables (for the notebook's closing cell)."""
     m = tables["summary"].set_index("method")["mean_error_m"]
     pp = tables["per_point"]
-    cross = crossover_point(pp["PDR only"].to_numpy(), pp["combined (KF)"].to_numpy())
-    w, c, p = m["Wi-Fi only (KNN)"], m["combined (KF)"], m["PDR only"]
+    cross = crossover_point(pp["PDR only"].to_numpy(), pp[COMBINED].to_numpy())
+    w, c, p, kf = m["Wi-Fi only (KNN)"], m[COMBINED], m["PDR only"], m[KF_ALT]
     return "\n".join([
-        f"Mean error: Wi-Fi only {w:.2f} m, PDR only {p:.2f} m, combined {c:.2f} m, combined + RTS "
-        f"{m['combined (KF) + RTS']:.2f} m (paper values: Wi-Fi {PAPER_LUO['wifi_mean_m']} m, combined "
-        f"{PAPER_LUO['combined_mean_m']} m).",
+        f"Mean error: Wi-Fi only {w:.2f} m, PDR only {p:.2f} m, combined (the paper's scheme) {c:.2f} m; "
+        f"the i-Loc step KF alternative {kf:.2f} m, + RTS {m[KF_ALT + ' + RTS']:.2f} m (paper values: Wi-Fi "
+        f"{PAPER_LUO['wifi_mean_m']} m, combined {PAPER_LUO['combined_mean_m']} m).",
         f"Combined / Wi-Fi only = {c / w:.2f} (paper {PAPER_LUO['combined_mean_m'] / PAPER_LUO['wifi_mean_m']:.2f}); "
         f"PDR only beats the combined scheme up to point {cross} (paper: the first {PAPER_LUO['pdr_better_points']}).",
     ])

@@ -111,7 +111,9 @@ DETECTORS = {
 def detector_params(detector: str, params: dict) -> dict:
     """A grid point as the registered detector's keyword arguments (``n`` is the sign-change MA half-width)."""
     if detector == "sign_change":
-        return {"n_left": params["n"], "n_right": params["n"]}
+        return {"n_left": params["n"], "n_right": params["n"], "smooth": True}
+    if detector == "peak_window":
+        return {**params, "rule": "valley_rise"}
     return dict(params)
 
 

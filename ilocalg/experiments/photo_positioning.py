@@ -1,10 +1,19 @@
 """i-Loc photo positioning: ST vs VA over shooting points and PoI combinations (thesis Figs 29-32).
 
-``run(seed, fast, **params)`` simulates photos of the PoI wall (:mod:`ilocalg.sim.photo_poi`), locates
-every photo with every combination of 2..7 PoIs (120 combinations) by ST (similar triangles with the
-sensor orientation), VAGIG and VABIG (view angles from a good and a bad initial guess) and, for
-combinations of >= 4 PoIs, by OpenCV's SQPnP and by a wall homography, and scores the horizontal
-(floor-map) error in centimetres against the true camera centre.
+``run(seed, fast, **params)`` simulates photos of the PoIs (:mod:`ilocalg.sim.photo_poi`, a layout built
+from the thesis's text), locates every photo with every combination of 2..7 PoIs (120 combinations) by ST
+(similar triangles with the sensor orientation), VAGIG and VABIG (view angles from a good and a bad initial
+guess), VA started at the true centre (``VA_truth``: VA's floor of error, not in the thesis) and, for
+combinations of >= 4 PoIs, by OpenCV's SQPnP and by a wall homography (only for combinations whose PoIs
+share one wall), and scores the horizontal (floor-map) error in centimetres against the true camera centre.
+
+VA's cost function (the sum of squared view-angle mismatches, :mod:`ilocalg.photo.view_angle`) is the
+toolkit's own: the thesis names VA a gradient algorithm (L694) but gives no VA equation. By default VA
+searches the floor position at the known phone height (2-D); ``va_free_z=True`` searches in 3-D.
+
+Sweeps: :func:`layout_sweep` (the layouts that satisfy the text, Fig 28 being missing) and
+:func:`good_guess_sweep` (the good guess's spread, an assumption); :func:`readings` lists every
+modelling choice with the thesis line it follows or the source of the value.
 
 Tables returned
 ---------------
@@ -35,6 +44,10 @@ Tables returned
     prediction from the orientation and drag errors (:func:`ilocalg.photo.st_error_propagation`).
 ``va_convergence``
     Share of VA runs that converged and their mean iteration count.
+``layout_check``
+    The layout against every constraint of the text (:func:`ilocalg.sim.photo_poi.check_layout`).
+``readings``
+    One row per modelling choice: ``choice``, ``paper_line``, ``text_says``, ``code_does``, ``source``.
 ``comparison``
     Paper values (Fig 30 text, overall means) beside the reproduced ones (``paper_ref`` rows).
 ``errors``
@@ -55,7 +68,7 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
@@ -73,10 +86,15 @@ from ilocalg.sim import photo_poi
 from ilocalg.units import as_rng
 
 __all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_DEFAULTS", "combo_label",
-           "NEAR_COLLINEAR_PAPER", "PAPER", "METHODS"]
+           "NEAR_COLLINEAR_PAPER", "PAPER", "METHODS", "SHOWN_METHODS", "layout_sweep", "good_guess_sweep",
+           "readings", "GOOD_GUESS_SD_M"]
 
 #: Methods of the thesis's comparison (Figs 29-32).
 METHODS = ("ST", "VAGIG", "VABIG")
+#: Methods shown in the per-shot / per-k tables: the thesis's three and VA started at the truth.
+SHOWN_METHODS = METHODS + ("VA_truth",)
+#: Spreads of the good initial guess swept by :func:`good_guess_sweep` (m per axis; 2.25 m is the default).
+GOOD_GUESS_SD_M = (0.5, 1.0, 2.25, 4.0)
 
 # Settings from the paper
 # -----------------------
@@ -120,8 +138,14 @@ def _homography_batch(pois_m, img_px, f_px):
     return out
 
 
-def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = True,
-        va_max_iter: int | None = None, ks=(2, 3, 4, 5, 6, 7), **sim_params) -> dict[str, pd.DataFrame]:
+def _coplanar_on_end_wall(P) -> np.ndarray:
+    """(B,) True where every PoI of a combination lies on the end wall y = 0 (the homography's plane)."""
+    return np.all(np.abs(P[..., 1]) < 1e-9, axis=-1)
+
+
+def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = False,
+        va_max_iter: int | None = None, ks=(2, 3, 4, 5, 6, 7), layout: str = photo_poi.DEFAULT_LAYOUT,
+        **sim_params) -> dict[str, pd.DataFrame]:
     """Simulate, locate and score; see the module docstring for the tables.
 
     Parameters
@@ -133,12 +157,15 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     n_photos : int, optional
         Photos per shooting point (overrides ``fast``).
     va_free_z : bool
-        VA searches all three coordinates (default, as the thesis's ``c = [c_x c_y c_z]``) or only
-        the floor position at the initial height.
+        ``False`` (default): VA searches the floor position at the known phone height (the guesses'
+        height, the nominal eye height); ``True``: all three coordinates (the thesis's output
+        ``c = [c_x c_y c_z]``, L672).
     va_max_iter : int, optional
         Iteration cap of the VA gradient descent (default 500 when ``fast``, else 2000).
     ks : sequence of int
         Numbers of PoIs per combination to evaluate (2..7; tables needing a missing size leave it out).
+    layout : str
+        A key of :data:`ilocalg.sim.photo_poi.LAYOUTS` (default: the default layout built from the text).
     **sim_params
         Overrides of :data:`ilocalg.sim.photo_poi.DEFAULTS` (e.g. ``drag_sd_px``).
     """
@@ -147,7 +174,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         raise ValueError(f"ks must be numbers of PoIs between 2 and 7, got {ks}")
     n_photos = int(n_photos) if n_photos is not None else (1 if fast else 10)
     va_max_iter = int(va_max_iter) if va_max_iter is not None else (500 if fast else 2000)
-    sim = photo_poi.simulate(seed, n_photos=n_photos, **sim_params)
+    sim = photo_poi.simulate(seed, n_photos=n_photos, layout=layout, **sim_params)
     f = sim.f_px
     N = sim.c_m.shape[0]
     rows = []
@@ -169,7 +196,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         est["ST"] = st["c_m"]
         est["ST_true_orientation"] = st_solve_batch(P, U, f, Tt)["c_m"]
         ang = measured_view_angles_rad(U, f)
-        for name, c0 in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m)):
+        for name, c0 in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m), ("VA_truth", sim.c_m)):
             va = va_solve_batch(P, ang, np.repeat(c0, C, axis=0), max_iter=va_max_iter, free_z=va_free_z,
                                 step_tol_m=1e-6)
             est[name] = va["c_m"]
@@ -177,7 +204,11 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                               "mean_iterations": float(va["n_iter"].mean())})
         if k >= 4:
             est["PnP_SQPnP"] = pnp_solve_batch(P, U, f)
-            est["homography"] = _homography_batch(P, U, f)
+            hom = np.full((N * C, 3), np.nan)
+            planar = _coplanar_on_end_wall(P)
+            if planar.any():
+                hom[planar] = _homography_batch(P[planar], U[planar], f)
+            est["homography"] = hom
         cond = st["cond"].reshape(N, C)
         va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
         for j, combo in enumerate(combos):
@@ -191,13 +222,15 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
             rows.append(pd.DataFrame({"photo": photo, "shot": shot + 1, "k": k, "combo": labels, "method": name,
                                       "error_cm": _horizontal_error_cm(c, ctrue)}))
     errors = pd.concat(rows, ignore_index=True)
-    if not np.isfinite(errors["error_cm"]).all():
-        bad = errors[~np.isfinite(errors["error_cm"])].iloc[0]
+    bad_rows = ~np.isfinite(errors["error_cm"]) & (errors["method"] != "homography")
+    if bad_rows.any():
+        bad = errors[bad_rows].iloc[0]
         raise ValueError(f"non-finite error for {bad['method']} combo {bad['combo']} photo {bad['photo']}")
-    shots = photo_poi.shots_frame()
+    shots = photo_poi.shots_frame(layout)
 
     thesis = errors[errors["method"].isin(METHODS)]
-    per_shot = thesis.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    shown = errors[errors["method"].isin(SHOWN_METHODS)]
+    per_shot = shown.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[list(SHOWN_METHODS)]
     per_shot = per_shot.reset_index()
     per_shot.insert(1, "dist_to_p4_m", shots["dist_to_p4_m"].to_numpy()[per_shot["shot"].to_numpy() - 1])
     per_shot.columns.name = None
@@ -212,7 +245,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                       "error_t1_cm": float(y[0]), "error_t7_cm": float(y[-1])})
     distance_trend = pd.DataFrame(trend)
 
-    per_k = thesis.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
+    per_k = shown.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[list(SHOWN_METHODS)]
     per_k.insert(0, "n_combos", errors[errors["method"] == "ST"].groupby("k")["combo"].nunique())
     per_k = per_k.reset_index()
     per_k.columns.name = None
@@ -257,6 +290,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     if mod.empty:
         mod = pd.DataFrame({"k": [4], "method": ["ST"], "error_cm": [np.nan]})
     modern = mod.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean", dropna=False)
+    # the homography needs PoIs on one plane; combinations that span walls have no homography estimate
     modern = modern.reindex(columns=modern_methods)
     med = mod.groupby("method")["error_cm"].mean()
     modern.loc["all k>=4"] = [med.get(m, np.nan) for m in modern_methods]
@@ -294,9 +328,10 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
             comp.append(paper_ref(_PAPER_LABEL, "Figs 29-30", f"{m} overall mean error", PAPER[f"mean_{m}_cm"],
                                   overall[m], "cm", note="paper-style mean over 120 combinations x 7 shooting points"))
     comparison = pd.DataFrame(comp)
-    inputs = pd.DataFrame({"parameter": list(p), "value": [float(v) for v in p.values()]})
+    inputs = pd.DataFrame({"parameter": [k for k in p if k != "layout"],
+                           "value": [float(v) for k, v in p.items() if k != "layout"]})
     return {
-        "layout_pois": photo_poi.pois_frame(),
+        "layout_pois": photo_poi.pois_frame(layout),
         "layout_shots": shots,
         "inputs": inputs,
         "per_shot": per_shot,
@@ -309,8 +344,101 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         "propagation": propagation,
         "va_convergence": pd.DataFrame(conv_rows),
         "comparison": comparison,
+        "layout_check": photo_poi.check_layout(layout, f_px=f, width_px=int(p["width_px"]),
+                                               height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
+        "readings": readings(layout=layout, va_free_z=va_free_z, good_guess_sd_m=p["good_guess_sd_m"]),
         "errors": errors,
     }
+
+
+def readings(layout: str = photo_poi.DEFAULT_LAYOUT, va_free_z: bool = False,
+             good_guess_sd_m: float = photo_poi.DEFAULTS["good_guess_sd_m"]) -> pd.DataFrame:
+    """One row per modelling choice of :func:`run`: what the thesis says (with its line) and what the code does.
+
+    Line numbers are lines of the thesis's text copy (i-Loc thesis, Chiu 2013). Earlier readings of
+    the toolkit appear as labelled sensitivity rows.
+    """
+    rows = [
+        ("PoI layout", "L658, L688, L696, L707; Figs 27-28",
+         "7 PoIs on the walls; 7 test points 1 m apart; distance from p4 grows t1->t7; smallest view angles "
+         "p3-t7-p4 and p4-t7-p5; {1,2}, {6,7} nearer than {3,4}, {3,5}, {4,5}, {3,4,5}; p1, p3-p6 on one "
+         "horizontal line; coordinates only in Fig 28 (missing)",
+         f"layout {layout!r}: a room satisfying every constraint (layout_check)",
+         "assumption: the seven satisfying rooms A-G are swept in layout_sweep (spread reported)"),
+        ("PoI layout (earlier reading)", "L707", "as above",
+         "'row': seven PoIs 0.4 m apart in a row on one wall", "sensitivity row only: violates L696 and L707"),
+        ("ST", "L664-680, eq. (29)-(30)", "similar triangles with T_E->AR from accelerometer and magnetometer; "
+         "least squares over the PoIs", "linear least squares over the PoIs with the measured orientation",
+         "thesis"),
+        ("VA cost function", "L694", "VA is a gradient algorithm that depends on its initial value; no equation",
+         "sum of squared differences between measured and predicted PoI-pair view angles, gradient descent",
+         "the toolkit's own (the thesis gives no VA equation)"),
+        ("VA search space", "L672 (output c = [c_x c_y c_z])", "the camera centre",
+         "3-D search" if va_free_z else "floor position at the known phone height (2-D)",
+         "assumption; the other search space is a sensitivity row (va_free_z)"),
+        ("VAGIG initial guess", "L652, L694", "a good initial view angle; the user first gives a rough position",
+         f"true position + N(0, {good_guess_sd_m:g} m) per axis, inside the room",
+         "i-Loc PTS + Wi-Fi fix error 2.82 m mean (thesis sec. 5.2) -> 2.25 m per axis; swept in good_guess_sweep"),
+        ("VABIG initial guess", "L694", "a bad initial view angle", "uniform over the room floor",
+         "assumption"),
+        ("VA started at the truth", "", "silent", "VA from the true centre: VA's floor of error",
+         "diagnostic"),
+        ("photos per shooting point", "L696", "not given", "10 (fast: 1)", "assumption"),
+        ("drag, tilt, heading errors, focal length", "L656-658 (Fig 25)", "the user drags PoI markers; "
+         "orientation from accelerometer and magnetometer; no error values",
+         "drag 12 px, tilt 1 deg, heading 5 deg, f 1045 px", "data/photo_poi/README.md (published measurements); "
+         "swept in sensitivity"),
+        ("error measure", "L696, L702", "mean positioning error in cm", "horizontal (floor) error, cm",
+         "thesis (the floor map is 2-D)"),
+    ]
+    return readings_table([reading(c, f"Chiu 2013, {ln}" if ln.startswith("L") else ln, t, d, src)
+                           for c, ln, t, d, src in rows])
+
+
+def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5, 6, 7)) -> dict[str, pd.DataFrame]:
+    """Figs 29-30 summaries for every layout that satisfies the text (and the earlier ``"row"``).
+
+    Returns
+    -------
+    dict
+        ``per_layout``: one row per layout and method: overall mean error, mean error with 2 and 7
+        PoIs, Spearman rho of the per-shot error against the distance to p4, and whether the layout
+        satisfies the text; ``spread``: per method, min / max / sd over the satisfying layouts.
+    """
+    names = list(layouts) if layouts is not None else list(photo_poi.LAYOUTS)
+    rows = []
+    for name in names:
+        t = run(seed=seed, fast=fast, ks=ks, layout=name)
+        ok = bool(t["layout_check"]["satisfied"].all())
+        pk = t["per_k"].set_index("k")
+        tr = t["per_shot"]
+        for m in SHOWN_METHODS:
+            err = t["errors"]
+            rows.append({"layout": name, "satisfies_text": ok, "method": m,
+                         "overall_mean_cm": float(err.loc[err["method"] == m, "error_cm"].mean()),
+                         "k2_cm": float(pk.loc[2, m]) if 2 in pk.index else np.nan,
+                         "k7_cm": float(pk.loc[7, m]) if 7 in pk.index else np.nan,
+                         "spearman_rho_dist_p4": float(pd.Series(tr["dist_to_p4_m"]).corr(tr[m], method="spearman"))})
+    per_layout = pd.DataFrame(rows)
+    sat = per_layout[per_layout["satisfies_text"]]
+    spread = sat.groupby("method", sort=False).agg(
+        n_layouts=("layout", "nunique"), overall_min_cm=("overall_mean_cm", "min"),
+        overall_max_cm=("overall_mean_cm", "max"), overall_sd_cm=("overall_mean_cm", "std"),
+        k2_min_cm=("k2_cm", "min"), k2_max_cm=("k2_cm", "max"),
+        k7_min_cm=("k7_cm", "min"), k7_max_cm=("k7_cm", "max")).reset_index()
+    return {"per_layout": per_layout, "spread": spread}
+
+
+def good_guess_sweep(seed: int = 0, fast: bool = False, sds=GOOD_GUESS_SD_M, ks=(2, 7),
+                     layout: str = photo_poi.DEFAULT_LAYOUT) -> pd.DataFrame:
+    """VAGIG's error against the good guess's spread (an assumption), beside VA from the truth and VABIG."""
+    rows = []
+    for sd in sds:
+        t = run(seed=seed, fast=fast, ks=ks, layout=layout, good_guess_sd_m=float(sd))
+        for _, r in t["per_k"].iterrows():
+            for m in ("VA_truth", "VAGIG", "VABIG", "ST"):
+                rows.append({"good_guess_sd_m": float(sd), "k": int(r["k"]), "method": m, "error_cm": float(r[m])})
+    return pd.DataFrame(rows)
 
 
 #: Input values tried by :func:`sensitivity` (one input changed at a time from the defaults).
@@ -319,7 +447,7 @@ SENSITIVITY_GRID = (
     ("yaw_sd_deg", (1.0, 2.5, 5.0, 10.0)),
     ("tilt_sd_deg", (0.5, 1.0, 2.0)),
     ("good_guess_sd_m", (0.5, 1.0, 2.25)),
-    ("va_free_z", (True, False)),
+    ("va_free_z", (False, True)),
 )
 
 

@@ -7,9 +7,24 @@ the walker's ``k`` by PSO on the fitness of eq. 4.4 with the Weinberg length ``k
 ``k`` and the compass heading on latitude/longitude (eq. 3.1-3.3) from the first GPS fix, and report
 the start-end (closure) distance beside the fixed ``k = 0.5`` of the thesis ("TAR").
 
-Fitness: eq. 4.4 has two readings over a walk, ``"total"`` (default) and ``"per_step"``
-(:mod:`ilocalg.pdr.k_factor`); both are computed. The PSO is :func:`ilocalg.optim.pso_minimize` with
-the thesis's settings (:data:`ilocalg.pdr.k_factor.PSO_SETTINGS_PAPER`).
+Readings (line numbers of the thesis's text copy; every choice is listed by :func:`readings`):
+
+* no moving average on the walking acceleration by default: MA(nL = nR = 2) is stated for the
+  static compass and accelerometer calibration only (L713, L735-743; L718 gives no width for the
+  walk) and at 8 Hz it zeroes 1.6 Hz, inside the step-rate band; MA widths 1 and 2 are sensitivity
+  rows (``prefilter="ma1"``, ``"ma2"``, the latter the toolkit's earlier default);
+* the +-RMS band of Fig. 3.9 (L519-520) from the static-noise RMS (eq. 3.4, L440-444, L699-701) of a
+  simulated static accelerometer log; the walking-signal RMS is the alternative (``band="signal"``);
+* eq. 4.4 read per step (default, Fig. 5.12: Fitness 0.0939 with the PSO distance 2.0996 m off,
+  L834, L840), walk-total as the alternative (:mod:`ilocalg.pdr.k_factor`);
+* Table 5-2's accuracy is ``1 - |GPS - PSO| / GPS`` on the learning walk itself (L927-935; A1:
+  1 - |160.25 - 158.28| / 160.25 = 98.7 %);
+* in this 1-D problem the PSO's k is set by its stop rule (minFitness 0.1, L811): it stops anywhere
+  in the interval of k whose fitness is below 0.1 (``k_stop_lo``, ``k_stop_hi``), and the closed
+  form gives the minimiser itself; the initial search box (0, 1) is not in the thesis.
+
+The PSO is :func:`ilocalg.optim.pso_minimize` with the thesis's settings
+(:data:`ilocalg.pdr.k_factor.PSO_SETTINGS_PAPER`).
 
 Settings from the paper
 -----------------------
@@ -34,13 +49,14 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.gnss import dead_reckon_latlon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
-from ilocalg.pdr.k_factor import FITNESSES, PSO_SETTINGS_PAPER, learn_k, step_factors
+from ilocalg.pdr.k_factor import FITNESSES, K_BOUNDS, PSO_SETTINGS_PAPER, learn_k, step_factors
 from ilocalg.pdr.registry import detect_steps
+from ilocalg.pdr.sign_change import static_rms_mps2
 from ilocalg.pdr.signals import along_gravity_mps2, gravity_lowpass_mps2
 from ilocalg.pdr.step_length import k_from_distance, weinberg_length_m
-from ilocalg.sim.pso_walks import Walk, simulate_pso_walks, simulate_static_compass
+from ilocalg.sim.pso_walks import Walk, simulate_pso_walks, simulate_static_acc, simulate_static_compass
 
 __all__ = [
     "PAPER",
@@ -48,7 +64,15 @@ __all__ = [
     "PAPER_PHASE2_A1",
     "PAPER_COMPASS_RMS",
     "K_FIXED_PAPER",
+    "PREFILTERS",
+    "BANDS",
+    "ROUTE_SCALES",
+    "SENSITIVITY_VARIANTS",
+    "EARLIER_READING",
     "detect_walk_steps",
+    "static_band_mps2",
+    "readings",
+    "sensitivity",
     "step_headings_deg",
     "dr_track",
     "compass_filter_study",
@@ -74,19 +98,52 @@ PAPER_PHASE2_A1 = {
 PAPER_COMPASS_RMS = {"raw": 0.716, "ma": 0.563, "sg": 0.638}
 K_FIXED_PAPER = 0.5
 
-PREFILTERS = ("ma", "none")
+#: Pre-filters of the walking acceleration: none (default), MA half-width 1, MA half-width 2 (nL = nR = 2).
+PREFILTERS = ("none", "ma1", "ma2")
+_MA_HALF = {"none": 0, "ma1": 1, "ma2": 2}
+#: Half-width of the +-RMS band: the static-noise RMS (default) or the walking signal's RMS.
+BANDS = ("static", "signal")
+#: True route length over the thesis's GPS distance, swept by :func:`sensitivity` (1.0 is the default).
+ROUTE_SCALES = (0.95, 1.05)
 
 
 # ------------------------------------------------------------------------------------------------
 # walk processing
 # ------------------------------------------------------------------------------------------------
 
-def detect_walk_steps(walk: Walk, prefilter: str = "ma") -> pd.DataFrame:
-    """Sign-change steps of a simulated walk, with MA(2,2) pre-filter (thesis) or none."""
-    if prefilter not in PREFILTERS:
-        raise ValueError(f"prefilter must be one of {PREFILTERS}, got {prefilter!r}")
+def _check_choice(name, value, allowed):
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+
+
+def static_band_mps2(seed: int = 0, prefilter: str = "none") -> float:
+    """Static-noise RMS of the device's accelerometer (eq. 3.4), after the walk's pre-filter.
+
+    A 60 s static log (device on a table, the thesis's static calibration, sec. 5.1.3) from
+    :func:`ilocalg.sim.pso_walks.simulate_static_acc`, one per run (one device).
+    """
+    _check_choice("prefilter", prefilter, PREFILTERS)
+    log = simulate_static_acc(np.random.default_rng([seed, 54]))
+    n = _MA_HALF[prefilter]
+    return static_rms_mps2(log["acc_z_mps2"].to_numpy(), n, n, smooth=n > 0)
+
+
+def detect_walk_steps(walk: Walk, prefilter: str = "none", band_mps2: float | None = None) -> pd.DataFrame:
+    """Sign-change steps of a simulated walk (Fig. 3.9).
+
+    Parameters
+    ----------
+    prefilter : {"none", "ma1", "ma2"}
+        Moving average on the walking acceleration (none by default; module docstring).
+    band_mps2 : float, optional
+        Half-width of the +-RMS band (the static-noise RMS, :func:`static_band_mps2`); None uses the
+        walking signal's RMS (the alternative reading).
+    """
+    _check_choice("prefilter", prefilter, PREFILTERS)
     imu = walk.imu
-    return detect_steps("sign_change", imu["acc_z_mps2"].to_numpy(), imu["t_s"].to_numpy(), smooth=prefilter == "ma")
+    n = _MA_HALF[prefilter]
+    return detect_steps("sign_change", imu["acc_z_mps2"].to_numpy(), imu["t_s"].to_numpy(), smooth=n > 0,
+                        n_left=max(n, 1), n_right=max(n, 1), rms_mps2=band_mps2)
 
 
 def step_headings_deg(imu: pd.DataFrame, steps: pd.DataFrame) -> np.ndarray:
@@ -201,7 +258,8 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
         t = tr.imu.index.to_numpy(float)
         av = ilc_vertical_acc(tr.imu)
         m = (t >= wp["t_s"].iloc[0]) & (t <= wp["t_s"].iloc[-1])
-        st = detect_steps("sign_change", av[m], t[m], n_left=ma_halfwidth, n_right=ma_halfwidth)
+        st = detect_steps("sign_change", av[m], t[m], n_left=ma_halfwidth, n_right=ma_halfwidth,
+                          smooth=True)
         dur = float(wp["t_s"].iloc[-1] - wp["t_s"].iloc[0])
         rows.append({"trace": tr.name, "n_waypoints": len(wp), "duration_s": dur, "waypoint_dist_m": d,
                      "det_steps": len(st), "steps_per_s": len(st) / dur,
@@ -237,10 +295,15 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
 # the experiment
 # ------------------------------------------------------------------------------------------------
 
-def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int):
+def _band(seed: int, prefilter: str, band: str) -> float | None:
+    return static_band_mps2(seed, prefilter) if band == "static" else None
+
+
+def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int, band: str = "static"):
     rows, results, tracks = [], {}, {}
+    b = _band(seed, prefilter, band)
     for i, w in enumerate(walks):
-        st = detect_walk_steps(w, prefilter)
+        st = detect_walk_steps(w, prefilter, b)
         d_gps = gps_track_length_m(w.gps)
         summ, res = learn_k(st, d_gps, fitness, rng=np.random.default_rng([seed, 10, i]))
         tr = dr_track(w, st, summ["k_pso"])
@@ -252,6 +315,9 @@ def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int):
             "k_pso": summ["k_pso"], "k_closed": summ["k_closed"], "k_ls": summ["k_ls"], "k_scipy": summ["k_scipy"],
             "k_continuous": k_true,
             "pso_iters": summ["iters"], "pso_fitness_m": summ["fitness_pso_m"],
+            "fitness_closed_m": summ["fitness_closed_m"],
+            "k_stop_lo": summ["k_stop_lo"], "k_stop_hi": summ["k_stop_hi"],
+            "pso_stopped_by": "minFitness" if summ["iters"] < PSO_SETTINGS_PAPER["max_iters"] else "maxIters",
             "true_steps": w.n_steps, "det_steps": len(st),
             "true_m": w.route_m, "gps_m": d_gps, "pso_m": pso_m,
             "start_end_m": _closure_m(tr),
@@ -263,10 +329,11 @@ def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int):
     return pd.DataFrame(rows), results, tracks
 
 
-def _phase2(walks: list[Walk], k_by_walker: dict, prefilter: str):
+def _phase2(walks: list[Walk], k_by_walker: dict, prefilter: str, seed: int, band: str = "static"):
     rows, tracks = [], {}
+    b = _band(seed, prefilter, band)
     for w in walks:
-        st = detect_walk_steps(w, prefilter)
+        st = detect_walk_steps(w, prefilter, b)
         k = k_by_walker[w.walker]
         tr_pso = dr_track(w, st, k)
         tr_tar = dr_track(w, st, K_FIXED_PAPER)
@@ -290,11 +357,13 @@ def _phase2(walks: list[Walk], k_by_walker: dict, prefilter: str):
     return pd.DataFrame(rows), tracks
 
 
-def _pso_repeat(walks: list[Walk], prefilter: str, fitness: str, seed: int, n_rep: int) -> pd.DataFrame:
+def _pso_repeat(walks: list[Walk], prefilter: str, fitness: str, seed: int, n_rep: int,
+                band: str = "static") -> pd.DataFrame:
     """PSO from ``n_rep`` seeds per walker beside the closed-form minimiser of the same fitness."""
     rows = []
+    b = _band(seed, prefilter, band)
     for i, w in enumerate(walks):
-        st = detect_walk_steps(w, prefilter)
+        st = detect_walk_steps(w, prefilter, b)
         d_gps = gps_track_length_m(w.gps)
         ks, iters = [], []
         for r in range(n_rep):
@@ -302,8 +371,8 @@ def _pso_repeat(walks: list[Walk], prefilter: str, fitness: str, seed: int, n_re
             ks.append(s["k_pso"])
             iters.append(s["iters"])
         ks = np.asarray(ks)
-        rows.append({"walker": w.walker, "prefilter": prefilter, "fitness": fitness, "n_runs": n_rep,
-                     "k_closed": s["k_closed"],
+        rows.append({"walker": w.walker, "prefilter": prefilter, "band": band, "fitness": fitness, "n_runs": n_rep,
+                     "k_closed": s["k_closed"], "k_stop_lo": s["k_stop_lo"], "k_stop_hi": s["k_stop_hi"],
                      "k_pso_mean": ks.mean(), "k_pso_sd": ks.std(ddof=1) if n_rep > 1 else 0.0,
                      "max_abs_dev_from_closed": float(np.max(np.abs(ks - s["k_closed"]))),
                      "iters_mean": float(np.mean(iters)), "iters_max": int(np.max(iters)),
@@ -326,7 +395,7 @@ def _comparison(t52: pd.DataFrame, p2: pd.DataFrame, compass: pd.DataFrame, labe
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} detected steps", p["det_steps"], r.det_steps,
                               note=f"true steps {r.true_steps} (walk design, from the paper)"))
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} PSO distance", p["pso_m"], r.pso_m, "m",
-                              note="the simulated route length is set from the paper's GPS distance"))
+                              note="simulated true route = the paper's GPS distance (route_scale 1, swept)"))
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} accuracy vs GPS", p["acc_pct"], r.acc_pct, "%"))
     for place in ("park", "hall"):
         sel = p2[(p2["walker"] == "A1") & (p2["place"] == place)]
@@ -349,8 +418,106 @@ def _compass_rows(compass: pd.DataFrame) -> list[dict]:
     return rows
 
 
-def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str = "total",
-        data_dir: str | Path | None = None, real: bool = True) -> dict[str, pd.DataFrame]:
+def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_step") -> pd.DataFrame:
+    """One row per modelling choice of :func:`run`: the thesis's line, what it says, what the code does, the source.
+
+    Line numbers are lines of the thesis's text copy (Chao 2008). The earlier readings of the toolkit
+    appear as labelled sensitivity rows (computed in :func:`sensitivity`).
+    """
+    s = PSO_SETTINGS_PAPER
+    rows = [
+        ("MA on the walking acceleration", "L713-718, L735-743",
+         "MA(nL=nR=2) shown for the static compass (Fig 5.4) and the accelerometer at 0 g / 1 g (Figs 5.6-5.8); "
+         "'MA is used for the experiments' (L718) without a width for the walking signal",
+         {"none": "no moving average", "ma1": "MA nL=nR=1", "ma2": "MA nL=nR=2"}[prefilter],
+         "MA(2,2) at 8 Hz zeroes 1.6 Hz (pdr.filters.smoother_gain), inside the step-rate band; widths 1 and 2 "
+         "are sensitivity rows (MA 2 = the toolkit's earlier default)"),
+        ("+-RMS band of Fig 3.9", "L519-520; eq. 3.4 L440-444; L699-701",
+         "reject extrema inside [-RMS, +RMS]; RMS (eq. 3.4) measures the static error; the static experiment "
+         "gives 'the error range for the correction of eq. 4.4'",
+         "static-noise RMS of a simulated 60 s static log, after the walk's pre-filter" if band == "static"
+         else "RMS of the walking signal itself",
+         "thesis reading; the walking-signal RMS (the toolkit's earlier default) is a sensitivity row"),
+        ("fitness, eq. 4.4", "L632-634; Fig 5.12 L834, L840",
+         "f(k) = |S_gps - S_ins| with S the step length; A1: Fitness 0.0939 with Diff(GPS) 2.0996 m",
+         "mean over steps of |D_gps/N - k q_j|" if fitness == "per_step" else "|D_gps - k sum q_j| over the walk",
+         "per step: the only reading compatible with Fig 5.12; walk-total (the toolkit's earlier default) is a "
+         "sensitivity row"),
+        ("Table 5-2 accuracy", "L927-935, L845",
+         "accuracy (%) beside GPS (PSO) distance; A1 158.28 m vs 160.25 m -> 98.7 %",
+         "100 (1 - |GPS - PSO| / GPS) on the learning walk itself (PSO = DR path length with the learned k)",
+         "thesis"),
+        ("PSO settings", "L807-812", f"maxIters {s['max_iters']}, particles {s['n_particles']}, weight "
+         f"{s['w_init']} -> {s['w_final']}, maxSpeed {s['max_speed']}, minFitness {s['min_fitness']}, c1 = c2 = "
+         f"{s['c1']}", "the same (ilocalg.optim.pso_minimize)", "thesis"),
+        ("what sets the PSO's k", "L811", "stop when the fitness is below minFitness (0.1)",
+         "the PSO stops anywhere in [k_stop_lo, k_stop_hi] (fitness < 0.1); k_closed is the exact minimiser",
+         "a property of the 1-D problem: the PSO result is set by its stop rule"),
+        ("initial search box", "", "silent", f"initial swarm uniform in k in {K_BOUNDS}",
+         "toolkit's choice"),
+        ("true route length", "L927-935 (Table 5-2)", "the walk's length is known only from GPS",
+         "true length = route_scale x the thesis's GPS distance, route_scale 1",
+         f"assumption; route_scale {ROUTE_SCALES} are sensitivity rows"),
+        ("GPS error", "L750-752 (sec. 5.1.3, Fig 5.9)", "static ~30 s, accuracy better than 1.5 m",
+         "Gauss-Markov per axis, sd 0.61 m (1.5 m as the 95 % radius), tau 20 s, no white part",
+         "thesis bound; tau assumed (data/pso_walks/README.md)"),
+        ("hand sway, magnetic disturbance", "L769", "the device is held in the hand; no sway or disturbance values",
+         "yaw sway 4.5 deg at the stride rate; heading error along the route, sd 2 deg, 10 m correlation",
+         "Crosbie et al. 1997 (trunk axial rotation ~9 deg); smartphone azimuth RMSE <= 2 deg (Lviv field study); "
+         "correlation length assumed"),
+        ("step heading", "L718", "MA used on the compass", "compass yaw after MA(2,2) at each detected step",
+         "thesis (compass calibration, Fig 5.4)"),
+        ("fixed k of the comparison (TAR)", "L899", "eq. 2.5 with k = 0.5", f"k = {K_FIXED_PAPER}", "thesis"),
+    ]
+    return readings_table([reading(c, f"Chao 2008, {ln}" if ln.startswith("L") else ln, t, d, src)
+                           for c, ln, t, d, src in rows])
+
+
+#: Variants of :func:`sensitivity`: (name, prefilter, band, fitness, route_scale); the first is the default.
+SENSITIVITY_VARIANTS = (
+    ("default (text reading)", "none", "static", "per_step", 1.0),
+    ("MA nL=nR=1", "ma1", "static", "per_step", 1.0),
+    ("MA nL=nR=2", "ma2", "static", "per_step", 1.0),
+    ("band: walking-signal RMS", "none", "signal", "per_step", 1.0),
+    ("fitness: walk total", "none", "static", "total", 1.0),
+    ("earlier reading (MA 2, signal RMS, walk total)", "ma2", "signal", "total", 1.0),
+    ("route 0.95 x GPS distance", "none", "static", "per_step", 0.95),
+    ("route 1.05 x GPS distance", "none", "static", "per_step", 1.05),
+)
+
+
+def sensitivity(seed: int = 0, variants=SENSITIVITY_VARIANTS) -> pd.DataFrame:
+    """Table 5-2 summarised for every reading: the default and the labelled alternatives.
+
+    Returns one row per variant: the share of true steps detected, the PSO's k (min, mean, max), the
+    closed-form minimiser's mean, the accuracy vs GPS (min, mean, max) and vs the true distance.
+    """
+    rows = []
+    cache = {}
+    for name, pf, band, fit, scale in variants:
+        _check_choice("prefilter", pf, PREFILTERS)
+        _check_choice("band", band, BANDS)
+        _check_choice("fitness", fit, FITNESSES)
+        if scale not in cache:
+            cache[scale] = simulate_pso_walks(seed, route_scale=scale)["1"]
+        p1, _, _ = _phase1(cache[scale], pf, fit, seed, band)
+        rows.append({"variant": name, "prefilter": pf, "band": band, "fitness": fit, "route_scale": scale,
+                     "det_over_true_steps": float(p1["det_steps"].sum() / p1["true_steps"].sum()),
+                     "k_pso_min": float(p1["k_pso"].min()), "k_pso_mean": float(p1["k_pso"].mean()),
+                     "k_pso_max": float(p1["k_pso"].max()), "k_closed_mean": float(p1["k_closed"].mean()),
+                     "acc_pct_min": float(p1["acc_pct"].min()), "acc_pct_mean": float(p1["acc_pct"].mean()),
+                     "acc_pct_max": float(p1["acc_pct"].max()),
+                     "acc_vs_true_pct_mean": float(p1["acc_vs_true_pct"].mean()),
+                     "gps_over_true_mean": float((p1["gps_m"] / p1["true_m"]).mean())})
+    return pd.DataFrame(rows)
+
+
+#: The toolkit's earlier reading (MA 2, walking-signal RMS band, walk-total fitness): the ``*_alt`` tables.
+EARLIER_READING = {"prefilter": "ma2", "band": "signal", "fitness": "total"}
+
+
+def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = "static",
+        fitness: str = "per_step", data_dir: str | Path | None = None, real: bool = True) -> dict[str, pd.DataFrame]:
     """The two-phase experiment on the simulated walks, the compass study and the ILC k study.
 
     Parameters
@@ -359,10 +526,11 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
         Seed of the simulated walks and of the PSO runs.
     fast : bool
         Fewer PSO repeats, fewer compass logs, fewer ILC walks.
-    prefilter : {"ma", "none"}
-        Step-detection pre-filter of Table 5-2 (the thesis: MA nL = nR = 2); the other one is run
-        too, as ``table_5_2_alt``.
-    fitness : {"total", "per_step"}
+    prefilter : {"none", "ma1", "ma2"}
+        Moving average on the walking acceleration (default none; module docstring).
+    band : {"static", "signal"}
+        Half-width of the +-RMS band: static-noise RMS (default) or the walking signal's RMS.
+    fitness : {"per_step", "total"}
         Reading of eq. 4.4 for Table 5-2; the other one is summarised in ``fitness_variants``.
     data_dir : path, optional
         Folder holding ``ilc2020_site2_F4`` (None: :func:`ilocalg.io.paths.data_dir`).
@@ -373,32 +541,37 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
     -------
     dict of DataFrame
         ``table_5_2`` (reproduced beside the paper), ``phase1``, ``phase2``, ``table_5_2_alt``,
-        ``phase2_alt``, ``fitness_variants``, ``pso_repeat``, ``pso_a1_swarm``, ``pso_a1_history``,
-        ``pso_a1_result``, ``compass``, ``comparison`` (paper_ref rows), ``tracks_*`` (paths for the
-        maps), and when the ILC data are present ``ilc_walks``, ``ilc_summary``; ``ilc_status`` always.
+        ``phase1_alt``, ``phase2_alt`` (the toolkit's earlier reading, :data:`EARLIER_READING`),
+        ``fitness_variants``, ``pso_repeat``, ``stop_rule``, ``pso_a1_swarm``, ``pso_a1_history``,
+        ``pso_a1_result``, ``compass``, ``sensitivity``, ``readings``, ``comparison`` (paper_ref
+        rows), ``tracks_*`` (paths for the maps), and when the ILC data are present ``ilc_walks``,
+        ``ilc_summary``; ``ilc_status`` always.
     """
-    if prefilter not in PREFILTERS:
-        raise ValueError(f"prefilter must be one of {PREFILTERS}, got {prefilter!r}")
-    if fitness not in FITNESSES:
-        raise ValueError(f"fitness must be one of {FITNESSES}, got {fitness!r}")
+    _check_choice("prefilter", prefilter, PREFILTERS)
+    _check_choice("band", band, BANDS)
+    _check_choice("fitness", fitness, FITNESSES)
     walks = simulate_pso_walks(seed)
-    other = "none" if prefilter == "ma" else "ma"
-    p1, results, tracks1 = _phase1(walks["1"], prefilter, fitness, seed)
+    old = EARLIER_READING
+    p1, results, tracks1 = _phase1(walks["1"], prefilter, fitness, seed, band)
     k_by = dict(zip(p1["walker"], p1["k_pso"], strict=True))
-    p2, tracks2 = _phase2(walks["2"], k_by, prefilter)
-    p1_alt, _, _ = _phase1(walks["1"], other, fitness, seed)
-    p2_alt, tracks2_alt = _phase2(walks["2"], dict(zip(p1_alt["walker"], p1_alt["k_pso"], strict=True)), other)
-    other_fit = "per_step" if fitness == "total" else "total"
-    p1_fit, _, _ = _phase1(walks["1"], prefilter, other_fit, seed)
-    variants = pd.concat([
-        p1[["walker", "k_pso", "k_closed", "k_ls", "k_scipy", "pso_iters", "pso_fitness_m", "pso_m", "acc_pct"]]
-        .assign(fitness=fitness),
-        p1_fit[["walker", "k_pso", "k_closed", "k_ls", "k_scipy", "pso_iters", "pso_fitness_m", "pso_m", "acc_pct"]]
-        .assign(fitness=other_fit),
-    ], ignore_index=True)
+    p2, tracks2 = _phase2(walks["2"], k_by, prefilter, seed, band)
+    p1_alt, _, _ = _phase1(walks["1"], old["prefilter"], old["fitness"], seed, old["band"])
+    p2_alt, tracks2_alt = _phase2(walks["2"], dict(zip(p1_alt["walker"], p1_alt["k_pso"], strict=True)),
+                                  old["prefilter"], seed, old["band"])
+    other_fit = "total" if fitness == "per_step" else "per_step"
+    p1_fit, _, _ = _phase1(walks["1"], prefilter, other_fit, seed, band)
+    cols = ["walker", "k_pso", "k_closed", "k_ls", "k_scipy", "k_stop_lo", "k_stop_hi", "pso_iters", "pso_fitness_m",
+            "fitness_closed_m", "pso_m", "gps_m", "acc_pct"]
+    variants = pd.concat([p1[cols].assign(fitness=fitness), p1_fit[cols].assign(fitness=other_fit)],
+                         ignore_index=True)
+    stop_rule = p1[["walker", "k_pso", "k_closed", "k_stop_lo", "k_stop_hi", "pso_iters", "pso_stopped_by",
+                    "pso_fitness_m", "fitness_closed_m"]].copy()
+    stop_rule["stop_interval_width"] = stop_rule["k_stop_hi"] - stop_rule["k_stop_lo"]
+    stop_rule["k_pso_minus_closed"] = stop_rule["k_pso"] - stop_rule["k_closed"]
     n_rep = 5 if fast else 50
-    rep = pd.concat([_pso_repeat(walks["1"], pf, f, seed, n_rep) for pf in (prefilter, other)
-                     for f in ("total", "per_step")], ignore_index=True)
+    rep = pd.concat([_pso_repeat(walks["1"], pf, f, seed, n_rep, b)
+                     for pf, b in ((prefilter, band), (old["prefilter"], old["band"]))
+                     for f in FITNESSES], ignore_index=True)
     a1 = results["A1"]
     r1 = p1.iloc[0]
     a1_block = pd.DataFrame([{
@@ -417,14 +590,19 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
                             "sg_deg": savitzky_golay(y, 2, 2, 2)})
     t52 = _paper_table(p1)
     t52_alt = _paper_table(p1_alt)
-    rows = _comparison(t52, p2, compass, f"(prefilter {prefilter})")
-    rows += _comparison(t52_alt, p2_alt, compass, f"(prefilter {other})")
+    lab = f"({prefilter}, {band} band, {fitness} fitness)"
+    rows = _comparison(t52, p2, compass, lab)
+    rows += _comparison(t52_alt, p2_alt, compass, "(earlier reading: MA 2, signal band, walk total)")
     rows += _compass_rows(compass)
     out = {
         "table_5_2": t52, "phase1": p1, "phase2": p2, "table_5_2_alt": t52_alt, "phase1_alt": p1_alt,
-        "phase2_alt": p2_alt, "fitness_variants": variants, "pso_repeat": rep,
+        "phase2_alt": p2_alt, "fitness_variants": variants, "pso_repeat": rep, "stop_rule": stop_rule,
         "pso_a1_swarm": a1.swarm_table(), "pso_a1_history": a1.history_table(), "pso_a1_result": a1_block,
         "compass": compass, "compass_example": out_log,
+        "static_band": pd.DataFrame([{"prefilter": pf, "static_rms_mps2": static_band_mps2(seed, pf)}
+                                     for pf in PREFILTERS]),
+        "sensitivity": sensitivity(seed),
+        "readings": readings(prefilter, band, fitness),
     }
     # paths for the maps (not result tables)
     out["tracks_phase1"] = pd.concat([t.assign(walker=w) for w, t in tracks1.items()], ignore_index=True)
@@ -439,7 +617,7 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma", fitness: str =
         gps1.append(_gps_local(w).assign(walker=w.walker))
     out["gps_phase1"] = pd.concat(gps1, ignore_index=True)
     a1w = walks["1"][0]
-    a1_steps = detect_walk_steps(a1w, prefilter)
+    a1_steps = detect_walk_steps(a1w, prefilter, _band(seed, prefilter, band))
     out["a1_signal"] = a1w.imu.assign(acc_ma_mps2=moving_average(a1w.imu["acc_z_mps2"].to_numpy(), 2, 2))
     out["a1_steps"] = a1_steps
     # real data

@@ -7,6 +7,7 @@ Ch. 5, eq. (20)-(26), Tables 4-5.
 """
 
 from ilocalg.fusion.align import AlignedFixes, fixes_at_states
+from ilocalg.fusion.fingerprint_adjust import fingerprint_adjusted_track
 from ilocalg.fusion.noise import fix_covariance_from_spread
 from ilocalg.fusion.smoothers import SmoothResult, fixed_lag_smooth, rts_smooth
 from ilocalg.fusion.step_kf import (
@@ -30,6 +31,7 @@ from ilocalg.fusion.synthetic import SyntheticWalk, straight_walk
 __all__ = [
     "AlignedFixes",
     "fixes_at_states",
+    "fingerprint_adjusted_track",
     "PAPER_TABLE4_SIGMA_SL_VAR_M2",
     "PAPER_TABLE4_STEP_M",
     "PAPER_TABLE5_SIGMA_RF_VAR_M2",

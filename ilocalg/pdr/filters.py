@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["savitzky_golay_coeffs", "savitzky_golay", "moving_average", "rms"]
+__all__ = ["savitzky_golay_coeffs", "savitzky_golay", "moving_average", "smoother_gain", "rms"]
 
 
 def _check_window(n_left: int, n_right: int, order: int) -> None:
@@ -141,6 +141,43 @@ def moving_average(x, n_left: int = 2, n_right: int = 2) -> np.ndarray:
     PSO thesis, eq. 3.6 (MA filter, used for the experiments in ch. 5).
     """
     return _smooth(x, n_left, n_right, 0, "moving_average")
+
+
+def smoother_gain(f_hz, rate_hz: float, n_left: int = 2, n_right: int = 2, order: int = 0) -> np.ndarray:
+    """Amplitude gain ``|H(f)|`` of the interior smoother ``g(t) = sum_i c_i f(t+i)`` (eq. 3.5-3.6).
+
+    ``H(f) = sum_{i=-nL}^{nR} c_i exp(2 pi j f i / rate)``. For the moving average (``order = 0``)
+    with ``N = nL + nR + 1`` samples, ``|H(f)| = |sin(pi f N / rate) / (N sin(pi f / rate))|``: its
+    first zero is at ``rate / N``, e.g. 1.6 Hz for ``nL = nR = 2`` at the thesis's 8 Hz, inside the
+    band of walking step rates (about 1.5-2.2 Hz). This is why the moving average, which the thesis
+    specifies (``nL = nR = 2``) only for its static compass and accelerometer calibration (sec. 5.1.3,
+    Figs 5.4, 5.6-5.8), is not applied to the walking acceleration by default.
+
+    Parameters
+    ----------
+    f_hz : array_like
+        Frequencies, Hz.
+    rate_hz : float
+        Sampling rate, Hz.
+    n_left, n_right, order : int
+        Window and polynomial order, as :func:`savitzky_golay_coeffs`.
+
+    Returns
+    -------
+    ndarray
+        ``|H(f)|``, the shape of ``f_hz``.
+
+    References
+    ----------
+    PSO thesis, eq. 3.5-3.6; Numerical Recipes sec. 14.8.
+    """
+    if not np.isfinite(rate_hz) or rate_hz <= 0:
+        raise ValueError(f"rate_hz must be a positive number, got {rate_hz!r}")
+    f = np.asarray(f_hz, dtype=float)
+    c = savitzky_golay_coeffs(n_left, n_right, order)
+    i = np.arange(-n_left, n_right + 1, dtype=float)
+    H = np.exp(2j * np.pi * np.multiply.outer(f, i) / rate_hz) @ c
+    return np.abs(H)
 
 
 def rms(x) -> float:

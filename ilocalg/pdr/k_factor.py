@@ -3,14 +3,24 @@
 A walk of ``N`` detected steps with ``q_j = (Amax_j - Amin_j)^(1/4)`` (the Weinberg length for
 ``k = 1``) and a reference distance ``D`` (GPS track length, surveyed waypoints) gives ``k`` by
 minimising the fitness of Chao (2008) eq. 4.4 with the PSO of :func:`ilocalg.optim.pso_minimize`.
-How the thesis combines the per-step terms over a walk is not written; two readings:
+Eq. 4.4 is written per step ("S_gps is the step length computed from GPS, S_ins the step length
+estimated by inertial navigation", Chao 2008, L632-634); how the terms combine over a walk is not
+written. Two readings:
 
-``"total"`` (default)
-    ``|D - k sum_j q_j|``; its zero is the closed form ``k = D / sum q_j``
-    (:func:`ilocalg.pdr.step_length.k_from_distance`, also the least-squares solution).
-``"per_step"`` (the literal per-step reading)
+``"per_step"`` (default)
     ``mean_j |D / N - k q_j|``; its minimiser is the weighted median of ``(D / N) / q_j`` with
-    weights ``q_j``; the least-squares analogue is ``k = (D / N) sum q / sum q^2``.
+    weights ``q_j``; the least-squares analogue is ``k = (D / N) sum q / sum q^2``. The thesis's own
+    result block (Fig. 5.12, L834 and L840) reports Fitness = 0.0939 with the PSO distance 2.0996 m
+    off the GPS distance, which this reading allows and the walk-total reading does not.
+``"total"`` (alternative)
+    ``|D - k sum_j q_j|``; its zero is the closed form ``k = D / sum q_j``
+    (:func:`ilocalg.pdr.step_length.k_from_distance`, also the least-squares solution). Under it
+    the thesis's Fitness 0.0939 would mean a distance difference below 0.1 m.
+
+In this one-parameter problem the PSO's answer is set by its stop rule: it stops at the first
+iteration whose best fitness is below ``minFitness`` (0.1, L811), anywhere in the interval of k
+where the fitness is below 0.1 (:func:`stop_interval`), not at the minimiser; the closed forms give
+the minimiser itself.
 
 The closed forms and ``scipy.optimize.minimize_scalar`` (bounded) on the same fitness are
 returned beside the PSO's ``k`` as references.
@@ -21,9 +31,9 @@ generic optimiser it calls.
 
 Settings from the paper
 -----------------------
-:data:`PSO_SETTINGS_PAPER`: Chao (2008) sec. 5.3 (10 particles, 100 iterations, maxSpeed 0.1,
-minFitness 0.1 m, inertia 1.0 -> 0.1, c1 = c2 = 2). :data:`K_BOUNDS` (the initial swarm's box) is
-this toolkit's choice.
+:data:`PSO_SETTINGS_PAPER`: Chao (2008) sec. 5.3, L807-812 (10 particles, 100 iterations,
+maxSpeed 0.1, minFitness 0.1 m, inertia 1.0 -> 0.1, c1 = c2 = 2). :data:`K_BOUNDS` (the initial
+swarm's box) is not in the thesis: it is this toolkit's choice.
 
 References
 ----------
@@ -51,16 +61,17 @@ __all__ = [
     "distance_fitness",
     "per_step_fitness",
     "closed_form_k",
+    "stop_interval",
     "learn_k",
 ]
 
 #: PSO settings of Chao (2008), sec. 5.3.
 PSO_SETTINGS_PAPER = {"n_particles": 10, "max_iters": 100, "max_speed": 0.1, "min_fitness": 0.1,
                       "w_init": 1.0, "w_final": 0.1, "c1": 2.0, "c2": 2.0}
-#: Search box for the initial swarm (k, m / (m/s^2)^(1/4)).
+#: Search box for the initial swarm (k, m / (m/s^2)^(1/4)): not in the thesis, the toolkit's choice.
 K_BOUNDS = (0.0, 1.0)
-#: The two readings of eq. 4.4.
-FITNESSES = ("total", "per_step")
+#: The two readings of eq. 4.4 (the first is the default).
+FITNESSES = ("per_step", "total")
 
 
 def step_factors(steps: pd.DataFrame) -> np.ndarray:
@@ -93,7 +104,7 @@ def per_step_fitness(k, q: np.ndarray, d_gps_m: float) -> np.ndarray:
     return out
 
 
-def closed_form_k(q: np.ndarray, d_gps_m: float, fitness: str = "total") -> dict:
+def closed_form_k(q: np.ndarray, d_gps_m: float, fitness: str = "per_step") -> dict:
     """Closed-form references: the fitness minimiser and the least-squares k.
 
     Returns
@@ -117,6 +128,34 @@ def closed_form_k(q: np.ndarray, d_gps_m: float, fitness: str = "total") -> dict
     raise ValueError(f"fitness must be 'total' or 'per_step', got {fitness!r}")
 
 
+def stop_interval(q: np.ndarray, d_gps_m: float, fitness: str = "per_step",
+                  min_fitness: float = PSO_SETTINGS_PAPER["min_fitness"]) -> tuple[float, float]:
+    """The interval of k whose fitness is below ``min_fitness``: where the PSO may stop (m, m).
+
+    Both readings are convex in ``k``, so the set is one interval around the minimiser; ``(nan,
+    nan)`` when even the minimiser's fitness is not below ``min_fitness`` (the PSO then runs to
+    maxIters).
+    """
+    q = np.asarray(q, dtype=float)
+    f = _fitness_fn(fitness, q, d_gps_m)
+    k0 = closed_form_k(q, d_gps_m, fitness)["k_min"]
+
+    def g(k):
+        return float(f(np.array([[k]]))[0]) - min_fitness
+
+    if g(k0) >= 0:
+        return float("nan"), float("nan")
+    from scipy.optimize import brentq
+
+    lo, hi = k0, k0
+    step = max(abs(k0), 1e-3)
+    while g(lo) < 0:
+        lo -= step
+    while g(hi) < 0:
+        hi += step
+    return float(brentq(g, lo, k0)), float(brentq(g, k0, hi))
+
+
 def _fitness_fn(fitness: str, q, d):
     if fitness == "total":
         return lambda K: distance_fitness(K[:, 0], q, d)
@@ -125,7 +164,7 @@ def _fitness_fn(fitness: str, q, d):
     raise ValueError(f"fitness must be 'total' or 'per_step', got {fitness!r}")
 
 
-def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "total", rng=None,
+def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "per_step", rng=None,
             pso_settings: dict | None = None) -> tuple[dict, PSOResult]:
     """Learn the Weinberg factor of one walk by PSO, with the closed-form and scipy references.
 
@@ -135,8 +174,8 @@ def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "total", rng=Non
         Detected steps (``a_max_mps2``, ``a_min_mps2``).
     d_gps_m : float
         GPS distance of the walk, m.
-    fitness : {"total", "per_step"}
-        Reading of eq. 4.4 (module docstring).
+    fitness : {"per_step", "total"}
+        Reading of eq. 4.4 (module docstring); ``"per_step"`` by default.
     rng : Generator, int or None
         PSO random source.
     pso_settings : dict, optional
@@ -146,7 +185,8 @@ def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "total", rng=Non
     -------
     summary : dict
         ``k_pso``, ``fitness_pso``, ``iters``, ``best_particle``, ``k_closed``, ``k_ls``,
-        ``k_scipy``, ``fitness_closed``, ``n_steps``, ``sum_q``.
+        ``k_scipy``, ``fitness_closed``, ``n_steps``, ``sum_q``, ``k_stop_lo``, ``k_stop_hi`` (the
+        interval where the stop rule may end the PSO, :func:`stop_interval`).
     result : PSOResult
     """
     if not np.isfinite(d_gps_m) or d_gps_m <= 0:
@@ -169,5 +209,7 @@ def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "total", rng=Non
         "fitness_closed_m": float(f(np.array([[ref["k_min"]]]))[0]),
         "n_steps": int(q.size),
         "sum_q": float(q.sum()),
+        **dict(zip(("k_stop_lo", "k_stop_hi"), stop_interval(q, d_gps_m, fitness, settings["min_fitness"]),
+                   strict=True)),
     }
     return summary, res

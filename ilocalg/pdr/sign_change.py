@@ -1,11 +1,21 @@
 """Step detection by slope sign change with the +-RMS rejection band (PSO thesis Fig. 3.9).
 
-The vertical acceleration is smoothed with the moving average (``n_L = n_R = 2``, eq. 3.6), then
+The vertical acceleration is optionally smoothed with the moving average (eq. 3.6), then
 
 A. step detection: where the sign of ``g(t) - g(t-1)`` changes, ``g(t-1)`` is a local maximum
    (``+`` to ``-``) or a local minimum (``-`` to ``+``);
 B. false detection: (1) no sign change means no extremum; (2) a maximum or minimum whose value lies
    inside ``[-RMS, +RMS]`` (about the signal mean, RMS by eq. 3.4) is eliminated.
+
+Readings (Chao 2008, line numbers of the thesis's text copy). The thesis specifies MA(nL = nR = 2)
+only for its static compass and accelerometer calibration (L713, L735-743; "MA is used in the
+experiments", L718, gives no width for the walking signal). At the thesis's 8 Hz, MA(2,2) has its
+first zero at 1.6 Hz, inside the walking step-rate band (:func:`ilocalg.pdr.filters.smoother_gain`),
+so by default no moving average is applied (``smooth=False``); widths 1 and 2 are options. RMS
+(eq. 3.4, L440-444) is defined for the static calibration (L699-701: the static experiment gives
+"the error range for the correction of eq. 4.4"), so the band's half-width is by default the RMS of
+a static log (:func:`static_rms_mps2`, passed as ``rms_mps2``); without it the RMS of the walking
+signal itself is used (the alternative reading).
 
 One step is one surviving maximum followed by a surviving minimum. Fig. 3.9 does not say what to do
 when two maxima survive with no minimum between them; here the larger one is kept (likewise the
@@ -31,7 +41,7 @@ from ilocalg.pdr.filters import moving_average
 from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import along_gravity_mps2, gravity_lowpass_mps2
 
-__all__ = ["STEP_COLUMNS", "slope_sign_extrema", "detect_steps_sign_change"]
+__all__ = ["STEP_COLUMNS", "slope_sign_extrema", "detect_steps_sign_change", "static_rms_mps2"]
 
 #: Columns of the step table every detector returns (one row per detected step).
 STEP_COLUMNS = ("i_peak", "t_s", "a_max_mps2", "a_min_mps2", "i_valley", "t_valley_s")
@@ -70,8 +80,24 @@ def slope_sign_extrema(g) -> tuple[np.ndarray, np.ndarray]:
     return i_max, i_min
 
 
+def static_rms_mps2(static_acc_mps2, n_left: int = 2, n_right: int = 2, smooth: bool = False) -> float:
+    """RMS (eq. 3.4) of a static accelerometer log, after the same pre-filter as the walking signal.
+
+    The half-width of the +-RMS band of Fig. 3.9 in the thesis's reading (module docstring).
+
+    References
+    ----------
+    PSO thesis, eq. 3.4 and sec. 5.1.3 (static calibration).
+    """
+    a = np.asarray(static_acc_mps2, dtype=float)
+    if a.ndim != 1 or a.size < 3 or not np.all(np.isfinite(a)):
+        raise ValueError(f"static_acc_mps2 must be a finite 1-D log of >= 3 samples, got shape {a.shape}")
+    g = moving_average(a, n_left, n_right) if smooth else a
+    return float(np.sqrt(np.mean((g - g.mean()) ** 2)))
+
+
 @register_step_detector("sign_change")
-def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, smooth: bool = True,
+def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, smooth: bool = False,
                              rms_mps2: float | None = None, gravity_half_width: int = 50) -> pd.DataFrame:
     """Detect steps on vertical acceleration by slope sign change and the +-RMS band.
 
@@ -87,9 +113,11 @@ def detect_steps_sign_change(acc_mps2, t_s, n_left: int = 2, n_right: int = 2, s
     n_left, n_right : int
         Moving-average window (eq. 3.6); ignored when ``smooth`` is False.
     smooth : bool
-        Apply the moving average first (the thesis does).
+        Apply the moving average first (default False: see the module docstring).
     rms_mps2 : float, optional
-        Half-width of the rejection band; default: RMS of the smoothed signal about its mean (eq. 3.4).
+        Half-width of the rejection band, m/s^2: the static-noise RMS (:func:`static_rms_mps2`, the
+        thesis's reading). None: the RMS of the (filtered) walking signal about its mean (eq. 3.4
+        applied to the walk, the alternative reading).
     gravity_half_width : int
         Gravity low-pass half-width, samples, for a 3-axis ``acc_mps2`` (50: 1 s at 100 Hz).
 

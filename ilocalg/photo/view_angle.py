@@ -1,5 +1,15 @@
 """VA: view-angle photo positioning by gradient descent.
 
+The thesis names VA ("view angle based positioning algorithm", a gradient algorithm whose result
+depends on its initial value, Chiu 2013, L694) but gives no VA equation (its eq. 29-30 are the
+similar-triangle ST method). The cost function below is therefore the toolkit's own reading of
+"view angle" positioning, not the thesis's.
+
+By default the search is on the floor plane: the camera height is known (the phone at the user's
+eye height) and kept at its initial value, the unknowns are the floor position (x, y), as a floor
+map needs. ``free_z=True`` searches the three coordinates (the thesis's output
+``c = [c_x c_y c_z]``, L672), an option.
+
 The angle between the viewing rays of two PoIs does not depend on the phone's orientation: it is
 measured in the photo from the two screen points and the focal length
 (:func:`ilocalg.photo.camera.ray_angle_rad`). From a candidate centre ``c`` the same angle is
@@ -128,7 +138,7 @@ def _cost_grad(c, Pi, Pj, a, need_grad):
 
 def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: float = 0.5,
                    grow: float = 2.0, shrink: float = 0.5, step_tol_m: float = 1e-10,
-                   free_z: bool = True) -> dict[str, np.ndarray]:
+                   free_z: bool = False) -> dict[str, np.ndarray]:
     """Gradient descent on ``J(c)`` for a batch of photos.
 
     Parameters
@@ -148,8 +158,8 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
     step_tol_m : float
         A photo has converged when its next step is shorter than this (m).
     free_z : bool
-        ``True`` (default) searches all three coordinates; ``False`` keeps each ``c``'s height at
-        its initial value (a 2-D search on the floor map at a known phone height).
+        ``False`` (default) keeps each ``c``'s height at its initial value (a 2-D search on the
+        floor map at a known phone height); ``True`` searches all three coordinates.
 
     Returns
     -------
@@ -250,7 +260,7 @@ def va_solve(pois_m, img_px, f_px: float, c0_m, **kw) -> VAResult:
 class ViewAngle:
     """Thin wrapper around :func:`va_solve` holding the focal length and descent settings."""
 
-    def __init__(self, f_px: float, max_iter: int = 2000, step0_m: float = 0.5, free_z: bool = True):
+    def __init__(self, f_px: float, max_iter: int = 2000, step0_m: float = 0.5, free_z: bool = False):
         self.f_px = f_px
         self.max_iter = max_iter
         self.step0_m = step0_m

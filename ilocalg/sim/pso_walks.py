@@ -8,9 +8,13 @@ management college for the others, partly shaded) apply it. This module makes su
 deterministically from a seed; nothing in it is tuned to the thesis's outcome table (Table 5-2).
 
 Walk design (what the walkers did, taken from the thesis; marked "paper" in the code)
-    Leg lengths (Table 5-1); the number of steps counted on each phase-1 walk and that walk's length
-    (the only length the thesis gives is its GPS distance, Table 5-2), hence each walker's mean step
-    length; A1's phase-2 step counts (250 and 408, thesis Fig. 5.14 file names). Other phase-2 walks:
+    Leg lengths (Table 5-1); the number of steps counted on each phase-1 walk (Table 5-2). The true
+    length of a route is an input (``route_m``): the thesis never measured it, it gives only each
+    phase-1 walk's GPS distance (Table 5-2), itself a noisy measurement. By default the true length
+    is that GPS distance times ``route_scale`` (1.0), i.e. the assumption "the GPS distance is
+    unbiased"; the simulated GPS then measures the route with its own error, so the simulated GPS
+    distance is *not* forced to the thesis's. Callers sweep ``route_scale`` or pass ``route_m``.
+    A1's phase-2 step counts (250 and 408, thesis Fig. 5.14 file names). Other phase-2 walks:
     300 steps (assumption). Phase-1 routes: A1 a playground lap (stadium oval), the others a straight
     line (the thesis asks for straight phase-1 walks, sec. 5.2.2). Phase-2 routes: closed loops
     (rounded rectangles, aspect 2:1) that start and end at the same point, as the thesis's walks do.
@@ -30,22 +34,36 @@ Sensors (thesis where it says, else typical values of the MEMS parts of the time
     Accelerometer (z vertical): 8 Hz (thesis sec. 5.1.1), quantised to the thesis's scale, 244.25
     counts per g (thesis sec. 5.1.3: 0 g at 417.57 counts, 1 g at 661.82), white noise 0.10 m/s^2
     (assumption), no anti-alias filter (samples of the continuous signal).
+    A static accelerometer log (device on a table, as the thesis's static calibration, sec. 5.1.3)
+    comes from :func:`simulate_static_acc`: its RMS (eq. 3.4) is the static-noise RMS of the +-RMS
+    band of the step detector (Fig. 3.9).
     Compass: 8 Hz, static noise RMS 0.716 deg (thesis sec. 5.1.3, raw signal) made of AR(1) noise
     (lag-1 correlation 0.6, assumption) plus rare spikes (the thesis notes occasional spikes; 0.5 %
-    of samples, sd 4 deg, assumption), scaled to the thesis's total static RMS 0.716 deg; while walking a
-    residual calibration bias ~ N(0, 2 deg) per walk and trunk yaw sway of 2 deg at half the step rate
-    (assumptions).
-    GPS: 1 Hz (thesis sec. 5.1.1). Open sky: per-axis first-order Gauss-Markov error, sd 0.6 m,
-    correlation time 20 s, plus 0.2 m white noise (static error < 1.5 m, thesis Fig. 5.9). Shaded
-    phase-2 segments (two, each 20 % of the walk): sd 4 m, correlation time 5 s, and 30 % of the
-    fixes missing (assumptions: "partial shading", sec. 5.2.3).
+    of samples, sd 4 deg, assumption), scaled to the thesis's total static RMS 0.716 deg. While
+    walking: a residual calibration bias ~ N(0, 2 deg) per walk (smartphone compasses right after
+    calibration: 1-3 deg azimuth error, RMSE <= 2 deg, Lviv Polytechnic field study "Use of
+    smartphones for determining orientation angles in the field"); hand sway of the hand-held device
+    with the trunk's axial rotation, 4.5 deg amplitude at the stride rate (half the step rate): the
+    trunk's rotation about the vertical axis is "of the order of nine degrees" peak to peak in
+    walking (Crosbie, Vachalathiti & Smith, Gait & Posture 5, 1997, citing the gait studies of the
+    1960s); magnetic disturbance of the surroundings as a heading error that varies along the
+    route, a first-order Gauss-Markov process in distance with sd 2 deg (the same field study's
+    RMSE outdoors) and correlation length 10 m (assumption; not swept).
+    GPS: 1 Hz (thesis sec. 5.1.1). Open sky: per-axis first-order Gauss-Markov error with sd
+    0.61 m, from the thesis's own GPS test (sec. 5.1.3, Fig. 5.9: static for about 30 s, "accuracy
+    better than 1.5 m"), read as the 95 % radius of the horizontal error: 1.5 / sqrt(-2 ln 0.05) =
+    0.61 m per axis; correlation time 20 s (assumption: the thesis gives none; not swept).
+    No white component by default (the thesis's test shows none separately; ``gps_white_sd_m``
+    adds one). Shaded phase-2 segments (two, each 20 % of the walk): sd 4 m, correlation time 5 s,
+    and 30 % of the fixes missing (assumptions: "partial shading", sec. 5.2.3).
     Each walk starts and ends with 3 s standing still.
 
 References
 ----------
 Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
 Tunghai University.
-Tables 5-1, 5-2, sec. 5.1-5.3. W. Zijlstra and A. L. Hof,
+Tables 5-1, 5-2, sec. 5.1-5.3. Crosbie, J., Vachalathiti, R. and Smith, R. (1997). Patterns of spinal
+motion during walking. Gait & Posture 5, 6-12. W. Zijlstra and A. L. Hof,
 "Assessment of spatio-temporal gait parameters from trunk accelerations during human walking",
 Gait & Posture 18 (2003). R. W. Bohannon and A. W. Andrews, "Normal walking speed: a descriptive
 meta-analysis", Physiotherapy 97 (2011).
@@ -72,13 +90,17 @@ __all__ = [
     "simulate_walk",
     "simulate_pso_walks",
     "simulate_static_compass",
+    "simulate_static_acc",
+    "gps_static_sd_m",
 ]
 
 # Settings from the paper
 # -----------------------
-# Chao (2008): WALK_DESIGN_PAPER from Tables 5-1 (legs) and 5-2 (counted steps, phase-1 length);
+# Chao (2008): WALK_DESIGN_PAPER from Tables 5-1 (legs) and 5-2 (counted steps, phase-1 GPS distance,
+# the default true route length times ``route_scale``: an input);
 # PHASE2_STEPS_PAPER from the Fig. 5.14 file names; SENSORS: sensor rates from sec. 5.1.1, the
-# accelerometer's 1 g and 0 g counts and the raw static compass RMS from sec. 5.1.3 (inputs).
+# accelerometer's 1 g and 0 g counts and the raw static compass RMS from sec. 5.1.3 (inputs), the GPS
+# static bound of sec. 5.1.3 (Fig. 5.9).
 # The other SENSORS values are this simulator's (module docstring).
 #: Walk design from the thesis (Table 5-1 legs, Table 5-2 counted steps and phase-1 length).
 WALK_DESIGN_PAPER = {
@@ -108,10 +130,12 @@ SENSORS = {
     "compass_spike_rate": 0.005,
     "compass_spike_sd_deg": 4.0,
     "compass_bias_sd_deg": 2.0,
-    "compass_sway_deg": 2.0,
-    "gps_open_sd_m": 0.6,
+    "compass_sway_deg": 4.5,
+    "mag_disturb_sd_deg": 2.0,
+    "mag_disturb_len_m": 10.0,
+    "gps_static_95_m": 1.5,
     "gps_open_tau_s": 20.0,
-    "gps_white_sd_m": 0.2,
+    "gps_white_sd_m": 0.0,
     "gps_shaded_sd_m": 4.0,
     "gps_shaded_tau_s": 5.0,
     "gps_shaded_fraction": 0.2,
@@ -123,6 +147,19 @@ SENSORS = {
     "harmonic2_range": (0.2, 0.4),
     "stand_s": 3.0,
 }
+
+
+def gps_static_sd_m(bound_95_m: float | None = None) -> float:
+    """Per-axis sd of the open-sky GPS error from the thesis's static test bound.
+
+    The thesis's GPS test (sec. 5.1.3, Fig. 5.9) reports a static accuracy better than 1.5 m. Read
+    as the radius holding 95 % of the horizontal errors of a circular 2-D Gaussian,
+    ``sd = bound / sqrt(-2 ln 0.05)`` (0.61 m for 1.5 m).
+    """
+    b = SENSORS["gps_static_95_m"] if bound_95_m is None else float(bound_95_m)
+    if not np.isfinite(b) or b <= 0:
+        raise ValueError(f"bound_95_m must be a positive distance in m, got {bound_95_m!r}")
+    return b / float(np.sqrt(-2.0 * np.log(0.05)))
 
 #: Map origins (for the lat/lon of the routes): Tunghai University, Taichung; Wenhu, Taipei.
 ORIGINS_DEG = {"tunghai": (24.1797, 120.6003), "wenhu": (25.0797, 121.5733)}
@@ -281,6 +318,40 @@ def simulate_static_compass(rng=None, duration_s: float = 60.0, yaw0_deg: float 
     return pd.DataFrame({"t_s": t, "yaw_deg": yaw0_deg + _compass_noise(n, gen)})
 
 
+def simulate_static_acc(rng=None, duration_s: float = 60.0) -> pd.DataFrame:
+    """A static accelerometer log (device still on a table, z up), as the thesis's calibration (sec. 5.1.3).
+
+    Gravity plus the accelerometer's white noise, quantised to the thesis's scale (the same sensor
+    model as :func:`simulate_walk`). Its RMS (eq. 3.4) is the static-noise RMS that sets the
+    +-RMS band of the step detector (Fig. 3.9).
+
+    Returns
+    -------
+    DataFrame
+        ``t_s``, ``acc_z_mps2`` at :data:`SENSORS` ``acc_rate_hz``.
+    """
+    gen = as_rng(rng)
+    fs = SENSORS["acc_rate_hz"]
+    n = int(round(duration_s * fs))
+    if n < 10:
+        raise ValueError(f"duration_s must give at least 10 samples, got {duration_s}")
+    lsb = G0_MPS2 / SENSORS["acc_counts_per_g"]
+    acc = np.round((G0_MPS2 + gen.normal(0, SENSORS["acc_noise_mps2"], n)) / lsb) * lsb
+    return pd.DataFrame({"t_s": np.arange(n) / fs, "acc_z_mps2": acc})
+
+
+def _mag_disturbance_deg(s_m: np.ndarray, rng) -> np.ndarray:
+    """Heading error of the magnetic surroundings along the route (deg), Gauss-Markov in distance."""
+    sd, L = SENSORS["mag_disturb_sd_deg"], SENSORS["mag_disturb_len_m"]
+    ds = 0.5
+    grid = np.arange(0.0, float(np.max(s_m)) + ds, ds)
+    if sd <= 0:
+        rng.standard_normal(grid.size)  # keep the stream's position independent of the setting
+        return np.zeros_like(s_m)
+    e = _gauss_markov(grid.size, ds, sd, L, rng)
+    return np.interp(s_m, grid, e)
+
+
 def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_steps: int, leg_m: float,
                   speed_mps: float, harmonic2: float, origin_deg: tuple, shaded: bool, rng) -> Walk:
     """Simulate one walk along ``route_xy`` with ``n_steps`` steps (see the module docstring).
@@ -336,16 +407,18 @@ def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_s
     yaw_true = np.where(t >= t_end_walk, _along(route_xy, np.array([route_m - 1e-6]))[2][0], yaw_true)
     sway = np.where(walking, SENSORS["compass_sway_deg"] * np.sin(np.pi * (j + u)), 0.0)
     bias = gen.normal(0, SENSORS["compass_bias_sd_deg"])
-    yaw_meas = (yaw_true + bias + sway + _compass_noise(t.size, gen)) % 360.0
+    mag = _mag_disturbance_deg(s_t, gen)
+    yaw_meas = (yaw_true + bias + sway + mag + _compass_noise(t.size, gen)) % 360.0
     imu = pd.DataFrame({"t_s": t, "acc_z_mps2": acc, "yaw_deg": yaw_meas})
     truth = pd.DataFrame({"t_s": t, "x_m": x, "y_m": y, "yaw_deg": yaw_true})
     # GPS at 1 Hz
     tg = np.arange(0.0, t_total + 1e-9, 1.0 / SENSORS["gps_rate_hz"])
     xg, yg, _ = _along(route_xy, np.interp(tg, t, s_t))
-    ex = _gauss_markov(tg.size, 1.0, SENSORS["gps_open_sd_m"], SENSORS["gps_open_tau_s"], gen)
-    ey = _gauss_markov(tg.size, 1.0, SENSORS["gps_open_sd_m"], SENSORS["gps_open_tau_s"], gen)
-    ex += gen.normal(0, SENSORS["gps_white_sd_m"], tg.size)
-    ey += gen.normal(0, SENSORS["gps_white_sd_m"], tg.size)
+    sd_open = gps_static_sd_m()
+    ex = _gauss_markov(tg.size, 1.0, sd_open, SENSORS["gps_open_tau_s"], gen)
+    ey = _gauss_markov(tg.size, 1.0, sd_open, SENSORS["gps_open_tau_s"], gen)
+    ex += gen.normal(0, 1.0, tg.size) * SENSORS["gps_white_sd_m"]
+    ey += gen.normal(0, 1.0, tg.size) * SENSORS["gps_white_sd_m"]
     keep = np.ones(tg.size, dtype=bool)
     if shaded:
         frac = SENSORS["gps_shaded_fraction"]
@@ -364,8 +437,18 @@ def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_s
                 origin_deg=tuple(origin_deg), route_m=route_m)
 
 
-def simulate_pso_walks(seed: int = 0) -> dict[str, list[Walk]]:
+def simulate_pso_walks(seed: int = 0, route_scale: float = 1.0,
+                       route_m: dict | None = None) -> dict[str, list[Walk]]:
     """All walks of the two-phase experiment.
+
+    Parameters
+    ----------
+    seed : int
+    route_scale : float
+        True phase-1 route length as a multiple of the thesis's GPS distance (1.0: the GPS distance
+        taken as unbiased); phase-2 routes scale with it (same mean step length).
+    route_m : dict, optional
+        ``{walker: true phase-1 route length in m}``, overriding ``route_scale`` for those walkers.
 
     Returns
     -------
@@ -373,6 +456,15 @@ def simulate_pso_walks(seed: int = 0) -> dict[str, list[Walk]]:
         ``{"1": [six phase-1 walks], "2": [phase-2 walks: A1 park, A1 hall, A2 ... C]}``.
         Each walk has its own child seed of ``seed`` so walks do not depend on each other.
     """
+    if not np.isfinite(route_scale) or route_scale <= 0:
+        raise ValueError(f"route_scale must be a positive number, got {route_scale!r}")
+    unknown = sorted(set(route_m or {}) - set(WALK_DESIGN_PAPER))
+    if unknown:
+        raise ValueError(f"route_m: unknown walkers {unknown}; known: {list(WALK_DESIGN_PAPER)}")
+    lengths = {w: float((route_m or {}).get(w, route_scale * d["route_m"])) for w, d in WALK_DESIGN_PAPER.items()}
+    for w, v in lengths.items():
+        if not np.isfinite(v) or v <= 0:
+            raise ValueError(f"route_m[{w!r}] must be a positive length in m, got {v!r}")
     ss = np.random.SeedSequence(seed)
     names = list(WALK_DESIGN_PAPER)
     walker_ss, walk_ss = ss.spawn(2)
@@ -384,14 +476,14 @@ def simulate_pso_walks(seed: int = 0) -> dict[str, list[Walk]]:
     for i, name in enumerate(names):
         d = WALK_DESIGN_PAPER[name]
         if name == "A1":
-            route, origin, place = stadium_route(d["route_m"]), ORIGINS_DEG["wenhu"], "playground"
+            route, origin, place = stadium_route(lengths[name]), ORIGINS_DEG["wenhu"], "playground"
         else:
-            route, origin, place = line_route(d["route_m"], 20.0 + 15 * i), ORIGINS_DEG["tunghai"], "car park"
+            route, origin, place = line_route(lengths[name], 20.0 + 15 * i), ORIGINS_DEG["tunghai"], "car park"
         out["1"].append(simulate_walk(name, "1", place, route, d["n_steps"], d["leg_m"], float(speeds[i]),
                                       float(harm[i]), origin, False, np.random.default_rng(next(seeds))))
     for i, name in enumerate(names):
         d = WALK_DESIGN_PAPER[name]
-        step_m = d["route_m"] / d["n_steps"]
+        step_m = lengths[name] / d["n_steps"]
         places = PHASE2_STEPS_PAPER.get(name, {"management college": PHASE2_DEFAULT_STEPS})
         for place, n in places.items():
             route = loop_route(n * step_m, rotation_deg=10.0 * i)

@@ -33,8 +33,8 @@ HELP = "count steps in Oxford step counter recordings (folder, archive or valida
 METHODS = {
     "robust": {},
     "find_peaks": {},
-    "peak_window": {"threshold_mps2": 2.0},
-    "sign_change": {"n_left": 2, "n_right": 2},
+    "peak_window": {"threshold_mps2": 2.0, "rule": "valley_rise"},
+    "sign_change": {"n_left": 2, "n_right": 2, "smooth": True},
     "sam": {},
 }
 
