@@ -96,6 +96,7 @@ from ilocalg.pdr.step_length import weinberg_length_m
 from ilocalg.units import as_rng, wrap_angle_rad
 from ilocalg.wifi import KnnFingerprint
 from ilocalg.wifi.knn import knn_predict, neighbour_weights
+from ilocalg.wifi.preprocessing import shares_no_ap
 
 __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_steps", "Calibration", "calibrate",
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
@@ -328,26 +329,30 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = RealWalkConfig(), ret
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances.
 
     With ``return_floor`` also each query's floor: the distance-weighted (``cfg.weights``) majority of
-    its neighbours' floors (NaN when the database has no floors).
+    its neighbours' floors (NaN when the database has no floors). A query sharing no access point with
+    the database gets NaN (the estimators' documented no-AP result).
 
     References
     ----------
     Luo et al. (2017), eq. 1-2 (KNN fingerprinting).
     """
     est = _wknn(db, cfg)
-    dist, idx = est.kneighbors(X)
-    xy = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
-    w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
-    C = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
-    if not return_floor:
-        return xy, C
-    if not db.has_floors:
-        return xy, C, np.full(xy.shape[0], np.nan)
-    wv = np.ones(idx.shape) if w is None else w
-    fl = db.floor[idx]
-    levels = np.unique(fl)
-    score = np.stack([(wv * (fl == f)).sum(axis=1) for f in levels], axis=1)
-    return xy, C, levels[np.argmax(score, axis=1)]
+    X = np.asarray(X, dtype=np.float64)
+    miss = shares_no_ap(X, est.heard_aps_)
+    n = X.shape[0]
+    xy, C, fl_out = np.full((n, 2), np.nan), np.full((n, 2, 2), np.nan), np.full(n, np.nan)
+    if (~miss).any():
+        dist, idx = est.kneighbors(X[~miss])
+        xy[~miss] = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
+        w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
+        C[~miss] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+        if return_floor and db.has_floors:
+            wv = np.ones(idx.shape) if w is None else w
+            fl = db.floor[idx]
+            levels = np.unique(fl)
+            score = np.stack([(wv * (fl == f)).sum(axis=1) for f in levels], axis=1)
+            fl_out[~miss] = levels[np.argmax(score, axis=1)]
+    return (xy, C, fl_out) if return_floor else (xy, C)
 
 
 def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(),
@@ -396,8 +401,9 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(),
 def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig()) -> tuple[float, pd.DataFrame]:
     """Isotropic Wi-Fi fix variance (per axis, m^2) by leave-one-walk-out *inside* ``db``.
 
-    Each walk of ``db`` is located against the others; ``var = mean(error^2) / 2``. Returns the variance
-    and the per-walk errors table (``walk, n, mean_error_m``).
+    Each walk of ``db`` is located against the others; ``var = mean(error^2) / 2``. Scans sharing no
+    access point with the other walks are not located and not counted (``n_unlocated``). Returns the
+    variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n`` located scans).
     """
     walks = list(dict.fromkeys(db.walk))
     errs, rows = [], []
@@ -406,9 +412,14 @@ def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig()) 
         m = db.walk == v
         xy, _ = locate_wknn(rest, db.rssi_dbm[m], cfg)
         e = np.hypot(*(xy - db.xy_m[m]).T)
-        errs.append(e)
-        rows.append({"walk": v, "n": int(m.sum()), "mean_error_m": float(e.mean())})
+        ok = np.isfinite(e)
+        errs.append(e[ok])
+        rows.append({"walk": v, "n": int(ok.sum()), "mean_error_m": float(e[ok].mean()) if ok.any() else np.nan,
+                     "n_unlocated": int((~ok).sum())})
     e = np.concatenate(errs)
+    if not e.size:
+        raise ValueError("calibrate_fix_var: no scan of any fingerprint walk shares an access point with the other "
+                         "walks; the Wi-Fi fix variance cannot be learned")
     return float(np.mean(e**2) / 2.0), pd.DataFrame(rows)
 
 
@@ -434,6 +445,7 @@ def select_wifi(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(), candid
     for label, kw in cands.items():
         c = dataclasses.replace(cfg, **kw)
         var, per = calibrate_fix_var(db, c)
+        per = per[per["n"] > 0]
         e = float(np.average(per["mean_error_m"], weights=per["n"]))
         rows.append({"label": label, "mean_error_m": e, "fix_sd_m": float(np.sqrt(var))})
         if best is None or e < best[0]:
