@@ -61,6 +61,13 @@ def test_format_is_taken_from_the_content(walks, tmp_path):
     rec = load_recording(ox)
     assert rec.meta["format"] == "oxford" and rec.meta["true_steps"] == 3 and rec.step_t_s.size == 3
     assert len(rec.truth) == 0 and list(rec.imu.columns) == ["acc_x_mps2", "acc_y_mps2", "acc_z_mps2"]
+    dup = tmp_path / "dup.csv"
+    rows = ox.read_text().splitlines()
+    dup.write_text("\n".join(rows[:10] + [rows[9]] + rows[10:]) + "\n")       # a repeated timestamp
+    with pytest.raises(ValueError, match="duplicate"):
+        load_recording(dup)
+    kept = load_recording(dup, duplicate_timestamps="drop")      # the loader's policy, passed through
+    assert kept.meta["skipped"] == {"duplicate timestamps": 1} and len(kept.imu) == 200
     junk = tmp_path / "junk.txt"
     junk.write_text("hello\nworld\n")
     with pytest.raises(ValueError, match="junk.txt: cannot tell the format.*pass format="):

@@ -426,8 +426,11 @@ def from_ipin_log(log, pressure: pd.DataFrame | None = None, name: str | None = 
 
 def from_oxford(rec) -> Recording:
     """An :class:`~ilocalg.io.oxford.OxfordRecording` as a Recording: accelerometer and step truth,
-    no positions (``truth`` empty), ``meta`` with the true and hardware step counts."""
-    meta = {"format": "oxford", "device": rec.meta.get("phone", ""), "skipped": {},
+    no positions (``truth`` empty), ``meta`` with the true and hardware step counts and, under
+    ``skipped``, the rows the loader's ``duplicate_timestamps="drop"`` policy left out."""
+    n_dup = int(getattr(rec, "n_duplicate_timestamps_dropped", 0))
+    meta = {"format": "oxford", "device": rec.meta.get("phone", ""),
+            "skipped": {"duplicate timestamps": n_dup} if n_dup else {},
             "true_steps": rec.true_steps, "hardware_steps": rec.hardware_steps, **rec.meta}
     return Recording(name=rec.name, imu=rec.imu, step_t_s=np.asarray(rec.step_t_s, dtype=np.float64), meta=meta,
                      source=rec.meta.get("source"))
