@@ -777,8 +777,9 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = RealW
     Builds the fingerprint database (all walks in the first one's frame, the scored walk moved into it),
     the step-length factor and heading offset (:func:`calibrate`) and the fix variance
     (:func:`calibrate_fix_var`; with ``select`` the Wi-Fi configuration too, :func:`select_wifi`) from
-    ``db_traces`` only; ``floor_map`` (an :class:`~ilocalg.io.ilc.IlcFloorMap`, optional, in the
-    walks' map frame) constrains the particle filter (without it the particle filter runs
+    ``db_traces`` only; ``floor_map`` (an :class:`~ilocalg.io.ilc.IlcFloorMap` or a walkable
+    :class:`~ilocalg.fusion.particle_filter.OccupancyGrid`, optional, in the walks' shared frame)
+    constrains the particle filter and enables map matching (without it the particle filter runs
     unconstrained). A fingerprint walk that is the scored walk (same name, or same sensor content
     under another name) raises.
     """
@@ -804,7 +805,10 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = RealW
     else:
         var, _ = calibrate_fix_var(db, cfg)
     cal = calibrate(recs, cfg=cfg)
-    grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m) if floor_map is not None else None
+    if floor_map is None or isinstance(floor_map, OccupancyGrid):
+        grid = floor_map
+    else:
+        grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
     r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods)
     r["info"]["wifi_config"] = label
     return r

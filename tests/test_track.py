@@ -232,3 +232,21 @@ def test_floors_from_wifi_and_barometer():
     np.testing.assert_allclose(et["penalised_error_m"][~wrong], et["error_m"][~wrong])
     np.testing.assert_allclose(et["penalised_error_m"][wrong],
                                et["error_m"][wrong] + 15.0 * (et["floor"] - et["floor_true"]).abs()[wrong])
+
+
+def test_map_methods_run_on_a_walkable_grid_in_the_walks_frame():
+    """A floor map given as a walkable raster in the walks' own frame: particle filter and map matching."""
+    from ilocalg.fusion.particle_filter import OccupancyGrid
+    from ilocalg.sim import walk_recordings as wr
+
+    b, walks = wr.simulate_recordings(8, seed=13, n_nodes=35)
+    grid = OccupancyGrid.from_polygons(b.corridor_rings(), cell_m=0.5)
+    r = track.evaluate_track(walks[0], walks[1:], floor_map=grid, cfg=track.RealWalkConfig(n_particles=300),
+                             select=False)
+    e = r["errors"]
+    assert np.isfinite(e[list(track.METHODS)].to_numpy()).all()
+    # no accuracy claim for the map-only placements on this symmetric corridor graph (map matching or the
+    # particle filter can lock onto a parallel corridor); the KF started from the map placement stays sane
+    assert e["map_align_kf_rts"].mean() < 2 * e["wifi"].mean()
+    # the map-constrained states lie on the corridors (the particle filter's mean may cut a corner)
+    assert grid.walkable(*r["tracks"]["map_align"].T).mean() > 0.9

@@ -104,6 +104,17 @@ class SimBuilding:
     frame: LocalFrame
     params: dict
 
+    def corridor_rings(self) -> list[np.ndarray]:
+        """The walkable corridors as rectangles (metres, this building's frame): the outline rings of a
+        floor map (e.g. for :meth:`ilocalg.fusion.particle_filter.OccupancyGrid.from_polygons`)."""
+        hw = iloc_floor.CORRIDOR_HALF_WIDTH_M
+        n = self.nodes_xy_m
+        rings = []
+        for i, j in zip(*np.nonzero(np.triu(self.adjacency)), strict=True):
+            (x0, y0), (x1, y1) = np.minimum(n[i], n[j]) - hw, np.maximum(n[i], n[j]) + hw
+            rings.append(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]))
+        return rings
+
     def mean_rssi_dbm(self, xy_m: np.ndarray, floor: np.ndarray) -> np.ndarray:
         """Noise-free RSSI (path loss + walls + floors + shadowing), shape (n, n_aps), dBm."""
         p = self.params
