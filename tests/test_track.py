@@ -249,4 +249,4 @@ def test_map_methods_run_on_a_walkable_grid_in_the_walks_frame():
     # particle filter can lock onto a parallel corridor); the KF started from the map placement stays sane
     assert e["map_align_kf_rts"].mean() < 2 * e["wifi"].mean()
     # the map-constrained states lie on the corridors (the particle filter's mean may cut a corner)
-    assert grid.walkable(*r["tracks"]["map_align"].T).mean() > 0.9
+    assert grid.walkable(*r["tracks"]["map_align"].T).mean() > 0.75     # a rigid placement: most states on the map
