@@ -6,7 +6,11 @@
 # and 12.15 cm), the error boxes at fixed lengths 40-80 cm beside **Fig 14** (mean error 18.43 %) and the
 # 20 m free walks beside **Fig 15** (96.41 % accuracy). The Weinberg (003 eq. 2.5), Kim (003 eq. 2.1) and
 # fingerprint+PDR (004 eq. 4) models, fitted on the same training steps, are scored beside SLM. Data: the
-# gait + phone simulator `ilocalg.sim.gait`.
+# gait + phone simulator `ilocalg.sim.gait` (published gait measurements, `data/gait/README.md`).
+# SAM's ranges are the text's 5-95 % (L399); 1-99 % is shown beside, labelled.
+#
+# SLM (eq. 16-17): $D^L = p_1^L + p_2^L A + p_3^L X_1$,
+# $D^Q = p_1^Q + p_2^Q A + p_3^Q X_1 + p_4^Q A X_1 + p_5^Q A^2 + p_6^Q X_1^2$ (cm).
 
 # %% tags=["parameters"]
 # Seed of every simulation; FAST shrinks the data; OUT_DIR (set by the runner) receives tables and
@@ -28,13 +32,28 @@ report = Report(OUT_DIR, "04_pdr_step_length")
 
 # %%
 tables = pdr_step_length.run(seed=SEED, fast=FAST)
-for name in ("correlation", "fits", "fixed_error", "box", "free20", "models"):
+for name in ("correlation", "fits", "fixed_error", "box", "free20", "models", "table4", "readings"):
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
 
 # %%
 tables["models"]
+
+# %% [markdown]
+# ## Readings: each modelling choice against the thesis's text
+
+# %%
+tables["readings"]
+
+# %% [markdown]
+# ## Table 4's unit: the fixed-length errors as relative and as m^2 variances
+# Table 4 prints variances 0.036-0.065 without a unit. Read as the variance of the relative error,
+# sqrt(0.054) sqrt(2 / pi) = 18.5 % mean absolute error, the thesis's own Fig 14 figure (L478: 18.43 %);
+# read as m^2 they mean 0.19-0.26 m at any length. Below, this model's errors in both units.
+
+# %%
+tables["table4"].round(4)
 
 # %% [markdown]
 # ## Fixed-length error boxes (Fig 14) and 20 m free walks (Fig 15)
@@ -67,17 +86,16 @@ print(f"mean detected / true steps on the 20 m walks: {main['detected_steps'].su
 # %% [markdown]
 # ## Conclusion
 #
-# * **Table 2.** Amplitude features (A1, A2, A, X1, I) correlate positively with step length as in the
-#   thesis. The timing features (T, T1, T2) correlate *negatively* here: the simulator takes longer steps
-#   faster (cadence grows with step length, as in free walking), whereas the thesis's walkers, pacing fixed
-#   lengths, apparently took longer waves for longer steps. The cadence law is an input assumption, not
-#   tuned to Table 2.
-# * **Table 3.** The fits' RMSE is of the thesis's order (a few cm either side); the coefficients differ:
-#   with A and X1 strongly collinear the individual p's are not identifiable, so only the fitted surface is
-#   comparable, not the numbers.
-# * **Fig 14.** Per-step relative errors at fixed lengths are of the thesis's size, largest at 40 cm (a
-#   short step's bounce is small and noisy relative to its length) for every model.
-# * **Fig 15.** The free-walk distance accuracy is far below 96.41 %: the distance is the sum over
-#   *detected* steps, and SAM's range test misses a share of the true steps (notebook 03), so the distance
-#   is short by about the miss rate. Step-length error alone (the Fig 14 rows) is much smaller. The thesis's
-#   figure implies near-complete detection that we could not reproduce with its stated rule.
+# * **Table 2.** The printed line above lists the features whose correlation has the thesis's sign. The
+#   gait model takes longer steps faster (Alexander's dynamic similarity, also for the imposed lengths),
+#   so the timing features (T, T1, T2) fall with step length where the thesis's walkers, pacing fixed
+#   lengths on floor marks, apparently took longer waves; that relation is a published one, not tuned.
+# * **Table 3.** With A and X1 strongly collinear the individual p's are not identifiable, so only the
+#   fitted surface (its RMSE) is comparable, not the numbers.
+# * **Fig 14 / Table 4.** The fixed-length errors come out smaller than the thesis's 18.43 %: the model's
+#   vertical amplitude follows step length closely (inverted pendulum, 3 % length variability), which
+#   makes A and X1 good predictors; real hands add variation the model does not have. The Table 4
+#   analogue shows the same errors as relative and as m^2 variances.
+# * **Fig 15.** The free-walk distance is the sum over *detected* steps: with the text's 5-95 % ranges SAM
+#   misses a share of the true steps (notebook 03), so the distance falls short by about the miss rate;
+#   the 1-99 % rows show the distance with fewer misses.

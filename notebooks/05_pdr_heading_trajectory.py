@@ -3,10 +3,16 @@
 #
 # Reproduces the walking direction module and the pedestrian trajectory system of the i-Loc thesis
 # (ch. 4.3-4.4): the per-step WDM heading error beside **Fig 16** (13.87 deg mean), and the trajectory
-# around a closed loop of 28 test points 4.11 m apart with its error CDF beside **Figs 17-18** (5.2 m
-# mean). Steps come from SAM, lengths from the quadratic SLM, headings from WDM (eq. 18-19); a
+# along the test route of 28 points about 4 m apart (L515: 4.11 m; the route of notebooks 01 and 07 on
+# the simulated floor, whose plan is an assumption) with its error CDF beside **Figs 17-18** (5.2 m
+# mean). New walkers (not those SAM and SLM were trained on) walk it. Steps come from SAM (5-95 %
+# ranges, L399; 1-99 % beside), lengths from the quadratic SLM, headings from WDM (eq. 18-19); a
 # gyro-integrated heading and a true-steps variant are shown beside. Data: the gait + phone simulator
-# `ilocalg.sim.gait` (Earth field plus indoor magnetic disturbances, gyro bias).
+# `ilocalg.sim.gait`: the site's Earth field and declination, indoor magnetic disturbances, a per-walker
+# phone misalignment and hard-iron residual, gyro bias (`data/gait/README.md`).
+#
+# WDM (eq. 19): $\psi = \tan^{-1} ([\mathbf{T}_{S \rightarrow E}]_{2,1} / [\mathbf{T}_{S \rightarrow E}]_{1,1})$,
+# with $\mathbf{T}_{S \rightarrow E}$ built from gravity and the magnetic field (before eq. 18).
 #
 # The moving-average vs Savitzky-Golay comparison on static compass logs (PSO thesis sec. 5.1.3, RMS
 # 0.716 -> 0.563 / 0.638) is computed by the PSO slice's `pso_k_factor.compass_filter_study` (notebook 10)
@@ -26,14 +32,14 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_heading_trajectory, pso_k_factor
-from ilocalg.sim import gait
+from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "05_pdr_heading_trajectory")
 
 # %%
 tables = pdr_heading_trajectory.run(seed=SEED, fast=FAST)
-for name in ("heading_summary", "summary", "test_points", "cdf"):
+for name in ("heading_summary", "summary", "test_points", "cdf", "wdm_sensitivity", "readings"):
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
@@ -43,6 +49,19 @@ tables["heading_summary"]
 
 # %%
 tables["summary"]
+
+# %% [markdown]
+# ## Readings: each modelling choice against the thesis's text
+
+# %%
+tables["readings"]
+
+# %% [markdown]
+# ## WDM sensitivity: misalignment, hard-iron residual and declination, each switched off
+# The same walks (same noise and disturbances), one heading error source removed at a time.
+
+# %%
+tables["wdm_sensitivity"].round(2)
 
 # %% [markdown]
 # ## Per-step heading (Fig 16)
@@ -56,7 +75,7 @@ with ilocviz.style():
     ilocviz.savefig(fig, "05_pdr_heading_trajectory_headings", OUT_DIR)
 
 # %% [markdown]
-# ## Trajectory around the test loop and error CDF (Figs 17-18)
+# ## Trajectory along the test route and error CDF (Figs 17-18)
 
 # %%
 ex = tables["track_example"]
@@ -64,7 +83,7 @@ tp = tables["test_points"]
 with ilocviz.style():
     fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
     tracks = {m: g[["x_m", "y_m"]].to_numpy() for m, g in ex.groupby("method", sort=False)}
-    ilocviz.trajectory(tracks, ax=axs[0], markers={"test points": gait.loop_route()[:-1]})
+    ilocviz.trajectory(tracks, ax=axs[0], markers={"test points": iloc_floor.route_xy_m()})
     ilocviz.error_cdf({m: g["error_m"].to_numpy() for m, g in tp.groupby("method", sort=False)}, ax=axs[1])
     fig.tight_layout()
     ilocviz.savefig(fig, "05_pdr_heading_trajectory_track_cdf", OUT_DIR)
@@ -85,15 +104,13 @@ print(f"WDM mean heading error {h['WDM']:.1f} deg (gyro {h['gyro']:.1f} deg); PT
 # %% [markdown]
 # ## Conclusion
 #
-# * **Fig 16.** WDM's per-step error here is smaller than the thesis's 13.87 deg: the simulated indoor
-#   magnetic disturbances (Gaussian blobs of about 12 microtesla per axis, 1-3 m wide) and hand jitter are
-#   assumptions, not measurements of the thesis's building; a steel-rich corridor or a phone swinging in
-#   the hand would raise it. Its error is largest where the loop passes a disturbance and at the corners.
-# * The gyro-integrated heading (beyond the paper) drifts with the uncalibrated gyro bias and is worse
-#   than WDM over a loop of a minute or more; it would need bias estimation or fusion with WDM.
-# * **Figs 17-18.** The PTS position error at the test points is of the thesis's size. It is dominated by
-#   step *counting*: with true steps and lengths the same WDM headings give a much smaller error, so the
-#   SAM misses (notebook 03) shorten the track, and that shortening accumulates around the loop.
-# * **MA vs SG.** On simulated static compass logs both filters lower the RMS, the moving average more than
-#   Savitzky-Golay, as in the PSO thesis; the compass noise model and its discussion are the PSO slice's
-#   (notebook 10).
+# * **Fig 16.** WDM's per-step error comes from the indoor magnetic disturbances (an assumption), the
+#   phone's misalignment and hard-iron residual (assumptions) and the site's declination (published); the
+#   sensitivity table shows what each contributes on the same walks. The printed line above gives the
+#   result beside the thesis's 13.87 deg.
+# * The gyro-integrated heading (beyond the paper) drifts with the uncalibrated gyro bias.
+# * **Figs 17-18.** The PTS error at the test points is dominated by step *counting*: with true steps and
+#   lengths the same WDM headings give a much smaller error, and the 1-99 % ranges, which miss fewer
+#   steps, give a smaller one than the text's 5-95 %.
+# * **MA vs SG.** On simulated static compass logs both filters lower the RMS, as in the PSO thesis; the
+#   compass noise model and its discussion are the PSO notebook's (10).

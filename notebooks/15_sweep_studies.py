@@ -71,7 +71,7 @@ print(f"{res.n_tasks} tasks, {len(res.failures)} failed, {wall_s:.1f} s on 2 wor
 # %% [markdown]
 # ## 1 Wi-Fi: error vs k, training-point spacing and scans per point
 # Each curve varies one factor around the thesis' survey (k = 5, 2 m grid, 300 scans per point;
-# fast mode: 60); the other two stay at that base.
+# fast mode: 60); the other factors stay at that base (radio parameters at the simulator's defaults).
 
 # %%
 wifi = report.table(cv["wifi"], "wifi_curves")
@@ -87,6 +87,25 @@ with ilocviz.style():
         vs.ci_curves(d, x, by="method", ax=ax, xlabel=xl, ylabel="Mean positioning error [m]", logx=logx)
     fig.suptitle("Simulated i-Loc floor: Wi-Fi fingerprinting error (28 test points)")
     ilocviz.savefig(fig, "15_sweep_studies_wifi", OUT_DIR)
+
+# %% [markdown]
+# ### Wi-Fi: error vs each radio parameter of the test session
+# Day-to-day drift per AP, body shadowing (AP behind the tester), device offset (test phone minus survey
+# phone), path-loss exponent and heavy-wall loss, each varied around the simulator's published defaults
+# (`data/iloc_floor/README.md`) with the others held there.
+
+# %%
+radio_spec = [("drift_sd_db", "Day-to-day drift sd [dB]"), ("body_loss_db", "Body loss, AP behind [dB]"),
+              ("device_offset_db", "Device offset [dB]"), ("path_loss_exponent", "Path-loss exponent [-]"),
+              ("heavy_wall_db", "Heavy-wall loss [dB]")]
+with ilocviz.style():
+    fig, axs = plt.subplots(1, len(radio_spec), figsize=(20, 4.2), sharey=True)
+    for ax, (x, xl) in zip(axs, radio_spec, strict=True):
+        fixed = {k: v for k, v in base_w.items() if k != x}
+        d = select(wifi, "mean error", **fixed)
+        vs.ci_curves(d, x, by="method", ax=ax, xlabel=xl, ylabel="Mean positioning error [m]")
+    fig.suptitle("Simulated i-Loc floor: Wi-Fi error vs the test session's radio parameters")
+    ilocviz.savefig(fig, "15_sweep_studies_wifi_radio", OUT_DIR)
 
 # %% [markdown]
 # ## 2 Online INS smoothing: error vs window size, with and without a control point in the window

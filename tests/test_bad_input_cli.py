@@ -98,7 +98,10 @@ def test_steps_hardware_steps_null_without_a_counter(tmp_path, capsys):
 def test_steps_huge_time_gap_fails_fast_in_bounded_memory(tmp_path, capsys):
     p = _validation(tmp_path / "gap.csv", gap_ns=10**17)
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, hard))  # a 74 GiB resampling would raise MemoryError
+    with open("/proc/self/status") as fh:
+        vm = next(int(ln.split()[1]) * 1024 for ln in fh if ln.startswith("VmSize:"))
+    limit = vm + 2 * 2**30  # 2 GiB more than now: a 74 GiB resampling would raise MemoryError
+    resource.setrlimit(resource.RLIMIT_AS, (limit if hard == resource.RLIM_INFINITY else min(limit, hard), hard))
     try:
         line = _err(capsys, ["evaluate", "steps", p])
     finally:

@@ -186,3 +186,12 @@ def test_one_corrupted_acceleration_loads_or_names_file_and_line(tmp_path, k, co
         assert str(e).startswith(f"{p}: line {k}"), str(e)
         return
     assert r.imu.iloc[k - 1, col - 2] == float(value)
+
+
+def test_shared_optimisation_set_has_no_duplicate_timestamps(shared_data):
+    """The duplicate-timestamp quirk is in the published validation CSVs, not in the 48 shared recordings."""
+    archive = shared_data("oxford_step_counter") / "optimisation_data.tar.xz"
+    recs = oxford.load_oxford_archive(archive, duplicate_timestamps="drop")
+    assert len(recs) == 48
+    assert sum(r.n_duplicate_timestamps_dropped for r in recs) == 0
+    assert all(r.true_steps == len(r.step_t_s) > 0 and r.hardware_steps is None for r in recs)

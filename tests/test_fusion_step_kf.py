@@ -64,9 +64,16 @@ def test_update_rejects_nan_fix():
 
 
 def test_paper_table4_lookup():
-    s = fu.sigma_sl_paper_m([0.4, 0.6, 0.65, 0.8])
+    L = np.array([0.4, 0.6, 0.65, 0.8])
+    s = fu.sigma_sl_paper_m(L, reading="m2")
     np.testing.assert_allclose(s**2, [0.054, 0.036, 0.0445, 0.065])
-    np.testing.assert_allclose(fu.sigma_sl_paper_m([0.2, 1.1]) ** 2, [0.054, 0.065])
+    np.testing.assert_allclose(fu.sigma_sl_paper_m([0.2, 1.1], reading="m2") ** 2, [0.054, 0.065])
+    # the default reads Table 4 as relative variances (thesis L478): sigma proportional to the step
+    np.testing.assert_allclose(fu.sigma_sl_paper_m(L), s * L)
+    # sqrt(0.054) sqrt(2 / pi) = 18.5 % mean absolute relative error (L478: 18.43 %)
+    assert fu.sigma_sl_paper_m(0.5) / 0.5 * np.sqrt(2 / np.pi) == pytest.approx(0.1854, abs=1e-3)
+    with pytest.raises(ValueError, match="reading"):
+        fu.sigma_sl_paper_m(0.5, reading="cm2")
     with pytest.raises(ValueError, match=r"step_m\[1\] = 1.1 m is outside the paper's Table 4"):
         fu.sigma_sl_paper_m([0.5, 1.1], outside="error")
     assert len(fu.PAPER_TABLE5_SIGMA_RF_VAR_M2) == 28

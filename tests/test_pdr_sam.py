@@ -114,3 +114,29 @@ def test_bad_input():
         sam.SAMDetector().detect(acc, t)
     with pytest.raises(ValueError, match="lack columns"):
         sam.learn_feature_ranges(pd.DataFrame({"A": [1.0, 2.0]}))
+
+
+def test_windows_in_samples_agree_at_rates_a_clock_jitter_apart():
+    from ilocalg.pdr.sam import _window_sizes, seconds_to_samples
+
+    for w_valley in (0.25, 0.5):  # the literal W_wave / 2 (L357) and the default 0.5 s
+        a = _window_sizes(49.99999, 0.25, 0.5, w_valley)
+        b = _window_sizes(50.000001, 0.25, 0.5, w_valley)
+        assert a == b
+    assert _window_sizes(50.0, 0.25, 0.5, 0.5) == (6, 25, 11)  # N = floor(0.5 W_wave f) - 1 = 11 (L357)
+    assert seconds_to_samples(0.25, 49.99999) == seconds_to_samples(0.25, 50.000001) == 13  # 12.5 half up
+    assert seconds_to_samples(0.25, 47.99999, "floor") == seconds_to_samples(0.25, 48.00001, "floor") == 12
+    with pytest.raises(ValueError, match="rate_hz"):
+        seconds_to_samples(0.5, 0.0)
+
+
+def test_same_waves_at_rates_a_clock_jitter_apart():
+    w = gait.make_walkers(1, rng=3)[0]
+    sw = gait.simulate_walk(gait.straight_route(10.0), w, rng=3)
+    acc = sw.imu[["acc_x_mps2", "acc_y_mps2", "acc_z_mps2"]].to_numpy()
+    n = len(acc)
+    wa = sam.sam_waves(acc, np.arange(n) / 49.99999, valley_s=0.25)
+    wb = sam.sam_waves(acc, np.arange(n) / 50.000001, valley_s=0.25)
+    np.testing.assert_array_equal(wa["i_peak"], wb["i_peak"])
+    np.testing.assert_array_equal(wa["i_left"], wb["i_left"])
+    np.testing.assert_array_equal(wa["i_right"], wb["i_right"])

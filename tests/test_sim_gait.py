@@ -77,6 +77,39 @@ def test_bad_input():
         gait.make_walkers(0)
 
 
+def test_step_length_and_cadence_follow_dynamic_similarity():
+    """Alexander's stride / leg = 2.3 Fr^0.3, both ways, and the walkers' natural steps on it."""
+    leg = np.array([0.82, 0.9, 1.0])
+    L, f, v = gait.alexander_step(leg, speed_mps=1.4)
+    np.testing.assert_allclose(2 * L / leg, 2.3 * (1.4**2 / (9.80665 * leg)) ** 0.3)
+    np.testing.assert_allclose(L * f, 1.4)
+    L2, f2, v2 = gait.alexander_step(leg, step_length_m=L)
+    np.testing.assert_allclose(v2, 1.4)
+    np.testing.assert_allclose(f2, f)
+    for w in gait.make_walkers(5, 2):
+        Lw, fw, _ = gait.alexander_step(w.leg_m, speed_mps=w.speed_mps)
+        assert w.step_length_m == pytest.approx(float(Lw)) and w.cadence_hz == pytest.approx(float(fw))
+        assert w.leg_m == pytest.approx(0.53 * w.height_m)
+    with pytest.raises(ValueError, match="exactly one"):
+        gait.alexander_step(0.9)
+
+
+def test_pendulum_amplitude_and_step_variability():
+    # the inverted pendulum: larger and faster steps bounce more
+    a = gait.pendulum_amplitude_mps2([0.4, 0.6, 0.8], 2.0, 0.9)
+    assert np.all(np.diff(a) > 0)
+    assert gait.pendulum_amplitude_mps2(0.6, 2.2, 0.9) > gait.pendulum_amplitude_mps2(0.6, 1.8, 0.9)
+    # leg 0.9 m, L / K = 0.48 m: h = 0.9 - sqrt(0.81 - 0.0576)
+    h = 0.9 - np.sqrt(0.81 - 0.24**2)
+    assert float(gait.pendulum_amplitude_mps2(0.6, 2.0, 0.9)) == pytest.approx((4 * np.pi) ** 2 * h / 2)
+    w = gait.make_walkers(1, 5)[0]
+    sw = gait.simulate_walk(gait.straight_route(200.0), w, 5)
+    st = sw.steps.iloc[1:-1]
+    cv_t = st["duration_s"].std() / st["duration_s"].mean()
+    cv_l = st["length_m"].std() / st["length_m"].mean()
+    assert 0.015 < cv_t < 0.035 and 0.02 < cv_l < 0.04  # cv 2.5 % and 3 % (Hausdorff 2005)
+    np.testing.assert_allclose(st["amp_mps2"], gait.pendulum_amplitude_mps2(st["length_m"], 1 / st["duration_s"],
+                                                                            w.leg_m))
 def test_pass_times_are_increasing_and_within_the_walk():
     route = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]])
     w = gait.make_walkers(1, 0)[0]

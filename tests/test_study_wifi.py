@@ -37,8 +37,8 @@ def test_thin_points_keeps_the_grid_at_2m_and_spaces_coarser_grids():
         d = np.hypot(*(pts[k][:, None] - pts[k][None]).transpose(2, 0, 1))
         assert d[~np.eye(len(k), dtype=bool)].min() >= s - 1e-3
         assert len(k) < len(pts)
-    # every other point of the long corridor at 4 m
-    assert len(study_wifi.thin_points(pts[:36], 4.0)) == 18
+    # every other point of a straight corridor at 4 m (the ring's south side: 18 points 2 m apart)
+    assert len(study_wifi.thin_points(pts[:18], 4.0)) == 9
     with pytest.raises(ValueError, match="spacing_m"):
         study_wifi.thin_points(pts, 0.0)
     with pytest.raises(ValueError, match="k_aps"):
@@ -66,3 +66,14 @@ def test_tasks_share_the_base_point():
     g = study_wifi.GRIDS[True]
     n_points = sum(len(v) for v in g.values()) - (len(g) - 1)  # the base point is shared by the 3 curves
     assert len(t) == 2 * n_points
+
+
+def test_radio_parameters_reach_the_floor():
+    """A swept radio parameter changes the test scans only through the simulator; unknown names fail."""
+    a = study_wifi.run(seed=0, fast=True, scans_per_point=10, scans_per_test_point=2)["sweep_wifi"]
+    b = study_wifi.run(seed=0, fast=True, scans_per_point=10, scans_per_test_point=2,
+                       device_offset_db=-10.0)["sweep_wifi"]
+    assert not a["value"].equals(b["value"])
+    assert set(study_wifi.RADIO) <= set(study_wifi.BASE) and set(study_wifi.RADIO) <= set(study_wifi.GRIDS[True])
+    with pytest.raises(ValueError, match="unknown radio parameters"):
+        study_wifi.run(seed=0, fast=True, wall_db=3.0)

@@ -25,6 +25,11 @@ def test_wifi_iloc_fast_is_deterministic_and_sane():
     comp = comparison_table(a["paper_vs_reproduced"].to_dict("records"))
     assert {"paper_value", "reproduced_value", "agreement"} <= set(comp.columns)
     assert "RADAR median" in wifi_iloc.findings(a)
+    r = a["readings"]
+    assert list(r.columns) == ["choice", "paper_line", "text_says", "code_does", "source"]
+    assert {"RADAR database", "test route", "floor plan"} <= set(r["choice"])
+    # the text's database (every stored scan) and the mean map are both reported
+    assert {"Simplified-RADAR", "Simplified-RADAR (mean map)"} <= set(m.index)
 
 
 @pytest.mark.realdata

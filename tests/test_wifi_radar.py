@@ -58,8 +58,12 @@ def test_class_and_function_agree():
     np.testing.assert_allclose(a, b)
 
 
+# the survey's own conditions at test time: no drift, no body or device difference
+SAME_AS_SURVEY = {"drift_sd_db": 0.0, "body_loss_db": 0.0, "device_offset_db": 0.0}
+
+
 def test_accuracy_on_simulated_floor():
-    sim = iloc_floor.simulate(0, scans_per_point=40, scans_per_test_point=3)
+    sim = iloc_floor.simulate(0, scans_per_point=40, scans_per_test_point=3, **SAME_AS_SURVEY)
     fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m)
     xy = SimplifiedRadar(5, 3, sim.detect_dbm).fit(fp, pts).predict(sim.test.rssi_dbm)
     e = np.hypot(*(xy - sim.test.xy_m).T)
@@ -71,7 +75,7 @@ def test_accuracy_on_simulated_floor():
 
 def test_bad_input():
     X = np.array([[-50.0, -60.0], [-52.0, np.nan], [-56.0, -60.0]])
-    y = np.zeros((3, 2))
+    y = np.arange(6.0).reshape(3, 2)
     est = SimplifiedRadar(2, 2, -100).fit(X, y)
     with pytest.raises(ValueError, match="row 0 hears no access point"):
         est.kneighbors(np.array([[np.nan, np.nan]]))
@@ -89,4 +93,32 @@ def test_check_estimator():
 
     from tests.test_wifi_knn import EXPECTED_FAILED
 
-    check_estimator(SimplifiedRadar(k_aps=3, n_neighbors=3, not_heard_dbm=-100), expected_failed_checks=EXPECTED_FAILED)
+    check_estimator(SimplifiedRadar(k_aps=3, n_neighbors=3, not_heard_dbm=-100, point_distance=None),
+                    expected_failed_checks=EXPECTED_FAILED)
+    # point_distance="min" (the default) needs n_neighbors distinct positions, which check_estimator's
+    # random targets do not guarantee; test_every_stored_scan_database_keeps_n_distinct_points covers it
+
+
+def test_every_stored_scan_database_keeps_n_distinct_points():
+    """Thesis L283, L287: the query is compared with every stored scan; the N nearest training points count."""
+    rng = np.random.default_rng(0)
+    pts = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [30.0, 0.0]])
+    X = np.round(rng.normal(-60, 8, (40, 6)))
+    y = np.repeat(pts, 10, axis=0)
+    est = SimplifiedRadar(3, 3, -100).fit(X, y)
+    dist, idx = est.kneighbors(X[:5])
+    assert est.points_.shape == (4, 2)
+    assert all(len({tuple(p) for p in y[r]}) == 3 for r in idx)  # three distinct points, never one twice
+    # idx are reference rows: each the nearest stored scan of its point
+    d_rows = np.sqrt(union_topk_sq_distances(X[:5], X, 3, -100))
+    np.testing.assert_allclose(np.take_along_axis(d_rows, idx, axis=1), dist, rtol=1e-6)
+    # a point's distance is the smallest over its stored scans
+    d_all = np.sqrt(union_topk_sq_distances(X[:5], X, 3, -100)).reshape(5, 4, 10).min(axis=2)
+    np.testing.assert_allclose(dist, np.sort(d_all, axis=1)[:, :3], rtol=1e-6)
+    # with one row per point (a mean map) both readings agree
+    fp = X.reshape(4, 10, 6).mean(axis=1).round()
+    a = SimplifiedRadar(3, 3, -100).fit(fp, pts).predict(X[:5])
+    b = SimplifiedRadar(3, 3, -100, point_distance=None).fit(fp, pts).predict(X[:5])
+    np.testing.assert_allclose(a, b)
+    with pytest.raises(ValueError, match="point_distance"):
+        SimplifiedRadar(point_distance="mean").fit(X, y)

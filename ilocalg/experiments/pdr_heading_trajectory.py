@@ -1,13 +1,17 @@
 """WDM heading and the pedestrian trajectory system on simulated walks (i-Loc thesis sec. 4.3-4.4, Figs 16-18).
 
-Walkers carry the phone around the thesis's closed loop of 28 test points 4.11 m apart (sec. 4.4). Steps are
-found by SAM (ranges learned from fixed-length training walks, experiment ``pdr_step_features``),
-their lengths by the quadratic SLM fitted on the same training steps, their headings by WDM from
-gravity (1 s mean of the accelerometer) and the magnetic field (0.5 s mean) at each step; the
-track is dead-reckoned from the true start. Scored: the per-step heading error (Fig 16, thesis
-13.87 deg mean) and the position error when the walker passes each test point (Figs 17-18, thesis
-5.2 m mean). Beside the thesis's pipeline: gyro-integrated heading (uncalibrated bias), and true steps with WDM
-headings (isolating the heading error).
+New walkers (not the training walkers) carry the phone along the floor's test route: 28 training
+points about 4 m apart (thesis L515: 4.11 m; :func:`ilocalg.sim.iloc_floor.route_xy_m`, the route of
+notebooks 01 and 07). Steps are found by SAM (ranges = the 5-95 % quantiles of fixed-length training
+walks' features, L399; 1-99 % shown beside), their lengths by the quadratic SLM fitted on the same
+training steps, their headings by WDM from gravity (1 s mean of the accelerometer) and the magnetic
+field (0.5 s mean) at each step, with neither a declination nor a hard-iron correction (eq. 18-19);
+the track is dead-reckoned from the true start. The phone is held a few degrees off the walking
+direction, its magnetometer keeps a hard-iron residual and the site has a declination
+(:mod:`ilocalg.sim.gait`); ``wdm_sensitivity`` switches each off in turn. Scored: the per-step
+heading error (Fig 16, thesis 13.87 deg mean) and the position error when the walker passes each of
+the 27 test points after the start (Figs 17-18, thesis 5.2 m mean). Beside the thesis's pipeline:
+gyro-integrated heading (uncalibrated bias), and true steps with WDM headings (the heading error alone).
 
 References
 ----------
@@ -17,21 +21,25 @@ Sec. 4.3-4.4, eq. (18)-(19), (22), Figs 16-18.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import error_cdf
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_step_length_models
-from ilocalg.sim import gait
-from ilocalg.units import as_rng, wrap_angle_rad
+from ilocalg.sim import gait, iloc_floor
+from ilocalg.units import as_rng, wrap_angle_rad, yaw_to_theta
 
-__all__ = ["run", "track_errors", "PAPER"]
+__all__ = ["run", "track_errors", "readings", "PAPER"]
+
+_T = "i-Loc (Chiu 2013)"
 
 PAPER = "i-Loc thesis"
 
@@ -51,8 +59,48 @@ def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarra
     return np.hypot(*(est - test_xy_m).T), est
 
 
-def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8, q_range=(0.01, 0.99),
-        n_points: int = 28, spacing_m: float = 4.11) -> dict[str, pd.DataFrame]:
+def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
+    """The modelling choices of this experiment against the thesis's text, one row each."""
+    rows = [
+        ("route", f"{_T}, L515", "28 test points marked on the floor, 4.11 m apart",
+         "the floor's 28-point route 4 m apart, 108 m (shared with notebooks 01, 07)",
+         "2 m grid of L295; Fig 2 missing"),
+        ("test walkers", f"{_T}, L515", "users walking the route", "new simulated walkers, not the training walkers",
+         "gait model: data/gait"),
+        ("SAM ranges", f"{_T}, L399", "5 % and 95 % points of the training features' CDFs",
+         f"{q_range[0]:.0%}-{q_range[1]:.0%} quantiles; 1-99 % shown as 'PTS (SAM 1-99 %)'", ""),
+        ("valley window", f"{_T}, L357, Table 1 (L424-425)", "W_wave / 2 = 0.25 s either side, yet T1, T2 reach "
+         "0.35-0.40 s", "0.5 s either side (the literal window cannot produce Table 1's T1, T2)", ""),
+        ("WDM", f"{_T}, eq. 18-19", "yaw from gravity and the magnetic field; magnetic north",
+         "phone y axis yaw from 1 s gravity and 0.5 s field means; no declination or hard-iron correction", ""),
+        ("phone misalignment", "", "silent (the phone is assumed to point where the walker goes)",
+         "per walker N(0, 5 deg)", "assumption; switched off in wdm_sensitivity"),
+        ("hard-iron residual", "", "silent", "per walker N(0, 2 uT) per axis", "assumption; switched off in "
+         "wdm_sensitivity"),
+        ("declination", "", "silent (magnetic north)", "-4.5 deg at the site, not corrected by WDM",
+         "WMM2010 for Hsinchu, 2013 (approximate); corrected in wdm_sensitivity"),
+        ("indoor magnetic disturbances", f"{_T}, sec. 4.3", "the field may deviate slightly",
+         "1.5 blobs per 100 m^2, N(0, 12 uT)", "assumption (data/gait)"),
+        ("sample rate", "", "silent", "50 Hz", "assumption (X1 scales with it)"),
+    ]
+    return readings_table([reading(*r) for r in rows])
+
+
+def _mean_heading_error_deg(walkers, rng, route, config=None, declination_rad: float = 0.0) -> float:
+    """Mean per-true-step WDM heading error over one walk per walker (for the sensitivity table)."""
+    errs = []
+    offset = float(yaw_to_theta(declination_rad) - yaw_to_theta(0.0))  # a declination correction, map convention
+    for w in walkers:
+        sw = gait.simulate_walk(route, w, rng, config)
+        _, t = acc_from_log(sw.imu)
+        h = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"] + offset
+        i = np.clip(np.searchsorted(t, sw.steps["t_mid_s"].to_numpy()), 0, t.size - 1)
+        errs.append(np.rad2deg(np.abs(wrap_angle_rad(h[i] - sw.steps["theta_rad"].to_numpy()))))
+    return float(np.concatenate(errs).mean())
+
+
+def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8, q_range=(0.05, 0.95),
+        q_range_alt=(0.01, 0.99)) -> dict[str, pd.DataFrame]:
     """Heading errors beside Fig 16 and test-point position errors beside Figs 17-18.
 
     Returns
@@ -60,7 +108,8 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
     dict of DataFrame
         ``heading_steps`` (per detected step), ``heading_summary``, ``test_points`` (per walker,
         method and test point: true and estimated position, error), ``summary``, ``cdf``,
-        ``track_example`` (walker 0's tracks), ``comparison``.
+        ``track_example`` (walker 0's tracks), ``comparison``, ``wdm_sensitivity`` (mean WDM error with
+        misalignment, hard-iron residual and declination each switched off), ``readings``.
     """
     rng = as_rng(seed)
     if fast:
@@ -68,12 +117,14 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
     train_walkers = gait.make_walkers(n_train, rng)
     feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
     ranges = learn_feature_ranges(feats, *q_range)
+    ranges_alt = learn_feature_ranges(feats, *q_range_alt)
     models, _ = fit_step_length_models(feats)
     p_quad = models["SLM quadratic"]
-    route = gait.loop_route(n_points, spacing_m)
-    walkers = gait.make_walkers(n_walkers, rng) if n_walkers > n_train else train_walkers[:n_walkers]
+    route = iloc_floor.route_xy_m()
+    walkers = gait.make_walkers(n_walkers, rng)  # new walkers: not those SAM and SLM were trained on
     test_xy = route[1:]                                    # the points passed after the start
-    s_test = spacing_m * np.arange(1, n_points + 1)
+    n_points = test_xy.shape[0]
+    s_test = np.cumsum(np.hypot(*np.diff(route, axis=0).T))
 
     hrows, prow, examples = [], [], []
     for w in walkers:
@@ -82,6 +133,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
         heads = log_headings_rad(sw.imu, sw.config.stand_s)
         steps = pts_steps(sw.imu, ranges, p_quad, headings=heads)
         i = steps["i_peak"].to_numpy()
+        steps_alt = pts_steps(sw.imu, ranges_alt, p_quad, headings=heads)
         true_st = sw.steps
         j = np.abs(true_st["t_mid_s"].to_numpy()[None, :] - steps["t_s"].to_numpy()[:, None]).argmin(axis=1)
         true_th = true_st["theta_rad"].to_numpy()[j]
@@ -96,6 +148,8 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
         i_true = np.clip(np.searchsorted(t, true_st["t_mid_s"].to_numpy()), 0, t.size - 1)
         variants = {
             "PTS: SAM + SLM + WDM": (steps["t_s"].to_numpy(), lengths, steps["theta_rad"].to_numpy()),
+            f"PTS (SAM {q_range_alt[0]:.0%}-{q_range_alt[1]:.0%})": (
+                steps_alt["t_s"].to_numpy(), steps_alt["length_m"].to_numpy(), steps_alt["theta_rad"].to_numpy()),
             "SAM + SLM + gyro heading": (steps["t_s"].to_numpy(), lengths, steps["theta_gyr_rad"].to_numpy()),
             "true steps and lengths + WDM": (true_st["t_mid_s"].to_numpy(), true_st["length_m"].to_numpy(),
                                              heads["WDM"][i_true]),
@@ -122,8 +176,21 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
     comp = [
         paper_ref(PAPER, "Fig 16", "WDM mean per-step heading error",
                   HEADING_ERROR_PAPER_DEG, hsum.set_index("heading").loc["WDM", "mean_error_deg"], unit="deg"),
-        paper_ref(PAPER, "Figs 17-18", "PTS mean position error at the 28 test points",
+        paper_ref(PAPER, "Figs 17-18", "PTS mean position error at the test points (27 after the start)",
                   PTS_ERROR_PAPER_M, summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
     ]
+    # WDM sensitivity: the same new-walker population with one heading error source switched off at a time
+    dec = np.deg2rad(gait.GaitConfig().declination_deg)
+    straight = [dataclasses.replace(w, misalign_rad=0.0) for w in walkers]
+    calibrated = [dataclasses.replace(w, hard_iron_ut=(0.0, 0.0, 0.0)) for w in walkers]
+    ideal = [dataclasses.replace(w, misalign_rad=0.0, hard_iron_ut=(0.0, 0.0, 0.0)) for w in walkers]
+    cases = [("as simulated (thesis's WDM)", walkers, 0.0), ("phone held straight (no misalignment)", straight, 0.0),
+             ("no hard-iron residual", calibrated, 0.0), ("declination corrected", walkers, dec),
+             ("none of the three", ideal, dec)]
+    sub = int(rng.integers(2**31))  # every case walks the same walks (same noise, disturbances): one change each
+    sens = pd.DataFrame([{"case": c, "wdm_mean_error_deg": _mean_heading_error_deg(ws, np.random.default_rng(sub),
+                                                                                   route, None, d)}
+                         for c, ws, d in cases])
     return {"heading_steps": hs, "heading_summary": hsum, "test_points": tp, "summary": summ, "cdf": cdf,
-            "track_example": pd.concat(examples, ignore_index=True), "comparison": pd.DataFrame(comp)}
+            "track_example": pd.concat(examples, ignore_index=True), "comparison": pd.DataFrame(comp),
+            "wdm_sensitivity": sens, "readings": readings(q_range)}

@@ -1,10 +1,14 @@
-"""Study: Simplified-RADAR / Simplified-Horus / KNN error vs AP count k, training-point spacing and
-scans per point, on the simulated i-Loc floor (extends i-Loc thesis sec. 3, Figs 3 and 5).
+"""Study: Simplified-RADAR / Simplified-Horus / KNN error vs AP count k, training-point spacing, scans
+per point and each radio parameter of the floor's test session (day-to-day drift, body shadowing,
+device offset, path-loss exponent, heavy-wall loss), on the simulated i-Loc floor (extends i-Loc
+thesis sec. 3, Figs 3 and 5).
 
 One ``run(seed, ...)`` simulates the floor (:mod:`ilocalg.sim.iloc_floor`) with ``scans_per_point``
-training scans per point, thins the 2 m training grid to ``spacing_m`` (:func:`thin_points`), builds
-the radio maps exactly as :mod:`ilocalg.experiments.wifi_iloc` does (RADAR and KNN on the per-point
-mean fingerprints, Horus on every scan; estimators from
+training scans per point and the radio parameters given (the rest at the defaults of
+:data:`ilocalg.sim.iloc_floor.PARAMS`, each from a published measurement), thins the 2 m training
+grid to ``spacing_m`` (:func:`thin_points`), builds the radio maps exactly as
+:mod:`ilocalg.experiments.wifi_iloc` does (RADAR and Horus on every stored scan, thesis L283-287 and
+Fig 4; KNN on the per-point mean fingerprints; estimators from
 :func:`ilocalg.wifi.paper_estimators`) and scores the three methods on new scans at
 the thesis' 28 test-route points. The test route stays the thesis' one, so with a coarser grid
 some test points are no longer training points (which is what coarser surveys cost).
@@ -41,18 +45,32 @@ __all__ = ["run", "thin_points", "GRIDS", "tasks", "findings", "BASE"]
 EXPERIMENT = "study_wifi"
 STATS = (("mean error", "mean_m"), ("median error", "median_m"), ("80th-percentile error", "p80_m"))
 
-#: The base point of the one-factor grids (the thesis' survey: k = 5, 2 m grid, 300 scans; fast: 60 scans).
-BASE = {"k_aps": 5, "spacing_m": 2.0, "scans_per_point": 300}
-BASE_FAST = {"k_aps": 5, "spacing_m": 2.0, "scans_per_point": 60}
+#: Radio parameters of the floor swept here (defaults: :data:`ilocalg.sim.iloc_floor.PARAMS`).
+RADIO = ("drift_sd_db", "body_loss_db", "device_offset_db", "path_loss_exponent", "heavy_wall_db")
+_P = iloc_floor.PARAMS
+#: The base point of the one-factor grids (the thesis' survey: k = 5, 2 m grid, 300 scans; fast: 60 scans;
+#: the radio parameters at the simulator's published defaults).
+BASE = {"k_aps": 5, "spacing_m": 2.0, "scans_per_point": 300, **{k: _P[k] for k in RADIO}}
+BASE_FAST = {**BASE, "scans_per_point": 60}
 
 #: One-factor grids: full and fast.
 GRIDS = {
     False: {"k_aps": [1, 2, 3, 4, 5, 6, 8, 10, 14, 20],
             "spacing_m": [2.0, 4.0, 6.0, 8.0, 12.0],
-            "scans_per_point": [2, 5, 10, 30, 100, 300]},
+            "scans_per_point": [2, 5, 10, 30, 100, 300],
+            "drift_sd_db": [0.0, 1.5, 3.0, 4.5, 6.0],
+            "body_loss_db": [0.0, 2.5, 5.0, 7.5, 10.0],
+            "device_offset_db": [-10.0, -5.0, 0.0, 5.0, 10.0],
+            "path_loss_exponent": [1.6, 2.0, 2.5, 3.0, 3.5],
+            "heavy_wall_db": [3.4, 6.9, 10.0, 13.0]},
     True: {"k_aps": [1, 3, 5, 10],
            "spacing_m": [2.0, 6.0],
-           "scans_per_point": [5, 60]},
+           "scans_per_point": [5, 60],
+           "drift_sd_db": [0.0, 3.0, 6.0],
+           "body_loss_db": [0.0, 5.0],
+           "device_offset_db": [-10.0, 0.0],
+           "path_loss_exponent": [2.0, 3.0],
+           "heavy_wall_db": [3.4, 6.9]},
 }
 
 
@@ -86,7 +104,8 @@ def thin_points(points_xy_m, spacing_m: float) -> np.ndarray:
 
 
 def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.0,
-        scans_per_point: int | None = None, scans_per_test_point: int | None = None) -> dict[str, pd.DataFrame]:
+        scans_per_point: int | None = None, scans_per_test_point: int | None = None,
+        **radio) -> dict[str, pd.DataFrame]:
     """Errors of the three Wi-Fi methods for one survey configuration (see the module docstring).
 
     Parameters
@@ -102,12 +121,17 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
         Training scans per point (thesis: 300).
     scans_per_test_point : int, optional
         New scans at each test point (thesis: 20).
+    **radio
+        Radio parameters of :data:`RADIO` (floor simulator overrides).
     """
+    unknown = set(radio) - set(RADIO)
+    if unknown:
+        raise ValueError(f"unknown radio parameters {sorted(unknown)}; swept here: {list(RADIO)}")
     if int(k_aps) != k_aps or k_aps < 1:
         raise ValueError(f"k_aps must be an integer >= 1, got {k_aps!r}")
     spp = int(scans_per_point or (60 if fast else iloc_floor.SCANS_PER_POINT))
     spt = int(scans_per_test_point or (5 if fast else 20))
-    sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt)
+    sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, **radio)
     keep = thin_points(sim.points_xy_m, spacing_m)
     rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
     X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
@@ -117,8 +141,8 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
     rows = [study_row("training points", len(keep), "points"),
             study_row("test scans hearing no AP (not scored)", np.sum(~heard), "scans")]
     for name, est in paper_estimators(sim.detect_dbm, int(k_aps)).items():
-        if name == "Simplified-Horus":
-            est.fit(X, xy)  # Horus keeps every scan (its per-point histograms)
+        if name in ("Simplified-Horus", "Simplified-RADAR"):
+            est.fit(X, xy)  # every stored scan: Horus's per-point histograms, RADAR's database (L283, L287)
         else:
             est.fit(fp, pts)
         s = summary(horizontal_error_m(est.predict(Xq), true))
@@ -153,6 +177,17 @@ def findings(cv: pd.DataFrame, fast: bool = False) -> str:
         out.append(f"{m}: mean error {c['mean'].iloc[0]:.2f} m at k={int(c['k_aps'].iloc[0])}, lowest "
                    f"{b['mean']:.2f} m [95 % CI {b['ci95_low']:.2f}-{b['ci95_high']:.2f}] at k={int(b['k_aps'])}"
                    f"{last} (N={int(b['n'])} seeds).")
+    for m in ("Simplified-RADAR", "Simplified-Horus"):
+        parts = []
+        for p in RADIO:
+            c = curve(m, p)
+            if len(c) < 2:
+                continue
+            parts.append(f"{p} {c[p].iloc[0]:g} -> {c[p].iloc[-1]:g}: {c['mean'].iloc[0]:.2f} -> "
+                         f"{c['mean'].iloc[-1]:.2f} m")
+        if parts:
+            out.append(f"{m}, mean error over each radio parameter (others at their defaults): " + "; ".join(parts)
+                       + ".")
     for m in ("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"):
         c = curve(m, "spacing_m")
         s = curve(m, "scans_per_point")

@@ -9,11 +9,18 @@ scores the three methods on new scans at the thesis' 28 test-route points:
 * ``errors``: every test error per method (for the CDF figures);
 * ``paper_vs_reproduced``: the published values beside the reproduced ones;
 * ``timing`` (non-deterministic): time per query of each method;
-* ``sim_summary``: the calibrated radio inputs as simulated (APs per scan, RSSI spread).
+* ``sim_summary``: the calibrated radio inputs as simulated (APs per scan, RSSI spread);
+* ``readings``: one row per modelling choice (thesis line, what the text says, what the code does,
+  the source of any value the text does not give).
 
-Radio maps: RADAR and KNN use the per-point mean fingerprints (RADAR's radio map; an AP enters a
-point's fingerprint when heard in at least half of its scans); Horus uses every scan (its
-per-point histograms, Fig 4). "Not heard" is the simulator's detection threshold.
+The floor's test session is not its survey: another day (per-AP drift), the walker facing the
+walking direction (body shadowing), optionally another phone (:mod:`ilocalg.sim.iloc_floor`).
+
+Radio maps: RADAR's database keeps every scan of every point and compares the query with each
+(thesis L283, L287; the N nearest training points, each at the distance of its nearest scan);
+``Simplified-RADAR (mean map)`` is the labelled alternative on per-point mean fingerprints (an AP
+enters a point's fingerprint when heard in at least half of its scans), which KNN also uses; Horus
+uses every scan (its per-point histograms, Fig 4). "Not heard" is the simulator's detection threshold.
 
 References
 ----------
@@ -32,12 +39,12 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
-from ilocalg.papers import paper_ref
+from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import iloc_floor
 from ilocalg.wifi import SimplifiedRadar, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
-__all__ = ["run", "findings", "ap_distribution", "PAPER_ILOC"]
+__all__ = ["run", "findings", "ap_distribution", "readings", "PAPER_ILOC"]
 
 ILOC = "i-Loc thesis"
 LUO = "罗思奇 et al. 2017"
@@ -59,8 +66,42 @@ PAPER_ILOC = {
 }
 
 
+_T = "i-Loc (Chiu 2013)"
+
+
+def readings() -> pd.DataFrame:
+    """The modelling choices of this experiment against the thesis's text, one row each."""
+    p = iloc_floor.PARAM_SOURCES
+    rows = [
+        ("floor plan", "", "Fig 2 (missing from the text)",
+         "assumed ring corridor 36 m x 20 m + stair corridor, offices in 8 m bays", "assumption (data/iloc_floor)"),
+        ("training points", f"{_T}, L295", "63 points 2 m apart, 300 scans each at different times",
+         "63 points 2 m apart; 300 scans in sessions of 30 (60 in fast mode)", p["scans_per_session"]),
+        ("test route", f"{_T}, L295, L515", "28 test points that are training points, 4.11 m apart",
+         "28 ring points 4.0 m apart (every second 2 m point), 108 m", "2 m grid of L295"),
+        ("APs per scan", f"{_T}, L295", "4-18 APs per scan", "AP counts and detection calibrated to it",
+         p["n_aps_floor"]),
+        ("wall losses", "", "silent", "COST 231 multi-wall: light 3.4 dB, heavy 6.9 dB, floor 18.3 dB",
+         p["heavy_wall_db"]),
+        ("survey vs test", f"{_T}, L295", "signals drift; points near windows and corners drift more",
+         "test session on another day: per-AP drift 3 dB, body shadowing 5 dB, device offset 0 dB",
+         f"{p['drift_sd_db']}; {p['body_loss_db']}; {p['device_offset_db']}"),
+        ("test scans per point", "", "silent", "20 standing scans per test point facing the walking direction "
+         "(5 in fast mode)", "assumption"),
+        ("RADAR database", f"{_T}, L283, L287", "every stored scan of every point; N nearest training points",
+         "query vs every stored scan; a point's distance is its nearest scan; N = 3 nearest points",
+         "mean map shown as 'Simplified-RADAR (mean map)'"),
+        ("RADAR k, N", f"{_T}, L287, L297", "k strongest APs (k = 5 best), N = 3", "k = 5, N = 3", ""),
+        ("Horus", f"{_T}, L329, L331", "per-point RSSI histograms of every scan, k strongest APs",
+         "1 dB histograms of every scan, k = 5, probability floor 1e-3", "probability floor: assumption"),
+        ("KNN", "Luo et al. 2017, eq. 1-2", "Manhattan, K = 5 (their paper)", "per-point mean map, K = 5",
+         "not in the i-Loc thesis"),
+    ]
+    return readings_table([reading(*r) for r in rows])
+
+
 def _fit(name, est, sim, fp, pts):
-    if name == "Simplified-Horus":
+    if name in ("Simplified-Horus", "Simplified-RADAR"):  # every stored scan (L283, L287; Fig 4)
         return est.fit(sim.train.rssi_dbm, sim.train.xy_m)
     return est.fit(fp, pts)
 
@@ -96,13 +137,15 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
 
     rows = []
     for k in k_values:
-        est = SimplifiedRadar(k_aps=k, n_neighbors=3, not_heard_dbm=nh).fit(fp, pts)
+        est = SimplifiedRadar(k_aps=k, n_neighbors=3, not_heard_dbm=nh).fit(sim.train.rssi_dbm, sim.train.xy_m)
         s = summary(horizontal_error_m(est.predict(Xq), true))
         rows.append({"k_aps": int(k), **s.to_dict()})
     k_study = pd.DataFrame(rows)
 
     methods, errs, timing = [], [], []
-    for name, est in paper_estimators(nh, k_aps).items():
+    ests = paper_estimators(nh, k_aps)
+    ests["Simplified-RADAR (mean map)"] = SimplifiedRadar(k_aps=k_aps, n_neighbors=3, not_heard_dbm=nh)
+    for name, est in ests.items():
         _fit(name, est, sim, fp, pts)
         est_xy = est.predict(Xq)
         e = horizontal_error_m(est_xy, true)
@@ -116,12 +159,13 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
                 est.predict(Xq[i:i + 1])
             best = min(best, (time.perf_counter() - t0) / n_t)
         timing.append({"method": name, "ms_per_query": best * 1e3, "queries": n_t,
-                       "reference_rows": fp.shape[0] if name != "Simplified-Horus" else sim.train.n_samples})
+                       "reference_rows": sim.train.n_samples if name in ("Simplified-Horus", "Simplified-RADAR")
+                       else fp.shape[0]})
     methods = pd.DataFrame(methods)
     errors = pd.concat(errs, ignore_index=True)
     m = methods.set_index("method")
     best_k = int(k_study.loc[k_study["median_m"].idxmin(), "k_aps"])
-    note = "simulated floor (the thesis' radio map is not published)"
+    note = "simulated floor, test session != survey (the thesis' radio map is not published)"
     rows = [
         paper_ref(ILOC, "Fig 3", "Simplified-RADAR median error (k=5)", PAPER_ILOC["radar_median_m"],
                   m.loc["Simplified-RADAR", "median_m"], "m", note),
@@ -144,6 +188,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         "timing": pd.DataFrame(timing),
         "sim_summary": iloc_floor.summary(sim),
         "test_scans": test_scans,
+        "readings": readings(),
     }
 
 

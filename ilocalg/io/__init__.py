@@ -11,6 +11,15 @@ Every loader takes a path (file, folder or archive) and returns the types docume
 - :func:`load_ipin_logfile`: IPIN competition smartphone logfiles
 - :class:`Recording`, :func:`load_recording`: any walk as one type, the loader picked from the content;
   :func:`write_ipin_logfile`, :func:`write_ilc_trace` write any recording in those formats
+
+One policy for every text file: UTF-8 (a non-UTF-8 byte is an error naming its line), a leading
+byte-order mark stripped, CRLF line ends and trailing blank lines accepted, ``.gz`` / ``.xz``
+files read transparently (corrupt data, archives and JSON are errors naming the file and the
+archive member). Every value is checked against its valid range, declared once in
+:data:`ilocalg.io.schema.FIELD_RANGES`; errors read ``FILE: line N, column COL: value V is outside
+[a, b] unit``. Quirks that real files have are accepted only through an explicit policy argument
+that counts what it changes, and the error message names it: ``duplicate_bssid="keep_latest"``
+(ILC), ``duplicate_timestamps="drop"`` (Oxford), ``truncated_last_line="drop"`` (IPIN, ILC).
 """
 
 from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace

@@ -17,7 +17,7 @@ import pandas as pd
 __all__ = ["fail", "to_float", "first_not_increasing", "check_increasing", "decode_text", "decompress",
            "read_bytes", "read_text", "strip_trailing_blank_lines", "ArchiveReader", "TRUNCATED_POLICIES",
            "check_truncated_policy", "cut_last_line", "check_record_types", "TypedLines", "split_by_type",
-           "read_block"]
+           "read_block", "count_per_line"]
 
 
 def fail(source, lineno, msg: str, column: str | None = None) -> NoReturn:
@@ -311,12 +311,54 @@ def check_record_types(counts: dict, first_line: dict, known, source, sep: str, 
 _NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
 
 
+_CHUNK = 1 << 21
+
+
+def _scan(arr: np.ndarray) -> tuple[int, int, int, int, int]:
+    """Counts of bytes < 32, LF, CR, TAB and CRLF pairs, a few megabytes at a time."""
+    n = [0, 0, 0, 0, 0]
+    for i in range(0, len(arr), _CHUNK):
+        sub = arr[i:i + _CHUNK + 1]  # one byte of overlap for CRLF pairs across chunks
+        body = sub[:_CHUNK]
+        n[0] += int(np.count_nonzero(body < 32))
+        n[1] += int(np.count_nonzero(body == 10))
+        n[2] += int(np.count_nonzero(body == 13))
+        n[3] += int(np.count_nonzero(body == 9))
+        if n[2]:
+            n[4] += int(np.count_nonzero((sub[:-1] == 13) & (sub[1:] == 10)))
+    return n[0], n[1], n[2], n[3], n[4]
+
+
+def _positions(arr: np.ndarray, value: int) -> np.ndarray:
+    """``np.flatnonzero(arr == value)`` without a file-sized temporary."""
+    parts = [np.flatnonzero(arr[i:i + _CHUNK] == value) + i for i in range(0, len(arr), _CHUNK)]
+    return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+
+
+def count_per_line(arr: np.ndarray, value: int, starts: np.ndarray, chunk: int = _CHUNK) -> np.ndarray:
+    """How often byte ``value`` occurs on each line (lines start at ``starts``), in bounded memory.
+
+    Works through about ``chunk`` bytes at a time, so the temporary arrays stay a few megabytes
+    whatever the file size.
+    """
+    bounds = np.append(starts, len(arr))
+    out = np.empty(len(starts), dtype=np.int64)
+    i, n = 0, len(starts)
+    while i < n:
+        j = min(max(int(np.searchsorted(bounds, bounds[i] + chunk, side="right")) - 1, i + 1), n)
+        seg = arr[bounds[i]:bounds[j]] == value
+        out[i:j] = np.add.reduceat(seg, starts[i:j] - bounds[i], dtype=np.int32)
+        i = j
+    return out
+
+
 @dataclass(frozen=True)
 class TypedLines:
     """A record-type log split by type (see :func:`split_by_type`)."""
 
-    lines: dict        # known type -> int64 array, the 1-based file line of each record
-    blocks: dict       # known type -> bytes: its records without the type field, each with its line end
+    lines: dict        # known type -> int array, the 1-based file line of each record
+    blocks: dict       # known type -> function () -> bytes: its lines, each with its line end (built on
+    #                    demand, so that one type's bytes exist at a time)
     counts: dict       # every record type -> number of lines, in order of first occurrence
     header: list       # header lines (str, without line end), in order
 
@@ -353,21 +395,23 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    n_cr, n_tab = np.count_nonzero(arr == 13), np.count_nonzero(arr == 9)
-    if np.count_nonzero(arr < 32) != np.count_nonzero(arr == 10) + n_cr + n_tab:
+    n_low, n_lf, n_cr, n_tab, n_crlf = _scan(arr)
+    if n_low != n_lf + n_cr + n_tab:
         return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
-    if (sep_b != 9 and n_tab) or (n_cr and n_cr != np.count_nonzero((arr[:-1] == 13) & (arr[1:] == 10))):
+    if (sep_b != 9 and n_tab) or n_cr != n_crlf:
         return None
     if not data.isascii() and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
-    sp = np.flatnonzero(arr == 32)
+    sp = _positions(arr, 32)
     if sp.size:
         nxt, prv = arr[np.minimum(sp + 1, len(arr) - 1)], arr[np.maximum(sp - 1, 0)]
         if np.any(sp == 0) or np.any(prv == 10) or np.any((nxt == 10) | (nxt == 13)):
             return None
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
-    ends = np.flatnonzero(arr == 10)
+    ends = _positions(arr, 10)
+    if len(arr) < 2**31 - 1:
+        ends = ends.astype(np.int32)  # half the memory of the per-line arrays
     starts = np.empty_like(ends)
     starts[0] = 0
     starts[1:] = ends[:-1] + 1
@@ -378,29 +422,39 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     is_rec = nonblank & ~is_head
     if comment:
         is_rec &= first != comment[0]
-    rec = np.flatnonzero(is_rec)
+    rec = np.flatnonzero(is_rec).astype(ends.dtype)
+    del is_rec, first, nonblank
     if not rec.size:
         return None
     rs, re_ = starts[rec], stop[rec]
+    if len(arr) < 8:
+        return None
+    win = np.lib.stride_tricks.as_strided(arr, shape=(len(arr) - 7, 8), strides=(1, 1), writeable=False)
+    top = len(arr) - 8
+
+    def bytes8(pos):
+        """The 8 bytes from each position (clamped at the end of the file), as (n, 8) uint8."""
+        return win[np.minimum(pos, top)]
+
     if type_col == 0:
         t0 = rs
     else:
         width = data.find(sep, int(rs[0])) - int(rs[0])
         if width <= 0 or np.any(re_ - rs <= width) or np.any(arr[rs + width] != sep_b):
             return None
-        for j in range(width):
-            if np.any(arr[rs + j] == sep_b):
+        for o in range(0, width, 8):
+            m = bytes8(rs + o)[:, :min(8, width - o)]
+            if np.any(m == sep_b):
                 return None
         t0 = rs + width + 1
     label = np.zeros(len(rec), dtype=np.int8)
     names = sorted(known)
-    last = len(arr) - 1
     for code, name in enumerate(names, start=1):
-        kb = name.encode()
-        cand = np.flatnonzero(re_ - t0 > len(kb))
-        for j, ch in enumerate(kb):
-            cand = cand[arr[t0[cand] + j] == ch]
-        cand = cand[arr[np.minimum(t0[cand] + len(kb), last)] == sep_b]
+        kb = name.encode() + sep  # the name and the separator that ends it
+        cand = np.flatnonzero(re_ - t0 > len(kb) - 1)
+        for o in range(0, len(kb), 8):  # eight bytes per comparison
+            chunk = np.frombuffer(kb[o:o + 8], dtype=np.uint8)
+            cand = cand[np.all(bytes8(t0[cand] + o)[:, :len(chunk)] == chunk, axis=1)]
         label[cand] = code
     unknown = np.flatnonzero(label == 0)
     other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], re_[unknown])
@@ -412,7 +466,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     if not present:
         return None
     # every line of a known type holds its number of separators
-    n_sep = np.add.reduceat(arr == sep_b, starts, dtype=np.int32)[rec]
+    n_sep = count_per_line(arr, sep_b, starts)[rec]
     for c in present:
         if np.any(n_sep[label == c] != known[names[c - 1]]):
             return None
@@ -422,32 +476,40 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     n_of = {names[c - 1]: int(np.count_nonzero(label == c)) for c in present}
     n_of.update({t.decode(): n for t, n in other.items()})
     counts = {t: n_of[t] for t in sorted(first_of, key=first_of.get)}
-    # per-byte labels: a known line's bytes (with its line end, without its type field) carry its code
-    line_label = np.zeros(len(starts), dtype=np.int8)
-    line_label[rec] = label
-    byte_label = np.repeat(line_label, ends - starts + 1)
-    for c in present:
-        t0c = t0[label == c]
-        for j in range(len(names[c - 1]) + 1):
-            byte_label[t0c + j] = 0
     lines, blocks = {}, {}
-    for c in present:
-        name = names[c - 1]
-        lines[name] = rec[label == c] + 1
-        if lines[name].size < 20000:  # few lines: slicing is cheaper than a pass over every byte
-            sel = label == c
-            blocks[name] = _rejoin(data, starts[rec[sel]], t0[sel], len(name) + 1, ends[rec[sel]])
-        else:
-            blocks[name] = arr[byte_label == c].tobytes()
     head = [data[a:b].decode("utf-8") for a, b in zip(starts[is_head].tolist(), stop[is_head].tolist(),
                                                       strict=True)]
+    del stop, is_head, rs, re_
+    for c in present:
+        sel = label == c
+        lines[names[c - 1]] = rec[sel] + 1
+        blocks[names[c - 1]] = _block_maker(data, starts, ends, rec[sel])
     return TypedLines(lines=lines, blocks=blocks, counts=counts, header=head)
 
 
-def _rejoin(data: bytes, starts, t0, cut: int, ends) -> bytes:
-    """Lines without their type field (``cut`` bytes from ``t0``), joined with their line ends."""
-    return b"".join(data[a:t] + data[t + cut:e + 1] for a, t, e in zip(starts.tolist(), t0.tolist(), ends.tolist(),
-                                                                      strict=True))
+def _block_maker(data: bytes, starts, ends, rows):
+    """A function that returns the bytes of lines ``rows`` (each with its line end), joined.
+
+    Few lines are sliced out one by one; many are selected with a byte mask built a few
+    megabytes of the file at a time (bounded memory, no Python loop per line).
+    """
+    def make() -> bytes:
+        if rows.size < 20000:
+            return b"".join(data[a:b] for a, b in zip(starts[rows].tolist(), (ends[rows] + 1).tolist(), strict=True))
+        arr = np.frombuffer(data, dtype=np.uint8)
+        n = len(starts)
+        on = np.zeros(n, dtype=bool)
+        on[rows] = True
+        parts = []
+        i = 0
+        while i < n:
+            j = min(max(int(np.searchsorted(starts, starts[i] + _CHUNK, side="left")), i + 1), n)
+            lo, hi = int(starts[i]), int(ends[j - 1]) + 1
+            mask = np.repeat(on[i:j], (ends[i:j] - starts[i:j] + 1))
+            parts.append(arr[lo:hi][mask].tobytes())
+            i = j
+        return b"".join(parts)
+    return make
 
 
 def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tuple[dict, dict]:
@@ -481,12 +543,13 @@ def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tup
     return other, first_other
 
 
-def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> pd.DataFrame | None:
-    """One type's records (from :func:`split_by_type`) as a DataFrame, or ``None`` if any is malformed.
+def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=(), type_name: str = "") -> tuple | None:
+    """One type's records (from :func:`split_by_type`) as ``(DataFrame, float64 array of the numeric
+    columns)``, or ``None`` if any is malformed.
 
     ``names`` lists the fields after the type, ``usecols`` those to read (float64, except the
     text columns ``strings``, read verbatim: no NA conversion, no quoting, and the int64 columns
-    ``ints``, digits only). An empty numeric cell
+    ``ints``, digits only; ``type_name`` is the record type written on every line). An empty numeric cell
     or a non-numeric one (pandas raises) returns ``None``: the caller then parses line by line
     and names the line.
     """
@@ -504,6 +567,7 @@ def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=()) -> p
     v = df[num].to_numpy(dtype=np.float64)
     if not np.isfinite(v).all():
         return None
-    if np.any((v == 0.0) | (v == 1.0)) and any(b in block for b in (b"r", b"R", b"l", b"L")):
+    if np.any((v == 0.0) | (v == 1.0)) and any(block.count(b) > len(df) * type_name.count(b.decode())
+                                                for b in (b"r", b"R", b"l", b"L")):
         return None  # pandas reads True/False as 1.0/0.0 in a float column; float() refuses them
-    return df
+    return df.drop(columns=num), v

@@ -177,7 +177,9 @@ class IlcTrace:
         Header key/values (``SiteID``, ``FloorName``, ``Model``, ``startTime`` ...); ``sensors`` is a
         tuple of dicts, one per ``# type:`` line.
     kept, skipped : dict
-        Record type -> number of lines kept / skipped (unknown types are skipped and counted).
+        Record type -> number of lines kept / skipped (unknown types are skipped and counted;
+        ``skipped["truncated last line"]`` counts a cut last line dropped by
+        ``truncated_last_line="drop"``).
     n_duplicate_bssid_dropped : int
         Wi-Fi records dropped by the ``keep_latest`` duplicate-BSSID policy (0 under ``error``).
     source : str
@@ -277,20 +279,24 @@ def _blocks_fast(data: bytes) -> tuple[dict, dict, list] | None:
     if tl is None:
         return None
     out = {}
-    for rtype, block in tl.blocks.items():
+    for rtype, make_block in tl.blocks.items():
+        block = make_block()
         sel, _ = _NUMERIC[rtype]
-        names = ["t_ms"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
+        names = ["t_ms", "type"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
         num = [f"v{j}" for j in sel]
         text = ["v0", "v1"] if rtype == "TYPE_WIFI" else []
-        df = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",))
-        if df is None:
+        got = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",),
+                         type_name=rtype)
+        del block
+        if got is None:
             return None
+        df, v = got
         t = df["t_ms"].to_numpy()
-        v = df[num].to_numpy(dtype=np.float64)
         if rtype == "TYPE_WIFI":
             out[rtype] = _Block(tl.lines[rtype], t, v, df["v0"].tolist(), df["v1"].tolist())
         else:
             out[rtype] = _Block(tl.lines[rtype], t, v)
+        del df, got
     return out, tl.counts, tl.header
 
 

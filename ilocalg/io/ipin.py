@@ -108,7 +108,8 @@ class IpinLog:
     positions : DataFrame
         ``t_s, counter, lat_deg, lon_deg, floor, building, x_m, y_m`` (ground-truth POSI records).
     kept, skipped : dict
-        Record type -> number of lines kept / skipped.
+        Record type -> number of lines kept / skipped; ``skipped["truncated last line"]`` counts a
+        cut last line dropped by ``truncated_last_line="drop"``.
     source : str
     """
 
@@ -176,18 +177,21 @@ def _blocks_fast(data: bytes) -> tuple[dict, dict] | None:
     if tl is None:
         return None
     out = {}
-    for rtype, block in tl.blocks.items():
-        names = [f"f{j}" for j in range(_N_FIELDS[rtype])]
+    for rtype, make_block in tl.blocks.items():
+        block = make_block()
+        names = ["type"] + [f"f{j}" for j in range(_N_FIELDS[rtype])]
         num = [f"f{j}" for j in _NUMERIC[rtype]]
         text = ["f2", "f3"] if rtype == "WIFI" else []  # ssid, bssid (IMU Accuracy is not read)
-        df = read_block(block, ";", names, sorted(num + text), strings=text)
-        if df is None:
+        got = read_block(block, ";", names, sorted(num + text), strings=text, type_name=rtype)
+        del block
+        if got is None:
             return None
-        v = df[num].to_numpy(dtype=np.float64)
+        df, v = got
         if rtype == "WIFI":
             out[rtype] = _Block(tl.lines[rtype], v, df["f2"].tolist(), df["f3"].tolist())
         else:
             out[rtype] = _Block(tl.lines[rtype], v)
+        del df, got
     return out, tl.counts
 
 

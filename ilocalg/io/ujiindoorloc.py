@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io._text import decode_text, read_bytes
+from ilocalg.io._text import count_per_line, decode_text, read_bytes
 from ilocalg.io.schema import BUILDING, FLOOR, RSSI_DBM, FingerprintSet, check_range
 
 __all__ = [
@@ -123,7 +123,7 @@ def load_ujiindoorloc(path) -> FingerprintSet:
     # fields per data line (commas + 1), vectorised: the first line with another count is named
     body = np.frombuffer(data, dtype=np.uint8, count=end - nl - 1, offset=nl + 1)
     starts = np.concatenate([[0], np.flatnonzero(body == 10) + 1])
-    n_per_line = np.add.reduceat(body == 44, starts, dtype=np.int64) + 1
+    n_per_line = count_per_line(body, 44, starts) + 1
     bad = np.flatnonzero(n_per_line != n_fields)
     if bad.size:
         i, c = int(bad[0]), int(n_per_line[bad[0]])

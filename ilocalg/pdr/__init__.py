@@ -58,6 +58,7 @@ from ilocalg.pdr.sam import (
     detect_steps_sam,
     learn_feature_ranges,
     sam_waves,
+    seconds_to_samples,
     vertical_horizontal_mps2,
 )
 from ilocalg.pdr.sign_change import STEP_COLUMNS, detect_steps_sign_change, slope_sign_extrema
@@ -146,6 +147,7 @@ __all__ = [
     "sam_waves",
     "savitzky_golay",
     "savitzky_golay_coeffs",
+    "seconds_to_samples",
     "slm_design",
     "slm_length_m",
     "slope_sign_extrema",

@@ -97,14 +97,25 @@ def wdm_yaw_rad(g_mps2, m_ut):
     return axis_yaw_rad(wdm_rotation(g_mps2, m_ut), (1.0, 0.0, 0.0))
 
 
-def heading_theta_rad(g_mps2, m_ut, forward_axis=(0.0, 1.0, 0.0), declination_rad: float = 0.0):
+def heading_theta_rad(g_mps2, m_ut, forward_axis=(0.0, 1.0, 0.0), declination_rad: float = 0.0,
+                      hard_iron_ut=None):
     """Walking heading in the map convention (from east, counter-clockwise), rad.
 
     The yaw of ``forward_axis`` (default the phone's y axis, up the screen: a phone held in front
     while walking) from :func:`wdm_rotation`, plus the magnetic declination, converted with
     :func:`ilocalg.units.yaw_to_theta`. The thesis's eq. (19) is the yaw of the x axis; the two
-    differ by the fixed handheld angle between the axes.
+    differ by the fixed handheld angle between the axes. The thesis applies neither a declination
+    nor a hard-iron correction (eq. 18-19: magnetic north, raw field).
+
+    Parameters
+    ----------
+    declination_rad : float
+        Magnetic declination of the site (east positive), added to the magnetic yaw.
+    hard_iron_ut : array_like (3,), optional
+        A known hard-iron offset in the sensor frame, microtesla, subtracted from ``m_ut``.
     """
+    if hard_iron_ut is not None:
+        m_ut = _vec3("m_ut", m_ut) - _vec3("hard_iron_ut", hard_iron_ut)
     psi = axis_yaw_rad(wdm_rotation(g_mps2, m_ut), forward_axis) + declination_rad
     return yaw_to_theta(psi)
 

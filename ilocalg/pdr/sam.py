@@ -25,6 +25,7 @@ __all__ = [
     "SAM_TESTED_FEATURES",
     "SAM_RANGES_PAPER",
     "vertical_horizontal_mps2",
+    "seconds_to_samples",
     "sam_waves",
     "learn_feature_ranges",
     "in_ranges",
@@ -88,10 +89,41 @@ def vertical_horizontal_mps2(acc_mps2, g0_mps2=None):
     return a_perp, np.sqrt(np.einsum("ij,ij->i", horiz, horiz))
 
 
+def seconds_to_samples(duration_s: float, rate_hz: float, mode: str = "round") -> int:
+    """A window length in seconds as a number of samples, the same for rates a clock jitter apart.
+
+    ``duration_s * rate_hz`` is first snapped to a multiple of 1e-3 samples (a log's measured rate
+    is off its nominal value by parts per million: 49.99999 Hz and 50.000001 Hz are both 50 Hz),
+    then rounded half up (``mode="round"``) or down (``mode="floor"``).
+
+    Parameters
+    ----------
+    duration_s : float
+        Window length, s (>= 0).
+    rate_hz : float
+        Sample rate, Hz (> 0).
+    mode : {"round", "floor"}
+
+    Returns
+    -------
+    int
+    """
+    if not (np.isfinite(duration_s) and duration_s >= 0):
+        raise ValueError(f"duration_s must be a finite number >= 0, got {duration_s}")
+    if not (np.isfinite(rate_hz) and rate_hz > 0):
+        raise ValueError(f"rate_hz must be a finite number > 0, got {rate_hz}")
+    x = np.round(float(duration_s) * float(rate_hz) * 1e3) / 1e3
+    if mode == "round":
+        return int(np.floor(x + 0.5))
+    if mode == "floor":
+        return int(np.floor(x))
+    raise ValueError(f"mode must be 'round' or 'floor', got {mode!r}")
+
+
 def _window_sizes(rate_hz: float, w_peak_s: float, w_wave_s: float, valley_s: float):
-    half_peak = max(int(round(0.5 * w_peak_s * rate_hz)), 1)
-    half_wave = max(int(round(valley_s * rate_hz)), 1)
-    n_dft = int(np.floor(0.5 * w_wave_s * rate_hz)) - 1
+    half_peak = max(seconds_to_samples(0.5 * w_peak_s, rate_hz), 1)
+    half_wave = max(seconds_to_samples(valley_s, rate_hz), 1)
+    n_dft = seconds_to_samples(0.5 * w_wave_s, rate_hz, "floor") - 1  # N = floor(W_wave f / 2) - 1
     if n_dft < 1:
         raise ValueError(f"sample rate {rate_hz:.3g} Hz is too low for W_wave = {w_wave_s} s (N = {n_dft} < 1)")
     return half_peak, half_wave, n_dft
@@ -112,11 +144,12 @@ def sam_waves(acc_mps2, t_s, g0_mps2=None, w_peak_s: float = 0.25, w_wave_s: flo
     w_peak_s, w_wave_s : float
         W_peak (0.25 s) and W_wave (0.5 s) of the thesis.
     valley_s : float, optional
-        How far either side of the peak the valleys are searched, s. Default ``w_wave_s``: read
-        literally, sec. 4.1 searches ``W_wave / 2`` either side, which bounds T by W_wave = 0.5 s,
-        yet Table 1 reports T up to 0.62 s and T2 up to 0.40 s, so the thesis's valleys must lie
-        further out; searching ``W_wave`` either side reproduces such waves. Pass
-        ``w_wave_s / 2`` for the literal reading.
+        How far either side of the peak the valleys are searched, s. Default ``w_wave_s`` (0.5 s).
+        Read literally, the thesis (L357) searches ``W_wave / 2 = 0.25 s`` either side, which
+        bounds T1 and T2 by 0.25 s and T by 0.5 s, yet Table 1 (L424-425) reports T1 up to 0.35 s,
+        T2 up to 0.40 s and T up to 0.62 s: such waves need valleys further out, so the default
+        searches ``W_wave`` either side. Pass ``w_wave_s / 2`` for the literal reading. Windows
+        are converted to samples with :func:`seconds_to_samples`.
 
     Returns
     -------

@@ -2,32 +2,40 @@
 
 Deterministic from a seed: the same ``rng`` seed gives identical arrays.
 
-Model
+Model (each value from a published gait measurement; data/gait/README.md gives the table)
 -----
 Walkers
-    Builds drawn per walker: height ``U(1.55, 1.90)`` m; leg length ``0.53 height`` and natural step
-    length ``0.415 height`` (anthropometric rules of thumb); natural cadence ``N(2.05, 0.15)``
-    steps/s (the i-Loc thesis sec. 4.1 assumes about two steps per second); a handheld gain
-    ``lognormal(0, 0.25)`` (how much of the body's bounce reaches the hand) and a waveform shape
-    (second-harmonic weight ``U(0.2, 0.5)`` and phase ``U(-1, 1)`` rad) that sets the
-    asymmetry T1 / T2 of the wave.
-Steps
-    Step length: the walker's natural length (``length_sd_rel = 0.06`` relative spread) or an
-    imposed length (``N(target, 0.02 m)``, the thesis's fixed-length walks of 40-80 cm).
-    Cadence ``f = f_walker (L / L_walker)^0.3 (1 + 0.04 N(0,1))``: longer steps are taken faster.
-Vertical acceleration (up)
-    Within step k (phase ``phi`` from heel strike 0 to the next heel strike 1)
-    ``a_up = B_k [cos(2 pi phi) + h2 cos(4 pi phi + psi2)]`` with
-    ``B_k = b0 gain (L_k / 0.6 m)^0.7 (f_k / 2 Hz) lognormal(0, 0.3)``, ``b0 = 2.3 m/s^2``.
-    b0, the exponents and the spreads are calibrated so that the SAM features of the raw signal
-    (A, A1, A2, T, T1, T2 at the chosen rate) spread over the ranges of the thesis's Table 1 for
-    40-80 cm steps; they are not tuned to any outcome (step counts, lengths, positions).
+    Height ``U(1.55, 1.90)`` m (adults of different builds, thesis L399); leg length (greater
+    trochanter height) ``0.530 height`` (Winter 2009, anthropometric segment lengths); preferred
+    walking speed ``N(1.39, 0.15)`` m/s clipped to [1.0, 1.8] (comfortable gait speed of adults aged
+    20-49, Bohannon 1997).
+Step length and cadence vs height and speed: dynamic similarity (Alexander 1976, 1984)
+    Relative stride length ``lambda / l = 2.3 (v^2 / (g l))^0.3`` with ``l`` the leg length and the
+    stride two steps: a walker's natural step is ``L = lambda / 2`` at the preferred speed ``v`` and
+    the cadence ``f = v / L``. A walk with an imposed step length (the thesis's 40-80 cm walks,
+    L399) takes the speed the same relation gives for that length, ``f = v(L) / L``.
+Step-to-step variability
+    Step length ``N(L, cv_length L)``, ``cv_length = 0.03``, and step time ``N(1/f, cv_time / f)``,
+    ``cv_time = 0.025`` (healthy young adults: stride-time CV 1.5-2.5 %, stride-length CV 2-3 %;
+    Hausdorff 2005; Beauchet et al. 2009); on imposed lengths ``N(target, 0.02 m)`` (stepping on
+    floor marks: an assumption).
+Vertical acceleration vs speed: inverted pendulum (Zijlstra & Hof 2003)
+    The centre of mass rises and falls by ``h = l - sqrt(l^2 - (L / (2 K))^2)`` per step, with
+    Zijlstra & Hof's correction ``K = 1.25`` (the pendulum estimate of step length is ``L / K``);
+    over a step of frequency ``f`` the vertical acceleration is
+    ``a_up = B [cos(2 pi phi) + h2 cos(4 pi phi + psi2)]`` with ``B = (2 pi f)^2 h / 2`` (a
+    sinusoidal excursion of peak-to-peak ``h``), so the amplitude grows with step length and
+    cadence, i.e. with speed. The phone held in front follows the trunk's vertical motion (gain 1,
+    an assumption). The second harmonic (``h2 ~ U(0.2, 0.5)``, ``psi2 ~ U(-1, 1)`` rad per walker)
+    gives the wave its asymmetry (T1 != T2): a waveform assumption, not a measured value.
 Horizontal acceleration
     Fore-aft ``0.55 B_k sin(2 pi phi + 0.4)`` and lateral sway at the stride frequency
     ``0.5 sin(pi (k + phi))`` m/s^2, rotated by the walking direction.
 Phone attitude
-    Held in front, screen up, y axis forward, pitched up by ``N(25, 5)`` deg per walker; smooth
-    attitude jitter (roll, pitch, yaw; white noise low-passed to about 1 Hz) with standard
+    Held in front, screen up, y axis pointing ``misalign`` from the walking direction, with a
+    per-walker ``misalign ~ N(0, misalign_sd_deg = 5)`` deg (how straight a user holds the phone:
+    an assumption; switched off in the WDM sensitivity of notebook 05), pitched up by ``N(25, 5)``
+    deg per walker; smooth attitude jitter (roll, pitch, yaw; white noise low-passed to about 1 Hz) with standard
     deviations 3.5, 3.5, 4 deg: the tilt leaks gravity into the horizontal axes, which is what the
     feature I (0.6-1.8 m/s^2 in Table 1) mostly measures for a handheld phone.
 Accelerometer
@@ -37,7 +45,11 @@ Gyroscope
     Body rate from successive attitudes + constant bias ``N(0, 0.01)`` rad/s per axis + white noise
     0.005 rad/s.
 Magnetometer
-    Earth field (east, north, up) = (0, 33, -35) microtesla (mid-latitude, declination taken as 0)
+    Earth field at the thesis's site (NCTU, Hsinchu, 24.79 N 121.00 E, 2013; World Magnetic Model
+    2010, Maus et al. 2010): horizontal 36 microtesla, vertical 27 microtesla down, declination
+    ``declination_deg = -4.5`` deg (magnetic north west of true north; map y = true north)
+    + a per-walker hard-iron residual ``N(0, hard_iron_sd_ut = 2)`` microtesla per axis in the phone
+    frame (what remains after a phone's automatic calibration; an assumption, switched off in notebook 05)
     + indoor disturbances: ``n_disturbances`` Gaussian blobs per 100 m^2 of floor, each a random
     vector of ``N(0, 12)`` microtesla per axis with width ``U(1, 3)`` m (steel and electrical
     installations; the thesis notes the field "may deviate slightly" indoors)
@@ -45,8 +57,7 @@ Magnetometer
 Sample rate
     ``rate_hz = 50`` by default (Android's SENSOR_DELAY_GAME). The thesis does not report its
     phone's rate; X1 (eq. 15) is a sum over ``2N + 1 = 2 floor(0.25 f) - 1`` samples, so its range
-    scales with the rate: at 50 Hz the upper end of the X1 range of 40-80 cm steps is near Table 1's
-    (its lower end is not: see data/gait/README.md). Other rates are a parameter.
+    scales with the rate: 50 Hz is an assumption, swept in notebook 03. Other rates are a parameter.
 
 Ground truth
     Per step: heel-strike time ``t_strike_s``, the time of the vertical-acceleration trough
@@ -57,10 +68,16 @@ Ground truth
 References
 ----------
 Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
-Sec. 4.1-4.4, Table 1 (feature ranges of the raw signals), Figs 7-18.
-Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
-Tunghai University.
-Sec. 3.4.1 (the bounce of the centre of mass during a step).
+Sec. 4.1-4.4. Alexander R. McN., "Estimates of speeds of
+dinosaurs", Nature 261, 1976, and "The gaits of bipedal and quadrupedal animals", Int. J. Robotics
+Research 3(2), 1984. Zijlstra W., Hof A. L., "Assessment of spatio-temporal gait parameters from
+trunk accelerations during human walking", Gait & Posture 18(2), 2003. Bohannon R. W., "Comfortable
+and maximum walking speed of adults aged 20-79 years", Age and Ageing 26, 1997. Winter D. A.,
+Biomechanics and Motor Control of Human Movement, 4th ed., 2009. Hausdorff J. M., "Gait
+variability: methods, modeling and meaning", J. NeuroEng. Rehabil. 2:19, 2005. Beauchet O. et al.,
+"Gait variability among healthy adults: low and high stride-to-stride variability are both a
+reflection of gait stability", Gerontology 55, 2009. Maus S. et al., "The US/UK World Magnetic
+Model for 2010-2015", NOAA technical report, 2010.
 """
 
 from __future__ import annotations
@@ -82,6 +99,8 @@ __all__ = [
     "loop_route",
     "straight_route",
     "magnetic_disturbances",
+    "alexander_step",
+    "pendulum_amplitude_mps2",
     "LENGTHS_M",
     "training_walks",
     "count_walks",
@@ -109,6 +128,9 @@ class Walker:
     h2: float
     psi2_rad: float
     pitch_rad: float
+    speed_mps: float = 1.39
+    misalign_rad: float = 0.0
+    hard_iron_ut: tuple = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -116,11 +138,11 @@ class GaitConfig:
     """Sensor and motion parameters of the simulator (module docstring gives their sources)."""
 
     rate_hz: float = 50.0
-    b0_mps2: float = 2.3
-    amp_sd_log: float = 0.3
-    length_sd_rel: float = 0.06
+    length_sd_rel: float = 0.03
     fixed_length_sd_m: float = 0.02
-    cadence_sd_rel: float = 0.04
+    step_time_sd_rel: float = 0.025
+    pendulum_k: float = 1.25
+    hand_gain: float = 1.0
     fore_aft_rel: float = 0.55
     sway_mps2: float = 0.5
     jitter_deg: tuple = (3.5, 3.5, 4.0)
@@ -128,12 +150,64 @@ class GaitConfig:
     acc_noise_mps2: float = 0.06
     gyr_bias_sd_radps: float = 0.01
     gyr_noise_radps: float = 0.005
-    mag_earth_ut: tuple = (0.0, 33.0, -35.0)
+    mag_horizontal_ut: float = 36.0
+    mag_down_ut: float = 27.0
+    declination_deg: float = -4.5
     mag_noise_ut: float = 0.4
     n_disturbances_per_100m2: float = 1.5
     disturbance_sd_ut: float = 12.0
     disturbance_width_m: tuple = (1.0, 3.0)
     stand_s: float = 1.0
+
+    @property
+    def mag_earth_ut(self) -> tuple:
+        """Earth field (east, north, up) in the map frame (y = true north), microtesla."""
+        d = np.deg2rad(self.declination_deg)
+        return (self.mag_horizontal_ut * np.sin(d), self.mag_horizontal_ut * np.cos(d), -self.mag_down_ut)
+
+
+#: Walker population (published gait measurements; see the module docstring).
+HEIGHT_RANGE_M = (1.55, 1.90)
+LEG_PER_HEIGHT = 0.530  # Winter 2009: greater trochanter height / body height
+SPEED_MPS = (1.39, 0.15, 1.0, 1.8)  # Bohannon 1997: mean, sd, clip low, clip high
+ALEXANDER_C, ALEXANDER_EXP = 2.3, 0.3  # Alexander 1976, 1984: lambda / l = 2.3 Fr^0.3
+MISALIGN_SD_DEG = 5.0  # assumption (switched off in the WDM sensitivity table)
+HARD_IRON_SD_UT = 2.0  # assumption (switched off in the WDM sensitivity table)
+
+
+def alexander_step(leg_m, speed_mps=None, step_length_m=None):
+    """Step length and cadence from dynamic similarity (Alexander 1976, 1984).
+
+    ``stride / leg = 2.3 (v^2 / (g leg))^0.3``, step = stride / 2, cadence = v / step. Give the speed
+    (natural walking) or the step length (imposed length; the speed follows from the relation).
+
+    Returns
+    -------
+    step_length_m, cadence_hz, speed_mps : ndarray
+    """
+    leg = np.asarray(leg_m, dtype=np.float64)
+    if (speed_mps is None) == (step_length_m is None):
+        raise ValueError("give exactly one of speed_mps and step_length_m")
+    if speed_mps is not None:
+        v = np.asarray(speed_mps, dtype=np.float64)
+        fr = v**2 / (G0_MPS2 * leg)
+        L = 0.5 * ALEXANDER_C * fr**ALEXANDER_EXP * leg
+    else:
+        L = np.asarray(step_length_m, dtype=np.float64)
+        fr = (2.0 * L / (ALEXANDER_C * leg)) ** (1.0 / ALEXANDER_EXP)
+        v = np.sqrt(fr * G0_MPS2 * leg)
+    return L, v / L, v
+
+
+def pendulum_amplitude_mps2(step_length_m, cadence_hz, leg_m, k: float = 1.25):
+    """Vertical-acceleration amplitude of the centre of mass (Zijlstra & Hof 2003 inverted pendulum).
+
+    ``h = l - sqrt(l^2 - (L / (2 k))^2)`` (rise and fall per step), ``B = (2 pi f)^2 h / 2``, m/s^2.
+    """
+    L = np.asarray(step_length_m, dtype=np.float64) / k
+    leg = np.asarray(leg_m, dtype=np.float64)
+    h = leg - np.sqrt(np.maximum(leg**2 - 0.25 * L**2, 0.0))
+    return (2.0 * np.pi * np.asarray(cadence_hz, dtype=np.float64)) ** 2 * 0.5 * h
 
 
 @dataclass(frozen=True)
@@ -147,19 +221,33 @@ class SimWalk:
     config: GaitConfig = field(repr=False)
 
 
-def make_walkers(n: int, rng=None) -> list[Walker]:
-    """``n`` walkers of different builds (module docstring: distributions and sources)."""
+def make_walkers(n: int, rng=None, misalign_sd_deg: float = MISALIGN_SD_DEG,
+                 hard_iron_sd_ut: float = HARD_IRON_SD_UT) -> list[Walker]:
+    """``n`` walkers of different builds (module docstring: distributions and sources).
+
+    ``misalign_sd_deg`` (phone y axis vs walking direction) and ``hard_iron_sd_ut`` (magnetometer
+    hard-iron residual per axis) are per-walker spreads; 0 turns them off.
+    """
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
+    if not (misalign_sd_deg >= 0 and hard_iron_sd_ut >= 0):
+        raise ValueError("misalign_sd_deg and hard_iron_sd_ut must be >= 0")
     r = as_rng(rng)
     out = []
+    mu, sd, lo, hi = SPEED_MPS
     for i in range(n):
-        h = r.uniform(1.55, 1.90)
+        h = r.uniform(*HEIGHT_RANGE_M)
+        leg = LEG_PER_HEIGHT * h
+        v = float(np.clip(r.normal(mu, sd), lo, hi))
+        L, f, _ = alexander_step(leg, speed_mps=v)
+        h2, psi2 = r.uniform(0.2, 0.5), r.uniform(-1.0, 1.0)
+        pitch = np.deg2rad(r.normal(25.0, 5.0))
+        mis = np.deg2rad(r.normal(0.0, misalign_sd_deg))
+        hi_ut = tuple(float(x) for x in r.normal(0.0, hard_iron_sd_ut, 3))
         out.append(Walker(
-            name=f"walker{i}", height_m=float(h), leg_m=float(0.53 * h), step_length_m=float(0.415 * h),
-            cadence_hz=float(r.normal(2.05, 0.15)), gain=float(np.exp(r.normal(0.0, 0.25))),
-            h2=float(r.uniform(0.2, 0.5)), psi2_rad=float(r.uniform(-1.0, 1.0)),
-            pitch_rad=float(np.deg2rad(r.normal(25.0, 5.0))),
+            name=f"walker{i}", height_m=float(h), leg_m=float(leg), step_length_m=float(L),
+            cadence_hz=float(f), gain=1.0, h2=float(h2), psi2_rad=float(psi2), pitch_rad=float(pitch),
+            speed_mps=v, misalign_rad=float(mis), hard_iron_ut=hi_ut,
         ))
     return out
 
@@ -293,8 +381,10 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     cap = n_steps if n_steps is not None else int(np.ceil(total / 0.2)) + 2
     if step_length_m is None:
         L = walker.step_length_m * (1.0 + cfg.length_sd_rel * r.normal(size=cap))
+        f_mean = walker.cadence_hz
     else:
         L = step_length_m + cfg.fixed_length_sd_m * r.normal(size=cap)
+        f_mean = float(alexander_step(walker.leg_m, step_length_m=step_length_m)[1])
     L = np.maximum(L, 0.15)
     cs = np.cumsum(L)
     if n_steps is None:
@@ -306,9 +396,9 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
         if over.any():
             raise ValueError(f"{n_steps} steps of about {np.mean(L):.2f} m exceed the route ({total:.1f} m)")
     n = L.size
-    f = walker.cadence_hz * (L / walker.step_length_m) ** 0.3 * (1.0 + cfg.cadence_sd_rel * r.normal(size=n))
-    dur = 1.0 / f
-    B = cfg.b0_mps2 * walker.gain * (L / 0.6) ** 0.7 * (f / 2.0) * np.exp(cfg.amp_sd_log * r.normal(size=n))
+    dur = (1.0 + cfg.step_time_sd_rel * r.normal(size=n)) / f_mean
+    f = 1.0 / dur
+    B = cfg.hand_gain * walker.gain * pendulum_amplitude_mps2(L, f, walker.leg_m, cfg.pendulum_k)
 
     # --- time base
     rate = float(cfg.rate_hz)
@@ -345,7 +435,7 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     m = t.size
     roll = _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jr)
     pitch = walker.pitch_rad + _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jp)
-    yaw = theta_body - np.pi / 2 + _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jy)
+    yaw = theta_body - np.pi / 2 + walker.misalign_rad + _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jy)
     R = _rot_z(yaw) @ _rot_x(pitch) @ _rot_y(roll)
 
     f_n = a_n + np.array([0.0, 0.0, G0_MPS2])
@@ -355,7 +445,8 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     w = np.vstack([w, w[-1:]]) * rate
     gyr = w + r.normal(0.0, cfg.gyr_bias_sd_radps, 3)[None, :] + r.normal(0.0, cfg.gyr_noise_radps, (m, 3))
     mag_n = _mag_field_ut(xy, cfg, disturbances)
-    mag = np.einsum("nji,nj->ni", R, mag_n) + r.normal(0.0, cfg.mag_noise_ut, (m, 3))
+    mag = (np.einsum("nji,nj->ni", R, mag_n) + np.asarray(walker.hard_iron_ut)[None, :]
+           + r.normal(0.0, cfg.mag_noise_ut, (m, 3)))
 
     imu = pd.DataFrame(np.column_stack([acc, gyr, mag]), columns=list(ACC_COLS + GYR_COLS + MAG_COLS),
                        index=pd.Index(t, name=T_S))

@@ -1,58 +1,83 @@
 """The i-Loc floor: a simulated Wi-Fi radio map of NCTU Engineering Building 3, 2nd floor.
 
-The thesis' measured radio map is not published, so the toolkit simulates one with the geometry
-and survey protocol the thesis states, and a standard indoor propagation model whose parameters
-come from the propagation literature (never from the positioning results to be reproduced).
+The thesis's measured radio map is not published, so the toolkit simulates one with the geometry
+and survey protocol the thesis states, and an indoor propagation model whose parameters come from
+published propagation measurements (never from the positioning results to be reproduced). The test
+session is not the survey: it happens on another day (per-AP drift), with the walker facing the
+walking direction (body shadowing), possibly with another phone (device offset).
 
-Geometry and survey (i-Loc thesis, sec. 3.1, Fig 2)
-    Thesis: floor 75.46 m x 50.26 m (3,292.62 m^2); thesis: 63 training points 2 m apart along the
-    corridors; thesis: a test route of 28 points that are also training points; thesis: 300 scans
-    per training point taken at different times; 4-18 APs heard per scan; points near windows and
-    corners drift more (thesis Fig 2).
-    The floor plan itself is not given in text; the model uses corridors 2.4 m wide with offices
-    (8 m bays) on both sides: a 70 m corridor along the long axis (36 points), a branch crossing it
-    at x = 39 m (12 points north, 11 south) and a short corridor at the branch's south end (4
-    points). The thesis' test route is N_TEST_POINTS consecutive points: the long corridor from x = 15 m to the
-    junction, south along the branch, west along the short corridor.
+Geometry and survey (i-Loc thesis, Chiu 2013, L295, L515)
+    Floor 75.46 m x 50.26 m; 63 training points 2 m apart; 300 scans per point taken at different
+    times; 4-18 APs heard per scan; a test route of 28 points that are also training points, marked
+    on the floor 4.11 m apart (L515); points near windows and corners drift more (Fig 2).
+    The floor plan (Fig 2) is missing from the text. Assumed layout: a ring corridor 2.4 m wide
+    around a block of offices (centre line 36 m x 20 m, 56 training points) with a 7-point corridor
+    leading south to the stairs, offices (8 m bays) inside and outside the ring. The route is every
+    second ring point, counter-clockwise from the south-west corner: 28 points 4 m apart (2 m grid
+    of L295; the text's 4.11 m is not a multiple of it), 108 m long (thesis: 27 x 4.11 = 111 m).
 Access points
-    ``n_aps_floor = 20`` APs in the offices (this floor) plus ``n_aps_other = 12`` APs on the
-    floors above and below (one floor slab of extra loss), at seeded random positions.
-Propagation: log-distance path loss with a wall-attenuation factor (multi-wall model)
-    ``rssi = P0 - 10 n log10(max(d, 1 m)) - WAF * walls - FAF * floors + shadow + drift + fade``
-    ``P0 = -40 dBm`` at 1 m, ``n = 3.0``, WAF 3 dB per crossed wall, FAF 13 dB per floor
-    (Seidel & Rappaport 1992, multi-floor office buildings: n 2.8-3.3 on one floor, WAF ~3 dB,
-    FAF ~13 dB for one floor); 2.4 GHz Wi-Fi AP EIRP ~ 15-20 dBm gives P0 ~ -40 dBm at 1 m.
-Shadowing (spatially correlated, static in time)
-    Gaussian, ``SHADOW_SD_DB = 5`` dB (indoor shadowing 3-8 dB, Rappaport, Wireless
-    Communications, table 4.6), exponential correlation with distance ``SHADOW_CORR_M = 5`` m
-    (Gudmundson 1991 model; indoor decorrelation distances of a few metres).
-Temporal variation at a point (what the thesis calls drift, Fig 2)
-    Per scan: a per-AP session offset (slowly varying conditions: people, doors) with sd
-    ``DRIFT_SD_DB = 2`` dB, shared by the ``SCANS_PER_SESSION`` scans of one survey session, plus
-    independent fast fading with sd ``FADE_SD_DB = 3`` dB at a corridor point and
-    ``FADE_SD_EDGE_DB = 5`` dB at points within ``EDGE_M`` = 6 m of an outer wall (windows) or of a
-    corridor corner/junction (Fig 2: those points drift most). Static-phone RSSI spreads of
-    2-6 dB sd are typical (Kaemarungsi & Krishnamurthy 2004; Youssef & Agrawala 2005, Horus).
+    ``n_aps_floor`` APs in the offices of this floor and ``n_aps_other`` on the floors above and
+    below (3.5 m storey), at seeded random positions off the corridors; the two counts and the
+    detection inputs are calibrated to the thesis's 4-18 APs per scan (L295).
+Mean field: COST 231 multi-wall model
+    ``P0 - 10 n log10(max(d, 1 m)) - L_light k_light - L_heavy k_heavy - L_floor k_floor + shadow``
+    with ``n = 2`` (free-space distance dependence: the walls are counted explicitly),
+    ``L_light = 3.4 dB`` (plasterboard, light partitions), ``L_heavy = 6.9 dB`` (load-bearing
+    concrete / brick: outer and corridor walls, an assumption on which walls are heavy) and
+    ``L_floor = 18.3 dB`` (one floor), the COST 231 multi-wall fit at 1.8 GHz (COST 231 final
+    report, Damosso 1999, sec. 4.7; Lott & Forkel 2001). Residual shadowing: Gaussian, 5 dB,
+    exponential correlation 5 m (Rappaport 2002, table 4.6 range 3-8 dB; Gudmundson 1991), drawn
+    as a random-Fourier-feature field so it can be evaluated anywhere on the floor.
+Temporal variation
+    A session is one visit (a day / time of day). Per session and AP: a floor-wide drift
+    ``N(0, drift_sd_db = 3 dB)`` (day-to-day change of an AP's mean RSSI, 3-5 dB reported by
+    Kaemarungsi & Krishnamurthy 2004 and Chapre et al. 2013; the lower end is the default);
+    per session, point and AP a local change ``N(0, local_sd_db = 2 dB)`` (people, doors); per
+    scan a fast fade ``N(0, fade_sd_db = 3 dB)`` at corridor points and 5 dB within ``edge_m`` of a
+    window or a corner (Fig 2; static-phone spreads of 2-6 dB, Kaemarungsi & Krishnamurthy 2004).
+    The drift is constant within a session and changes between sessions.
+Body shadowing (Bahl & Padmanabhan 2000)
+    The surveyor's / walker's body attenuates an AP behind it: ``body_loss_db (1 - cos a) / 2``,
+    ``a`` the angle between the facing direction and the direction to the AP, ``body_loss_db =
+    5 dB`` (RADAR's measurement of the user's orientation effect). Survey sessions face one of the
+    four corridor directions at random (RADAR's survey protocol; the thesis is silent); test scans
+    face the walking direction.
+Device
+    The test phone reads ``device_offset_db`` (default 0 dB: the thesis names one Android phone,
+    L515; swept in notebook 15) above the survey phone.
 Detection
-    A reading is reported when at or above ``detect_dbm = -95`` dBm (smartphone scan sensitivity
-    ~ -90 to -100 dBm); a detectable AP is still missed in a scan with probability ``MISS_P = 0.1`` (scans are
-    not exhaustive). These two and the AP counts are the inputs calibrated to the thesis' "4-18
-    APs per scan"; :func:`summary` reports what a seed gives.
+    A reading is reported at or above ``detect_dbm``; a detectable AP is still missed with
+    probability ``miss_p``. RSSI is rounded to integer dBm.
+Scans while walking (thesis ch. 5)
+    :func:`walking_scans`: one scan per fix; each AP is read at a uniform time within the scan
+    (``scan_latency_s``, the channel sweep) at the walker's position then, facing the walking
+    direction; the fix is tagged with the position and time at the scan's start and becomes
+    available at its end.
 
 Everything is deterministic from ``seed`` (same seed -> identical arrays).
 
 References
 ----------
 Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU.
-Sec. 3.1 (environment, Fig 2). Seidel S. Y., Rappaport T. S.,
-"914 MHz path loss prediction models for indoor wireless communications in multifloored
-buildings", IEEE Trans. Antennas Propag. 40(2), 1992. Gudmundson M., "Correlation model for
-shadow fading in mobile radio systems", Electronics Letters 27(23), 1991.
+Sec. 3.1 (environment, L295), 4.4 (test route, L515).
+Damosso, E. (ed.) (1999). COST Action 231 final report: Digital mobile radio towards future
+generation systems. Sec. 4.7 (multi-wall model).
+Lott, M., Forkel, I. (2001). A multi-wall-and-floor model for indoor radio propagation. IEEE VTC Spring.
+Bahl, P., Padmanabhan, V. N. (2000). RADAR: an in-building RF-based user location and tracking
+system. IEEE INFOCOM.
+Kaemarungsi, K., Krishnamurthy, P. (2004). Properties of indoor received signal strength for WLAN
+location fingerprinting. MobiQuitous.
+Chapre, Y., Mohapatra, P., Jha, S., Seneviratne, A. (2013). Received signal strength indicator and
+its analysis in a typical WLAN system. IEEE LCN.
+Rappaport, T. S. (2002). Wireless Communications, 2nd ed., table 4.6.
+Gudmundson, M. (1991). Correlation model for shadow fading in mobile radio systems. Electronics
+Letters 27(23).
+Rahimi, A., Recht, B. (2007). Random features for large-scale kernel machines. NIPS.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
@@ -70,68 +95,116 @@ __all__ = [
     "N_TRAIN_POINTS",
     "N_TEST_POINTS",
     "SCANS_PER_POINT",
+    "SPACING_M",
+    "ROUTE_SPACING_M",
     "PARAMS",
+    "PARAM_SOURCES",
     "IlocFloor",
     "training_points",
     "test_route_index",
+    "route_xy_m",
     "walls",
+    "wall_materials",
+    "mean_rssi_dbm",
     "simulate",
+    "walking_scans",
+    "session_drift_db",
+    "walking_fixes",
     "summary",
 ]
 
 # Settings from the paper
 # -----------------------
-# Chiu (2013) sec. 3.1 (inputs): FLOOR_W_M and FLOOR_H_M (floor length and width),
-# N_TRAIN_POINTS (63 training points 2 m apart), N_TEST_POINTS (a test route of 28 points) and
-# SCANS_PER_POINT (300 scans per training point).
+# Chiu (2013) L295 (inputs): FLOOR_W_M and FLOOR_H_M (floor length and width), N_TRAIN_POINTS
+# (63 training points), SPACING_M (2 m apart), SCANS_PER_POINT (300 scans per training point),
+# N_TEST_POINTS (a test route of 28 points that are also training points; L515: 4.11 m apart).
+# ROUTE_SPACING_M: every second training point. RING_X_M, RING_Y_M, SPUR_X_M: the assumed layout
+# (Fig 2 is missing from the text).
 FLOOR_W_M = 75.46
 FLOOR_H_M = 50.26
 N_TRAIN_POINTS = 63
 N_TEST_POINTS = 28
 SCANS_PER_POINT = 300
 SPACING_M = 2.0
-CORRIDOR_Y_M = 25.0
-BRANCH_X_M = 38.0
+ROUTE_SPACING_M = 2 * SPACING_M
+RING_X_M = (20.0, 56.0)
+RING_Y_M = (15.0, 35.0)
+SPUR_X_M = 38.0
 CORRIDOR_HALF_WIDTH_M = 1.2
 BAY_M = 8.0
+STOREY_M = 3.5
 
-#: Radio-model parameters (see the module docstring for each source).
+#: Radio-model parameters (see the module docstring and :data:`PARAM_SOURCES`).
 PARAMS = {
-    "n_aps_floor": 20,
+    "n_aps_floor": 16,
     "n_aps_other": 12,
     "p0_dbm": -40.0,
-    "path_loss_exponent": 3.0,
-    "waf_db": 3.0,
-    "faf_db": 13.0,
+    "path_loss_exponent": 2.0,
+    "light_wall_db": 3.4,
+    "heavy_wall_db": 6.9,
+    "floor_db": 18.3,
     "shadow_sd_db": 5.0,
     "shadow_corr_m": 5.0,
-    "drift_sd_db": 2.0,
+    "drift_sd_db": 3.0,
+    "local_sd_db": 2.0,
     "scans_per_session": 30,
     "fade_sd_db": 3.0,
     "fade_sd_edge_db": 5.0,
     "edge_m": 6.0,
+    "body_loss_db": 5.0,
+    "device_offset_db": 0.0,
     "detect_dbm": -95.0,
     "miss_p": 0.1,
 }
 
+#: Where each default comes from (one line each; data/iloc_floor/README.md has the table).
+PARAM_SOURCES = {
+    "n_aps_floor": "calibrated to the thesis's 4-18 APs per scan (L295)",
+    "n_aps_other": "calibrated to the thesis's 4-18 APs per scan (L295)",
+    "p0_dbm": "RSSI at 1 m of a 2.4 GHz AP read by a phone, about -40 dBm (assumption; sets the AP counts with "
+              "detect_dbm)",
+    "path_loss_exponent": "COST 231 multi-wall model: free-space distance term, walls explicit (Damosso 1999)",
+    "light_wall_db": "COST 231 multi-wall model, light wall 3.4 dB (Damosso 1999; Lott & Forkel 2001)",
+    "heavy_wall_db": "COST 231 multi-wall model, heavy wall 6.9 dB (Damosso 1999; Lott & Forkel 2001)",
+    "floor_db": "COST 231 multi-wall model, one floor 18.3 dB (Damosso 1999)",
+    "shadow_sd_db": "indoor shadowing 3-8 dB (Rappaport 2002, table 4.6)",
+    "shadow_corr_m": "exponential correlation (Gudmundson 1991), indoor decorrelation of a few metres",
+    "drift_sd_db": "day-to-day change of an AP's mean RSSI 3-5 dB (Kaemarungsi & Krishnamurthy 2004; "
+                   "Chapre et al. 2013), lower end",
+    "local_sd_db": "slow local change (people, doors) within a survey visit (Kaemarungsi & Krishnamurthy 2004)",
+    "scans_per_session": "assumption (the thesis: 300 scans 'at different times', L295)",
+    "fade_sd_db": "static-phone RSSI spread 2-6 dB (Kaemarungsi & Krishnamurthy 2004)",
+    "fade_sd_edge_db": "thesis Fig 2 (windows, corners drift more); value within the same range",
+    "edge_m": "assumption (thesis Fig 2 is missing)",
+    "body_loss_db": "user's body, AP behind: about 5 dB (Bahl & Padmanabhan 2000, RADAR)",
+    "device_offset_db": "thesis names one Android phone (L515): same phone, 0 dB; swept in study_wifi",
+    "detect_dbm": "smartphone scan sensitivity -90 to -100 dBm; calibrated to 4-18 APs per scan (L295)",
+    "miss_p": "scans are not exhaustive (assumption)",
+}
+
+_N_RFF = 256  # random Fourier features per AP for the shadowing field
+
 
 @dataclass(frozen=True)
 class IlocFloor:
-    """A simulated i-Loc floor survey.
+    """A simulated i-Loc floor survey and test session.
 
     Attributes
     ----------
     train : FingerprintSet
-        ``n_train_points * scans_per_point`` scans; ``meta`` has ``point`` and ``session``.
+        ``n_train_points * scans_per_point`` survey scans; ``meta`` has ``point``, ``session``
+        and ``facing_rad`` (the surveyor's facing direction, from the x axis).
     test : FingerprintSet
-        ``scans_per_test_point`` new scans at each test-route point (later sessions).
+        ``scans_per_test_point`` scans standing at each test-route point in the test session,
+        facing the walking direction; ``meta`` as for ``train``.
     points_xy_m : ndarray (N_TRAIN_POINTS, 2)
-    test_points : ndarray (N_TEST_POINTS,) indices into ``points_xy_m``
+    test_points : ndarray (N_TEST_POINTS,) indices into ``points_xy_m``, in walking order
     ap_xy_m : ndarray (n_aps, 2); ap_floor : ndarray (n_aps,) (0 = this floor, +/-1)
-    mean_rssi_dbm : ndarray (N_TRAIN_POINTS, n_aps), the noise-free mean (path loss + shadowing)
+    mean_rssi_dbm : ndarray (N_TRAIN_POINTS, n_aps), the time-invariant mean (walls + shadowing)
     fade_sd_db : ndarray (N_TRAIN_POINTS,), the per-point fast-fading sd (drift level, Fig 2)
     detect_dbm : float, the detection threshold (the natural ``not_heard_dbm``)
     params : dict
+    test_drift_db : ndarray (n_aps,), the test session's floor-wide per-AP drift
     """
 
     train: FingerprintSet
@@ -144,51 +217,97 @@ class IlocFloor:
     fade_sd_db: np.ndarray
     detect_dbm: float
     params: dict
+    test_drift_db: np.ndarray = field(repr=False, default=None)
+    shadow_field: dict = field(repr=False, default=None)
+
+
+def _ring_points() -> np.ndarray:
+    (x0, x1), (y0, y1) = RING_X_M, RING_Y_M
+    s = SPACING_M
+    south = np.column_stack([np.arange(x0, x1, s), np.full(int((x1 - x0) / s), y0)])
+    east = np.column_stack([np.full(int((y1 - y0) / s), x1), np.arange(y0, y1, s)])
+    north = np.column_stack([np.arange(x1, x0, -s), np.full(int((x1 - x0) / s), y1)])
+    west = np.column_stack([np.full(int((y1 - y0) / s), x0), np.arange(y1, y0, -s)])
+    return np.vstack([south, east, north, west])
 
 
 def training_points() -> np.ndarray:
-    """The thesis' 63 training points (x_m, y_m), 2 m apart: 36 on the long corridor (y = 25 m), 12 on the
-    branch north of the junction, 11 south of it, and 4 along a short corridor at its south end."""
-    xs = 3.0 + SPACING_M * np.arange(36)  # 3 .. 73 m
-    long = np.column_stack([xs, np.full(xs.size, CORRIDOR_Y_M)])
-    bx = BRANCH_X_M + 1.0
-    north = np.column_stack([np.full(12, bx), CORRIDOR_Y_M + SPACING_M * np.arange(1, 13)])  # 27 .. 49
-    south = np.column_stack([np.full(11, bx), CORRIDOR_Y_M - SPACING_M * np.arange(1, 12)])  # 23 .. 3
-    stub = np.column_stack([bx - SPACING_M * np.arange(1, 5), np.full(4, south[-1, 1])])  # x 37 .. 31
-    return np.vstack([long, north, south, stub])
+    """The 63 training points (x_m, y_m), 2 m apart (thesis L295) on the assumed layout: 56 on the
+    ring corridor counter-clockwise from its south-west corner, then 7 on the corridor south to the
+    stairs."""
+    ring = _ring_points()
+    n_spur = N_TRAIN_POINTS - len(ring)
+    spur = np.column_stack([np.full(n_spur, SPUR_X_M), RING_Y_M[0] - SPACING_M * np.arange(1, n_spur + 1)])
+    return np.vstack([ring, spur])
 
 
 def test_route_index() -> np.ndarray:
-    """Indices of the thesis' 28 test-route points, a walk of consecutive points: the long corridor from
-    x = 15 m east to the junction (13 points), south along the branch (11), west along the stub (4)."""
-    pts = training_points()
-    on_long = (pts[:, 1] == CORRIDOR_Y_M) & (pts[:, 0] >= 15.0) & (pts[:, 0] <= BRANCH_X_M + 1.0)
-    south = np.flatnonzero((pts[:, 0] == BRANCH_X_M + 1.0) & (pts[:, 1] < CORRIDOR_Y_M))
-    stub = np.arange(len(pts) - 4, len(pts))
-    return np.concatenate([np.flatnonzero(on_long), south, stub])
+    """Indices of the 28 test-route points in walking order: every second ring point,
+    counter-clockwise from the south-west corner (4 m apart; thesis L515: 4.11 m)."""
+    return np.arange(0, 2 * N_TEST_POINTS, 2)
+
+
+def route_xy_m() -> np.ndarray:
+    """The test route's 28 points (x_m, y_m) in walking order, shape (28, 2); consecutive points are
+    ``ROUTE_SPACING_M`` apart along the corridor, corners included (a polyline for the gait simulator)."""
+    return training_points()[test_route_index()]
+
+
+def _route_heading_rad(idx: np.ndarray) -> np.ndarray:
+    """Walking direction at test-route points (towards the next route point; the last keeps the last leg)."""
+    r = route_xy_m()
+    d = np.diff(r, axis=0)
+    th = np.arctan2(d[:, 1], d[:, 0])
+    th = np.concatenate([th, th[-1:]])
+    pos = {int(j): k for k, j in enumerate(test_route_index())}
+    return np.array([th[pos[int(i)]] for i in idx])
 
 
 def walls() -> np.ndarray:
-    """Wall segments (n, 4) = (x0, y0, x1, y1) in metres: outer walls, corridor walls, office
-    partitions every ``BAY_M`` metres."""
+    """Wall segments (n, 4) = (x0, y0, x1, y1) in metres: outer walls, the ring corridor's walls, the
+    stair corridor's walls, office partitions every ``BAY_M`` metres. :func:`wall_materials` gives the
+    material of each."""
+    return _walls()[0]
+
+
+def wall_materials() -> np.ndarray:
+    """The material (``"heavy"`` or ``"light"``) of each segment of :func:`walls` (COST 231 classes):
+    outer and corridor walls heavy (load-bearing), office partitions light: an assumption."""
+    return _walls()[1]
+
+
+def _walls():
     W, H = FLOOR_W_M, FLOOR_H_M
-    seg = [(0, 0, W, 0), (W, 0, W, H), (W, H, 0, H), (0, H, 0, 0)]
-    cy, hw, bx = CORRIDOR_Y_M, CORRIDOR_HALF_WIDTH_M, BRANCH_X_M + 1.0
-    seg += [(0, cy - hw, bx - hw, cy - hw), (bx + hw, cy - hw, W, cy - hw),
-            (0, cy + hw, bx - hw, cy + hw), (bx + hw, cy + hw, W, cy + hw),
-            (bx - hw, 0, bx - hw, cy - hw), (bx + hw, 0, bx + hw, cy - hw),
-            (bx - hw, cy + hw, bx - hw, H), (bx + hw, cy + hw, bx + hw, H)]
-    for x in np.arange(BAY_M, W, BAY_M):
-        if abs(x - bx) > hw + 1.0:
-            seg += [(x, 0, x, cy - hw), (x, cy + hw, x, H)]
-    for y in np.arange(BAY_M, H, BAY_M):
-        if abs(y - cy) > hw + 1.0:
-            seg += [(0, y, bx - hw, y), (bx + hw, y, W, y)]
-    return np.asarray(seg, dtype=np.float64)
+    (x0, x1), (y0, y1) = RING_X_M, RING_Y_M
+    hw = CORRIDOR_HALF_WIDTH_M
+    heavy = [(0, 0, W, 0), (W, 0, W, H), (W, H, 0, H), (0, H, 0, 0)]
+    # ring corridor: inner rectangle, outer rectangle with a gap for the stair corridor
+    xi0, xi1, yi0, yi1 = x0 + hw, x1 - hw, y0 + hw, y1 - hw
+    xo0, xo1, yo0, yo1 = x0 - hw, x1 + hw, y0 - hw, y1 + hw
+    heavy += [(xi0, yi0, xi1, yi0), (xi1, yi0, xi1, yi1), (xi1, yi1, xi0, yi1), (xi0, yi1, xi0, yi0)]
+    heavy += [(xo0, yo0, SPUR_X_M - hw, yo0), (SPUR_X_M + hw, yo0, xo1, yo0), (xo1, yo0, xo1, yo1),
+              (xo1, yo1, xo0, yo1), (xo0, yo1, xo0, yo0)]
+    heavy += [(SPUR_X_M - hw, 0, SPUR_X_M - hw, yo0), (SPUR_X_M + hw, 0, SPUR_X_M + hw, yo0)]
+    light = []
+    # partitions inside the ring
+    for x in np.arange(xi0 + BAY_M, xi1 - 1.0, BAY_M):
+        light.append((x, yi0, x, yi1))
+    # partitions outside the ring: north and south bands (vertical), east and west bands (horizontal)
+    for x in np.arange(BAY_M, W - 1.0, BAY_M):
+        if abs(x - SPUR_X_M) > hw + 1.0:
+            light.append((x, 0, x, yo0))
+        light.append((x, yo1, x, H))
+    for y in np.arange(yo0 + BAY_M, yo1 - 1.0, BAY_M):
+        light += [(0, y, xo0, y), (xo1, y, W, y)]
+    seg = np.asarray(heavy + light, dtype=np.float64)
+    mat = np.array(["heavy"] * len(heavy) + ["light"] * len(light))
+    return seg, mat
 
 
 def _count_crossings(p: np.ndarray, q: np.ndarray, w: np.ndarray) -> np.ndarray:
     """Number of wall segments crossed by the segments p[i] -> q[j]; returns (len(p), len(q))."""
+    if len(w) == 0:
+        return np.zeros((len(p), len(q)), dtype=np.int64)
     P = p[:, None, None, :]
     Q = q[None, :, None, :]
     A = w[None, None, :, :2]
@@ -205,41 +324,92 @@ def _count_crossings(p: np.ndarray, q: np.ndarray, w: np.ndarray) -> np.ndarray:
     return np.sum((d1 * d2 < 0) & (d3 * d4 < 0), axis=2)
 
 
-def _edge_points(pts: np.ndarray, edge_m: float) -> np.ndarray:
-    near_outer = ((pts[:, 0] < edge_m) | (pts[:, 0] > FLOOR_W_M - edge_m)
-                  | (pts[:, 1] < edge_m) | (pts[:, 1] > FLOOR_H_M - edge_m))
-    junction = np.hypot(pts[:, 0] - (BRANCH_X_M + 1.0), pts[:, 1] - CORRIDOR_Y_M) < edge_m
-    return near_outer | junction
+def _edge_mask(xy: np.ndarray, edge_m: float) -> np.ndarray:
+    """Within ``edge_m`` of an outer wall (windows) or of a corridor corner / junction (thesis Fig 2)."""
+    near_outer = ((xy[:, 0] < edge_m) | (xy[:, 0] > FLOOR_W_M - edge_m)
+                  | (xy[:, 1] < edge_m) | (xy[:, 1] > FLOOR_H_M - edge_m))
+    (x0, x1), (y0, y1) = RING_X_M, RING_Y_M
+    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1], [SPUR_X_M, y0]])
+    near_corner = np.hypot(xy[:, None, 0] - corners[None, :, 0], xy[:, None, 1] - corners[None, :, 1]).min(1) < edge_m
+    return near_outer | near_corner
 
 
-def _scans(mean, fade_sd, n_scans, session_len, p, rng, first_session=0):
-    """``n_scans`` scans at each point: mean + session drift + fast fade, thresholded, with misses."""
-    n_pts, n_aps = mean.shape
-    n_sess = int(np.ceil(n_scans / session_len))
-    drift = rng.normal(0.0, p["drift_sd_db"], (n_pts, n_sess, n_aps))
-    sess = np.arange(n_scans) // session_len
-    fade = rng.normal(0.0, 1.0, (n_pts, n_scans, n_aps)) * fade_sd[:, None, None]
-    rssi = mean[:, None, :] + drift[:, sess, :] + fade
-    miss = rng.random((n_pts, n_scans, n_aps)) < p["miss_p"]
-    rssi = np.round(rssi)  # phones report integer dBm
-    rssi[(rssi < p["detect_dbm"]) | miss] = np.nan
-    point = np.repeat(np.arange(n_pts), n_scans)
-    session = first_session + np.tile(sess, n_pts)
-    return rssi.reshape(n_pts * n_scans, n_aps), point, session
+def _shadow(xy: np.ndarray, fld: dict) -> np.ndarray:
+    """Shadowing (n, n_aps) at positions ``xy`` from the random-Fourier-feature field."""
+    om, b, sd = fld["omega"], fld["phase"], fld["sd_db"]  # (n_aps, M, 2), (n_aps, M)
+    arg = np.einsum("nd,amd->nam", xy, om) + b[None, :, :]
+    return sd * np.sqrt(2.0 / om.shape[1]) * np.cos(arg).sum(axis=2)
+
+
+def mean_rssi_dbm(xy_m, ap_xy_m, ap_floor, params: dict, shadow_field: dict | None = None) -> np.ndarray:
+    """Time-invariant mean RSSI (n, n_aps), dBm, at positions ``xy_m``: COST 231 multi-wall model.
+
+    ``P0 - 10 n log10(max(d3, 1 m)) - L_light k_light - L_heavy k_heavy - L_floor |floor| + shadow``
+    with ``d3`` the 3-D distance (``STOREY_M`` per floor) and ``k`` the walls of each material the
+    straight path crosses (walls of this floor; other floors' APs see this floor's walls too).
+
+    References
+    ----------
+    COST 231 final report (Damosso 1999), sec. 4.7; Lott & Forkel 2001.
+    """
+    xy = np.atleast_2d(np.asarray(xy_m, dtype=np.float64))
+    ap = np.asarray(ap_xy_m, dtype=np.float64)
+    fl = np.abs(np.asarray(ap_floor))
+    d = np.hypot(xy[:, None, 0] - ap[None, :, 0], xy[:, None, 1] - ap[None, :, 1])
+    d3 = np.sqrt(d**2 + (STOREY_M * fl)[None, :] ** 2)
+    seg, mat = _walls()
+    k_l = _count_crossings(xy, ap, seg[mat == "light"])
+    k_h = _count_crossings(xy, ap, seg[mat == "heavy"])
+    p = params
+    m = (p["p0_dbm"] - 10.0 * p["path_loss_exponent"] * np.log10(np.maximum(d3, 1.0))
+         - p["light_wall_db"] * k_l - p["heavy_wall_db"] * k_h - p["floor_db"] * fl[None, :])
+    if shadow_field is not None:
+        m = m + _shadow(xy, shadow_field)
+    return m
+
+
+def _body_db(xy: np.ndarray, facing_rad: np.ndarray, ap: np.ndarray, loss_db: float) -> np.ndarray:
+    """Body shadowing (n, n_aps), dB (<= 0): ``-loss (1 - cos a) / 2``, ``a`` facing vs direction to the AP."""
+    to_ap = np.arctan2(ap[None, :, 1] - xy[:, None, 1], ap[None, :, 0] - xy[:, None, 0])
+    return -loss_db * 0.5 * (1.0 - np.cos(to_ap - facing_rad[:, None]))
+
+
+def _detect(rssi: np.ndarray, p: dict, rng) -> np.ndarray:
+    miss = rng.random(rssi.shape) < p["miss_p"]
+    out = np.round(rssi)  # phones report integer dBm
+    out[(out < p["detect_dbm"]) | miss] = np.nan
+    return out
+
+
+def _check_params(overrides: dict) -> dict:
+    unknown = set(overrides) - set(PARAMS)
+    if unknown:
+        raise ValueError(f"unknown simulator parameters {sorted(unknown)}; known: {sorted(PARAMS)}")
+    p = {**PARAMS, **overrides}
+    for k in ("shadow_sd_db", "drift_sd_db", "local_sd_db", "fade_sd_db", "fade_sd_edge_db", "body_loss_db"):
+        if not p[k] >= 0:
+            raise ValueError(f"{k} must be >= 0 dB, got {p[k]}")
+    if not 0 <= p["miss_p"] < 1:
+        raise ValueError(f"miss_p must lie in [0, 1), got {p['miss_p']}")
+    if int(p["scans_per_session"]) < 1:
+        raise ValueError(f"scans_per_session must be >= 1, got {p['scans_per_session']}")
+    return p
 
 
 def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_point: int = 10,
              **overrides) -> IlocFloor:
-    """Simulate the i-Loc floor survey.
+    """Simulate the i-Loc floor survey and a later test session.
 
     Parameters
     ----------
     seed : int, Generator or None
         Everything is drawn from this (same seed -> identical arrays).
     scans_per_point : int
-        Training scans per point (300 in the thesis; fewer for fast runs).
+        Survey scans per training point (300 in the thesis, L295; fewer for fast runs), in sessions
+        of ``scans_per_session``, each facing one of the four corridor directions.
     scans_per_test_point : int
-        New scans at each test-route point, from sessions after the training survey.
+        Scans standing at each test-route point in the test session (one session, another day),
+        facing the walking direction.
     **overrides
         Any key of :data:`PARAMS`.
 
@@ -247,53 +417,199 @@ def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_poin
     -------
     IlocFloor
     """
-    unknown = set(overrides) - set(PARAMS)
-    if unknown:
-        raise ValueError(f"unknown simulator parameters {sorted(unknown)}; known: {sorted(PARAMS)}")
-    p = {**PARAMS, **overrides}
+    p = _check_params(overrides)
     if scans_per_point < 1 or scans_per_test_point < 1:
         raise ValueError("scans_per_point and scans_per_test_point must be >= 1")
     rng = as_rng(seed)
     pts = training_points()
     n_f, n_o = int(p["n_aps_floor"]), int(p["n_aps_other"])
-    # APs in offices: uniform over the floor, off the corridors
-    ap = rng.uniform([2.0, 2.0], [FLOOR_W_M - 2.0, FLOOR_H_M - 2.0], size=(n_f + n_o, 2))
-    in_corr = np.abs(ap[:, 1] - CORRIDOR_Y_M) < 3.0
-    ap[in_corr, 1] += np.where(ap[in_corr, 1] >= CORRIDOR_Y_M, 3.0, -3.0)
+    n_ap = n_f + n_o
+    # APs in offices: uniform over the floor, at least 2.5 m from a corridor's centre line
+    ap = np.empty((0, 2))
+    while len(ap) < n_ap:
+        c = rng.uniform([2.0, 2.0], [FLOOR_W_M - 2.0, FLOOR_H_M - 2.0], size=(4 * n_ap, 2))
+        ap = np.vstack([ap, c[_corridor_distance_m(c) >= 2.5]])
+    ap = ap[:n_ap]
     ap_floor = np.concatenate([np.zeros(n_f, dtype=np.int64), rng.choice([-1, 1], size=n_o)])
-    d = np.hypot(pts[:, None, 0] - ap[None, :, 0], pts[:, None, 1] - ap[None, :, 1])
-    d3 = np.sqrt(d**2 + (3.5 * np.abs(ap_floor))[None, :] ** 2)  # 3.5 m storey height
-    n_walls = _count_crossings(pts, ap, walls())
-    mean = (p["p0_dbm"] - 10.0 * p["path_loss_exponent"] * np.log10(np.maximum(d3, 1.0))
-            - p["waf_db"] * n_walls - p["faf_db"] * np.abs(ap_floor)[None, :])
-    # spatially correlated shadowing per AP: exponential covariance over the points
-    dp = np.hypot(pts[:, None, 0] - pts[None, :, 0], pts[:, None, 1] - pts[None, :, 1])
-    cov = p["shadow_sd_db"] ** 2 * np.exp(-dp / p["shadow_corr_m"])
-    L = np.linalg.cholesky(cov + 1e-9 * np.eye(len(pts)))
-    mean = mean + L @ rng.normal(size=(len(pts), n_f + n_o))
-    fade_sd = np.where(_edge_points(pts, p["edge_m"]), p["fade_sd_edge_db"], p["fade_sd_db"])
+    # shadowing field: exponential covariance sd^2 exp(-r / l) <-> 2-D Cauchy (t, 1 dof) spectrum
+    z = rng.normal(size=(n_ap, _N_RFF, 2))
+    u = rng.chisquare(1.0, size=(n_ap, _N_RFF, 1))
+    shadow = {"omega": z / (p["shadow_corr_m"] * np.sqrt(u)), "phase": rng.uniform(0, 2 * np.pi, (n_ap, _N_RFF)),
+              "sd_db": float(p["shadow_sd_db"])}
+    mean = mean_rssi_dbm(pts, ap, ap_floor, p, shadow)
+    fade_sd = np.where(_edge_mask(pts, p["edge_m"]), p["fade_sd_edge_db"], p["fade_sd_db"])
+
+    # --- survey: sessions of scans_per_session scans, floor-wide drift per session and AP
     sl = int(p["scans_per_session"])
-    tr_rssi, tr_point, tr_sess = _scans(mean, fade_sd, scans_per_point, sl, p, rng)
+    n_sess = int(np.ceil(scans_per_point / sl))
+    n_pts = len(pts)
+    drift = rng.normal(0.0, p["drift_sd_db"], (n_sess, n_ap))
+    local = rng.normal(0.0, p["local_sd_db"], (n_pts, n_sess, n_ap))
+    facing = rng.integers(0, 4, (n_pts, n_sess)) * (np.pi / 2)
+    sess = np.arange(scans_per_point) // sl
+    body = np.stack([_body_db(pts, facing[:, s], ap, p["body_loss_db"]) for s in range(n_sess)], axis=1)
+    fade = rng.normal(0.0, 1.0, (n_pts, scans_per_point, n_ap)) * fade_sd[:, None, None]
+    rssi = mean[:, None, :] + drift[None, sess, :] + local[:, sess, :] + body[:, sess, :] + fade
+    tr_rssi = _detect(rssi, p, rng).reshape(n_pts * scans_per_point, n_ap)
+    tr_point = np.repeat(np.arange(n_pts), scans_per_point)
+    tr_sess = np.tile(sess, n_pts)
+    tr_facing = facing[:, sess].reshape(-1)
+
+    # --- test session: another day, facing the walking direction, test phone
     test_idx = test_route_index()
-    n_tr_sess = int(np.ceil(scans_per_point / sl))
-    te_rssi, te_local, te_sess = _scans(mean[test_idx], fade_sd[test_idx], scans_per_test_point,
-                                        max(1, scans_per_test_point), p, rng, first_session=n_tr_sess)
-    te_point = test_idx[te_local]
-    ap_ids = tuple(f"AP{i:02d}" for i in range(n_f + n_o))
+    te_drift = rng.normal(0.0, p["drift_sd_db"], n_ap)
+    te_local = rng.normal(0.0, p["local_sd_db"], (len(test_idx), n_ap))
+    te_face = _route_heading_rad(test_idx)
+    te_body = _body_db(pts[test_idx], te_face, ap, p["body_loss_db"])
+    n_t = scans_per_test_point
+    te_fade = rng.normal(0.0, 1.0, (len(test_idx), n_t, n_ap)) * fade_sd[test_idx, None, None]
+    te = (mean[test_idx, None, :] + te_drift[None, None, :] + te_local[:, None, :] + te_body[:, None, :]
+          + p["device_offset_db"] + te_fade)
+    te_rssi = _detect(te, p, rng).reshape(len(test_idx) * n_t, n_ap)
+    te_point = np.repeat(test_idx, n_t)
+    ap_ids = tuple(f"AP{i:02d}" for i in range(n_ap))
     src = f"ilocalg.sim.iloc_floor.simulate(seed={seed if not isinstance(seed, np.random.Generator) else 'rng'})"
     train = FingerprintSet(tr_rssi, ap_ids, pts[tr_point, 0].copy(), pts[tr_point, 1].copy(),
-                           meta=pd.DataFrame({"point": tr_point, "session": tr_sess}), source=src)
+                           meta=pd.DataFrame({"point": tr_point, "session": tr_sess, "facing_rad": tr_facing}),
+                           source=src)
     test = FingerprintSet(te_rssi, ap_ids, pts[te_point, 0].copy(), pts[te_point, 1].copy(),
-                          meta=pd.DataFrame({"point": te_point, "session": te_sess}), source=src)
+                          meta=pd.DataFrame({"point": te_point, "session": n_sess,
+                                             "facing_rad": np.repeat(te_face, n_t)}), source=src)
     return IlocFloor(train=train, test=test, points_xy_m=pts, test_points=test_idx, ap_xy_m=ap,
                      ap_floor=ap_floor, mean_rssi_dbm=mean, fade_sd_db=fade_sd, detect_dbm=float(p["detect_dbm"]),
-                     params=p)
+                     params=p, test_drift_db=te_drift, shadow_field=shadow)
+
+
+def _corridor_distance_m(xy: np.ndarray) -> np.ndarray:
+    """Distance from each position to the nearest corridor centre line (ring and stair corridor)."""
+    (x0, x1), (y0, y1) = RING_X_M, RING_Y_M
+    segs = np.array([[x0, y0, x1, y0], [x1, y0, x1, y1], [x1, y1, x0, y1], [x0, y1, x0, y0],
+                     [SPUR_X_M, y0, SPUR_X_M, 0.0]])
+    a, b = segs[None, :, :2], segs[None, :, 2:]
+    ab = b - a
+    t = np.clip(np.einsum("nkd,nkd->nk", xy[:, None, :] - a, ab) / np.einsum("nkd,nkd->nk", ab, ab), 0, 1)
+    proj = a + t[..., None] * ab
+    return np.hypot(*(xy[:, None, :] - proj).transpose(2, 0, 1)).min(axis=1)
+
+
+def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s: float = 2.0,
+                  rng=None, session_drift_db=None) -> pd.DataFrame:
+    """Wi-Fi scans taken while walking (one scan per fix), in the test session of ``sim``.
+
+    Each AP of a scan is read at a uniform time within ``[start, start + scan_latency_s]`` (the
+    channel sweep), at the walker's position then, facing the walking direction; floor-wide drift,
+    a local change per scan, the fast fade of the nearest training point, body shadowing and the
+    device offset are added as in :func:`simulate`'s test session.
+
+    Parameters
+    ----------
+    sim : IlocFloor
+    track_t_s : array_like (n,)
+        Increasing times of the walker's true track, s.
+    track_xy_m : array_like (n, 2)
+        True positions, m.
+    scan_start_t_s : array_like (n_scans,)
+        Scan start times, within the track.
+    scan_latency_s : float
+        Scan duration, s (phones: 1-3 s; an assumption, swept in fusion_iloc_kf).
+    rng : Generator, int or None
+    session_drift_db : array_like (n_aps,), optional
+        The session's per-AP drift; default ``sim.test_drift_db`` (the test session).
+
+    Returns
+    -------
+    DataFrame
+        One row per scan: ``t_start_s``, ``t_ready_s`` (= start + latency), ``x_m``, ``y_m`` (true
+        position at the scan's start, the tag) and one column per AP id (dBm, NaN = not heard).
+    """
+    r = as_rng(rng)
+    t = np.asarray(track_t_s, dtype=np.float64)
+    xy = np.asarray(track_xy_m, dtype=np.float64)
+    ts = np.asarray(scan_start_t_s, dtype=np.float64).reshape(-1)
+    if t.ndim != 1 or xy.shape != (t.size, 2) or t.size < 2 or np.any(np.diff(t) <= 0):
+        raise ValueError("track_t_s must be increasing (n >= 2) and track_xy_m of shape (n, 2)")
+    if not scan_latency_s >= 0:
+        raise ValueError(f"scan_latency_s must be >= 0, got {scan_latency_s}")
+    if ts.size and (ts.min() < t[0] or ts.max() > t[-1]):
+        raise ValueError(f"scan_start_t_s must lie within the track [{t[0]:.3f}, {t[-1]:.3f}] s")
+    p = sim.params
+    ap = sim.ap_xy_m
+    n_ap = ap.shape[0]
+    drift = sim.test_drift_db if session_drift_db is None else np.asarray(session_drift_db, dtype=np.float64)
+    if drift.shape != (n_ap,):
+        raise ValueError(f"session_drift_db must have shape ({n_ap},), got {drift.shape}")
+    n = ts.size
+    t_read = np.minimum(ts[:, None] + r.uniform(0.0, scan_latency_s, (n, n_ap)), t[-1])
+    x_read = np.interp(t_read, t, xy[:, 0])
+    y_read = np.interp(t_read, t, xy[:, 1])
+    # walking direction from the track (finite difference over 0.5 s)
+    t_hi, t_lo = np.minimum(t_read + 0.25, t[-1]), np.maximum(t_read - 0.25, t[0])
+    dx = np.interp(t_hi, t, xy[:, 0]) - np.interp(t_lo, t, xy[:, 0])
+    dy = np.interp(t_hi, t, xy[:, 1]) - np.interp(t_lo, t, xy[:, 1])
+    face = np.arctan2(dy, dx)
+    rssi = np.empty((n, n_ap))
+    pts = sim.points_xy_m
+    for j in range(n_ap):
+        pos = np.column_stack([x_read[:, j], y_read[:, j]])
+        m = mean_rssi_dbm(pos, ap[j:j + 1], sim.ap_floor[j:j + 1], p, _one_ap(sim.shadow_field, j))[:, 0]
+        body = _body_db(pos, face[:, j], ap[j:j + 1], p["body_loss_db"])[:, 0]
+        near = np.argmin(np.hypot(pos[:, None, 0] - pts[None, :, 0], pos[:, None, 1] - pts[None, :, 1]), axis=1)
+        rssi[:, j] = m + body + drift[j] + p["device_offset_db"] + sim.fade_sd_db[near] * r.normal(size=n)
+    rssi += r.normal(0.0, p["local_sd_db"], (n, n_ap))
+    rssi = _detect(rssi, p, r)
+    out = pd.DataFrame(rssi, columns=list(sim.train.ap_ids))
+    out.insert(0, "y_m", np.interp(ts, t, xy[:, 1]))
+    out.insert(0, "x_m", np.interp(ts, t, xy[:, 0]))
+    out.insert(0, "t_ready_s", ts + scan_latency_s)
+    out.insert(0, "t_start_s", ts)
+    return out
+
+
+def session_drift_db(sim: IlocFloor, rng=None) -> np.ndarray:
+    """A new session's floor-wide per-AP drift ``N(0, drift_sd_db)``, shape (n_aps,), dB (another day)."""
+    return as_rng(rng).normal(0.0, sim.params["drift_sd_db"], sim.ap_xy_m.shape[0])
+
+
+def walking_fixes(sim: IlocFloor, estimator, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s: float = 2.0,
+                  rng=None, session_drift_db=None) -> pd.DataFrame:
+    """Wi-Fi fixes from scans taken while walking: :func:`walking_scans`, then ``estimator.predict``.
+
+    Parameters
+    ----------
+    sim : IlocFloor
+    estimator : fitted estimator with ``predict(X) -> (n, 2)`` (columns in ``sim.train.ap_ids`` order)
+    track_t_s, track_xy_m, scan_start_t_s, scan_latency_s, rng, session_drift_db
+        As :func:`walking_scans`.
+
+    Returns
+    -------
+    DataFrame
+        One row per scan: ``t_start_s``, ``t_ready_s``, ``x_m``, ``y_m`` (true position at the scan's
+        start, the fix's tag), ``fix_x_m``, ``fix_y_m``, ``n_heard``. A scan that hears no AP has a NaN fix.
+    """
+    scans = walking_scans(sim, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s, rng, session_drift_db)
+    X = scans[list(sim.train.ap_ids)].to_numpy()
+    heard = ~np.isnan(X).all(axis=1)
+    fix = np.full((X.shape[0], 2), np.nan)
+    if heard.any():
+        fix[heard] = estimator.predict(X[heard])
+    out = scans[["t_start_s", "t_ready_s", "x_m", "y_m"]].copy()
+    out["fix_x_m"], out["fix_y_m"] = fix[:, 0], fix[:, 1]
+    out["n_heard"] = (~np.isnan(X)).sum(axis=1)
+    return out
+
+
+def _one_ap(fld: dict | None, j: int) -> dict | None:
+    if fld is None:
+        return None
+    return {"omega": fld["omega"][j:j + 1], "phase": fld["phase"][j:j + 1], "sd_db": fld["sd_db"]}
 
 
 def summary(sim: IlocFloor) -> pd.DataFrame:
     """The calibrated inputs as simulated: APs heard per scan and RSSI spread at a point."""
     x = sim.train.rssi_dbm
     heard = np.sum(~np.isnan(x), axis=1)
+    heard_t = np.sum(~np.isnan(sim.test.rssi_dbm), axis=1)
     pt = sim.train.meta["point"].to_numpy()
     sd = []
     for j in np.unique(pt):
@@ -301,17 +617,19 @@ def summary(sim: IlocFloor) -> pd.DataFrame:
         ok = np.sum(~np.isnan(xj), axis=0) >= 10
         if ok.any():
             sd.append(np.nanstd(xj[:, ok], axis=0))
-    sd = np.concatenate(sd)
+    sd = np.concatenate(sd) if sd else np.array([np.nan])
     return pd.DataFrame([
         {"quantity": "APs heard per scan, min", "value": float(heard.min())},
         {"quantity": "APs heard per scan, 5th percentile", "value": float(np.percentile(heard, 5))},
         {"quantity": "APs heard per scan, median", "value": float(np.median(heard))},
         {"quantity": "APs heard per scan, 95th percentile", "value": float(np.percentile(heard, 95))},
         {"quantity": "APs heard per scan, max", "value": float(heard.max())},
+        {"quantity": "APs heard per test scan, median", "value": float(np.median(heard_t))},
         {"quantity": "RSSI sd at a point per AP, median [dB]", "value": float(np.median(sd))},
         {"quantity": "scans", "value": float(x.shape[0])},
         {"quantity": "training points", "value": float(len(sim.points_xy_m))},
         {"quantity": "test points", "value": float(len(sim.test_points))},
+        {"quantity": "test-route spacing [m]", "value": ROUTE_SPACING_M},
     ])
 
 

@@ -6,6 +6,14 @@ their positions averaged (eq. 3). When a scan hears fewer than ``k`` APs, ``k`` 
 number heard (the thesis: "if fewer than k, decrease in turn"). Not-heard APs inside the union take
 ``not_heard_dbm``.
 
+Database (thesis L283, L287): the database keeps every scan of every training point and the query
+is compared with each stored vector; the N nearest *training points* are kept. With
+``point_distance="min"`` (the default) references sharing a position form one training point whose
+distance is the smallest over its stored scans; ``point_distance=None`` treats every reference row
+as its own neighbour. Fitting a per-point mean map (one row per point,
+:func:`ilocalg.wifi.preprocessing.mean_fingerprints`) gives the same result either way: that is the
+labelled alternative to the text's database.
+
 Vectorisation: with masks ``A`` (query's top-k) and ``B`` (reference's top-k), the union mask is
 ``A + B - AB`` and eq. (1) squared expands into one matrix product of stacked features, computed in
 chunks of references: float32 for integer dBm (every partial sum is an integer below 2**24, so it is
@@ -142,14 +150,20 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     k_aps : int
         Strongest APs per scan in the union distance (eq. 1); thesis best k = 5.
     n_neighbors : int
-        N nearest references (N = 3, after RADAR).
+        N nearest training points (N = 3, after RADAR; thesis L287).
     not_heard_dbm : float
         RSSI substituted for a union AP that a scan did not hear.
+    point_distance : {"min", None}
+        ``"min"``: references at the same position are one training point, at the smallest
+        distance over its scans (thesis L283, L287: every stored scan is compared); ``None``:
+        every reference row is a neighbour of its own.
 
     Attributes
     ----------
     ref_rssi_dbm_ : ndarray (n_ref, n_aps)
     y_ : ndarray, reference positions
+    points_ : ndarray, the training points' positions (unique rows of ``y_`` with
+        ``point_distance="min"``, else ``y_``)
     n_features_in_ : int
 
     References
@@ -157,10 +171,11 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     i-Loc thesis, sec. 3.1, eq. (1)-(3).
     """
 
-    def __init__(self, k_aps=5, n_neighbors=3, not_heard_dbm=-100.0):
+    def __init__(self, k_aps=5, n_neighbors=3, not_heard_dbm=-100.0, point_distance="min"):
         self.k_aps = k_aps
         self.n_neighbors = n_neighbors
         self.not_heard_dbm = not_heard_dbm
+        self.point_distance = point_distance
 
     def fit(self, X, y):
         """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
@@ -168,19 +183,43 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         to_features(x, self.not_heard_dbm, name="X")  # validates readings against not_heard_dbm
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
-        if not 1 <= int(self.n_neighbors) <= x.shape[0]:
-            raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={x.shape[0]}]")
         heard = heard_aps(x, type(self).__name__)
-        self.y_ = check_positions(y, x.shape[0])
+        if self.point_distance not in ("min", None):
+            raise ValueError(f"point_distance must be 'min' or None, got {self.point_distance!r}")
+        yy = check_positions(y, x.shape[0])
+        if self.point_distance == "min":
+            pos = yy.reshape(yy.shape[0], -1)
+            self.points_, inv = np.unique(pos, axis=0, return_inverse=True)
+            inv = inv.reshape(-1)
+            order = np.argsort(inv, kind="stable")
+            self._starts = np.flatnonzero(np.r_[True, np.diff(inv[order]) != 0])
+            self._order = order
+            x_ord = x[order]
+            if yy.ndim == 1:
+                self.points_ = self.points_[:, 0]
+        else:
+            x_ord, self._order = x, np.arange(x.shape[0])
+            self.points_ = yy
+            self._starts = None
+        n_nb = len(self.points_)
+        if not 1 <= int(self.n_neighbors) <= n_nb:
+            raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, number of training points={n_nb}] "
+                             f"(n_samples={x.shape[0]}, point_distance={self.point_distance!r})")
+        self.y_ = yy
         self.heard_aps_ = heard
         self.ref_rssi_dbm_ = x
-        self._r = to_features(x, self.not_heard_dbm, dtype=np.float64)
-        self._b = strongest_ap_mask(x, self.k_aps).astype(np.float64)
+        self._r = to_features(x_ord, self.not_heard_dbm, dtype=np.float64)
+        self._b = strongest_ap_mask(x_ord, self.k_aps).astype(np.float64)
         self.n_features_in_ = x.shape[1]
         return self
 
     def kneighbors(self, X, n_neighbors=None):
-        """(dist, idx): eq. (1) distances (ascending) and indices of the nearest references."""
+        """(dist, idx): eq. (1) distances (ascending) and reference rows of the nearest neighbours.
+
+        With ``point_distance="min"`` the neighbours are the N nearest training points and ``idx``
+        holds, for each, the row of its nearest stored scan (so ``y_[idx]`` are the points' positions
+        and row labels such as floor or building follow); with ``None``, the N nearest rows.
+        """
         check_is_fitted(self, "ref_rssi_dbm_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
                        owner=type(self).__name__)
@@ -193,9 +232,20 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             q = to_features(xb, self.not_heard_dbm, dtype=np.float64)
             a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
             d2 = _union_sq(q, a, self._r, self._b)
-            ii = smallest_k(d2, k)
-            idx[s:s + _Q_BATCH] = ii
-            dist[s:s + _Q_BATCH] = np.sqrt(np.take_along_axis(d2, ii, axis=1).astype(np.float64))
+            if self._starts is not None:  # one distance per training point: its nearest stored scan
+                gmin = np.minimum.reduceat(d2, self._starts, axis=1)
+                counts = np.diff(np.r_[self._starts, d2.shape[1]])
+                cols = np.arange(d2.shape[1], dtype=np.int64)
+                first = np.minimum.reduceat(np.where(d2 == np.repeat(gmin, counts, axis=1), cols, d2.shape[1]),
+                                            self._starts, axis=1)   # column of each point's nearest scan
+                gi = smallest_k(gmin, k)
+                rows = self._order[np.take_along_axis(first, gi, axis=1)]
+                dd = np.take_along_axis(gmin, gi, axis=1)
+            else:
+                rows = smallest_k(d2, k)
+                dd = np.take_along_axis(d2, rows, axis=1)
+            idx[s:s + _Q_BATCH] = rows
+            dist[s:s + _Q_BATCH] = np.sqrt(dd.astype(np.float64))
         return dist, idx
 
     def predict(self, X):

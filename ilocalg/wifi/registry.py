@@ -71,7 +71,8 @@ def _p(metric: str) -> int:
 
 @register_estimator("radar")
 def _radar(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
-    """Simplified-RADAR, the ``k`` strongest APs (default 5), N = 3 neighbours (Chiu 2013 eq. 1-3)."""
+    """Simplified-RADAR, the ``k`` strongest APs (default 5), N = 3 nearest training points, each at the
+    distance of its nearest stored scan (Chiu 2013 eq. 1-3, L283, L287)."""
     _p(metric)
     return SimplifiedRadar(k_aps=k or 5, n_neighbors=3, not_heard_dbm=not_heard_dbm)
 
@@ -99,8 +100,9 @@ def _wknn(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
 def _best(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
     """:data:`BEST_CONFIG`: Simplified-RADAR, 5 APs, ``k`` neighbours (default 12)."""
     _p(metric)
+    # chosen with one neighbour per reference row (point_distance=None), as it was selected
     return SimplifiedRadar(k_aps=BEST_CONFIG["k_aps"], n_neighbors=k or BEST_CONFIG["n_neighbors"],
-                           not_heard_dbm=not_heard_dbm)
+                           not_heard_dbm=not_heard_dbm, point_distance=None)
 
 
 def make_estimator(name: str, k: int | None = None, metric: str = "euclidean",
