@@ -11,9 +11,9 @@ them. Deterministic from the seed.
 Model (each value and its source)
 ---------------------------------
 Building
-    ``n_floors`` identical floors, storey height ``storey_m = 3.5`` m (the i-Loc floor simulator's
-    value); walkable = the corridor graph of the 63 i-Loc training points (2 m apart,
-    :func:`ilocalg.sim.iloc_floor.training_points`).
+    ``n_floors`` identical floors, storey height 3.5 m (:data:`ilocalg.sim.iloc_floor.STOREY_M`);
+    walkable = the corridor graph of the 63 i-Loc training points (2 m apart: the ring corridor and
+    the corridor to the stairs, :func:`ilocalg.sim.iloc_floor.training_points`).
 Routes
     A random walk on that graph (no immediate U-turn except at dead ends) of ``n_nodes`` nodes,
     walked by a simulated pedestrian (:mod:`ilocalg.sim.gait`, its documented gait and sensor
@@ -23,18 +23,19 @@ Floor change
     over ``climb_s = 10`` s (a ramp: the simulated gait is level walking, so only the barometer and
     the radio see the climb).
 Access points and propagation
-    ``n_aps_per_floor = 20`` APs per floor placed like the i-Loc floor's (offices, off the
-    corridor); the i-Loc floor simulator's multi-wall log-distance model and its parameters
-    (:data:`ilocalg.sim.iloc_floor.PARAMS`: P0 -40 dBm at 1 m, exponent 3.0, 3 dB per wall, 13 dB per
-    floor after Seidel & Rappaport 1992; shadowing 5 dB with a 5 m exponential correlation,
-    Gudmundson 1991), the shadowing field continuous in space by random Fourier features of the
-    exponential kernel (Rahimi & Recht 2007, ``n_features = 200``).
+    ``n_aps_per_floor = 16`` APs per floor (the i-Loc floor's count), in the offices at least 2.5 m
+    from a corridor's centre line; the i-Loc floor simulator's propagation model itself,
+    :func:`ilocalg.sim.iloc_floor.mean_rssi_dbm` (COST 231 multi-wall model with its light/heavy
+    wall and floor losses, Damosso 1999; shadowing 5 dB with a 5 m exponential correlation,
+    Gudmundson 1991, as a random-Fourier-feature field of ``n_features = 256`` features per AP,
+    Rahimi & Recht 2007), with the APs' floors taken relative to the walker's.
 Scans
     Every ``scan_interval_s = 3`` s (+- 0.5 s uniform jitter; the ILC 2.0 site2/F4 walks scan every
-    2-4 s), each AP read at the true position: mean + per-walk drift (2 dB) + fading (3 dB) (the
-    i-Loc floor's sd), rounded to whole dBm, reported at or above -95 dBm and missed with
-    probability 0.1 (i-Loc floor values). Frequency per AP: a 2.4 GHz channel (1, 6, 11) or a
-    5 GHz one (36-48).
+    2-4 s), each AP read at the true position: mean + per-walk drift (``drift_sd_db``, 3 dB) +
+    fading (``fade_sd_db``, 3 dB), rounded to whole dBm, reported at or above ``detect_dbm``
+    (-95 dBm) and missed with probability ``miss_p`` (0.1): the i-Loc floor's values
+    (:data:`ilocalg.sim.iloc_floor.PARAM_SOURCES`). Frequency per AP: a 2.4 GHz channel (1, 6, 11)
+    or a 5 GHz one (36-48).
 Barometer
     ``pressure_hz = 5`` Hz; ICAO standard atmosphere from ``p0_hpa = 1013.25`` at floor 0
     (``p = p0 (1 - 2.25577e-5 h)^5.25588``, about 0.42 hPa per 3.5 m storey), white noise
@@ -48,8 +49,8 @@ Ground truth
 
 References
 ----------
-Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.1 (floor geometry). Seidel S. Y., Rappaport T. S.,
-IEEE Trans. Antennas Propag. 40(2), 1992 (multi-floor path loss). Gudmundson M., Electronics
+Chiu P.-J., i-Loc thesis, NCTU 2013, sec. 3.1 (floor geometry). Damosso E. (ed.), COST Action 231
+final report (1999), sec. 4.7 (multi-wall model). Gudmundson M., Electronics
 Letters 27(23), 1991 (shadowing correlation). Rahimi A., Recht B., "Random features for large-scale
 kernel machines", NIPS 2007. ICAO, Manual of the ICAO Standard Atmosphere, Doc 7488 (1993).
 """
@@ -64,16 +65,14 @@ import pandas as pd
 from ilocalg.io.recording import LAT_DEG, LON_DEG, PRESSURE_HPA, LocalFrame, Recording
 from ilocalg.io.schema import BSSID, FLOOR, FREQ_MHZ, RSSI_DBM, SCAN_ID, T_S, X_M, Y_M
 from ilocalg.sim import gait, iloc_floor
-from ilocalg.sim.iloc_floor import _count_crossings
 from ilocalg.units import as_rng
 
 __all__ = ["PARAMS", "SimBuilding", "simulate_building", "random_route", "simulate_recording", "simulate_recordings"]
 
 #: Model parameters (module docstring gives each source).
 PARAMS = {
-    "storey_m": 3.5,
-    "n_aps_per_floor": 20,
-    "n_features": 200,
+    "n_aps_per_floor": 16,
+    "n_features": 256,
     "scan_interval_s": 3.0,
     "scan_jitter_s": 0.5,
     "pressure_hz": 5.0,
@@ -104,6 +103,11 @@ class SimBuilding:
     frame: LocalFrame
     params: dict
 
+    @property
+    def shadow_field(self) -> dict:
+        """The shadowing field in the form :func:`ilocalg.sim.iloc_floor.mean_rssi_dbm` takes."""
+        return {"omega": self.rff_w, "phase": self.rff_b, "sd_db": float(self.params["shadow_sd_db"])}
+
     def corridor_rings(self) -> list[np.ndarray]:
         """The walkable corridors as rectangles (metres, this building's frame): the outline rings of a
         floor map (e.g. for :meth:`ilocalg.fusion.particle_filter.OccupancyGrid.from_polygons`)."""
@@ -116,19 +120,16 @@ class SimBuilding:
         return rings
 
     def mean_rssi_dbm(self, xy_m: np.ndarray, floor: np.ndarray) -> np.ndarray:
-        """Noise-free RSSI (path loss + walls + floors + shadowing), shape (n, n_aps), dBm."""
-        p = self.params
-        xy = np.atleast_2d(xy_m)
-        fl = np.broadcast_to(np.asarray(floor, dtype=np.float64), (xy.shape[0],))
-        dz = p["storey_m"] * (self.ap_floor[None, :] - fl[:, None])
-        d = np.sqrt(np.sum((xy[:, None, :] - self.ap_xy_m[None, :, :]) ** 2, axis=2) + dz**2)
-        walls = _count_crossings(xy, self.ap_xy_m, iloc_floor.walls())
-        nf = np.abs(self.ap_floor[None, :] - np.round(fl)[:, None])
-        m = (p["p0_dbm"] - 10.0 * p["path_loss_exponent"] * np.log10(np.maximum(d, 1.0)) - p["waf_db"] * walls
-             - p["faf_db"] * nf)
-        phase = np.einsum("nd,afd->naf", xy, self.rff_w) + self.rff_b[None]
-        shadow = p["shadow_sd_db"] * np.sqrt(2.0 / self.rff_b.shape[1]) * np.cos(phase).sum(axis=2)
-        return m + shadow
+        """Noise-free RSSI (n, n_aps), dBm, at positions ``xy_m`` on floors ``floor`` (the walker's floor,
+        rounded): :func:`ilocalg.sim.iloc_floor.mean_rssi_dbm` with each AP's floor relative to it."""
+        xy = np.atleast_2d(np.asarray(xy_m, dtype=np.float64))
+        fl = np.round(np.broadcast_to(np.asarray(floor, dtype=np.float64), (xy.shape[0],))).astype(np.int64)
+        out = np.empty((xy.shape[0], self.ap_xy_m.shape[0]))
+        for f in np.unique(fl):
+            m = fl == f
+            out[m] = iloc_floor.mean_rssi_dbm(xy[m], self.ap_xy_m, self.ap_floor - f, self.params,
+                                              self.shadow_field)
+        return out
 
 
 def simulate_building(seed=0, n_floors: int = 1, origin: tuple = ORIGIN, **overrides) -> SimBuilding:
@@ -145,10 +146,13 @@ def simulate_building(seed=0, n_floors: int = 1, origin: tuple = ORIGIN, **overr
     d = np.hypot(*(nodes[:, None, :] - nodes[None, :, :]).transpose(2, 0, 1))
     adj = (d > 0) & (d < 1.5 * iloc_floor.SPACING_M)
     n_ap = int(p["n_aps_per_floor"]) * n_floors
-    W, H, cy = iloc_floor.FLOOR_W_M, iloc_floor.FLOOR_H_M, iloc_floor.CORRIDOR_Y_M
-    ap = r.uniform([2.0, 2.0], [W - 2.0, H - 2.0], size=(n_ap, 2))
-    in_corr = np.abs(ap[:, 1] - cy) < 3.0
-    ap[in_corr, 1] += np.where(ap[in_corr, 1] >= cy, 3.0, -3.0)
+    W, H = iloc_floor.FLOOR_W_M, iloc_floor.FLOOR_H_M
+    ap = np.empty((0, 2))
+    while len(ap) < n_ap:              # in the offices: at least 2.5 m from a corridor's centre line
+        c = r.uniform([2.0, 2.0], [W - 2.0, H - 2.0], size=(4 * n_ap, 2))
+        near = np.hypot(*(c[:, None, :] - nodes[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+        ap = np.vstack([ap, c[near >= 2.5]])
+    ap = ap[:n_ap]
     ap_floor = np.repeat(np.arange(n_floors), int(p["n_aps_per_floor"]))
     freq = _FREQS[r.integers(0, _FREQS.size, n_ap)]
     nf = int(p["n_features"])
@@ -208,16 +212,16 @@ def simulate_recording(building: SimBuilding, rng=None, n_nodes: int = 40, floor
     t_walk0, t_walk1 = float(sw.steps["t_strike_s"].iloc[0]), float(sw.steps["t_strike_s"].iloc[-1])
     if floor_to is None:
         def height(tq):
-            return np.full(np.shape(tq), floor * p["storey_m"])
+            return np.full(np.shape(tq), floor * iloc_floor.STOREY_M)
     else:
         tc = t_walk0 + floor_change_at * (t_walk1 - t_walk0)
 
         def height(tq):
             frac = np.clip((np.asarray(tq) - tc) / p["climb_s"], 0.0, 1.0)
-            return p["storey_m"] * (floor + (floor_to - floor) * frac)
+            return iloc_floor.STOREY_M * (floor + (floor_to - floor) * frac)
 
     def floor_at(tq):
-        return np.round(height(tq) / p["storey_m"])
+        return np.round(height(tq) / iloc_floor.STOREY_M)
     # Wi-Fi scans
     n_scan = int((t_end - 1.0) // p["scan_interval_s"])
     ts = 1.0 + p["scan_interval_s"] * np.arange(n_scan) + r.uniform(-p["scan_jitter_s"], p["scan_jitter_s"], n_scan)
@@ -225,7 +229,7 @@ def simulate_recording(building: SimBuilding, rng=None, n_nodes: int = 40, floor
     ts = np.unique(ts)
     xs = np.column_stack([np.interp(ts, t, sw.truth[X_M].to_numpy()), np.interp(ts, t, sw.truth[Y_M].to_numpy())])
     n_ap = building.ap_xy_m.shape[0]
-    mean = building.mean_rssi_dbm(xs, height(ts) / p["storey_m"])
+    mean = building.mean_rssi_dbm(xs, height(ts) / iloc_floor.STOREY_M)
     rssi = np.round(mean + r.normal(0.0, p["drift_sd_db"], n_ap)[None, :]
                     + r.normal(0.0, p["fade_sd_db"], mean.shape))
     heard = (rssi >= p["detect_dbm"]) & (r.random(mean.shape) >= p["miss_p"])
