@@ -132,3 +132,24 @@ def test_floor_fixes_shapes_and_variance_floor():
         iloc_floor.floor_fixes(0, 1, 2, method="SVM", scans_per_point=5)
     with pytest.raises(ValueError, match="n_cal"):
         iloc_floor.floor_fixes(0, 1, 1, scans_per_point=5)
+
+
+def test_fit_estimator_and_standing_variance_agree_with_floor_fixes():
+    ff = iloc_floor.floor_fixes(0, n_walkers=1, n_cal=3, method="KNN (Manhattan, K=5)", scans_per_point=20)
+    est = iloc_floor.fit_estimator(ff.sim, "KNN (Manhattan, K=5)")
+    fix = est.predict(ff.sim.test.rssi_dbm).reshape(ff.route_xy_m.shape[0], -1, 2)
+    np.testing.assert_array_equal(fix, ff.fix_xy_m)
+    var = iloc_floor.standing_fix_variance_m2(ff.sim, est)  # over all 4 standing scans per point
+    err2 = ((ff.fix_xy_m - ff.route_xy_m[:, None]) ** 2).sum(-1).mean(axis=1) / 2
+    np.testing.assert_allclose(var, np.maximum(err2, iloc_floor.SPACING_M**2 / 12.0))
+    with pytest.raises(ValueError, match="method must be one of"):
+        iloc_floor.fit_estimator(ff.sim, "SVM")
+
+
+def test_back_to_back_scans_start_when_the_last_one_ends():
+    s = iloc_floor.back_to_back_scan_starts_s(1.0, 10.0, 2.0)
+    np.testing.assert_allclose(s, [1.0, 3.0, 5.0, 7.0])      # the last scan ends at 9 s <= 10 s
+    np.testing.assert_allclose(iloc_floor.back_to_back_scan_starts_s(0.0, 6.0, 2.0), [0.0, 2.0, 4.0])
+    assert iloc_floor.back_to_back_scan_starts_s(0.0, 1.0, 2.0).size == 0
+    with pytest.raises(ValueError, match="scan_latency_s"):
+        iloc_floor.back_to_back_scan_starts_s(0.0, 6.0, 0.0)

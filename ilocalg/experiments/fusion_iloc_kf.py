@@ -52,8 +52,6 @@ from ilocalg.pdr.sam import learn_feature_ranges
 from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.units import as_rng
-from ilocalg.wifi import paper_estimators
-from ilocalg.wifi.preprocessing import mean_fingerprints
 
 __all__ = ["run", "route_walk", "run_filters", "score_points", "readings", "PAPER_KF"]
 
@@ -185,30 +183,6 @@ def readings(scan_latency_s: float = 2.0, q_range=(0.05, 0.95), table4_reading: 
     return readings_table([reading(*r) for r in rows])
 
 
-def _fit_estimator(sim, method: str, k_aps: int = 5):
-    ests = paper_estimators(sim.detect_dbm, k_aps)
-    if method not in ests:
-        raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
-    est = ests[method]
-    if method in ("Simplified-Horus", "Simplified-RADAR"):  # every stored scan (thesis L283, L287, Fig 4)
-        return est.fit(sim.train.rssi_dbm, sim.train.xy_m)
-    fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
-    return est.fit(fp, pts)
-
-
-def _calibrated_r(sim, est) -> np.ndarray:
-    """Per test point: half the mean squared error of the standing test-session fixes (per axis), at least
-    the quantisation variance of the 2 m grid (``2^2 / 12`` m^2)."""
-    X = sim.test.rssi_dbm
-    heard = ~np.isnan(X).all(axis=1)
-    fix = np.full((X.shape[0], 2), np.nan)
-    fix[heard] = est.predict(X[heard])
-    err2 = ((fix - sim.test.xy_m) ** 2).sum(axis=1)
-    pt = sim.test.meta["point"].to_numpy()
-    var = np.array([np.nanmean(err2[pt == j]) for j in sim.test_points]) * 0.5
-    return np.maximum(var, iloc_floor.SPACING_M**2 / 12.0)
-
-
 def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20,
         method: str = "Simplified-Horus", q_range=(0.05, 0.95), scan_latency_s: float = 2.0,
         table4_reading: str = "relative", gate_prob: float = 0.99, sigma_theta_rad: float = 0.2,
@@ -231,8 +205,8 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
     sim = iloc_floor.simulate(rng, scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT,
                               scans_per_test_point=n_cal)
-    est = _fit_estimator(sim, method)
-    cal_var = _calibrated_r(sim, est)
+    est = iloc_floor.fit_estimator(sim, method)
+    cal_var = iloc_floor.standing_fix_variance_m2(sim, est)
     _, _, ranges, models = _train_pts(rng, n_train, q_range)
     walkers = gait.make_walkers(n_walkers, rng)  # new walkers: not those SAM and SLM were trained on
     route = iloc_floor.route_xy_m()

@@ -110,6 +110,9 @@ __all__ = [
     "walking_scans",
     "session_drift_db",
     "walking_fixes",
+    "back_to_back_scan_starts_s",
+    "fit_estimator",
+    "standing_fix_variance_m2",
     "summary",
 ]
 
@@ -565,6 +568,17 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     return out
 
 
+def back_to_back_scan_starts_s(t0_s: float, t1_s: float, scan_latency_s: float) -> np.ndarray:
+    """Start times (s) of scans taken back to back from ``t0_s``, each ``scan_latency_s`` long and
+    ending by ``t1_s``: a phone that starts a new scan as soon as the last one is done."""
+    if not scan_latency_s > 0:
+        raise ValueError(f"scan_latency_s must be > 0 s for back-to-back scans, got {scan_latency_s}")
+    if not t1_s >= t0_s:
+        raise ValueError(f"t1_s must be >= t0_s, got {t0_s}, {t1_s}")
+    n = int(np.floor((t1_s - t0_s) / scan_latency_s + 1e-9))
+    return t0_s + scan_latency_s * np.arange(n)
+
+
 def session_drift_db(sim: IlocFloor, rng=None) -> np.ndarray:
     """A new session's floor-wide per-AP drift ``N(0, drift_sd_db)``, shape (n_aps,), dB (another day)."""
     return as_rng(rng).normal(0.0, sim.params["drift_sd_db"], sim.ap_xy_m.shape[0])
@@ -668,21 +682,59 @@ def floor_fixes(rng, n_walkers: int, n_cal: int = 10, method: str = "Simplified-
         raise ValueError(f"need n_cal >= 2 and n_walkers >= 1, got {n_cal}, {n_walkers}")
     spt = n_cal + n_walkers
     sim = simulate(rng, scans_per_point=scans_per_point, scans_per_test_point=spt)
-    ests = paper_estimators(sim.detect_dbm, k_aps)
-    if method not in ests:
-        raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
-    est = ests[method]
-    if method == "Simplified-Horus":
-        est.fit(sim.train.rssi_dbm, sim.train.xy_m)
-    else:
-        fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
-        est.fit(fp, pts)
+    est = fit_estimator(sim, method, k_aps)
     n_pts = sim.test_points.size
     # test scans are stored point by point (spt consecutive rows per test point, in route order)
     fix = est.predict(sim.test.rssi_dbm).reshape(n_pts, spt, 2)
     route = sim.points_xy_m[sim.test_points]
-    err2 = ((fix[:, :n_cal] - route[:, None]) ** 2).sum(-1)
-    # floor: the quantisation variance of a 2 m reference grid (spacing^2 / 12 per axis), so a point whose
-    # calibration fixes all hit it exactly does not get R = 0
-    var = np.maximum(0.5 * err2.mean(axis=1), SPACING_M**2 / 12.0)
-    return FloorFixes(sim, route, fix, var, n_cal, method)
+    return FloorFixes(sim, route, fix, _fix_variance_m2(fix[:, :n_cal], route), n_cal, method)
+
+
+def _fix_variance_m2(fix_xy_m: np.ndarray, true_xy_m: np.ndarray) -> np.ndarray:
+    """Per point: half the mean squared fix error (per axis), at least the 2 m grid's quantisation variance.
+
+    ``fix_xy_m`` (n_points, n_scans, 2), ``true_xy_m`` (n_points, 2). The floor (spacing^2 / 12 per axis)
+    keeps a point whose calibration fixes all hit it exactly from getting R = 0.
+    """
+    err2 = ((fix_xy_m - true_xy_m[:, None]) ** 2).sum(-1)
+    return np.maximum(0.5 * err2.mean(axis=1), SPACING_M**2 / 12.0)
+
+
+def fit_estimator(sim: IlocFloor, method: str = "Simplified-Horus", k_aps: int = 5):
+    """Fit ``method`` (a key of :data:`ilocalg.wifi.registry.PAPER_ESTIMATORS`) on the survey of ``sim``.
+
+    Simplified-Horus and Simplified-RADAR are fitted on every survey scan (the thesis compares a query
+    with every stored scan, L283, L287); the other estimators on the per-point mean fingerprints (APs
+    heard in at least half of a point's scans).
+
+    Returns
+    -------
+    The fitted estimator (``predict(X) -> (n, 2)``, columns in ``sim.train.ap_ids`` order).
+    """
+    ests = paper_estimators(sim.detect_dbm, k_aps)
+    if method not in ests:
+        raise ValueError(f"method must be one of {sorted(ests)}, got {method!r}")
+    est = ests[method]
+    if method in ("Simplified-Horus", "Simplified-RADAR"):  # every stored scan (Chiu 2013, L283, L287, Fig 4)
+        return est.fit(sim.train.rssi_dbm, sim.train.xy_m)
+    fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
+    est.fit(fp, pts)
+    return est
+
+
+def standing_fix_variance_m2(sim: IlocFloor, estimator) -> np.ndarray:
+    """Per test-route point: the fix-error variance per axis (m^2) of the standing scans of ``sim.test``.
+
+    Half the mean squared error of ``estimator``'s fixes over the point's standing test-session scans
+    (another day than the survey), at least the quantisation variance of the 2 m grid
+    (``SPACING_M^2 / 12``); shape (N_TEST_POINTS,), in walking order. A calibration of a filter's
+    measurement noise, as the i-Loc thesis made its Table 5 (Chiu 2013, L588).
+    """
+    X = sim.test.rssi_dbm
+    heard = ~np.isnan(X).all(axis=1)  # a scan hearing no AP gives no fix and is left out of the mean
+    fix = np.full((X.shape[0], 2), np.nan)
+    fix[heard] = estimator.predict(X[heard])
+    pt = sim.test.meta["point"].to_numpy()
+    err2 = ((fix - sim.test.xy_m) ** 2).sum(axis=1)
+    var = np.array([np.nanmean(err2[pt == j]) for j in sim.test_points]) * 0.5
+    return np.maximum(var, SPACING_M**2 / 12.0)
