@@ -38,6 +38,19 @@ Fingerprint set
     positions ``x_m``, ``y_m`` and optionally ``floor`` and ``building`` per sample.
 Ground-truth waypoints
     ``DataFrame`` with columns ``t_s``, ``x_m``, ``y_m`` and optionally ``floor``.
+Pressure log
+    ``DataFrame`` indexed by ``t_s`` with ``pressure_hpa`` (barometer, hPa).
+Recording (one walk)
+    :class:`ilocalg.io.Recording`, a frozen dataclass that every walk loader converts to
+    (:func:`ilocalg.io.load_recording` picks the loader from the file's content;
+    :func:`ilocalg.io.write_ipin_logfile` writes any recording, simulated walks included, as an IPIN
+    logfile): ``imu`` (IMU log), ``wifi`` (Wi-Fi scans), ``pressure`` (pressure log or None),
+    ``truth`` (ground-truth points ``t_s, x_m, y_m, floor``; ``floor`` NaN when unknown, plus
+    ``lat_deg, lon_deg`` for geographic sources), ``frame`` (:class:`ilocalg.io.LocalFrame`: the
+    local frame of ``truth``, for geographic sources an origin and a PROJ azimuthal equidistant
+    projection, so walks of several files share one frame), ``step_t_s`` (true step times, when
+    known) and ``meta`` (format, device, counts of skipped or policy-changed records). The track
+    pipeline (:mod:`ilocalg.track`) takes recordings.
 Trajectories / results
     ``DataFrame`` with ``x_m``, ``y_m`` (and ``t_s`` or ``step`` as the index); summaries are
     ``DataFrame`` objects or frozen dataclasses.

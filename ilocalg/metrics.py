@@ -19,6 +19,8 @@ __all__ = [
     "penalised_error_m",
     "SUMMARY_COLUMNS",
     "summarise_by_method",
+    "mean_horizontal_error_m",
+    "horizontal_error_scorer",
 ]
 
 SUMMARY_COLUMNS = ("n", "mean_m", "median_m", "p75_m", "p80_m", "p95_m", "rms_m", "std_m", "max_m")
@@ -139,3 +141,47 @@ def summarise_by_method(points: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFram
     cdf = pd.concat([error_cdf(e["error_m"].to_numpy()).assign(method=m)
                      for m, e in points.groupby("method", sort=False)], ignore_index=True)
     return summ, cdf
+
+
+def mean_horizontal_error_m(y_true, y_pred, missing_error_m: float | None = None) -> float:
+    """Mean 2-D error (metres) of predicted positions, with a stated cost for "not located".
+
+    A NaN prediction (the fingerprint estimators' documented result for a scan sharing no access
+    point with the training set, :mod:`ilocalg.wifi.preprocessing`) counts as ``missing_error_m``;
+    by default the diagonal of the bounding box of ``y_true``, which is at least the distance
+    between any two true positions: no answer never scores better than the worst answer inside the
+    evaluated area.
+
+    Parameters
+    ----------
+    y_true, y_pred : array_like, shape (n, >=2)
+        True and predicted positions (the first two columns are x, y in metres).
+    missing_error_m : float, optional
+
+    Returns
+    -------
+    float
+    """
+    t = _as_xy(y_true, "y_true")
+    p = _as_xy(y_pred, "y_pred")
+    if t.shape != p.shape:
+        raise ValueError(f"y_pred has shape {p.shape} but y_true has shape {t.shape}")
+    miss = np.isnan(p).any(axis=1)
+    e = horizontal_error_m(np.where(miss[:, None], t, p), t)
+    if miss.any():
+        if missing_error_m is None:
+            missing_error_m = float(np.hypot(*(t.max(axis=0) - t.min(axis=0))))
+        e[miss] = float(missing_error_m)
+    return float(e.mean())
+
+
+def horizontal_error_scorer(missing_error_m: float | None = None):
+    """A scikit-learn scorer: minus :func:`mean_horizontal_error_m` (greater is better), e.g.
+    ``GridSearchCV(KnnFingerprint(), {"n_neighbors": [1, 3, 5]}, scoring=horizontal_error_scorer())``.
+
+    Never NaN for a fold holding scans that share no access point with its training part: those count
+    as ``missing_error_m`` (see :func:`mean_horizontal_error_m`).
+    """
+    from sklearn.metrics import make_scorer
+
+    return make_scorer(mean_horizontal_error_m, greater_is_better=False, missing_error_m=missing_error_m)

@@ -1,7 +1,9 @@
 """From a phone walk to a track: PDR + Wi-Fi fusion of one walk, everything learned from other walks.
 
-A walk (the IMU log, the Wi-Fi scans and, for learning and scoring only, the surveyor's waypoints:
-the attributes ``imu``, ``wifi``, ``waypoints`` and ``name`` of :class:`ilocalg.io.ilc.IlcTrace`)
+A walk is a :class:`ilocalg.io.recording.Recording` (the IMU log, the Wi-Fi scans, optionally the
+barometer and, for learning and scoring only, the ground truth), whatever file it came from: every
+function here also takes a loader's own type (:class:`~ilocalg.io.ilc.IlcTrace`,
+:class:`~ilocalg.io.ipin.IpinLog`), converted by :func:`ilocalg.io.recording.as_recording`. A walk
 goes through:
 
 Steps and headings (:func:`walk_steps`)
@@ -13,7 +15,9 @@ What the other walks teach (:func:`calibrate`, :class:`WifiDatabase`, :func:`cal
     The Weinberg factor ``k`` (their waypoint path length over their steps), the **floor offset**
     between the compass frame and the map frame (the circular mean of the rotation that best maps
     each walk's PDR track onto its waypoints), the fingerprint database (every scan positioned by
-    interpolating its walk's waypoints in time, :func:`ilocalg.io.ilc.ilc_fingerprints`) and the
+    interpolating its walk's ground truth in time, :func:`ilocalg.io.recording.recording_fingerprints`,
+    all walks in one shared local frame: geographic walks, such as IPIN logfiles that each start
+    their x/y at their own first point, are pooled through latitude/longitude) and the
     Wi-Fi fix variance (leave-one-walk-out inside the database; :func:`select_wifi` also chooses the
     Wi-Fi configuration among :data:`WIFI_CANDIDATES` that way).
 Wi-Fi fixes (:func:`wifi_fixes`)
@@ -31,13 +35,31 @@ Tracks (:func:`evaluate_walk`), the keys of :data:`METHODS`
     start. ``pf_smooth``: the particle filter's ancestral paths. ``map_align``: the whole-walk map
     matching (:mod:`ilocalg.fusion.map_align`). ``map_align_kf_rts``: the KF + RTS from that placement.
 
+Floors (:func:`estimate_floors`)
+    When the fingerprints have floor numbers: each fix's floor by a distance-weighted vote of its
+    WKNN neighbours' floors (Wi-Fi floor classification); with a barometer, the walk is cut where
+    the barometric height changes by more than ``baro_change_m`` and each level segment takes the
+    Wi-Fi floors' majority (causal methods: the votes so far; whole-walk methods: all the segment's
+    votes); without one, a majority over the latest (causal) or surrounding (whole-walk) votes.
+Scoring (:func:`error_table`, :func:`summary_table`)
+    Horizontal error at every ground-truth point; mean / median / p75 / p95, the floor hit rate and
+    the penalised error (+15 m per wrong floor, :func:`ilocalg.metrics.penalised_error_m`).
+
 :func:`evaluate_track` runs the whole chain for one walk given the other walks (and optionally the
-floor map); the ``evaluate track`` command and the real-walk experiment call it.
+floor map); the ``evaluate track`` command and the real-walk experiment call it. In a notebook::
+
+    db_walks = [load_recording(p) for p in paths]            # ILC, IPIN, simulated ... walks
+    r = evaluate_track(load_recording(path), db_walks)       # or evaluate_walk with a built database
+    r["track"], r["errors"], summary_table(r)                # per-state tracks, per-point errors, statistics
 
 References
 ----------
 Chiu P.-J., i-Loc M.S. thesis, NCTU (2013), eq. 18-19 (WDM heading) and eq. 20-26 (step Kalman
-filter); Luo S. et al. (罗思奇 et al.), Computer Systems & Applications (2017), KNN fingerprinting with
+filter); Torres-Sospedra J. et al., "Off-line evaluation of mobile-centric indoor positioning systems:
+the experiences from the 2017 IPIN competition", Sensors 18(2) (2018), the penalised error and floor
+hit rate; Ye H. et al., "B-Loc: scalable floor localization using barometer on smartphone", IEEE
+MASS (2014), barometric floor changes;
+Luo S. et al. (罗思奇 et al.), Computer Systems & Applications (2017), KNN fingerprinting with
 the Manhattan distance and K = 5, PDR + Wi-Fi fusion; Weinberg H., Analog Devices AN-602 (2002), step
 length; Rauch, Tung, Striebel, AIAA J. 3(8) (1965), smoothing; Woodman & Harle, UbiComp (2008),
 map-constrained particle filters.
@@ -55,9 +77,17 @@ from ilocalg.fusion import filter_walk, fix_covariance_from_spread, fixes_at_sta
 from ilocalg.fusion.heading_offset import circular_mean_rad, fit_track_to_fixes, rotate_xy
 from ilocalg.fusion.map_align import map_align
 from ilocalg.fusion.particle_filter import OccupancyGrid, map_particle_filter
-from ilocalg.io.ilc import ilc_fingerprints, interpolate_waypoints
+from ilocalg.io.recording import (
+    PRESSURE_HPA,
+    LocalFrame,
+    as_recording,
+    common_frame,
+    recording_fingerprints,
+    truth_at,
+)
 from ilocalg.io.scans import scan_matrix
-from ilocalg.io.schema import ACC_COLS, GYR_COLS, MAG_COLS, T_S, X_M, Y_M
+from ilocalg.io.schema import ACC_COLS, FLOOR, GYR_COLS, MAG_COLS, T_S, X_M, Y_M
+from ilocalg.metrics import penalised_error_m
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import gyr_heading_theta_rad, heading_theta_rad
 from ilocalg.pdr.robust import detect_steps_robust
@@ -66,14 +96,18 @@ from ilocalg.pdr.step_length import weinberg_length_m
 from ilocalg.units import as_rng, wrap_angle_rad
 from ilocalg.wifi import KnnFingerprint
 from ilocalg.wifi.knn import knn_predict, neighbour_weights
+from ilocalg.wifi.preprocessing import shares_no_ap
 
 __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_steps", "Calibration", "calibrate",
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
-           "evaluate_walk", "evaluate_track"]
+           "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
+           "track_table", "error_table", "summary_table", "CAUSAL_METHODS"]
 
 #: Keys of the scored tracks (the ``evaluate track`` command's ``errors_m`` keys).
 METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "pf", "pf_smooth", "map_align",
            "map_align_kf_rts")
+#: The online methods (an estimate at time t uses the walk up to t only); the others use the whole walk.
+CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf")
 
 
 @dataclass(frozen=True)
@@ -91,6 +125,10 @@ class RealWalkConfig:
     huber_m : robust threshold of the track-to-fixes fit.
     n_particles, pf_* : particle filter (see :func:`ilocalg.fusion.particle_filter.map_particle_filter`).
     grid_cell_m : walkable raster resolution.
+    baro_change_m, baro_smooth_s : a floor change is a barometric height change of more than
+        ``baro_change_m`` (half a typical 3-4 m storey; smoothed over ``baro_smooth_s``).
+    floor_votes : Wi-Fi floor votes in the majority without a barometer (latest ones for causal
+        methods, centred for whole-walk ones).
     """
 
     k_neighbors: int = 5
@@ -111,6 +149,9 @@ class RealWalkConfig:
     pf_outlier_prob: float = 0.2
     pf_blocked_weight: float = 1e-3
     grid_cell_m: float = 0.5
+    baro_change_m: float = 2.0
+    baro_smooth_s: float = 2.0
+    floor_votes: int = 5
 
 
 @dataclass(frozen=True)
@@ -122,6 +163,12 @@ class WalkSteps:
     state_t_s: np.ndarray
     a_range_mps2: np.ndarray
     theta_rel_rad: np.ndarray
+
+
+def _n_samples(duration_s: float, rate_hz: float) -> int:
+    """Samples in a window: ``floor(duration * rate)`` (at least 1), immune to the rounding of the rate
+    estimated from timestamps (a 50 Hz log stored as Unix milliseconds gives 49.99999 or 50.00005 Hz)."""
+    return max(int(duration_s * rate_hz + 1e-3), 1)
 
 
 def walk_steps(trace, cfg: RealWalkConfig = RealWalkConfig()) -> WalkSteps:
@@ -141,8 +188,8 @@ def walk_steps(trace, cfg: RealWalkConfig = RealWalkConfig()) -> WalkSteps:
     acc = imu[list(ACC_COLS)].to_numpy()
     rate = 1.0 / float(np.median(np.diff(t)))
     st = detect_steps_robust(acc, t, min_bout_steps=cfg.min_bout_steps)
-    g = np.column_stack([moving_mean(acc[:, j], max(int(0.5 * rate), 1)) for j in range(3)])
-    m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], max(int(0.25 * rate), 1))
+    g = np.column_stack([moving_mean(acc[:, j], _n_samples(0.5, rate)) for j in range(3)])
+    m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], _n_samples(0.25, rate))
                          for j in range(3)])
     wdm = heading_theta_rad(g, m)
     gyro = gyr_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
@@ -207,50 +254,105 @@ def calibrate(traces, steps: dict | None = None, cfg: RealWalkConfig = RealWalkC
 @dataclass(frozen=True)
 class WifiFixes:
     """Fixes of the scored walk: ``t_s`` (m,), ``xy_m`` (m, 2), ``R_m2`` (m, 2, 2), ``true_xy_m`` (m, 2;
-    interpolated waypoints, NaN outside their span: for scoring only)."""
+    interpolated ground truth, NaN outside its span: for scoring only), ``floor`` (m,; the Wi-Fi floor
+    vote, NaN when the database has no floors), ``true_floor`` (m,), and the scans left out:
+    ``n_outside_walk`` (outside the walk's IMU time span), ``n_no_shared_ap`` (hearing no access
+    point of the database)."""
 
     t_s: np.ndarray
     xy_m: np.ndarray
     R_m2: np.ndarray
     true_xy_m: np.ndarray
+    floor: np.ndarray | None = None
+    true_floor: np.ndarray | None = None
+    n_outside_walk: int = 0
+    n_no_shared_ap: int = 0
 
 
 @dataclass(frozen=True)
 class WifiDatabase:
-    """Fingerprints of walks, one row per scan: ``rssi_dbm`` (n, n_aps), ``xy_m`` (n, 2), ``walk`` (n,)."""
+    """Fingerprints of walks, one row per scan: ``rssi_dbm`` (n, n_aps), ``xy_m`` (n, 2) in ``frame``,
+    ``walk`` (n,), ``floor`` (n,; NaN when unknown), the walks' content ids (``content_ids``, walk ->
+    :attr:`ilocalg.io.recording.Recording.content_id`)."""
 
     rssi_dbm: np.ndarray
     xy_m: np.ndarray
     walk: np.ndarray
     ap_ids: tuple
+    floor: np.ndarray | None = None
+    frame: LocalFrame | None = None
+    content_ids: dict = dataclasses.field(default_factory=dict, compare=False)
+
+    @classmethod
+    def from_recordings(cls, recordings, max_age_s: float | None = None,
+                        frame: LocalFrame | None = None) -> WifiDatabase:
+        """Every scan of ``recordings`` positioned by interpolating its walk's ground truth (outside: left
+        out), all in one shared frame (``frame``, default the first walk's:
+        :func:`ilocalg.io.recording.common_frame`)."""
+        recs = [as_recording(r) for r in (recordings.values() if isinstance(recordings, dict) else recordings)]
+        if not recs:
+            raise ValueError("no fingerprint walks given")
+        names = [r.name for r in recs]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ValueError(f"fingerprint walks must have distinct names; {dup[0]!r} appears twice")
+        rf = recording_fingerprints(recs, frame=frame, max_age_s=max_age_s)
+        fp = rf.fingerprints
+        return cls(fp.rssi_dbm, fp.xy_m, fp.meta["walk"].to_numpy(dtype=object), tuple(fp.ap_ids),
+                   np.asarray(fp.floor, dtype=np.float64), rf.frame, {r.name: r.content_id for r in recs})
 
     @classmethod
     def from_traces(cls, traces, max_age_s: float | None = None) -> WifiDatabase:
-        """Every scan of ``traces`` positioned by interpolating its walk's waypoints (outside: left out)."""
-        fp = ilc_fingerprints(traces, outside="drop", max_age_s=max_age_s).fingerprints
-        return cls(fp.rssi_dbm, fp.xy_m, fp.meta["trace"].to_numpy(dtype=object), tuple(fp.ap_ids))
+        """:meth:`from_recordings` (kept for walks of any loader type, e.g. ILC traces)."""
+        return cls.from_recordings(traces, max_age_s)
+
+    @property
+    def has_floors(self) -> bool:
+        return self.floor is not None and bool(np.isfinite(self.floor).all())
 
     def without(self, *walks) -> WifiDatabase:
         """The database without the rows of ``walks`` (leave-walks-out)."""
         keep = ~np.isin(self.walk, list(walks))
         if not keep.any():
             raise ValueError(f"no fingerprint left after removing {walks}")
-        return WifiDatabase(self.rssi_dbm[keep], self.xy_m[keep], self.walk[keep], self.ap_ids)
+        return WifiDatabase(self.rssi_dbm[keep], self.xy_m[keep], self.walk[keep], self.ap_ids,
+                            None if self.floor is None else self.floor[keep], self.frame,
+                            {k: v for k, v in self.content_ids.items() if k not in walks})
 
 
-def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = RealWalkConfig()):
+def _wknn(db: WifiDatabase, cfg: RealWalkConfig):
+    return KnnFingerprint(n_neighbors=min(cfg.k_neighbors, db.xy_m.shape[0]), p=cfg.p, weights=cfg.weights,
+                          not_heard_dbm=cfg.not_heard_dbm, kernel="dense", metric=cfg.metric).fit(db.rssi_dbm, db.xy_m)
+
+
+def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = RealWalkConfig(), return_floor: bool = False):
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances.
+
+    With ``return_floor`` also each query's floor: the distance-weighted (``cfg.weights``) majority of
+    its neighbours' floors (NaN when the database has no floors). A query sharing no access point with
+    the database gets NaN (the estimators' documented no-AP result).
 
     References
     ----------
     Luo et al. (2017), eq. 1-2 (KNN fingerprinting).
     """
-    est = KnnFingerprint(n_neighbors=min(cfg.k_neighbors, db.xy_m.shape[0]), p=cfg.p, weights=cfg.weights,
-                         not_heard_dbm=cfg.not_heard_dbm, kernel="dense", metric=cfg.metric).fit(db.rssi_dbm, db.xy_m)
-    dist, idx = est.kneighbors(X)
-    xy = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
-    w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
-    return xy, fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+    est = _wknn(db, cfg)
+    X = np.asarray(X, dtype=np.float64)
+    miss = shares_no_ap(X, est.heard_aps_)
+    n = X.shape[0]
+    xy, C, fl_out = np.full((n, 2), np.nan), np.full((n, 2, 2), np.nan), np.full(n, np.nan)
+    if (~miss).any():
+        dist, idx = est.kneighbors(X[~miss])
+        xy[~miss] = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
+        w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
+        C[~miss] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+        if return_floor and db.has_floors:
+            wv = np.ones(idx.shape) if w is None else w
+            fl = db.floor[idx]
+            levels = np.unique(fl)
+            score = np.stack([(wv * (fl == f)).sum(axis=1) for f in levels], axis=1)
+            fl_out[~miss] = levels[np.argmax(score, axis=1)]
+    return (xy, C, fl_out) if return_floor else (xy, C)
 
 
 def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(),
@@ -259,28 +361,49 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(),
 
     ``R`` of each fix: ``fix_var_m2 I`` (isotropic, e.g. calibrated on other walks by
     :func:`calibrate_fix_var`) or, when None, the neighbour spread plus ``cfg.fix_min_var_m2``.
+    Scans outside the walk's IMU time span and scans hearing no access point of the database are left
+    out and counted (``n_outside_walk``, ``n_no_shared_ap``). The walk's ground truth (for
+    ``true_xy_m``) is moved into the database's frame.
     """
-    if trace.name and trace.name in set(db.walk):
-        raise ValueError(f"the fingerprint database must not contain the scored walk {trace.name!r}")
-    w = trace.wifi
+    rec = as_recording(trace)
+    if rec.name and rec.name in set(db.walk):
+        raise ValueError(f"the fingerprint database must not contain the scored walk {rec.name!r}")
+    same = [k for k, v in db.content_ids.items() if len(rec.imu) and v == rec.content_id]
+    if same:
+        raise ValueError(f"the fingerprint database must not contain the scored walk {rec.name!r}: its walk "
+                         f"{same[0]!r} has the same sensor content")
+    if db.frame is not None and len(rec.truth):
+        rec = rec.in_frame(db.frame)
+    w = rec.wifi
+    if not len(w):
+        raise ValueError(f"{rec.source or rec.name}: the walk has no Wi-Fi scan")
     fresh = None if cfg.max_age_s is None else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy()
     _, t, X = scan_matrix(w, db.ap_ids, keep=fresh)
-    keep = ~np.isnan(X).all(axis=1)          # scans sharing no AP with the database cannot be located
+    t0, t1 = rec.t_span_s
+    inside = (t >= t0) & (t <= t1)
+    heard = ~np.isnan(X).all(axis=1)          # scans sharing no AP with the database cannot be located
+    keep = inside & heard
     t, X = t[keep], X[keep]
     if not t.size:
-        raise ValueError(f"{trace.name}: no scan shares an access point with the database")
-    xy, C = locate_wknn(db, X, cfg)
+        raise ValueError(f"{rec.source or rec.name}: no scan inside the walk's time span shares an access point "
+                         f"with the database ({int((~inside).sum())} outside the span, "
+                         f"{int((inside & ~heard).sum())} hearing none of its {len(db.ap_ids)} APs)")
+    xy, C, fl = locate_wknn(db, X, cfg, return_floor=True)
     R = (fix_var_m2 * np.broadcast_to(np.eye(2), C.shape).copy() if fix_var_m2 is not None
          else C + (cfg.fix_min_var_m2 - 1.0) * np.eye(2))
-    true = interpolate_waypoints(trace.waypoints, t, outside="nan")
-    return WifiFixes(t, xy, R, true)
+    if len(rec.truth) >= 2:
+        true, tfl = truth_at(rec.truth, t, outside="nan")
+    else:
+        true, tfl = np.full((t.size, 2), np.nan), np.full(t.size, np.nan)
+    return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()))
 
 
 def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig()) -> tuple[float, pd.DataFrame]:
     """Isotropic Wi-Fi fix variance (per axis, m^2) by leave-one-walk-out *inside* ``db``.
 
-    Each walk of ``db`` is located against the others; ``var = mean(error^2) / 2``. Returns the variance
-    and the per-walk errors table (``walk, n, mean_error_m``).
+    Each walk of ``db`` is located against the others; ``var = mean(error^2) / 2``. Scans sharing no
+    access point with the other walks are not located and not counted (``n_unlocated``). Returns the
+    variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n`` located scans).
     """
     walks = list(dict.fromkeys(db.walk))
     errs, rows = [], []
@@ -289,9 +412,14 @@ def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig()) 
         m = db.walk == v
         xy, _ = locate_wknn(rest, db.rssi_dbm[m], cfg)
         e = np.hypot(*(xy - db.xy_m[m]).T)
-        errs.append(e)
-        rows.append({"walk": v, "n": int(m.sum()), "mean_error_m": float(e.mean())})
+        ok = np.isfinite(e)
+        errs.append(e[ok])
+        rows.append({"walk": v, "n": int(ok.sum()), "mean_error_m": float(e[ok].mean()) if ok.any() else np.nan,
+                     "n_unlocated": int((~ok).sum())})
     e = np.concatenate(errs)
+    if not e.size:
+        raise ValueError("calibrate_fix_var: no scan of any fingerprint walk shares an access point with the other "
+                         "walks; the Wi-Fi fix variance cannot be learned")
     return float(np.mean(e**2) / 2.0), pd.DataFrame(rows)
 
 
@@ -317,11 +445,140 @@ def select_wifi(db: WifiDatabase, cfg: RealWalkConfig = RealWalkConfig(), candid
     for label, kw in cands.items():
         c = dataclasses.replace(cfg, **kw)
         var, per = calibrate_fix_var(db, c)
+        per = per[per["n"] > 0]
         e = float(np.average(per["mean_error_m"], weights=per["n"]))
         rows.append({"label": label, "mean_error_m": e, "fix_sd_m": float(np.sqrt(var))})
         if best is None or e < best[0]:
             best = (e, label, c, var)
     return best[1], best[2], best[3], pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class FloorEstimate:
+    """Floors of one walk: ``causal`` and ``offline`` (functions of time, see :func:`estimate_floors`) are
+    given as values at ``t_s`` of the queries; ``segments`` (DataFrame ``t0_s, t1_s, height_m``: the
+    barometric level segments, one row when there is no barometer); ``source`` ("wifi" or
+    "wifi+barometer")."""
+
+    segments: pd.DataFrame
+    source: str
+    vote_t_s: np.ndarray
+    vote_floor: np.ndarray
+
+    def _segment(self, t_s):
+        """Segment of each time; a time during a level change belongs to the level it is nearer in time
+        (the change's midpoint splits it)."""
+        seg = self.segments
+        cut = 0.5 * (seg["t1_s"].to_numpy()[:-1] + seg["t0_s"].to_numpy()[1:])
+        return np.searchsorted(cut, t_s, side="right")
+
+    def at(self, t_s, causal: bool, n_votes: int = 5) -> np.ndarray:
+        """Floor at times ``t_s`` (NaN before the first vote of a causal estimate without a barometer)."""
+        t = np.atleast_1d(np.asarray(t_s, dtype=np.float64))
+        out = np.full(t.size, np.nan)
+        vt, vf = self.vote_t_s, self.vote_floor
+        if not vt.size:
+            return out
+        if self.source == "wifi":
+            for i, ti in enumerate(t):
+                if causal:
+                    sel = vf[max(0, np.searchsorted(vt, ti, side="right") - n_votes):
+                             np.searchsorted(vt, ti, side="right")]
+                    if not sel.size:
+                        sel = vf[:1]            # before the first scan: the first scan's floor
+                else:
+                    c = int(np.argmin(np.abs(vt - ti)))
+                    sel = vf[max(0, c - n_votes // 2): c + n_votes // 2 + 1]
+                out[i] = _majority(sel)
+            return out
+        seg = self._segment(t)
+        vseg = self._segment(vt)
+        h = self.segments["height_m"].to_numpy()
+        for i, (ti, si) in enumerate(zip(t, seg, strict=True)):
+            # every vote, referred to this segment by the barometric height difference
+            m = (vt <= ti) if causal else np.ones(vt.size, dtype=bool)
+            if not m.any():
+                m = np.zeros(vt.size, dtype=bool)
+                m[0] = True
+            here = m & (vseg == si)
+            if here.any():
+                out[i] = _majority(vf[here])
+            else:          # no vote on this level yet: the nearest level's floor + the height change in storeys
+                j = vseg[m][np.argmin(np.abs(vseg[m] - si))]
+                base = _majority(vf[m & (vseg == j)])
+                dz = (h[si] - h[j]) / _STOREY_M
+                out[i] = base + (np.sign(dz) * max(1.0, round(abs(dz))) if abs(dz) > 0 else 0.0)
+        return out
+
+
+#: Storey height (m) used only to count storeys of a barometric level change that no Wi-Fi vote covers.
+_STOREY_M = 3.5
+
+
+def _majority(v) -> float:
+    v = np.asarray(v, dtype=np.float64)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return np.nan
+    u, c = np.unique(v, return_counts=True)
+    return float(u[np.argmax(c)])        # ties: the lowest floor
+
+
+def barometric_segments(pressure: pd.DataFrame, change_m: float = 2.0, smooth_s: float = 2.0) -> pd.DataFrame:
+    """Cut a walk into level segments where the barometric height changes by more than ``change_m``.
+
+    Height from pressure by the ICAO standard atmosphere, ``h = 44330.8 (1 - (p / p_ref)^0.190263)`` m,
+    relative to the walk's start, after a moving mean over ``smooth_s``. A segment ends when the height
+    leaves its level by more than ``change_m``; the next starts when the height is level again (changes
+    by less than ``change_m / 4`` over ``smooth_s``).
+
+    Returns
+    -------
+    DataFrame
+        ``t0_s, t1_s, height_m`` (mean height of the segment), one row per level segment.
+
+    References
+    ----------
+    ICAO, Manual of the ICAO Standard Atmosphere, Doc 7488 (1993); Ye H. et al., B-Loc, IEEE MASS (2014).
+    """
+    t = pressure.index.to_numpy(dtype=np.float64)
+    p = pressure[PRESSURE_HPA].to_numpy(dtype=np.float64)
+    if t.size < 2:
+        raise ValueError(f"barometer: need at least 2 pressure samples, got {t.size}")
+    if not np.all((p > 300) & (p < 1100)):
+        raise ValueError("barometer: pressure outside (300, 1100) hPa")
+    rate = 1.0 / float(np.median(np.diff(t)))
+    h = 44330.8 * (1.0 - (p / p[0]) ** 0.190263)
+    hs = moving_mean(h, max(int(round(smooth_s * rate)), 1))
+    lag = max(int(round(smooth_s * rate)), 1)
+    rows, start, ref, moving = [], 0, hs[0], False
+    for i in range(t.size):
+        if not moving and abs(hs[i] - ref) > change_m:
+            moving = True
+            end = i
+            while end > start and abs(hs[end] - ref) > change_m / 4:
+                end -= 1
+            rows.append((t[start], t[end], float(np.mean(hs[start:end + 1]))))
+        elif moving and i >= lag and abs(hs[i] - hs[i - lag]) < change_m / 4:
+            moving, start, ref = False, i, hs[i]
+    last = (t[start], t[-1], float(np.mean(hs[start:]))) if not moving else (t[end + 1], t[-1], float(hs[-1]))
+    rows.append(last)
+    return pd.DataFrame(rows, columns=["t0_s", "t1_s", "height_m"])
+
+
+def estimate_floors(fixes: WifiFixes, pressure: pd.DataFrame | None = None,
+                    cfg: RealWalkConfig = RealWalkConfig()) -> FloorEstimate | None:
+    """The walk's floors from its Wi-Fi floor votes (and barometric level changes when ``pressure`` is given).
+
+    None when the fixes carry no floor (a database without floor numbers).
+    """
+    if fixes.floor is None or not np.isfinite(fixes.floor).any():
+        return None
+    if pressure is not None and len(pressure) >= 2:
+        seg = barometric_segments(pressure, cfg.baro_change_m, cfg.baro_smooth_s)
+        return FloorEstimate(seg, "wifi+barometer", fixes.t_s, fixes.floor)
+    seg = pd.DataFrame({"t0_s": [-np.inf], "t1_s": [np.inf], "height_m": [0.0]})
+    return FloorEstimate(seg, "wifi", fixes.t_s, fixes.floor)
 
 
 def _latest_fix(fix_t, fix_xy, t_s):
@@ -332,20 +589,23 @@ def _latest_fix(fix_t, fix_xy, t_s):
 def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2: float,
                   cfg: RealWalkConfig = RealWalkConfig(), grid: OccupancyGrid | None = None,
                   steps: WalkSteps | None = None, rng=None, methods=METHODS) -> dict:
-    """Score every track of :data:`METHODS` at the waypoints of ``trace``.
+    """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
-    which builds them from walk files); ``db`` containing the walk raises. ``grid``: the floor's
-    walkable raster (:meth:`OccupancyGrid.from_floor_map`), needed by ``map_align``; the particle filter
-    runs unconstrained without it.
+    which builds them from walk files); ``db`` containing the walk (by name or sensor content) raises.
+    ``grid``: the floor's walkable raster (:meth:`OccupancyGrid.from_floor_map`), needed by
+    ``map_align``; the particle filter runs unconstrained without it.
 
     Returns
     -------
     dict
-        ``errors`` (DataFrame: one row per waypoint, one column per method, metres), ``tracks``
-        (method -> (n+1, 2) states), ``state_t_s``, ``fixes`` (WifiFixes), ``info`` (dict). ``errors``
-        also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints), never
-        a method.
+        ``errors`` (DataFrame: one row per ground-truth point, one column per method, metres),
+        ``tracks`` (method -> (n+1, 2) states), ``state_t_s``, ``fixes`` (WifiFixes), ``info`` (dict),
+        ``scans`` (counts of the scans left out), ``floors`` (DataFrame per ground-truth point:
+        ``floor_true`` and one column per method, or None without floor numbers), ``track`` (long
+        DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`). ``errors``
+        also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints),
+        never a method.
 
     References
     ----------
@@ -355,11 +615,16 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     unknown = set(methods) - set(METHODS)
     if unknown:
         raise ValueError(f"unknown methods {sorted(unknown)}; known: {METHODS}")
+    rec = as_recording(trace)
+    if db.frame is not None and len(rec.truth):
+        rec = rec.in_frame(db.frame)
+    if len(rec.truth) < 1:
+        raise ValueError(f"{rec.source or rec.name}: no ground-truth point to score")
     cal = calibration
-    fx = wifi_fixes(trace, db, cfg, fix_var_m2=fix_var_m2)
-    ws = steps or walk_steps(trace, cfg)
+    fx = wifi_fixes(rec, db, cfg, fix_var_m2=fix_var_m2)
+    ws = steps or walk_steps(rec, cfg)
     if ws.a_range_mps2.size < 1:
-        raise ValueError(f"{trace.name}: no step detected")
+        raise ValueError(f"{rec.name}: no step detected")
     d = weinberg_length_m(ws.a_range_mps2, np.zeros_like(ws.a_range_mps2), cal.k_weinberg)
     th = wrap_angle_rad(ws.theta_rel_rad + cal.offset_rad)
     ts = ws.state_t_s
@@ -371,7 +636,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     z_kf = z.copy()
     if al.used[0] and al.state_index[0] == 0:
         z_kf[0] = np.nan           # the first fix is the start; not used twice
-    wp = trace.waypoints
+    wp = rec.truth
     tw = wp[T_S].to_numpy()
     true = wp[[X_M, Y_M]].to_numpy()
     tracks = {"pdr": dead_reckon(d, th, *x0)[["x_m", "y_m"]].to_numpy()}
@@ -430,25 +695,108 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     fe = np.hypot(*(fx.xy_m - fx.true_xy_m).T)
     info["fix_mean_error_m"] = float(np.nanmean(fe)) if np.isfinite(fe).any() else np.nan
     info["first_fix_error_m"] = float(fe[0])
-    return {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info}
+    fest = estimate_floors(fx, rec.pressure, cfg)
+    floors = None
+    state_floor = {}
+    if fest is not None:
+        floors = {"waypoint": np.arange(len(wp)), "t_s": tw, "floor_true": wp[FLOOR].to_numpy(dtype=np.float64)}
+        for m in methods:
+            if m == "wifi":
+                floors[m] = _latest_fix(fx.t_s, fx.floor, tw)
+                state_floor[m] = _latest_fix(fx.t_s, fx.floor, ts)
+            else:
+                c = m in CAUSAL_METHODS
+                floors[m] = fest.at(tw, causal=c, n_votes=cfg.floor_votes)
+                state_floor[m] = fest.at(ts, causal=c, n_votes=cfg.floor_votes)
+        floors = pd.DataFrame(floors)
+    scans = {"n_scans_outside_walk": fx.n_outside_walk, "n_scans_no_shared_ap": fx.n_no_shared_ap,
+             "floor_source": None if fest is None else fest.source}
+    out = {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info,
+           "scans": scans, "floors": floors}
+    out["track"] = track_table(out, state_floor)
+    return out
+
+
+def track_table(result: dict, state_floor: dict | None = None) -> pd.DataFrame:
+    """Long table of every method's states: ``t_s, method, x_m, y_m, floor`` (the ``wifi`` rows are the
+    fixes; ``floor`` NaN without floor numbers)."""
+    ts = result["state_t_s"]
+    fx = result["fixes"]
+    sf = state_floor or {}
+    parts = []
+    for m, xy in result["tracks"].items():
+        parts.append(pd.DataFrame({T_S: ts, "method": m, X_M: xy[:, 0], Y_M: xy[:, 1],
+                                   FLOOR: sf.get(m, np.full(ts.size, np.nan))}))
+    fl = fx.floor if fx.floor is not None else np.full(fx.t_s.size, np.nan)
+    parts.append(pd.DataFrame({T_S: fx.t_s, "method": "wifi", X_M: fx.xy_m[:, 0], Y_M: fx.xy_m[:, 1], FLOOR: fl}))
+    return pd.concat(parts, ignore_index=True)
+
+
+def error_table(result: dict, floor_penalty_m: float = 15.0) -> pd.DataFrame:
+    """Long per-point error table: ``waypoint, t_s, method, error_m``, and where floors exist
+    ``floor_true, floor, floor_hit, penalised_error_m`` (+``floor_penalty_m`` per wrong floor)."""
+    e = result["errors"]
+    fl = result.get("floors")
+    methods = [m for m in METHODS if m in e.columns]
+    rows = []
+    for m in methods:
+        d = pd.DataFrame({"waypoint": e["waypoint"], T_S: e[T_S], "method": m, "error_m": e[m]})
+        if fl is not None and np.isfinite(fl["floor_true"]).all():
+            d["floor_true"] = fl["floor_true"].to_numpy()
+            d["floor"] = fl[m].to_numpy()
+            d["floor_hit"] = d["floor"] == d["floor_true"]
+            e_xy = np.column_stack([d["error_m"].to_numpy(), np.zeros(len(d))])     # |(e, 0) - (0, 0)| = e
+            d["penalised_error_m"] = penalised_error_m(e_xy, np.zeros_like(e_xy), d["floor"].to_numpy(),
+                                                       d["floor_true"].to_numpy(), floor_penalty_m=floor_penalty_m)
+        rows.append(d)
+    return pd.concat(rows, ignore_index=True)
+
+
+def summary_table(result: dict, floor_penalty_m: float = 15.0) -> pd.DataFrame:
+    """Per method: ``n, mean_m, median_m, p75_m, p95_m`` of the horizontal error and, where floors exist,
+    ``floor_hit_rate`` and ``penalised_mean_m`` (IPIN/EvAAL convention: +15 m per wrong floor).
+
+    References
+    ----------
+    Torres-Sospedra et al. (2018), the IPIN competition metrics.
+    """
+    t = error_table(result, floor_penalty_m)
+    g = t.groupby("method", sort=False)
+    out = pd.DataFrame({"n": g["error_m"].size(), "mean_m": g["error_m"].mean(), "median_m": g["error_m"].median(),
+                        "p75_m": g["error_m"].quantile(0.75), "p95_m": g["error_m"].quantile(0.95)})
+    if "floor_hit" in t.columns:
+        out["floor_hit_rate"] = g["floor_hit"].mean()
+        out["penalised_mean_m"] = g["penalised_error_m"].mean()
+    return out.reset_index()
 
 
 def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = RealWalkConfig(), rng=0,
                    methods=METHODS, select: bool = True) -> dict:
-    """:func:`evaluate_walk` with everything learned from ``db_traces`` (walks with waypoints).
+    """:func:`evaluate_walk` with everything learned from ``db_traces`` (walks with ground truth).
 
-    Builds the fingerprint database, the step-length factor and heading offset (:func:`calibrate`)
-    and the fix variance (:func:`calibrate_fix_var`; with ``select`` the Wi-Fi configuration too,
-    :func:`select_wifi`) from ``db_traces`` only; ``floor_map`` (an
-    :class:`~ilocalg.io.ilc.IlcFloorMap`, optional) constrains the particle filter (without it the
-    particle filter runs unconstrained).
+    Builds the fingerprint database (all walks in the first one's frame, the scored walk moved into it),
+    the step-length factor and heading offset (:func:`calibrate`) and the fix variance
+    (:func:`calibrate_fix_var`; with ``select`` the Wi-Fi configuration too, :func:`select_wifi`) from
+    ``db_traces`` only; ``floor_map`` (an :class:`~ilocalg.io.ilc.IlcFloorMap` or a walkable
+    :class:`~ilocalg.fusion.particle_filter.OccupancyGrid`, optional, in the walks' shared frame)
+    constrains the particle filter and enables map matching (without it the particle filter runs
+    unconstrained). A fingerprint walk that is the scored walk (same name, or same sensor content
+    under another name) raises.
     """
     items = list(db_traces.values() if isinstance(db_traces, dict) else db_traces)
     if not items:
         raise ValueError("no fingerprint walks given")
-    if any(t is trace or (trace.name and t.name == trace.name) for t in items):
+    if any(t is trace or (getattr(trace, "name", "") and t.name == trace.name) for t in items):
         raise ValueError(f"the fingerprint walks must not include the scored walk {trace.name!r}")
-    db = WifiDatabase.from_traces(items, cfg.max_age_s)
+    rec = as_recording(trace)
+    recs = [as_recording(t) for t in items]
+    same = [r.name for r in recs if len(rec.imu) and r.content_id == rec.content_id]
+    if same:
+        raise ValueError(f"the fingerprint walks must not include the scored walk {rec.name!r}: {same[0]!r} has the "
+                         "same sensor content")
+    frame = common_frame(recs)
+    recs = [r.in_frame(frame) for r in recs]
+    db = WifiDatabase.from_recordings(recs, cfg.max_age_s, frame=frame)
     label = "given"
     if len(set(db.walk)) < 2:
         var = cfg.fix_min_var_m2
@@ -456,8 +804,11 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = RealW
         label, cfg, var, _ = select_wifi(db, cfg)
     else:
         var, _ = calibrate_fix_var(db, cfg)
-    cal = calibrate(items, cfg=cfg)
-    grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m) if floor_map is not None else None
-    r = evaluate_walk(trace, db, cal, var, cfg, grid=grid, rng=rng, methods=methods)
+    cal = calibrate(recs, cfg=cfg)
+    if floor_map is None or isinstance(floor_map, OccupancyGrid):
+        grid = floor_map
+    else:
+        grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
+    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods)
     r["info"]["wifi_config"] = label
     return r

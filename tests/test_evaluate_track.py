@@ -75,3 +75,53 @@ def test_cli_error_exit_for_missing_trace(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode != 0
     assert "neither" in r.stderr
+
+
+@pytest.fixture(scope="module")
+def ipin_files(tmp_path_factory):
+    """Simulated walks on two floors (some climbing), written as IPIN logfiles."""
+    from ilocalg.io import write_ipin_logfile
+    from ilocalg.sim import walk_recordings as wr
+
+    d = tmp_path_factory.mktemp("ipin")
+    _, walks = wr.simulate_recordings(8, seed=21, n_floors=2, n_nodes=30, floor_changes=True)
+    return [write_ipin_logfile(w, d / f"{w.name}.txt") for w in walks]
+
+
+def test_ipin_logfile_scored_against_other_logfiles(ipin_files):
+    trace, db = ipin_files[1], ipin_files[2:]
+    out = cmd.run(_args(trace=str(trace), fingerprints=[str(p) for p in db], particles=100))
+    n = out["n_waypoints"]
+    assert out["trace"] == "sim001" and out["n_fingerprint_walks"] == len(db)
+    # no floor map for geographic walks: the map-constrained methods are left out, as for ILC with --no-map
+    assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts"}
+    for k, e in out["errors_m"].items():
+        assert len(e) == n and all(np.isfinite(e)) and out["mean_m"][k] == pytest.approx(np.mean(e))
+    assert out["mean_m"]["kf_rts"] < 10 and out["mean_m"]["wifi"] < 10
+    assert set(out["floor_hit_rate"]) == set(out["errors_m"]) and out["floor_hit_rate"]["kf_rts"] >= 0.8
+    assert out["info"]["floor_source"] == "wifi+barometer" and out["info"]["n_scans_outside_walk"] == 0
+    json.dumps(out)
+    same = cmd.run(_args(trace=str(trace), fingerprints=[str(p) for p in db], particles=100, format="ipin"))
+    assert same["errors_m"] == out["errors_m"]                         # the format from the content, or given
+
+
+def test_ipin_scored_walk_under_another_name_is_refused(ipin_files, tmp_path):
+    copy = tmp_path / "renamed_walk.txt"
+    copy.write_bytes(ipin_files[1].read_bytes())
+    with pytest.raises(ValueError, match="same sensor content"):
+        cmd.run(_args(trace=str(ipin_files[1]), fingerprints=[str(copy), *map(str, ipin_files[2:5])], particles=100))
+    with pytest.raises(ValueError, match="pass --no-map"):
+        cmd.run(_args(trace=str(ipin_files[1]), fingerprints=[str(p) for p in ipin_files[2:5]], map=str(tmp_path)))
+
+
+def test_ipin_from_the_command_line(ipin_files):
+    p = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "track", "--trace", str(ipin_files[0]),
+                        "--fingerprints", *map(str, ipin_files[1:5]), "--format", "ipin", "--particles", "50",
+                        "--json"], capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    assert out["trace"] == "sim000" and "floor_hit_rate" in out
+    bad = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "track", "--trace", str(ipin_files[0]),
+                          "--fingerprints", str(ipin_files[1]), "--format", "ilc", "--json"],
+                         capture_output=True, text=True, timeout=600)
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr and "sim000.txt" in bad.stderr

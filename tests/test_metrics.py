@@ -67,3 +67,39 @@ def test_summarise_by_method_keeps_order_and_matches_numpy():
     assert set(cdf["method"]) == {"A", "B"}
     with pytest.raises(ValueError, match="error_m"):
         summarise_by_method(pts.drop(columns="error_m"))
+
+
+def test_mean_horizontal_error_counts_missing_positions():
+    from ilocalg.metrics import mean_horizontal_error_m
+
+    t = np.array([[0.0, 0.0], [3.0, 4.0], [6.0, 8.0]])
+    p = np.array([[0.0, 1.0], [np.nan, np.nan], [6.0, 8.0]])
+    # the missing row costs the diagonal of the truth's bounding box (10 m) by default
+    assert mean_horizontal_error_m(t, p) == pytest.approx((1.0 + 10.0 + 0.0) / 3)
+    assert mean_horizontal_error_m(t, p, missing_error_m=50.0) == pytest.approx(51.0 / 3)
+    assert mean_horizontal_error_m(t, t) == 0.0
+    with pytest.raises(ValueError, match="y_pred has shape"):
+        mean_horizontal_error_m(t, p[:2])
+
+
+def test_scorer_keeps_grid_search_finite_with_unlocatable_scans():
+    """Folds whose test scans hear only APs unknown to their training part still get a finite score."""
+    from sklearn.model_selection import GridSearchCV, KFold
+
+    from ilocalg.metrics import horizontal_error_scorer
+    from ilocalg.wifi import KnnFingerprint
+
+    rng = np.random.default_rng(0)
+    n = 60
+    xy = rng.uniform(0, 30, (n, 2))
+    ap = np.array([[0.0, 0.0], [30.0, 0.0], [0.0, 30.0], [30.0, 30.0]])
+    X = -40 - 30 * np.log10(1 + np.hypot(*(xy[:, None, :] - ap[None]).transpose(2, 0, 1))) + rng.normal(0, 2, (n, 4))
+    X = np.column_stack([X, np.full(n, np.nan)])
+    X[-5:, :4] = np.nan                 # the last fold's scans hear only AP 4, never heard in training
+    X[-5:, 4] = -60.0
+    gs = GridSearchCV(KnnFingerprint(not_heard_dbm=-110.0), {"n_neighbors": [1, 3]},
+                      scoring=horizontal_error_scorer(), cv=KFold(12), error_score="raise").fit(X, xy)
+    scores = gs.cv_results_["split11_test_score"]
+    assert np.isfinite(gs.cv_results_["mean_test_score"]).all() and np.isfinite(scores).all()
+    diag = np.hypot(*(xy[-5:].max(axis=0) - xy[-5:].min(axis=0)))
+    np.testing.assert_allclose(scores, -diag)           # every scan of that fold unlocated: the stated cost

@@ -3,6 +3,7 @@
 import dataclasses
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg import track
@@ -102,3 +103,150 @@ def test_evaluate_track_scores_every_method_and_smoothing_helps(shared_data, flo
     assert r2["errors"].equals(e)
     with pytest.raises(ValueError, match="unknown methods"):
         track.evaluate_walk(floor.traces[name], track.WifiDatabase.from_traces(others), None, 25.0, methods=("x",))
+
+
+# ---------------------------------------------------------------------------------------------------
+# format-neutral: simulated walks (no real data needed)
+# ---------------------------------------------------------------------------------------------------
+
+NO_MAP = tuple(m for m in track.METHODS if not m.startswith("map_align"))
+
+
+@pytest.fixture(scope="module")
+def sim_walks():
+    from ilocalg.sim import walk_recordings as wr
+
+    return wr.simulate_recordings(8, seed=11, n_nodes=35)[1]
+
+
+def _reload(recs, tmp_path, fmt):
+    from ilocalg.io import load_recording, write_ilc_trace, write_ipin_logfile
+
+    write = write_ipin_logfile if fmt == "ipin" else write_ilc_trace
+    return [load_recording(write(r, tmp_path / f"{r.name}.{fmt}"), format=fmt,
+                           **({"duplicate_bssid": "error"} if fmt == "ilc" else {})) for r in recs]
+
+
+def test_ipin_and_ilc_exports_give_the_same_track(sim_walks, tmp_path):
+    """The same walks written as IPIN logfiles and as ILC traces: the same fixes, steps and tracks (in one frame).
+
+    Exact up to the ILC clock: ILC stores Unix milliseconds, so its float times differ from the IPIN
+    file's by ~1e-7 s, which can move a step peak that falls midway between two 50 Hz samples to the
+    other sample (the step's heading is then read one sample away).
+    """
+    cfg = track.RealWalkConfig(n_particles=200)
+    out = {}
+    for fmt in ("ipin", "ilc"):
+        recs = _reload(sim_walks, tmp_path, fmt)
+        out[fmt] = track.evaluate_track(recs[0], recs[1:], cfg=cfg, rng=0, methods=NO_MAP)
+        if fmt == "ipin":
+            ipin_frame = recs[1].frame               # the database's frame: the first fingerprint logfile's
+    a, b = out["ipin"], out["ilc"]
+    sim_frame = sim_walks[0].frame
+    assert a["info"]["wifi_config"] == b["info"]["wifi_config"]
+    assert a["info"]["n_steps"] == b["info"]["n_steps"] and a["info"]["n_fixes"] == b["info"]["n_fixes"]
+    assert a["info"]["k_weinberg"] == pytest.approx(b["info"]["k_weinberg"], rel=1e-6)
+    assert a["info"]["fix_sd_m"] == pytest.approx(b["info"]["fix_sd_m"], rel=1e-6)
+    np.testing.assert_allclose(sim_frame.to_xy(*ipin_frame.to_latlon(*a["fixes"].xy_m.T).T), b["fixes"].xy_m,
+                               atol=1e-6)
+    np.testing.assert_allclose(a["state_t_s"] - a["state_t_s"][0], b["state_t_s"] - b["state_t_s"][0], atol=1e-6)
+    for m in NO_MAP:
+        if m == "wifi":
+            continue
+        xy = sim_frame.to_xy(*ipin_frame.to_latlon(*a["tracks"][m].T).T)
+        # a few steps' headings read one sample apart: decimetres, never more (a wrong frame would be metres)
+        assert np.hypot(*(xy - b["tracks"][m]).T).max() < 0.3, m
+        assert abs(a["errors"][m].mean() - b["errors"][m].mean()) < 0.15, m
+    np.testing.assert_allclose(a["errors"]["wifi"], b["errors"]["wifi"], atol=1e-6)
+    assert a["floors"] is not None and b["floors"] is None      # only the IPIN format carries floors
+
+
+def test_fusion_beats_wifi_on_simulated_walks(sim_walks):
+    """Seeded property: on every simulated walk the smoothed fusion is closer to the truth than Wi-Fi only."""
+    ratios = []
+    for i in range(3):
+        others = [w for j, w in enumerate(sim_walks) if j != i]
+        r = track.evaluate_track(sim_walks[i], others, cfg=track.RealWalkConfig(), methods=track.METHODS[:4],
+                                 select=False)
+        s = track.summary_table(r).set_index("method")
+        ratios.append(s.loc["kf_rts", "mean_m"] / s.loc["wifi", "mean_m"])
+        assert set(s.columns) >= {"mean_m", "median_m", "p75_m", "p95_m", "floor_hit_rate", "penalised_mean_m"}
+        assert (s["floor_hit_rate"] == 1.0).all()       # one floor
+        tt = r["track"]
+        assert set(tt["method"]) >= set(track.METHODS[:4]) and (tt.groupby("method").size()["kf"] ==
+                                                                 r["state_t_s"].size)
+    assert np.mean(ratios) < 0.9, ratios
+
+
+def test_scored_walk_is_refused_by_content(sim_walks):
+    renamed = dataclasses.replace(sim_walks[0], name="another_name", source="elsewhere.txt")
+    with pytest.raises(ValueError, match="same sensor content"):
+        track.evaluate_track(sim_walks[0], [renamed, *sim_walks[1:4]], methods=NO_MAP)
+    db = track.WifiDatabase.from_recordings([renamed, *sim_walks[1:4]])
+    with pytest.raises(ValueError, match="same sensor content"):
+        track.wifi_fixes(sim_walks[0], db)
+
+
+def test_scans_outside_the_walk_are_left_out_and_counted(sim_walks):
+    r = sim_walks[0]
+    db = track.WifiDatabase.from_recordings(sim_walks[1:])
+    base = track.wifi_fixes(r, db)
+    w = r.wifi
+    t_end = r.imu.index[-1]
+    late = w[w["scan_id"] == w["scan_id"].max()].assign(t_s=t_end + 30.0, scan_id=w["scan_id"].max() + 1)
+    early = w[w["scan_id"] == 0].assign(t_s=r.imu.index[0] - 5.0, scan_id=-1)
+    odd = dataclasses.replace(r, wifi=pd.concat([early, w, late], ignore_index=True))
+    fx = track.wifi_fixes(odd, db)
+    assert fx.n_outside_walk == 2 and base.n_outside_walk == 0
+    np.testing.assert_array_equal(fx.xy_m, base.xy_m)
+    deaf = w.assign(bssid="00:00:00:00:00:01")[w["scan_id"] == 1].assign(scan_id=w["scan_id"].max() + 5,
+                                                                        t_s=w["t_s"].max() + 0.5)
+    fx2 = track.wifi_fixes(dataclasses.replace(r, wifi=pd.concat([w, deaf], ignore_index=True)), db)
+    assert fx2.n_no_shared_ap == 1 and fx2.t_s.size == base.t_s.size
+
+
+def test_floors_from_wifi_and_barometer():
+    """Walks that change floor: the barometer finds the change; Wi-Fi + barometer gets the floor of every point."""
+    from ilocalg.sim import walk_recordings as wr
+
+    _, walks = wr.simulate_recordings(10, seed=5, n_floors=2, n_nodes=35, floor_changes=True)
+    climbing = [i for i, w in enumerate(walks) if w.meta["floor_to"] is not None]
+    hits = {"baro": [], "wifi_only": []}
+    for i in climbing[:3]:
+        w = walks[i]
+        seg = track.barometric_segments(w.pressure)
+        assert len(seg) == 2                                   # one level change
+        assert abs(seg["height_m"].diff().iloc[1]) == pytest.approx(3.5, abs=0.5)
+        others = [x for j, x in enumerate(walks) if j != i]
+        r = track.evaluate_track(w, others, methods=("wifi", "kf", "kf_rts"), select=False)
+        fl = r["floors"]
+        hits["baro"].append(float((fl["kf_rts"] == fl["floor_true"]).mean()))
+        r2 = track.evaluate_track(dataclasses.replace(w, pressure=None), others, methods=("wifi", "kf_rts"),
+                                  select=False)
+        hits["wifi_only"].append(float((r2["floors"]["kf_rts"] == r2["floors"]["floor_true"]).mean()))
+        assert r["scans"]["floor_source"] == "wifi+barometer" and r2["scans"]["floor_source"] == "wifi"
+    assert min(hits["baro"]) >= 0.9 and np.mean(hits["baro"]) >= np.mean(hits["wifi_only"]), hits
+    # penalised error: +15 m per wrong floor, from ilocalg.metrics
+    et = track.error_table(r)
+    wrong = ~et["floor_hit"]
+    np.testing.assert_allclose(et["penalised_error_m"][~wrong], et["error_m"][~wrong])
+    np.testing.assert_allclose(et["penalised_error_m"][wrong],
+                               et["error_m"][wrong] + 15.0 * (et["floor"] - et["floor_true"]).abs()[wrong])
+
+
+def test_map_methods_run_on_a_walkable_grid_in_the_walks_frame():
+    """A floor map given as a walkable raster in the walks' own frame: particle filter and map matching."""
+    from ilocalg.fusion.particle_filter import OccupancyGrid
+    from ilocalg.sim import walk_recordings as wr
+
+    b, walks = wr.simulate_recordings(8, seed=13, n_nodes=35)
+    grid = OccupancyGrid.from_polygons(b.corridor_rings(), cell_m=0.5)
+    r = track.evaluate_track(walks[0], walks[1:], floor_map=grid, cfg=track.RealWalkConfig(n_particles=300),
+                             select=False)
+    e = r["errors"]
+    assert np.isfinite(e[list(track.METHODS)].to_numpy()).all()
+    # no accuracy claim for the map-only placements on this symmetric corridor graph (map matching or the
+    # particle filter can lock onto a parallel corridor); the KF started from the map placement stays sane
+    assert e["map_align_kf_rts"].mean() < 2 * e["wifi"].mean()
+    # the map-constrained states lie on the corridors (the particle filter's mean may cut a corner)
+    assert grid.walkable(*r["tracks"]["map_align"].T).mean() > 0.75     # a rigid placement: most states on the map

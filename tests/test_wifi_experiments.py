@@ -51,11 +51,11 @@ def test_cli_gives_the_independent_k5_figure(shared_data):
                           "--json"], capture_output=True, text=True, check=True, timeout=120)
     r = json.loads(out.stdout)
     assert list(r) == ["mean_error_m", "median_error_m", "p75_error_m", "p95_error_m", "floor_hit_rate",
-                       "building_hit_rate", "n"]
+                       "building_hit_rate", "n", "n_no_shared_ap"]
     assert r["mean_error_m"] == pytest.approx(8.808, abs=0.01)
     assert r["floor_hit_rate"] == pytest.approx(0.9028, abs=1e-4)
     assert r["building_hit_rate"] == pytest.approx(0.9973, abs=1e-4)
-    assert r["n"] == 1111
+    assert r["n"] == 1111 and r["n_no_shared_ap"] == 0
 
 
 def test_cli_bad_input(tmp_path):

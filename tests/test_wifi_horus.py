@@ -53,10 +53,13 @@ def test_only_unknown_aps_raise():
     X, y = _toy()
     X2 = np.hstack([X, np.full((6, 1), np.nan)])
     est = SimplifiedHorus().fit(X2, y)
-    with pytest.raises(ValueError, match="no access point known to the training data"):
-        est.predict(np.array([[np.nan, np.nan, np.nan, -40.0]]))
+    with pytest.raises(ValueError, match="shares no access point with the training set"):
+        est.predict_index(np.array([[np.nan, np.nan, np.nan, -40.0]]))
     with pytest.raises(ValueError, match="hears no access point"):
-        est.predict(np.full((1, 4), np.nan))
+        est.predict_index(np.full((1, 4), np.nan))
+    # predict: the documented no-AP result, a NaN position
+    assert np.isnan(est.predict(np.array([[np.nan, np.nan, np.nan, -40.0]]))).all()
+    assert np.isnan(est.predict(np.full((1, 4), np.nan))).all()
     with pytest.raises(ValueError, match="features"):
         est.predict(np.full((1, 3), -50.0))
     with pytest.raises(ValueError, match="prob_floor"):

@@ -101,7 +101,10 @@ def test_bad_input():
     bad = Xq.copy()
     bad[4] = np.nan
     with pytest.raises(ValueError, match="row 4 hears no access point"):
-        est.predict(bad)
+        est.kneighbors(bad)
+    pred = est.predict(bad)                     # the documented no-AP result: NaN, the other rows unchanged
+    assert np.isnan(pred[4]).all() and np.isfinite(np.delete(pred, 4, axis=0)).all()
+    np.testing.assert_array_equal(np.delete(pred, 4, axis=0), est.predict(np.delete(Xq, 4, axis=0)))
     with pytest.raises(ValueError, match="weaker than not_heard_dbm"):
         KnnFingerprint(3, not_heard_dbm=-80).fit(X, y)
     with pytest.raises(ValueError, match="p must be 1"):

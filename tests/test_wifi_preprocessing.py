@@ -42,3 +42,30 @@ def test_mean_fingerprints():
     assert fp[0, 1] == -70 and np.isnan(fp[1, 1])
     fp2, _, _ = mean_fingerprints(X, y, min_heard_fraction=0.6)
     assert np.isnan(fp2[0, 1])  # heard in 1 of 2 scans < 60 %
+
+
+def test_every_estimator_gives_nan_for_a_scan_sharing_no_ap():
+    """A query hearing only APs never heard in training: NaN position (and labels), never the references
+    with the weakest fingerprints; a training set hearing no AP is refused at fit."""
+    from ilocalg.wifi import HierarchicalLocator, KnnFingerprint, SimplifiedHorus, SimplifiedRadar, locate_flat
+    from ilocalg.wifi.preprocessing import shares_no_ap
+
+    rng = np.random.default_rng(3)
+    xy = rng.uniform(0, 20, (40, 2))
+    X = np.column_stack([-50 - 2 * xy[:, 0], -50 - 2 * xy[:, 1], -90 + xy[:, 0], np.full(40, np.nan)])
+    X = np.round(X + rng.normal(0, 1, X.shape))
+    X[:, 3] = np.nan                                    # AP 3: never heard in training
+    q = np.array([[-60.0, -70.0, -85.0, np.nan], [np.nan, np.nan, np.nan, -45.0], [np.nan] * 4])
+    floor = np.repeat([0, 1], 20)
+    assert shares_no_ap(q, ~np.isnan(X).all(axis=0)).tolist() == [False, True, True]
+    for est in (KnnFingerprint(3, not_heard_dbm=-110), SimplifiedRadar(3, 3, -110), SimplifiedHorus(3)):
+        p = est.fit(X, xy).predict(q)
+        assert np.isfinite(p[0]).all() and np.isnan(p[1:]).all(), type(est).__name__
+        df = locate_flat(est, q, floor, floor)
+        assert df.iloc[1:].isna().all().all() and df.iloc[0].notna().all()
+        with pytest.raises(ValueError, match="training set hears no access point"):
+            type(est)().fit(np.full((5, 4), np.nan), xy[:5])
+    h = HierarchicalLocator(KnnFingerprint(3, not_heard_dbm=-110)).fit(X, xy, floor, np.zeros(40, dtype=int))
+    df = h.predict(q)
+    assert df.iloc[1:].isna().all().all() and df.iloc[0].notna().all()
+    assert h.predict(q[:1])["floor"].dtype.kind == "i"      # all located: labels keep their integer type

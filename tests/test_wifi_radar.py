@@ -78,7 +78,8 @@ def test_bad_input():
     y = np.arange(6.0).reshape(3, 2)
     est = SimplifiedRadar(2, 2, -100).fit(X, y)
     with pytest.raises(ValueError, match="row 0 hears no access point"):
-        est.predict(np.array([[np.nan, np.nan]]))
+        est.kneighbors(np.array([[np.nan, np.nan]]))
+    assert np.isnan(est.predict(np.array([[np.nan, np.nan]]))).all()      # the documented no-AP result
     with pytest.raises(ValueError, match="features"):
         est.predict(np.array([[-50.0, -60.0, -70.0]]))
     with pytest.raises(ValueError, match="k_aps"):

@@ -9,6 +9,8 @@ Every loader takes a path (file, folder or archive) and returns the types docume
 - :func:`load_ilc_trace`, :func:`load_ilc_floor`: Indoor Location Competition 2.0 traces and floors
   (folder or archive, read in memory)
 - :func:`load_ipin_logfile`: IPIN competition smartphone logfiles
+- :class:`Recording`, :func:`load_recording`: any walk as one type, the loader picked from the content;
+  :func:`write_ipin_logfile`, :func:`write_ilc_trace` write any recording in those formats
 
 One policy for every text file: UTF-8 (a non-UTF-8 byte is an error naming its line), a leading
 byte-order mark stripped, CRLF line ends and trailing blank lines accepted, ``.gz`` / ``.xz``
@@ -21,8 +23,11 @@ that counts what it changes, and the error message names it: ``duplicate_bssid="
 """
 
 from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace
+from ilocalg.io.ilc_write import write_ilc_trace
 from ilocalg.io.ipin import load_ipin_logfile
+from ilocalg.io.ipin_write import write_ipin_logfile
 from ilocalg.io.oxford import load_oxford_step_counter
+from ilocalg.io.recording import LocalFrame, Recording, as_recording, load_recording
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import load_ujiindoorloc
 
@@ -33,4 +38,10 @@ __all__ = [
     "load_ilc_trace",
     "load_ilc_floor",
     "load_ipin_logfile",
+    "Recording",
+    "LocalFrame",
+    "as_recording",
+    "load_recording",
+    "write_ipin_logfile",
+    "write_ilc_trace",
 ]

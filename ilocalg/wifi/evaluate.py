@@ -45,7 +45,9 @@ def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k:
     -------
     dict
         Arrays ``error_m`` (2-D error in the set's metres), ``floor``, ``building``, ``xy_m`` and the
-        times ``fit_s``, ``predict_s`` (s).
+        times ``fit_s``, ``predict_s`` (s); ``n_no_shared_ap``: test scans sharing no access point
+        with the training set (their position, floor, building and error are NaN, the documented
+        no-AP result of :mod:`ilocalg.wifi.preprocessing`).
     """
     t0 = time.perf_counter()
     if method == "hierarchical":
@@ -69,6 +71,7 @@ def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k:
         "floor": df["floor"].to_numpy(),
         "building": df["building"].to_numpy(),
         "xy_m": xy,
+        "n_no_shared_ap": int(np.isnan(xy[:, 0]).sum()),
         "fit_s": t1 - t0,
         "predict_s": t2 - t1,
     }

@@ -11,7 +11,9 @@ Two ways to add floor and building to a fingerprint estimator:
     floor by the K nearest references inside the predicted building; the position by a position
     estimator fitted on the references of the predicted building and floor only.
 
-Ties in the votes go to the nearest neighbour's label among the tied labels.
+Ties in the votes go to the nearest neighbour's label among the tied labels. A query sharing no
+access point with the training set gets NaN position, floor and building (the documented no-AP
+result of :mod:`ilocalg.wifi.preprocessing`); the labels are then float columns.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from sklearn.base import clone
 from ilocalg.io.schema import BUILDING, FLOOR, X_M, Y_M
 from ilocalg.wifi.horus import SimplifiedHorus
 from ilocalg.wifi.knn import KnnFingerprint, neighbour_weights, vote
-from ilocalg.wifi.preprocessing import check_rssi
+from ilocalg.wifi.preprocessing import check_rssi, shares_no_ap
 from ilocalg.wifi.radar import SimplifiedRadar
 
 __all__ = ["locate_flat", "HierarchicalLocator"]
@@ -45,7 +47,32 @@ def _nbr_weights(est, dist):
     return neighbour_weights(dist, est.weights)
 
 
+def _with_unlocated(locate, x: np.ndarray, miss: np.ndarray, columns) -> pd.DataFrame:
+    """``locate(x[~miss])`` spread over all queries, NaN in the rows of ``miss`` (the located rows only
+    when every query is located)."""
+    if not miss.any():
+        return locate(x)
+    out = pd.DataFrame({c: np.full(miss.size, np.nan) for c in columns})
+    if (~miss).any():
+        df = locate(x[~miss])
+        for c in df.columns:
+            out.loc[~miss, c] = df[c].to_numpy(dtype=np.float64)
+    return out
+
+
 def locate_flat(est, X, floor=None, building=None) -> pd.DataFrame:
+    """Position (and floor, building) of each query with a fitted flat estimator; NaN for a query sharing
+    no access point with the training set (see :func:`_locate_flat`)."""
+    if not isinstance(est, (KnnFingerprint, SimplifiedRadar, SimplifiedHorus)):
+        raise ValueError(f"locate_flat() supports KnnFingerprint, SimplifiedRadar, SimplifiedHorus; "
+                         f"got {type(est).__name__}")
+    x = check_rssi(X, "X", n_aps=est.n_features_in_, owner=type(est).__name__)
+    cols = [X_M, Y_M] + [c for c, v in ((FLOOR, floor), (BUILDING, building)) if v is not None]
+    return _with_unlocated(lambda xq: _locate_flat(est, xq, floor, building), x, shares_no_ap(x, est.heard_aps_),
+                           cols)
+
+
+def _locate_flat(est, X, floor=None, building=None) -> pd.DataFrame:
     """Position (and floor, building) of each query with a fitted flat estimator.
 
     Parameters
@@ -140,9 +167,13 @@ class HierarchicalLocator:
         return self
 
     def predict(self, X) -> pd.DataFrame:
-        """DataFrame with ``x_m``, ``y_m``, ``floor``, ``building`` per query."""
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
-                       owner=type(self).__name__)
+        """DataFrame with ``x_m``, ``y_m``, ``floor``, ``building`` per query (NaN for a query sharing no
+        access point with the training set)."""
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+        return _with_unlocated(self._predict, x, shares_no_ap(x, self.building_clf_.heard_aps_),
+                               [X_M, Y_M, FLOOR, BUILDING])
+
+    def _predict(self, x) -> pd.DataFrame:
         n = x.shape[0]
         dist, idx = self.building_clf_.kneighbors(x)
         w = _nbr_weights(self.building_clf_, dist)

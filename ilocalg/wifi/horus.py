@@ -30,7 +30,14 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi
+from ilocalg.wifi.preprocessing import (
+    RssiPositionTags,
+    check_positions,
+    check_rssi,
+    check_shared_aps,
+    heard_aps,
+    predict_located,
+)
 
 __all__ = ["HorusModel", "fit_horus", "horus_scores", "horus_predict_index", "SimplifiedHorus"]
 
@@ -200,10 +207,12 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Build the per-point histograms from training scans ``X`` at positions ``y``."""
         x = check_rssi(X, "X")
+        heard = heard_aps(x, type(self).__name__)
         yy = check_positions(y, x.shape[0])
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         self.model_ = fit_horus(x, yy, self.bin_width_db, self.prob_floor)
+        self.heard_aps_ = heard
         self.n_features_in_ = x.shape[1]
         return self
 
@@ -212,9 +221,13 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "model_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
                        owner=type(self).__name__)
+        check_shared_aps(x, self.heard_aps_, type(self).__name__)
         return horus_predict_index(self.model_, x, self.k_aps)
 
     def predict(self, X):
-        """Positions of the most likely reference points (eq. 7)."""
+        """Positions of the most likely reference points (eq. 7); NaN for a query sharing no access point
+        with the training set (:mod:`ilocalg.wifi.preprocessing`)."""
         check_is_fitted(self, "model_")
-        return self.model_.points_xy[self.predict_index(X)]
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+        pts = self.model_.points_xy
+        return predict_located(x, self.heard_aps_, lambda xq: pts[self.predict_index(xq)], pts.shape[1:])

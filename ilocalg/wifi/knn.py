@@ -30,7 +30,15 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi, to_features
+from ilocalg.wifi.preprocessing import (
+    RssiPositionTags,
+    check_positions,
+    check_rssi,
+    check_shared_aps,
+    heard_aps,
+    predict_located,
+    to_features,
+)
 
 __all__ = [
     "InvertedIndex",
@@ -323,7 +331,11 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     ----------
     index_ : InvertedIndex
     y_ : ndarray, the training targets (positions)
+    heard_aps_ : ndarray of bool (n_aps,), the access points heard in the training set
     n_features_in_ : int
+
+    A query sharing no access point with the training set gets a NaN position from ``predict`` (see
+    :mod:`ilocalg.wifi.preprocessing`, "No shared access point"); ``kneighbors`` raises for it.
 
     References
     ----------
@@ -352,23 +364,34 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
             _check_p(self.p)
         if self.weights not in ("uniform", "distance"):
             raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
-        f = self._features(X)
+        x = check_rssi(X, "X", owner=type(self).__name__)
+        f = to_features(x, self.not_heard_dbm, self.representation, name="X")
+        heard = heard_aps(x, type(self).__name__)
         y = check_positions(y, f.shape[0])
         if not 1 <= int(self.n_neighbors) <= f.shape[0]:
             raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={f.shape[0]}]")
         self.index_ = build_index(f)
         self.y_ = y
+        self.heard_aps_ = heard
         self.n_features_in_ = f.shape[1]
         return self
 
     def kneighbors(self, X, n_neighbors=None):
         """(dist, idx) of the nearest references, ascending; ties by training order."""
         check_is_fitted(self, "index_")
-        f = self._features(X, n_aps=self.n_features_in_, allow_empty_rows=False)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False, owner=type(self).__name__)
+        check_shared_aps(x, self.heard_aps_, type(self).__name__)
+        f = to_features(x, self.not_heard_dbm, self.representation, name="X")
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
         return knn_search(f, self.index_, k, p=self.p, kernel=self.kernel, metric=self.metric)
 
     def predict(self, X):
-        """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``."""
-        dist, idx = self.kneighbors(X)
-        return knn_predict(self.y_, idx, neighbour_weights(dist, self.weights))
+        """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``; NaN for a query
+        sharing no access point with the training set."""
+        check_is_fitted(self, "index_")
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+
+        def located(xq):
+            dist, idx = self.kneighbors(xq)
+            return knn_predict(self.y_, idx, neighbour_weights(dist, self.weights))
+        return predict_located(x, self.heard_aps_, located, self.y_.shape[1:])

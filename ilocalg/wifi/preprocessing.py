@@ -13,6 +13,17 @@ most scans):
 ``"exponential"``  ``exp(pos / alpha) / exp(-not_heard_dbm / alpha)``  with ``alpha = 24``
 ``"powed"``        ``(pos / -not_heard_dbm) ** beta``                 with ``beta = e``
 
+No shared access point
+----------------------
+A query scan that hears none of the access points heard in the training set (including a scan
+hearing nothing) carries no information about its position. Every estimator's ``predict`` gives
+it a NaN position (and NaN floor/building), the documented "not located" result; count them with
+:func:`shares_no_ap` or ``np.isnan(pred[:, 0])``. Their ``kneighbors`` / ``predict_index`` (which
+must name references) raise instead, naming the row. Without this, the distance to every reference
+is just the reference's own heard APs, and the references with the weakest fingerprints would be
+returned. A training set in which no access point is heard is an error at ``fit``
+(:func:`heard_aps`). :func:`ilocalg.metrics.mean_horizontal_error_m` scores NaN positions.
+
 References
 ----------
 Torres-Sospedra J., Montoliu R., Trilles S., Belmonte O., Huerta J., "Comprehensive analysis of
@@ -34,6 +45,10 @@ __all__ = [
     "strongest_ap_mask",
     "mean_fingerprints",
     "RssiPositionTags",
+    "heard_aps",
+    "shares_no_ap",
+    "check_shared_aps",
+    "predict_located",
 ]
 
 REPRESENTATIONS = ("positive", "exponential", "powed")
@@ -240,3 +255,54 @@ def check_positions(y, n: int) -> np.ndarray:
     if not np.isfinite(yy).all():
         raise ValueError(f"y is not finite at row {np.argwhere(~np.isfinite(yy))[0][0]}")
     return yy
+
+
+def heard_aps(x, owner: str = "the estimator") -> np.ndarray:
+    """Boolean mask (n_aps,) of the access points heard at least once in the training matrix ``x``.
+
+    Raises
+    ------
+    ValueError
+        When no access point is heard anywhere in the training set (nothing to locate with).
+    """
+    heard = ~np.isnan(np.asarray(x, dtype=np.float64)).all(axis=0)
+    if not heard.any():
+        raise ValueError(f"{owner}: the training set hears no access point (every RSSI is NaN); "
+                         "nothing to locate queries with")
+    return heard
+
+
+def shares_no_ap(x, heard) -> np.ndarray:
+    """Boolean mask (n,) of the query rows of ``x`` hearing none of the access points in ``heard``."""
+    return ~(~np.isnan(np.asarray(x, dtype=np.float64)) & np.asarray(heard, dtype=bool)[None, :]).any(axis=1)
+
+
+def check_shared_aps(x, heard, owner: str = "the estimator") -> None:
+    """Raise, naming the first row, when a query shares no access point with the training set."""
+    bad = np.flatnonzero(shares_no_ap(x, heard))
+    if bad.size:
+        raise ValueError(f"X row {bad[0]} shares no access point with the training set of {owner} "
+                         f"({bad.size} such rows); predict() gives such rows a NaN position")
+
+
+def predict_located(x, heard, predict_rows, out_shape_tail=(2,)) -> np.ndarray:
+    """``predict_rows(x[rows])`` on the rows sharing an AP with the training set, NaN on the others.
+
+    Parameters
+    ----------
+    x : ndarray (n, n_aps)
+    heard : ndarray of bool (n_aps,), :func:`heard_aps` of the training set
+    predict_rows : callable, ndarray (m, n_aps) -> ndarray (m, ...)
+    out_shape_tail : tuple
+        Shape of one prediction (used when no row is located).
+    """
+    miss = shares_no_ap(x, heard)
+    if not miss.any():
+        return np.asarray(predict_rows(x))
+    ok = np.flatnonzero(~miss)
+    if not ok.size:
+        return np.full((x.shape[0], *out_shape_tail), np.nan)
+    part = np.asarray(predict_rows(x[ok]), dtype=np.float64)
+    out = np.full((x.shape[0], *part.shape[1:]), np.nan)
+    out[ok] = part
+    return out

@@ -34,7 +34,16 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.knn import knn_predict, neighbour_weights, smallest_k
-from ilocalg.wifi.preprocessing import RssiPositionTags, check_positions, check_rssi, strongest_ap_mask, to_features
+from ilocalg.wifi.preprocessing import (
+    RssiPositionTags,
+    check_positions,
+    check_rssi,
+    check_shared_aps,
+    heard_aps,
+    predict_located,
+    strongest_ap_mask,
+    to_features,
+)
 
 __all__ = ["union_topk_sq_distances", "radar_predict", "SimplifiedRadar"]
 
@@ -174,6 +183,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         to_features(x, self.not_heard_dbm, name="X")  # validates readings against not_heard_dbm
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
+        heard = heard_aps(x, type(self).__name__)
         if self.point_distance not in ("min", None):
             raise ValueError(f"point_distance must be 'min' or None, got {self.point_distance!r}")
         yy = check_positions(y, x.shape[0])
@@ -196,6 +206,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, number of training points={n_nb}] "
                              f"(n_samples={x.shape[0]}, point_distance={self.point_distance!r})")
         self.y_ = yy
+        self.heard_aps_ = heard
         self.ref_rssi_dbm_ = x
         self._r = to_features(x_ord, self.not_heard_dbm, dtype=np.float64)
         self._b = strongest_ap_mask(x_ord, self.k_aps).astype(np.float64)
@@ -212,6 +223,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "ref_rssi_dbm_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
                        owner=type(self).__name__)
+        check_shared_aps(x, self.heard_aps_, type(self).__name__)
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
         dist = np.empty((x.shape[0], k))
         idx = np.empty((x.shape[0], k), dtype=np.int64)
@@ -237,6 +249,12 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         return dist, idx
 
     def predict(self, X):
-        """Positions of the query scans ``X`` (n_q, n_aps): eq. (2)-(3) over the N nearest."""
-        dist, idx = self.kneighbors(X)
-        return knn_predict(self.y_, idx, neighbour_weights(dist, "distance", power=2.0))
+        """Positions of the query scans ``X`` (n_q, n_aps): eq. (2)-(3) over the N nearest; NaN for a query
+        sharing no access point with the training set (:mod:`ilocalg.wifi.preprocessing`)."""
+        check_is_fitted(self, "ref_rssi_dbm_")
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+
+        def located(xq):
+            dist, idx = self.kneighbors(xq)
+            return knn_predict(self.y_, idx, neighbour_weights(dist, "distance", power=2.0))
+        return predict_located(x, self.heard_aps_, located, self.y_.shape[1:])

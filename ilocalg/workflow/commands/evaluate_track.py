@@ -1,11 +1,14 @@
-"""``python -m ilocalg evaluate track --trace PATH --fingerprints PATH... --json``: PDR + Wi-Fi on one walk.
+"""``python -m ilocalg evaluate track --trace PATH --fingerprints PATH... [--format auto|ilc|ipin] --json``.
 
-Scores one Indoor Location Competition 2.0 walk (``--trace``) with a Wi-Fi fingerprint database,
-step-length factor, compass-to-map heading offset and fix variance learned from *other* walks
-(``--fingerprints``, never the scored one: giving it raises). A PATH is either an ILC trace file
-(``*.txt``, your own recordings in the ILC format) or a trace id inside ``--floor`` (the floor's
-folder or ``.tar.xz`` archive; default: the shared ``ilc2020_site2_F4`` data set).
-``--fingerprints all`` takes every trace of ``--floor`` except the scored one.
+Scores one walk (``--trace``) with a Wi-Fi fingerprint database, step-length factor, compass-to-map
+heading offset and fix variance learned from *other* walks (``--fingerprints``, never the scored
+one: giving it, under its name or another one with the same sensor content, raises). A PATH is a
+walk file, an Indoor Location Competition 2.0 trace (``*.txt``) or an IPIN competition logfile,
+the format taken from the content (``--format auto``) or given; or, for ILC, a trace id inside
+``--floor`` (the floor's folder or ``.tar.xz`` archive; default: the shared ``ilc2020_site2_F4``
+data set). ``--fingerprints all`` takes every trace of ``--floor`` except the scored one. IPIN
+logfiles are pooled in one local frame through their latitude/longitude (see
+:mod:`ilocalg.io.recording`).
 
 Prints one JSON object (a public contract)::
 
@@ -18,6 +21,10 @@ Kalman filter and its RTS smoothing), ``aligned``, ``aligned_rot``, ``aligned_kf
 onto the walk's fixes) and, when a floor map is available (``--map``, default ``--floor`` when it
 holds ``geojson_map.json``), ``pf``, ``pf_smooth`` (map-constrained particle filter) and
 ``map_align``, ``map_align_kf_rts`` (whole-walk map matching). The waypoints are used for the errors only.
+When the walks have floor numbers (IPIN logfiles), ``floor_hit_rate`` gives per method the fraction of
+ground-truth points whose estimated floor is right (see :func:`ilocalg.track.estimate_floors`).
+``info`` counts the scans left out: ``n_scans_outside_walk`` (outside the walk's IMU time span) and
+``n_scans_no_shared_ap`` (hearing no access point of the database).
 """
 
 from __future__ import annotations
@@ -27,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 NAME = "track"
-HELP = "PDR, Wi-Fi, KF, KF+RTS (and map-constrained variants) on one ILC walk, errors at its waypoints"
+HELP = "PDR, Wi-Fi, KF, KF+RTS (and map-constrained variants) on one ILC or IPIN walk, errors at its ground truth"
 
 MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts")
 
@@ -37,6 +44,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--fingerprints", required=True, nargs="+", metavar="PATH",
                         help="walks that build the fingerprint database (trace files or ids; 'all' = every other "
                              "trace of --floor)")
+    parser.add_argument("--format", default="auto", choices=("auto", "ilc", "ipin"),
+                        help="walk file format (default: from the content)")
     parser.add_argument("--floor", default=None, metavar="PATH",
                         help="ILC floor folder or archive holding the trace ids (default: the shared ilc2020_site2_F4)")
     parser.add_argument("--map", default=None, metavar="PATH",
@@ -58,14 +67,23 @@ def _ids_in(floor) -> list[str]:
     return list_ilc_traces(floor)
 
 
-def _load(paths, floor):
-    """Traces for PATHs: files are read directly, the rest are ids inside ``floor`` (one archive pass)."""
-    from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace, require_walk
+def _load(paths, floor, fmt="auto"):
+    """Walks for PATHs: files are read directly (format ``fmt`` or from the content), the rest are ILC
+    trace ids inside ``floor`` (one archive pass)."""
+    from ilocalg.io.ilc import IlcTrace, load_ilc_floor, load_ilc_trace, require_walk
+    from ilocalg.io.recording import load_recording, require_recording_walk, sniff_format
 
     out, ids = {}, []
     for p in paths:
         if Path(p).is_file():
-            out[p] = load_ilc_trace(p, duplicate_bssid="keep_latest")
+            f = sniff_format(p) if fmt == "auto" else fmt
+            if f == "ilc":
+                out[p] = load_ilc_trace(p, duplicate_bssid="keep_latest")
+            elif f == "ipin":
+                out[p] = load_recording(p, format="ipin")
+            else:
+                raise ValueError(f"{p}: {f} recordings have no Wi-Fi or positions; evaluate track takes ILC traces "
+                                 "and IPIN logfiles")
         else:
             ids.append(p)
     if ids:
@@ -78,7 +96,7 @@ def _load(paths, floor):
         fl = load_ilc_floor(floor, names=ids, duplicate_bssid="keep_latest")
         for i in ids:
             out[i] = fl.traces[i]
-    return {k: require_walk(v) for k, v in out.items()}
+    return {k: require_walk(v) if isinstance(v, IlcTrace) else require_recording_walk(v) for k, v in out.items()}
 
 
 def run(args) -> dict:
@@ -89,16 +107,20 @@ def run(args) -> dict:
     if args.particles < 10:
         raise ValueError(f"--particles must be >= 10, got {args.particles}")
     fp_paths = list(args.fingerprints)
-    trace = _load([args.trace], floor)[args.trace]
+    trace = _load([args.trace], floor, args.format)[args.trace]
     if fp_paths == ["all"]:
         if not floor.exists():
             raise ValueError(f"--fingerprints all needs an existing --floor, got {floor}")
         fp_paths = [i for i in _ids_in(floor) if i != trace.name]
     if args.trace in fp_paths or any(Path(p).stem == trace.name for p in fp_paths):
         raise ValueError(f"--fingerprints must not contain the scored trace {trace.name!r} (leave-one-walk-out)")
-    db = _load(fp_paths, floor)
+    db = _load(fp_paths, floor, args.format)
     fmap = None
-    if not args.no_map:
+    geo = getattr(trace, "frame", None) is not None and trace.frame.geographic
+    if geo and args.map:
+        raise ValueError(f"--map {args.map}: an ILC floor map is in its own map frame; the walks are in a geographic "
+                         "frame (latitude/longitude), pass --no-map")
+    if not args.no_map and not geo:
         mp = Path(args.map) if args.map else floor
         if args.map and not mp.exists():
             raise ValueError(f"--map {mp}: no such folder or archive")
@@ -108,8 +130,10 @@ def run(args) -> dict:
     cfg = RealWalkConfig(n_particles=args.particles)
     r = evaluate_track(trace, db, floor_map=fmap, cfg=cfg, rng=args.seed, methods=methods)
     e = r["errors"]
-    info = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in r["info"].items()}
-    return {
+    info = {**r["info"], "n_scans_outside_walk": r["scans"]["n_scans_outside_walk"],
+            "n_scans_no_shared_ap": r["scans"]["n_scans_no_shared_ap"]}
+    info = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in info.items()}
+    out = {
         "trace": trace.name,
         "n_waypoints": int(len(e)),
         "n_fingerprint_walks": len(db),
@@ -117,3 +141,8 @@ def run(args) -> dict:
         "mean_m": {m: float(e[m].mean()) for m in methods},
         "info": info,
     }
+    fl = r["floors"]
+    if fl is not None and np.isfinite(fl["floor_true"].to_numpy()).all():
+        out["floor_hit_rate"] = {m: float(np.mean(fl[m].to_numpy() == fl["floor_true"].to_numpy())) for m in methods}
+        info["floor_source"] = r["scans"]["floor_source"]
+    return out

@@ -6,8 +6,11 @@ Example (gives the independent reference figure for UJIIndoorLoc k=5 Euclidean, 
         --format ujiindoorloc --method knn --k 5 --metric euclidean --json
 
 JSON keys (a public contract): mean_error_m, median_error_m, p75_error_m, p95_error_m,
-floor_hit_rate, building_hit_rate (fractions), n. Errors are 2-D, in the data set's metres
-(projected Web-Mercator metres for UJIIndoorLoc).
+floor_hit_rate, building_hit_rate (fractions), n, n_no_shared_ap. Errors are 2-D, in the data set's
+metres (projected Web-Mercator metres for UJIIndoorLoc). A test scan sharing no access point with the
+training set is not located (NaN, see :mod:`ilocalg.wifi.preprocessing`): counted in
+``n_no_shared_ap``, left out of the error statistics and counted as a miss in the hit rates; ``n``
+is the number of located test scans.
 """
 
 from __future__ import annotations
@@ -55,6 +58,9 @@ def run(args) -> dict:
                          f"--method {args.method} averages; {hint}give more training rows")
     res = evaluate_method(train, test, args.method, k=args.k, metric=args.metric, not_heard_dbm=args.not_heard_dbm)
     e = res["error_m"]
+    if np.isnan(e).all():
+        raise ValueError(f"{args.test}: no test scan shares an access point with the training set {args.train}")
+    e = e[~np.isnan(e)]
     return {
         "mean_error_m": float(np.mean(e)),
         "median_error_m": float(np.median(e)),
@@ -63,4 +69,5 @@ def run(args) -> dict:
         "floor_hit_rate": hit_rate(res["floor"], test.floor),
         "building_hit_rate": hit_rate(res["building"], test.building),
         "n": int(e.size),
+        "n_no_shared_ap": res["n_no_shared_ap"],
     }

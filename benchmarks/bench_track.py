@@ -1,0 +1,89 @@
+"""Walk recordings end to end: loading an IPIN logfile, and the track pipeline with a 50-walk database.
+
+Simulated walks (:mod:`ilocalg.sim.walk_recordings`: 50 Hz IMU, Wi-Fi every ~3 s, 5 Hz barometer),
+written with :func:`ilocalg.io.write_ipin_logfile`. Reported in ``extra_info``, never asserted:
+
+``test_ipin_load_4min``
+    :func:`ilocalg.io.load_recording` of a 4-minute logfile (about 38,000 lines); reference in the
+    same run: ``pandas.read_csv`` of the same bytes (``;``-separated, ragged rows, every field as
+    text), the ratio ours / pandas, and the share spent outside the IPIN line parser (the Recording
+    conversion, pressure pass and checks).
+``test_pipeline_50_walk_database``
+    :func:`ilocalg.track.evaluate_track` on one walk with 50 other walks as the database, every method
+    but the particle filter and map matching, with the Wi-Fi configuration selection (5 candidates x
+    leave-one-walk-out over the 50 walks: the dominant cost) and without it (``select=False``).
+"""
+
+from __future__ import annotations
+
+import io
+import time
+
+import pandas as pd
+import pytest
+from conftest import best_time_s
+
+from ilocalg import track
+from ilocalg.io import load_ipin_logfile, load_recording, write_ipin_logfile
+from ilocalg.sim import walk_recordings as wr
+
+NO_PF = tuple(m for m in track.METHODS if m not in ("pf", "pf_smooth", "map_align", "map_align_kf_rts"))
+
+
+@pytest.fixture(scope="module")
+def long_logfile(tmp_path_factory):
+    b = wr.simulate_building(0)
+    rec = wr.simulate_recording(b, 1, n_nodes=175, name="long")
+    path = write_ipin_logfile(rec, tmp_path_factory.mktemp("ipin") / "long.txt")
+    return rec, path
+
+
+def test_ipin_load_4min(benchmark, long_logfile):
+    rec, path = long_logfile
+    benchmark.pedantic(load_recording, args=(path,), rounds=3, iterations=1)
+    t_ours = best_time_s(lambda: load_recording(path), repeat=3)
+    t_parse = best_time_s(lambda: load_ipin_logfile(path), repeat=3)
+    data = path.read_bytes()
+    names = list(range(8))
+    t_pd = best_time_s(lambda: pd.read_csv(io.BytesIO(data), sep=";", header=None, names=names, comment="%",
+                                           dtype=str), repeat=3)
+    benchmark.extra_info.update({
+        "duration_s": float(rec.imu.index[-1] - rec.imu.index[0]),
+        "lines": data.count(b"\n"),
+        "bytes": len(data),
+        "load_recording_s": t_ours,
+        "load_ipin_logfile_s": t_parse,
+        "pandas_read_csv_s": t_pd,
+        "ratio_to_pandas_read_csv": t_ours / t_pd,
+        "recording_conversion_share": (t_ours - t_parse) / t_ours,
+    })
+
+
+@pytest.fixture(scope="module")
+def walks_51():
+    t0 = time.perf_counter()
+    _, recs = wr.simulate_recordings(51, seed=2, n_nodes=40)
+    return recs, time.perf_counter() - t0
+
+
+@pytest.mark.parametrize("select", [True, False])
+def test_pipeline_50_walk_database(benchmark, walks_51, select):
+    recs, sim_s = walks_51
+    scored, db = recs[0], recs[1:]
+
+    def run():
+        return track.evaluate_track(scored, db, methods=NO_PF, select=select)
+
+    r = benchmark.pedantic(run, rounds=1, iterations=1)
+    t = best_time_s(run, repeat=2)
+    t_db = best_time_s(lambda: track.WifiDatabase.from_recordings(db), repeat=2)
+    benchmark.extra_info.update({
+        "select_wifi": select,
+        "walks_in_database": len(db),
+        "walk_duration_s": float(scored.imu.index[-1]),
+        "pipeline_s": t,
+        "database_build_s": t_db,
+        "kf_rts_mean_m": float(r["errors"]["kf_rts"].mean()),
+        "wifi_mean_m": float(r["errors"]["wifi"].mean()),
+        "simulating_51_walks_s": sim_s,
+    })
