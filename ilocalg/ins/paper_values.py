@@ -20,12 +20,14 @@ from __future__ import annotations
 
 import pandas as pd
 
+from ilocalg.papers import PAPERS
+
 __all__ = ["LIAO_2016", "LIAO_TABLES", "paper_value", "side_by_side", "HARTMANN_2010", "HARTMANN_TABLE2_OVERALL"]
 
-#: Label of Liao et al. (2016) in comparison rows.
-LIAO_2016 = "Liao et al. 2016 (smartphone INS)"
-#: Label of Hartmann et al. (2010) (as summarised by the survey) in comparison rows.
-HARTMANN_2010 = "Hartmann et al. 2010 (survey sec. 5)"
+#: Label of Liao et al. (2016) in comparison rows (the paper's one short name).
+LIAO_2016 = PAPERS["liao"]
+#: Label of Hartmann et al. (2010)'s results in comparison rows: the survey that reports them (its Table 2).
+HARTMANN_2010 = PAPERS["survey"]
 
 # ---- published values: Liao et al. (2016), Tables 4 (Samsung position), 5 (Samsung attitude), 6-7 (iPhone),
 # ---- 8-11 (Filtering vs online smoothing windows, Samsung then iPhone) --------------------------------------
