@@ -79,4 +79,5 @@ def test_check_estimator():
 
     from tests.test_wifi_knn import EXPECTED_FAILED
 
-    check_estimator(SimplifiedHorus(k_aps=3, bin_width_db=0.5), expected_failed_checks=EXPECTED_FAILED)
+    check_estimator(SimplifiedHorus(k_aps=3, bin_width_db=0.5, rssi_range_dbm=None),
+                    expected_failed_checks=EXPECTED_FAILED)

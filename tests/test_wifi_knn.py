@@ -127,4 +127,5 @@ def test_check_estimator():
     from sklearn.utils.estimator_checks import check_estimator
 
     # random data from check_estimator may contain any float; use a low not-heard value
-    check_estimator(KnnFingerprint(n_neighbors=3, not_heard_dbm=-1e4), expected_failed_checks=EXPECTED_FAILED)
+    check_estimator(KnnFingerprint(n_neighbors=3, not_heard_dbm=-1e4, rssi_range_dbm=None),
+                    expected_failed_checks=EXPECTED_FAILED)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ilocalg.wifi import check_rssi, fill_not_heard, to_features
+from ilocalg.wifi import KnnFingerprint, SimplifiedHorus, SimplifiedRadar, check_rssi, fill_not_heard, to_features
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
 
@@ -69,3 +69,18 @@ def test_every_estimator_gives_nan_for_a_scan_sharing_no_ap():
     df = h.predict(q)
     assert df.iloc[1:].isna().all().all() and df.iloc[0].notna().all()
     assert h.predict(q[:1])["floor"].dtype.kind == "i"      # all located: labels keep their integer type
+
+
+@pytest.mark.parametrize("make", [lambda: KnnFingerprint(n_neighbors=1), lambda: SimplifiedRadar(n_neighbors=1),
+                                  lambda: SimplifiedHorus()])
+def test_estimators_refuse_rssi_outside_physics_by_default(make):
+    X = np.array([[-50.0, -70.0], [-60.0, np.nan], [-80.0, -40.0]])
+    y = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    est = make().fit(X, y)
+    with pytest.raises(ValueError, match=r"X row 1, column 0: RSSI 50 dBm is outside \[-110, 0\] dBm"):
+        est.predict(np.array([[-50.0, -60.0], [50.0, -60.0]]))
+    with pytest.raises(ValueError, match="rssi_range_dbm=None"):
+        make().fit(np.vstack([X, [[-50.0, 20.0]]]), np.vstack([y, [[3.0, 0.0]]]))
+    # the opt-out accepts any finite value
+    est = make().set_params(rssi_range_dbm=None).fit(X + 200.0, y)
+    assert np.isfinite(est.predict(X[:1] + 200.0)).all()

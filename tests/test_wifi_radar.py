@@ -93,7 +93,8 @@ def test_check_estimator():
 
     from tests.test_wifi_knn import EXPECTED_FAILED
 
-    check_estimator(SimplifiedRadar(k_aps=3, n_neighbors=3, not_heard_dbm=-100, point_distance=None),
+    check_estimator(SimplifiedRadar(k_aps=3, n_neighbors=3, not_heard_dbm=-100, point_distance=None,
+                                    rssi_range_dbm=None),
                     expected_failed_checks=EXPECTED_FAILED)
     # point_distance="min" (the default) needs n_neighbors distinct positions, which check_estimator's
     # random targets do not guarantee; test_every_stored_scan_database_keeps_n_distinct_points covers it

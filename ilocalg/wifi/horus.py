@@ -31,6 +31,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.preprocessing import (
+    RSSI_RANGE_DBM,
     RssiPositionTags,
     check_positions,
     check_rssi,
@@ -187,6 +188,10 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
     not_heard_dbm : float
         Accepted for a uniform interface; Horus models only heard readings, so "not heard" is
         never substituted (an AP missing from the query is simply not compared).
+    rssi_range_dbm : (float, float) or None
+        Physical range of a heard reading, dBm (default :data:`ilocalg.wifi.preprocessing.RSSI_RANGE_DBM`,
+        the loaders' range); a value outside it raises a ValueError naming its row and column. ``None``
+        accepts any finite value (e.g. for scikit-learn's estimator checks on random data).
 
     Attributes
     ----------
@@ -198,15 +203,17 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
     i-Loc thesis, sec. 3.2, eq. (5)-(7).
     """
 
-    def __init__(self, k_aps=5, bin_width_db=1.0, prob_floor=1e-3, not_heard_dbm=-104.0):
+    def __init__(self, k_aps=5, bin_width_db=1.0, prob_floor=1e-3, not_heard_dbm=-104.0,
+                 rssi_range_dbm=RSSI_RANGE_DBM):
         self.k_aps = k_aps
         self.bin_width_db = bin_width_db
         self.prob_floor = prob_floor
         self.not_heard_dbm = not_heard_dbm
+        self.rssi_range_dbm = rssi_range_dbm
 
     def fit(self, X, y):
         """Build the per-point histograms from training scans ``X`` at positions ``y``."""
-        x = check_rssi(X, "X")
+        x = check_rssi(X, "X", valid_dbm=self.rssi_range_dbm)
         heard = heard_aps(x, type(self).__name__)
         yy = check_positions(y, x.shape[0])
         if int(self.k_aps) < 1:
@@ -220,7 +227,7 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
         """Index into ``model_.points_xy`` of the most likely point per query."""
         check_is_fitted(self, "model_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
-                       owner=type(self).__name__)
+                       owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
         check_shared_aps(x, self.heard_aps_, type(self).__name__)
         return horus_predict_index(self.model_, x, self.k_aps)
 
@@ -228,6 +235,6 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
         """Positions of the most likely reference points (eq. 7); NaN for a query sharing no access point
         with the training set (:mod:`ilocalg.wifi.preprocessing`)."""
         check_is_fitted(self, "model_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
         pts = self.model_.points_xy
         return predict_located(x, self.heard_aps_, lambda xq: pts[self.predict_index(xq)], pts.shape[1:])

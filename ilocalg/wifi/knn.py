@@ -31,6 +31,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.preprocessing import (
+    RSSI_RANGE_DBM,
     RssiPositionTags,
     check_positions,
     check_rssi,
@@ -320,6 +321,10 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         "uniform" is eq. (2); "distance" (1/d) gives WKNN.
     not_heard_dbm : float
         RSSI substituted for NaN (not heard).
+    rssi_range_dbm : (float, float) or None
+        Physical range of a heard reading, dBm (default :data:`ilocalg.wifi.preprocessing.RSSI_RANGE_DBM`,
+        the loaders' range); a value outside it raises a ValueError naming its row and column. ``None``
+        accepts any finite value (e.g. for scikit-learn's estimator checks on random data).
     representation : {"positive", "exponential", "powed"}
         Feature representation (``positive`` = plain dBm with NaN filled; distance-equivalent).
     kernel : {"sparse", "dense"}
@@ -343,7 +348,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     """
 
     def __init__(self, n_neighbors=5, p=1, weights="uniform", not_heard_dbm=-104.0, representation="positive",
-                 kernel="sparse", metric="minkowski"):
+                 kernel="sparse", metric="minkowski", rssi_range_dbm=RSSI_RANGE_DBM):
         self.n_neighbors = n_neighbors
         self.p = p
         self.weights = weights
@@ -351,9 +356,11 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.representation = representation
         self.kernel = kernel
         self.metric = metric
+        self.rssi_range_dbm = rssi_range_dbm
 
     def _features(self, X, name="X", n_aps=None, allow_empty_rows=True):
-        x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__)
+        x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__,
+                       valid_dbm=self.rssi_range_dbm)
         return to_features(x, self.not_heard_dbm, self.representation, name=name)
 
     def fit(self, X, y):
@@ -364,7 +371,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
             _check_p(self.p)
         if self.weights not in ("uniform", "distance"):
             raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
-        x = check_rssi(X, "X", owner=type(self).__name__)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
         f = to_features(x, self.not_heard_dbm, self.representation, name="X")
         heard = heard_aps(x, type(self).__name__)
         y = check_positions(y, f.shape[0])
@@ -379,7 +386,8 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     def kneighbors(self, X, n_neighbors=None):
         """(dist, idx) of the nearest references, ascending; ties by training order."""
         check_is_fitted(self, "index_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False, owner=type(self).__name__)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False, owner=type(self).__name__,
+                       valid_dbm=self.rssi_range_dbm)
         check_shared_aps(x, self.heard_aps_, type(self).__name__)
         f = to_features(x, self.not_heard_dbm, self.representation, name="X")
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
@@ -389,7 +397,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``; NaN for a query
         sharing no access point with the training set."""
         check_is_fitted(self, "index_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
 
         def located(xq):
             dist, idx = self.kneighbors(xq)

@@ -36,7 +36,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ilocalg.io.schema import FIELD_RANGES, RSSI_DBM
+
 __all__ = [
+    "RSSI_RANGE_DBM",
     "REPRESENTATIONS",
     "check_rssi",
     "check_positions",
@@ -54,8 +57,13 @@ __all__ = [
 REPRESENTATIONS = ("positive", "exponential", "powed")
 
 
+#: Physical range of a heard Wi-Fi reading, dBm: the loaders' range (:data:`ilocalg.io.schema.FIELD_RANGES`),
+#: also the default ``rssi_range_dbm`` of every estimator.
+RSSI_RANGE_DBM = (FIELD_RANGES[RSSI_DBM].lo, FIELD_RANGES[RSSI_DBM].hi)
+
+
 def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_rows: bool = True,
-               owner: str = "the database") -> np.ndarray:
+               owner: str = "the database", valid_dbm: tuple[float, float] | None = None) -> np.ndarray:
     """Validate an RSSI matrix and return it as float64.
 
     Parameters
@@ -70,6 +78,9 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
         When False, a row with no heard AP (all NaN) raises.
     owner : str
         Who expects ``n_aps`` columns (named in the error message).
+    valid_dbm : (float, float), optional
+        Physical range of a heard reading (an estimator's ``rssi_range_dbm``, by default
+        :data:`RSSI_RANGE_DBM`); a finite value outside it raises. ``None`` checks no range.
 
     Raises
     ------
@@ -102,6 +113,14 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
     if bad.any():
         r, c = np.argwhere(bad)[0]
         raise ValueError(f"{name} is infinite at row {r}, column {c}; use NaN for 'not heard'")
+    if valid_dbm is not None:
+        lo, hi = valid_dbm
+        out = (x < lo) | (x > hi)
+        if out.any():
+            r, c = np.argwhere(out)[0]
+            raise ValueError(f"{name} row {r}, column {c}: RSSI {x[r, c]:g} dBm is outside [{lo:g}, {hi:g}] dBm "
+                             f"({int(out.sum())} such value(s)); NaN means 'not heard' (an estimator's "
+                             "rssi_range_dbm=None accepts any value)")
     if not allow_empty_rows:
         empty = np.flatnonzero(np.isnan(x).all(axis=1))
         if empty.size:

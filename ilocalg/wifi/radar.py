@@ -35,6 +35,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.knn import knn_predict, neighbour_weights, smallest_k
 from ilocalg.wifi.preprocessing import (
+    RSSI_RANGE_DBM,
     RssiPositionTags,
     check_positions,
     check_rssi,
@@ -157,6 +158,10 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         ``"min"``: references at the same position are one training point, at the smallest
         distance over its scans (thesis L283, L287: every stored scan is compared); ``None``:
         every reference row is a neighbour of its own.
+    rssi_range_dbm : (float, float) or None
+        Physical range of a heard reading, dBm (default :data:`ilocalg.wifi.preprocessing.RSSI_RANGE_DBM`,
+        the loaders' range); a value outside it raises a ValueError naming its row and column. ``None``
+        accepts any finite value (e.g. for scikit-learn's estimator checks on random data).
 
     Attributes
     ----------
@@ -171,15 +176,17 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     i-Loc thesis, sec. 3.1, eq. (1)-(3).
     """
 
-    def __init__(self, k_aps=5, n_neighbors=3, not_heard_dbm=-100.0, point_distance="min"):
+    def __init__(self, k_aps=5, n_neighbors=3, not_heard_dbm=-100.0, point_distance="min",
+                 rssi_range_dbm=RSSI_RANGE_DBM):
         self.k_aps = k_aps
         self.n_neighbors = n_neighbors
         self.not_heard_dbm = not_heard_dbm
         self.point_distance = point_distance
+        self.rssi_range_dbm = rssi_range_dbm
 
     def fit(self, X, y):
         """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
-        x = check_rssi(X, "X")
+        x = check_rssi(X, "X", valid_dbm=self.rssi_range_dbm)
         to_features(x, self.not_heard_dbm, name="X")  # validates readings against not_heard_dbm
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
@@ -222,7 +229,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         """
         check_is_fitted(self, "ref_rssi_dbm_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False,
-                       owner=type(self).__name__)
+                       owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
         check_shared_aps(x, self.heard_aps_, type(self).__name__)
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
         dist = np.empty((x.shape[0], k))
@@ -252,7 +259,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         """Positions of the query scans ``X`` (n_q, n_aps): eq. (2)-(3) over the N nearest; NaN for a query
         sharing no access point with the training set (:mod:`ilocalg.wifi.preprocessing`)."""
         check_is_fitted(self, "ref_rssi_dbm_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
 
         def located(xq):
             dist, idx = self.kneighbors(xq)
