@@ -34,8 +34,11 @@ lint: $(STAMP)
 	$(BIN)/ruff check ilocalg ilocviz tests benchmarks notebooks
 	$(BIN)/python -m ilocalg notebooks --check
 
+# JupyterLab with the project's settings (.jupyter/labconfig): a paired notebooks/*.py opens as a notebook.
+# Open one directly with e.g. `make lab NB=notebooks/07_fusion_iloc_kf.py`.
+NB ?= notebooks/
 lab: $(STAMP)
-	$(BIN)/jupyter lab notebooks/
+	JUPYTER_CONFIG_PATH=$(CURDIR)/.jupyter $(BIN)/jupyter lab $(NB)
 
 bench: $(STAMP)
 	$(BIN)/python -m pytest benchmarks -o python_files='bench_*.py' -s

@@ -3,8 +3,25 @@
 Every plotting function takes an ``ax`` (or makes one when given ``None``) and returns it. Nothing
 here calls ``plt.show()`` or changes global rcParams on import; apply :data:`STYLE` explicitly with
 ``with ilocviz.style():``.
+
+A paper's published value is drawn beside the reproduced one with :func:`paper_mark` (a labelled
+dashed line or band on any plot), ``error_cdf(..., paper=...)``, or :func:`paper_vs_reproduced` (every
+row of a comparison table as a ratio to the paper's value); legends name methods as the papers do
+(:func:`legend_name`).
 """
 
-from ilocviz.core import STYLE, error_cdf, new_axes, savefig, style, trajectory
+from ilocviz.core import (
+    LEGEND_NAMES,
+    STYLE,
+    error_cdf,
+    legend_name,
+    new_axes,
+    paper_mark,
+    paper_vs_reproduced,
+    savefig,
+    style,
+    trajectory,
+)
 
-__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory"]
+__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
+           "paper_mark", "paper_vs_reproduced"]

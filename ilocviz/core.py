@@ -9,7 +9,41 @@ import matplotlib as mpl
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory"]
+__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
+           "paper_mark", "paper_vs_reproduced"]
+
+#: Method ids used in result tables -> the names a reader of the papers knows (legends use these).
+LEGEND_NAMES = {
+    "pdr": "PDR only",
+    "pts": "PTS (PDR, i-Loc)",
+    "wifi": "Wi-Fi only",
+    "kf": "Kalman filter (PDR + Wi-Fi)",
+    "kf_rts": "Kalman filter + RTS smoother",
+    "aligned": "PDR aligned to Wi-Fi",
+    "aligned_rot": "PDR aligned to Wi-Fi (with rotation)",
+    "aligned_kf_rts": "aligned PDR + KF + RTS",
+    "pf": "particle filter",
+    "pf_smooth": "particle filter + smoother",
+    "map_align": "map-matched PDR",
+    "map_align_kf_rts": "map-matched PDR + KF + RTS",
+    "radar": "Simplified-RADAR",
+    "horus": "Simplified-Horus",
+    "knn": "KNN",
+    "wknn": "weighted KNN",
+    "sam": "SAM (i-Loc)",
+    "ma": "moving average",
+    "sg": "Savitzky-Golay",
+    "nhc": "NHC",
+    "wvc": "WVC",
+    "zupt": "ZUPT",
+    "gcp": "control points (GCP)",
+    "rts": "RTS smoother",
+}
+
+
+def legend_name(method: str) -> str:
+    """The reader-facing name of a method id (:data:`LEGEND_NAMES`); other labels are returned unchanged."""
+    return LEGEND_NAMES.get(str(method), str(method))
 
 #: Publication style: readable sizes, light grid, colour-blind-safe cycle (Okabe-Ito).
 STYLE = {
@@ -73,20 +107,26 @@ def savefig(fig, name: str, out_dir, formats=("png", "pdf")) -> list[Path]:
     return paths
 
 
-def error_cdf(errors: dict, ax=None, unit: str = "m", xlabel: str | None = None):
-    """Empirical CDFs of positioning errors.
+def error_cdf(errors: dict, ax=None, unit: str = "m", xlabel: str | None = None, paper: dict | None = None):
+    """Empirical CDFs of positioning errors, optionally with the paper's values marked.
 
     Parameters
     ----------
     errors : dict[str, array_like]
-        Label -> errors (in ``unit``); NaNs raise.
+        Label (or method id, see :func:`legend_name`) -> errors (in ``unit``); NaNs raise.
+    paper : dict[str, float], optional
+        Label -> a value the paper publishes on the same axis (e.g. ``{"KF mean, thesis Fig 23": 2.82}``),
+        drawn as a dashed vertical line (:func:`paper_mark`).
     """
     ax = new_axes(ax)
     for label, e in errors.items():
         e = np.sort(np.asarray(e, dtype=float).ravel())
         if np.isnan(e).any():
             raise ValueError(f"errors for {label!r} contain NaN")
-        ax.step(e, np.arange(1, e.size + 1) / e.size, where="post", label=f"{label} (mean {e.mean():.2f} {unit})")
+        ax.step(e, np.arange(1, e.size + 1) / e.size, where="post",
+                label=f"{legend_name(label)} (mean {e.mean():.2f} {unit})")
+    for i, (label, value) in enumerate((paper or {}).items()):
+        paper_mark(ax, value, label, axis="x", color=f"{0.15 + 0.2 * (i % 3):.2f}")
     ax.set_xlabel(xlabel or f"Positioning error [{unit}]")
     ax.set_ylabel("Cumulative probability [-]")
     ax.set_ylim(0, 1.02)
@@ -121,4 +161,83 @@ def trajectory(tracks: dict, ax=None, floor_plan=None, markers: dict | None = No
     ax.set_ylabel("y [m]")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(loc="best")
+    return ax
+
+
+def paper_mark(ax, value: float, label: str, axis: str = "x", band: tuple[float, float] | None = None,
+               color: str = "0.25"):
+    """Mark a paper's published value on ``ax``: a dashed line (and an optional shaded band), labelled.
+
+    Parameters
+    ----------
+    value : float
+        The paper's value, in the axis' units (a reference, drawn, never computed with).
+    label : str
+        What it is and where it is from, e.g. ``"paper: KF mean (i-Loc Fig 23)"``; ``"paper: "`` is
+        prefixed when missing.
+    axis : {"x", "y"}
+        ``"x"``: a vertical line at ``x = value``; ``"y"``: a horizontal one.
+    band : (low, high), optional
+        A range the paper gives (e.g. Table 1's 5-95 % range), shaded.
+    """
+    if axis not in ("x", "y"):
+        raise ValueError(f"axis must be 'x' or 'y', got {axis!r}")
+    label = label if label.lower().startswith("paper") else f"paper: {label}"
+    line = ax.axvline if axis == "x" else ax.axhline
+    line(float(value), color=color, ls="--", lw=1.2, label=label, zorder=3)
+    if band is not None:
+        span = ax.axvspan if axis == "x" else ax.axhspan
+        span(float(band[0]), float(band[1]), color=color, alpha=0.12, lw=0, zorder=0)
+    ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def paper_vs_reproduced(table, ax=None, label_col: str = "quantity", title: str | None = None):
+    """Every reproduced value as a ratio to the paper's, on one log axis: the paper's value is 1.
+
+    Parameters
+    ----------
+    table : DataFrame
+        Comparison rows (``paper_value``, ``reproduced_value``; with ``mean``, ``ci95_low`` and
+        ``ci95_high`` the mean and its 95 % interval are drawn instead of the single run).
+        Rows whose paper value is 0 or not finite are left out (a ratio has no meaning there).
+    label_col : str
+        Column naming each row (default ``quantity``; ``item`` is prefixed when present).
+    title : str, optional
+        The figure's title, e.g. the paper's figure or table number.
+
+    The bands show the agreement classes of :mod:`ilocalg.papers`: within 10 % and within 35 %.
+    """
+    import pandas as pd
+
+    df = pd.DataFrame(table).copy()
+    pv = pd.to_numeric(df["paper_value"], errors="coerce")
+    has_ci = all(c in df.columns for c in ("mean", "ci95_low", "ci95_high"))
+    val = pd.to_numeric(df["mean"] if has_ci else df["reproduced_value"], errors="coerce")
+    keep = np.isfinite(pv) & (pv != 0) & np.isfinite(val) & (val / pv > 0)
+    df, pv, val = df[keep], pv[keep], val[keep]
+    if df.empty:
+        raise ValueError("no row with a finite, non-zero paper value and a reproduced value of the same sign")
+    ax = new_axes(ax, figsize=(7.0, 0.32 * len(df) + 1.4))
+    y = np.arange(len(df))[::-1]
+    ratio = (val / pv).to_numpy(dtype=float)
+    ax.axvspan(1 / 1.35, 1.35, color="#F0E442", alpha=0.25, lw=0, label="within 35 %")
+    ax.axvspan(0.9, 1.1, color="#009E73", alpha=0.25, lw=0, label="within 10 %")
+    ax.axvline(1.0, color="k", lw=1.0, label="paper value")
+    if has_ci:
+        lo = pd.to_numeric(df["ci95_low"], errors="coerce").to_numpy(dtype=float) / pv.to_numpy(dtype=float)
+        hi = pd.to_numeric(df["ci95_high"], errors="coerce").to_numpy(dtype=float) / pv.to_numpy(dtype=float)
+        ok = np.isfinite(lo) & np.isfinite(hi) & (lo > 0) & (hi > 0)
+        ax.hlines(y[ok], np.minimum(lo, hi)[ok], np.maximum(lo, hi)[ok], color="#0072B2", lw=2.0,
+                  label="reproduced 95 % CI")
+    ax.plot(ratio, y, "o", color="#0072B2", label="reproduced / paper")
+    names = df[label_col].astype(str)
+    if "item" in df.columns and label_col != "item":
+        names = df["item"].astype(str) + ": " + names
+    ax.set_yticks(y, names)
+    ax.set_xscale("log")
+    ax.set_xlabel("reproduced / paper value [-]")
+    if title:
+        ax.set_title(title)
+    ax.legend(loc="best", fontsize="small")
     return ax

@@ -36,6 +36,33 @@ from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "01_wifi_radar_horus_knn")
 
+# %% [markdown]
+# ## The method: i-Loc (Chiu 2013) eq. (1)-(7) and Luo et al. 2017 eq. (1)-(2)
+#
+# **Simplified-RADAR** (`ilocalg.wifi.radar_predict`, distances by `ilocalg.wifi.union_topk_sq_distances`):
+# the signal distance over the union of the $K$ strongest APs of the query $\mathbf{s}$ and of a training
+# point $\mathbf{s}'$, then the $N$ nearest points weighted by $1/dist^2$:
+#
+# $$dist(\mathbf{s}, \mathbf{s}') = \Big(\sum_{AP_i \in SAP_K(\mathbf{s}) \cup SAP_K(\mathbf{s}')} (s_i - s'_i)^2
+# \Big)^{1/2} \qquad (1)$$
+#
+# $$w_j = \frac{1/dist(\mathbf{s}, \mathbf{s}'_j)^2}{\sum_{i=1}^{N} 1/dist(\mathbf{s}, \mathbf{s}'_i)^2} \qquad (2)$$
+#
+# $$(x, y) = \sum_{i=1}^{N} w_i\,(x_i, y_i) \qquad (3)$$
+#
+# **Simplified-Horus** (`ilocalg.wifi.horus_scores`, `ilocalg.wifi.horus_predict_index`): per-AP signal
+# histograms at each training point $P_j$, independent APs, maximum likelihood:
+#
+# $$\Pr(\mathbf{s} \mid P_j) = \prod_{i=1}^{M} \Pr(s_i \mid P_j) \quad (5)$$
+#
+# $$\Pr(P_j \mid \mathbf{s}) \propto \prod_{i=1}^{M} \Pr(s_i \mid P_j) \quad (6)$$
+#
+# $$Loc(\mathbf{s}) = \arg\max_{P_j} \Pr(P_j \mid \mathbf{s}) \quad (7)$$
+#
+# **KNN** of Luo et al. 2017 (`ilocalg.wifi.KnnFingerprint`): Minkowski distance with $a = 1$ (Manhattan),
+# $D_j = \big(\sum_i |s_i - s'_{j,i}|^a\big)^{1/a}$ (eq. 1), and the mean of the $K = 5$ nearest positions
+# (eq. 2). All three run inside `wifi_iloc.run` below.
+
 # %%
 tables = wifi_iloc.run(seed=SEED, fast=FAST)
 report.table(tables["sim_summary"], "sim_summary")

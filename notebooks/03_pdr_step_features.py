@@ -36,6 +36,24 @@ from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "03_pdr_step_features")
 
+# %% [markdown]
+# ## The method: i-Loc (Chiu 2013) eq. (8)-(15), the SAM step test
+#
+# Each candidate wave of the vertical acceleration $a^{\pm}$ (left minimum $l$, maximum $m$, right minimum
+# $r$) gives eight features (`ilocalg.pdr.sam_waves`):
+#
+# $$T_1 = t^m - t^l \;(8) \qquad T_2 = t^r - t^m \;(9) \qquad T = T_1 + T_2 \;(10)$$
+#
+# $$A_1 = a^m - a^l \;(11) \qquad A_2 = a^m - a^r \;(12) \qquad A = A_1 + A_2 \;(13)$$
+#
+# $$I = \frac{1}{2N+1} \sum_{n=i_0-N}^{i_0+N} \lVert g_n \rVert \;(14)$$
+#
+# $$X_1 = \Big| \sum_{n=0}^{2N} a^{\pm}_{n+(i_0-N)}\, e^{-i \frac{2\pi}{2N+1} n} \Big| \;(15)$$
+#
+# A wave is a step when every tested feature lies in its range learned from training walks, e.g.
+# $A \in [A^{min}, A^{max}]$ (Table 1: the 5 % and 95 % points, `ilocalg.pdr.learn_feature_ranges`); the
+# detector is `ilocalg.pdr.detect_steps_sam`, called by `pdr_step_features.run` below.
+
 # %%
 tables = pdr_step_features.run(seed=SEED, fast=FAST, data_dir=DATA_DIR)
 ranges = tables["ranges"].set_index("feature").rename(columns={"learned_min": "min", "learned_max": "max"})

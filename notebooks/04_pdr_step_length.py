@@ -30,6 +30,19 @@ from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "04_pdr_step_length")
 
+# %% [markdown]
+# ## The method: i-Loc (Chiu 2013) eq. (16)-(17), the step length model (SLM)
+#
+# The step length $D$ regressed on the SAM features $A$ (eq. 13) and $X_1$ (eq. 15) of each step, linear and
+# quadratic (design matrix `ilocalg.pdr.slm_design`, least squares `ilocalg.pdr.fit_slm`, prediction
+# `ilocalg.pdr.slm_length_m`; the thesis' coefficients are Table 3):
+#
+# $$D^L = p_1^L + p_2^L A + p_3^L X_1 \qquad (16)$$
+#
+# $$D^Q = p_1^Q + p_2^Q A + p_3^Q X_1 + p_4^Q A X_1 + p_5^Q A^2 + p_6^Q X_1^2 \qquad (17)$$
+#
+# `pdr_step_length.run` below fits both on training walkers and scores them on new ones.
+
 # %%
 tables = pdr_step_length.run(seed=SEED, fast=FAST)
 for name in ("correlation", "fits", "fixed_error", "box", "free20", "models", "table4", "readings"):

@@ -37,6 +37,25 @@ from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "05_pdr_heading_trajectory")
 
+# %% [markdown]
+# ## The method: i-Loc (Chiu 2013) eq. (18)-(19), the walking direction method (WDM)
+#
+# The rotation from the sensor frame $S$ to the earth frame $E$ from gravity $\mathbf{g}$ and the magnetic
+# field $\mathbf{m}$ (`ilocalg.pdr.wdm_rotation`), written with yaw $\psi$, pitch $\theta$ and roll $\varphi$:
+#
+# $$\mathbf{T}_{S \rightarrow E} = \begin{bmatrix} \frac{\mathbf{g} \times (\mathbf{m} \times \mathbf{g})}{\lVert
+# \mathbf{g} \times (\mathbf{m} \times \mathbf{g}) \rVert} & \frac{\mathbf{m} \times \mathbf{g}}{\lVert \mathbf{m}
+# \times \mathbf{g} \rVert} & \frac{-\mathbf{g}}{\lVert \mathbf{g} \rVert} \end{bmatrix}^T = \begin{bmatrix} c\psi
+# c\theta & \cdots & \cdots \\ s\psi c\theta & \cdots & \cdots \\ -s\theta & c\theta s\varphi & c\theta c\varphi
+# \end{bmatrix} \qquad (18)$$
+#
+# and the heading of the phone's axis (`ilocalg.pdr.wdm_yaw_rad`):
+#
+# $$\psi = \tan^{-1} \frac{[\mathbf{T}_{S \rightarrow E}]_{2,1}}{[\mathbf{T}_{S \rightarrow E}]_{1,1}} \qquad (19)$$
+#
+# Each step then moves the track by $D_k$ along $\psi_k$ (the PTS of Fig 17, `ilocalg.pdr.dead_reckon`), inside
+# `pdr_heading_trajectory.run` below.
+
 # %%
 tables = pdr_heading_trajectory.run(seed=SEED, fast=FAST)
 for name in ("heading_summary", "summary", "test_points", "cdf", "wdm_sensitivity", "readings"):

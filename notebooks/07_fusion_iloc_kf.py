@@ -40,6 +40,37 @@ from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "07_fusion_iloc_kf")
 
+# %% [markdown]
+# ## The method: i-Loc (Chiu 2013) eq. (20)-(26), the Kalman filter
+#
+# State $\mathbf{s}_k = (x_k, y_k)$; one prediction per detected step with its length $D_k$ and heading
+# $\theta_k$ as the control input (`ilocalg.fusion.kf_predict_step`, control `ilocalg.fusion.step_control`,
+# noise `ilocalg.fusion.step_process_noise`):
+#
+# $$\mathbf{s}_k = \mathbf{F}_k \mathbf{s}_{k-1} + \mathbf{B}_k \mathbf{u}_k + \mathbf{w}_k \;(20)$$
+#
+# $$\begin{bmatrix} x_k \\ y_k \end{bmatrix} = \begin{bmatrix} x_{k-1} \\ y_{k-1} \end{bmatrix} + \begin{bmatrix} \cos
+# \theta_k \\ \sin \theta_k \end{bmatrix} D_k + \begin{bmatrix} \omega_{x,k} \\ \omega_{y,k} \end{bmatrix} \;(22)$$
+#
+# $$\mathbf{Q}_k = \delta_{SL,k}^2 \begin{bmatrix} \cos^2 \theta_k & \sin \theta_k \cos \theta_k \\ \sin \theta_k \cos
+# \theta_k & \sin^2 \theta_k \end{bmatrix}$$
+#
+# and one update per Wi-Fi fix, which measures the position directly (`ilocalg.fusion.kf_update`):
+#
+# $$\mathbf{z}_k = \mathbf{H}_k \mathbf{s}_k + \mathbf{v}_k \;(21), \quad \mathbf{H}_k = \mathbf{I}\;(23), \quad
+# \mathbf{R}_k = \delta_{RF,k}^2 \mathbf{I}_{2 \times 2}$$
+#
+# $$\hat{\mathbf{s}}_k^+ = \hat{\mathbf{s}}_k^- + \mathbf{K}_k (\mathbf{z}_k - \mathbf{H}_k \hat{\mathbf{s}}_k^-)
+# \;(24)$$
+#
+# $$\mathbf{K}_k = \mathbf{P}_k^- \mathbf{H}_k^T (\mathbf{H}_k \mathbf{P}_k^- \mathbf{H}_k^T + \mathbf{R}_k)^{-1}
+# \;(25)$$
+#
+# $$\mathbf{P}_k = (\mathbf{I} - \mathbf{K}_k \mathbf{H}_k) \mathbf{P}_k^- (\mathbf{I} - \mathbf{K}_k \mathbf{H}_k)^T
+# + \mathbf{K}_k \mathbf{R}_k \mathbf{K}_k^T \qquad (26)$$
+#
+# $\delta_{SL}$ is Table 4, $\delta_{RF}$ per test point the Table 5 procedure; `fusion_iloc_kf.run` below runs it.
+
 # %%
 tables = fusion_iloc_kf.run(seed=SEED, fast=FAST)
 for name in ("summary", "test_points", "cdf", "r_table", "gating", "by_wifi_method", "latency_sweep", "readings"):

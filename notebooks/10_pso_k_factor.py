@@ -45,6 +45,34 @@ res = pso_k_factor.run(seed=SEED, fast=FAST, data_dir=DATA_DIR)
 report.table(res["readings"], "readings")
 
 # %% [markdown]
+# ## The method: PSO (Chao 2008) eq. (2.5), (3.5)-(3.6), (4.1)-(4.4)
+#
+# The step length of Weinberg with a per-walker factor $k$ (`ilocalg.pdr.weinberg_length_m`) from the
+# filtered acceleration, moving average or Savitzky-Golay (`ilocalg.pdr.moving_average`,
+# `ilocalg.pdr.savitzky_golay`):
+#
+# $$steplength \approx \sqrt[4]{A_{\max} - A_{\min}} \times K \;(2.5)$$
+#
+# $$\bar{g}(t) = \sum_{i=-n_L}^{n_R} c_i\, f(t+i) \;(3.5)$$
+#
+# $$\bar{g}(t) = \frac{\sum_{i=-n}^{n} f(t+i)}{2n+1} \;(3.6)$$
+#
+# $k$ is learned by particle swarm optimisation against the GPS distance (`ilocalg.optim.pso_minimize`, inertia
+# schedule `ilocalg.optim.inertia_schedule`):
+#
+# $$v_i(k+1) = w\,v_i(k) + c_1\, rand_1 \big(pbest_i(k) - S_i(k)\big) + c_2\, rand_2 \big(gbest(k) - S_i(k)\big)
+# \;(4.1)$$
+#
+# $$S_i(k+1) = S_i(k) + v_i(k+1) \;(4.2)$$
+#
+# $$w_i = \frac{A}{iters + 1} + B,\quad A = \frac{(w_{init} - w_{final})(iters + 1)}{iters},\quad B = w_{init} - A
+# \;(4.3)$$
+#
+# $$f(k) = |S_{gps} - S_{ins}|,\; S_{ins} = \sqrt[4]{|A_{\max} - A_{\min}|} \times k \;(4.4)$$
+#
+# All of it runs in `pso_k_factor.run` above.
+
+# %% [markdown]
 # ## Phase 1: step detection on A1's walk (Fig 5.10)
 #
 # The thesis states MA(nL = nR = 2) for its static compass and accelerometer calibration, not a width for the

@@ -32,12 +32,42 @@ from ilocalg.workflow.reporting import Report
 report = Report(OUT_DIR, "12_ins_constraints_gcp")
 
 # %% [markdown]
+# ## The method: Liao et al. 2016 eq. (1)-(10)
+#
+# The 21-state error vector (eq. 1) of the closed-loop error-state EKF (`ilocalg.ins.run_eskf`):
+#
+# $$x = [\delta r \;\; \delta v \;\; \delta \phi \;\; b^{acc} \;\; b^{gyro} \;\; s^{acc} \;\; s^{gyro}] \qquad (1)$$
+#
+# prediction (`ilocalg.ins.transition_matrices`, `ilocalg.ins.eskf_predict`) and update in Joseph form
+# (`ilocalg.ins.joseph_update`):
+#
+# $$x_k = \Phi_{k-1} x_{k-1} \;(2)$$
+#
+# $$P_k = \Phi_{k-1} P_{k-1} \Phi_{k-1}^T + Q \;(3)$$
+#
+# $$K_k = P_k H^T (H P_k H^T + R_k)^{-1} \;(4)$$
+#
+# $$\hat{x}_k = x_k + K_k (z_k - H x_k) \;(5) \qquad \hat{P}_k = (I - K_k H) P_k (I - K_k H)^T + K_k R_k K_k^T \;(6)$$
+#
+# the walking-velocity constraint from the step frequency $F_k$ and the user height $h$
+# (`ilocalg.ins.walking_speed_mps`, updates `ilocalg.ins.wvc_updates`):
+#
+# $$v_k^x = \Big(0.7 + a(h - 1.75) + b \frac{(F_k - 1.79) h}{1.75}\Big) c \times F_k \qquad (7)$$
+#
+# and the RTS smoother (`ilocalg.ins.eskf_rts_smooth`, over a sliding window for the online smoother):
+#
+# $$x_k^{sm} = x_k^{update} + G_k (x_{k+1}^{sm} - x_{k+1}^{predict}) \;(8)$$
+#
+# $$P_k^{sm} = P_k^{update} + G_k (P_{k+1}^{sm} - P_{k+1}^{predict}) G_k^T \;(9)$$
+#
+# $$G_k = P_k^{update} \Phi_{k+1}^T (P_{k+1}^{predict})^{-1} \;(10)$$
+#
+# (eq. 10 as printed in the paper reads $G_k = P_k^{update} \Phi_{k+1} P_{k+1}^{predict}$; the code uses the
+# standard RTS gain written here.) `ins_constraints.run` below runs every filter variant.
+
+# %% [markdown]
 # ## Readings: what the paper says and what the code does
-# The WVC forward speed is eq. (7),
-#
-# $$v_k^x = \left(0.7 + a(h - 1.75) + b\frac{(F_k - 1.79)h}{1.75}\right)c \times F_k \quad (7)$$
-#
-# with the default height and parameters the paper says it used (L151) - here a = 0.371, b = 0.227, c = 1,
+# Eq. (7) above takes the default height and parameters the paper says it used (L151) - here a = 0.371, b = 0.227, c = 1,
 # h = 1.75 m, the values of Chen et al. (2011) as widely reproduced (not checked against that paper). The
 # paper says nothing about what its filter does on stairs; here the WVC drops its forward and vertical rows
 # where the Samsung's barometer shows a climb (the iPhone 5S has no barometer: no stair handling there).

@@ -51,3 +51,13 @@ def test_swept_experiments_in_notebook_order_and_unknown_notebook_named():
     assert manifest.swept_experiments(["06_pdr_real_steps"]) == []
     with pytest.raises(ValueError, match="99_new.*MANIFEST"):
         manifest.experiments_of("99_new")
+
+
+def test_cost_hints_name_only_known_notebooks_and_swept_experiments():
+    swept = set(manifest.swept_experiments(manifest.notebook_stems()))
+    for key, seconds in manifest.COST_S.items():
+        assert seconds > 0
+        if key.startswith("sweep:"):
+            assert key[len("sweep:"):] in swept, key
+        else:
+            assert key in manifest.MANIFEST, key

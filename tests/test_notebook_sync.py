@@ -22,3 +22,41 @@ def test_sync_is_byte_stable_and_check_finds_problems(tmp_path):
     with open(tmp_path / "00_data_tour.py", "a") as fh:
         fh.write("\n# %%\nx = 1\n")
     assert any("out of step" in p for p in notebook_sync.check(tmp_path))
+
+
+def test_stored_notebooks_render_as_their_py_and_carry_the_kernels_own_metadata():
+    """What keeps an unchanged notebook from showing as modified in JupyterLab: jupytext renders the .ipynb
+    exactly as the .py (no header), and the metadata equals what the kernel reports (kernelspec, language_info)."""
+    import jupytext
+    from jupyter_client.kernelspec import KernelSpecManager
+    from jupyter_client.manager import start_new_kernel
+
+    km, kc = start_new_kernel(kernel_name="python3")
+    try:
+        kc.kernel_info()
+        reply = kc.get_shell_msg(timeout=30)
+        while reply["msg_type"] != "kernel_info_reply":
+            reply = kc.get_shell_msg(timeout=30)
+        language_info = reply["content"]["language_info"]
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+    spec = KernelSpecManager().get_kernel_spec("python3")
+    for ipynb in sorted(NOTEBOOK_DIR.glob("[0-9][0-9]_*.ipynb")):
+        nb = nbformat.read(ipynb, as_version=4)
+        assert jupytext.writes(nb, fmt="py:percent") == ipynb.with_suffix(".py").read_text(), ipynb.name
+        assert nb.metadata["kernelspec"] == {"display_name": spec.display_name, "language": spec.language,
+                                             "name": "python3"}
+        stored = dict(nb.metadata["language_info"])
+        assert {k: v for k, v in stored.items() if k != "version"} == {
+            k: v for k, v in language_info.items() if k != "version"}
+    assert notebook_sync.check(NOTEBOOK_DIR) == []
+
+
+def test_check_flags_metadata_jupyterlab_would_rewrite(tmp_path):
+    shutil.copy(NOTEBOOK_DIR / "00_data_tour.py", tmp_path / "00_data_tour.py")
+    (nb_path,) = notebook_sync.sync(tmp_path)
+    nb = nbformat.read(nb_path, as_version=4)
+    nb.metadata["kernelspec"]["display_name"] = "Python 3"
+    nbformat.write(nb, nb_path)
+    assert any("would show as modified" in p for p in notebook_sync.check(tmp_path))

@@ -232,3 +232,29 @@ def test_side_by_side_failure_is_reported_and_exits_1(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "01_fails.ipynb" in err and "boom side by side" in err
     assert not (tmp_path / "out" / "README.md").exists()
+
+
+def test_equation_cells_cite_the_paper_numbering_and_name_functions_that_exist():
+    """Each notebook of a paper's method shows its equations (LaTeX, the paper's numbers) and every
+    `ilocalg...` name its markdown cites is a real function or class (so a rename cannot leave it stale)."""
+    import importlib
+    import re
+
+    need = {"01": "(1)", "03": "(8)", "04": "(16)", "05": "(19)", "07": "(26)", "10": "(4.1)", "12": "(7)"}
+    for nb in NOTEBOOKS:
+        cells = nbformat.read(nb, as_version=4).cells
+        md = "\n".join(c.source for c in cells if c.cell_type == "markdown")
+        if nb.stem[:2] in need:
+            eq = [c.source for c in cells if c.cell_type == "markdown" and "## The method" in c.source]
+            assert eq and "$$" in eq[0] and need[nb.stem[:2]] in eq[0], f"{nb.name}: no equation cell"
+        for name in set(re.findall(r"`(ilocalg(?:\.\w+)+)`", md)):
+            parts = name.split(".")
+            for cut in range(len(parts), 0, -1):
+                try:
+                    obj = importlib.import_module(".".join(parts[:cut]))
+                    break
+                except ModuleNotFoundError:
+                    continue
+            for attr in parts[cut:]:
+                assert hasattr(obj, attr), f"{nb.name} cites {name}, which does not exist"
+                obj = getattr(obj, attr)

@@ -116,8 +116,12 @@ def main(argv: list[str] | None = None) -> int:
         from ilocalg.workflow.runner import REPO_ROOT, reproduce
 
         out = Path(args.out) if args.out else REPO_ROOT / "reports"
-        return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
-                         n_seeds=args.seeds, workers=args.workers, jobs=args.jobs)
+        try:
+            return reproduce(out, fast=args.fast, only=args.only, seed=args.seed, html=not args.no_html,
+                             n_seeds=args.seeds, workers=args.workers, jobs=args.jobs)
+        except ValueError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
     if args.command == "evaluate":
         # Bad input ends as one line, "error: FILE: line N: what is wrong", exit status 2. The
         # loaders raise ValueError naming file and line (decoding, archive and JSON errors wrapped);

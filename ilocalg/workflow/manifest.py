@@ -40,9 +40,39 @@ MANIFEST: dict[str, dict[str, bool]] = {
 }
 
 
-#: Rough wall time in seconds of each notebook (full mode, one core), only to start the longest first when
-#: notebooks run side by side; the runner replaces these by the times it measured on the last run.
-COST_S: dict[str, float] = {}
+#: Wall time in seconds of each notebook and of one seed-sweep run of each experiment (``sweep:<name>``), full
+#: mode, measured by a ``reproduce --seeds 5`` on a busy 2-core machine. Only their order matters: jobs run
+#: longest first when notebooks run side by side; the runner prefers the times it measured on the last run
+#: (``.ilocalg-cache/timings.json``).
+COST_S: dict[str, float] = {
+    "00_data_tour": 42,
+    "01_wifi_radar_horus_knn": 27,
+    "02_wifi_ujiindoorloc": 89,
+    "03_pdr_step_features": 12,
+    "04_pdr_step_length": 15,
+    "05_pdr_heading_trajectory": 13,
+    "06_pdr_real_steps": 53,
+    "07_fusion_iloc_kf": 18,
+    "08_fusion_knn_pdr": 15,
+    "09_fusion_real_walks": 118,
+    "10_pso_k_factor": 42,
+    "11_photo_positioning": 61,
+    "12_ins_constraints_gcp": 69,
+    "13_ins_online_window": 18,
+    "14_imu_video_ekf": 26,
+    "15_sweep_studies": 186,
+    "sweep:fusion_iloc_kf": 3,
+    "sweep:fusion_knn_pdr": 1,
+    "sweep:ins_constraints": 66,
+    "sweep:ins_hartmann": 25,
+    "sweep:ins_online": 7,
+    "sweep:pdr_heading_trajectory": 1,
+    "sweep:pdr_step_features": 1,
+    "sweep:pdr_step_length": 2,
+    "sweep:photo_positioning": 15,
+    "sweep:pso_k_factor": 12,
+    "sweep:wifi_iloc": 1,
+}
 
 
 def notebook_stems() -> list[str]:

@@ -181,6 +181,10 @@ def _sweep_job(task, cache_dir: Path) -> dict:
     return {"name": task.describe(), "seconds": time.perf_counter() - t0, "error": None}
 
 
+#: Thread-count variables of the numerical libraries, set to 1 for notebooks run side by side.
+_BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
 def _timings_path(cache_dir: Path) -> Path:
     return Path(cache_dir).parent / "timings.json"
 
@@ -282,7 +286,10 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                                timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
                       for i, t in enumerate(extra)]
         jobs_list.sort(key=lambda j: (-j[0], j[1], j[2]))
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
+        # one process per core is the parallelism: single-threaded BLAS in the processes and their kernels
+        # (as Dask does for its workers), unless the caller set these; the tables are the same bytes
+        blas = {k: os.environ.get(k, "1") for k in _BLAS_THREADS}
+        with _environ(**blas), ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
             futs = {}
             for _, _, _, kind, item in jobs_list:
                 if kind == "nb":
