@@ -67,7 +67,8 @@ report = Report(OUT_DIR, "12_ins_constraints_gcp")
 
 # %% [markdown]
 # ## Readings: what the paper says and what the code does
-# Eq. (7) above takes the default height and parameters the paper says it used (L151) - here a = 0.371, b = 0.227, c = 1,
+# Eq. (7) above takes the default height and parameters the paper says it used (L151) - here a = 0.371,
+# b = 0.227, c = 1,
 # h = 1.75 m, the values of Chen et al. (2011) as widely reproduced (not checked against that paper). The
 # paper says nothing about what its filter does on stairs; here the WVC drops its forward and vertical rows
 # where the Samsung's barometer shows a climb (the iPhone 5S has no barometer: no stair handling there).
