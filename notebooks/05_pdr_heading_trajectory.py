@@ -14,8 +14,8 @@
 # WDM (eq. 19): $\psi = \tan^{-1} ([\mathbf{T}_{S \rightarrow E}]_{2,1} / [\mathbf{T}_{S \rightarrow E}]_{1,1})$,
 # with $\mathbf{T}_{S \rightarrow E}$ built from gravity and the magnetic field (before eq. 18).
 #
-# The moving-average vs Savitzky-Golay comparison on static compass logs (PSO thesis sec. 5.1.3, RMS
-# 0.716 -> 0.563 / 0.638) is computed by the PSO slice's `pso_k_factor.compass_filter_study` (notebook 10)
+# The moving-average vs Savitzky-Golay comparison on static compass logs (PSO (Chao 2008), sec. 5.1.3, RMS
+# 0.716 -> 0.563 / 0.638) is computed by the PSO experiment's `pso_k_factor.compass_filter_study` (notebook 10)
 # and shown here beside the heading results.
 
 # %% tags=["parameters"]
@@ -108,7 +108,7 @@ with ilocviz.style():
     ilocviz.savefig(fig, "05_pdr_heading_trajectory_track_cdf", OUT_DIR)
 
 # %% [markdown]
-# ## Moving average vs Savitzky-Golay on static compass logs (PSO thesis Figs 5.3-5.5)
+# ## Moving average vs Savitzky-Golay on static compass logs (PSO (Chao 2008), Figs 5.3-5.5)
 
 # %%
 compass = report.table(pso_k_factor.compass_filter_study(SEED, FAST), "ma_vs_sg_compass")
@@ -131,5 +131,5 @@ print(f"WDM mean heading error {h['WDM']:.1f} deg (gyro {h['gyro']:.1f} deg); PT
 # * **Figs 17-18.** The PTS error at the test points is dominated by step *counting*: with true steps and
 #   lengths the same WDM headings give a much smaller error, and the 1-99 % ranges, which miss fewer
 #   steps, give a smaller one than the text's 5-95 %.
-# * **MA vs SG.** On simulated static compass logs both filters lower the RMS, as in the PSO thesis; the
+# * **MA vs SG.** On simulated static compass logs both filters lower the RMS, as in PSO (Chao 2008); the
 #   compass noise model and its discussion are the PSO notebook's (10).

@@ -2,7 +2,7 @@
 # # 10 PSO learning of the Weinberg step-length factor against GPS
 #
 # Reproduces 趙士賢, *Pedestrian navigation based on particle swarm optimization* (M.S. thesis, Tunghai
-# University, 2008; the "PSO thesis", paper 003): the two-phase experiment of chapter 5.
+# University, 2008; "PSO (Chao 2008)" below): the two-phase experiment of chapter 5.
 #
 # * Phase 1: steps detected by slope sign change with the ±RMS band (Fig 3.9) on the 8 Hz vertical
 #   acceleration, the Weinberg factor k of eq. 2.5 learned by PSO (eq. 4.1-4.3) on the fitness of eq. 4.4

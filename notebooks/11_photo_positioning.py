@@ -12,7 +12,7 @@
 # - Fig 30: error against the number of PoIs (2..7) and the overall means;
 # - Figs 31-32: error per PoI combination and the near-collinear combinations {1,3}, {1,4}, {5,6}, {1,3,4};
 # - beyond the thesis: OpenCV's SQPnP and the plane-to-plane homography `H = K [r1 r2 t]` of the survey
-#   (002, sec. 4, eq. 3-5) on the same photos, and the propagation of the sensors' orientation errors into ST.
+#   (Yeh & Huang survey, sec. 4, eq. 3-5) on the same photos, and the propagation of the sensors' orientation errors into ST.
 #
 # The photos are simulated (`ilocalg.sim.photo_poi`; every input and its source is in `data/photo_poi/README.md`).
 # The thesis gives the PoI coordinates only in Fig 28, which the text copy lacks, so the layout is built from every
@@ -153,7 +153,7 @@ report.table(ggs, "good_guess_sweep")
 ggs.pivot_table(index="good_guess_sd_m", columns=["method", "k"], values="error_cm").round(1)
 
 # %% [markdown]
-# ## Homography ranging to a square marker (survey 002, eq. 3-5)
+# ## Homography ranging to a square marker (Yeh & Huang survey, eq. 3-5)
 # A QR code of side 0.18 m on the wall, seen from 1-5 m at up to 30 deg off its normal; the four corners carry a
 # detection error of 0.5-2 px. The range `l = ||t||` from `H = K [r1 r2 t]` (scale from the column norms, as in
 # Zhang's decomposition) is compared with OpenCV's IPPE on the same corners.
@@ -223,7 +223,7 @@ print("ST rank of the near-collinear combinations among combinations of the same
 #   them differently.
 # - **The earlier one-wall row** (a sensitivity row) gave a lower ST error but VA errors near 2 m: with all PoIs in a
 #   2.4 m row far ahead, view angles hardly fix the bearing. It also contradicts L707's distance ordering.
-# - **Marker ranging (survey 002):** with exact corners, `H = K [r1 r2 t]` gives the exact range. With
+# - **Marker ranging (Yeh & Huang survey):** with exact corners, `H = K [r1 r2 t]` gives the exact range. With
 #   pixel-level corner errors, the scale taken from the column norms of `K^-1 H` underestimates the range more and
 #   more as the marker shrinks on the screen, because the noisy perspective terms inflate those norms. IPPE on the
 #   same corners keeps the range error small.

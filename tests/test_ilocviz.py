@@ -65,3 +65,33 @@ def test_paper_values_are_drawn_beside_reproduced_ones_with_reader_names():
     assert ax.get_xscale() == "log" and ax.get_title() == "i-Loc Fig 23"
     assert ilocviz.legend_name("pf_smooth") == "particle filter + smoother" and ilocviz.legend_name("mine") == "mine"
     plt.close("all")
+
+
+def test_paper_values_select_comparison_rows_and_paper_point_marks_one():
+    import pandas as pd
+
+    table = pd.DataFrame({"paper": ["i-Loc (Chiu 2013)"] * 3, "item": ["Fig 3", "Fig 3", "Fig 5"],
+                          "quantity": ["RADAR median error", "best AP count k", "Horus median error"],
+                          "unit": ["m", "APs", "m"], "paper_value": [4.5, 5.0, 4.5],
+                          "reproduced_value": [0.9, 6.0, 0.0]})
+    assert ilocviz.paper_values(table, unit="m") == {"RADAR median error (i-Loc (Chiu 2013) Fig 3)": 4.5,
+                                                     "Horus median error (i-Loc (Chiu 2013) Fig 5)": 4.5}
+    assert list(ilocviz.paper_values(table, item="Fig 3", contains="MEDIAN").values()) == [4.5]
+    with pytest.raises(ValueError, match="Fig 9"):
+        ilocviz.paper_values(table, item="Fig 9")
+    ax = ilocviz.paper_point(ilocviz.new_axes(), 4.5, 0.5, "RADAR median (i-Loc Fig 3)")
+    (pt,) = ax.get_lines()
+    assert pt.get_label() == "paper: RADAR median (i-Loc Fig 3)"
+    assert (pt.get_xdata()[0], pt.get_ydata()[0]) == (4.5, 0.5)
+    plt.close("all")
+
+
+def test_paper_mark_widens_fixed_limits_so_the_paper_value_is_in_view():
+    ax = ilocviz.new_axes()
+    ax.plot([0, 1], [2, 9])
+    ax.set_ylim(0, 10)  # fixed limits, as plots that pin the bottom at 0 have
+    ilocviz.paper_mark(ax, 11.38, "Wi-Fi mean", axis="y", band=(1.0, 21.5))
+    assert ax.get_ylim()[0] == 0 and ax.get_ylim()[1] >= 21.5
+    ilocviz.paper_point(ax, -2.0, 5.0, "a point left of the view")
+    assert ax.get_xlim()[0] <= -2.0
+    plt.close("all")
