@@ -4,8 +4,9 @@
 # Reproduces the stride length module of the i-Loc thesis (ch. 4.2): feature-to-length correlations
 # beside **Table 2**, the linear and quadratic regressions of eq. (16)-(17) beside **Table 3** (RMSE 12.32
 # and 12.15 cm), the error boxes at fixed lengths 40-80 cm beside **Fig 14** (mean error 18.43 %) and the
-# 20 m free walks beside **Fig 15** (96.41 % accuracy). The Weinberg (PSO (Chao 2008), eq. 2.5), Kim (PSO (Chao 2008), eq. 2.1) and
-# fingerprint+PDR (Luo et al. 2017, eq. 4) models, fitted on the same training steps, are scored beside SLM. Data: the
+# 20 m free walks beside **Fig 15** (96.41 % accuracy). The Weinberg (PSO (Chao 2008), eq. 2.5), Kim
+# (PSO (Chao 2008), eq. 2.1) and fingerprint+PDR (Luo et al. 2017, eq. 4) models, fitted on the same training
+# steps, are scored beside SLM. Data: the
 # gait + phone simulator `ilocalg.sim.gait` (published gait measurements, `data/gait/README.md`).
 # SAM's ranges are the text's 5-95 % (L399); 1-99 % is shown beside, labelled.
 #

@@ -133,16 +133,19 @@ with ilocviz.style():
     ilocviz.savefig(fig, "07_fusion_iloc_kf_tracks", OUT_DIR)
 
 # %% [markdown]
-# The thesis' Fig 23 means (dashed, from the comparison table): PTS only and the KF (PTS + Wi-Fi).
+# The thesis' Fig 23 means (dashed, from the comparison table, coloured as the matching curve): PTS only and the
+# KF (PTS + Wi-Fi).
 
 # %%
 cmp = tables["comparison"]
-fig23 = {**ilocviz.paper_values(cmp, item="Fig 23", contains="PTS mean error"),
-         **ilocviz.paper_values(cmp, item="Fig 23", contains="KF (PTS + Wi-Fi) mean")}
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(8, 5))
     ilocviz.fusion.error_cdfs(tables["test_points"], shown[1:] + ["KF (R calibrated) + heading noise + RTS"],
-                              ax=ax, paper=fig23)
+                              ax=ax)
+    colours = {ln.get_label().split(" (mean")[0]: ln.get_color() for ln in ax.get_lines()}
+    for contains, method in (("PTS mean error", "PTS (Wi-Fi start)"), ("KF (PTS + Wi-Fi) mean", "KF (R calibrated)")):
+        for label, value in ilocviz.paper_values(cmp, item="Fig 23", contains=contains).items():
+            ilocviz.paper_mark(ax, value, label, color=colours[method])
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     ax.set_title(f"Error at the test points: KF vs PTS ({PAPERS['iloc']}, Fig 23)")
     ilocviz.savefig(fig, "07_fusion_iloc_kf_cdf", OUT_DIR)

@@ -95,3 +95,26 @@ def test_paper_mark_widens_fixed_limits_so_the_paper_value_is_in_view():
     ilocviz.paper_point(ax, -2.0, 5.0, "a point left of the view")
     assert ax.get_xlim()[0] <= -2.0
     plt.close("all")
+
+
+def test_window_study_paper_puts_each_online_row_on_its_phone_axis_line():
+    import pandas as pd
+
+    import ilocviz.ins as vins
+
+    sweep = pd.DataFrame({"phone": ["iPhone"] * 2, "window_s": [5.0, 10.0], "stat": ["rms"] * 2,
+                          "N": [1.0, 0.8], "E": [0.5, 0.4], "H": [0.3, 0.2]})
+    ax = vins.window_study(sweep)
+    cmp = pd.DataFrame({"paper": ["Liao et al. 2016"] * 3, "item": ["Table 10"] * 3,
+                        "quantity": ["iPhone WVC/ZUPT/GCP Online 5sec: RMS N error",
+                                     "iPhone WVC/ZUPT/GCP Filtering: RMS N error",
+                                     "iPhone WVC/ZUPT/GCP Online 10sec: RMS E error"],
+                        "paper_value": [1.0969, 0.9885, 1.2766]})
+    vins.window_study_paper(ax, cmp)
+    stars = [ln for ln in ax.get_lines() if ln.get_marker() == "*"]
+    assert [(s.get_xdata()[0], s.get_ydata()[0]) for s in stars] == [(5.0, 1.0969), (10.0, 1.2766)]
+    colours = {ln.get_label(): ln.get_color() for ln in ax.get_lines()}
+    assert stars[0].get_color() == colours["iPhone-N"] and stars[1].get_color() == colours["iPhone-E"]
+    with pytest.raises(ValueError, match="Online"):
+        vins.window_study_paper(ax, cmp.iloc[[1]])
+    plt.close("all")
