@@ -304,6 +304,10 @@ def paper_vs_reproduced(table, ax=None, label_col: str = "quantity", title: str 
         names = df["item"].astype(str) + ": " + names
     ax.set_yticks(y, names)
     ax.set_xscale("log")
+    # plain ratios (0.5, 1, 2) instead of the log scale's 3x10^-1 labels, which overlap within a decade
+    ax.xaxis.set_major_locator(mpl.ticker.FixedLocator([m * 10.0**e for e in range(-3, 4) for m in (1, 2, 3, 5)]))
+    ax.xaxis.set_major_formatter(mpl.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(mpl.ticker.NullFormatter())
     ax.set_xlabel("reproduced / paper value [-]")
     if title:
         ax.set_title(title)

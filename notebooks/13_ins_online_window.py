@@ -114,11 +114,11 @@ with ilocviz.style():
     finite = sweep[(sweep.window_s > 0) & (sweep.window_s < float("inf"))]
     vins.window_study(finite, ax=axs[0])
     vins.window_study_paper(axs[0], tables["comparison"])
-    axs[0].set_title(f"RMS error per axis against the window ({PAPERS['liao']}, Fig 19, Tables 8 and 10)")
+    axs[0].set_title(f"Per axis ({PAPERS['liao']}, Fig 19; Tables 8, 10)")
     vins.window_study_band(sweep, ax=axs[1])
     for value in sorted(set(ilocviz.paper_values(tables["comparison"], item="Fig 19").values())):
         ilocviz.paper_mark(axs[1], value, f"best window ({PAPERS['liao']}, Fig 19)", axis="x")
-    axs[1].set_title(f"Horizontal RMS error and its spread ({PAPERS['liao']}, Fig 19)")
+    axs[1].set_title(f"Horizontal, with its spread ({PAPERS['liao']}, Fig 19)")
     ilocviz.savefig(fig, "13_ins_online_window_fig19", OUT_DIR)
 
 # %% [markdown]
