@@ -305,7 +305,12 @@ def paper_vs_reproduced(table, ax=None, label_col: str = "quantity", title: str 
     ax.set_yticks(y, names)
     ax.set_xscale("log")
     # plain ratios (0.5, 1, 2) instead of the log scale's 3x10^-1 labels, which overlap within a decade
-    ax.xaxis.set_major_locator(mpl.ticker.FixedLocator([m * 10.0**e for e in range(-3, 4) for m in (1, 2, 3, 5)]))
+    lo, hi = ax.get_xlim()
+    for mantissas in ((1, 2, 5), (1, 2, 3, 5), (1, 1.5, 2, 3, 5, 7), (1, 1.1, 1.2, 1.3, 1.5, 1.7, 2, 3, 5, 7, 8, 9)):
+        ticks = [m * 10.0**e for e in range(-3, 4) for m in mantissas]
+        if sum(lo <= t <= hi for t in ticks) >= 3:
+            break
+    ax.xaxis.set_major_locator(mpl.ticker.FixedLocator(ticks))
     ax.xaxis.set_major_formatter(mpl.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     ax.xaxis.set_minor_formatter(mpl.ticker.NullFormatter())
     ax.set_xlabel("reproduced / paper value [-]")

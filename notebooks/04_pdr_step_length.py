@@ -27,6 +27,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_step_length
+from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "04_pdr_step_length")
@@ -50,6 +51,16 @@ for name in ("correlation", "fits", "fixed_error", "box", "free20", "models", "t
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
+
+# %% [markdown]
+# The same rows as ratios to the thesis' values (1 = the paper; bands: within 10 % and 35 %; rows whose paper
+# value is 0 or of the other sign have no ratio and are left out of the figure, not of the table).
+
+# %%
+with ilocviz.style():
+    ax = ilocviz.paper_vs_reproduced(tables["comparison"],
+                                     title=f"Reproduced / paper ({PAPERS['iloc']}, Tables 2-3, Figs 14-15)")
+    ilocviz.savefig(ax.figure, "04_pdr_step_length_ratio", OUT_DIR)
 
 # %%
 tables["models"]

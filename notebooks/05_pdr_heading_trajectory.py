@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_heading_trajectory, pso_k_factor
+from ilocalg.papers import PAPERS
 from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
@@ -95,6 +96,7 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Trajectory along the test route and error CDF (Figs 17-18)
+# Dashed: the thesis' PTS mean error at the test points (from the comparison table).
 
 # %%
 ex = tables["track_example"]
@@ -103,7 +105,10 @@ with ilocviz.style():
     fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
     tracks = {m: g[["x_m", "y_m"]].to_numpy() for m, g in ex.groupby("method", sort=False)}
     ilocviz.trajectory(tracks, ax=axs[0], markers={"test points": iloc_floor.route_xy_m()})
-    ilocviz.error_cdf({m: g["error_m"].to_numpy() for m, g in tp.groupby("method", sort=False)}, ax=axs[1])
+    ilocviz.error_cdf({m: g["error_m"].to_numpy() for m, g in tp.groupby("method", sort=False)}, ax=axs[1],
+                      paper=ilocviz.paper_values(tables["comparison"], item="Figs 17-18"))
+    axs[0].set_title(f"One walk along the test route ({PAPERS['iloc']}, Fig 17)")
+    axs[1].set_title(f"Error at the test points ({PAPERS['iloc']}, Fig 18)")
     fig.tight_layout()
     ilocviz.savefig(fig, "05_pdr_heading_trajectory_track_cdf", OUT_DIR)
 

@@ -213,7 +213,8 @@ cmp
 t52_rows = res["comparison"][res["comparison"]["item"].str.startswith("Table 5-2 (")
                              & ~res["comparison"]["item"].str.contains("earlier")]
 with ilocviz.style():
-    ax = ilocviz.paper_vs_reproduced(t52_rows, title=f"Reproduced / paper ({PAPERS['pso']}, Table 5-2)")
+    ax = ilocviz.paper_vs_reproduced(t52_rows.assign(item="Table 5-2"),
+                                     title=f"Reproduced / paper ({PAPERS['pso']}, Table 5-2, text reading)")
     ilocviz.savefig(ax.figure, "10_pso_k_factor_table_5_2_ratio", OUT_DIR)
 
 # %%

@@ -118,3 +118,17 @@ def test_window_study_paper_puts_each_online_row_on_its_phone_axis_line():
     with pytest.raises(ValueError, match="Online"):
         vins.window_study_paper(ax, cmp.iloc[[1]])
     plt.close("all")
+
+
+def test_paper_vs_reproduced_labels_at_least_three_plain_ratios():
+    import pandas as pd
+
+    table = pd.DataFrame({"item": ["T"] * 3, "quantity": ["a", "b", "c"], "paper_value": [1.0, 1.0, 1.0],
+                          "reproduced_value": [0.9, 1.05, 1.2]})
+    ax = ilocviz.paper_vs_reproduced(table)
+    ax.figure.canvas.draw()
+    lo, hi = ax.get_xlim()
+    shown = [t for t in ax.get_xticks() if lo <= t <= hi]
+    assert len(shown) >= 3
+    assert all("10^" not in lab.get_text() and "times" not in lab.get_text() for lab in ax.get_xticklabels())
+    plt.close("all")
