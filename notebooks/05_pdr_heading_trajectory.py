@@ -109,6 +109,7 @@ with ilocviz.style():
                       paper=ilocviz.paper_values(tables["comparison"], item="Figs 17-18"))
     axs[0].set_title(f"One walk along the test route ({PAPERS['iloc']}, Fig 17)")
     axs[1].set_title(f"Error at the test points ({PAPERS['iloc']}, Fig 18)")
+    axs[1].legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), fontsize="small")
     fig.tight_layout()
     ilocviz.savefig(fig, "05_pdr_heading_trajectory_track_cdf", OUT_DIR)
 
