@@ -147,12 +147,38 @@ class PhoneProfile:
         """The same sensor errors with exact time tags, interval-mean samples and no bias instability."""
         return replace(self, time_jitter_sd_s=0.0, point_sampling=False, acc_gm_sd_mps2=0.0, gyr_gm_sd_radps=0.0)
 
+    def swept(self, bias_instability_factor: float = 1.0, time_jitter_sd_s: float | None = None) -> PhoneProfile:
+        """The same sensor with its Gauss-Markov bias instability scaled and its time-tag error sd replaced.
+
+        Parameters
+        ----------
+        bias_instability_factor : float
+            Factor (>= 0) on both Gauss-Markov sds (0: only the constant turn-on bias remains); correlation
+            time unchanged.
+        time_jitter_sd_s : float, optional
+            Time-tag error sd (s, >= 0; 0: the nominal clock); None keeps the profile's.
+
+        Used by sensitivity sweeps over values no published measurement fixes for these phones; with a
+        point-sampled profile the swept walks share the walk and every other error draw (same seed).
+        """
+        k = float(bias_instability_factor)
+        if not (np.isfinite(k) and k >= 0):
+            raise ValueError(f"bias_instability_factor must be a finite factor >= 0, got {bias_instability_factor}")
+        j = self.time_jitter_sd_s if time_jitter_sd_s is None else float(time_jitter_sd_s)
+        if not (np.isfinite(j) and j >= 0):
+            raise ValueError(f"time_jitter_sd_s must be >= 0 s, got {time_jitter_sd_s}")
+        return replace(self, acc_gm_sd_mps2=k * self.acc_gm_sd_mps2, gyr_gm_sd_radps=k * self.gyr_gm_sd_radps,
+                       time_jitter_sd_s=j)
+
 
 _MG = 9.80665e-3
 #: Phone timing and bias instability (assumptions, see the module docstring): time-tag error sd (s); Gauss-Markov
 #: bias sd of the accelerometer (0.5 mg) and gyroscope (20 deg/h) with a 300 s correlation time.
 _PHONE_TIMING = {"time_jitter_sd_s": 0.01, "point_sampling": True, "acc_gm_sd_mps2": 0.5 * 9.80665e-3,
                  "gyr_gm_sd_radps": float(np.deg2rad(20.0 / 3600.0)), "gm_tau_s": 300.0}
+#: Smallest step between two phone time tags (s): tags never go backwards (a monotonic sensor clock); only a
+#: time-tag error sd above a quarter of the shortest sampling interval (12.5 ms here) ever meets this floor.
+MIN_TAG_GAP_S = 1e-3
 #: Barometric height noise (m): Bosch BMP280-class pressure sensor, RMS noise about 1.2 Pa (standard
 #: resolution), about 0.1 m. The Galaxy S5 has a barometer, the iPhone 5S has none.
 _BARO_SD_M = 0.1
@@ -449,17 +475,17 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     t_true = t[ep]
     t_ph = t_true.copy()
     # realistic phone: Gauss-Markov bias instability and poor time tags (drawn after the ideal sensor's
-    # numbers, so an ideal-timing profile keeps the same random stream)
-    if prof.acc_gm_sd_mps2 > 0 or prof.gyr_gm_sd_radps > 0:
+    # numbers, so an ideal-timing profile keeps the same random stream). A point-sampled (realistic) sensor
+    # draws them even at zero size, so that a sweep over their sizes keeps the same walk and the same other
+    # errors (paired comparisons).
+    if prof.point_sampling or prof.acc_gm_sd_mps2 > 0 or prof.gyr_gm_sd_radps > 0:
         for arr, sd in ((acc, prof.acc_gm_sd_mps2), (gyr, prof.gyr_gm_sd_radps)):
-            if sd > 0:
+            if sd > 0 or prof.point_sampling:
                 arr += gauss_markov(rng, t_true, sd, prof.gm_tau_s, 3)
-    if prof.time_jitter_sd_s > 0:
+    if prof.point_sampling or prof.time_jitter_sd_s > 0:
         j = np.clip(rng.normal(0.0, prof.time_jitter_sd_s, n), -2 * prof.time_jitter_sd_s,
                     2 * prof.time_jitter_sd_s)
-        t_ph = t_true + j
-        if np.any(np.diff(t_ph) <= 0):  # 2 sd clip < half the shortest interval keeps the order
-            raise ValueError("time_jitter_sd_s too large for the sampling interval: time tags out of order")
+        t_ph = _monotonic_tags(t_true + j, MIN_TAG_GAP_S)
     t_indoor = float(t[i_indoor])
     # GNSS at 1 Hz on the outdoor part (at phone epochs)
     gsd = np.asarray(gnss_sd_m, dtype=float)
@@ -504,6 +530,21 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         params={"route": route, "profile": prof.name, "user_c": float(user_c), "user_height_m": user_height_m,
                 "gait": gait, "gcp_mode": gcp_mode, **gait_d},
     )
+
+
+def _monotonic_tags(t_tag_s: np.ndarray, min_gap_s: float) -> np.ndarray:
+    """Time tags that never go backwards: a tag earlier than ``min_gap_s`` after its predecessor is moved to it.
+
+    Phone sensor clocks are monotonic; with a time-tag error sd up to a quarter of the shortest interval
+    (2 sd clip < half of it) no tag moves and no random number is drawn, so the same seed gives the same tags.
+    """
+    out = np.array(t_tag_s, dtype=float)
+    bad = np.flatnonzero(np.diff(out) < min_gap_s)
+    if bad.size:
+        for k in range(int(bad[0]) + 1, out.size):  # in order: a moved tag may push its successor
+            if out[k] < out[k - 1] + min_gap_s:
+                out[k] = out[k - 1] + min_gap_s
+    return out
 
 
 def gauss_markov(rng, t_s, sd, tau_s, n_axes=3) -> np.ndarray:
