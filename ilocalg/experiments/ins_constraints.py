@@ -19,7 +19,8 @@ from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
-__all__ = ["METHODS", "STAIR_OPTIONS", "STAIR_VARIANTS", "run_methods", "run_phone", "readings", "run"]
+__all__ = ["METHODS", "STAIR_OPTIONS", "STAIR_VARIANTS", "BIAS_INSTABILITY_FACTORS", "TIME_JITTERS_S",
+           "run_methods", "run_phone", "readings", "sensor_sensitivity", "run"]
 
 METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT + GCP",
            "Smoothing + WVC/ZUPT + GCP")
@@ -31,6 +32,12 @@ STAIR_OPTIONS = ("none", "baro", "truth")
 #: Columns of the ``stair_handling`` table: (label, stair source, action on stairs).
 STAIR_VARIANTS = (("none", "none", "drop"), ("baro", "baro", "drop"), ("baro, downweight", "baro", "downweight"),
                   ("truth", "truth", "drop"))
+
+
+#: Sensitivity sweep of the phone sensor values no published measurement fixes for these phones: factors on the
+#: Gauss-Markov bias instability (0.5 mg / 20 deg/h, 300 s) and time-tag error sds (s); the defaults are 1 and 10 ms.
+BIAS_INSTABILITY_FACTORS = (0.0, 1.0, 3.0)
+TIME_JITTERS_S = (0.0, 0.01, 0.03)
 
 
 def run_methods(walk, stairs: str = "baro", stair_action: str = "drop"):
@@ -95,6 +102,47 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
                            for c, line, text, code, src in rows])
 
 
+def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "baro", stair_action: str = "drop",
+                       bias_instability_factors=BIAS_INSTABILITY_FACTORS, time_jitters_s=TIME_JITTERS_S,
+                       reuse=None) -> pd.DataFrame:
+    """RMS errors of Filtering + WVC/ZUPT + GCP over the grid of bias-instability factors and time-tag jitters.
+
+    Every cell simulates the same walks (same seeds; the swept draws are paired, see
+    :meth:`ilocalg.sim.ins_walk.PhoneProfile.swept`) and scores the indoor part. ``reuse`` maps
+    ``(phone, seed)`` to ``(walk, filter result)`` of the default profile, reused for its own cell.
+
+    Returns
+    -------
+    DataFrame: phone, bias_instability_factor, time_jitter_sd_ms, tag_error_sd_ms (realised, after the 2 sd clip
+    and the monotonic clock), n_seeds, N, E, H (m), Heading (deg), mean over seeds.
+    """
+    seeds = list(seeds)
+    if not seeds:
+        raise ValueError("seeds must hold at least one seed")
+    rows = []
+    for phone, route, profile in PHONES:
+        base = ins_walk.PROFILES[profile]
+        for k in bias_instability_factors:
+            for jit in time_jitters_s:
+                prof = base.swept(k, jit)
+                for s in seeds:
+                    if reuse is not None and (phone, s) in reuse and prof == base:
+                        walk, r = reuse[(phone, s)]
+                    else:
+                        walk = ins_walk.simulate(route, prof, seed=s, gait=gait)
+                        r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+                    ind = walk.t_s >= walk.t_indoor_s
+                    err = nav_errors(r.pos_n_m[ind], r.mat_nb[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
+                    rows.append({"phone": phone, "bias_instability_factor": float(k),
+                                 "time_jitter_sd_ms": 1e3 * float(jit),
+                                 "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)),
+                                 **{ax: error_stats(err)["rms"][ax] for ax in ("N", "E", "H", "Heading")}})
+    out = (pd.DataFrame(rows).groupby(["phone", "bias_instability_factor", "time_jitter_sd_ms"], sort=False)
+           [["tag_error_sd_ms", "N", "E", "H", "Heading"]].mean().reset_index())
+    out.insert(4, "n_seeds", len(seeds))
+    return out
+
+
 def _stats_rows(phone, method, seed, err):
     st = error_stats(err)
     return [{"phone": phone, "method": method, "seed": seed, "stat": k, **st[k]} for k in ("max", "rms", "std")]
@@ -102,7 +150,7 @@ def _stats_rows(phone, method, seed, err):
 
 def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags_s=(0.0, 0.05, 0.1, 0.2),
         reference_grade: bool = True, stairs: str = "baro", stair_action: str = "drop",
-        gait: str = "published") -> dict[str, pd.DataFrame]:
+        gait: str = "published", sensitivity_seeds: int | None = None) -> dict[str, pd.DataFrame]:
     """Tables 4-7 reproduced on simulated walks.
 
     Returns
@@ -119,17 +167,23 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     ``heading_time_sync`` (heading RMS / max when the reference is read ``time_lags_s`` off) and
     ``reference_grade`` (the same walks measured by a MIDG-II-grade IMU, paper Table 3, processed like the
     paper's reference trajectory - NHC/ZUPT and smoothing - and with WVC/ZUPT/GCP and smoothing; not in
-    fast mode also by an error-free IMU).
+    fast mode also by an error-free IMU), ``sensor_sensitivity`` (:func:`sensor_sensitivity`: Filtering +
+    WVC/ZUPT + GCP RMS errors for bias instability x0, x1, x3 and time-tag error sd 0, 10, 30 ms, on the first
+    ``sensitivity_seeds`` seeds: default 3, 1 in fast mode).
     """
     if stairs not in STAIR_OPTIONS:
         raise ValueError(f"stairs must be one of {STAIR_OPTIONS}, got {stairs!r}")
     n_seeds = n_seeds or (1 if fast else 6)
+    n_sens = min(n_seeds, sensitivity_seeds or (1 if fast else 3))
+    reuse = {}
     rows, stats, traj, grade, sync, refg, stair_rows, sens_rows = [], [], [], [], [], [], [], []
     for phone, route, profile in PHONES:
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
             walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, gait=gait)
+            if s < seed * n_seeds + n_sens:
+                reuse[(phone, s)] = (walk, rgcp)
             ind = walk.t_s >= walk.t_indoor_s
             for method, (pos, mat) in sol.items():
                 err = nav_errors(pos[ind], mat[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
@@ -230,6 +284,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         "sensor_grade": (pd.DataFrame(sens_rows).groupby(["phone", "sensor", "method"], sort=False)[list(AXES)]
                          .mean().reset_index()),
         "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
+        "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
+                                                 stair_action, reuse=reuse),
         "readings": readings(stairs, stair_action),
     }
 
