@@ -78,20 +78,32 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
          "barometric height rises or falls faster than 0.1 m/s (iPhone 5S: no barometer, no handling)",
          "threshold from stair geometry (half of 0.17 m x 1.3 Hz)"),
         ("walker on stairs", "-", "not described", "one tread (0.29 m) per step, cadence 1.62 Hz up / "
-         "1.80 Hz down", "Blondel's rule; Riener et al. (2002); Kretz et al. (2008)"),
+         "1.80 Hz down", "Blondel's rule; Riener et al. (2002), Protopapadaki et al. (2007), Kretz et al. (2008): "
+         "recalled, not re-read; covered by the stair_handling table (WVC on stairs off / barometer / true flag)"),
         ("walker on level ground", "-", "not described", "speed N(1.40, 0.16) m/s, walk ratio per height",
-         "Bohannon (1997); Sekiya & Nagasaki (1998) (independent of eq. 7)"),
+         "Bohannon (1997); Sekiya & Nagasaki (1998); Hof (1996): recalled, not re-read (independent of eq. 7); "
+         "every seed draws another walker (errors_per_seed beside walk_stats)"),
         ("ZUPT", "L146", "stand still 1-3 s after turns", "ZUPT at detected standstills, sd 0.05 m/s",
          "paper (stops); sd assumed"),
         ("control points", "L73, L109, L202", "4 surveyed points sent by Bluetooth, cm (survey) / m (Bluetooth) "
          "level, about every 15 s", "fix = surveyed coordinate after a 0-1 s ranging delay with 0.5 m "
-         "proximity offset, filter sd 1 m (option: true position + 5 cm)", "iOS ranging once per second; "
-         "iBeacon immediate zone"),
+         "proximity offset, filter sd 1 m (option: true position + 5 cm)", "iOS ranging once per second and "
+         "the iBeacon immediate zone (about 0.5 m): recalled, not re-read; covered by the gcp_grade table "
+         "(Bluetooth fix vs the ideal fix)"),
         ("phone sampling", "L171, L324", "15-17 Hz; about 20 Hz, unstable, poor time tags",
-         "14.3-20 Hz irregular, point samples, time-tag error sd 10 ms", "10 ms: assumption"),
+         "14.3-20 Hz irregular, point samples, time-tag error sd 10 ms (clipped at 2 sd, monotonic tags)",
+         "10 ms: no published measurement for these phones; swept 0 / 10 / 30 ms in the sensor_sensitivity "
+         "table; on/off in sensor_grade"),
         ("sensor errors", "L178, L202", "the phones' IMUs calibrated in Liao et al. (2014), similar",
-         "MPU-6500 class turn-on bias, scale factor, noise; Gauss-Markov 0.5 mg / 20 deg/h, 300 s",
-         "datasheet class; Gauss-Markov values assumed"),
+         "MPU-6500 class turn-on bias (30 / 20 mg, 0.3 / 0.2 deg/s), scale factor, noise",
+         "InvenSense MPU-6500 product specification (zero-g offset, sensitivity tolerance): recalled, not "
+         "re-read; covered by the reference_grade table (MIDG-II-grade sensors on the same walks)"),
+        ("bias instability", "-", "not given", "first-order Gauss-Markov, 0.5 mg / 20 deg/h, 300 s",
+         "no published measurement used (assumed order of consumer-MEMS Allan-variance studies); swept x0 / x1 / "
+         "x3 in the sensor_sensitivity table; on/off in sensor_grade"),
+        ("barometer", "-", "not mentioned (stair handling is this code's)", "Samsung S5 heights, noise sd 0.1 m",
+         "BMP280-class RMS noise about 1.2 Pa: recalled, not re-read; covered by the stair_handling table "
+         "(barometric detection vs the true stair flag)"),
         ("GNSS", "L109, L202", "only the two outdoor loops (initialisation)", "1 Hz, sd 2.5 / 2.5 / 4 m",
          "assumption (phone grade)"),
         ("reference", "L178-L191", "MIDG-II (Table 3) on the same walk, NHC/ZUPT, smoothed", "the simulated "
