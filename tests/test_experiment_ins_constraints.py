@@ -56,3 +56,17 @@ def test_sensor_sensitivity_sweeps_bias_instability_and_jitter(tables):
     assert np.isfinite(ss[["N", "E", "H", "Heading"]].to_numpy()).all()
     with pytest.raises(ValueError, match="seeds"):
         ins_constraints.sensor_sensitivity([])
+
+
+def test_gait_sensitivity_moves_each_published_mean_by_one_sd(tables):
+    g = tables["gait_sensitivity"].set_index(["phone", "walker"])
+    assert len(g) == 2 * len(ins_constraints.GAIT_VARIANTS)
+    for phone in ("Samsung", "iPhone"):
+        # the walker's draws are paired: the level speed moves by exactly one between-walker sd
+        dv = g.loc[(phone, "level speed mean + 1 sd"), "speed_mps"] - g.loc[(phone, "published"), "speed_mps"]
+        assert dv == pytest.approx(0.16)
+        # a walk ratio one sd lower means a higher cadence at the same speed
+        assert g.loc[(phone, "walk ratio - 1 sd"), "cadence_hz"] > g.loc[(phone, "published"), "cadence_hz"]
+    e = tables["errors"].set_index(["phone", "method", "stat"])
+    assert g.loc[("Samsung", "published"), "N"] == pytest.approx(
+        e.loc[("Samsung", "Filtering + WVC/ZUPT + GCP", "rms"), "N"])

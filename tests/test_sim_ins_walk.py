@@ -150,3 +150,14 @@ def test_time_jitter_zero_gives_the_nominal_clock_and_large_jitter_stays_monoton
         prof.swept(-1.0)
     with pytest.raises(ValueError, match="time_jitter_sd_s"):
         prof.swept(1.0, float("nan"))
+
+
+def test_gait_kw_moves_the_population_mean_with_the_same_walker_draws():
+    a = ins_walk.simulate("iphone", "iphone_5s", seed=5)
+    b = ins_walk.simulate("iphone", "iphone_5s", seed=5, gait_kw={"speed_mean_mps": 1.0})
+    assert b.params["speed_mps"] == pytest.approx(a.params["speed_mps"] - 0.4)
+    assert b.params["stair_up_cadence_hz"] == a.params["stair_up_cadence_hz"]
+    with pytest.raises(ValueError, match="gait_kw"):
+        ins_walk.simulate("iphone", gait_kw={"speed": 1.0})
+    with pytest.raises(ValueError, match="gait_kw"):
+        ins_walk.simulate("iphone", gait="legacy", gait_kw={"speed_mean_mps": 1.0})

@@ -20,7 +20,7 @@ from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
 __all__ = ["METHODS", "STAIR_OPTIONS", "STAIR_VARIANTS", "BIAS_INSTABILITY_FACTORS", "TIME_JITTERS_S",
-           "run_methods", "run_phone", "readings", "sensor_sensitivity", "run"]
+           "GAIT_VARIANTS", "run_methods", "run_phone", "readings", "sensor_sensitivity", "gait_sensitivity", "run"]
 
 METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT + GCP",
            "Smoothing + WVC/ZUPT + GCP")
@@ -38,6 +38,28 @@ STAIR_VARIANTS = (("none", "none", "drop"), ("baro", "baro", "drop"), ("baro, do
 #: Gauss-Markov bias instability (0.5 mg / 20 deg/h, 300 s) and time-tag error sds (s); the defaults are 1 and 10 ms.
 BIAS_INSTABILITY_FACTORS = (0.0, 1.0, 3.0)
 TIME_JITTERS_S = (0.0, 0.01, 0.03)
+
+
+_WR = ins_walk.WALK_RATIO_PER_HEIGHT
+#: Gait sensitivity: each published population mean moved by one between-walker sd of the same study (level speed
+#: 0.16 m/s, walk ratio 10 %, stair cadence 0.12 Hz), and the earlier walker (speed from eq. 7, stairs 0.5 m/s):
+#: (label, gait, walker_gait keywords).
+GAIT_VARIANTS = (
+    ("published", "published", {}),
+    ("level speed mean - 1 sd", "published", {"speed_mean_mps": ins_walk.LEVEL_SPEED_MEAN_MPS
+                                              - ins_walk.LEVEL_SPEED_SD_MPS}),
+    ("level speed mean + 1 sd", "published", {"speed_mean_mps": ins_walk.LEVEL_SPEED_MEAN_MPS
+                                              + ins_walk.LEVEL_SPEED_SD_MPS}),
+    ("walk ratio - 1 sd", "published", {"walk_ratio_per_height": _WR - ins_walk.WALK_RATIO_PER_HEIGHT_SD}),
+    ("walk ratio + 1 sd", "published", {"walk_ratio_per_height": _WR + ins_walk.WALK_RATIO_PER_HEIGHT_SD}),
+    ("stair cadence - 1 sd", "published", {
+        "stair_up_cadence_hz": ins_walk.STAIR_UP_CADENCE_HZ - ins_walk.STAIR_CADENCE_SD_HZ,
+        "stair_down_cadence_hz": ins_walk.STAIR_DOWN_CADENCE_HZ - ins_walk.STAIR_CADENCE_SD_HZ}),
+    ("stair cadence + 1 sd", "published", {
+        "stair_up_cadence_hz": ins_walk.STAIR_UP_CADENCE_HZ + ins_walk.STAIR_CADENCE_SD_HZ,
+        "stair_down_cadence_hz": ins_walk.STAIR_DOWN_CADENCE_HZ + ins_walk.STAIR_CADENCE_SD_HZ}),
+    ("legacy walker (eq. 7 speed, stairs 0.5 m/s)", "legacy", {}),
+)
 
 
 def run_methods(walk, stairs: str = "baro", stair_action: str = "drop"):
@@ -79,10 +101,11 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
          "threshold from stair geometry (half of 0.17 m x 1.3 Hz)"),
         ("walker on stairs", "-", "not described", "one tread (0.29 m) per step, cadence 1.62 Hz up / "
          "1.80 Hz down", "Blondel's rule; Riener et al. (2002), Protopapadaki et al. (2007), Kretz et al. (2008): "
-         "recalled, not re-read; covered by the stair_handling table (WVC on stairs off / barometer / true flag)"),
+         "recalled, not re-read; covered by the gait_sensitivity table (stair cadence +- 1 sd, the earlier 0.5 m/s "
+         "walker) and the stair_handling table (WVC on stairs off / barometer / true flag)"),
         ("walker on level ground", "-", "not described", "speed N(1.40, 0.16) m/s, walk ratio per height",
          "Bohannon (1997); Sekiya & Nagasaki (1998); Hof (1996): recalled, not re-read (independent of eq. 7); "
-         "every seed draws another walker (errors_per_seed beside walk_stats)"),
+         "covered by the gait_sensitivity table (level speed and walk ratio means +- 1 sd, the eq. 7 walker)"),
         ("ZUPT", "L146", "stand still 1-3 s after turns", "ZUPT at detected standstills, sd 0.05 m/s",
          "paper (stops); sd assumed"),
         ("control points", "L73, L109, L202", "4 surveyed points sent by Bluetooth, cm (survey) / m (Bluetooth) "
@@ -155,6 +178,42 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "baro", sta
     return out
 
 
+def gait_sensitivity(seeds, stairs: str = "baro", stair_action: str = "drop", variants=GAIT_VARIANTS,
+                     reuse=None) -> pd.DataFrame:
+    """RMS errors of Filtering + WVC/ZUPT + GCP with the published gait means moved by one between-walker sd.
+
+    The published walker's draws are paired across variants (same seeds); ``reuse`` maps ``(phone, seed)`` to
+    ``(walk, filter result)`` of the default walker (used for the ``published`` row when the experiment's walker
+    is the published one).
+
+    Returns
+    -------
+    DataFrame: phone, walker, level speed (m/s), cadence (Hz), n_seeds, N, E, H (m), Heading (deg), mean over seeds.
+    """
+    seeds = list(seeds)
+    if not seeds:
+        raise ValueError("seeds must hold at least one seed")
+    rows = []
+    for phone, route, profile in PHONES:
+        for label, gait, kw in variants:
+            for s in seeds:
+                if reuse is not None and (phone, s) in reuse and gait == "published" and not kw:
+                    walk, r = reuse[(phone, s)]
+                else:
+                    walk = ins_walk.simulate(route, profile, seed=s, gait=gait, gait_kw=kw)
+                    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+                ind = walk.t_s >= walk.t_indoor_s
+                err = nav_errors(r.pos_n_m[ind], r.mat_nb[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
+                rows.append({"phone": phone, "walker": label,
+                             "speed_mps": walk.params.get("speed_mps", np.nan),
+                             "cadence_hz": walk.params.get("cadence_hz", np.nan),
+                             **{ax: error_stats(err)["rms"][ax] for ax in ("N", "E", "H", "Heading")}})
+    out = (pd.DataFrame(rows).groupby(["phone", "walker"], sort=False)
+           [["speed_mps", "cadence_hz", "N", "E", "H", "Heading"]].mean().reset_index())
+    out.insert(4, "n_seeds", len(seeds))
+    return out
+
+
 def _stats_rows(phone, method, seed, err):
     st = error_stats(err)
     return [{"phone": phone, "method": method, "seed": seed, "stat": k, **st[k]} for k in ("max", "rms", "std")]
@@ -181,7 +240,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     paper's reference trajectory - NHC/ZUPT and smoothing - and with WVC/ZUPT/GCP and smoothing; not in
     fast mode also by an error-free IMU), ``sensor_sensitivity`` (:func:`sensor_sensitivity`: Filtering +
     WVC/ZUPT + GCP RMS errors for bias instability x0, x1, x3 and time-tag error sd 0, 10, 30 ms, on the first
-    ``sensitivity_seeds`` seeds: default 3, 1 in fast mode).
+    ``sensitivity_seeds`` seeds: default 3, 1 in fast mode), ``gait_sensitivity`` (:func:`gait_sensitivity`:
+    the same filter with each published gait mean moved by one between-walker sd, and the earlier walker, on the
+    same seeds).
     """
     if stairs not in STAIR_OPTIONS:
         raise ValueError(f"stairs must be one of {STAIR_OPTIONS}, got {stairs!r}")
@@ -298,6 +359,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
         "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
                                                  stair_action, reuse=reuse),
+        "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs, stair_action,
+                                             reuse=reuse if gait == "published" else None),
         "readings": readings(stairs, stair_action),
     }
 

@@ -268,14 +268,17 @@ def _gauss_smooth(x, sigma_samples):
 
 
 def walker_gait(rng, user_height_m: float = 1.70, speed_mean_mps: float = LEVEL_SPEED_MEAN_MPS,
-                speed_sd_mps: float = LEVEL_SPEED_SD_MPS) -> dict:
+                speed_sd_mps: float = LEVEL_SPEED_SD_MPS, walk_ratio_per_height: float = WALK_RATIO_PER_HEIGHT,
+                stair_up_cadence_hz: float = STAIR_UP_CADENCE_HZ,
+                stair_down_cadence_hz: float = STAIR_DOWN_CADENCE_HZ) -> dict:
     """Draw one walker's gait, independently of the WVC model (eq. 7) used by the filter.
 
     Level walking: comfortable speed ``v ~ N(speed_mean_mps, speed_sd_mps)`` (Bohannon 1997) and a personal
     walk ratio (step length over cadence) ``W = w_h h`` with ``w_h ~ N(WALK_RATIO_PER_HEIGHT, sd)``
     (Sekiya & Nagasaki 1998, scaled with body size after Hof 1996). Cadence and step length follow from
     ``v = L F`` and ``L = 60 W F``: ``F = sqrt(v / (60 W))`` (Hz), ``L = 60 W F`` (m). Stairs: one tread per
-    step, cadence ``N(STAIR_*_CADENCE_HZ, STAIR_CADENCE_SD_HZ)`` per walker (see the module docstring).
+    step, cadence ``N(stair_*_cadence_hz, STAIR_CADENCE_SD_HZ)`` per walker (see the module docstring). The
+    population means default to the published values; a sensitivity sweep may move them (same draws).
 
     Returns
     -------
@@ -288,10 +291,10 @@ def walker_gait(rng, user_height_m: float = 1.70, speed_mean_mps: float = LEVEL_
     Hof (1996), Gait & Posture 4:222-223.
     """
     v = max(0.6, rng.normal(speed_mean_mps, speed_sd_mps))
-    w = max(0.002, rng.normal(WALK_RATIO_PER_HEIGHT, WALK_RATIO_PER_HEIGHT_SD)) * user_height_m
+    w = max(0.002, rng.normal(walk_ratio_per_height, WALK_RATIO_PER_HEIGHT_SD)) * user_height_m
     f = float(np.sqrt(v / (60.0 * w)))
-    up = max(1.0, rng.normal(STAIR_UP_CADENCE_HZ, STAIR_CADENCE_SD_HZ))
-    down = max(1.0, rng.normal(STAIR_DOWN_CADENCE_HZ, STAIR_CADENCE_SD_HZ))
+    up = max(1.0, rng.normal(stair_up_cadence_hz, STAIR_CADENCE_SD_HZ))
+    down = max(1.0, rng.normal(stair_down_cadence_hz, STAIR_CADENCE_SD_HZ))
     return {"speed_mps": float(v), "walk_ratio_m_min": float(w), "cadence_hz": f, "step_length_m": 60.0 * w * f,
             "stair_up_cadence_hz": float(up), "stair_down_cadence_hz": float(down)}
 
@@ -357,7 +360,7 @@ def _path(rng, waypoints, dt, gait, legacy):
 def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float | None = None,
              gnss_sd_m=(2.5, 2.5, 4.0), user_height_m: float = 1.70, user_c_sd: float = 0.05,
              init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "ble",
-             ble_lag_s: float = 0.0) -> InsWalk:
+             ble_lag_s: float = 0.0, gait_kw: dict | None = None) -> InsWalk:
     """Simulate one hand-held phone walk (see the module docstring for every parameter's source).
 
     Parameters
@@ -376,6 +379,9 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     gcp_mode : "ble" (the surveyed coordinate, triggered by a Bluetooth beacon after a ranging delay, with a
         proximity offset) or "ideal" (the true phone position plus ``gcp_sd_m`` noise at closest approach)
     ble_lag_s : extra trigger delay of the Bluetooth fix (s), e.g. RSSI averaging (default none)
+    gait_kw : population means handed to :func:`walker_gait` for ``gait="published"`` (``speed_mean_mps``,
+        ``walk_ratio_per_height``, ``stair_up_cadence_hz``, ``stair_down_cadence_hz``); default the published
+        values. The walker's draws are the same for any means (paired sensitivity sweeps).
     """
     if route not in ROUTES:
         raise ValueError(f"route must be one of {sorted(ROUTES)}, got {route!r}")
@@ -392,6 +398,12 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         raise ValueError(f"gcp_sd_m must be > 0, got {gcp_sd_m}")
     if not (np.isfinite(ble_lag_s) and ble_lag_s >= 0):
         raise ValueError(f"ble_lag_s must be >= 0 s, got {ble_lag_s}")
+    gait_kw = dict(gait_kw or {})
+    allowed = {"speed_mean_mps", "walk_ratio_per_height", "stair_up_cadence_hz", "stair_down_cadence_hz"}
+    if set(gait_kw) - allowed or not all(np.isfinite(v) and v > 0 for v in gait_kw.values()):
+        raise ValueError(f"gait_kw must map some of {sorted(allowed)} to positive values, got {gait_kw!r}")
+    if gait_kw and gait != "published":
+        raise ValueError("gait_kw applies to gait='published' only")
     rng = as_rng(seed)
     dt = 1.0 / TRUTH_RATE_HZ
     if gait == "legacy":
@@ -400,7 +412,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         raw, walking, freq, on_stairs, i_indoor = _path(rng, ROUTES[route], dt, None, (user_c, user_height_m))
     else:
         user_c = float("nan")
-        gait_d = walker_gait(rng, user_height_m)
+        gait_d = walker_gait(rng, user_height_m, **gait_kw)
         raw, walking, freq, on_stairs, i_indoor = _path(rng, ROUTES[route], dt, gait_d, None)
     m = raw.shape[0]
     t = np.arange(m) * dt
