@@ -15,7 +15,8 @@ Parameters and their sources
 Paper (Liao et al. 2016; L = line of the paper's text file):
   - reference solution rate 200 Hz (L324); phone IMU "15-17 Hz" (L171), "low and unstable (about 20 Hz)",
     time tags of poor precision (L324) -> phone intervals of 10-14 ticks of the 200 Hz grid (uniform), mean
-    16.7 Hz; time-tag error sd 10 ms (assumption, clipped at 2 sd) and instantaneous (point) samples;
+    16.7 Hz; time-tag error sd 10 ms (assumption with no published measurement, clipped at 2 sd, tags kept
+    monotonic; swept by ``PhoneProfile.swept``) and instantaneous (point) samples;
   - stops of 1-3 s after turns (ZUPT, L146), uniform in [1, 3] s;
   - GNSS only during the two outdoor loops (L202); four indoor control points met "about every 15 s" (L202);
     control points are total-station surveyed (cm level) and delivered by Bluetooth (m level) (L109, L202;
@@ -35,7 +36,9 @@ phones' IMUs are similar, L202): InvenSense MPU-6500 class parts:
   - ``iphone_5s``: 20 mg, 0.2 deg/s, 1.0 %, same noise densities; no barometer;
   - both: first-order Gauss-Markov bias instability, accelerometer 0.5 mg and gyro 20 deg/h with a 300 s
     correlation time (assumption of the order of consumer-MEMS Allan-variance bias instabilities; no
-    specific measurement was checked for these two numbers).
+    specific measurement was checked for these two numbers; swept by ``PhoneProfile.swept``).
+Values quoted from the studies and documents cited below (gait, stairs, MPU-6500, BMP280, iOS ranging, iBeacon
+zones) are recalled, not re-read (data/ins_walk/README.md lists them with the sweep that covers each).
 Walker (published gait measurements, independent of the filter's eq. 7):
   - level: comfortable speed N(1.40, 0.16) m/s (Bohannon 1997), personal walk ratio (step length /
     cadence) 0.0064 m min/step per 1.70 m of height, 10 % between walkers (Sekiya & Nagasaki 1998; Hof
