@@ -139,12 +139,13 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
 
 def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "baro", stair_action: str = "drop",
                        bias_instability_factors=BIAS_INSTABILITY_FACTORS, time_jitters_s=TIME_JITTERS_S,
-                       reuse=None) -> pd.DataFrame:
+                       reuse=None, full_grid: bool = True) -> pd.DataFrame:
     """RMS errors of Filtering + WVC/ZUPT + GCP over the grid of bias-instability factors and time-tag jitters.
 
     Every cell simulates the same walks (same seeds; the swept draws are paired, see
     :meth:`ilocalg.sim.ins_walk.PhoneProfile.swept`) and scores the indoor part. ``reuse`` maps
     ``(phone, seed)`` to ``(walk, filter result)`` of the default profile, reused for its own cell.
+    ``full_grid=False`` sweeps one value at a time (each factor at the profile's jitter, each jitter at x1).
 
     Returns
     -------
@@ -157,21 +158,22 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "baro", sta
     rows = []
     for phone, route, profile in PHONES:
         base = ins_walk.PROFILES[profile]
-        for k in bias_instability_factors:
-            for jit in time_jitters_s:
-                prof = base.swept(k, jit)
-                for s in seeds:
-                    if reuse is not None and (phone, s) in reuse and prof == base:
-                        walk, r = reuse[(phone, s)]
-                    else:
-                        walk = ins_walk.simulate(route, prof, seed=s, gait=gait)
-                        r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
-                    ind = walk.t_s >= walk.t_indoor_s
-                    err = nav_errors(r.pos_n_m[ind], r.mat_nb[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
-                    rows.append({"phone": phone, "bias_instability_factor": float(k),
-                                 "time_jitter_sd_ms": 1e3 * float(jit),
-                                 "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)),
-                                 **{ax: error_stats(err)["rms"][ax] for ax in ("N", "E", "H", "Heading")}})
+        cells = [(k, j) for k in bias_instability_factors for j in time_jitters_s
+                 if full_grid or k == 1.0 or j == base.time_jitter_sd_s]
+        for k, jit in cells:
+            prof = base.swept(k, jit)
+            for s in seeds:
+                if reuse is not None and (phone, s) in reuse and prof == base:
+                    walk, r = reuse[(phone, s)]
+                else:
+                    walk = ins_walk.simulate(route, prof, seed=s, gait=gait)
+                    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+                ind = walk.t_s >= walk.t_indoor_s
+                err = nav_errors(r.pos_n_m[ind], r.mat_nb[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
+                rows.append({"phone": phone, "bias_instability_factor": float(k),
+                             "time_jitter_sd_ms": 1e3 * float(jit),
+                             "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)),
+                             **{ax: error_stats(err)["rms"][ax] for ax in ("N", "E", "H", "Heading")}})
     out = (pd.DataFrame(rows).groupby(["phone", "bias_instability_factor", "time_jitter_sd_ms"], sort=False)
            [["tag_error_sd_ms", "N", "E", "H", "Heading"]].mean().reset_index())
     out.insert(4, "n_seeds", len(seeds))
@@ -240,9 +242,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     paper's reference trajectory - NHC/ZUPT and smoothing - and with WVC/ZUPT/GCP and smoothing; not in
     fast mode also by an error-free IMU), ``sensor_sensitivity`` (:func:`sensor_sensitivity`: Filtering +
     WVC/ZUPT + GCP RMS errors for bias instability x0, x1, x3 and time-tag error sd 0, 10, 30 ms, on the first
-    ``sensitivity_seeds`` seeds: default 3, 1 in fast mode), ``gait_sensitivity`` (:func:`gait_sensitivity`:
-    the same filter with each published gait mean moved by one between-walker sd, and the earlier walker, on the
-    same seeds).
+    ``sensitivity_seeds`` seeds: default 3; in fast mode 1 seed and one value at a time), ``gait_sensitivity``
+    (:func:`gait_sensitivity`: the same filter with each published gait mean moved by one between-walker sd,
+    and the earlier walker, on the same seeds).
     """
     if stairs not in STAIR_OPTIONS:
         raise ValueError(f"stairs must be one of {STAIR_OPTIONS}, got {stairs!r}")
@@ -358,7 +360,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
                          .mean().reset_index()),
         "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
         "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
-                                                 stair_action, reuse=reuse),
+                                                 stair_action, reuse=reuse, full_grid=not fast),
         "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs, stair_action,
                                              reuse=reuse if gait == "published" else None),
         "readings": readings(stairs, stair_action),
