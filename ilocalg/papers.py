@@ -17,8 +17,8 @@ Chiu, P.-J. (2013). Implement an Integrated Indoor Positioning System (i-Loc). M
 National Chiao Tung University.
 Liao, C.-K., Chiang, K.-W., Zhou, Z.-M., Li, C.-H. (2016). Using the on-line smoothing and
 constraint algorithms to improve the accuracy of pedestrian indoor navigation.
-Yeh, C.-H., Huang, W.-L. (advisor Huang, C.-C.) (2012). Positioning by combining images and inertial
-sensors. Teaching report, National Kaohsiung University of Applied Sciences.
+Yeh, C.-H., Huang, W.-L. (advisor Huang, C.-C.) (undated; cites work up to 2011). Positioning by combining
+images and inertial sensors. Teaching report, National Kaohsiung University of Applied Sciences.
 Chao, S.-H. (2008). Pedestrian navigation based on particle swarm optimization. M.S. thesis,
 Tunghai University.
 Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
@@ -65,7 +65,7 @@ PAPER_CITATIONS = {
     "liao": "Liao, Chiang, Zhou, Li, \"Using the on-line smoothing and constraint algorithms to improve the "
             "accuracy of pedestrian indoor navigation\", 2016",
     "survey": "Yeh Chi-Hsien, Huang Wei-Li (advisor Huang Ching-Chun), \"Positioning by combining images and "
-              "inertial sensors\", teaching report, National Kaohsiung University of Applied Sciences, 2012",
+              "inertial sensors\", teaching report, National Kaohsiung University of Applied Sciences, undated",
     "pso": "Chao Shih-Hsien, \"Pedestrian navigation based on particle swarm optimization\", M.S. thesis, "
            "Tunghai University, 2008",
     "luo": "Luo Siqi et al., \"Indoor positioning technology based on location fingerprint and pedestrian "

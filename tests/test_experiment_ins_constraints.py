@@ -38,3 +38,36 @@ def test_inputs_and_readings_are_reported(tables):
     assert r["choice"].is_unique and (r["source"].str.len() > 0).all()
     with pytest.raises(ValueError, match="stairs"):
         ins_constraints.run(fast=True, stairs="lidar")
+
+
+def test_sensor_sensitivity_sweeps_bias_instability_and_jitter(tables):
+    ss = tables["sensor_sensitivity"]
+    # fast mode: one value at a time (each factor at 10 ms, each jitter at x1)
+    n = len(ins_constraints.BIAS_INSTABILITY_FACTORS) + len(ins_constraints.TIME_JITTERS_S) - 1
+    assert len(ss) == 2 * n and set(ss["phone"]) == {"Samsung", "iPhone"} and (ss["n_seeds"] == 1).all()
+    assert (ss.loc[ss.time_jitter_sd_ms == 0, "tag_error_sd_ms"] == 0).all()
+    big = ss[ss.time_jitter_sd_ms == 30]
+    assert ((big["tag_error_sd_ms"] > 24) & (big["tag_error_sd_ms"] <= 30)).all()
+    # the default cell (x1, 10 ms) is the experiment's own Filtering + WVC/ZUPT + GCP row
+    e = tables["errors"].set_index(["phone", "method", "stat"])
+    cell = ss[(ss.bias_instability_factor == 1.0) & (ss.time_jitter_sd_ms == 10.0)].set_index("phone")
+    for phone in ("Samsung", "iPhone"):
+        for ax in ("N", "E", "H"):
+            assert cell.loc[phone, ax] == pytest.approx(e.loc[(phone, "Filtering + WVC/ZUPT + GCP", "rms"), ax])
+    assert np.isfinite(ss[["N", "E", "H", "Heading"]].to_numpy()).all()
+    with pytest.raises(ValueError, match="seeds"):
+        ins_constraints.sensor_sensitivity([])
+
+
+def test_gait_sensitivity_moves_each_published_mean_by_one_sd(tables):
+    g = tables["gait_sensitivity"].set_index(["phone", "walker"])
+    assert len(g) == 2 * len(ins_constraints.GAIT_VARIANTS)
+    for phone in ("Samsung", "iPhone"):
+        # the walker's draws are paired: the level speed moves by exactly one between-walker sd
+        dv = g.loc[(phone, "level speed mean + 1 sd"), "speed_mps"] - g.loc[(phone, "published"), "speed_mps"]
+        assert dv == pytest.approx(0.16)
+        # a walk ratio one sd lower means a higher cadence at the same speed
+        assert g.loc[(phone, "walk ratio - 1 sd"), "cadence_hz"] > g.loc[(phone, "published"), "cadence_hz"]
+    e = tables["errors"].set_index(["phone", "method", "stat"])
+    assert g.loc[("Samsung", "published"), "N"] == pytest.approx(
+        e.loc[("Samsung", "Filtering + WVC/ZUPT + GCP", "rms"), "N"])

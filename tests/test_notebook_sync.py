@@ -60,3 +60,14 @@ def test_check_flags_metadata_jupyterlab_would_rewrite(tmp_path):
     nb.metadata["kernelspec"]["display_name"] = "Python 3"
     nbformat.write(nb, nb_path)
     assert any("would show as modified" in p for p in notebook_sync.check(tmp_path))
+
+
+def test_check_reports_an_unreadable_notebook_instead_of_raising(tmp_path):
+    import shutil
+
+    from ilocalg.workflow.runner import NOTEBOOK_DIR as src
+
+    shutil.copy(src / "00_data_tour.py", tmp_path / "00_data_tour.py")
+    notebook_sync.sync(tmp_path)
+    (tmp_path / "00_data_tour.ipynb").write_text('{\n<<<<<<< HEAD\n "cells": []\n')
+    assert any("not a readable notebook" in p for p in notebook_sync.check(tmp_path))

@@ -117,3 +117,47 @@ def test_bad_arguments():
         ins_walk.simulate("samsung", gait="fast")
     with pytest.raises(ValueError, match="gcp_mode"):
         ins_walk.simulate("samsung", gcp_mode="wifi")
+
+
+def test_bias_instability_x0_leaves_a_constant_bias_and_scales_linearly():
+    prof = ins_walk.PROFILES["samsung_s5"]
+    w0, w1, w3 = (ins_walk.simulate("samsung", prof.swept(k), seed=3) for k in (0.0, 1.0, 3.0))
+    # paired: the same walk, tags and control-point fixes; only the bias instability differs
+    assert np.array_equal(w0.t_s, w1.t_s) and np.array_equal(w0.gcp_pos_n_m, w3.gcp_pos_n_m)
+    d1 = w1.acc_b_mps2 - w0.acc_b_mps2
+    g1 = w1.gyr_b_radps - w0.gyr_b_radps
+    # x1 adds a slowly varying Gauss-Markov bias: not constant, below 4 sd, smooth from sample to sample
+    assert np.all(d1.std(axis=0) > 0) and np.abs(d1).max() < 4 * prof.acc_gm_sd_mps2
+    assert np.abs(np.diff(d1, axis=0)).max() < 0.1 * prof.acc_gm_sd_mps2
+    assert np.abs(g1).max() < 4 * prof.gyr_gm_sd_radps
+    # x3 adds three times the same sequence; x0 adds nothing beyond the constant turn-on bias
+    assert np.allclose(w3.acc_b_mps2 - w0.acc_b_mps2, 3 * d1, rtol=0, atol=1e-12)
+    assert np.allclose(w3.gyr_b_radps - w0.gyr_b_radps, 3 * g1, rtol=0, atol=1e-14)
+    assert prof.swept(0.0).acc_gm_sd_mps2 == 0 and prof.swept(0.0).gyr_gm_sd_radps == 0
+
+
+def test_time_jitter_zero_gives_the_nominal_clock_and_large_jitter_stays_monotonic():
+    prof = ins_walk.PROFILES["iphone_5s"]
+    w0 = ins_walk.simulate("iphone", prof.swept(1.0, 0.0), seed=2)
+    assert np.array_equal(w0.t_s, w0.t_true_s)
+    w30 = ins_walk.simulate("iphone", prof.swept(1.0, 0.03), seed=2)
+    err = w30.t_s - w30.t_true_s
+    assert np.all(np.diff(w30.t_s) >= ins_walk.MIN_TAG_GAP_S - 1e-12)
+    assert np.abs(err).max() <= 2 * 0.03 + 1e-9 and 0.8 * 0.03 < err.std() < 0.03
+    # the jitter changes only the tags: the walk and the control-point fixes are the same
+    assert np.array_equal(w0.t_true_s, w30.t_true_s) and np.array_equal(w0.gcp_pos_n_m, w30.gcp_pos_n_m)
+    with pytest.raises(ValueError, match="bias_instability_factor"):
+        prof.swept(-1.0)
+    with pytest.raises(ValueError, match="time_jitter_sd_s"):
+        prof.swept(1.0, float("nan"))
+
+
+def test_gait_kw_moves_the_population_mean_with_the_same_walker_draws():
+    a = ins_walk.simulate("iphone", "iphone_5s", seed=5)
+    b = ins_walk.simulate("iphone", "iphone_5s", seed=5, gait_kw={"speed_mean_mps": 1.0})
+    assert b.params["speed_mps"] == pytest.approx(a.params["speed_mps"] - 0.4)
+    assert b.params["stair_up_cadence_hz"] == a.params["stair_up_cadence_hz"]
+    with pytest.raises(ValueError, match="gait_kw"):
+        ins_walk.simulate("iphone", gait_kw={"speed": 1.0})
+    with pytest.raises(ValueError, match="gait_kw"):
+        ins_walk.simulate("iphone", gait="legacy", gait_kw={"speed_mean_mps": 1.0})

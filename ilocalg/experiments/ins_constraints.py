@@ -19,7 +19,8 @@ from ilocalg.papers import paper_ref, reading, readings_table
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
-__all__ = ["METHODS", "STAIR_OPTIONS", "STAIR_VARIANTS", "run_methods", "run_phone", "readings", "run"]
+__all__ = ["METHODS", "STAIR_OPTIONS", "STAIR_VARIANTS", "BIAS_INSTABILITY_FACTORS", "TIME_JITTERS_S",
+           "GAIT_VARIANTS", "run_methods", "run_phone", "readings", "sensor_sensitivity", "gait_sensitivity", "run"]
 
 METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT + GCP",
            "Smoothing + WVC/ZUPT + GCP")
@@ -31,6 +32,34 @@ STAIR_OPTIONS = ("none", "baro", "truth")
 #: Columns of the ``stair_handling`` table: (label, stair source, action on stairs).
 STAIR_VARIANTS = (("none", "none", "drop"), ("baro", "baro", "drop"), ("baro, downweight", "baro", "downweight"),
                   ("truth", "truth", "drop"))
+
+
+#: Sensitivity sweep of the phone sensor values no published measurement fixes for these phones: factors on the
+#: Gauss-Markov bias instability (0.5 mg / 20 deg/h, 300 s) and time-tag error sds (s); the defaults are 1 and 10 ms.
+BIAS_INSTABILITY_FACTORS = (0.0, 1.0, 3.0)
+TIME_JITTERS_S = (0.0, 0.01, 0.03)
+
+
+_WR = ins_walk.WALK_RATIO_PER_HEIGHT
+#: Gait sensitivity: each published population mean moved by one between-walker sd of the same study (level speed
+#: 0.16 m/s, walk ratio 10 %, stair cadence 0.12 Hz), and the earlier walker (speed from eq. 7, stairs 0.5 m/s):
+#: (label, gait, walker_gait keywords).
+GAIT_VARIANTS = (
+    ("published", "published", {}),
+    ("level speed mean - 1 sd", "published", {"speed_mean_mps": ins_walk.LEVEL_SPEED_MEAN_MPS
+                                              - ins_walk.LEVEL_SPEED_SD_MPS}),
+    ("level speed mean + 1 sd", "published", {"speed_mean_mps": ins_walk.LEVEL_SPEED_MEAN_MPS
+                                              + ins_walk.LEVEL_SPEED_SD_MPS}),
+    ("walk ratio - 1 sd", "published", {"walk_ratio_per_height": _WR - ins_walk.WALK_RATIO_PER_HEIGHT_SD}),
+    ("walk ratio + 1 sd", "published", {"walk_ratio_per_height": _WR + ins_walk.WALK_RATIO_PER_HEIGHT_SD}),
+    ("stair cadence - 1 sd", "published", {
+        "stair_up_cadence_hz": ins_walk.STAIR_UP_CADENCE_HZ - ins_walk.STAIR_CADENCE_SD_HZ,
+        "stair_down_cadence_hz": ins_walk.STAIR_DOWN_CADENCE_HZ - ins_walk.STAIR_CADENCE_SD_HZ}),
+    ("stair cadence + 1 sd", "published", {
+        "stair_up_cadence_hz": ins_walk.STAIR_UP_CADENCE_HZ + ins_walk.STAIR_CADENCE_SD_HZ,
+        "stair_down_cadence_hz": ins_walk.STAIR_DOWN_CADENCE_HZ + ins_walk.STAIR_CADENCE_SD_HZ}),
+    ("legacy walker (eq. 7 speed, stairs 0.5 m/s)", "legacy", {}),
+)
 
 
 def run_methods(walk, stairs: str = "baro", stair_action: str = "drop"):
@@ -71,20 +100,33 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
          "barometric height rises or falls faster than 0.1 m/s (iPhone 5S: no barometer, no handling)",
          "threshold from stair geometry (half of 0.17 m x 1.3 Hz)"),
         ("walker on stairs", "-", "not described", "one tread (0.29 m) per step, cadence 1.62 Hz up / "
-         "1.80 Hz down", "Blondel's rule; Riener et al. (2002); Kretz et al. (2008)"),
+         "1.80 Hz down", "Blondel's rule; Riener et al. (2002), Protopapadaki et al. (2007), Kretz et al. (2008): "
+         "recalled, not re-read; covered by the gait_sensitivity table (stair cadence +- 1 sd, the earlier 0.5 m/s "
+         "walker) and the stair_handling table (WVC on stairs off / barometer / true flag)"),
         ("walker on level ground", "-", "not described", "speed N(1.40, 0.16) m/s, walk ratio per height",
-         "Bohannon (1997); Sekiya & Nagasaki (1998) (independent of eq. 7)"),
+         "Bohannon (1997); Sekiya & Nagasaki (1998); Hof (1996): recalled, not re-read (independent of eq. 7); "
+         "covered by the gait_sensitivity table (level speed and walk ratio means +- 1 sd, the eq. 7 walker)"),
         ("ZUPT", "L146", "stand still 1-3 s after turns", "ZUPT at detected standstills, sd 0.05 m/s",
          "paper (stops); sd assumed"),
         ("control points", "L73, L109, L202", "4 surveyed points sent by Bluetooth, cm (survey) / m (Bluetooth) "
          "level, about every 15 s", "fix = surveyed coordinate after a 0-1 s ranging delay with 0.5 m "
-         "proximity offset, filter sd 1 m (option: true position + 5 cm)", "iOS ranging once per second; "
-         "iBeacon immediate zone"),
+         "proximity offset, filter sd 1 m (option: true position + 5 cm)", "iOS ranging once per second and "
+         "the iBeacon immediate zone (about 0.5 m): recalled, not re-read; covered by the gcp_grade table "
+         "(Bluetooth fix vs the ideal fix)"),
         ("phone sampling", "L171, L324", "15-17 Hz; about 20 Hz, unstable, poor time tags",
-         "14.3-20 Hz irregular, point samples, time-tag error sd 10 ms", "10 ms: assumption"),
+         "14.3-20 Hz irregular, point samples, time-tag error sd 10 ms (clipped at 2 sd, monotonic tags)",
+         "10 ms: no published measurement for these phones; swept 0 / 10 / 30 ms in the sensor_sensitivity "
+         "table; on/off in sensor_grade"),
         ("sensor errors", "L178, L202", "the phones' IMUs calibrated in Liao et al. (2014), similar",
-         "MPU-6500 class turn-on bias, scale factor, noise; Gauss-Markov 0.5 mg / 20 deg/h, 300 s",
-         "datasheet class; Gauss-Markov values assumed"),
+         "MPU-6500 class turn-on bias (30 / 20 mg, 0.3 / 0.2 deg/s), scale factor, noise",
+         "InvenSense MPU-6500 product specification (zero-g offset, sensitivity tolerance): recalled, not "
+         "re-read; covered by the reference_grade table (MIDG-II-grade sensors on the same walks)"),
+        ("bias instability", "-", "not given", "first-order Gauss-Markov, 0.5 mg / 20 deg/h, 300 s",
+         "no published measurement used (assumed order of consumer-MEMS Allan-variance studies); swept x0 / x1 / "
+         "x3 in the sensor_sensitivity table; on/off in sensor_grade"),
+        ("barometer", "-", "not mentioned (stair handling is this code's)", "Samsung S5 heights, noise sd 0.1 m",
+         "BMP280-class RMS noise about 1.2 Pa: recalled, not re-read; covered by the stair_handling table "
+         "(barometric detection vs the true stair flag)"),
         ("GNSS", "L109, L202", "only the two outdoor loops (initialisation)", "1 Hz, sd 2.5 / 2.5 / 4 m",
          "assumption (phone grade)"),
         ("reference", "L178-L191", "MIDG-II (Table 3) on the same walk, NHC/ZUPT, smoothed", "the simulated "
@@ -95,6 +137,85 @@ def readings(stairs: str, stair_action: str) -> pd.DataFrame:
                            for c, line, text, code, src in rows])
 
 
+def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "baro", stair_action: str = "drop",
+                       bias_instability_factors=BIAS_INSTABILITY_FACTORS, time_jitters_s=TIME_JITTERS_S,
+                       reuse=None, full_grid: bool = True) -> pd.DataFrame:
+    """RMS errors of Filtering + WVC/ZUPT + GCP over the grid of bias-instability factors and time-tag jitters.
+
+    Every cell simulates the same walks (same seeds; the swept draws are paired, see
+    :meth:`ilocalg.sim.ins_walk.PhoneProfile.swept`) and scores the indoor part. ``reuse`` maps
+    ``(phone, seed)`` to ``(walk, filter result)`` of the default profile, reused for its own cell.
+    ``full_grid=False`` sweeps one value at a time (each factor at the profile's jitter, each jitter at x1).
+
+    Returns
+    -------
+    DataFrame: phone, bias_instability_factor, time_jitter_sd_ms, tag_error_sd_ms (realised, after the 2 sd clip
+    and the monotonic clock), n_seeds, N, E, H (m), Heading (deg), mean over seeds.
+    """
+    seeds = list(seeds)
+    if not seeds:
+        raise ValueError("seeds must hold at least one seed")
+    rows = []
+    for phone, route, profile in PHONES:
+        base = ins_walk.PROFILES[profile]
+        cells = [(k, j) for k in bias_instability_factors for j in time_jitters_s
+                 if full_grid or k == 1.0 or j == base.time_jitter_sd_s]
+        for k, jit in cells:
+            prof = base.swept(k, jit)
+            for s in seeds:
+                if reuse is not None and (phone, s) in reuse and prof == base:
+                    walk, r = reuse[(phone, s)]
+                else:
+                    walk = ins_walk.simulate(route, prof, seed=s, gait=gait)
+                    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+                ind = walk.t_s >= walk.t_indoor_s
+                err = nav_errors(r.pos_n_m[ind], r.mat_nb[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
+                rows.append({"phone": phone, "bias_instability_factor": float(k),
+                             "time_jitter_sd_ms": 1e3 * float(jit),
+                             "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)),
+                             **{ax: error_stats(err)["rms"][ax] for ax in ("N", "E", "H", "Heading")}})
+    out = (pd.DataFrame(rows).groupby(["phone", "bias_instability_factor", "time_jitter_sd_ms"], sort=False)
+           [["tag_error_sd_ms", "N", "E", "H", "Heading"]].mean().reset_index())
+    out.insert(4, "n_seeds", len(seeds))
+    return out
+
+
+def gait_sensitivity(seeds, stairs: str = "baro", stair_action: str = "drop", variants=GAIT_VARIANTS,
+                     reuse=None) -> pd.DataFrame:
+    """RMS errors of Filtering + WVC/ZUPT + GCP with the published gait means moved by one between-walker sd.
+
+    The published walker's draws are paired across variants (same seeds); ``reuse`` maps ``(phone, seed)`` to
+    ``(walk, filter result)`` of the default walker (used for the ``published`` row when the experiment's walker
+    is the published one).
+
+    Returns
+    -------
+    DataFrame: phone, walker, level speed (m/s), cadence (Hz), n_seeds, N, E, H (m), Heading (deg), mean over seeds.
+    """
+    seeds = list(seeds)
+    if not seeds:
+        raise ValueError("seeds must hold at least one seed")
+    rows = []
+    for phone, route, profile in PHONES:
+        for label, gait, kw in variants:
+            for s in seeds:
+                if reuse is not None and (phone, s) in reuse and gait == "published" and not kw:
+                    walk, r = reuse[(phone, s)]
+                else:
+                    walk = ins_walk.simulate(route, profile, seed=s, gait=gait, gait_kw=kw)
+                    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+                ind = walk.t_s >= walk.t_indoor_s
+                err = nav_errors(r.pos_n_m[ind], r.mat_nb[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
+                rows.append({"phone": phone, "walker": label,
+                             "speed_mps": walk.params.get("speed_mps", np.nan),
+                             "cadence_hz": walk.params.get("cadence_hz", np.nan),
+                             **{ax: error_stats(err)["rms"][ax] for ax in ("N", "E", "H", "Heading")}})
+    out = (pd.DataFrame(rows).groupby(["phone", "walker"], sort=False)
+           [["speed_mps", "cadence_hz", "N", "E", "H", "Heading"]].mean().reset_index())
+    out.insert(4, "n_seeds", len(seeds))
+    return out
+
+
 def _stats_rows(phone, method, seed, err):
     st = error_stats(err)
     return [{"phone": phone, "method": method, "seed": seed, "stat": k, **st[k]} for k in ("max", "rms", "std")]
@@ -102,7 +223,7 @@ def _stats_rows(phone, method, seed, err):
 
 def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags_s=(0.0, 0.05, 0.1, 0.2),
         reference_grade: bool = True, stairs: str = "baro", stair_action: str = "drop",
-        gait: str = "published") -> dict[str, pd.DataFrame]:
+        gait: str = "published", sensitivity_seeds: int | None = None) -> dict[str, pd.DataFrame]:
     """Tables 4-7 reproduced on simulated walks.
 
     Returns
@@ -119,17 +240,25 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     ``heading_time_sync`` (heading RMS / max when the reference is read ``time_lags_s`` off) and
     ``reference_grade`` (the same walks measured by a MIDG-II-grade IMU, paper Table 3, processed like the
     paper's reference trajectory - NHC/ZUPT and smoothing - and with WVC/ZUPT/GCP and smoothing; not in
-    fast mode also by an error-free IMU).
+    fast mode also by an error-free IMU), ``sensor_sensitivity`` (:func:`sensor_sensitivity`: Filtering +
+    WVC/ZUPT + GCP RMS errors for bias instability x0, x1, x3 and time-tag error sd 0, 10, 30 ms, on the first
+    ``sensitivity_seeds`` seeds: default 3; in fast mode 1 seed and one value at a time), ``gait_sensitivity``
+    (:func:`gait_sensitivity`: the same filter with each published gait mean moved by one between-walker sd,
+    and the earlier walker, on the same seeds).
     """
     if stairs not in STAIR_OPTIONS:
         raise ValueError(f"stairs must be one of {STAIR_OPTIONS}, got {stairs!r}")
     n_seeds = n_seeds or (1 if fast else 6)
+    n_sens = min(n_seeds, sensitivity_seeds or (1 if fast else 3))
+    reuse = {}
     rows, stats, traj, grade, sync, refg, stair_rows, sens_rows = [], [], [], [], [], [], [], []
     for phone, route, profile in PHONES:
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
             walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, gait=gait)
+            if s < seed * n_seeds + n_sens:
+                reuse[(phone, s)] = (walk, rgcp)
             ind = walk.t_s >= walk.t_indoor_s
             for method, (pos, mat) in sol.items():
                 err = nav_errors(pos[ind], mat[ind], walk.pos_true_n_m[ind], walk.mat_true_nb[ind])
@@ -230,6 +359,10 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         "sensor_grade": (pd.DataFrame(sens_rows).groupby(["phone", "sensor", "method"], sort=False)[list(AXES)]
                          .mean().reset_index()),
         "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
+        "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
+                                                 stair_action, reuse=reuse, full_grid=not fast),
+        "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs, stair_action,
+                                             reuse=reuse if gait == "published" else None),
         "readings": readings(stairs, stair_action),
     }
 

@@ -15,7 +15,8 @@ Parameters and their sources
 Paper (Liao et al. 2016; L = line of the paper's text file):
   - reference solution rate 200 Hz (L324); phone IMU "15-17 Hz" (L171), "low and unstable (about 20 Hz)",
     time tags of poor precision (L324) -> phone intervals of 10-14 ticks of the 200 Hz grid (uniform), mean
-    16.7 Hz; time-tag error sd 10 ms (assumption, clipped at 2 sd) and instantaneous (point) samples;
+    16.7 Hz; time-tag error sd 10 ms (assumption with no published measurement, clipped at 2 sd, tags kept
+    monotonic; swept by ``PhoneProfile.swept``) and instantaneous (point) samples;
   - stops of 1-3 s after turns (ZUPT, L146), uniform in [1, 3] s;
   - GNSS only during the two outdoor loops (L202); four indoor control points met "about every 15 s" (L202);
     control points are total-station surveyed (cm level) and delivered by Bluetooth (m level) (L109, L202;
@@ -35,7 +36,9 @@ phones' IMUs are similar, L202): InvenSense MPU-6500 class parts:
   - ``iphone_5s``: 20 mg, 0.2 deg/s, 1.0 %, same noise densities; no barometer;
   - both: first-order Gauss-Markov bias instability, accelerometer 0.5 mg and gyro 20 deg/h with a 300 s
     correlation time (assumption of the order of consumer-MEMS Allan-variance bias instabilities; no
-    specific measurement was checked for these two numbers).
+    specific measurement was checked for these two numbers; swept by ``PhoneProfile.swept``).
+Values quoted from the studies and documents cited below (gait, stairs, MPU-6500, BMP280, iOS ranging, iBeacon
+zones) are recalled, not re-read (data/ins_walk/README.md lists them with the sweep that covers each).
 Walker (published gait measurements, independent of the filter's eq. 7):
   - level: comfortable speed N(1.40, 0.16) m/s (Bohannon 1997), personal walk ratio (step length /
     cadence) 0.0064 m min/step per 1.70 m of height, 10 % between walkers (Sekiya & Nagasaki 1998; Hof
@@ -147,12 +150,38 @@ class PhoneProfile:
         """The same sensor errors with exact time tags, interval-mean samples and no bias instability."""
         return replace(self, time_jitter_sd_s=0.0, point_sampling=False, acc_gm_sd_mps2=0.0, gyr_gm_sd_radps=0.0)
 
+    def swept(self, bias_instability_factor: float = 1.0, time_jitter_sd_s: float | None = None) -> PhoneProfile:
+        """The same sensor with its Gauss-Markov bias instability scaled and its time-tag error sd replaced.
+
+        Parameters
+        ----------
+        bias_instability_factor : float
+            Factor (>= 0) on both Gauss-Markov sds (0: only the constant turn-on bias remains); correlation
+            time unchanged.
+        time_jitter_sd_s : float, optional
+            Time-tag error sd (s, >= 0; 0: the nominal clock); None keeps the profile's.
+
+        Used by sensitivity sweeps over values no published measurement fixes for these phones; with a
+        point-sampled profile the swept walks share the walk and every other error draw (same seed).
+        """
+        k = float(bias_instability_factor)
+        if not (np.isfinite(k) and k >= 0):
+            raise ValueError(f"bias_instability_factor must be a finite factor >= 0, got {bias_instability_factor}")
+        j = self.time_jitter_sd_s if time_jitter_sd_s is None else float(time_jitter_sd_s)
+        if not (np.isfinite(j) and j >= 0):
+            raise ValueError(f"time_jitter_sd_s must be >= 0 s, got {time_jitter_sd_s}")
+        return replace(self, acc_gm_sd_mps2=k * self.acc_gm_sd_mps2, gyr_gm_sd_radps=k * self.gyr_gm_sd_radps,
+                       time_jitter_sd_s=j)
+
 
 _MG = 9.80665e-3
 #: Phone timing and bias instability (assumptions, see the module docstring): time-tag error sd (s); Gauss-Markov
 #: bias sd of the accelerometer (0.5 mg) and gyroscope (20 deg/h) with a 300 s correlation time.
 _PHONE_TIMING = {"time_jitter_sd_s": 0.01, "point_sampling": True, "acc_gm_sd_mps2": 0.5 * 9.80665e-3,
                  "gyr_gm_sd_radps": float(np.deg2rad(20.0 / 3600.0)), "gm_tau_s": 300.0}
+#: Smallest step between two phone time tags (s): tags never go backwards (a monotonic sensor clock); only a
+#: time-tag error sd above a quarter of the shortest sampling interval (12.5 ms here) ever meets this floor.
+MIN_TAG_GAP_S = 1e-3
 #: Barometric height noise (m): Bosch BMP280-class pressure sensor, RMS noise about 1.2 Pa (standard
 #: resolution), about 0.1 m. The Galaxy S5 has a barometer, the iPhone 5S has none.
 _BARO_SD_M = 0.1
@@ -242,14 +271,17 @@ def _gauss_smooth(x, sigma_samples):
 
 
 def walker_gait(rng, user_height_m: float = 1.70, speed_mean_mps: float = LEVEL_SPEED_MEAN_MPS,
-                speed_sd_mps: float = LEVEL_SPEED_SD_MPS) -> dict:
+                speed_sd_mps: float = LEVEL_SPEED_SD_MPS, walk_ratio_per_height: float = WALK_RATIO_PER_HEIGHT,
+                stair_up_cadence_hz: float = STAIR_UP_CADENCE_HZ,
+                stair_down_cadence_hz: float = STAIR_DOWN_CADENCE_HZ) -> dict:
     """Draw one walker's gait, independently of the WVC model (eq. 7) used by the filter.
 
     Level walking: comfortable speed ``v ~ N(speed_mean_mps, speed_sd_mps)`` (Bohannon 1997) and a personal
     walk ratio (step length over cadence) ``W = w_h h`` with ``w_h ~ N(WALK_RATIO_PER_HEIGHT, sd)``
     (Sekiya & Nagasaki 1998, scaled with body size after Hof 1996). Cadence and step length follow from
     ``v = L F`` and ``L = 60 W F``: ``F = sqrt(v / (60 W))`` (Hz), ``L = 60 W F`` (m). Stairs: one tread per
-    step, cadence ``N(STAIR_*_CADENCE_HZ, STAIR_CADENCE_SD_HZ)`` per walker (see the module docstring).
+    step, cadence ``N(stair_*_cadence_hz, STAIR_CADENCE_SD_HZ)`` per walker (see the module docstring). The
+    population means default to the published values; a sensitivity sweep may move them (same draws).
 
     Returns
     -------
@@ -262,10 +294,10 @@ def walker_gait(rng, user_height_m: float = 1.70, speed_mean_mps: float = LEVEL_
     Hof (1996), Gait & Posture 4:222-223.
     """
     v = max(0.6, rng.normal(speed_mean_mps, speed_sd_mps))
-    w = max(0.002, rng.normal(WALK_RATIO_PER_HEIGHT, WALK_RATIO_PER_HEIGHT_SD)) * user_height_m
+    w = max(0.002, rng.normal(walk_ratio_per_height, WALK_RATIO_PER_HEIGHT_SD)) * user_height_m
     f = float(np.sqrt(v / (60.0 * w)))
-    up = max(1.0, rng.normal(STAIR_UP_CADENCE_HZ, STAIR_CADENCE_SD_HZ))
-    down = max(1.0, rng.normal(STAIR_DOWN_CADENCE_HZ, STAIR_CADENCE_SD_HZ))
+    up = max(1.0, rng.normal(stair_up_cadence_hz, STAIR_CADENCE_SD_HZ))
+    down = max(1.0, rng.normal(stair_down_cadence_hz, STAIR_CADENCE_SD_HZ))
     return {"speed_mps": float(v), "walk_ratio_m_min": float(w), "cadence_hz": f, "step_length_m": 60.0 * w * f,
             "stair_up_cadence_hz": float(up), "stair_down_cadence_hz": float(down)}
 
@@ -331,7 +363,7 @@ def _path(rng, waypoints, dt, gait, legacy):
 def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float | None = None,
              gnss_sd_m=(2.5, 2.5, 4.0), user_height_m: float = 1.70, user_c_sd: float = 0.05,
              init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "ble",
-             ble_lag_s: float = 0.0) -> InsWalk:
+             ble_lag_s: float = 0.0, gait_kw: dict | None = None) -> InsWalk:
     """Simulate one hand-held phone walk (see the module docstring for every parameter's source).
 
     Parameters
@@ -350,6 +382,9 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     gcp_mode : "ble" (the surveyed coordinate, triggered by a Bluetooth beacon after a ranging delay, with a
         proximity offset) or "ideal" (the true phone position plus ``gcp_sd_m`` noise at closest approach)
     ble_lag_s : extra trigger delay of the Bluetooth fix (s), e.g. RSSI averaging (default none)
+    gait_kw : population means handed to :func:`walker_gait` for ``gait="published"`` (``speed_mean_mps``,
+        ``walk_ratio_per_height``, ``stair_up_cadence_hz``, ``stair_down_cadence_hz``); default the published
+        values. The walker's draws are the same for any means (paired sensitivity sweeps).
     """
     if route not in ROUTES:
         raise ValueError(f"route must be one of {sorted(ROUTES)}, got {route!r}")
@@ -366,6 +401,12 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         raise ValueError(f"gcp_sd_m must be > 0, got {gcp_sd_m}")
     if not (np.isfinite(ble_lag_s) and ble_lag_s >= 0):
         raise ValueError(f"ble_lag_s must be >= 0 s, got {ble_lag_s}")
+    gait_kw = dict(gait_kw or {})
+    allowed = {"speed_mean_mps", "walk_ratio_per_height", "stair_up_cadence_hz", "stair_down_cadence_hz"}
+    if set(gait_kw) - allowed or not all(np.isfinite(v) and v > 0 for v in gait_kw.values()):
+        raise ValueError(f"gait_kw must map some of {sorted(allowed)} to positive values, got {gait_kw!r}")
+    if gait_kw and gait != "published":
+        raise ValueError("gait_kw applies to gait='published' only")
     rng = as_rng(seed)
     dt = 1.0 / TRUTH_RATE_HZ
     if gait == "legacy":
@@ -374,7 +415,7 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         raw, walking, freq, on_stairs, i_indoor = _path(rng, ROUTES[route], dt, None, (user_c, user_height_m))
     else:
         user_c = float("nan")
-        gait_d = walker_gait(rng, user_height_m)
+        gait_d = walker_gait(rng, user_height_m, **gait_kw)
         raw, walking, freq, on_stairs, i_indoor = _path(rng, ROUTES[route], dt, gait_d, None)
     m = raw.shape[0]
     t = np.arange(m) * dt
@@ -449,17 +490,17 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     t_true = t[ep]
     t_ph = t_true.copy()
     # realistic phone: Gauss-Markov bias instability and poor time tags (drawn after the ideal sensor's
-    # numbers, so an ideal-timing profile keeps the same random stream)
-    if prof.acc_gm_sd_mps2 > 0 or prof.gyr_gm_sd_radps > 0:
+    # numbers, so an ideal-timing profile keeps the same random stream). A point-sampled (realistic) sensor
+    # draws them even at zero size, so that a sweep over their sizes keeps the same walk and the same other
+    # errors (paired comparisons).
+    if prof.point_sampling or prof.acc_gm_sd_mps2 > 0 or prof.gyr_gm_sd_radps > 0:
         for arr, sd in ((acc, prof.acc_gm_sd_mps2), (gyr, prof.gyr_gm_sd_radps)):
-            if sd > 0:
+            if sd > 0 or prof.point_sampling:
                 arr += gauss_markov(rng, t_true, sd, prof.gm_tau_s, 3)
-    if prof.time_jitter_sd_s > 0:
+    if prof.point_sampling or prof.time_jitter_sd_s > 0:
         j = np.clip(rng.normal(0.0, prof.time_jitter_sd_s, n), -2 * prof.time_jitter_sd_s,
                     2 * prof.time_jitter_sd_s)
-        t_ph = t_true + j
-        if np.any(np.diff(t_ph) <= 0):  # 2 sd clip < half the shortest interval keeps the order
-            raise ValueError("time_jitter_sd_s too large for the sampling interval: time tags out of order")
+        t_ph = _monotonic_tags(t_true + j, MIN_TAG_GAP_S)
     t_indoor = float(t[i_indoor])
     # GNSS at 1 Hz on the outdoor part (at phone epochs)
     gsd = np.asarray(gnss_sd_m, dtype=float)
@@ -504,6 +545,21 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         params={"route": route, "profile": prof.name, "user_c": float(user_c), "user_height_m": user_height_m,
                 "gait": gait, "gcp_mode": gcp_mode, **gait_d},
     )
+
+
+def _monotonic_tags(t_tag_s: np.ndarray, min_gap_s: float) -> np.ndarray:
+    """Time tags that never go backwards: a tag earlier than ``min_gap_s`` after its predecessor is moved to it.
+
+    Phone sensor clocks are monotonic; with a time-tag error sd up to a quarter of the shortest interval
+    (2 sd clip < half of it) no tag moves and no random number is drawn, so the same seed gives the same tags.
+    """
+    out = np.array(t_tag_s, dtype=float)
+    bad = np.flatnonzero(np.diff(out) < min_gap_s)
+    if bad.size:
+        for k in range(int(bad[0]) + 1, out.size):  # in order: a moved tag may push its successor
+            if out[k] < out[k - 1] + min_gap_s:
+                out[k] = out[k - 1] + min_gap_s
+    return out
 
 
 def gauss_markov(rng, t_s, sd, tau_s, n_axes=3) -> np.ndarray:

@@ -89,7 +89,12 @@ def check(notebook_dir: Path) -> list[str]:
         if not ipynb.exists():
             problems.append(f"{py.name} has no paired .ipynb; run `make notebooks`")
             continue
-        stored = nbformat.read(ipynb, as_version=4)
+        try:
+            stored = nbformat.read(ipynb, as_version=4)
+        except (nbformat.reader.NotJSONError, ValueError) as exc:  # e.g. merge-conflict markers
+            problems.append(f"{ipynb.name} is not a readable notebook ({str(exc).splitlines()[0][:80]}); "
+                            "run `make notebooks`")
+            continue
         expect = _from_py(py)
         if [c.source for c in stored.cells] != [c.source for c in expect.cells]:
             problems.append(f"{ipynb.name} is out of step with {py.name}; run `make notebooks`")
