@@ -17,6 +17,8 @@ from ilocviz.core import (
     legend_name,
     new_axes,
     paper_mark,
+    paper_point,
+    paper_values,
     paper_vs_reproduced,
     savefig,
     style,
@@ -24,4 +26,4 @@ from ilocviz.core import (
 )
 
 __all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
-           "paper_mark", "paper_vs_reproduced"]
+           "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced"]

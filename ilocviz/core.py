@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 __all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
-           "paper_mark", "paper_vs_reproduced"]
+           "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced"]
 
 #: Method ids used in result tables -> the names a reader of the papers knows (legends use these).
 LEGEND_NAMES = {
@@ -164,6 +164,22 @@ def trajectory(tracks: dict, ax=None, floor_plan=None, markers: dict | None = No
     return ax
 
 
+def _show(ax, axis: str, values) -> None:
+    """Widen the ``axis`` limits of ``ax`` (when they are fixed or too narrow) so that ``values`` are in view.
+
+    A paper's value outside the plotted range would otherwise be silently invisible.
+    """
+    get, set_ = (ax.get_xlim, ax.set_xlim) if axis == "x" else (ax.get_ylim, ax.set_ylim)
+    lo, hi = get()
+    vals = [float(v) for v in values]
+    if lo > hi or (min(vals) >= lo and max(vals) <= hi):
+        return  # inverted axis (left alone) or already in view
+    log = (ax.get_xscale() if axis == "x" else ax.get_yscale()) == "log"
+    new_lo, new_hi = min(lo, *vals), max(hi, *vals)
+    pad = 0.0 if log else 0.04 * (new_hi - new_lo)
+    set_(new_lo - pad if new_lo < lo else lo, new_hi + pad if new_hi > hi else hi)
+
+
 def paper_mark(ax, value: float, label: str, axis: str = "x", band: tuple[float, float] | None = None,
                color: str = "0.25"):
     """Mark a paper's published value on ``ax``: a dashed line (and an optional shaded band), labelled.
@@ -183,6 +199,7 @@ def paper_mark(ax, value: float, label: str, axis: str = "x", band: tuple[float,
     if axis not in ("x", "y"):
         raise ValueError(f"axis must be 'x' or 'y', got {axis!r}")
     label = label if label.lower().startswith("paper") else f"paper: {label}"
+    _show(ax, axis, [value, *(band or ())])
     line = ax.axvline if axis == "x" else ax.axhline
     line(float(value), color=color, ls="--", lw=1.2, label=label, zorder=3)
     if band is not None:
@@ -190,6 +207,57 @@ def paper_mark(ax, value: float, label: str, axis: str = "x", band: tuple[float,
         span(float(band[0]), float(band[1]), color=color, alpha=0.12, lw=0, zorder=0)
     ax.legend(loc="best", fontsize="small")
     return ax
+
+
+def paper_point(ax, x: float, y: float, label: str, marker: str = "X", color: str = "k"):
+    """Mark one published point on ``ax`` (e.g. a median at ``(4.5 m, 0.5)`` on an error CDF), labelled.
+
+    Parameters
+    ----------
+    x, y : float
+        The paper's point in the axes' units (a reference, drawn, never computed with).
+    label : str
+        What it is and where it is from; ``"paper: "`` is prefixed when missing.
+    """
+    label = label if label.lower().startswith("paper") else f"paper: {label}"
+    _show(ax, "x", [x])
+    _show(ax, "y", [y])
+    ax.plot([float(x)], [float(y)], ls="none", marker=marker, ms=9, mfc="none" if marker in "os^D" else color,
+            mec=color, mew=1.6, color=color, label=label, zorder=4)
+    ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def paper_values(table, item: str | None = None, contains: str | None = None, unit: str | None = None) -> dict:
+    """Published values of a comparison table's rows, as ``{"<quantity> (<paper> <item>)": paper_value}``.
+
+    Parameters
+    ----------
+    table : DataFrame
+        Comparison rows (``paper``, ``item``, ``quantity``, ``paper_value``; :mod:`ilocalg.papers`).
+    item, contains, unit : str, optional
+        Keep rows whose ``item`` starts with ``item``, whose ``quantity`` contains ``contains``
+        (case-insensitive) and whose ``unit`` equals ``unit``.
+
+    Raises
+    ------
+    ValueError
+        When no row is left (the message names the filter).
+    """
+    import pandas as pd
+
+    df = pd.DataFrame(table)
+    keep = np.ones(len(df), dtype=bool)
+    if item is not None:
+        keep &= df["item"].astype(str).str.startswith(item).to_numpy()
+    if contains is not None:
+        keep &= df["quantity"].astype(str).str.lower().str.contains(contains.lower(), regex=False).to_numpy()
+    if unit is not None and "unit" in df:
+        keep &= (df["unit"].astype(str) == unit).to_numpy()
+    df = df[keep]
+    if df.empty:
+        raise ValueError(f"no comparison row with item={item!r}, quantity containing {contains!r}, unit={unit!r}")
+    return {f"{r.quantity} ({r.paper} {r.item})": float(r.paper_value) for r in df.itertuples()}
 
 
 def paper_vs_reproduced(table, ax=None, label_col: str = "quantity", title: str | None = None):
@@ -236,6 +304,15 @@ def paper_vs_reproduced(table, ax=None, label_col: str = "quantity", title: str 
         names = df["item"].astype(str) + ": " + names
     ax.set_yticks(y, names)
     ax.set_xscale("log")
+    # plain ratios (0.5, 1, 2) instead of the log scale's 3x10^-1 labels, which overlap within a decade
+    lo, hi = ax.get_xlim()
+    for mantissas in ((1, 2, 5), (1, 2, 3, 5), (1, 1.5, 2, 3, 5, 7), (1, 1.1, 1.2, 1.3, 1.5, 1.7, 2, 3, 5, 7, 8, 9)):
+        ticks = [m * 10.0**e for e in range(-3, 4) for m in mantissas]
+        if sum(lo <= t <= hi for t in ticks) >= 3:
+            break
+    ax.xaxis.set_major_locator(mpl.ticker.FixedLocator(ticks))
+    ax.xaxis.set_major_formatter(mpl.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(mpl.ticker.NullFormatter())
     ax.set_xlabel("reproduced / paper value [-]")
     if title:
         ax.set_title(title)

@@ -39,15 +39,19 @@ def tracks(track_example, methods=None, ax=None, floor_plan=None, point_methods=
     return ax
 
 
-def error_cdfs(test_points, methods, ax=None, method_col: str = "method", error_col: str = "error_m"):
-    """Error CDFs (Fig 23) of the selected methods from a long table of per-point errors."""
+def error_cdfs(test_points, methods, ax=None, method_col: str = "method", error_col: str = "error_m",
+               paper: dict | None = None):
+    """Error CDFs (Fig 23) of the selected methods from a long table of per-point errors.
+
+    ``paper`` (label -> value in metres, e.g. from :func:`ilocviz.paper_values`) is drawn as dashed lines.
+    """
     errs = {}
     for m in methods:
         e = test_points.loc[test_points[method_col] == m, error_col].to_numpy(dtype=float)
         if not e.size:
             raise ValueError(f"no errors for method {m!r}")
         errs[m] = e[~np.isnan(e)]
-    return error_cdf(errs, ax=ax)
+    return error_cdf(errs, ax=ax, paper=paper)
 
 
 def per_point_errors(per_point, methods, ax=None, point_col: str = "point"):

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from ilocviz.core import new_axes
 
 __all__ = ["walk_trajectories", "errors_vs_time", "heading_errors_vs_time", "window_study", "window_study_band",
-           "attitude_errors_vs_time", "vt_positions", "bias_estimates"]
+           "window_study_paper", "attitude_errors_vs_time", "vt_positions", "bias_estimates"]
 
 
 def walk_trajectories(traj, phone: str, ax=None, gcp_xy=None, indoor_only: bool = True):
@@ -79,6 +81,37 @@ def window_study(df, ax=None, stat: str = "rms"):
             ax.plot(g["window_s"], g[axis], ls=ls, marker="o", label=f"{phone}-{axis}")
     ax.set_xlabel("Smoothing window [s]")
     ax.set_ylabel(f"{stat.upper()} position error [m]")
+    ax.legend(loc="best", fontsize=7, ncol=2)
+    return ax
+
+
+_ONLINE_ROW = re.compile(r"^(?P<phone>\S+) .*Online (?P<window>\d+)\s*sec: RMS (?P<axis>[NEH]) error")
+
+
+def window_study_paper(ax, comparison, marker: str = "*"):
+    """The paper's online-window RMS errors (Fig 19 / Tables 8 and 10) as points on a :func:`window_study` plot.
+
+    Each comparison row whose ``quantity`` reads ``"<phone> ... Online <w>sec: RMS <N|E|H> error"`` is drawn at
+    ``(w, paper_value)`` in the colour of the ``"<phone>-<axis>"`` line already on ``ax`` (grey when there is none).
+
+    Raises
+    ------
+    ValueError
+        When no row of ``comparison`` is an online-window row.
+    """
+    colours = {ln.get_label(): ln.get_color() for ln in ax.get_lines()}
+    n = 0
+    for r in comparison.itertuples():
+        m = _ONLINE_ROW.match(str(r.quantity))
+        if m is None:
+            continue
+        key = f"{m['phone']}-{m['axis']}"
+        label = f"paper ({r.paper}): stars, coloured as the line" if n == 0 else None
+        ax.plot([float(m["window"])], [float(r.paper_value)], ls="none", marker=marker, ms=10, mec="k", mew=0.6,
+                color=colours.get(key, "0.4"), label=label, zorder=4)
+        n += 1
+    if n == 0:
+        raise ValueError("no comparison row reads '<phone> ... Online <w>sec: RMS <N|E|H> error'")
     ax.legend(loc="best", fontsize=7, ncol=2)
     return ax
 

@@ -15,7 +15,8 @@ from ilocviz.core import new_axes
 __all__ = ["layout", "error_per_shot", "error_vs_k", "error_per_combo", "conditioning_scatter", "propagation"]
 
 _COLORS = {"ST": "#0072B2", "VAGIG": "#D55E00", "VABIG": "#009E73", "ST_true_orientation": "#56B4E9",
-           "PnP_SQPnP": "#CC79A7", "homography": "#E69F00"}
+           "PnP_SQPnP": "#CC79A7", "homography": "#E69F00",
+           "VA_truth": "0.55"}
 
 
 def layout(pois, shots, ax=None, view: str = "top"):

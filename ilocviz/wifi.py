@@ -26,10 +26,13 @@ def k_study(df, ax=None, quantities=("median_m", "p80_m", "mean_m")):
     return ax
 
 
-def error_cdfs(errors, ax=None, method_col="method", error_col="error_m"):
-    """Error CDFs per method from a long table (``method``, ``error_m``)."""
+def error_cdfs(errors, ax=None, method_col="method", error_col="error_m", paper=None):
+    """Error CDFs per method from a long table (``method``, ``error_m``).
+
+    ``paper`` (label -> value in metres, e.g. from :func:`ilocviz.paper_values`) is drawn as dashed lines.
+    """
     d = {m: g[error_col].to_numpy() for m, g in errors.groupby(method_col, sort=False)}
-    return error_cdf(d, ax=ax)
+    return error_cdf(d, ax=ax, paper=paper)
 
 
 def floor_map(points_xy_m, ax=None, value=None, walls=None, aps=None, test_points=None, value_label="value"):

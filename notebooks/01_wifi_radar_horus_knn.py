@@ -3,7 +3,7 @@
 #
 # Reproduces the Wi-Fi positioning of the i-Loc thesis (Chiu, NCTU 2013, ch.3): Simplified-RADAR
 # (eq. 1-4) with the AP-count study of **Fig 3**, Simplified-Horus (eq. 5-7, **Figs 4-5**), and
-# the KNN fingerprinting of 罗思奇 et al. 2017 (sec. 2.2, eq. 1-2, Manhattan, K = 5), on the
+# the KNN fingerprinting of Luo et al. 2017 (sec. 2.2, eq. 1-2, Manhattan, K = 5), on the
 # simulated i-Loc floor (NCTU Engineering Building 3, 2nd floor: 63 training points, 300 scans each,
 # a 28-point test route about 4 m apart, the route notebooks 05 and 07 walk too; `ilocalg.sim.iloc_floor`,
 # parameters and their sources in `data/iloc_floor/README.md`). The test session is not the survey:
@@ -31,6 +31,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.wifi
 from ilocalg.experiments import wifi_iloc
+from ilocalg.papers import PAPERS
 from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
@@ -91,12 +92,19 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Fig 3: how many strongest APs (k) should Simplified-RADAR compare?
+# The thesis' values (dashed, from the comparison table): its chosen k and RADAR's median and 80 % error at it.
 
 # %%
 report.table(tables["k_study"], "k_study")
+pv = tables["paper_vs_reproduced"]
 with ilocviz.style():
     fig, ax = plt.subplots()
     ilocviz.wifi.k_study(tables["k_study"], ax=ax)
+    for label, value in ilocviz.paper_values(pv, item="Fig 3").items():
+        ilocviz.paper_mark(ax, value, label, axis="x" if "AP count" in label else "y",
+                           color="0.3" if "AP count" in label else "#D55E00" if "80th" in label else "#0072B2")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    ax.set_title(f"Simplified-RADAR error vs k ({PAPERS['iloc']}, Fig 3)")
     ilocviz.savefig(fig, "01_wifi_radar_horus_knn_k_study", OUT_DIR)
 
 # %% [markdown]
@@ -112,12 +120,20 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Figs 3 and 5: error CDFs of the three methods
+# The thesis' medians (at 0.5) and 80 % points (at 0.8) are marked on the curves they belong to (circles:
+# Simplified-RADAR, Fig 3; squares: Simplified-Horus, Fig 5); the dashed line is Luo et al. 2017's KNN mean,
+# measured in their building (context only).
 
 # %%
 report.table(tables["methods"], "methods")
 with ilocviz.style():
-    fig, ax = plt.subplots()
-    ilocviz.wifi.error_cdfs(tables["errors"], ax=ax)
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    ilocviz.wifi.error_cdfs(tables["errors"], ax=ax, paper=ilocviz.paper_values(pv, contains="KNN"))
+    for label, value in ilocviz.paper_values(pv, item="Fig", unit="m").items():
+        ilocviz.paper_point(ax, value, 0.8 if "80th" in label else 0.5, label,
+                            marker="o" if "RADAR" in label else "s", color="#0072B2" if "RADAR" in label else "#D55E00")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    ax.set_title(f"Error CDFs ({PAPERS['iloc']}, Figs 3 and 5)")
     ilocviz.savefig(fig, "01_wifi_radar_horus_knn_cdf", OUT_DIR)
 
 # %% [markdown]
@@ -149,4 +165,4 @@ print(wifi_iloc.findings(tables))
 #   floor plan (assumed), the AP layout (seeded), the test scans (20 standing scans per point, an
 #   assumption) and the device (one phone by default): notebook 15 sweeps each radio parameter.
 # * The mean-map RADAR row is the labelled alternative to the text's database.
-# * The 罗思奇 et al. KNN row is from a different building and is context only.
+# * The Luo et al. 2017 KNN row is from a different building and is context only.

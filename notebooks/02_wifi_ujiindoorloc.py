@@ -1,8 +1,8 @@
 # %% [markdown]
 # # 02 Wi-Fi fingerprinting on real data: UJIIndoorLoc
 #
-# Every Wi-Fi method of the toolkit (KNN / WKNN of 罗思奇 et al. 2017 eq. 1-2, Simplified-RADAR
-# and Simplified-Horus of the i-Loc thesis ch.3) on the public UJIIndoorLoc set (Torres-Sospedra
+# Every Wi-Fi method of the toolkit (KNN / WKNN of Luo et al. 2017, eq. 1-2, Simplified-RADAR
+# and Simplified-Horus of i-Loc (Chiu 2013), ch. 3) on the public UJIIndoorLoc set (Torres-Sospedra
 # et al., IPIN 2014; 3 buildings, 4-5 floors, 520 APs), official split training (19,937 scans) ->
 # validation (1,111 scans, recorded four months later with other phones). Reference values: the
 # independent re-measurement of 1-NN and K=5 KNN, the data set paper's 1-NN baseline and the
@@ -88,7 +88,7 @@ if tables is not None:
 # * The K=5 and 1-NN Euclidean baselines reproduce the independent re-measurement (the command
 #   `python -m ilocalg evaluate wifi ... --method knn --k 5 --metric euclidean` prints the same
 #   figure); the dataset paper's 1-NN of 7.9 m used another protocol and is not comparable.
-# * Manhattan distance (the setting of 罗思奇 et al.) is clearly worse than Euclidean here: with
+# * Manhattan distance (the setting of Luo et al. 2017) is clearly worse than Euclidean here: with
 #   -104 dBm for "not heard", the many APs heard by one scan and not the other dominate an L1 sum.
 # * The Simplified-RADAR distance, taken only over the union of each pair's strongest APs, is the
 #   best classical ingredient found: it ignores the weak, device-dependent readings that change

@@ -29,6 +29,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_step_features
+from ilocalg.papers import PAPERS
 from ilocalg.pdr.sam import detect_steps_sam, vertical_horizontal_mps2
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.sim import gait
@@ -62,6 +63,14 @@ report.table(tables["summary"], "step_count_summary")
 report.table(tables["counts"], "step_counts")
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
+
+# %% [markdown]
+# The same rows as ratios to the thesis' values (1 = the paper; bands: within 10 % and 35 %).
+
+# %%
+with ilocviz.style():
+    ax = ilocviz.paper_vs_reproduced(tables["comparison"], title=f"Reproduced / paper ({PAPERS['iloc']}, Table 1)")
+    ilocviz.savefig(ax.figure, "03_pdr_step_features_ratio", OUT_DIR)
 
 # %% [markdown]
 # ## Readings: each modelling choice against the thesis's text

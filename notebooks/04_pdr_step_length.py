@@ -1,11 +1,12 @@
 # %% [markdown]
-# # 04 PDR step length (i-Loc SLM, Weinberg, Kim, 004)
+# # 04 PDR step length (i-Loc SLM, Weinberg, Kim, Luo et al. 2017)
 #
 # Reproduces the stride length module of the i-Loc thesis (ch. 4.2): feature-to-length correlations
 # beside **Table 2**, the linear and quadratic regressions of eq. (16)-(17) beside **Table 3** (RMSE 12.32
 # and 12.15 cm), the error boxes at fixed lengths 40-80 cm beside **Fig 14** (mean error 18.43 %) and the
-# 20 m free walks beside **Fig 15** (96.41 % accuracy). The Weinberg (003 eq. 2.5), Kim (003 eq. 2.1) and
-# fingerprint+PDR (004 eq. 4) models, fitted on the same training steps, are scored beside SLM. Data: the
+# 20 m free walks beside **Fig 15** (96.41 % accuracy). The Weinberg (PSO (Chao 2008), eq. 2.5), Kim
+# (PSO (Chao 2008), eq. 2.1) and fingerprint+PDR (Luo et al. 2017, eq. 4) models, fitted on the same training
+# steps, are scored beside SLM. Data: the
 # gait + phone simulator `ilocalg.sim.gait` (published gait measurements, `data/gait/README.md`).
 # SAM's ranges are the text's 5-95 % (L399); 1-99 % is shown beside, labelled.
 #
@@ -26,6 +27,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_step_length
+from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "04_pdr_step_length")
@@ -49,6 +51,16 @@ for name in ("correlation", "fits", "fixed_error", "box", "free20", "models", "t
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
+
+# %% [markdown]
+# The same rows as ratios to the thesis' values (1 = the paper; bands: within 10 % and 35 %; rows whose paper
+# value is 0 or of the other sign have no ratio and are left out of the figure, not of the table).
+
+# %%
+with ilocviz.style():
+    ax = ilocviz.paper_vs_reproduced(tables["comparison"],
+                                     title=f"Reproduced / paper ({PAPERS['iloc']}, Tables 2-3, Figs 14-15)")
+    ilocviz.savefig(ax.figure, "04_pdr_step_length_ratio", OUT_DIR)
 
 # %%
 tables["models"]

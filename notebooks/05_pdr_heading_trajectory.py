@@ -14,8 +14,8 @@
 # WDM (eq. 19): $\psi = \tan^{-1} ([\mathbf{T}_{S \rightarrow E}]_{2,1} / [\mathbf{T}_{S \rightarrow E}]_{1,1})$,
 # with $\mathbf{T}_{S \rightarrow E}$ built from gravity and the magnetic field (before eq. 18).
 #
-# The moving-average vs Savitzky-Golay comparison on static compass logs (PSO thesis sec. 5.1.3, RMS
-# 0.716 -> 0.563 / 0.638) is computed by the PSO slice's `pso_k_factor.compass_filter_study` (notebook 10)
+# The moving-average vs Savitzky-Golay comparison on static compass logs (PSO (Chao 2008), sec. 5.1.3, RMS
+# 0.716 -> 0.563 / 0.638) is computed by the PSO experiment's `pso_k_factor.compass_filter_study` (notebook 10)
 # and shown here beside the heading results.
 
 # %% tags=["parameters"]
@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.pdr
 from ilocalg.experiments import pdr_heading_trajectory, pso_k_factor
+from ilocalg.papers import PAPERS
 from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
@@ -95,6 +96,7 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Trajectory along the test route and error CDF (Figs 17-18)
+# Dashed: the thesis' PTS mean error at the test points (from the comparison table).
 
 # %%
 ex = tables["track_example"]
@@ -103,12 +105,16 @@ with ilocviz.style():
     fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
     tracks = {m: g[["x_m", "y_m"]].to_numpy() for m, g in ex.groupby("method", sort=False)}
     ilocviz.trajectory(tracks, ax=axs[0], markers={"test points": iloc_floor.route_xy_m()})
-    ilocviz.error_cdf({m: g["error_m"].to_numpy() for m, g in tp.groupby("method", sort=False)}, ax=axs[1])
+    ilocviz.error_cdf({m: g["error_m"].to_numpy() for m, g in tp.groupby("method", sort=False)}, ax=axs[1],
+                      paper=ilocviz.paper_values(tables["comparison"], item="Figs 17-18"))
+    axs[0].set_title(f"One walk along the test route ({PAPERS['iloc']}, Fig 17)")
+    axs[1].set_title(f"Error at the test points ({PAPERS['iloc']}, Fig 18)")
+    axs[1].legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), fontsize="small")
     fig.tight_layout()
     ilocviz.savefig(fig, "05_pdr_heading_trajectory_track_cdf", OUT_DIR)
 
 # %% [markdown]
-# ## Moving average vs Savitzky-Golay on static compass logs (PSO thesis Figs 5.3-5.5)
+# ## Moving average vs Savitzky-Golay on static compass logs (PSO (Chao 2008), Figs 5.3-5.5)
 
 # %%
 compass = report.table(pso_k_factor.compass_filter_study(SEED, FAST), "ma_vs_sg_compass")
@@ -131,5 +137,5 @@ print(f"WDM mean heading error {h['WDM']:.1f} deg (gyro {h['gyro']:.1f} deg); PT
 # * **Figs 17-18.** The PTS error at the test points is dominated by step *counting*: with true steps and
 #   lengths the same WDM headings give a much smaller error, and the 1-99 % ranges, which miss fewer
 #   steps, give a smaller one than the text's 5-95 %.
-# * **MA vs SG.** On simulated static compass logs both filters lower the RMS, as in the PSO thesis; the
+# * **MA vs SG.** On simulated static compass logs both filters lower the RMS, as in PSO (Chao 2008); the
 #   compass noise model and its discussion are the PSO notebook's (10).

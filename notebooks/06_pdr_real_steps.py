@@ -4,8 +4,8 @@
 # Every step detector of the toolkit on the 48 real recordings of the Oxford step counter optimisation
 # set (3 phones, 3 users, 7 carry positions, heel-sensor ground truth): the toolkit's best detector
 # (`ilocalg.pdr.robust`), a plain low-pass + `find_peaks` baseline, the fingerprint+PDR paper's
-# sliding-window detector (004 sec. 3.4.2), the PSO thesis's slope-sign-change detector (003 Fig 3.9) and
-# the i-Loc SAM (000 eq. 8-15). Accuracy per recording is `1 - |counted - true| / true`, measured by
+# sliding-window detector (Luo et al. 2017, sec. 3.4.2), the slope-sign-change detector of PSO (Chao 2008), Fig 3.9,
+# and the i-Loc SAM (Chiu 2013, eq. 8-15). Accuracy per recording is `1 - |counted - true| / true`, measured by
 # **leave-one-recording-out** cross-validation: each detector's parameters are tuned on 47 recordings and
 # the 48th is scored. Reference: the data set's own report gives 93.7 % mean / 96.8 % median for its
 # windowed peak detector; the goal set for the toolkit is >= 99.3 % mean with no recording below 98 %.
@@ -82,8 +82,8 @@ if HAVE_DATA:
 #   at about 2): heel-sensor double triggers that no accelerometer detector can or should count. The rest
 #   is real: with the phone swinging in the hand, the arm's pendulum motion at the stride frequency masks
 #   every other step.
-# * The papers' detectors do worse on these real walks, honestly reported: 004's sliding window with a
-#   tuned threshold is close to the baseline; 003's slope-sign-change rule with its +-RMS band, built for a
+# * The papers' detectors do worse on these real walks, honestly reported: Luo et al. 2017's sliding window with a
+#   tuned threshold is close to the baseline; Chao 2008's slope-sign-change rule with its +-RMS band, built for a
 #   waist-mounted sensor, miscounts pocket and arm positions; the i-Loc SAM, whose seven range tests must
 #   all pass, rejects many true steps (notebook 03 shows the same on simulated walks), though with ranges
 #   learned on the other recordings it counts the arm positions well.

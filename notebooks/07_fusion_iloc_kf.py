@@ -35,6 +35,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.fusion
 from ilocalg.experiments import fusion_iloc_kf
+from ilocalg.papers import PAPERS
 from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
@@ -128,13 +129,25 @@ with ilocviz.style():
     ilocviz.fusion.tracks(tables["track_example"], shown, ax=ax, floor_plan=walls)
     ax.set_xlim(10, 66)
     ax.set_ylim(5, 45)
+    ax.set_title(f"One walk ({PAPERS['iloc']}, Fig 22)")
     ilocviz.savefig(fig, "07_fusion_iloc_kf_tracks", OUT_DIR)
 
+# %% [markdown]
+# The thesis' Fig 23 means (dashed, from the comparison table, coloured as the matching curve): PTS only and the
+# KF (PTS + Wi-Fi).
+
 # %%
+cmp = tables["comparison"]
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(8, 5))
     ilocviz.fusion.error_cdfs(tables["test_points"], shown[1:] + ["KF (R calibrated) + heading noise + RTS"],
                               ax=ax)
+    colours = {ln.get_label().split(" (mean")[0]: ln.get_color() for ln in ax.get_lines()}
+    for contains, method in (("PTS mean error", "PTS (Wi-Fi start)"), ("KF (PTS + Wi-Fi) mean", "KF (R calibrated)")):
+        for label, value in ilocviz.paper_values(cmp, item="Fig 23", contains=contains).items():
+            ilocviz.paper_mark(ax, value, label, color=colours[method])
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    ax.set_title(f"Error at the test points: KF vs PTS ({PAPERS['iloc']}, Fig 23)")
     ilocviz.savefig(fig, "07_fusion_iloc_kf_cdf", OUT_DIR)
 
 # %%

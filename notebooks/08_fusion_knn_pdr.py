@@ -1,5 +1,5 @@
 # %% [markdown]
-# # 08 Fingerprint + PDR (罗思奇 et al. 2017, sec. 3-4, Fig 6)
+# # 08 Fingerprint + PDR (Luo et al. 2017, sec. 3-4, Fig 6)
 #
 # Reproduces the fingerprint + pedestrian-track scheme: KNN fingerprinting (Manhattan distance, K = 5,
 # eq. 1-2), PDR with the paper's sliding-window peak detector and its literal rule b (a peak differing from the
@@ -36,10 +36,38 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.fusion
 from ilocalg.experiments import fusion_knn_pdr
+from ilocalg.papers import PAPERS
 from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "08_fusion_knn_pdr")
+
+# %% [markdown]
+# ## The method: Luo et al. 2017 eq. (1)-(2), (4), (5)-(6)
+#
+# **KNN fingerprinting** (`ilocalg.wifi.KnnFingerprint`, here through `ilocalg.sim.iloc_floor.fit_estimator`):
+# the Minkowski distance between the scan $b$ and the $i$-th reference fingerprint $B_i$ over the $n$ APs,
+# with $a = 1$ (Manhattan), then the mean of the $K = 5$ nearest reference positions (L77-85):
+#
+# $$dis = \Big( \sum_{j=1}^{n} |b_j - B_{ij}|^a \Big)^{1/a} \qquad (1)$$
+#
+# $$(x, y) = rac{1}{K} \sum_{i=1}^{K} (x_i, y_i) \qquad (2)$$
+#
+# **Step length** (`ilocalg.pdr.step_length.luo_length_m`, steps by `ilocalg.pdr.step_length.luo_steps` with the
+# sliding-window peak detector `ilocalg.pdr.peak_window.detect_steps_peak_window`; $k$ fitted per walker by
+# `ilocalg.pdr.step_length.fit_luo_k`), from the largest and smallest acceleration norm of the step (L202):
+#
+# $$step_{size} = k \Big( (a_{max} - a_{min}) \cdot 3.5 + \sqrt[4]{a_{max} - a_{min}} \Big) \qquad (4)$$
+#
+# **Position update** (`ilocalg.pdr.dead_reckoning.dead_reckon`; each fingerprint fix then pulls the track
+# towards it in `ilocalg.fusion.fingerprint_adjusted_track`), with step frequency $sfre$, step length $slen$
+# and heading $orien$ (L214-216):
+#
+# $$location\_x = sfre \times slen \times duration \times \cos(orien) \qquad (5)$$
+#
+# $$location\_y = sfre \times slen \times duration \times \sin(orien) \qquad (6)$$
+#
+# All of it runs inside `fusion_knn_pdr.run` below.
 
 # %%
 tables = fusion_knn_pdr.run(seed=SEED, fast=FAST)
@@ -73,16 +101,31 @@ tables["latency_sweep"].round(2)
 
 # %% [markdown]
 # ## Error at each point (Fig 6)
+# The paper's means are dashed (Wi-Fi only, 11.38 m, with the shaded span of its per-point errors; combined,
+# 6.74 m), and the dotted line is the last point where the paper's PDR only beats the combination; all from
+# the comparison table.
 
 # %%
+cmp = tables["comparison"]
+wifi_mean, wifi_min, wifi_max, comb_mean, cross = (
+    next(iter(ilocviz.paper_values(cmp, item="Fig 6", contains=q).values()))
+    for q in ("Wi-Fi only (KNN, Manhattan, K=5) mean", "smallest", "largest", "combined mean",
+              "PDR only beats combined"))
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(9, 4.5))
     ilocviz.fusion.per_point_errors(tables["per_point"], ["PDR only", "Wi-Fi only (KNN)", fusion_knn_pdr.COMBINED,
                                                           fusion_knn_pdr.KF_ALT], ax=ax)
+    ilocviz.paper_mark(ax, wifi_mean, f"Wi-Fi only mean ({PAPERS['luo']} Fig 6; span shaded)", axis="y",
+                       band=(wifi_min, wifi_max), color="#D55E00")
+    ilocviz.paper_mark(ax, comb_mean, f"combined mean ({PAPERS['luo']} Fig 6)", axis="y", color="#009E73")
+    ax.axvline(cross, color="0.4", ls=":", lw=1.2,
+               label=f"paper: last point PDR only beats combined ({PAPERS['luo']} Fig 6)")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), fontsize="small", ncol=2)
+    ax.set_title(f"Mean error at each point ({PAPERS['luo']}, Fig 6)")
     ilocviz.savefig(fig, "08_fusion_knn_pdr_per_point", OUT_DIR)
 
 # %% [markdown]
-# ## Trajectories of one walk (Fig 7)
+# ## Trajectories of one walk (Luo et al. 2017, Fig 7)
 
 # %%
 walls = [w.reshape(2, 2) for w in iloc_floor.walls()]

@@ -2,7 +2,7 @@
 # # 09 PDR + Wi-Fi fusion on real walks (Indoor Location Competition 2.0, site 2, floor F4)
 #
 # The fusion of notebooks 07-08 (the i-Loc step Kalman filter, eq. 20-26; the fingerprint + PDR
-# scheme of 罗思奇 et al. 2017) on real phone logs: 19 surveyor walks with accelerometer, gyroscope,
+# scheme of Luo et al. 2017) on real phone logs: 19 surveyor walks with accelerometer, gyroscope,
 # magnetometer and Wi-Fi scans, and waypoints for ground truth. Every walk is scored
 # **leave-one-walk-out**: the Wi-Fi fingerprint database (each scan positioned by interpolating its
 # walk's waypoints in time), the step-length factor, the compass-to-map heading offset and the Wi-Fi

@@ -2,7 +2,7 @@
 # # 10 PSO learning of the Weinberg step-length factor against GPS
 #
 # Reproduces 趙士賢, *Pedestrian navigation based on particle swarm optimization* (M.S. thesis, Tunghai
-# University, 2008; the "PSO thesis", paper 003): the two-phase experiment of chapter 5.
+# University, 2008; "PSO (Chao 2008)" below): the two-phase experiment of chapter 5.
 #
 # * Phase 1: steps detected by slope sign change with the ±RMS band (Fig 3.9) on the 8 Hz vertical
 #   acceleration, the Weinberg factor k of eq. 2.5 learned by PSO (eq. 4.1-4.3) on the fitness of eq. 4.4
@@ -36,6 +36,7 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 from ilocalg.experiments import pso_k_factor
+from ilocalg.papers import PAPERS
 from ilocalg.pdr.k_factor import PSO_SETTINGS_PAPER
 from ilocalg.workflow.reporting import Report
 from ilocviz import pso as vpso
@@ -127,8 +128,9 @@ report.table(res["phase1_alt"], "phase1_earlier_reading")
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(7, 3.6))
     t = res["table_5_2"].merge(res["table_5_2_alt"][["walker", "k_pso"]], on="walker", suffixes=("", "_old"))
-    vpso.k_factors(t, ax=ax, columns={"paper (Table 5-2)": "paper_k", "PSO (text reading)": "k_pso",
+    vpso.k_factors(t, ax=ax, columns={f"paper ({PAPERS['pso']}, Table 5-2)": "paper_k", "PSO (text reading)": "k_pso",
                                       "PSO (earlier reading: MA 2, signal RMS, total)": "k_pso_old"})
+    ax.set_title(f"Weinberg k learned per walker ({PAPERS['pso']}, Table 5-2)")
     ilocviz.savefig(fig, "10_pso_k_factor_k_per_walker", OUT_DIR)
 
 # %% [markdown]
@@ -202,6 +204,18 @@ else:
 # %%
 cmp = report.compare(res["comparison"].to_dict("records"))
 cmp
+
+# %% [markdown]
+# Every Table 5-2 row of the text reading as a ratio to the thesis' value (1 = the paper's value; the bands are
+# the "agrees" (10 %) and "close" (35 %) classes of the comparison table).
+
+# %%
+t52_rows = res["comparison"][res["comparison"]["item"].str.startswith("Table 5-2 (")
+                             & ~res["comparison"]["item"].str.contains("earlier")]
+with ilocviz.style():
+    ax = ilocviz.paper_vs_reproduced(t52_rows.assign(item="Table 5-2"),
+                                     title=f"Reproduced / paper ({PAPERS['pso']}, Table 5-2, text reading)")
+    ilocviz.savefig(ax.figure, "10_pso_k_factor_table_5_2_ratio", OUT_DIR)
 
 # %%
 t52, t52n, p2, sr = res["table_5_2"], res["table_5_2_alt"], res["phase2"], res["stop_rule"]

@@ -12,7 +12,8 @@
 # - Fig 30: error against the number of PoIs (2..7) and the overall means;
 # - Figs 31-32: error per PoI combination and the near-collinear combinations {1,3}, {1,4}, {5,6}, {1,3,4};
 # - beyond the thesis: OpenCV's SQPnP and the plane-to-plane homography `H = K [r1 r2 t]` of the survey
-#   (002, sec. 4, eq. 3-5) on the same photos, and the propagation of the sensors' orientation errors into ST.
+#   (Yeh & Huang survey, sec. 4, eq. 3-5) on the same photos, and the propagation of the sensors' orientation
+#   errors into ST.
 #
 # The photos are simulated (`ilocalg.sim.photo_poi`; every input and its source is in `data/photo_poi/README.md`).
 # The thesis gives the PoI coordinates only in Fig 28, which the text copy lacks, so the layout is built from every
@@ -37,11 +38,36 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 from ilocalg.experiments import photo_positioning
+from ilocalg.papers import PAPERS
 from ilocalg.photo import thin_lens_image_distance_m
 from ilocalg.workflow.reporting import Report
 from ilocviz import photo as photoviz
 
 report = Report(OUT_DIR, "11_photo_positioning")
+
+# %% [markdown]
+# ## The method: i-Loc (Chiu 2013) eq. (27)-(30)
+#
+# **Lens** (`ilocalg.photo.thin_lens_image_distance_m`): an object at distance $d_o$ is imaged at $d_i$ by a lens of
+# focal length $f$; for $d_o \gg f$, $d_i \approx f$, the pinhole model used below (L642-646):
+#
+# $$\frac{1}{d_o} + \frac{1}{d_i} = \frac{1}{f} \quad (27), \qquad d_i = \frac{1}{1 - f / d_o}\, f \quad (28)$$
+#
+# **Similar triangles, ST** (`ilocalg.photo.st_system` builds the linear system, `ilocalg.photo.st_solve_batch`
+# solves it by least squares over the PoIs): the screen point $\mathbf{p}' = [p'_x\ p'_y]^T_S$ of a PoI and its
+# position in the AR (camera) frame are proportional (L666), and the world position $[\mathbf{p}]_E$ enters through
+# the orientation $\mathbf{T}_{E \rightarrow AR}$ from the accelerometer and magnetometer and the unknown camera
+# centre $\mathbf{c}$ (L676):
+#
+# $$p'_x : p'_y : f = [p]_{AR,x} : [p]_{AR,y} : [p]_{AR,z} \qquad (29)$$
+#
+# $$[\mathbf{p}]_{AR} = \mathbf{T}_{E \rightarrow AR}([\mathbf{p}]_E - [\mathbf{c}]_E) \qquad (30)$$
+#
+# Each PoI gives two equations linear in $\mathbf{c}$; two PoIs suffice, more are solved by least squares (L678).
+# VA (`ilocalg.photo.va_solve_batch`) has no equation in the thesis (the readings table says what the code does).
+# All methods run inside `photo_positioning.run` below.
+
+# %%
 tables = photo_positioning.run(seed=SEED, fast=FAST)
 d_shots = tables["layout_shots"]["dist_to_p4_m"].to_numpy()[[0, -1]]
 print("thin lens d_i / f - 1 at t1, t7:", thin_lens_image_distance_m(d_shots, 3.7e-3) / 3.7e-3 - 1)
@@ -80,9 +106,19 @@ report.compare(tables["comparison"].to_dict("records"))
 # of a few pixels matters more). `distance_trend` gives the Spearman correlation and the slope of each method's
 # per-shot mean error against that distance.
 
+# %% [markdown]
+# Dashed: the thesis' overall mean error of each method (Figs 29-30, from the comparison table), coloured as
+# the method's curve.
+
 # %%
 with ilocviz.style():
     ax = photoviz.error_per_shot(tables["per_shot"], methods=photo_positioning.SHOWN_METHODS)
+    colours = {bars.get_label(): bars.patches[0].get_facecolor() for bars in ax.containers}
+    for label, value in ilocviz.paper_values(tables["comparison"], item="Figs 29-30").items():
+        method = label.split()[0]
+        ilocviz.paper_mark(ax, value, label, axis="y", color=colours.get(method, "0.3"))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    ax.set_title(f"Mean error per shooting point ({PAPERS['iloc']}, Fig 29)")
     ilocviz.savefig(ax.figure, "11_photo_positioning_fig29_per_shot", OUT_DIR)
 report.table(tables["per_shot"], "fig29_per_shot")
 report.table(tables["distance_trend"], "fig29_distance_trend")
@@ -94,6 +130,7 @@ report.table(tables["distance_trend"], "fig29_distance_trend")
 with ilocviz.style():
     ax = photoviz.error_vs_k(tables["per_k"], methods=photo_positioning.SHOWN_METHODS,
                              comparison=tables["comparison"])
+    ax.set_title(f"Error against the number of PoIs ({PAPERS['iloc']}, Fig 30)")
     ilocviz.savefig(ax.figure, "11_photo_positioning_fig30_per_k", OUT_DIR)
 report.table(tables["per_k"], "fig30_per_k")
 
@@ -153,7 +190,18 @@ report.table(ggs, "good_guess_sweep")
 ggs.pivot_table(index="good_guess_sd_m", columns=["method", "k"], values="error_cm").round(1)
 
 # %% [markdown]
-# ## Homography ranging to a square marker (survey 002, eq. 3-5)
+# ## Homography ranging to a square marker (Yeh & Huang survey, eq. 1-5)
+#
+# The survey's pinhole projection of a world point to the image (eq. 1-2) and, for points on a plane $Z = 0$
+# (the marker), the plane-to-plane homography (eq. 3-5), estimated from the four corners by
+# `ilocalg.photo.homography_dlt` and decomposed into $[r_1\ r_2\ t]$ by `ilocalg.photo.homography_pose`:
+#
+# $$\lambda \begin{pmatrix} x \\ y \\ 1 \end{pmatrix} = P \begin{pmatrix} X \\ Y \\ Z \\ 1 \end{pmatrix}
+# \quad (1), \qquad P = K [R \mid T] \quad (2)$$
+#
+# $$\lambda \begin{pmatrix} x \\ y \\ 1 \end{pmatrix} = H \begin{pmatrix} X \\ Y \\ 1 \end{pmatrix} \quad (3),
+# \qquad H = K [r_1\ r_2\ t] \quad (4), \qquad P'_i = H P_i \quad (5)$$
+#
 # A QR code of side 0.18 m on the wall, seen from 1-5 m at up to 30 deg off its normal; the four corners carry a
 # detection error of 0.5-2 px. The range `l = ||t||` from `H = K [r1 r2 t]` (scale from the column norms, as in
 # Zhang's decomposition) is compared with OpenCV's IPPE on the same corners.
@@ -223,7 +271,7 @@ print("ST rank of the near-collinear combinations among combinations of the same
 #   them differently.
 # - **The earlier one-wall row** (a sensitivity row) gave a lower ST error but VA errors near 2 m: with all PoIs in a
 #   2.4 m row far ahead, view angles hardly fix the bearing. It also contradicts L707's distance ordering.
-# - **Marker ranging (survey 002):** with exact corners, `H = K [r1 r2 t]` gives the exact range. With
+# - **Marker ranging (Yeh & Huang survey):** with exact corners, `H = K [r1 r2 t]` gives the exact range. With
 #   pixel-level corner errors, the scale taken from the column norms of `K^-1 H` underestimates the range more and
 #   more as the marker shrinks on the screen, because the noisy perspective terms inflate those norms. IPPE on the
 #   same corners keeps the range error small.

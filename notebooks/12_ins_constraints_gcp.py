@@ -26,6 +26,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.ins as vins
 from ilocalg.experiments import ins_constraints
+from ilocalg.papers import PAPERS
 from ilocalg.sim.ins_walk import GCP_XYZ_M, PROFILES
 from ilocalg.workflow.reporting import Report
 
@@ -97,6 +98,18 @@ report.table(tables["position_side_by_side"], "position_errors")
 
 # %%
 report.table(tables["attitude_side_by_side"], "attitude_errors")
+
+# %% [markdown]
+# Every row of Tables 4-7 as a ratio to the paper's value (1 = the paper; bands: within 10 % and 35 %), from the
+# comparison table: position errors (Tables 4 and 6) and heading errors (Tables 5 and 7).
+
+# %%
+cmp = tables["comparison"]
+for tabs, tag in ((("Table 4", "Table 6"), "position"), (("Table 5", "Table 7"), "heading")):
+    with ilocviz.style():
+        ax = ilocviz.paper_vs_reproduced(cmp[cmp["item"].isin(tabs)],
+                                         title=f"Reproduced / paper ({PAPERS['liao']}, {' and '.join(tabs)})")
+        ilocviz.savefig(ax.figure, f"12_ins_constraints_gcp_{tag}_ratio", OUT_DIR)
 
 # %%
 report.table(tables["errors_per_seed"], "errors_per_seed")

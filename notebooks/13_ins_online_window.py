@@ -23,6 +23,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.ins as vins
 from ilocalg.experiments import ins_online
+from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "13_ins_online_window")
@@ -101,6 +102,8 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Fig 19: error against window size
+# Stars: the paper's RMS errors of the 5, 10 and 20 s windows (Tables 8 and 10, the values of Fig 19) in the
+# colour of the matching phone and axis; dashed: the window the paper finds best. Both from the comparison table.
 # `window_s` 0 is the filter, `inf` the whole-run RTS; `latency_mean_s` is the mean wait for an epoch's
 # smoothed value (half a window on average).
 
@@ -110,7 +113,12 @@ with ilocviz.style():
     fig, axs = plt.subplots(1, 2, figsize=(13, 4.5))
     finite = sweep[(sweep.window_s > 0) & (sweep.window_s < float("inf"))]
     vins.window_study(finite, ax=axs[0])
+    vins.window_study_paper(axs[0], tables["comparison"])
+    axs[0].set_title(f"Per axis ({PAPERS['liao']}, Fig 19; Tables 8, 10)")
     vins.window_study_band(sweep, ax=axs[1])
+    for value in sorted(set(ilocviz.paper_values(tables["comparison"], item="Fig 19").values())):
+        ilocviz.paper_mark(axs[1], value, f"best window ({PAPERS['liao']}, Fig 19)", axis="x")
+    axs[1].set_title(f"Horizontal, with its spread ({PAPERS['liao']}, Fig 19)")
     ilocviz.savefig(fig, "13_ins_online_window_fig19", OUT_DIR)
 
 # %% [markdown]

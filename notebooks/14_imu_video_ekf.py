@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt
 import ilocviz
 import ilocviz.ins as vins
 from ilocalg.experiments import ins_hartmann
+from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "14_imu_video_ekf")
@@ -49,6 +50,10 @@ report.table(tables["table2"], "table2")
 
 # %%
 report.compare(tables["comparison"].to_dict("records"))
+with ilocviz.style():
+    ax = ilocviz.paper_vs_reproduced(tables["comparison"][tables["comparison"]["item"] == "Table 2"],
+                                     title=f"Reproduced / paper ({PAPERS['survey']}, Table 2)")
+    ilocviz.savefig(ax.figure, "14_imu_video_ekf_table2_ratio", OUT_DIR)
 
 # %% [markdown]
 # ## The tracker noise is an input

@@ -4,13 +4,13 @@
 # Four studies run across simulation seeds and parameter grids on a Dask `LocalCluster`
 # (`ilocalg.workflow.sweep`), each point reported as mean and 95 % confidence interval over the seeds:
 #
-# 1. Wi-Fi fingerprinting (i-Loc thesis sec. 3, Figs 3 and 5): Simplified-RADAR, Simplified-Horus
+# 1. Wi-Fi fingerprinting (i-Loc (Chiu 2013), sec. 3, Figs 3 and 5): Simplified-RADAR, Simplified-Horus
 #    and KNN error vs the number of strongest APs k, the training-point spacing and the scans per
 #    point, on the simulated i-Loc floor.
 # 2. Online INS smoothing (Liao et al. 2016, Fig 19, Figs 20-21): error vs window size 2-30 s, in
 #    windows that hold a control point and in windows that do not.
 # 3. i-Loc step Kalman filter (thesis ch. 5): mean error vs Wi-Fi noise scale and vs fix rate.
-# 4. PSO (PSO thesis sec. 4-5): convergence to minFitness vs swarm size and inertia schedule.
+# 4. PSO (PSO (Chao 2008), sec. 4-5): convergence to minFitness vs swarm size and inertia schedule.
 #
 # The computations are `ilocalg.experiments.study_wifi`, `study_ins_window`, `study_kf_noise` and
 # `study_pso`; `python -m ilocalg sweep study_pso --seeds 20 --param n_particles=5,10,20` runs any

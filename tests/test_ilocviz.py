@@ -65,3 +65,70 @@ def test_paper_values_are_drawn_beside_reproduced_ones_with_reader_names():
     assert ax.get_xscale() == "log" and ax.get_title() == "i-Loc Fig 23"
     assert ilocviz.legend_name("pf_smooth") == "particle filter + smoother" and ilocviz.legend_name("mine") == "mine"
     plt.close("all")
+
+
+def test_paper_values_select_comparison_rows_and_paper_point_marks_one():
+    import pandas as pd
+
+    table = pd.DataFrame({"paper": ["i-Loc (Chiu 2013)"] * 3, "item": ["Fig 3", "Fig 3", "Fig 5"],
+                          "quantity": ["RADAR median error", "best AP count k", "Horus median error"],
+                          "unit": ["m", "APs", "m"], "paper_value": [4.5, 5.0, 4.5],
+                          "reproduced_value": [0.9, 6.0, 0.0]})
+    assert ilocviz.paper_values(table, unit="m") == {"RADAR median error (i-Loc (Chiu 2013) Fig 3)": 4.5,
+                                                     "Horus median error (i-Loc (Chiu 2013) Fig 5)": 4.5}
+    assert list(ilocviz.paper_values(table, item="Fig 3", contains="MEDIAN").values()) == [4.5]
+    with pytest.raises(ValueError, match="Fig 9"):
+        ilocviz.paper_values(table, item="Fig 9")
+    ax = ilocviz.paper_point(ilocviz.new_axes(), 4.5, 0.5, "RADAR median (i-Loc Fig 3)")
+    (pt,) = ax.get_lines()
+    assert pt.get_label() == "paper: RADAR median (i-Loc Fig 3)"
+    assert (pt.get_xdata()[0], pt.get_ydata()[0]) == (4.5, 0.5)
+    plt.close("all")
+
+
+def test_paper_mark_widens_fixed_limits_so_the_paper_value_is_in_view():
+    ax = ilocviz.new_axes()
+    ax.plot([0, 1], [2, 9])
+    ax.set_ylim(0, 10)  # fixed limits, as plots that pin the bottom at 0 have
+    ilocviz.paper_mark(ax, 11.38, "Wi-Fi mean", axis="y", band=(1.0, 21.5))
+    assert ax.get_ylim()[0] == 0 and ax.get_ylim()[1] >= 21.5
+    ilocviz.paper_point(ax, -2.0, 5.0, "a point left of the view")
+    assert ax.get_xlim()[0] <= -2.0
+    plt.close("all")
+
+
+def test_window_study_paper_puts_each_online_row_on_its_phone_axis_line():
+    import pandas as pd
+
+    import ilocviz.ins as vins
+
+    sweep = pd.DataFrame({"phone": ["iPhone"] * 2, "window_s": [5.0, 10.0], "stat": ["rms"] * 2,
+                          "N": [1.0, 0.8], "E": [0.5, 0.4], "H": [0.3, 0.2]})
+    ax = vins.window_study(sweep)
+    cmp = pd.DataFrame({"paper": ["Liao et al. 2016"] * 3, "item": ["Table 10"] * 3,
+                        "quantity": ["iPhone WVC/ZUPT/GCP Online 5sec: RMS N error",
+                                     "iPhone WVC/ZUPT/GCP Filtering: RMS N error",
+                                     "iPhone WVC/ZUPT/GCP Online 10sec: RMS E error"],
+                        "paper_value": [1.0969, 0.9885, 1.2766]})
+    vins.window_study_paper(ax, cmp)
+    stars = [ln for ln in ax.get_lines() if ln.get_marker() == "*"]
+    assert [(s.get_xdata()[0], s.get_ydata()[0]) for s in stars] == [(5.0, 1.0969), (10.0, 1.2766)]
+    colours = {ln.get_label(): ln.get_color() for ln in ax.get_lines()}
+    assert stars[0].get_color() == colours["iPhone-N"] and stars[1].get_color() == colours["iPhone-E"]
+    with pytest.raises(ValueError, match="Online"):
+        vins.window_study_paper(ax, cmp.iloc[[1]])
+    plt.close("all")
+
+
+def test_paper_vs_reproduced_labels_at_least_three_plain_ratios():
+    import pandas as pd
+
+    table = pd.DataFrame({"item": ["T"] * 3, "quantity": ["a", "b", "c"], "paper_value": [1.0, 1.0, 1.0],
+                          "reproduced_value": [0.9, 1.05, 1.2]})
+    ax = ilocviz.paper_vs_reproduced(table)
+    ax.figure.canvas.draw()
+    lo, hi = ax.get_xlim()
+    shown = [t for t in ax.get_xticks() if lo <= t <= hi]
+    assert len(shown) >= 3
+    assert all("10^" not in lab.get_text() and "times" not in lab.get_text() for lab in ax.get_xticklabels())
+    plt.close("all")

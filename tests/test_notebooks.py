@@ -240,7 +240,8 @@ def test_equation_cells_cite_the_paper_numbering_and_name_functions_that_exist()
     import importlib
     import re
 
-    need = {"01": "(1)", "03": "(8)", "04": "(16)", "05": "(19)", "07": "(26)", "10": "(4.1)", "12": "(7)"}
+    need = {"01": "(1)", "03": "(8)", "04": "(16)", "05": "(19)", "07": "(26)", "08": "(4)", "10": "(4.1)",
+            "11": "(27)", "12": "(7)"}
     for nb in NOTEBOOKS:
         cells = nbformat.read(nb, as_version=4).cells
         md = "\n".join(c.source for c in cells if c.cell_type == "markdown")
