@@ -16,7 +16,8 @@ import pandas as pd
 
 __all__ = ["fail", "to_float", "first_not_increasing", "check_increasing", "decode_text", "decompress",
            "read_bytes", "read_text", "strip_trailing_blank_lines", "ArchiveReader", "TRUNCATED_POLICIES",
-           "check_truncated_policy", "cut_last_line", "check_record_types", "TypedLines", "split_by_type",
+           "check_truncated_policy", "cut_last_line", "parse_record_log", "check_record_types", "TypedLines",
+           "split_by_type",
            "read_block", "count_per_line"]
 
 
@@ -270,6 +271,36 @@ def cut_last_line(lines: list[str], text: str, source, policy: str, is_cut: Call
         fail(source, k + 1, f"the file ends inside this record ({why}, no line end): it was cut while being "
                             "written; pass truncated_last_line='drop' to leave it out (counted)")
     return lines[:k], 1
+
+
+def parse_record_log(text: str | bytes, source, truncated_last_line: str, fast: Callable, slow: Callable,
+                     is_cut: Callable[[str], str | None]):
+    """The text policy of a record-per-line log (ILC trace, IPIN logfile), then its parser.
+
+    A UTF-8 BOM is stripped and a non-UTF-8 byte is an error naming its line. ``fast(data)`` parses
+    well-formed bytes (returning ``None`` for anything it might read differently); otherwise the
+    text is decoded, a cut last line goes through :func:`cut_last_line` and ``slow(lines, source)``
+    parses line by line, naming a bad line.
+
+    Returns
+    -------
+    parsed
+        What ``fast`` or ``slow`` returned.
+    n_cut : int
+        Lines left out by the ``truncated_last_line`` policy (0 or 1).
+    """
+    check_truncated_policy(truncated_last_line)
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if not data.isascii():
+        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
+    parsed = fast(data)
+    if parsed is not None:
+        return parsed, 0
+    text = decode_text(data, source)
+    lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, is_cut)
+    return slow(lines, source), n_cut
 
 
 def check_record_types(counts: dict, first_line: dict, known, source, sep: str, fmt: str) -> None:

@@ -87,10 +87,9 @@ from ilocalg.io._text import (
     ArchiveReader,
     check_increasing,
     check_record_types,
-    check_truncated_policy,
-    cut_last_line,
     decode_text,
     fail,
+    parse_record_log,
     read_block,
     read_bytes,
     split_by_type,
@@ -357,18 +356,7 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
     if duplicate_bssid not in _DUPLICATE_POLICIES:
         raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
-    check_truncated_policy(truncated_last_line)
-    data = text.encode("utf-8") if isinstance(text, str) else text
-    if data.startswith(b"\xef\xbb\xbf"):
-        data = data[3:]
-    if not data.isascii():
-        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
-    fast = _blocks_fast(data)
-    n_cut = 0
-    if fast is None:
-        text = decode_text(data, source)
-        lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
-        fast = _blocks_slow(lines, source)
+    fast, n_cut = parse_record_log(text, source, truncated_last_line, _blocks_fast, _blocks_slow, _is_cut)
     by_type, counts, header_lines = fast
     empty = _Block(np.zeros(0, dtype=np.int64), [], np.zeros((0, 3)), [], [])
 

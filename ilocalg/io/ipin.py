@@ -50,10 +50,8 @@ import pandas as pd
 from ilocalg.io._text import (
     check_increasing,
     check_record_types,
-    check_truncated_policy,
-    cut_last_line,
-    decode_text,
     fail,
+    parse_record_log,
     read_block,
     read_bytes,
     split_by_type,
@@ -237,18 +235,7 @@ def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = 
     """Parse the text of an IPIN logfile (see :func:`load_ipin_logfile`)."""
     if time not in ("app", "sensor"):
         raise ValueError(f"time must be 'app' or 'sensor', got {time!r}")
-    check_truncated_policy(truncated_last_line)
-    data = text.encode("utf-8") if isinstance(text, str) else text
-    if data.startswith(b"\xef\xbb\xbf"):
-        data = data[3:]
-    if not data.isascii():
-        decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
-    fast = _blocks_fast(data)
-    n_cut = 0
-    if fast is None:
-        text = decode_text(data, source)
-        lines, n_cut = cut_last_line(text.splitlines(), text, source, truncated_last_line, _is_cut)
-        fast = _blocks_slow(lines, source)
+    fast, n_cut = parse_record_log(text, source, truncated_last_line, _blocks_fast, _blocks_slow, _is_cut)
     recs, counts = fast
 
     imu = {}
