@@ -113,18 +113,22 @@ def error_cdf(errors: dict, ax=None, unit: str = "m", xlabel: str | None = None,
     Parameters
     ----------
     errors : dict[str, array_like]
-        Label (or method id, see :func:`legend_name`) -> errors (in ``unit``); NaNs raise.
+        Label (or method id, see :func:`legend_name`) -> errors (in ``unit``); NaN = not located: left
+        out of the mean, counted in the legend, and the curve ends below 1.
     paper : dict[str, float], optional
         Label -> a value the paper publishes on the same axis (e.g. ``{"KF mean, thesis Fig 23": 2.82}``),
         drawn as a dashed vertical line (:func:`paper_mark`).
     """
     ax = new_axes(ax)
     for label, e in errors.items():
-        e = np.sort(np.asarray(e, dtype=float).ravel())
-        if np.isnan(e).any():
-            raise ValueError(f"errors for {label!r} contain NaN")
-        ax.step(e, np.arange(1, e.size + 1) / e.size, where="post",
-                label=f"{legend_name(label)} (mean {e.mean():.2f} {unit})")
+        e = np.asarray(e, dtype=float).ravel()
+        n_all = e.size
+        e = np.sort(e[~np.isnan(e)])  # NaN: not located (counted; the curve then ends below 1)
+        if e.size == 0:
+            raise ValueError(f"errors for {label!r} are all NaN (nothing located)")
+        missing = f", {n_all - e.size} not located" if e.size < n_all else ""
+        ax.step(e, np.arange(1, e.size + 1) / n_all, where="post",
+                label=f"{legend_name(label)} (mean {e.mean():.2f} {unit}{missing})")
     for i, (label, value) in enumerate((paper or {}).items()):
         paper_mark(ax, value, label, axis="x", color=f"{0.15 + 0.2 * (i % 3):.2f}")
     ax.set_xlabel(xlabel or f"Positioning error [{unit}]")

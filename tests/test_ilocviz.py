@@ -22,12 +22,6 @@ def test_plots_return_axes_with_units_and_savefig_writes_png_pdf(tmp_path):
     plt.close("all")
 
 
-def test_error_cdf_refuses_nan():
-    with pytest.raises(ValueError, match="NaN"):
-        ilocviz.error_cdf({"a": [1.0, np.nan]})
-    plt.close("all")
-
-
 def test_style_restores_only_what_it_set_and_keeps_interactive_mode():
     before = {k: matplotlib.rcParams[k] for k in ilocviz.STYLE}
     was_interactive = matplotlib.is_interactive()
@@ -132,3 +126,16 @@ def test_paper_vs_reproduced_labels_at_least_three_plain_ratios():
     assert len(shown) >= 3
     assert all("10^" not in lab.get_text() and "times" not in lab.get_text() for lab in ax.get_xticklabels())
     plt.close("all")
+
+
+def test_error_cdf_counts_unlocated_and_ends_below_one():
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ilocviz.error_cdf({"KNN": [1.0, 2.0, np.nan, 3.0]}, ax=ax)
+    line = ax.get_lines()[0]
+    assert line.get_ydata().max() == pytest.approx(0.75)
+    assert "1 not located" in line.get_label() and "mean 2.00" in line.get_label()
+    with pytest.raises(ValueError, match="all NaN"):
+        ilocviz.error_cdf({"KNN": [np.nan]}, ax=ax)
+    plt.close(fig)

@@ -84,3 +84,16 @@ def test_test_scans_hearing_no_ap_are_counted_not_scored():
     assert c["scored"] + c["not_scored_no_ap_heard"] == c["test_scans"]
     per_method = t["errors"].groupby("method").size()
     assert (per_method == c["scored"]).all()
+
+
+def test_uji_metrics_row_counts_unlocated_scans_apart():
+    from ilocalg.experiments.wifi_ujiindoorloc import metrics_row
+    from ilocalg.io.schema import FingerprintSet
+
+    test = FingerprintSet(rssi_dbm=np.full((4, 1), -50.0), ap_ids=("a",), x_m=np.zeros(4),
+                          y_m=np.full(4, 4.86e6), floor=np.array([0, 0, 1, 1]), building=np.zeros(4))
+    res = {"error_m": np.array([1.0, 3.0, np.nan, 2.0]), "floor": np.array([0, 0, np.nan, 1]),
+           "building": np.zeros(4)}
+    row = metrics_row(res, test)
+    assert row["n"] == 4 and row["n_unlocated"] == 1
+    assert row["mean_m"] == pytest.approx(2.0) and row["floor_hit_rate"] == pytest.approx(0.75)

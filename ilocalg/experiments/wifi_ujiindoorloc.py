@@ -91,12 +91,20 @@ def load(data_dir: str | Path | None = None) -> tuple[FingerprintSet, Fingerprin
 
 
 def metrics_row(res: dict, test: FingerprintSet, rows=None) -> dict:
-    """Error statistics (projected and ground metres) and hit rates of one result."""
+    """Error statistics (projected and ground metres) and hit rates of one result.
+
+    A scan sharing no access point with the references it is compared with has no position (NaN, the
+    estimators' documented no-AP result): it is counted in ``n_unlocated``, left out of the error
+    statistics and counted as a miss in the hit rates.
+    """
     rows = np.arange(test.n_samples) if rows is None else np.asarray(rows)
-    e = res["error_m"][rows]
-    eg = e * ground_scale(test.y_m[rows])
+    e_all = res["error_m"][rows]
+    located = np.isfinite(e_all)
+    e = e_all[located]
+    eg = e * ground_scale(test.y_m[rows][located])
     return {
-        "n": int(e.size),
+        "n": int(e_all.size),
+        "n_unlocated": int((~located).sum()),
         "mean_m": float(np.mean(e)),
         "median_m": float(np.median(e)),
         "p75_m": float(np.percentile(e, 75)),
