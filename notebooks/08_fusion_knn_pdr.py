@@ -51,7 +51,7 @@ report = Report(OUT_DIR, "08_fusion_knn_pdr")
 #
 # $$dis = \Big( \sum_{j=1}^{n} |b_j - B_{ij}|^a \Big)^{1/a} \qquad (1)$$
 #
-# $$(x, y) = rac{1}{K} \sum_{i=1}^{K} (x_i, y_i) \qquad (2)$$
+# $$(x, y) = \frac{1}{K} \sum_{i=1}^{K} (x_i, y_i) \qquad (2)$$
 #
 # **Step length** (`ilocalg.pdr.step_length.luo_length_m`, steps by `ilocalg.pdr.step_length.luo_steps` with the
 # sliding-window peak detector `ilocalg.pdr.peak_window.detect_steps_peak_window`; $k$ fitted per walker by
