@@ -785,7 +785,8 @@ def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_l
 # positions at arbitrary times, fingerprints from walks
 # ----------------------------------------------------------------------------------------------
 
-def interpolate_waypoints(waypoints: pd.DataFrame, t_s, outside: str = "error") -> np.ndarray:
+def interpolate_waypoints(waypoints: pd.DataFrame, t_s, outside: str = "error",
+                          span_name: str = "waypoint") -> np.ndarray:
     """Positions at times ``t_s`` by linear interpolation between the surveyor's waypoints.
 
     Parameters
@@ -796,6 +797,8 @@ def interpolate_waypoints(waypoints: pd.DataFrame, t_s, outside: str = "error") 
     outside : {"error", "nan"}
         Times before the first or after the last waypoint raise (``"error"``) or give NaN rows
         (``"nan"``); nothing is extrapolated.
+    span_name : str
+        What the points are, in the error message (``"waypoint"``, ``"ground-truth"``).
 
     Returns
     -------
@@ -811,7 +814,7 @@ def interpolate_waypoints(waypoints: pd.DataFrame, t_s, outside: str = "error") 
     out = (t < tw[0]) | (t > tw[-1]) | ~np.isfinite(t)
     if outside == "error" and out.any():
         i = int(np.flatnonzero(out)[0])
-        raise ValueError(f"t_s[{i}] = {float(t[i])!r} is outside the waypoint time span "
+        raise ValueError(f"t_s[{i}] = {float(t[i])!r} is outside the {span_name} time span "
                          f"[{float(tw[0])!r}, {float(tw[-1])!r}] "
                          "(pass outside='nan' to get NaN there)")
     xy = np.column_stack([np.interp(t, tw, waypoints[X_M].to_numpy(dtype=np.float64)),

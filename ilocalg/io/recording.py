@@ -291,20 +291,12 @@ def truth_at(truth: pd.DataFrame, t_s, outside: str = "nan") -> tuple[np.ndarray
     floor : ndarray (n,)
         The floor of the latest point at or before each time (NaN outside or unknown).
     """
-    if outside not in ("nan", "error"):
-        raise ValueError(f"outside must be 'nan' or 'error', got {outside!r}")
-    if len(truth) < 2:
-        raise ValueError(f"need at least 2 ground-truth points to interpolate, got {len(truth)}")
+    from ilocalg.io.ilc import interpolate_waypoints  # one interpolation of a walk's ground truth
+
+    xy = interpolate_waypoints(truth, t_s, outside=outside, span_name="ground-truth")
     tw = truth[T_S].to_numpy(dtype=np.float64)
     t = np.asarray(t_s, dtype=np.float64)
-    out = (t < tw[0]) | (t > tw[-1]) | ~np.isfinite(t)
-    if outside == "error" and out.any():
-        i = int(np.flatnonzero(out)[0])
-        raise ValueError(f"t_s[{i}] = {float(t[i])!r} is outside the ground-truth time span "
-                         f"[{float(tw[0])!r}, {float(tw[-1])!r}]")
-    xy = np.column_stack([np.interp(t, tw, truth[X_M].to_numpy(dtype=np.float64)),
-                          np.interp(t, tw, truth[Y_M].to_numpy(dtype=np.float64))])
-    xy[out] = np.nan
+    out = np.isnan(xy[:, 0])
     fl = truth[FLOOR].to_numpy(dtype=np.float64)[np.clip(np.searchsorted(tw, t, side="right") - 1, 0, tw.size - 1)]
     fl = np.where(out, np.nan, fl)
     return xy, fl
