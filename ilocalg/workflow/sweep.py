@@ -10,7 +10,8 @@ and aggregates the reproduced values into mean, standard deviation and 95 % conf
 
 What is swept: the rows of the experiment's comparison tables (:func:`ilocalg.papers.paper_ref`
 rows, :data:`PAPER_REF_COLUMNS`), i.e. every reproduced value the report shows,
-plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter studies).
+plus any numeric ``value`` column of tables named ``sweep_*`` (for parameter studies) or ``measures*``
+(named scalars an experiment exposes for the claims ledger, :mod:`ilocalg.papers.claims`).
 """
 
 from __future__ import annotations
@@ -148,7 +149,8 @@ def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
         if all(c in df.columns for c in PAPER_REF_COLUMNS):
             p = df[list(PAPER_REF_COLUMNS)].rename(columns={"reproduced_value": "value"})
             p["unit"] = df["unit"] if "unit" in df.columns else ""
-        elif name.startswith("sweep_") and "value" in df.columns and "quantity" in df.columns:
+        elif (name.startswith(("sweep_", "measures")) and "value" in df.columns
+              and "quantity" in df.columns):
             p = df[["quantity", "value"]].copy()
             for c in ("paper", "item", "unit"):
                 p[c] = df[c] if c in df.columns else ""

@@ -47,6 +47,8 @@ __all__ = [
     "paper_ref",
     "agreement",
     "comparison_table",
+    "claims_of",
+    "all_claims",
 ]
 
 #: One short name per paper, used everywhere: key -> short name.
@@ -250,3 +252,38 @@ def comparison_table(rows: list[dict]) -> pd.DataFrame:
     df["agreement"] = [agreement(p, r) for p, r in zip(df["paper_value"], df["reproduced_value"], strict=True)]
     extra = [c for c in df.columns if c not in COMPARISON_COLUMNS and c != "note"]
     return df[list(COMPARISON_COLUMNS) + extra + ["note"]]
+
+
+def claims_of(key: str) -> tuple:
+    """The claims a paper makes (:class:`ilocalg.papers.claims.Claim`), declared in ``ilocalg/papers/<key>.py``.
+
+    Raises
+    ------
+    ValueError
+        ``key`` is not one of :data:`PAPERS`.
+    """
+    import importlib
+
+    if key not in PAPERS:
+        raise ValueError(f"unknown paper {key!r}; one of {sorted(PAPERS)}")
+    try:
+        mod = importlib.import_module(f"ilocalg.papers.{key}")
+    except ModuleNotFoundError as exc:
+        if exc.name != f"ilocalg.papers.{key}":
+            raise
+        return ()
+    claims = tuple(getattr(mod, "CLAIMS", ()))
+    bad = [c.id for c in claims if c.paper != key]
+    if bad:
+        raise ValueError(f"ilocalg/papers/{key}.py: claims {bad} name another paper")
+    return claims
+
+
+def all_claims() -> tuple:
+    """Every paper's claims, in :data:`PAPERS` order; claim ids are unique."""
+    out = tuple(c for key in PAPERS for c in claims_of(key))
+    ids = [c.id for c in out]
+    dup = sorted({i for i in ids if ids.count(i) > 1})
+    if dup:
+        raise ValueError(f"duplicate claim ids: {dup}")
+    return out
