@@ -631,4 +631,34 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = 
         status["ran"] = True
     out["ilc_status"] = pd.DataFrame([status])
     out["comparison"] = pd.DataFrame(rows)
+    out["measures"] = _measures(p1, p2, walks["2"], prefilter, _band(seed, prefilter, band))
     return out
+
+
+def _measures(p1: pd.DataFrame, p2: pd.DataFrame, walks2: list[Walk], prefilter: str, band_mps2) -> pd.DataFrame:
+    """Named scalars for the claims ledger (ilocalg.papers.pso): Table 5-2 summaries, A1's phase-2 closures, and
+    the great-circle dead reckoning (eq. 3.1-3.3) against a flat-earth sum of the same steps."""
+    leg94 = p1.loc[p1["leg_cm"] == 94, "k_pso"]
+    rows = [("mean k (PSO)", p1["k_pso"].mean(), "", ""), ("min k (PSO)", p1["k_pso"].min(), "", ""),
+            ("max k (PSO)", p1["k_pso"].max(), "", ""),
+            ("k range among the 94 cm walkers", leg94.max() - leg94.min(), "", ""),
+            ("mean |detected - true| / true steps", 100 * (abs(p1["det_steps"] - p1["true_steps"])
+                                                          / p1["true_steps"]).mean(), "%", ""),
+            ("mean accuracy vs GPS", p1["acc_pct"].mean(), "%", "")]
+    for r in p2[p2["walker"] == "A1"].itertuples():
+        item = f"A1 {r.place}"
+        rows += [("closure, PSO k", r.pso_closure_m, "m", item), ("closure, k = 0.5", r.tar_closure_m, "m", item),
+                 ("closure / PSO path length", r.pso_closure_pct, "%", item),
+                 ("GPS / PSO path length", r.gps_m / r.pso_m, "ratio", item)]
+    dev = 0.0
+    for w, k in ((w, p2.loc[p2["walker"] == w.walker, "k_pso"].iloc[0]) for w in walks2 if w.walker == "A1"):
+        st = detect_walk_steps(w, prefilter, band_mps2)
+        tr = dr_track(w, st, k)
+        L = weinberg_length_m(st["a_max_mps2"].to_numpy(float), st["a_min_mps2"].to_numpy(float), k)
+        h = np.deg2rad(step_headings_deg(w.imu, st))
+        x0, y0 = tr["x_m"].iloc[0], tr["y_m"].iloc[0]
+        xf = np.r_[x0, x0 + np.cumsum(L * np.sin(h))]
+        yf = np.r_[y0, y0 + np.cumsum(L * np.cos(h))]
+        dev = max(dev, float(np.max(np.hypot(tr["x_m"] - xf, tr["y_m"] - yf))))
+    rows.append(("great-circle vs flat dead reckoning, max difference", dev, "m", "A1 phase 2"))
+    return pd.DataFrame([{"quantity": q, "value": float(v), "unit": u, "item": i} for q, v, u, i in rows])
