@@ -644,7 +644,9 @@ def _measures(p1: pd.DataFrame, p2: pd.DataFrame, walks2: list[Walk], prefilter:
             ("k range among the 94 cm walkers", leg94.max() - leg94.min(), "", ""),
             ("mean |detected - true| / true steps", 100 * (abs(p1["det_steps"] - p1["true_steps"])
                                                           / p1["true_steps"]).mean(), "%", ""),
-            ("mean accuracy vs GPS", p1["acc_pct"].mean(), "%", "")]
+            ("mean accuracy vs GPS", p1["acc_pct"].mean(), "%", ""),
+            ("phase 2 mean |distance error| vs true route, PSO k", p2["pso_dist_err_pct"].abs().mean(), "%", ""),
+            ("phase 2 mean |distance error| vs true route, k = 0.5", p2["tar_dist_err_pct"].abs().mean(), "%", "")]
     for r in p2[p2["walker"] == "A1"].itertuples():
         item = f"A1 {r.place}"
         rows += [("closure, PSO k", r.pso_closure_m, "m", item), ("closure, k = 0.5", r.tar_closure_m, "m", item),
