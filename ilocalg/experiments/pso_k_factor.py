@@ -50,6 +50,7 @@ import pandas as pd
 
 from ilocalg.gnss import dead_reckon_latlon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.pso import K_FIXED_PAPER, PAPER_COMPASS_RMS, PAPER_PHASE2_A1, PAPER_TABLE_5_2
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
 from ilocalg.pdr.k_factor import FITNESSES, K_BOUNDS, PSO_SETTINGS_PAPER, learn_k, step_factors
 from ilocalg.pdr.registry import detect_steps
@@ -83,20 +84,8 @@ __all__ = [
 
 #: Source label of the comparison rows (kept as in earlier result tables, which must stay byte-identical).
 PAPER = PAPERS["pso"]
-PAPER_TABLE_5_2 = {
-    "A1": {"leg_cm": 94, "k": 0.444, "true_steps": 217, "det_steps": 216, "gps_m": 160.25, "pso_m": 158.28, "acc_pct": 98.7},  # noqa: E501
-    "A2": {"leg_cm": 94, "k": 0.489, "true_steps": 116, "det_steps": 115, "gps_m": 93.26, "pso_m": 90.15, "acc_pct": 96.7},  # noqa: E501
-    "A3": {"leg_cm": 94, "k": 0.477, "true_steps": 128, "det_steps": 123, "gps_m": 96.65, "pso_m": 91.07, "acc_pct": 94.2},  # noqa: E501
-    "B1": {"leg_cm": 100, "k": 0.554, "true_steps": 108, "det_steps": 110, "gps_m": 92.71, "pso_m": 89.53, "acc_pct": 96.6},  # noqa: E501
-    "B2": {"leg_cm": 100, "k": 0.494, "true_steps": 118, "det_steps": 116, "gps_m": 95.96, "pso_m": 91.84, "acc_pct": 95.7},  # noqa: E501
-    "C": {"leg_cm": 108, "k": 0.522, "true_steps": 106, "det_steps": 107, "gps_m": 93.73, "pso_m": 96.13, "acc_pct": 97.5},  # noqa: E501
-}
-PAPER_PHASE2_A1 = {
-    "park": {"closure_m": 2.81, "closure_pct": 1.6, "pso_m": 180.52, "tar_m": 203.18, "gps_m": 277.41},
-    "hall": {"closure_m": 5.79, "closure_pct": 1.9, "pso_m": 298.92, "tar_m": 336.10, "gps_m": 423.55},
-}
-PAPER_COMPASS_RMS = {"raw": 0.716, "ma": 0.563, "sg": 0.638}
-K_FIXED_PAPER = 0.5
+# The published values (PAPER_TABLE_5_2, PAPER_PHASE2_A1, PAPER_COMPASS_RMS, K_FIXED_PAPER) are declared once in
+# ilocalg.papers.pso and re-exported here.
 
 #: Pre-filters of the walking acceleration: none (default), MA half-width 1, MA half-width 2 (nL = nR = 2).
 PREFILTERS = ("none", "ma1", "ma2")
