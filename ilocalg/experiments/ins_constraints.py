@@ -374,7 +374,7 @@ def _measures(errors: pd.DataFrame, sync: pd.DataFrame) -> pd.DataFrame:
     rows = [{"quantity": f"{r['stat']} {ax} error", "item": f"{r['phone']} {r['method']}", "value": float(r[ax]),
              "unit": "m" if ax in ("N", "E", "H") else "deg"}
             for _, r in errors[errors["stat"].isin(["max", "rms"])].iterrows() for ax in AXES]
-    for (phone, method, lag), g in sync.groupby(["phone", "method", "lag_s"], sort=False):
+    for (phone, method, lag), g in (sync.groupby(["phone", "method", "lag_s"], sort=False) if len(sync) else ()):
         for stat in ("max", "rms"):
             rows.append({"quantity": f"{stat} heading error, reference lag", "item": f"{phone} {method} lag={lag:g}s",
                          "value": float(g[f"heading_{stat}_deg"].mean()), "unit": "deg"})
