@@ -73,3 +73,12 @@ def test_refs_resolve_on_fast_runs_and_verdicts_are_known():
 def test_assumptions_and_notebook_sections_exist():
     cc.check_assumptions(KEY)
     cc.check_decided_in(KEY)
+
+
+def test_the_experiment_uses_the_values_declared_here():
+    from ilocalg.experiments import pso_k_factor
+
+    assert pso_k_factor.PAPER_TABLE_5_2 is pso.PAPER_TABLE_5_2
+    assert pso_k_factor.PAPER_PHASE2_A1 is pso.PAPER_PHASE2_A1
+    assert pso_k_factor.PAPER_COMPASS_RMS is pso.PAPER_COMPASS_RMS
+    assert pso_k_factor.K_FIXED_PAPER == pso.K_FIXED_PAPER
