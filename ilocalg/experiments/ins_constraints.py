@@ -364,7 +364,21 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs, stair_action,
                                              reuse=reuse if gait == "published" else None),
         "readings": readings(stairs, stair_action),
+        "measures": _measures(errors, pd.DataFrame(sync)),
     }
+
+
+def _measures(errors: pd.DataFrame, sync: pd.DataFrame) -> pd.DataFrame:
+    """Named scalars for the claims ledger (ilocalg.papers.liao): max and RMS error per phone, method and axis
+    (mean over seeds), and the heading errors against a reference read ``lag_s`` late."""
+    rows = [{"quantity": f"{r['stat']} {ax} error", "item": f"{r['phone']} {r['method']}", "value": float(r[ax]),
+             "unit": "m" if ax in ("N", "E", "H") else "deg"}
+            for _, r in errors[errors["stat"].isin(["max", "rms"])].iterrows() for ax in AXES]
+    for (phone, method, lag), g in (sync.groupby(["phone", "method", "lag_s"], sort=False) if len(sync) else ()):
+        for stat in ("max", "rms"):
+            rows.append({"quantity": f"{stat} heading error, reference lag", "item": f"{phone} {method} lag={lag:g}s",
+                         "value": float(g[f"heading_{stat}_deg"].mean()), "unit": "deg"})
+    return pd.DataFrame(rows)
 
 
 def _stair_table(df: pd.DataFrame) -> pd.DataFrame:

@@ -161,5 +161,13 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
         note = (f"simulated tracker input statistic, {n_sequences} sequences of {duration_s:g} s" if is_input
                 else f"EKF prediction vs VT, {n_sequences} simulated sequences of {duration_s:g} s")
         comp.append(paper_ref(HARTMANN_2010, "Table 2", f"overall {key}", pv, float(ov[key]), unit=unit, note=note))
+    st = pd.DataFrame(settle)
+    # named scalars for the claims ledger (ilocalg.papers.survey): bias settling (survey L336, Fig 12)
+    measures = pd.DataFrame([
+        {"quantity": "gyro bias settling time", "value": float(st["gyro_bias_settle_s"].mean()), "unit": "s"},
+        {"quantity": "accelerometer bias settling time", "value": float(st["acc_bias_settle_s"].mean()), "unit": "s"},
+        {"quantity": "share of sequences whose biases settle", "unit": "%",
+         "value": 100.0 * float((st[["gyro_bias_settle_s", "acc_bias_settle_s"]].notna().all(axis=1)).mean())},
+    ])
     return {"table2": t2, "comparison": pd.DataFrame(comp), "tracker_noise": pd.DataFrame(noise_rows),
-            "settling": pd.DataFrame(settle), "trace": trace, "vt": vt, "readings": readings()}
+            "settling": st, "trace": trace, "vt": vt, "readings": readings(), "measures": measures}

@@ -140,7 +140,19 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         "comparison": pd.DataFrame(comp),
         "trajectory": pd.concat(traj, ignore_index=True),
         "readings": readings(stairs, offsets),
+        "measures": _measures(errors, sw),
     }
+
+
+def _measures(errors: pd.DataFrame, sweep: pd.DataFrame) -> pd.DataFrame:
+    """Named scalars for the claims ledger (ilocalg.papers.liao): max and RMS error per phone, method and axis
+    (Filtering, the online windows of Tables 8-11, whole-run RTS), and the horizontal RMS error per window."""
+    rows = [{"quantity": f"{r['stat']} {ax} error", "item": f"{r['phone']} {r['method']}", "value": float(r[ax]),
+             "unit": "m" if ax in ("N", "E", "H") else "deg"}
+            for _, r in errors[errors["stat"].isin(["max", "rms"])].iterrows() for ax in AXES]
+    rows += [{"quantity": "rms horizontal error", "item": f"{r['phone']} window={r['window_s']:g}s",
+              "value": float(r["horizontal"]), "unit": "m"} for _, r in sweep[sweep["stat"] == "rms"].iterrows()]
+    return pd.DataFrame(rows)
 
 
 def _trajectory(phone, walk, sols, ind):

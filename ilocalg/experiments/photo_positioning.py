@@ -348,7 +348,18 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                                                height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
         "readings": readings(layout=layout, va_free_z=va_free_z, good_guess_sd_m=p["good_guess_sd_m"]),
         "errors": errors,
+        "measures": _marker_measures(seed, fast),
     }
+
+
+def _marker_measures(seed: int, fast: bool) -> pd.DataFrame:
+    """Named scalars for the claims ledger (ilocalg.papers.survey): range error of the homography (survey
+    eq. 3-5, Fig 8) and of IPPE to a square marker, without and with 1 px corner noise (:func:`marker_ranging`)."""
+    t = marker_ranging(seed=seed, fast=fast, corner_sd_px=(0.0, 1.0))
+    return pd.DataFrame([{"quantity": f"{name} range RMS error", "unit": "cm",
+                          "item": f"{r.distance_m:g} m, corner sd {r.corner_sd_px:g} px",
+                          "value": float(getattr(r, f"{key}_range_rms_error_cm"))}
+                         for r in t.itertuples() for key, name in (("homography", "homography"), ("ippe", "IPPE"))])
 
 
 def readings(layout: str = photo_poi.DEFAULT_LAYOUT, va_free_z: bool = False,

@@ -50,6 +50,7 @@ import pandas as pd
 
 from ilocalg.gnss import dead_reckon_latlon, gps_track_length_m, haversine_m, latlon_to_local_m, path_length_m
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.pso import K_FIXED_PAPER, PAPER_COMPASS_RMS, PAPER_PHASE2_A1, PAPER_TABLE_5_2
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
 from ilocalg.pdr.k_factor import FITNESSES, K_BOUNDS, PSO_SETTINGS_PAPER, learn_k, step_factors
 from ilocalg.pdr.registry import detect_steps
@@ -83,20 +84,8 @@ __all__ = [
 
 #: Source label of the comparison rows (kept as in earlier result tables, which must stay byte-identical).
 PAPER = PAPERS["pso"]
-PAPER_TABLE_5_2 = {
-    "A1": {"leg_cm": 94, "k": 0.444, "true_steps": 217, "det_steps": 216, "gps_m": 160.25, "pso_m": 158.28, "acc_pct": 98.7},  # noqa: E501
-    "A2": {"leg_cm": 94, "k": 0.489, "true_steps": 116, "det_steps": 115, "gps_m": 93.26, "pso_m": 90.15, "acc_pct": 96.7},  # noqa: E501
-    "A3": {"leg_cm": 94, "k": 0.477, "true_steps": 128, "det_steps": 123, "gps_m": 96.65, "pso_m": 91.07, "acc_pct": 94.2},  # noqa: E501
-    "B1": {"leg_cm": 100, "k": 0.554, "true_steps": 108, "det_steps": 110, "gps_m": 92.71, "pso_m": 89.53, "acc_pct": 96.6},  # noqa: E501
-    "B2": {"leg_cm": 100, "k": 0.494, "true_steps": 118, "det_steps": 116, "gps_m": 95.96, "pso_m": 91.84, "acc_pct": 95.7},  # noqa: E501
-    "C": {"leg_cm": 108, "k": 0.522, "true_steps": 106, "det_steps": 107, "gps_m": 93.73, "pso_m": 96.13, "acc_pct": 97.5},  # noqa: E501
-}
-PAPER_PHASE2_A1 = {
-    "park": {"closure_m": 2.81, "closure_pct": 1.6, "pso_m": 180.52, "tar_m": 203.18, "gps_m": 277.41},
-    "hall": {"closure_m": 5.79, "closure_pct": 1.9, "pso_m": 298.92, "tar_m": 336.10, "gps_m": 423.55},
-}
-PAPER_COMPASS_RMS = {"raw": 0.716, "ma": 0.563, "sg": 0.638}
-K_FIXED_PAPER = 0.5
+# The published values (PAPER_TABLE_5_2, PAPER_PHASE2_A1, PAPER_COMPASS_RMS, K_FIXED_PAPER) are declared once in
+# ilocalg.papers.pso and re-exported here.
 
 #: Pre-filters of the walking acceleration: none (default), MA half-width 1, MA half-width 2 (nL = nR = 2).
 PREFILTERS = ("none", "ma1", "ma2")
@@ -631,4 +620,36 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = 
         status["ran"] = True
     out["ilc_status"] = pd.DataFrame([status])
     out["comparison"] = pd.DataFrame(rows)
+    out["measures"] = _measures(p1, p2, walks["2"], prefilter, _band(seed, prefilter, band))
     return out
+
+
+def _measures(p1: pd.DataFrame, p2: pd.DataFrame, walks2: list[Walk], prefilter: str, band_mps2) -> pd.DataFrame:
+    """Named scalars for the claims ledger (ilocalg.papers.pso): Table 5-2 summaries, A1's phase-2 closures, and
+    the great-circle dead reckoning (eq. 3.1-3.3) against a flat-earth sum of the same steps."""
+    leg94 = p1.loc[p1["leg_cm"] == 94, "k_pso"]
+    rows = [("mean k (PSO)", p1["k_pso"].mean(), "", ""), ("min k (PSO)", p1["k_pso"].min(), "", ""),
+            ("max k (PSO)", p1["k_pso"].max(), "", ""),
+            ("k range among the 94 cm walkers", leg94.max() - leg94.min(), "", ""),
+            ("mean |detected - true| / true steps", 100 * (abs(p1["det_steps"] - p1["true_steps"])
+                                                          / p1["true_steps"]).mean(), "%", ""),
+            ("mean accuracy vs GPS", p1["acc_pct"].mean(), "%", ""),
+            ("phase 2 mean |distance error| vs true route, PSO k", p2["pso_dist_err_pct"].abs().mean(), "%", ""),
+            ("phase 2 mean |distance error| vs true route, k = 0.5", p2["tar_dist_err_pct"].abs().mean(), "%", "")]
+    for r in p2[p2["walker"] == "A1"].itertuples():
+        item = f"A1 {r.place}"
+        rows += [("closure, PSO k", r.pso_closure_m, "m", item), ("closure, k = 0.5", r.tar_closure_m, "m", item),
+                 ("closure / PSO path length", r.pso_closure_pct, "%", item),
+                 ("GPS / PSO path length", r.gps_m / r.pso_m, "ratio", item)]
+    dev = 0.0
+    for w, k in ((w, p2.loc[p2["walker"] == w.walker, "k_pso"].iloc[0]) for w in walks2 if w.walker == "A1"):
+        st = detect_walk_steps(w, prefilter, band_mps2)
+        tr = dr_track(w, st, k)
+        L = weinberg_length_m(st["a_max_mps2"].to_numpy(float), st["a_min_mps2"].to_numpy(float), k)
+        h = np.deg2rad(step_headings_deg(w.imu, st))
+        x0, y0 = tr["x_m"].iloc[0], tr["y_m"].iloc[0]
+        xf = np.r_[x0, x0 + np.cumsum(L * np.sin(h))]
+        yf = np.r_[y0, y0 + np.cumsum(L * np.cos(h))]
+        dev = max(dev, float(np.max(np.hypot(tr["x_m"] - xf, tr["y_m"] - yf))))
+    rows.append(("great-circle vs flat dead reckoning, max difference", dev, "m", "A1 phase 2"))
+    return pd.DataFrame([{"quantity": q, "value": float(v), "unit": u, "item": i} for q, v, u, i in rows])
