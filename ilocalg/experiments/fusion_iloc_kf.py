@@ -285,7 +285,11 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     return {"test_points": tp, "summary": summ, "cdf": cdf, "track_example": pd.concat(ex, ignore_index=True),
             "r_table": r_table, "gating": pd.DataFrame(gat), "comparison": comparison_table(comp),
             "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
-            "readings": readings(scan_latency_s, q_range, table4_reading)}
+            "readings": readings(scan_latency_s, q_range, table4_reading),
+            # named scalars for the claims ledger (ilocalg/papers/iloc.py): every method's mean and median error
+            "measures": pd.DataFrame([{"quantity": f"{stat} error at the test points", "item": r["method"],
+                                       "value": float(r[f"{stat}_error_m"]), "unit": "m"}
+                                      for _, r in summ.iterrows() for stat in ("mean", "median")])}
 
 
 def _method_row(seed, method, fast, n_walkers, n_train, n_cal, q_range, scan_latency_s, table4_reading,

@@ -237,7 +237,11 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
     rs = rate_sweep(seed, (25.0, 50.0) if fast else (25.0, 50.0, 100.0), n_train, n_test, n_steps, quantiles[0])
     return {"features": feats, "ranges": rtab, "counts": counts, "summary": summary,
             "comparison": pd.DataFrame(comp), "oxford": ox, "oxford_summary": ox_sum, "rate_sweep": rs,
-            "readings": readings()}
+            "readings": readings(),
+            # named scalars for the claims ledger (ilocalg/papers/iloc.py): the Fig 12 count error under a name
+            # that does not change with the number of test walkers
+            "measures": pd.DataFrame([{"quantity": "SAM step-count error, 5/95 % ranges", "item": g,
+                                       "value": float(lit.loc[(g, key)] * 100), "unit": "%"} for g in groups])}
 
 
 def headline(tables: dict) -> str:

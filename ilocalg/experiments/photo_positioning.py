@@ -330,6 +330,20 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     comparison = pd.DataFrame(comp)
     inputs = pd.DataFrame({"parameter": [k for k in p if k != "layout"],
                            "value": [float(v) for k, v in p.items() if k != "layout"]})
+    # named scalars for the claims ledger (ilocalg/papers/iloc.py): Fig 30 per PoI count, Fig 29's distance
+    # trend, Figs 31-32's combinations (near-collinear vs same-size; near the shots vs near p3-p5)
+    meas = [{"quantity": "mean error by PoI count", "item": f"{m}, {int(k)} PoIs", "value": float(k_means.loc[k, m]),
+             "unit": "cm"} for k in k_means.index for m in METHODS]
+    meas += [{"quantity": "error vs distance to p4, Spearman rho", "item": r["method"],
+              "value": float(r["spearman_rho"]), "unit": "-"} for _, r in distance_trend.iterrows()]
+    if len(near_collinear):
+        meas.append({"quantity": "near-collinear combos' error / mean of same-size combos", "item": "ST",
+                     "value": float((near_collinear["ST"] / near_collinear["ST_mean_same_k"]).mean()), "unit": "-"})
+    cm = per_combo.set_index("combo")["ST"]
+    near_c, far_c = ["{1,2}", "{6,7}"], ["{3,4}", "{3,5}", "{4,5}", "{3,4,5}"]
+    if all(c in cm.index for c in near_c + far_c):
+        meas.append({"quantity": "ST error, combos {1,2},{6,7} / combos {3,4},{3,5},{4,5},{3,4,5}", "item": "ST",
+                     "value": float(cm[near_c].mean() / cm[far_c].mean()), "unit": "-"})
     return {
         "layout_pois": photo_poi.pois_frame(layout),
         "layout_shots": shots,
@@ -348,6 +362,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                                                height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
         "readings": readings(layout=layout, va_free_z=va_free_z, good_guess_sd_m=p["good_guess_sd_m"]),
         "errors": errors,
+        "measures": pd.DataFrame(meas),
     }
 
 

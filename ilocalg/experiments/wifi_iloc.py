@@ -41,7 +41,7 @@ import pandas as pd
 from ilocalg.metrics import horizontal_error_m, summary
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.sim import iloc_floor
-from ilocalg.wifi import SimplifiedRadar, paper_estimators
+from ilocalg.wifi import SimplifiedRadar, make_estimator, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
 __all__ = ["run", "findings", "ap_distribution", "readings", "PAPER_ILOC"]
@@ -180,6 +180,16 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         paper_ref(LUO, "sec. 4", "KNN (Manhattan, K=5) mean error, Wi-Fi only", PAPER_ILOC["knn_mean_m"],
                   m.loc["KNN (Manhattan, K=5)", "mean_m"], "m", "their building, not the i-Loc floor"),
     ]
+    # named scalars for the claims ledger (ilocalg/papers/iloc.py, luo.py): time per query, the RADAR
+    # k study, and Luo et al.'s KNN against NN (K = 1; their L73, L87) on the same map and queries
+    meas = [{"quantity": "time per query", "item": r["method"], "value": float(r["ms_per_query"]), "unit": "ms"}
+            for r in timing]
+    meas += [{"quantity": "Simplified-RADAR median error", "item": f"k={int(r.k_aps)}", "value": float(r.median_m),
+              "unit": "m"} for r in k_study.itertuples()]
+    for n_nb in (1, 5):
+        e_nb = horizontal_error_m(make_estimator("knn", n_nb, "manhattan", nh).fit(fp, pts).predict(Xq), true)
+        meas.append({"quantity": "KNN (Manhattan) mean error", "item": f"K={n_nb}", "value": float(e_nb.mean()),
+                     "unit": "m"})
     return {
         "k_study": k_study,
         "methods": methods,
@@ -189,6 +199,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         "sim_summary": iloc_floor.summary(sim),
         "test_scans": test_scans,
         "readings": readings(),
+        "measures": pd.DataFrame(meas),
     }
 
 
