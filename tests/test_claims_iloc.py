@@ -10,7 +10,7 @@ import pytest
 
 from ilocalg.papers import claims_of
 from ilocalg.papers import iloc as paper
-from tests import claims_checks as chk
+from tests import claims_checks_iloc_luo as chk
 
 CLAIMS = claims_of("iloc")
 BY_ID = {c.id: c for c in CLAIMS}

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from ilocalg.papers import claims_of
 from ilocalg.papers import luo as paper
-from tests import claims_checks as chk
+from tests import claims_checks_iloc_luo as chk
 
 CLAIMS = claims_of("luo")
 

@@ -26,6 +26,13 @@ KEY = "luo"
 #: The text copy the line numbers refer to (in the shared papers folder).
 FILE = "004_b095b672cff2e388.txt"
 
+
+def _decided(stem: str, heading: str) -> str:
+    """``decided_in``: a notebook stem and the anchor nbconvert and JupyterLab give one of its Markdown headings
+    (spaces -> '-')."""
+    return f"{stem}#{heading.strip().replace(' ', '-')}"
+
+
 _X, _W = "fusion_knn_pdr", "wifi_iloc"
 _NB08, _NB01 = "08_fusion_knn_pdr", "01_wifi_radar_horus_knn"
 _COMBINED = "combined (Wi-Fi start + fingerprint adjustment)"
@@ -47,10 +54,13 @@ _A_KNN = (Assumption(_W, "scans_per_point", 10, 300, "survey scans per sample po
 _A_PDR = (Assumption(_X, "n_train", 3, 8, "walks of known length behind eq. (4)'s k: not given (k itself is not "
                      "given, L202)", integer=True),)
 
-_SENS = f"{_NB08}#sensitivity-adjustment-weight-survey-scans-per-point-peak-rule-and-threshold-scan-latency"
-_FIG6 = f"{_NB08}#error-at-each-point-fig-6"
-_METHOD = f"{_NB08}#the-method-luo-et-al-2017-eq-1-2-4-5-6"
+_SENS = _decided(_NB08, "Sensitivity: adjustment weight, survey scans per point, peak rule and threshold, scan latency")
+_FIG6 = _decided(_NB08, "Error at each point (Fig 6)")
+_METHOD = _decided(_NB08, "The method: Luo et al. 2017 eq. (1)-(2), (4), (5)-(6)")
 _DET = "detected / true steps"
+
+# Notebook sections that decide the claims.
+_S_KNN = _decided(_NB01, "Figs 3 and 5: error CDFs of the three methods")
 
 CLAIMS = (
     # ---- sec. 2 KNN fingerprint -----------------------------------------------------------------------
@@ -61,7 +71,7 @@ CLAIMS = (
                       "KNN 近邻算法用平均距离减少了误差, 提高了精确度"),
           statistic=diff(M(_W, "KNN (Manhattan) mean error", item="K=5"),
                          M(_W, "KNN (Manhattan) mean error", item="K=1"), "m"),
-          expect="<0", assumptions=_A_KNN, decided_in=f"{_NB01}#figs-3-and-5-error-cdfs-of-the-three-methods",
+          expect="<0", assumptions=_A_KNN, decided_in=_S_KNN,
           note="standing test scans on the simulated i-Loc floor (the paper's library survey is not published); "
                "the paper compares with no other K or metric."),
     # ---- sec. 3.1-3.2 Kalman filter -------------------------------------------------------------------

@@ -41,19 +41,14 @@ def paper_lines(file: str) -> list[str]:
     return (d / file).read_text(encoding="utf-8").splitlines()
 
 
-def slug(heading: str) -> str:
-    """GitHub/Jupyter-style anchor of a Markdown heading."""
-    s = heading.strip().lstrip("#").strip().lower()
-    s = re.sub(r"[^\w\- ]", "", s)
-    return s.replace(" ", "-")
-
-
 def notebook_anchors(stem: str) -> set[str]:
-    """Anchors of the Markdown headings of notebooks/<stem>.py (jupytext percent format)."""
+    """Anchors of the Markdown headings of notebooks/<stem>.py (jupytext percent format), as nbconvert and
+    JupyterLab give them: the heading's text with spaces -> '-'."""
     path = REPO_ROOT / "notebooks" / f"{stem}.py"
     if not path.is_file():
         return set()
-    return {slug(ln[1:]) for ln in path.read_text(encoding="utf-8").splitlines() if re.match(r"^# #+ ", ln)}
+    return {ln.lstrip("# ").strip().replace(" ", "-") for ln in path.read_text(encoding="utf-8").splitlines()
+            if re.match(r"^# #+ ", ln)}
 
 
 def run_kwargs(experiment: str) -> set[str]:
