@@ -91,6 +91,12 @@ def check_declarations(claims, key: str, at_least: int) -> None:
             assert c.kind == "consistency", f"{c.id}: a statistic of printed numbers only is a consistency check"
         if c.statistic is None:
             assert len(c.untestable) > 20, f"{c.id}: say why it cannot be tested"
+        elif c.statistic.refs:
+            assert c.assumptions, f"{c.id}: name the values the text does not fix (assumptions)"
+        if c.kind != "consistency" and c.expect != "~" and c.paper_value is not None and c.statistic is not None:
+            # a direction claim's own printed figure lies on the side it asserts
+            pv = float(c.paper_value)
+            assert cl.judge(c, pv, pv, pv) == "reproduced", f"{c.id}: paper value {pv} against expect {c.expect}"
     testable = sum(c.statistic is not None for c in claims)
     assert testable >= 0.6 * len(claims), f"{key}: only {testable} of {len(claims)} claims testable"
 
