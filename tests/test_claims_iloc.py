@@ -93,3 +93,28 @@ def test_table5_quantile_rejects_bad_q(q):
 def test_table5_quantile_rejects_bad_variances():
     with pytest.raises(ValueError, match="positive"):
         paper.table5_error_quantile_m(0.5, [1.0, 0.0])
+
+
+def test_one_copy_of_each_printed_value():
+    # the experiments show the paper module's published values (papers are data), not copies of their own
+    from ilocalg.experiments import (
+        fusion_iloc_kf,
+        pdr_heading_trajectory,
+        pdr_step_features,
+        pdr_step_length,
+        photo_positioning,
+        wifi_iloc,
+    )
+    from ilocalg.fusion import PAPER_TABLE4_SIGMA_SL_VAR_M2, PAPER_TABLE5_SIGMA_RF_VAR_M2
+
+    pub = paper.PUBLISHED
+    assert fusion_iloc_kf.PAPER_KF is pub["fusion_iloc_kf"]
+    assert photo_positioning.PAPER is pub["photo_positioning"]
+    assert pdr_step_features.SAM_COUNT_ERROR_PAPER == pub["pdr_step_features"]["sam_count_error"]
+    assert pdr_step_length.CORR_PAPER is pub["pdr_step_length"]["corr"]
+    assert pdr_heading_trajectory.PTS_ERROR_PAPER_M == pub["pdr_heading_trajectory"]["pts_error_m"]
+    assert {k: wifi_iloc.PAPER_ILOC[k] for k in pub["wifi_iloc"]} == pub["wifi_iloc"]
+    assert pub["pdr_step_length"]["corr"] == paper.TABLE2_CORR
+    # the KF's Q and R tables (ilocalg.fusion) are the printed Tables 4 and 5 the consistency claims check
+    assert tuple(PAPER_TABLE4_SIGMA_SL_VAR_M2) == paper.TABLE4_VAR
+    assert tuple(PAPER_TABLE5_SIGMA_RF_VAR_M2) == paper.TABLE5_VAR_M2

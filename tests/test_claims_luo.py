@@ -48,3 +48,14 @@ def test_component_measures_are_sane():
     assert ((rho >= -1) & (rho <= 1)).all()
     jumps = m[m["quantity"].str.startswith("mean |error change|")]
     assert (jumps["value"] >= 0).all() and len(jumps) == 3
+
+
+def test_published_values_are_the_papers_and_the_experiments_show_them():
+    from ilocalg.experiments import fusion_knn_pdr, wifi_iloc
+
+    assert fusion_knn_pdr.PAPER_LUO is paper.PUBLISHED
+    assert wifi_iloc.PAPER_ILOC["knn_mean_m"] == paper.PUBLISHED["wifi_mean_m"]
+    text = "\n".join(chk.paper_lines(paper.FILE))
+    for key in ("wifi_mean_m", "wifi_min_m", "wifi_max_m", "combined_mean_m"):
+        assert f"{paper.PUBLISHED[key]}" in text, key
+    assert f"前 {paper.PUBLISHED['pdr_better_points']} 个点" in text

@@ -46,6 +46,7 @@ from ilocalg.fusion import (
 )
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
@@ -63,7 +64,7 @@ PAPER = PAPERS["iloc"]
 # -----------------------
 # PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.
 #: Published values (paper, thesis ch. 5 text below Table 5 and Fig 23): reference only.
-PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}
+PAPER_KF = PUBLISHED["fusion_iloc_kf"]
 
 
 def route_walk(sw, ranges, slm_p) -> dict:

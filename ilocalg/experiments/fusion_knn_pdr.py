@@ -52,6 +52,7 @@ import pandas as pd
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
@@ -86,8 +87,7 @@ PAPER = PAPERS["luo"]
 # PAPER_LUO: Luo et al. (2017) sec. 4, item 2 (Wi-Fi only mean, min, max error) and item 3
 # (combined mean error; PDR better than the combination for the first 6 points); reference only.
 #: Published values (paper, sec. 4 items 2-3): reference only.
-PAPER_LUO = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5,
-             "combined_mean_m": 6.74, "pdr_better_points": 6}
+PAPER_LUO = PUBLISHED
 
 
 def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:

@@ -29,6 +29,7 @@ import pandas as pd
 from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive, parse_recording_name
 from ilocalg.io.paths import dataset_path
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
     SAM_RANGES_PAPER,
@@ -53,7 +54,7 @@ PAPER = PAPERS["iloc"]
 # -----------------------
 # SAM_COUNT_ERROR_PAPER: Chiu (2013) Fig 12 and sec. 4.1 text, SAM step-count error on 8 walkers
 # x 100 steps (a reference value, never used to compute).
-SAM_COUNT_ERROR_PAPER = 0.0413
+SAM_COUNT_ERROR_PAPER = PUBLISHED["pdr_step_features"]["sam_count_error"]
 
 
 def readings() -> pd.DataFrame:

@@ -69,6 +69,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
@@ -101,15 +102,7 @@ GOOD_GUESS_SD_M = (0.5, 1.0, 2.25, 4.0)
 # PAPER: Chiu (2013) sec. 6.3 and Fig 30, reference only (never used to compute): ST and VABIG
 # errors with 2 and 7 PoIs (fig30_*) and the overall mean errors of ST, VAGIG and VABIG (mean_*), cm.
 # NEAR_COLLINEAR_PAPER: the PoI combinations Fig 32 names as nearly collinear (1-based).
-PAPER = {
-    "fig30_ST_k2_cm": 112.0,
-    "fig30_ST_k7_cm": 48.0,
-    "fig30_VABIG_k2_cm": 870.0,
-    "fig30_VABIG_k7_cm": 50.0,
-    "mean_ST_cm": 74.3,
-    "mean_VAGIG_cm": 88.9,
-    "mean_VABIG_cm": 246.0,
-}
+PAPER = PUBLISHED["photo_positioning"]
 
 #: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
 NEAR_COLLINEAR_PAPER = ((1, 3), (1, 4), (5, 6), (1, 3, 4))

@@ -40,6 +40,8 @@ import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED as PUBLISHED_ILOC
+from ilocalg.papers.luo import PUBLISHED as PUBLISHED_LUO
 from ilocalg.sim import iloc_floor
 from ilocalg.wifi import SimplifiedRadar, make_estimator, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
@@ -56,14 +58,7 @@ LUO = PAPERS["luo"]
 # radar_best_k    sec. 3.1, "k = 5 is the most accurate"  horus_median_m  sec. 3.2, Fig 5
 # horus_p80_m     sec. 3.2, "80 % within 9 m"
 # knn_mean_m      Luo et al. (2017) sec. 4, Wi-Fi only mean error (their building)
-PAPER_ILOC = {
-    "radar_median_m": 4.5,
-    "radar_p80_m": 14.0,
-    "radar_best_k": 5,
-    "horus_median_m": 4.5,
-    "horus_p80_m": 9.0,
-    "knn_mean_m": 11.38,
-}
+PAPER_ILOC = {**PUBLISHED_ILOC["wifi_iloc"], "knn_mean_m": PUBLISHED_LUO["wifi_mean_m"]}
 
 
 _T = "i-Loc (Chiu 2013)"

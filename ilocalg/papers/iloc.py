@@ -26,7 +26,8 @@ import numpy as np
 
 from ilocalg.papers.claims import Assumption, Claim, M, Stat, constant, diff, ratio, spearman, value
 
-__all__ = ["CLAIMS", "KEY", "FILE", "TABLE2_CORR", "TABLE4_VAR", "TABLE5_VAR_M2", "table5_error_quantile_m"]
+__all__ = ["CLAIMS", "KEY", "FILE", "PUBLISHED", "TABLE2_CORR", "TABLE4_VAR", "TABLE5_VAR_M2",
+           "table5_error_quantile_m"]
 
 KEY = "iloc"
 #: The text copy the line numbers refer to (in the shared papers folder).
@@ -49,6 +50,31 @@ TABLE5_VAR_M2 = (15.072, 8.184, 0.523, 5.995, 2.853, 0.899, 4.305,
                  0.171, 11.219, 1.616, 1.891, 7.055, 1.960, 3.365,
                  6.400, 8.238, 5.533, 2.054, 1.929, 2.883, 1.985,
                  3.250, 1.789, 2.255, 3.453, 2.985, 1.145, 2.596)
+
+
+#: The thesis's published values that the experiments show beside theirs (``paper_ref``), by experiment:
+#: reference only, never used to compute. Lines of the text copy in the comments.
+PUBLISHED = {
+    # ch. 3: L297 (RADAR median 4.5 m, 80 % within 14 m, k = 5 best), L333 (Horus median 4.5 m, 80 % within 9 m)
+    "wifi_iloc": {"radar_median_m": 4.5, "radar_p80_m": 14.0, "radar_best_k": 5, "horus_median_m": 4.5,
+                  "horus_p80_m": 9.0},
+    # ch. 4.1: L430, SAM step-count error on 8 testers x 100 steps (a fraction)
+    "pdr_step_features": {"sam_count_error": 0.0413},
+    # ch. 4.2: Table 2 (L440-448), Table 3 (L466-469, cm), RMSE (L462, cm), Fig 14 mean error and Fig 15
+    # 20 m accuracy (L478, fractions)
+    "pdr_step_length": {"corr": dict(TABLE2_CORR), "p_linear_cm": (50.66, -0.42, 0.75),
+                        "p_quad_cm": (54.49, -2.90, 1.50, -0.02, 0.15, -0.01),
+                        "rmse_cm": {"linear": 12.32, "quadratic": 12.15}, "fixed_error": 0.1843,
+                        "free20_accuracy": 0.9641},
+    # ch. 4.3-4.4: L508 (WDM mean heading error, deg), L517 (PTS mean error, m)
+    "pdr_heading_trajectory": {"heading_error_deg": 13.87, "pts_error_m": 5.2},
+    # ch. 5: L618 ("5.15 m -> 2.82 m"; 5.15 m read as the PTS mean, claim iloc-kf-start-is-pts)
+    "fusion_iloc_kf": {"pts_mean_m": 5.15, "kf_mean_m": 2.82},
+    # ch. 6.3: L702 (Fig 30: ST and VABIG with 2 and 7 PoIs; overall means of ST, VAGIG, VABIG), cm
+    "photo_positioning": {"fig30_ST_k2_cm": 112.0, "fig30_ST_k7_cm": 48.0, "fig30_VABIG_k2_cm": 870.0,
+                          "fig30_VABIG_k7_cm": 50.0, "mean_ST_cm": 74.3, "mean_VAGIG_cm": 88.9,
+                          "mean_VABIG_cm": 246.0},
+}
 
 
 def table5_error_quantile_m(q: float, var_m2=TABLE5_VAR_M2) -> float:

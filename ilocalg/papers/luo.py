@@ -20,11 +20,18 @@ from __future__ import annotations
 
 from ilocalg.papers.claims import Assumption, Claim, M, Stat, diff, ratio, spearman, value
 
-__all__ = ["CLAIMS", "KEY", "FILE"]
+__all__ = ["CLAIMS", "KEY", "FILE", "PUBLISHED"]
 
 KEY = "luo"
 #: The text copy the line numbers refer to (in the shared papers folder).
 FILE = "004_b095b672cff2e388.txt"
+
+
+#: The paper's published values that the experiments show beside theirs (``paper_ref``): reference only,
+#: never used to compute. Sec. 4 item 2 (L239: Wi-Fi only mean error, smallest and largest per-point error)
+#: and item 3 (L241: combined mean error; PDR better than the combination for the first 6 points).
+PUBLISHED = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5, "combined_mean_m": 6.74,
+             "pdr_better_points": 6}
 
 
 def _decided(stem: str, heading: str) -> str:
