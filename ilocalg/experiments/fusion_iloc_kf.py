@@ -46,6 +46,7 @@ from ilocalg.fusion import (
 )
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
@@ -63,7 +64,7 @@ PAPER = PAPERS["iloc"]
 # -----------------------
 # PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.
 #: Published values (paper, thesis ch. 5 text below Table 5 and Fig 23): reference only.
-PAPER_KF = {"pts_mean_m": 5.15, "kf_mean_m": 2.82}
+PAPER_KF = PUBLISHED["fusion_iloc_kf"]
 
 
 def route_walk(sw, ranges, slm_p) -> dict:
@@ -285,7 +286,11 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     return {"test_points": tp, "summary": summ, "cdf": cdf, "track_example": pd.concat(ex, ignore_index=True),
             "r_table": r_table, "gating": pd.DataFrame(gat), "comparison": comparison_table(comp),
             "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
-            "readings": readings(scan_latency_s, q_range, table4_reading)}
+            "readings": readings(scan_latency_s, q_range, table4_reading),
+            # named scalars for the claims ledger (ilocalg/papers/iloc.py): every method's mean and median error
+            "measures": pd.DataFrame([{"quantity": f"{stat} error at the test points", "item": r["method"],
+                                       "value": float(r[f"{stat}_error_m"]), "unit": "m"}
+                                      for _, r in summ.iterrows() for stat in ("mean", "median")])}
 
 
 def _method_row(seed, method, fast, n_walkers, n_train, n_cal, q_range, scan_latency_s, table4_reading,

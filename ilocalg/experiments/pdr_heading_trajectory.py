@@ -28,6 +28,7 @@ import pandas as pd
 
 from ilocalg.metrics import error_cdf
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.pts import pts_steps
@@ -48,8 +49,8 @@ PAPER = PAPERS["iloc"]
 # Chiu (2013): HEADING_ERROR_PAPER_DEG, Fig 16 text (WDM mean heading error); PTS_ERROR_PAPER_M,
 # Fig 18 text (PTS mean position error): reference values only. The test loop of run() (28
 # points 4.11 m apart) is sec. 4.4.
-HEADING_ERROR_PAPER_DEG = 13.87
-PTS_ERROR_PAPER_M = 5.2
+HEADING_ERROR_PAPER_DEG = PUBLISHED["pdr_heading_trajectory"]["heading_error_deg"]
+PTS_ERROR_PAPER_M = PUBLISHED["pdr_heading_trajectory"]["pts_error_m"]
 
 
 def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarray, test_t_s: np.ndarray):

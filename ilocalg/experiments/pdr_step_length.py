@@ -29,6 +29,7 @@ import pandas as pd
 
 from ilocalg.fusion import PAPER_TABLE4_SIGMA_SL_VAR_M2, PAPER_TABLE4_STEP_M
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_scale, fit_step_length_models, kim_length_m, kim_mean_abs_mps2, step_lengths_m
@@ -49,12 +50,13 @@ PAPER = PAPERS["iloc"]
 # RMSE_PAPER_CM     sec. 4.2 text, regression RMSE;
 # FIXED_ERROR_PAPER Fig 14 text, mean error at the fixed lengths;
 # FREE20_ACCURACY_PAPER  Fig 15 text, 20 m free-walk distance accuracy.
-CORR_PAPER = {"A1": 0.53, "A2": 0.5, "A": 0.55, "T1": 0.25, "T2": 0.06, "T": 0.32, "X1": 0.37, "I": 0.61}
-P_LINEAR_PAPER = (50.66, -0.42, 0.75)
-P_QUAD_PAPER = (54.49, -2.90, 1.50, -0.02, 0.15, -0.01)
-RMSE_PAPER_CM = {"linear": 12.32, "quadratic": 12.15}
-FIXED_ERROR_PAPER = 0.1843
-FREE20_ACCURACY_PAPER = 0.9641
+_PUB = PUBLISHED["pdr_step_length"]
+CORR_PAPER = _PUB["corr"]
+P_LINEAR_PAPER = _PUB["p_linear_cm"]
+P_QUAD_PAPER = _PUB["p_quad_cm"]
+RMSE_PAPER_CM = _PUB["rmse_cm"]
+FIXED_ERROR_PAPER = _PUB["fixed_error"]
+FREE20_ACCURACY_PAPER = _PUB["free20_accuracy"]
 
 
 def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:

@@ -69,6 +69,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
@@ -101,15 +102,7 @@ GOOD_GUESS_SD_M = (0.5, 1.0, 2.25, 4.0)
 # PAPER: Chiu (2013) sec. 6.3 and Fig 30, reference only (never used to compute): ST and VABIG
 # errors with 2 and 7 PoIs (fig30_*) and the overall mean errors of ST, VAGIG and VABIG (mean_*), cm.
 # NEAR_COLLINEAR_PAPER: the PoI combinations Fig 32 names as nearly collinear (1-based).
-PAPER = {
-    "fig30_ST_k2_cm": 112.0,
-    "fig30_ST_k7_cm": 48.0,
-    "fig30_VABIG_k2_cm": 870.0,
-    "fig30_VABIG_k7_cm": 50.0,
-    "mean_ST_cm": 74.3,
-    "mean_VAGIG_cm": 88.9,
-    "mean_VABIG_cm": 246.0,
-}
+PAPER = PUBLISHED["photo_positioning"]
 
 #: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
 NEAR_COLLINEAR_PAPER = ((1, 3), (1, 4), (5, 6), (1, 3, 4))
@@ -330,6 +323,20 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     comparison = pd.DataFrame(comp)
     inputs = pd.DataFrame({"parameter": [k for k in p if k != "layout"],
                            "value": [float(v) for k, v in p.items() if k != "layout"]})
+    # named scalars for the claims ledger (ilocalg/papers/iloc.py): Fig 30 per PoI count, Fig 29's distance
+    # trend, Figs 31-32's combinations (near-collinear vs same-size; near the shots vs near p3-p5)
+    meas = [{"quantity": "mean error by PoI count", "item": f"{m}, {int(k)} PoIs", "value": float(k_means.loc[k, m]),
+             "unit": "cm"} for k in k_means.index for m in METHODS]
+    meas += [{"quantity": "error vs distance to p4, Spearman rho", "item": r["method"],
+              "value": float(r["spearman_rho"]), "unit": "-"} for _, r in distance_trend.iterrows()]
+    if len(near_collinear):
+        meas.append({"quantity": "near-collinear combos' error / mean of same-size combos", "item": "ST",
+                     "value": float((near_collinear["ST"] / near_collinear["ST_mean_same_k"]).mean()), "unit": "-"})
+    cm = per_combo.set_index("combo")["ST"]
+    near_c, far_c = ["{1,2}", "{6,7}"], ["{3,4}", "{3,5}", "{4,5}", "{3,4,5}"]
+    if all(c in cm.index for c in near_c + far_c):
+        meas.append({"quantity": "ST error, combos {1,2},{6,7} / combos {3,4},{3,5},{4,5},{3,4,5}", "item": "ST",
+                     "value": float(cm[near_c].mean() / cm[far_c].mean()), "unit": "-"})
     return {
         "layout_pois": photo_poi.pois_frame(layout),
         "layout_shots": shots,
@@ -348,7 +355,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                                                height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
         "readings": readings(layout=layout, va_free_z=va_free_z, good_guess_sd_m=p["good_guess_sd_m"]),
         "errors": errors,
-        "measures": _marker_measures(seed, fast),
+        "measures": pd.concat([pd.DataFrame(meas), _marker_measures(seed, fast)], ignore_index=True),
     }
 
 

@@ -40,8 +40,10 @@ import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
 from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers.iloc import PUBLISHED as PUBLISHED_ILOC
+from ilocalg.papers.luo import PUBLISHED as PUBLISHED_LUO
 from ilocalg.sim import iloc_floor
-from ilocalg.wifi import SimplifiedRadar, paper_estimators
+from ilocalg.wifi import SimplifiedRadar, make_estimator, paper_estimators
 from ilocalg.wifi.preprocessing import mean_fingerprints
 
 __all__ = ["run", "findings", "ap_distribution", "readings", "PAPER_ILOC"]
@@ -56,14 +58,7 @@ LUO = PAPERS["luo"]
 # radar_best_k    sec. 3.1, "k = 5 is the most accurate"  horus_median_m  sec. 3.2, Fig 5
 # horus_p80_m     sec. 3.2, "80 % within 9 m"
 # knn_mean_m      Luo et al. (2017) sec. 4, Wi-Fi only mean error (their building)
-PAPER_ILOC = {
-    "radar_median_m": 4.5,
-    "radar_p80_m": 14.0,
-    "radar_best_k": 5,
-    "horus_median_m": 4.5,
-    "horus_p80_m": 9.0,
-    "knn_mean_m": 11.38,
-}
+PAPER_ILOC = {**PUBLISHED_ILOC["wifi_iloc"], "knn_mean_m": PUBLISHED_LUO["wifi_mean_m"]}
 
 
 _T = "i-Loc (Chiu 2013)"
@@ -180,6 +175,16 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         paper_ref(LUO, "sec. 4", "KNN (Manhattan, K=5) mean error, Wi-Fi only", PAPER_ILOC["knn_mean_m"],
                   m.loc["KNN (Manhattan, K=5)", "mean_m"], "m", "their building, not the i-Loc floor"),
     ]
+    # named scalars for the claims ledger (ilocalg/papers/iloc.py, luo.py): time per query, the RADAR
+    # k study, and Luo et al.'s KNN against NN (K = 1; their L73, L87) on the same map and queries
+    meas = [{"quantity": "time per query", "item": r["method"], "value": float(r["ms_per_query"]), "unit": "ms"}
+            for r in timing]
+    meas += [{"quantity": "Simplified-RADAR median error", "item": f"k={int(r.k_aps)}", "value": float(r.median_m),
+              "unit": "m"} for r in k_study.itertuples()]
+    for n_nb in (1, 5):
+        e_nb = horizontal_error_m(make_estimator("knn", n_nb, "manhattan", nh).fit(fp, pts).predict(Xq), true)
+        meas.append({"quantity": "KNN (Manhattan) mean error", "item": f"K={n_nb}", "value": float(e_nb.mean()),
+                     "unit": "m"})
     return {
         "k_study": k_study,
         "methods": methods,
@@ -189,6 +194,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         "sim_summary": iloc_floor.summary(sim),
         "test_scans": test_scans,
         "readings": readings(),
+        "measures": pd.DataFrame(meas),
     }
 
 
