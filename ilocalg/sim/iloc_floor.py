@@ -111,6 +111,7 @@ __all__ = [
     "session_drift_db",
     "walking_fixes",
     "back_to_back_scan_starts_s",
+    "periodic_scan_starts_s",
     "fit_estimator",
     "standing_fix_variance_m2",
     "summary",
@@ -522,8 +523,10 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     Returns
     -------
     DataFrame
-        One row per scan: ``t_start_s``, ``t_ready_s`` (= start + latency), ``x_m``, ``y_m`` (true
-        position at the scan's start, the tag) and one column per AP id (dBm, NaN = not heard).
+        One row per scan: ``t_start_s``, ``t_ready_s`` (= start + latency: the scan's end, when its
+        result is available), ``x_m``, ``y_m`` (true position at the scan's start, the tag),
+        ``t_ref_s`` (the mean read time of the APs heard: the time the scan describes) and one column
+        per AP id (dBm, NaN = not heard).
     """
     r = as_rng(rng)
     t = np.asarray(track_t_s, dtype=np.float64)
@@ -560,7 +563,12 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
         rssi[:, j] = m + body + drift[j] + p["device_offset_db"] + sim.fade_sd_db[near] * r.normal(size=n)
     rssi += r.normal(0.0, p["local_sd_db"], (n, n_ap))
     rssi = _detect(rssi, p, r)
+    heard = ~np.isnan(rssi)
+    # the time the scan describes: the mean read time of the APs it heard (the start when it heard none)
+    t_ref = np.where(heard.any(axis=1), np.nansum(np.where(heard, t_read, 0.0), axis=1)
+                     / np.maximum(heard.sum(axis=1), 1), ts)
     out = pd.DataFrame(rssi, columns=list(sim.train.ap_ids))
+    out.insert(0, "t_ref_s", t_ref)
     out.insert(0, "y_m", np.interp(ts, t, xy[:, 1]))
     out.insert(0, "x_m", np.interp(ts, t, xy[:, 0]))
     out.insert(0, "t_ready_s", ts + scan_latency_s)
@@ -577,6 +585,20 @@ def back_to_back_scan_starts_s(t0_s: float, t1_s: float, scan_latency_s: float) 
         raise ValueError(f"t1_s must be >= t0_s, got {t0_s}, {t1_s}")
     n = int(np.floor((t1_s - t0_s) / scan_latency_s + 1e-9))
     return t0_s + scan_latency_s * np.arange(n)
+
+
+def periodic_scan_starts_s(t0_s: float, t1_s: float, scan_interval_s: float, scan_latency_s: float) -> np.ndarray:
+    """Start times (s) of periodic scans from ``t0_s``: one every ``scan_interval_s``, each
+    ``scan_latency_s`` long and ending by ``t1_s``. A phone scanning periodically while its user walks
+    (i-Loc thesis, Chiu 2013, L777: the phone detects the Wi-Fi signals periodically)."""
+    if not scan_interval_s > 0 or not scan_latency_s >= 0:
+        raise ValueError(f"need scan_interval_s > 0 and scan_latency_s >= 0, got {scan_interval_s}, {scan_latency_s}")
+    if scan_latency_s > scan_interval_s:
+        raise ValueError(f"a scan ({scan_latency_s} s) cannot last longer than the scan interval ({scan_interval_s} s)")
+    if not t1_s >= t0_s:
+        raise ValueError(f"t1_s must be >= t0_s, got {t0_s}, {t1_s}")
+    n = int(np.floor((t1_s - t0_s - scan_latency_s) / scan_interval_s + 1e-9)) + 1
+    return t0_s + scan_interval_s * np.arange(max(n, 0))
 
 
 def session_drift_db(sim: IlocFloor, rng=None) -> np.ndarray:
@@ -599,7 +621,8 @@ def walking_fixes(sim: IlocFloor, estimator, track_t_s, track_xy_m, scan_start_t
     -------
     DataFrame
         One row per scan: ``t_start_s``, ``t_ready_s``, ``x_m``, ``y_m`` (true position at the scan's
-        start, the fix's tag), ``fix_x_m``, ``fix_y_m``, ``n_heard``. A scan that hears no AP has a NaN fix.
+        start, the fix's tag), ``t_ref_s``, ``fix_x_m``, ``fix_y_m``, ``n_heard``. A scan that hears no
+        AP has a NaN fix.
     """
     scans = walking_scans(sim, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s, rng, session_drift_db)
     X = scans[list(sim.train.ap_ids)].to_numpy()
@@ -607,7 +630,7 @@ def walking_fixes(sim: IlocFloor, estimator, track_t_s, track_xy_m, scan_start_t
     fix = np.full((X.shape[0], 2), np.nan)
     if heard.any():
         fix[heard] = estimator.predict(X[heard])
-    out = scans[["t_start_s", "t_ready_s", "x_m", "y_m"]].copy()
+    out = scans[["t_start_s", "t_ready_s", "x_m", "y_m", "t_ref_s"]].copy()
     out["fix_x_m"], out["fix_y_m"] = fix[:, 0], fix[:, 1]
     out["n_heard"] = (~np.isnan(X)).sum(axis=1)
     return out

@@ -1,0 +1,190 @@
+"""The i-Loc floor world as a scenario: the survey, the walks with their sensor streams and scans, the truth.
+
+A world is built once (:func:`build`, from the floor simulator's parameters plus the caller's
+declared overrides) and handed to an experiment as an :class:`IlocScenario`, shaped like a set of
+recordings: the survey (fingerprints), a standing calibration session on another day, fixed-length
+training walks, and test walks whose phone logged an IMU stream and periodic Wi-Fi scans. The
+experiment applies methods to it; it never draws from the simulator itself.
+
+Scans while walking
+    The phone scans periodically while its user walks (i-Loc thesis, Chiu 2013, L777: "the phone
+    periodically detects the Wi-Fi signals"): a scan starts every ``scan_interval_s`` from the start
+    of the log, each AP is read at a uniform time within the scan's ``scan_latency_s`` (so each RSSI
+    value has an age between 0 and the latency when the scan ends), and the scan's result, and the
+    fix made from it, is available only at the scan's end (``t_ready_s``): fixes are causal. The
+    first scan, taken at the start, gives the walk's initial position (i-Loc L792-795; Luo et al.
+    2017, L212). Each walk is its own session: a new per-AP drift (another day than the survey).
+
+Everything is deterministic from ``seed``: the floor, the walks and each walk's scans come from
+independent streams (``np.random.Generator.spawn``), so rescanning a world (:func:`rescan`) or
+changing the survey size keeps the same walkers and walks.
+
+References
+----------
+Chiu, P.-J. (2013). Implement an integrated indoor positioning system. M.S. thesis, NCTU. L777, L792-795.
+Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
+track. Computer Systems & Applications. L212, L222.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.sim import gait, iloc_floor
+from ilocalg.units import as_rng
+
+__all__ = ["ScenarioWalk", "IlocScenario", "build", "rescan", "walk_fixes", "SCAN_INTERVAL_S", "SCAN_LATENCY_S"]
+
+#: Default time between scan starts while walking, s (replaced by the measured row when available).
+SCAN_INTERVAL_S = 3.0
+#: Default scan duration, s: each RSSI value is read within it (phones take 1-3 s per scan).
+SCAN_LATENCY_S = 2.0
+
+
+@dataclass(frozen=True)
+class ScenarioWalk:
+    """One test walk as a phone would record it, with its truth.
+
+    Attributes
+    ----------
+    name : str
+    imu : DataFrame, the phone's IMU log indexed by ``t_s`` (accelerometer, gyroscope, magnetometer)
+    scans : DataFrame, one row per scan: ``t_start_s``, ``t_ready_s`` (the scan's end: when its result is
+        available), ``t_ref_s`` (mean read time of the APs heard), ``x_m``, ``y_m`` (true position at the
+        start) and one column per AP id (dBm, NaN = not heard)
+    steps : DataFrame, the true steps (:func:`ilocalg.sim.gait.simulate_walk`)
+    truth : DataFrame, per-sample truth ``x_m, y_m, theta_rad`` indexed by ``t_s``
+    pass_t_s : (n_route,) the times the walker passes each route point
+    stand_s : float, time at rest at the start of the log
+    walker : Walker (truth: the gait the walk was drawn with)
+    """
+
+    name: str
+    imu: pd.DataFrame
+    scans: pd.DataFrame
+    steps: pd.DataFrame
+    truth: pd.DataFrame
+    pass_t_s: np.ndarray
+    stand_s: float
+    walker: gait.Walker = field(repr=False)
+
+    @property
+    def truth_t_s(self) -> np.ndarray:
+        return self.truth.index.to_numpy()
+
+    @property
+    def truth_xy_m(self) -> np.ndarray:
+        return self.truth[["x_m", "y_m"]].to_numpy()
+
+
+@dataclass(frozen=True)
+class IlocScenario:
+    """A built world: everything an experiment reads.
+
+    Attributes
+    ----------
+    floor : IlocFloor, with the survey (``floor.train``) and the standing calibration session at the route
+        points on another day (``floor.test``)
+    route_xy_m : (28, 2) the test route in walking order
+    train_walks : tuple of (Walker, imposed step length m, SimWalk), fixed-length training walks
+    walks : tuple of ScenarioWalk, the test walks
+    params : dict, the world's scan parameters and overrides
+    """
+
+    floor: iloc_floor.IlocFloor
+    route_xy_m: np.ndarray
+    train_walks: tuple
+    walks: tuple
+    params: dict
+
+
+def _scans(floor, truth, interval, latency, rng) -> pd.DataFrame:
+    t = truth.index.to_numpy()
+    xy = truth[["x_m", "y_m"]].to_numpy()
+    drift = iloc_floor.session_drift_db(floor, rng)  # this walk's session
+    starts = iloc_floor.periodic_scan_starts_s(t[0], t[-1], interval, latency)
+    return iloc_floor.walking_scans(floor, t, xy, starts, latency, rng, drift)
+
+
+def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_per_point: int | None = None,
+          scan_interval_s: float = SCAN_INTERVAL_S, scan_latency_s: float = SCAN_LATENCY_S,
+          train_on_test_walkers: bool = False, **floor_overrides) -> IlocScenario:
+    """Build the i-Loc floor world once and return it as a scenario.
+
+    Parameters
+    ----------
+    seed : int or Generator
+    n_walkers, n_train : test walks, and walkers of the fixed-length training walks
+    n_cal : standing scans per route point in the calibration session (another day)
+    scans_per_point : survey scans per training point (default the floor's 300)
+    scan_interval_s, scan_latency_s : periodic scans while walking (module docstring)
+    train_on_test_walkers : train on the first ``n_train`` test walkers (Luo et al.: the tester's own
+        walks) instead of new walkers (i-Loc: SAM and SLM are trained on other walkers)
+    floor_overrides : radio parameters passed to :func:`ilocalg.sim.iloc_floor.simulate`
+    """
+    if n_walkers < 1 or n_train < 1 or n_cal < 2:
+        raise ValueError(f"need n_walkers >= 1, n_train >= 1, n_cal >= 2; got {n_walkers}, {n_train}, {n_cal}")
+    floor_rng, walk_rng, scan_root = as_rng(seed).spawn(3)
+    spp = iloc_floor.SCANS_PER_POINT if scans_per_point is None else int(scans_per_point)
+    floor = iloc_floor.simulate(floor_rng, scans_per_point=spp, scans_per_test_point=n_cal, **floor_overrides)
+    if train_on_test_walkers:
+        everyone = gait.make_walkers(max(n_train, n_walkers), walk_rng)
+        train_w, test_w = everyone[:n_train], everyone[:n_walkers]
+    else:
+        train_w = gait.make_walkers(n_train, walk_rng)
+        test_w = gait.make_walkers(n_walkers, walk_rng)  # new walkers: not those the PDR is trained on
+    train = tuple(gait.training_walks(train_w, walk_rng))
+    route = iloc_floor.route_xy_m()
+    scan_rngs = scan_root.spawn(n_walkers)
+    walks = []
+    for i, w in enumerate(test_w):
+        sw = gait.simulate_walk(route, w, walk_rng)
+        scans = _scans(floor, sw.truth, scan_interval_s, scan_latency_s, scan_rngs[i])
+        walks.append(ScenarioWalk(name=w.name, imu=sw.imu, scans=scans,
+                                  steps=sw.steps, truth=sw.truth, pass_t_s=gait.pass_times_s(sw, route),
+                                  stand_s=sw.config.stand_s, walker=w))
+    params = {"seed": seed if not isinstance(seed, np.random.Generator) else "rng", "scans_per_point": spp,
+              "scan_interval_s": float(scan_interval_s), "scan_latency_s": float(scan_latency_s),
+              "n_cal": n_cal, "train_on_test_walkers": bool(train_on_test_walkers), **floor_overrides}
+    return IlocScenario(floor=floor, route_xy_m=route, train_walks=train, walks=tuple(walks), params=params)
+
+
+def rescan(scn: IlocScenario, seed, scan_interval_s: float | None = None,
+           scan_latency_s: float | None = None) -> IlocScenario:
+    """The same world, walks and sessions' walkers, with new periodic scans (another interval or latency).
+
+    ``seed`` must be the seed :func:`build` was given: the scans come from the same stream, so only what
+    changes (interval, latency) differs.
+    """
+    iv = scn.params["scan_interval_s"] if scan_interval_s is None else float(scan_interval_s)
+    lat = scn.params["scan_latency_s"] if scan_latency_s is None else float(scan_latency_s)
+    scan_rngs = as_rng(seed).spawn(3)[2].spawn(len(scn.walks))
+    walks = tuple(dataclasses.replace(w, scans=_scans(scn.floor, w.truth, iv, lat, scan_rngs[i]))
+                  for i, w in enumerate(scn.walks))
+    return dataclasses.replace(scn, walks=walks, params={**scn.params, "scan_interval_s": iv, "scan_latency_s": lat})
+
+
+def walk_fixes(scn: IlocScenario, walk: ScenarioWalk, estimator) -> pd.DataFrame:
+    """The fixes a fitted ``estimator`` makes from a walk's scans, in the order they become available.
+
+    Returns
+    -------
+    DataFrame
+        ``t_start_s``, ``t_ready_s`` (available), ``t_ref_s`` (the time the fix describes), ``x_m``,
+        ``y_m`` (true position at the start), ``fix_x_m``, ``fix_y_m`` (NaN when the scan heard no AP),
+        ``n_heard``.
+    """
+    ids = list(scn.floor.train.ap_ids)
+    X = walk.scans[ids].to_numpy()
+    heard = ~np.isnan(X).all(axis=1)
+    fix = np.full((X.shape[0], 2), np.nan)
+    if heard.any():
+        fix[heard] = estimator.predict(X[heard])
+    out = walk.scans[["t_start_s", "t_ready_s", "t_ref_s", "x_m", "y_m"]].copy()
+    out["fix_x_m"], out["fix_y_m"] = fix[:, 0], fix[:, 1]
+    out["n_heard"] = (~np.isnan(X)).sum(axis=1)
+    return out.reset_index(drop=True)

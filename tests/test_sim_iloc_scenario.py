@@ -1,0 +1,50 @@
+"""ilocalg.sim.iloc_scenario: a world built once, handed out as recordings-like walks with causal scans."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from ilocalg.sim import iloc_floor, iloc_scenario
+
+
+@pytest.fixture(scope="module")
+def scn():
+    return iloc_scenario.build(3, n_walkers=2, n_train=1, n_cal=3, scans_per_point=20, scan_interval_s=4.0,
+                               scan_latency_s=2.0)
+
+
+def test_scans_are_periodic_and_causal(scn):
+    assert len(scn.walks) == 2 and len(scn.train_walks) > 0
+    for w in scn.walks:
+        s = w.scans
+        np.testing.assert_allclose(np.diff(s["t_start_s"]), 4.0)
+        assert s["t_start_s"].iloc[0] == w.imu.index[0]                   # from the start of the log
+        np.testing.assert_allclose(s["t_ready_s"] - s["t_start_s"], 2.0)
+        assert ((s["t_ref_s"] >= s["t_start_s"]) & (s["t_ref_s"] <= s["t_ready_s"])).all()
+        assert s["t_ready_s"].iloc[-1] <= w.truth.index[-1]
+        assert set(scn.floor.train.ap_ids) <= set(s.columns)
+        assert w.pass_t_s.size == scn.route_xy_m.shape[0]
+
+
+def test_build_is_deterministic_and_rescan_keeps_the_walks(scn):
+    again = iloc_scenario.build(3, n_walkers=2, n_train=1, n_cal=3, scans_per_point=20, scan_interval_s=4.0,
+                                scan_latency_s=2.0)
+    for a, b in zip(scn.walks, again.walks, strict=True):
+        pd.testing.assert_frame_equal(a.scans, b.scans)
+        pd.testing.assert_frame_equal(a.imu, b.imu)
+    r = iloc_scenario.rescan(scn, 3, scan_interval_s=3.0, scan_latency_s=1.0)
+    for a, b in zip(scn.walks, r.walks, strict=True):
+        pd.testing.assert_frame_equal(a.imu, b.imu)                      # same walks ...
+        np.testing.assert_allclose(np.diff(b.scans["t_start_s"]), 3.0)   # ... new scans
+    assert r.params["scan_latency_s"] == 1.0 and scn.params["scan_latency_s"] == 2.0
+
+
+def test_walk_fixes_and_bad_scan_timing(scn):
+    est = iloc_floor.fit_estimator(scn.floor, "KNN (Manhattan, K=5)")
+    fx = iloc_scenario.walk_fixes(scn, scn.walks[0], est)
+    assert len(fx) == len(scn.walks[0].scans)
+    ok = np.isfinite(fx[["fix_x_m", "fix_y_m"]].to_numpy()).all(axis=1)
+    assert ok.mean() > 0.9
+    with pytest.raises(ValueError, match="longer than the scan interval"):
+        iloc_floor.periodic_scan_starts_s(0.0, 10.0, 1.0, 2.0)
+    np.testing.assert_allclose(iloc_floor.periodic_scan_starts_s(0.0, 10.0, 3.0, 2.0), [0.0, 3.0, 6.0])
