@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 from ilocalg.experiments import fusion_knn_pdr
-from ilocalg.sim import gait, iloc_floor
+from ilocalg.sim import gait, iloc_floor, measured
 
 
 def test_fast_run_is_deterministic_and_structured():
@@ -52,12 +52,10 @@ def test_test_positions_are_walking_positions_off_the_reference_grid():
     assert (tp["t_s"] > gait.GaitConfig().stand_s).all()   # fixes available while walking, not at the start
     pdr = tp[tp["method"] == "PDR only"].sort_values(["walker", "point"])
     iv = a["calibration"].set_index("quantity")["value"]["scan interval = time between test positions [s]"]
-    lat = a["calibration"].set_index("quantity")["value"]["scan latency [s]"]
+    assert iv == pytest.approx(measured.param("wifi_scan_interval_s"))
     for _, g in pdr.groupby("walker"):
         dt = np.diff(g["t_s"].to_numpy())
-        np.testing.assert_allclose(dt, iv)                 # periodic scans
-        # scored when the fix is available: the scan's end, latency after a periodic start from the log's start
-        np.testing.assert_allclose((g["t_s"].to_numpy() - lat) % iv, 0.0, atol=1e-9)
+        np.testing.assert_allclose(dt, iv)                 # periodic scans, scored when each fix is stamped
         step = np.hypot(*np.diff(g[["x_true_m", "y_true_m"]].to_numpy(), axis=0).T)
         assert step.min() > 1.0                            # the walker moved between scans
     # every walk has as many test positions as its walking time allows, for every method
@@ -75,18 +73,18 @@ def test_test_scans_are_walking_scans_from_their_own_sessions(monkeypatch):
         drifts.append(d)
         return d
 
-    def spy_scans(sim, t, xy, starts, lat, rng, drift):
-        calls.append((sim, np.asarray(starts), lat, drift))
-        return real_scans(sim, t, xy, starts, lat, rng, drift)
+    def spy_scans(sim, t, xy, starts, lat, rng, drift, read_age_s=None):
+        calls.append((sim, np.asarray(starts), read_age_s, drift))
+        return real_scans(sim, t, xy, starts, lat, rng, drift, read_age_s=read_age_s)
 
     monkeypatch.setattr(iloc_floor, "session_drift_db", spy_drift)
     monkeypatch.setattr(iloc_floor, "walking_scans", spy_scans)
     fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, budget=False)
     assert len(calls) == len(drifts) == 2                  # one walking session per walker
-    for (sim, starts, lat, drift), new in zip(calls, drifts, strict=True):
+    for (sim, starts, age, drift), new in zip(calls, drifts, strict=True):
         assert drift is new                                # a new session's per-AP drift ...
         assert not np.allclose(drift, sim.test_drift_db)   # ... not the standing calibration session's
-        assert lat == 2.0 and starts.size > 20             # walking scans with latency along the walk
+        assert starts.size > 20 and age.shape == (starts.size, sim.ap_xy_m.shape[0])  # aged readings
     assert not np.allclose(drifts[0], drifts[1])           # each walk is its own session
 
 

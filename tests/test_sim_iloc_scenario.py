@@ -4,13 +4,27 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ilocalg.sim import iloc_floor, iloc_scenario
+from ilocalg.sim import iloc_floor, iloc_scenario, measured
 
 
 @pytest.fixture(scope="module")
 def scn():
     return iloc_scenario.build(3, n_walkers=2, n_train=1, n_cal=3, scans_per_point=20, scan_interval_s=4.0,
-                               scan_latency_s=2.0)
+                               scan_latency_s=2.0, lag_model="uniform")
+
+
+def test_measured_lag_model_is_periodic_causal_and_has_the_measured_ages():
+    s = iloc_scenario.build(3, n_walkers=1, n_train=1, n_cal=3, scans_per_point=20)
+    assert s.params["scan_interval_s"] == measured.param("wifi_scan_interval_s")
+    sc = s.walks[0].scans
+    np.testing.assert_allclose(np.diff(sc["t_ready_s"]), s.params["scan_interval_s"])
+    assert ((sc["t_start_s"] <= sc["t_ref_s"]) & (sc["t_ref_s"] <= sc["t_ready_s"])).all()
+    ages = iloc_scenario.reading_ages_s(0, 200_000)
+    assert np.median(ages) == pytest.approx(measured.param("wifi_reading_age_median_s"), rel=0.01)
+    iqr = np.subtract(*np.percentile(ages, [75, 25]))
+    assert iqr == pytest.approx(measured.param("wifi_reading_age_iqr_s"), rel=0.02)
+    with pytest.raises(ValueError, match="lag_model"):
+        iloc_scenario.build(3, n_walkers=1, n_train=1, n_cal=3, scans_per_point=20, lag_model="oracle")
 
 
 def test_scans_are_periodic_and_causal(scn):
@@ -28,7 +42,7 @@ def test_scans_are_periodic_and_causal(scn):
 
 def test_build_is_deterministic_and_rescan_keeps_the_walks(scn):
     again = iloc_scenario.build(3, n_walkers=2, n_train=1, n_cal=3, scans_per_point=20, scan_interval_s=4.0,
-                                scan_latency_s=2.0)
+                                scan_latency_s=2.0, lag_model="uniform")
     for a, b in zip(scn.walks, again.walks, strict=True):
         pd.testing.assert_frame_equal(a.scans, b.scans)
         pd.testing.assert_frame_equal(a.imu, b.imu)

@@ -234,17 +234,19 @@ def pts_method(inp: FusionInputs) -> np.ndarray:
 
 
 def readings(scan_latency_s: float = SCAN_LATENCY_S, q_range=(0.05, 0.95), table4_reading: str = "relative",
-             scan_interval_s: float = SCAN_INTERVAL_S) -> pd.DataFrame:
+             scan_interval_s: float = SCAN_INTERVAL_S, lag_model: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     rows = [
         ("route", f"{_T}, L515, L588", "28 test points 4.11 m apart, also the Wi-Fi test points",
          "the floor's 28-point route 4 m apart (shared with notebooks 01, 05)", "2 m grid of L295; Fig 2 missing"),
         ("Wi-Fi fix", f"{_T}, L777, L779", "the phone detects the Wi-Fi signals periodically (L777); Wi-Fi "
          "positions from scans taken while the user walks",
-         f"periodic scans while walking, one every {scan_interval_s:g} s from the start of the log; each AP read "
-         f"within the {scan_latency_s:g} s scan; a fix is available only when its scan ends and enters the KF "
-         "at the latest step state then (causal); a new session (drift) per walk",
-         "scan interval and latency: assumptions until measured (ILC walks); latency swept in latency_sweep"),
+         f"periodic scans while walking, one every {scan_interval_s:g} s; "
+         + iloc_scenario.scan_model_text(lag_model, scan_latency_s) +
+         "; a fix is available only when its scan is stamped and enters the KF at the latest step state then "
+         "(causal); a new session (drift) per walk",
+         iloc_scenario.scan_model_source(scan_interval_s)
+         + "; the uniform-within-a-scan model (0-3 s) swept in latency_sweep"),
         ("scoring", f"{_T}, L588, Fig 23", "errors at the 28 test points",
          "at each test point's passing time: each track's latest state then; Wi-Fi only = the latest fix "
          "available then (earlier versions started a scan exactly at each test point: an oracle)", "causal"),
@@ -320,7 +322,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         table4_reading: str = "relative", gate_prob: float = 0.99, sigma_theta_rad: float = 0.2,
         lag: int = 5, wifi_methods=("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"),
         latencies_s=(0.0, 1.0, 2.0, 3.0), scan_interval_s: float = SCAN_INTERVAL_S,
-        budget: bool = True) -> dict[str, pd.DataFrame]:
+        budget: bool = True, lag_model: str = "measured") -> dict[str, pd.DataFrame]:
     """Wi-Fi only, PTS only and the KF variants at the 28 test points (Figs 22-23) for ``n_walkers`` new walkers.
 
     The world is built once (:func:`ilocalg.sim.iloc_scenario.build`); everything below applies methods
@@ -340,7 +342,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
     scn = iloc_scenario.build(seed, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal,
                               scans_per_point=60 if fast else None, scan_interval_s=scan_interval_s,
-                              scan_latency_s=scan_latency_s)
+                              scan_latency_s=scan_latency_s, lag_model=lag_model)
     ranges, models = _train_pts(scn, q_range)
     est = iloc_floor.fit_estimator(scn.floor, method)
     cal_var = iloc_floor.standing_fix_variance_m2(scn.floor, est)
@@ -388,8 +390,9 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                           "kf_rts_mean_m": mm[f"{MAIN} + RTS"],
                           "kf_heading_noise_rts_mean_m": mm[f"{MAIN} + heading noise + RTS"]})
     lat_rows = []
-    for lat in latencies_s:  # same world and walks, new periodic scans of another latency
-        s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scan_interval_s, lat), scan_latency_s=lat)
+    for lat in latencies_s:  # same world and walks, new periodic scans (uniform reads within a scan of each latency)
+        s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scan_interval_s, lat), scan_latency_s=lat,
+                                  lag_model="uniform")
         t2 = _walk_tracks(s2, est, cal_var, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag,
                           main_only=True)[0]
         mm = t2.groupby("method", sort=False)["error_m"].mean()
@@ -401,7 +404,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                                  "calibrated_var_m2": cal_var, "thesis_table5_var_m2_paper": paper_r}),
         "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
         "measures": pd.DataFrame(measures),
-        "readings": readings(scan_latency_s, q_range, table4_reading, scan_interval_s)})
+        "readings": readings(scan_latency_s, q_range, table4_reading, scan_interval_s, lag_model)})
     return out
 
 

@@ -233,7 +233,7 @@ def pdr_method(inp: FusionInputs) -> np.ndarray:
 
 def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None,
              scan_latency_s: float = SCAN_LATENCY_S, scan_interval_s: float = SCAN_INTERVAL_S,
-             principled: bool = True) -> pd.DataFrame:
+             principled: bool = True, lag_model: str = "measured") -> pd.DataFrame:
     """One row per modelling choice of :func:`run` (line numbers of Luo et al. 2017's text copy)."""
     det = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
     spp = scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT
@@ -284,13 +284,14 @@ def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per
          f"the phone scans periodically (every {scan_interval_s:g} s) from the start; a test position is where the "
          "walker is when a fix becomes available (its scan has ended) while walking; Fig 6's index = the fix's "
          "number; the start scan gives the initial position only (L212)",
-         "paper (walking); periodic scanning as i-Loc L777; interval: assumption until measured (ILC walks)"),
+         "paper (walking); periodic scanning as i-Loc L777; " + iloc_scenario.scan_model_source(scan_interval_s)),
         ("test scans", "L222", "the tester walks the route holding the phone, which locates as it goes; no scan "
          "duration or timing",
-         f"iloc_floor.walking_scans: each AP read at a uniform time within the {scan_latency_s:g} s scan at the "
-         "walker's position then, facing the walking direction (body shadowing); a fix is available only when "
-         "its scan ends and adjusts the latest PDR state then (causal; earlier versions applied it at the scan's "
-         "start)", "scan latency: assumption (phones 1-3 s), swept in latency_sweep"),
+         "iloc_floor.walking_scans: " + iloc_scenario.scan_model_text(lag_model, scan_latency_s) + ", facing the "
+         "walking direction (body shadowing); a fix is available only when its scan is stamped and adjusts the "
+         "latest PDR state then (causal; earlier versions applied it at the scan's start)",
+         "reading ages measured (see 'test positions'); the uniform-within-a-scan model (1-3 s, an assumption) "
+         "swept in latency_sweep"),
         ("error budget", "beyond the paper", "no error budget",
          "the combination and PDR only rerun with one error source replaced by the truth at a time (Wi-Fi fix "
          "error, scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
@@ -307,7 +308,8 @@ def _summary_rows(tp, label_col, label):
     return {label_col: label, **{f"{k} mean error [m]": float(v) for k, v in m.items()}}
 
 
-def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s):
+def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
+              lag_model="measured"):
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
     spp = scans_per_point if scans_per_point is not None else (60 if fast else iloc_floor.SCANS_PER_POINT)
@@ -315,13 +317,14 @@ def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_inter
     # at the route points on another day come with the world
     return iloc_scenario.build(seed, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal, scans_per_point=spp,
                                scan_interval_s=scan_interval_s, scan_latency_s=scan_latency_s,
-                               train_on_test_walkers=True)
+                               train_on_test_walkers=True, lag_model=lag_model)
 
 
 def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 10,
         detector: dict | None = None, sigma_theta_rad: float = 0.2, adjust_weight: float | None = None,
         scans_per_point: int | None = None, scan_latency_s: float = SCAN_LATENCY_S, sweeps: bool = True,
-        scan_interval_s: float = SCAN_INTERVAL_S, budget: bool = True) -> dict[str, pd.DataFrame]:
+        scan_interval_s: float = SCAN_INTERVAL_S, budget: bool = True,
+        lag_model: str = "measured") -> dict[str, pd.DataFrame]:
     """PDR only, Wi-Fi only (KNN) and the paper's combination at the walking test positions (Fig 6).
 
     Parameters
@@ -337,8 +340,10 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         calibration session (:func:`principled_weight`). Swept in ``adjust_sweep``.
     scans_per_point : int, optional
         Survey scans per reference point (default: the i-Loc floor's 300; fast: 60).
-    scan_latency_s, scan_interval_s : float
-        Duration of one walking scan and time between scan starts, s (periodic scans, causal fixes).
+    scan_latency_s, scan_interval_s, lag_model
+        Periodic scans while walking, causal fixes (:mod:`ilocalg.sim.iloc_scenario`): the interval
+        (default measured), the lag model (default the measured reading ages; ``"uniform"``: reads
+        uniform within a scan of ``scan_latency_s``).
     sweeps : bool
         Also run the survey, detector and scan-latency sweeps.
     budget : bool
@@ -354,7 +359,8 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         ``comparison``, ``readings``, ``adjust_sweep``, ``measures``, with ``budget`` ``budget``, and with
         ``sweeps`` ``survey_sweep``, ``detector_sweep``, ``latency_sweep``.
     """
-    scn = _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s)
+    scn = _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
+                    lag_model)
     tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS, principled=True)
     w_used = round(info["principled_weight"], 3) if adjust_weight is None else float(adjust_weight)
     if adjust_weight is not None and f"{COMBINED}, weight {w_used:g}" not in set(tp["method"]):
@@ -428,7 +434,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
            "track_example": pd.concat(ex, ignore_index=True), "calibration": calib,
            "comparison": comparison_table(comp),
            "readings": readings(w_used, detector, scans_per_point, scan_latency_s, scan_interval_s,
-                                adjust_weight is None),
+                                adjust_weight is None, lag_model),
            "adjust_sweep": adjust}
     if budget:
         bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_method})
@@ -442,7 +448,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             return t2.groupby("method", sort=False)["error_m"].mean()
         srows = []
         for spp in ((60,) if fast else SURVEY_SCANS):
-            s2 = _scenario(seed, fast, n_walkers, n_train, n_cal, spp, scan_interval_s, scan_latency_s)
+            s2 = _scenario(seed, fast, n_walkers, n_train, n_cal, spp, scan_interval_s, scan_latency_s, lag_model)
             t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
             mm = _means(t2)
             srows.append({"scans_per_point": i2["scans_per_point"], "wifi_only_mean_m": mm["Wi-Fi only (KNN)"],
@@ -459,8 +465,9 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                           "kf_alt_mean_m": mm[KF_ALT]})
         out["detector_sweep"] = pd.DataFrame(drows)
         lrows = []
-        for lat in ((scan_latency_s,) if fast else LATENCIES_S):
-            s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scan_interval_s, lat), scan_latency_s=lat)
+        for lat in ((scan_latency_s,) if fast else LATENCIES_S):  # the uniform-within-a-scan model
+            s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scan_interval_s, lat), scan_latency_s=lat,
+                                      lag_model="uniform")
             t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
             mm = _means(t2)
             lrows.append({"scan_latency_s": lat, "scan_interval_s": max(scan_interval_s, lat),

@@ -497,7 +497,7 @@ def _corridor_distance_m(xy: np.ndarray) -> np.ndarray:
 
 
 def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s: float = 2.0,
-                  rng=None, session_drift_db=None) -> pd.DataFrame:
+                  rng=None, session_drift_db=None, read_age_s=None) -> pd.DataFrame:
     """Wi-Fi scans taken while walking (one scan per fix), in the test session of ``sim``.
 
     Each AP of a scan is read at a uniform time within ``[start, start + scan_latency_s]`` (the
@@ -519,6 +519,9 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     rng : Generator, int or None
     session_drift_db : array_like (n_aps,), optional
         The session's per-AP drift; default ``sim.test_drift_db`` (the test session).
+    read_age_s : array_like (n_scans, n_aps), optional
+        The age of each AP's reading when the scan's result is ready (``t_ready_s``): the AP is read
+        at ``t_ready_s - age`` (within the track). Default: uniform read times within the scan.
 
     Returns
     -------
@@ -545,7 +548,13 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     if drift.shape != (n_ap,):
         raise ValueError(f"session_drift_db must have shape ({n_ap},), got {drift.shape}")
     n = ts.size
-    t_read = np.minimum(ts[:, None] + r.uniform(0.0, scan_latency_s, (n, n_ap)), t[-1])
+    if read_age_s is None:
+        t_read = np.minimum(ts[:, None] + r.uniform(0.0, scan_latency_s, (n, n_ap)), t[-1])
+    else:
+        age = np.asarray(read_age_s, dtype=np.float64)
+        if age.shape != (n, n_ap) or not (np.isfinite(age).all() and (age >= 0).all()):
+            raise ValueError(f"read_age_s must be finite, >= 0 and of shape ({n}, {n_ap}), got {age.shape}")
+        t_read = np.clip(ts[:, None] + scan_latency_s - age, t[0], t[-1])
     x_read = np.interp(t_read, t, xy[:, 0])
     y_read = np.interp(t_read, t, xy[:, 1])
     # walking direction from the track (finite difference over 0.5 s)

@@ -8,12 +8,23 @@ experiment applies methods to it; it never draws from the simulator itself.
 
 Scans while walking
     The phone scans periodically while its user walks (i-Loc thesis, Chiu 2013, L777: "the phone
-    periodically detects the Wi-Fi signals"): a scan starts every ``scan_interval_s`` from the start
-    of the log, each AP is read at a uniform time within the scan's ``scan_latency_s`` (so each RSSI
-    value has an age between 0 and the latency when the scan ends), and the scan's result, and the
-    fix made from it, is available only at the scan's end (``t_ready_s``): fixes are causal. The
-    first scan, taken at the start, gives the walk's initial position (i-Loc L792-795; Luo et al.
-    2017, L212). Each walk is its own session: a new per-AP drift (another day than the survey).
+    periodically detects the Wi-Fi signals"). A scan's result, and the fix made from it, is available
+    only when the scan is stamped (``t_ready_s``): fixes are causal. Two lag models:
+
+    ``lag_model="measured"`` (default)
+        Results are stamped every ``scan_interval_s`` (default: the measured median interval of the
+        ILC 2.0 site1 walks, ``data/measured_parameters.csv: wifi_scan_interval_s``), the first one
+        interval after the log starts. Each AP's reading is older than the stamp by an age drawn from
+        a log-normal distribution with the measured median (``wifi_reading_age_median_s``) and
+        interquartile range (``wifi_reading_age_iqr_s``) of distinct readings' ages (t_scan -
+        last_seen) on the same walks; the AP is read at the walker's position then. ``t_start_s`` is
+        the scan's earliest reading.
+    ``lag_model="uniform"`` (the earlier model, a labelled alternative)
+        A scan starts every ``scan_interval_s`` from the start of the log, each AP is read at a
+        uniform time within the scan's ``scan_latency_s``, and the result is ready at its end.
+
+    The first scan gives the walk's initial position (i-Loc L792-795; Luo et al. 2017, L212). Each
+    walk is its own session: a new per-AP drift (another day than the survey).
 
 Everything is deterministic from ``seed``: the floor, the walks and each walk's scans come from
 independent streams (``np.random.Generator.spawn``), so rescanning a world (:func:`rescan`) or
@@ -34,15 +45,32 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ilocalg.sim import gait, iloc_floor
+from ilocalg.sim import gait, iloc_floor, measured
 from ilocalg.units import as_rng
 
-__all__ = ["ScenarioWalk", "IlocScenario", "build", "rescan", "walk_fixes", "SCAN_INTERVAL_S", "SCAN_LATENCY_S"]
+__all__ = ["ScenarioWalk", "IlocScenario", "build", "rescan", "walk_fixes", "reading_ages_s", "scan_model_text",
+           "scan_model_source", "SCAN_INTERVAL_S", "SCAN_LATENCY_S", "LAG_MODELS"]
 
-#: Default time between scan starts while walking, s (replaced by the measured row when available).
-SCAN_INTERVAL_S = 3.0
-#: Default scan duration, s: each RSSI value is read within it (phones take 1-3 s per scan).
+#: Time between scans while walking, s: the measured median of the ILC 2.0 site1 walks.
+SCAN_INTERVAL_S = measured.param("wifi_scan_interval_s")
+#: Scan duration of the "uniform" lag model, s (phones take 1-3 s per scan; an assumption).
 SCAN_LATENCY_S = 2.0
+LAG_MODELS = ("measured", "uniform")
+_Z75 = 0.6744897501960817  # standard normal 75 % quantile
+
+
+def reading_ages_s(rng, shape, median_s: float | None = None, iqr_s: float | None = None) -> np.ndarray:
+    """Ages (s) of RSSI readings at their scan's stamp: log-normal with the given median and interquartile range.
+
+    Defaults: the measured ``wifi_reading_age_median_s`` and ``wifi_reading_age_iqr_s`` (ILC 2.0 site1). For a
+    log-normal, ``IQR = 2 median sinh(z75 sigma)``, so ``sigma = asinh(IQR / (2 median)) / z75``.
+    """
+    med = measured.param("wifi_reading_age_median_s") if median_s is None else float(median_s)
+    iqr = measured.param("wifi_reading_age_iqr_s") if iqr_s is None else float(iqr_s)
+    if not (med > 0 and iqr >= 0):
+        raise ValueError(f"need median_s > 0 and iqr_s >= 0, got {med}, {iqr}")
+    sigma = np.arcsinh(iqr / (2.0 * med)) / _Z75
+    return med * np.exp(sigma * as_rng(rng).standard_normal(shape))
 
 
 @dataclass(frozen=True)
@@ -102,17 +130,45 @@ class IlocScenario:
     params: dict
 
 
-def _scans(floor, truth, interval, latency, rng) -> pd.DataFrame:
+def scan_model_text(lag_model: str, scan_latency_s: float = SCAN_LATENCY_S) -> str:
+    """What the lag model does, in one clause (for readings tables)."""
+    if lag_model == "measured":
+        return ("each AP's reading is older than the scan's stamp by a log-normal age with the measured median and "
+                "IQR (read at the walker's position then)")
+    return f"each AP read at a uniform time within the {scan_latency_s:g} s scan, ready at its end"
+
+
+def scan_model_source(scan_interval_s: float) -> str:
+    """Where the scan interval and reading ages come from (for readings tables)."""
+    iv = (measured.cite("wifi_scan_interval_s") if scan_interval_s == measured.param("wifi_scan_interval_s")
+          else f"scan interval {scan_interval_s:g} s (given)")
+    med = measured.param("wifi_reading_age_median_s")
+    sigma = np.arcsinh(measured.param("wifi_reading_age_iqr_s") / (2.0 * med)) / _Z75
+    p90 = med * np.exp(1.2815515655446004 * sigma)
+    return (f"{iv}; {measured.cite('wifi_reading_age_median_s')}; {measured.cite('wifi_reading_age_iqr_s')} "
+            f"(the log-normal's p90 {p90:.2f} s vs the measured {measured.param('wifi_reading_age_p90_s'):.2f} s: "
+            "real ages have a longer tail)")
+
+
+def _scans(floor, truth, interval, latency, rng, lag_model="measured") -> pd.DataFrame:
     t = truth.index.to_numpy()
     xy = truth[["x_m", "y_m"]].to_numpy()
     drift = iloc_floor.session_drift_db(floor, rng)  # this walk's session
-    starts = iloc_floor.periodic_scan_starts_s(t[0], t[-1], interval, latency)
-    return iloc_floor.walking_scans(floor, t, xy, starts, latency, rng, drift)
+    if lag_model == "uniform":
+        starts = iloc_floor.periodic_scan_starts_s(t[0], t[-1], interval, latency)
+        return iloc_floor.walking_scans(floor, t, xy, starts, latency, rng, drift)
+    if lag_model != "measured":
+        raise ValueError(f"lag_model must be one of {LAG_MODELS}, got {lag_model!r}")
+    stamps = iloc_floor.periodic_scan_starts_s(t[0], t[-1], interval, 0.0)[1:]  # the first result one interval in
+    age = reading_ages_s(rng, (stamps.size, floor.ap_xy_m.shape[0]))
+    s = iloc_floor.walking_scans(floor, t, xy, stamps, 0.0, rng, drift, read_age_s=age)
+    s["t_start_s"] = np.maximum(stamps - age.max(axis=1), t[0])  # the scan's earliest reading
+    return s
 
 
 def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_per_point: int | None = None,
           scan_interval_s: float = SCAN_INTERVAL_S, scan_latency_s: float = SCAN_LATENCY_S,
-          train_on_test_walkers: bool = False, **floor_overrides) -> IlocScenario:
+          train_on_test_walkers: bool = False, lag_model: str = "measured", **floor_overrides) -> IlocScenario:
     """Build the i-Loc floor world once and return it as a scenario.
 
     Parameters
@@ -121,7 +177,8 @@ def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_p
     n_walkers, n_train : test walks, and walkers of the fixed-length training walks
     n_cal : standing scans per route point in the calibration session (another day)
     scans_per_point : survey scans per training point (default the floor's 300)
-    scan_interval_s, scan_latency_s : periodic scans while walking (module docstring)
+    scan_interval_s, scan_latency_s, lag_model : periodic scans while walking (module docstring;
+        ``scan_latency_s`` is used by the ``"uniform"`` model only)
     train_on_test_walkers : train on the first ``n_train`` test walkers (Luo et al.: the tester's own
         walks) instead of new walkers (i-Loc: SAM and SLM are trained on other walkers)
     floor_overrides : radio parameters passed to :func:`ilocalg.sim.iloc_floor.simulate`
@@ -143,18 +200,19 @@ def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_p
     walks = []
     for i, w in enumerate(test_w):
         sw = gait.simulate_walk(route, w, walk_rng)
-        scans = _scans(floor, sw.truth, scan_interval_s, scan_latency_s, scan_rngs[i])
+        scans = _scans(floor, sw.truth, scan_interval_s, scan_latency_s, scan_rngs[i], lag_model)
         walks.append(ScenarioWalk(name=w.name, imu=sw.imu, scans=scans,
                                   steps=sw.steps, truth=sw.truth, pass_t_s=gait.pass_times_s(sw, route),
                                   stand_s=sw.config.stand_s, walker=w))
     params = {"seed": seed if not isinstance(seed, np.random.Generator) else "rng", "scans_per_point": spp,
               "scan_interval_s": float(scan_interval_s), "scan_latency_s": float(scan_latency_s),
+              "lag_model": lag_model,
               "n_cal": n_cal, "train_on_test_walkers": bool(train_on_test_walkers), **floor_overrides}
     return IlocScenario(floor=floor, route_xy_m=route, train_walks=train, walks=tuple(walks), params=params)
 
 
 def rescan(scn: IlocScenario, seed, scan_interval_s: float | None = None,
-           scan_latency_s: float | None = None) -> IlocScenario:
+           scan_latency_s: float | None = None, lag_model: str | None = None) -> IlocScenario:
     """The same world, walks and sessions' walkers, with new periodic scans (another interval or latency).
 
     ``seed`` must be the seed :func:`build` was given: the scans come from the same stream, so only what
@@ -162,10 +220,12 @@ def rescan(scn: IlocScenario, seed, scan_interval_s: float | None = None,
     """
     iv = scn.params["scan_interval_s"] if scan_interval_s is None else float(scan_interval_s)
     lat = scn.params["scan_latency_s"] if scan_latency_s is None else float(scan_latency_s)
+    lm = scn.params["lag_model"] if lag_model is None else lag_model
     scan_rngs = as_rng(seed).spawn(3)[2].spawn(len(scn.walks))
-    walks = tuple(dataclasses.replace(w, scans=_scans(scn.floor, w.truth, iv, lat, scan_rngs[i]))
+    walks = tuple(dataclasses.replace(w, scans=_scans(scn.floor, w.truth, iv, lat, scan_rngs[i], lm))
                   for i, w in enumerate(scn.walks))
-    return dataclasses.replace(scn, walks=walks, params={**scn.params, "scan_interval_s": iv, "scan_latency_s": lat})
+    return dataclasses.replace(scn, walks=walks, params={**scn.params, "scan_interval_s": iv, "scan_latency_s": lat,
+                                                         "lag_model": lm})
 
 
 def walk_fixes(scn: IlocScenario, walk: ScenarioWalk, estimator) -> pd.DataFrame:
