@@ -416,7 +416,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                            "value": info["principled_weight"]},
                           {"quantity": "adjustment weight used", "value": w_used},
                           {"quantity": "survey scans per reference point", "value": info["scans_per_point"]},
-                          {"quantity": "scan latency [s]", "value": info["scan_latency_s"]},
+                          {"quantity": "scan latency [s] (uniform lag model only)", "value": info["scan_latency_s"]},
                           {"quantity": "scan interval = time between test positions [s]",
                            "value": info["scan_interval_s"]},
                           {"quantity": "test positions per walker (points every walker reached)", "value": n_common},
@@ -521,6 +521,18 @@ def findings(tables: dict) -> str:
         f"Combined / Wi-Fi only = {c / w:.2f} (paper {PAPER_LUO['combined_mean_m'] / PAPER_LUO['wifi_mean_m']:.2f}); "
         f"PDR only beats the combined scheme up to point {cross} (paper: the first {PAPER_LUO['pdr_better_points']}).",
     ]
+    aw = tables["adjust_sweep"]
+    if "default" in aw.columns and aw["default"].any():
+        d = aw[aw["default"]].iloc[0]
+        b = aw.loc[aw["mean_error_m"].idxmin()]
+        lines.append(f"Adjustment weight {d['weight']:.2f} (inverse variances measured on training data): "
+                     f"{d['mean_error_m']:.2f} m; the sweep's lowest error is {b['mean_error_m']:.2f} m at weight "
+                     f"{b['weight']:g}, a value read off the outcome and not used.")
+    if "budget" in tables:
+        bd = tables["budget"]
+        k = bd[(bd["method"] == COMBINED) & bd["replaced_by_truth"].isin(BUDGET_SOURCES)].set_index("replaced_by_truth")
+        lines.append("Error budget of the combination (share of its mean error removed when the source is true): "
+                     + ", ".join(f"{s} {v:.0%}" for s, v in k["share_of_error"].items()) + ".")
     if "latency_sweep" in tables:
         ls = tables["latency_sweep"]
         lines.append("Scan latency " + ", ".join(f"{r.scan_latency_s:g} s" for r in ls.itertuples())
