@@ -73,9 +73,9 @@ def test_test_scans_are_walking_scans_from_their_own_sessions(monkeypatch):
         drifts.append(d)
         return d
 
-    def spy_scans(sim, t, xy, starts, lat, rng, drift, read_age_s=None):
-        calls.append((sim, np.asarray(starts), read_age_s, drift))
-        return real_scans(sim, t, xy, starts, lat, rng, drift, read_age_s=read_age_s)
+    def spy_scans(sim, t, xy, starts, lat, rng, drift, **kw):
+        calls.append((sim, np.asarray(starts), kw.get("read_age_s"), drift))
+        return real_scans(sim, t, xy, starts, lat, rng, drift, **kw)
 
     monkeypatch.setattr(iloc_floor, "session_drift_db", spy_drift)
     monkeypatch.setattr(iloc_floor, "walking_scans", spy_scans)

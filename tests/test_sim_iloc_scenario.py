@@ -62,3 +62,19 @@ def test_walk_fixes_and_bad_scan_timing(scn):
     with pytest.raises(ValueError, match="longer than the scan interval"):
         iloc_floor.periodic_scan_starts_s(0.0, 10.0, 1.0, 2.0)
     np.testing.assert_allclose(iloc_floor.periodic_scan_starts_s(0.0, 10.0, 3.0, 2.0), [0.0, 3.0, 6.0])
+
+
+def test_a_scenario_walk_saves_and_loads_like_a_recording(scn, tmp_path):
+    from ilocalg.io.ilc_write import write_ilc_trace
+    from ilocalg.io.recording import load_recording
+
+    w = scn.walks[0]
+    rec = iloc_scenario.to_recording(scn, w)
+    heard = int((~np.isnan(w.scans[list(scn.floor.train.ap_ids)].to_numpy())).sum())
+    assert len(rec.wifi) == heard and rec.wifi["scan_id"].nunique() == len(w.scans)
+    assert (rec.wifi["last_seen_s"] <= rec.wifi["t_s"] + 1e-9).all()     # a reading is never from the future
+    back = load_recording(write_ilc_trace(rec, tmp_path / "walk.txt"))
+    assert len(back.imu) == len(w.imu) and len(back.wifi) == heard
+    np.testing.assert_allclose(back.imu.to_numpy(), w.imu.to_numpy(), atol=1e-9)
+    np.testing.assert_allclose(np.sort(back.wifi["rssi_dbm"].to_numpy()), np.sort(rec.wifi["rssi_dbm"].to_numpy()))
+    np.testing.assert_allclose(back.truth[["x_m", "y_m"]].to_numpy(), scn.route_xy_m)

@@ -497,7 +497,7 @@ def _corridor_distance_m(xy: np.ndarray) -> np.ndarray:
 
 
 def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s: float = 2.0,
-                  rng=None, session_drift_db=None, read_age_s=None) -> pd.DataFrame:
+                  rng=None, session_drift_db=None, read_age_s=None, return_read_times: bool = False):
     """Wi-Fi scans taken while walking (one scan per fix), in the test session of ``sim``.
 
     Each AP of a scan is read at a uniform time within ``[start, start + scan_latency_s]`` (the
@@ -522,6 +522,8 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     read_age_s : array_like (n_scans, n_aps), optional
         The age of each AP's reading when the scan's result is ready (``t_ready_s``): the AP is read
         at ``t_ready_s - age`` (within the track). Default: uniform read times within the scan.
+    return_read_times : bool
+        Also return the (n_scans, n_aps) time at which each AP was read, s.
 
     Returns
     -------
@@ -582,7 +584,7 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     out.insert(0, "x_m", np.interp(ts, t, xy[:, 0]))
     out.insert(0, "t_ready_s", ts + scan_latency_s)
     out.insert(0, "t_start_s", ts)
-    return out
+    return (out, t_read) if return_read_times else out
 
 
 def back_to_back_scan_starts_s(t0_s: float, t1_s: float, scan_latency_s: float) -> np.ndarray:

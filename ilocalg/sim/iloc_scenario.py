@@ -45,17 +45,23 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from ilocalg.io.recording import LocalFrame, Recording
+from ilocalg.io.schema import BSSID, FLOOR, RSSI_DBM, SCAN_ID, T_S, X_M, Y_M
+from ilocalg.io.schema import FREQ_MHZ as _FREQ
 from ilocalg.sim import gait, iloc_floor, measured
 from ilocalg.units import as_rng
 
 __all__ = ["ScenarioWalk", "IlocScenario", "build", "rescan", "walk_fixes", "reading_ages_s", "scan_model_text",
-           "scan_model_source", "SCAN_INTERVAL_S", "SCAN_LATENCY_S", "LAG_MODELS"]
+           "scan_model_source", "to_recording", "ap_bssids", "SCAN_INTERVAL_S", "SCAN_LATENCY_S", "LAG_MODELS",
+           "FREQ_MHZ"]
 
 #: Time between scans while walking, s: the measured median of the ILC 2.0 site1 walks.
 SCAN_INTERVAL_S = measured.param("wifi_scan_interval_s")
 #: Scan duration of the "uniform" lag model, s (phones take 1-3 s per scan; an assumption).
 SCAN_LATENCY_S = 2.0
 LAG_MODELS = ("measured", "uniform")
+#: Channel frequency written for every simulated AP, MHz (the floor simulator has no channel model).
+FREQ_MHZ = 2437.0
 _Z75 = 0.6744897501960817  # standard normal 75 % quantile
 
 
@@ -89,6 +95,7 @@ class ScenarioWalk:
     pass_t_s : (n_route,) the times the walker passes each route point
     stand_s : float, time at rest at the start of the log
     walker : Walker (truth: the gait the walk was drawn with)
+    read_t_s : (n_scans, n_aps) when each AP of each scan was read (its ``last_seen``), s
     """
 
     name: str
@@ -99,6 +106,7 @@ class ScenarioWalk:
     pass_t_s: np.ndarray
     stand_s: float
     walker: gait.Walker = field(repr=False)
+    read_t_s: np.ndarray = field(repr=False, default=None)
 
     @property
     def truth_t_s(self) -> np.ndarray:
@@ -156,14 +164,15 @@ def _scans(floor, truth, interval, latency, rng, lag_model="measured") -> pd.Dat
     drift = iloc_floor.session_drift_db(floor, rng)  # this walk's session
     if lag_model == "uniform":
         starts = iloc_floor.periodic_scan_starts_s(t[0], t[-1], interval, latency)
-        return iloc_floor.walking_scans(floor, t, xy, starts, latency, rng, drift)
+        return iloc_floor.walking_scans(floor, t, xy, starts, latency, rng, drift, return_read_times=True)
     if lag_model != "measured":
         raise ValueError(f"lag_model must be one of {LAG_MODELS}, got {lag_model!r}")
     stamps = iloc_floor.periodic_scan_starts_s(t[0], t[-1], interval, 0.0)[1:]  # the first result one interval in
     age = reading_ages_s(rng, (stamps.size, floor.ap_xy_m.shape[0]))
-    s = iloc_floor.walking_scans(floor, t, xy, stamps, 0.0, rng, drift, read_age_s=age)
-    s["t_start_s"] = np.maximum(stamps - age.max(axis=1), t[0])  # the scan's earliest reading
-    return s
+    s, t_read = iloc_floor.walking_scans(floor, t, xy, stamps, 0.0, rng, drift, read_age_s=age,
+                                         return_read_times=True)
+    s["t_start_s"] = t_read.min(axis=1)  # the scan's earliest reading
+    return s, t_read
 
 
 def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_per_point: int | None = None,
@@ -200,8 +209,8 @@ def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_p
     walks = []
     for i, w in enumerate(test_w):
         sw = gait.simulate_walk(route, w, walk_rng)
-        scans = _scans(floor, sw.truth, scan_interval_s, scan_latency_s, scan_rngs[i], lag_model)
-        walks.append(ScenarioWalk(name=w.name, imu=sw.imu, scans=scans,
+        scans, t_read = _scans(floor, sw.truth, scan_interval_s, scan_latency_s, scan_rngs[i], lag_model)
+        walks.append(ScenarioWalk(name=w.name, imu=sw.imu, scans=scans, read_t_s=t_read,
                                   steps=sw.steps, truth=sw.truth, pass_t_s=gait.pass_times_s(sw, route),
                                   stand_s=sw.config.stand_s, walker=w))
     params = {"seed": seed if not isinstance(seed, np.random.Generator) else "rng", "scans_per_point": spp,
@@ -222,7 +231,9 @@ def rescan(scn: IlocScenario, seed, scan_interval_s: float | None = None,
     lat = scn.params["scan_latency_s"] if scan_latency_s is None else float(scan_latency_s)
     lm = scn.params["lag_model"] if lag_model is None else lag_model
     scan_rngs = as_rng(seed).spawn(3)[2].spawn(len(scn.walks))
-    walks = tuple(dataclasses.replace(w, scans=_scans(scn.floor, w.truth, iv, lat, scan_rngs[i], lm))
+    walks = tuple(dataclasses.replace(w, **dict(zip(("scans", "read_t_s"),
+                                                    _scans(scn.floor, w.truth, iv, lat, scan_rngs[i], lm),
+                                                    strict=True)))
                   for i, w in enumerate(scn.walks))
     return dataclasses.replace(scn, walks=walks, params={**scn.params, "scan_interval_s": iv, "scan_latency_s": lat,
                                                          "lag_model": lm})
@@ -248,3 +259,36 @@ def walk_fixes(scn: IlocScenario, walk: ScenarioWalk, estimator) -> pd.DataFrame
     out["fix_x_m"], out["fix_y_m"] = fix[:, 0], fix[:, 1]
     out["n_heard"] = (~np.isnan(X)).sum(axis=1)
     return out.reset_index(drop=True)
+
+
+def ap_bssids(scn: IlocScenario) -> tuple:
+    """A locally administered MAC address per simulated AP, in ``scn.floor.train.ap_ids`` order."""
+    return tuple(f"02:00:00:00:{i // 256:02x}:{i % 256:02x}" for i in range(len(scn.floor.train.ap_ids)))
+
+
+def to_recording(scn: IlocScenario, walk: ScenarioWalk) -> Recording:
+    """One test walk as a :class:`~ilocalg.io.recording.Recording`: what a phone logged, plus its truth.
+
+    The IMU log as simulated; each heard AP of each scan as a Wi-Fi row stamped at the scan's result
+    (``t_ready_s``) with ``last_seen_s`` = when it was read; the ground truth = the route points at the
+    times they are passed (as a surveyor marks them), floor 0, in the floor's map frame; the true steps'
+    mid-times as ``step_t_s``. Save it with :func:`ilocalg.io.ilc_write.write_ilc_trace` and read it back
+    with :func:`ilocalg.io.recording.load_recording`, like a real walk.
+    """
+    ids = list(scn.floor.train.ap_ids)
+    X = walk.scans[ids].to_numpy()
+    si, aj = np.nonzero(~np.isnan(X))
+    bss = ap_bssids(scn)
+    read = walk.read_t_s if walk.read_t_s is not None else np.repeat(walk.scans["t_ref_s"].to_numpy()[:, None],
+                                                                       len(ids), axis=1)
+    wifi = pd.DataFrame({T_S: walk.scans["t_ready_s"].to_numpy()[si], SCAN_ID: si.astype(np.int64),
+                         BSSID: pd.array([bss[j] for j in aj], dtype="string"), RSSI_DBM: X[si, aj],
+                         _FREQ: np.full(si.size, FREQ_MHZ), "last_seen_s": read[si, aj],
+                         "ssid": pd.array([ids[j] for j in aj], dtype="string")})
+    truth = pd.DataFrame({T_S: walk.pass_t_s, X_M: scn.route_xy_m[:, 0], Y_M: scn.route_xy_m[:, 1],
+                          FLOOR: np.zeros(walk.pass_t_s.size)})
+    return Recording(name=walk.name, imu=walk.imu, wifi=wifi, truth=truth, frame=LocalFrame("i-Loc floor (simulated)"),
+                     step_t_s=walk.steps["t_mid_s"].to_numpy(),
+                     meta={"format": "sim", "device": "simulated phone", "skipped": {}, "walker": walk.walker.name,
+                           "scenario": dict(scn.params)},
+                     source=f"ilocalg.sim.iloc_scenario ({walk.name})")
