@@ -76,7 +76,7 @@ report = Report(OUT_DIR, "08_fusion_knn_pdr")
 # %%
 tables = fusion_knn_pdr.run(seed=SEED, fast=FAST)
 for name in ("readings", "summary", "test_points", "per_point", "cdf", "calibration", "adjust_sweep",
-             "survey_sweep", "detector_sweep", "latency_sweep", "budget", "measures"):
+             "survey_sweep", "detector_sweep", "latency_sweep", "budget", "budget_inputs", "measures"):
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
@@ -170,6 +170,7 @@ with ilocviz.style():
 
 # %%
 display(tables["budget"].round(3))  # noqa: F821
+display(tables["budget_inputs"].round(3))  # noqa: F821  (the inputs against their truth)
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(9, 4.5))
     ilocviz.fusion.error_budget_bars(tables["budget"], ax=ax)

@@ -101,3 +101,15 @@ def test_inputs_refuse_a_fix_from_the_future():
     w = _walk()
     with pytest.raises(ValueError, match="after it is available"):
         FusionInputs(**{**w.__dict__, "fix_ref_t_s": w.fix_t_s + 1.0})
+
+
+def test_input_diagnostics():
+    from ilocalg.fusion.budget import input_diagnostics
+
+    d = input_diagnostics([_walk()]).set_index("quantity")["value"]
+    # a 1 s lag at 1.4 m/s puts every fix 1.4 m further behind the walker when it enters than where it was read
+    assert (d["fix along-track offset from the position when it enters"]
+            - d["fix along-track offset from the position it describes"]) == pytest.approx(-1.4)
+    assert d["fix age when it enters"] == pytest.approx(1.0)
+    assert d["detected / true steps"] == pytest.approx(50 / 60)
+    assert 0.7 < d["PDR distance / true distance"] < 0.95

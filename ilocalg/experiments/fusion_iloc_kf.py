@@ -49,7 +49,7 @@ from ilocalg.fusion import (
     sigma_sl_paper_m,
 )
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import FusionInputs, error_budget, track_at
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, track_at
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.pdr.dead_reckoning import dead_reckon
@@ -336,7 +336,8 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         per-point fix variance beside the thesis's Table 5), ``gating``, ``comparison``,
         ``by_wifi_method`` (the main variants with each estimator of ``wifi_methods``, same scenario),
         ``latency_sweep`` (Wi-Fi only and the main KF with each scan latency of ``latencies_s``: same
-        walks, new scans), ``budget`` (the error budget of the main KF and PTS), ``measures``, ``readings``.
+        walks, new scans), ``budget`` (the error budget of the main KF and PTS), ``budget_inputs`` (the inputs against
+        their truth: fix offsets and age, step counts, distance, heading), ``measures``, ``readings``.
     """
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
@@ -374,6 +375,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     if budget:
         bud = error_budget(inputs, {MAIN: kf_method(r_cal, table4_reading), "PTS (Wi-Fi start)": pts_method})
         out["budget"] = bud
+        out["budget_inputs"] = input_diagnostics(inputs)
         for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():
             measures.append({"quantity": f"budget share: {r.replaced_by_truth}", "value": r.share_of_error,
                              "unit": "-", "item": r.method})

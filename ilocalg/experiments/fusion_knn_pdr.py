@@ -51,7 +51,7 @@ import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import FusionInputs, error_budget, steady_state_weight, track_at
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, steady_state_weight, track_at
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.papers.claims import interval
@@ -356,7 +356,8 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         fix became available while walking, ``point`` = the fix's number), ``summary``, ``cdf``,
         ``per_point`` (mean error per point and method over the walkers, for the points every walker
         reached: the Fig 6 curves), ``track_example``, ``calibration`` (k, sigma_SL, R, weight, ...),
-        ``comparison``, ``readings``, ``adjust_sweep``, ``measures``, with ``budget`` ``budget``, and with
+        ``comparison``, ``readings``, ``adjust_sweep``, ``measures``, with ``budget`` ``budget`` and
+        ``budget_inputs`` (the inputs against their truth), and with
         ``sweeps`` ``survey_sweep``, ``detector_sweep``, ``latency_sweep``.
     """
     scn = _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
@@ -439,6 +440,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     if budget:
         bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_method})
         out["budget"] = bud
+        out["budget_inputs"] = input_diagnostics(info["inputs"])
         for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():
             measures.append({"quantity": f"budget share: {r.replaced_by_truth}", "value": r.share_of_error,
                              "unit": "-", "item": r.method})

@@ -45,7 +45,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-__all__ = ["SOURCES", "FusionInputs", "with_truth", "track_at", "walk_errors", "error_budget", "steady_state_weight"]
+__all__ = ["SOURCES", "FusionInputs", "with_truth", "track_at", "walk_errors", "error_budget", "steady_state_weight",
+           "input_diagnostics"]
 
 #: The error sources a budget replaces by the truth, one at a time.
 SOURCES = ("Wi-Fi fix error", "scan lag", "step detection", "step length", "heading")
@@ -216,6 +217,36 @@ def error_budget(walks, methods: dict, sources=SOURCES) -> pd.DataFrame:
                          "error_removed_m": base - mean,
                          "share_of_error": (base - mean) / base if base > 0 else np.nan})
     return pd.DataFrame(rows)
+
+
+def input_diagnostics(walks) -> pd.DataFrame:
+    """What the budget's inputs look like against their truth, pooled over walks (a budget's "why").
+
+    Rows (``quantity``, ``value``, ``unit``): the fixes' mean along-track offset from the position they
+    describe (``fix_ref_t_s``) and from the position when they enter (``fix_t_s``; positive = ahead of
+    the walker), their mean age at entry, the detected / true step count and the PDR distance / true
+    distance, and the rms heading error of the detected steps.
+    """
+    walks = list(walks)
+    if not walks:
+        raise ValueError("input_diagnostics: no walks given")
+    ref, ent, age, nd, nt, dd, dt, he = [], [], [], 0, 0, 0.0, 0.0, []
+    for w in walks:
+        ok = np.isfinite(w.fix_xy_m).all(axis=1)
+        for out, t in ((ref, w.fix_ref_t_s[ok]), (ent, w.fix_t_s[ok])):
+            th = w.theta_at(t)
+            out.append(((w.fix_xy_m[ok] - w.truth_at(t)) * np.column_stack([np.cos(th), np.sin(th)])).sum(axis=1))
+        age.append(w.fix_t_s[ok] - w.fix_ref_t_s[ok])
+        nd, nt = nd + w.step_t_s.size, nt + np.sum(np.asarray(w.true_step_t_s) > w.t0_s)
+        dd, dt = dd + float(np.sum(w.step_m)), dt + float(np.sum(w.true_step_m))
+        he.append(np.angle(np.exp(1j * (np.asarray(w.theta_rad) - w.theta_at(w.step_t_s)))))
+    rows = [("fix along-track offset from the position it describes", np.mean(np.concatenate(ref)), "m"),
+            ("fix along-track offset from the position when it enters", np.mean(np.concatenate(ent)), "m"),
+            ("fix age when it enters", np.mean(np.concatenate(age)), "s"),
+            ("detected / true steps", nd / nt if nt else np.nan, "-"),
+            ("PDR distance / true distance", dd / dt if dt else np.nan, "-"),
+            ("heading error of the detected steps, rms", float(np.sqrt(np.mean(np.concatenate(he) ** 2))), "rad")]
+    return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
 
 def steady_state_weight(q_var_m2: float, r_var_m2: float) -> float:
