@@ -405,7 +405,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         "r_table": pd.DataFrame({"point": np.arange(1, route.shape[0] + 1), "x_m": route[:, 0], "y_m": route[:, 1],
                                  "calibrated_var_m2": cal_var, "thesis_table5_var_m2_paper": paper_r}),
         "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
-        "measures": pd.DataFrame(measures),
+        "measures": pd.DataFrame([{"item": "", **r} for r in measures])[["quantity", "value", "unit", "item"]],
         "readings": readings(scan_latency_s, q_range, table4_reading, scan_interval_s, lag_model)})
     return out
 

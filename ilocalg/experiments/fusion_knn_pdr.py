@@ -444,7 +444,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():
             measures.append({"quantity": f"budget share: {r.replaced_by_truth}", "value": r.share_of_error,
                              "unit": "-", "item": r.method})
-    out["measures"] = pd.DataFrame(measures)
+    out["measures"] = pd.DataFrame([{"item": "", **r} for r in measures])[["quantity", "value", "unit", "item"]]
     if sweeps:
         def _means(t2):
             return t2.groupby("method", sort=False)["error_m"].mean()
