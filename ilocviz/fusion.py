@@ -112,7 +112,7 @@ def error_budget_bars(budget, ax=None, methods=None):
     ax.set_yticklabels(src)
     ax.invert_yaxis()
     ax.set_xlabel("Share of the mean error removed when the source is replaced by the truth [-]")
-    ax.legend(loc="best", fontsize="small")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), fontsize="small")  # below: never over a bar
     return ax
 
 
