@@ -58,7 +58,7 @@ from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
 from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait, iloc_floor, iloc_scenario
-from ilocalg.sim.iloc_scenario import SCAN_INTERVAL_S, SCAN_LATENCY_S, walk_fixes
+from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 
 __all__ = ["run", "route_walk", "run_filters", "score_points", "score_at_times", "kf_method", "pts_method", "readings",
            "findings", "PAPER_KF"]
@@ -234,14 +234,14 @@ def pts_method(inp: FusionInputs) -> np.ndarray:
 
 
 def readings(scan_latency_s: float = SCAN_LATENCY_S, q_range=(0.05, 0.95), table4_reading: str = "relative",
-             scan_interval_s: float = SCAN_INTERVAL_S, lag_model: str = "measured") -> pd.DataFrame:
+             scan_interval_s: float | None = None, lag_model: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     rows = [
         ("route", f"{_T}, L515, L588", "28 test points 4.11 m apart, also the Wi-Fi test points",
          "the floor's 28-point route 4 m apart (shared with notebooks 01, 05)", "2 m grid of L295; Fig 2 missing"),
         ("Wi-Fi fix", f"{_T}, L777, L779", "the phone detects the Wi-Fi signals periodically (L777); Wi-Fi "
          "positions from scans taken while the user walks",
-         f"periodic scans while walking, one every {scan_interval_s:g} s; "
+         f"periodic scans while walking, one every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s; "
          + iloc_scenario.scan_model_text(lag_model, scan_latency_s) +
          "; a fix is available only when its scan is stamped and enters the KF at the latest step state then "
          "(causal); a new session (drift) per walk",
@@ -321,7 +321,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         method: str = "Simplified-Horus", q_range=(0.05, 0.95), scan_latency_s: float = SCAN_LATENCY_S,
         table4_reading: str = "relative", gate_prob: float = 0.99, sigma_theta_rad: float = 0.2,
         lag: int = 5, wifi_methods=("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"),
-        latencies_s=(0.0, 1.0, 2.0, 3.0), scan_interval_s: float = SCAN_INTERVAL_S,
+        latencies_s=(0.0, 1.0, 2.0, 3.0), scan_interval_s: float | None = None,
         budget: bool = True, lag_model: str = "measured") -> dict[str, pd.DataFrame]:
     """Wi-Fi only, PTS only and the KF variants at the 28 test points (Figs 22-23) for ``n_walkers`` new walkers.
 
@@ -344,6 +344,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     scn = iloc_scenario.build(seed, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal,
                               scans_per_point=60 if fast else None, scan_interval_s=scan_interval_s,
                               scan_latency_s=scan_latency_s, lag_model=lag_model)
+    iv = scn.params["scan_interval_s"]
     ranges, models = _train_pts(scn, q_range)
     est = iloc_floor.fit_estimator(scn.floor, method)
     cal_var = iloc_floor.standing_fix_variance_m2(scn.floor, est)
@@ -354,7 +355,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     summ, cdf = summarise_by_method(tp)
     m = summ.set_index("method")["mean_error_m"]
     note = (f"{n_walkers} new simulated walkers on the floor's 28-point route; Wi-Fi: {method}; periodic causal "
-            f"scans every {scan_interval_s:g} s")
+            f"scans every {iv:g} s")
     comp = [
         paper_ref(PAPER, "Fig 23", "PTS mean error at the test points", PAPER_KF["pts_mean_m"],
                   m["PTS (Wi-Fi start)"], "m", note + "; PTS from the Wi-Fi start"),
@@ -393,12 +394,12 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                           "kf_heading_noise_rts_mean_m": mm[f"{MAIN} + heading noise + RTS"]})
     lat_rows = []
     for lat in latencies_s:  # same world and walks, new periodic scans (uniform reads within a scan of each latency)
-        s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scan_interval_s, lat), scan_latency_s=lat,
+        s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(iv, lat), scan_latency_s=lat,
                                   lag_model="uniform")
         t2 = _walk_tracks(s2, est, cal_var, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag,
                           main_only=True)[0]
         mm = t2.groupby("method", sort=False)["error_m"].mean()
-        lat_rows.append({"scan_latency_s": float(lat), "scan_interval_s": float(max(scan_interval_s, lat)),
+        lat_rows.append({"scan_latency_s": float(lat), "scan_interval_s": float(max(iv, lat)),
                          "wifi_only_mean_m": mm["Wi-Fi only"], "kf_mean_m": mm[MAIN],
                          "kf_heading_noise_rts_mean_m": mm[f"{MAIN} + heading noise + RTS"]})
     out.update({

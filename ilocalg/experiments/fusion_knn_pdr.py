@@ -60,7 +60,7 @@ from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import iloc_floor, iloc_scenario
-from ilocalg.sim.iloc_scenario import SCAN_INTERVAL_S, SCAN_LATENCY_S, walk_fixes
+from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 
 __all__ = ["run", "seed_table", "principled_weight", "combined_method", "pdr_method", "crossover_point", "findings",
            "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS", "SURVEY_SCANS", "LATENCIES_S",
@@ -232,7 +232,7 @@ def pdr_method(inp: FusionInputs) -> np.ndarray:
 
 
 def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None,
-             scan_latency_s: float = SCAN_LATENCY_S, scan_interval_s: float = SCAN_INTERVAL_S,
+             scan_latency_s: float = SCAN_LATENCY_S, scan_interval_s: float | None = None,
              principled: bool = True, lag_model: str = "measured") -> pd.DataFrame:
     """One row per modelling choice of :func:`run` (line numbers of Luo et al. 2017's text copy)."""
     det = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
@@ -281,7 +281,8 @@ def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per
         ("test positions", "L91, L222",
          "the locating phase scans where the user is (L91); the tester walks a preset route holding the phone "
          "(L222); Fig 6's x axis is a coordinate index; no scan rate",
-         f"the phone scans periodically (every {scan_interval_s:g} s) from the start; a test position is where the "
+         f"the phone scans periodically (every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s) from the "
+         "start; a test position is where the "
          "walker is when a fix becomes available (its scan has ended) while walking; Fig 6's index = the fix's "
          "number; the start scan gives the initial position only (L212)",
          "paper (walking); periodic scanning as i-Loc L777; " + iloc_scenario.scan_model_source(scan_interval_s)),
@@ -323,7 +324,7 @@ def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_inter
 def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 10,
         detector: dict | None = None, sigma_theta_rad: float = 0.2, adjust_weight: float | None = None,
         scans_per_point: int | None = None, scan_latency_s: float = SCAN_LATENCY_S, sweeps: bool = True,
-        scan_interval_s: float = SCAN_INTERVAL_S, budget: bool = True,
+        scan_interval_s: float | None = None, budget: bool = True,
         lag_model: str = "measured") -> dict[str, pd.DataFrame]:
     """PDR only, Wi-Fi only (KNN) and the paper's combination at the walking test positions (Fig 6).
 
@@ -468,11 +469,12 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         out["detector_sweep"] = pd.DataFrame(drows)
         lrows = []
         for lat in ((scan_latency_s,) if fast else LATENCIES_S):  # the uniform-within-a-scan model
-            s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scan_interval_s, lat), scan_latency_s=lat,
+            s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scn.params["scan_interval_s"], lat),
+                                      scan_latency_s=lat,
                                       lag_model="uniform")
             t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
             mm = _means(t2)
-            lrows.append({"scan_latency_s": lat, "scan_interval_s": max(scan_interval_s, lat),
+            lrows.append({"scan_latency_s": lat, "scan_interval_s": max(scn.params["scan_interval_s"], lat),
                           "test_positions": int(t2[t2["method"] == "PDR only"].shape[0]),
                           "wifi_only_mean_m": mm["Wi-Fi only (KNN)"], "pdr_only_mean_m": mm["PDR only"],
                           "combined_mean_m": mm[f"{COMBINED}, weight {w_used:g}"],

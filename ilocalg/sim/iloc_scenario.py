@@ -52,17 +52,24 @@ from ilocalg.sim import gait, iloc_floor, measured
 from ilocalg.units import as_rng
 
 __all__ = ["ScenarioWalk", "IlocScenario", "build", "rescan", "walk_fixes", "reading_ages_s", "scan_model_text",
-           "scan_model_source", "to_recording", "ap_bssids", "SCAN_INTERVAL_S", "SCAN_LATENCY_S", "LAG_MODELS",
+           "scan_model_source", "to_recording", "ap_bssids", "resolve_scan_interval_s", "SCAN_LATENCY_S", "LAG_MODELS",
            "FREQ_MHZ"]
 
-#: Time between scans while walking, s: the measured median of the ILC 2.0 site1 walks.
-SCAN_INTERVAL_S = measured.param("wifi_scan_interval_s")
 #: Scan duration of the "uniform" lag model, s (phones take 1-3 s per scan; an assumption).
 SCAN_LATENCY_S = 2.0
 LAG_MODELS = ("measured", "uniform")
 #: Channel frequency written for every simulated AP, MHz (the floor simulator has no channel model).
 FREQ_MHZ = 2437.0
 _Z75 = 0.6744897501960817  # standard normal 75 % quantile
+
+
+def resolve_scan_interval_s(value: float | None = None) -> float:
+    """The scan interval (s): ``value`` when given, else the measured median of the ILC 2.0 site1 walks
+    (``data/measured_parameters.csv: wifi_scan_interval_s``, read when called, not on import)."""
+    iv = measured.param("wifi_scan_interval_s") if value is None else float(value)
+    if not iv > 0:
+        raise ValueError(f"scan_interval_s must be > 0 s, got {iv}")
+    return iv
 
 
 def reading_ages_s(rng, shape, median_s: float | None = None, iqr_s: float | None = None) -> np.ndarray:
@@ -146,10 +153,10 @@ def scan_model_text(lag_model: str, scan_latency_s: float = SCAN_LATENCY_S) -> s
     return f"each AP read at a uniform time within the {scan_latency_s:g} s scan, ready at its end"
 
 
-def scan_model_source(scan_interval_s: float) -> str:
-    """Where the scan interval and reading ages come from (for readings tables)."""
-    iv = (measured.cite("wifi_scan_interval_s") if scan_interval_s == measured.param("wifi_scan_interval_s")
-          else f"scan interval {scan_interval_s:g} s (given)")
+def scan_model_source(interval_s: float | None = None) -> str:
+    """Where the scan interval (None = measured) and reading ages come from (for readings tables)."""
+    iv = (measured.cite("wifi_scan_interval_s") if interval_s is None
+          else f"scan interval {interval_s:g} s (given)")
     med = measured.param("wifi_reading_age_median_s")
     sigma = np.arcsinh(measured.param("wifi_reading_age_iqr_s") / (2.0 * med)) / _Z75
     p90 = med * np.exp(1.2815515655446004 * sigma)
@@ -176,7 +183,7 @@ def _scans(floor, truth, interval, latency, rng, lag_model="measured") -> pd.Dat
 
 
 def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_per_point: int | None = None,
-          scan_interval_s: float = SCAN_INTERVAL_S, scan_latency_s: float = SCAN_LATENCY_S,
+          scan_interval_s: float | None = None, scan_latency_s: float = SCAN_LATENCY_S,
           train_on_test_walkers: bool = False, lag_model: str = "measured", **floor_overrides) -> IlocScenario:
     """Build the i-Loc floor world once and return it as a scenario.
 
@@ -187,13 +194,15 @@ def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_p
     n_cal : standing scans per route point in the calibration session (another day)
     scans_per_point : survey scans per training point (default the floor's 300)
     scan_interval_s, scan_latency_s, lag_model : periodic scans while walking (module docstring;
-        ``scan_latency_s`` is used by the ``"uniform"`` model only)
+        interval None = the measured one; ``scan_latency_s`` is used by the ``"uniform"`` model only)
     train_on_test_walkers : train on the first ``n_train`` test walkers (Luo et al.: the tester's own
         walks) instead of new walkers (i-Loc: SAM and SLM are trained on other walkers)
     floor_overrides : radio parameters passed to :func:`ilocalg.sim.iloc_floor.simulate`
     """
     if n_walkers < 1 or n_train < 1 or n_cal < 2:
         raise ValueError(f"need n_walkers >= 1, n_train >= 1, n_cal >= 2; got {n_walkers}, {n_train}, {n_cal}")
+    given_interval = scan_interval_s
+    scan_interval_s = resolve_scan_interval_s(scan_interval_s)
     floor_rng, walk_rng, scan_root = as_rng(seed).spawn(3)
     spp = iloc_floor.SCANS_PER_POINT if scans_per_point is None else int(scans_per_point)
     floor = iloc_floor.simulate(floor_rng, scans_per_point=spp, scans_per_test_point=n_cal, **floor_overrides)
@@ -215,7 +224,7 @@ def build(seed=0, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20, scans_p
                                   stand_s=sw.config.stand_s, walker=w))
     params = {"seed": seed if not isinstance(seed, np.random.Generator) else "rng", "scans_per_point": spp,
               "scan_interval_s": float(scan_interval_s), "scan_latency_s": float(scan_latency_s),
-              "lag_model": lag_model,
+              "lag_model": lag_model, "scan_interval_given": given_interval is not None,
               "n_cal": n_cal, "train_on_test_walkers": bool(train_on_test_walkers), **floor_overrides}
     return IlocScenario(floor=floor, route_xy_m=route, train_walks=train, walks=tuple(walks), params=params)
 
