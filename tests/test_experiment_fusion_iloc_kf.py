@@ -36,7 +36,10 @@ def test_fast_run_is_deterministic_and_reports_every_reading():
     assert base["PTS (Wi-Fi start)"] == pytest.approx(m["PTS (Wi-Fi start)"], rel=1e-9)
     allt = bud[bud["replaced_by_truth"] == "all of them"].set_index("method")["mean_error_m"]
     assert (allt < 0.2 * base).all()
-    assert "KF mean / Wi-Fi only mean" in set(a["measures"]["quantity"])
+    meas = a["measures"]
+    assert "KF mean / Wi-Fi only mean" in set(meas["quantity"])
+    assert not set(meas["quantity"]) & set(a["comparison"]["quantity"])
+    assert not meas.duplicated(["quantity", "item"]).any()
     assert list(a["latency_sweep"]["scan_latency_s"]) == [0.0, 1.0, 2.0, 3.0]
     c = fusion_iloc_kf.run(seed=0, fast=True, wifi_methods=(), latencies_s=())
     pd.testing.assert_frame_equal(a["summary"], c["summary"])  # the sweep draws after the main tables

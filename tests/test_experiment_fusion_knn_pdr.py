@@ -104,7 +104,10 @@ def test_fixes_enter_only_after_their_scan_ends():
     assert (allt < 0.5 * base).all()                       # with every source true, little error is left
     meas = a["measures"]
     assert {"quantity", "value", "unit"} <= set(meas.columns)
-    assert "combined / Wi-Fi only mean error" in set(meas["quantity"])
+    assert {"adjustment weight used", "mean error", "detected / true steps"} <= set(meas["quantity"])
+    # a measure never repeats a comparison row's quantity (a claim naming it would match two rows)
+    assert not set(meas["quantity"]) & set(a["comparison"]["quantity"])
+    assert not meas.duplicated(["quantity", "item"]).any()
 
 
 def test_principled_weight_grows_with_pdr_noise_and_shrinks_with_wifi_noise():
