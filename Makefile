@@ -9,7 +9,7 @@ SEED ?= 0
 # Seeds over which every reproduced value gets its 95 % confidence interval (see reports/README.md).
 SEEDS ?= 5
 
-.PHONY: reproduce test lint lab bench notebooks clean browser
+.PHONY: reproduce test lint lab bench notebooks clean browser measured
 
 $(STAMP): environment.txt pyproject.toml
 	test -x $(BIN)/python || $(PY) -m venv $(VENV)
@@ -48,3 +48,7 @@ notebooks: $(STAMP)
 
 clean:
 	rm -rf reports/* .pytest_cache .ruff_cache
+
+# data/measured_parameters.csv from ../shared/data (the simulators' measured defaults; a few minutes).
+measured: $(STAMP)
+	$(BIN)/python -m ilocalg measure

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 from ilocalg.experiments import fusion_knn_pdr
-from ilocalg.sim import gait, iloc_floor
+from ilocalg.sim import gait, iloc_floor, measured
 
 
 def test_fast_run_is_deterministic_and_structured():
@@ -15,9 +15,17 @@ def test_fast_run_is_deterministic_and_structured():
         pd.testing.assert_frame_equal(a[name], b[name])
     m = a["summary"].set_index("method")["mean_error_m"]
     assert {fusion_knn_pdr.COMBINED, fusion_knn_pdr.KF_ALT, "PDR only", "Wi-Fi only (KNN)"} <= set(m.index)
-    # the default combination is the adjust_sweep row of the default weight
-    aw = a["adjust_sweep"].set_index("weight")["mean_error_m"]
-    assert aw[0.5] == pytest.approx(m[fusion_knn_pdr.COMBINED], rel=1e-12)  # same track, summed in another order
+    # the default combination is the adjust_sweep row of the default weight, the inverse-variance weight
+    aw = a["adjust_sweep"]
+    assert aw["default"].sum() == 1
+    assert aw.loc[aw["default"], "mean_error_m"].iloc[0] == pytest.approx(m[fusion_knn_pdr.COMBINED], rel=1e-12)
+    cal = a["calibration"].set_index("quantity")["value"]
+    assert cal["adjustment weight used"] == pytest.approx(cal["adjustment weight, inverse variances (training data)"],
+                                                          abs=1e-3)
+    assert 0.0 < cal["adjustment weight used"] < 1.0
+    # a given weight is used as given
+    c = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, budget=False, adjust_weight=0.5)
+    assert c["calibration"].set_index("quantity")["value"]["adjustment weight used"] == 0.5
     assert list(a["readings"].columns) == ["choice", "paper_line", "text_says", "code_does", "source"]
     assert not any("sec. 3.1" in str(q) and "KF" in str(q) for q in a["comparison"]["quantity"])
     pp = a["per_point"]
@@ -41,11 +49,13 @@ def test_test_positions_are_walking_positions_off_the_reference_grid():
     grid = iloc_floor.training_points()
     d = np.hypot(xy[:, None, 0] - grid[None, :, 0], xy[:, None, 1] - grid[None, :, 1]).min(axis=1)
     assert d.min() > 1e-3                                  # no test position is a reference point
-    assert (tp["t_s"] > gait.GaitConfig().stand_s).all()   # scans started while walking, not at the start
+    assert (tp["t_s"] > gait.GaitConfig().stand_s).all()   # fixes available while walking, not at the start
     pdr = tp[tp["method"] == "PDR only"].sort_values(["walker", "point"])
+    iv = a["calibration"].set_index("quantity")["value"]["scan interval = time between test positions [s]"]
+    assert iv == pytest.approx(measured.param("wifi_scan_interval_s"))
     for _, g in pdr.groupby("walker"):
         dt = np.diff(g["t_s"].to_numpy())
-        np.testing.assert_allclose(dt, 2.0)                # back-to-back 2 s scans
+        np.testing.assert_allclose(dt, iv)                 # periodic scans, scored when each fix is stamped
         step = np.hypot(*np.diff(g[["x_true_m", "y_true_m"]].to_numpy(), axis=0).T)
         assert step.min() > 1.0                            # the walker moved between scans
     # every walk has as many test positions as its walking time allows, for every method
@@ -56,31 +66,60 @@ def test_test_positions_are_walking_positions_off_the_reference_grid():
 
 def test_test_scans_are_walking_scans_from_their_own_sessions(monkeypatch):
     calls, drifts = [], []
-    real_fixes, real_drift = iloc_floor.walking_fixes, iloc_floor.session_drift_db
+    real_scans, real_drift = iloc_floor.walking_scans, iloc_floor.session_drift_db
 
     def spy_drift(sim, rng=None):
         d = real_drift(sim, rng)
         drifts.append(d)
         return d
 
-    def spy_fixes(sim, est, t, xy, starts, lat, rng, drift):
-        calls.append((sim, np.asarray(starts), lat, drift))
-        return real_fixes(sim, est, t, xy, starts, lat, rng, drift)
+    def spy_scans(sim, t, xy, starts, lat, rng, drift, **kw):
+        calls.append((sim, np.asarray(starts), kw.get("read_age_s"), drift))
+        return real_scans(sim, t, xy, starts, lat, rng, drift, **kw)
 
     monkeypatch.setattr(iloc_floor, "session_drift_db", spy_drift)
-    monkeypatch.setattr(iloc_floor, "walking_fixes", spy_fixes)
-    fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
+    monkeypatch.setattr(iloc_floor, "walking_scans", spy_scans)
+    fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, budget=False)
     assert len(calls) == len(drifts) == 2                  # one walking session per walker
-    for (sim, starts, lat, drift), new in zip(calls, drifts, strict=True):
+    for (sim, starts, age, drift), new in zip(calls, drifts, strict=True):
         assert drift is new                                # a new session's per-AP drift ...
         assert not np.allclose(drift, sim.test_drift_db)   # ... not the standing calibration session's
-        assert lat == 2.0 and starts.size > 20             # walking scans with latency along the walk
+        assert starts.size > 20 and age.shape == (starts.size, sim.ap_xy_m.shape[0])  # aged readings
     assert not np.allclose(drifts[0], drifts[1])           # each walk is its own session
 
 
-def test_survey_and_latency_sweeps_keep_the_walks():
+def test_fixes_enter_only_after_their_scan_ends():
     a = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
-    b = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, scans_per_point=20, scan_latency_s=3.0)
+    tp = a["test_points"]
+    w = tp[tp["method"] == "Wi-Fi only (KNN)"].set_index(["walker", "point"])
+    c = tp[tp["method"] == fusion_knn_pdr.COMBINED].set_index(["walker", "point"])
+    # the combined track at a fix's availability time has moved towards that fix (the state then includes it)
+    assert (w["t_s"] == c.loc[w.index, "t_s"]).all()
+    b = a["budget"]
+    base = b[b["replaced_by_truth"] == "none (as simulated)"].set_index("method")["mean_error_m"]
+    m = a["summary"].set_index("method")["mean_error_m"]
+    assert base[fusion_knn_pdr.COMBINED] == pytest.approx(m[fusion_knn_pdr.COMBINED], rel=1e-9)
+    assert base["PDR only"] == pytest.approx(m["PDR only"], rel=1e-9)
+    allt = b[b["replaced_by_truth"] == "all of them"].set_index("method")["mean_error_m"]
+    assert (allt < 0.5 * base).all()                       # with every source true, little error is left
+    meas = a["measures"]
+    assert {"quantity", "value", "unit"} <= set(meas.columns)
+    assert {"adjustment weight used", "mean error", "detected / true steps"} <= set(meas["quantity"])
+    # a measure never repeats a comparison row's quantity (a claim naming it would match two rows)
+    assert not set(meas["quantity"]) & set(a["comparison"]["quantity"])
+    assert not meas.duplicated(["quantity", "item"]).any()
+
+
+def test_principled_weight_grows_with_pdr_noise_and_shrinks_with_wifi_noise():
+    w1, q1 = fusion_knn_pdr.principled_weight(0.1, 0.1, 0.7, 0.55, 3.0, 4.0)
+    w2, q2 = fusion_knn_pdr.principled_weight(0.3, 0.1, 0.7, 0.55, 3.0, 4.0)
+    w3, _ = fusion_knn_pdr.principled_weight(0.1, 0.1, 0.7, 0.55, 3.0, 16.0)
+    assert q2 > q1 and w2 > w1 and w3 < w1 and 0 < w3 < w1 < w2 < 1
+
+
+def test_survey_sweep_keeps_the_walks():
+    a = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, budget=False)
+    b = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False, budget=False, scans_per_point=20)
     # PDR only at the same instants: the same walkers and walks whatever the survey size and scan latency
     pa = a["test_points"].query("method == 'PDR only'").set_index(["walker", "t_s"])["error_m"]
     pb = b["test_points"].query("method == 'PDR only'").set_index(["walker", "t_s"])["error_m"]

@@ -139,3 +139,25 @@ def test_error_cdf_counts_unlocated_and_ends_below_one():
     with pytest.raises(ValueError, match="all NaN"):
         ilocviz.error_cdf({"KNN": [np.nan]}, ax=ax)
     plt.close(fig)
+
+
+def test_error_budget_bars_and_weight_sensitivity():
+    import pandas as pd
+
+    import ilocviz.fusion
+
+    rows = []
+    for m, base in (("KF", 4.0), ("PTS", 8.0)):
+        for s, e in (("none (as simulated)", base), ("Wi-Fi fix error", base / 2), ("heading", base * 1.1),
+                     ("all of them", 0.2)):
+            rows.append({"method": m, "replaced_by_truth": s, "mean_error_m": e, "share_of_error": (base - e) / base})
+    ax = ilocviz.fusion.error_budget_bars(pd.DataFrame(rows))
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["Wi-Fi fix error", "heading"]
+    assert len(ax.patches) == 4 and min(p.get_width() for p in ax.patches) < 0  # a negative share is drawn
+    with pytest.raises(ValueError, match="no budget rows"):
+        ilocviz.fusion.error_budget_bars(pd.DataFrame(rows), methods=["nope"])
+    sw = pd.DataFrame({"weight": [0.1, 0.5, 1.0], "mean_error_m": [3.0, 2.0, 2.5], "wifi_only_mean_m": 2.5,
+                       "pdr_only_mean_m": 5.0, "default": [False, True, False]})
+    ax2 = ilocviz.fusion.weight_sensitivity(sw)
+    assert "[m]" in ax2.get_ylabel() and any("default" in t.get_text() for t in ax2.get_legend().get_texts())
+    plt.close("all")

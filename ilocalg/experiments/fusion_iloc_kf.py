@@ -4,13 +4,16 @@ Data: the simulated i-Loc floor (:mod:`ilocalg.sim.iloc_floor`) and new simulate
 (:mod:`ilocalg.sim.gait`, not the walkers SAM and SLM were trained on) walking the floor's 28-point
 test route (about 4 m apart, L515), the same route as notebooks 01 and 05:
 
+* World: built once as a scenario (:func:`ilocalg.sim.iloc_scenario.build`): the survey, a standing
+  calibration session on another day, fixed-length training walks, and the test walks with their IMU
+  logs and Wi-Fi scans; the experiment only applies methods to it.
 * Wi-Fi: the estimator (Simplified-Horus by default, the thesis's choice) is fitted on the survey.
-  A fix is one scan taken while walking, started when the walker passes a test point and tagged
-  there; each AP is read during the scan (``scan_latency_s``, 2 s), so the scan hears the walker
-  metres further on; each walk is its own session (its own per-AP drift).
+  The phone scans periodically while walking (L777): one scan every ``scan_interval_s``, each AP read
+  within the scan's ``scan_latency_s``; a fix is available only when its scan ends (causal); each
+  walk is its own session (its own per-AP drift).
 * R: per test point, the variance of the fix error over the chapter 3 test session (standing scans
-  at the 28 points on another day: how Table 5 was made, L588); the thesis's Table 5 as R and one
-  constant R are the labelled alternatives.
+  at the 28 points on another day: how Table 5 was made, L588); a fix gets the R of the test point
+  nearest to it; the thesis's Table 5 as R and one constant R are the labelled alternatives.
 * Q (eq. 22): rank 1 along the heading with Table 4's variances read as relative variances (L478);
   the m^2 reading is shown beside it.
 * Start: a Wi-Fi fix from a scan at the start (L792-795), with its point's R as P0; PTS alone is
@@ -18,11 +21,12 @@ test route (about 4 m apart, L515), the same route as notebooks 01 and 05:
 * PTS: SAM steps (ranges = 5-95 % of the training steps' features, L399), quadratic SLM lengths,
   WDM headings.
 * KF (eq. 20-26): one predict per detected step, one update per Wi-Fi fix (on the latest state at
-  or before the scan's start).
+  or before the scan's end, when the fix becomes available).
 
-Scored: the position error at each of the 28 test points (the state at the passing time; Wi-Fi
-only = the fix tagged there). Beyond the paper: a heading-error term in Q, fixed-lag and RTS
-smoothing, innovation gating.
+Scored: the position error at each of the 28 test points (each track's latest state at the passing
+time; Wi-Fi only = the latest fix available then). Beyond the paper: a heading-error term in Q,
+fixed-lag and RTS smoothing, innovation gating, and an error budget (:mod:`ilocalg.fusion.budget`:
+the KF and PTS rerun with one error source replaced by the truth at a time).
 
 References
 ----------
@@ -44,17 +48,21 @@ from ilocalg.fusion import (
     rts_smooth,
     sigma_sl_paper_m,
 )
+from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, track_at
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
+from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.pts import pts_steps
 from ilocalg.pdr.sam import learn_feature_ranges
 from ilocalg.pdr.step_length import fit_step_length_models
-from ilocalg.sim import gait, iloc_floor
-from ilocalg.units import as_rng
+from ilocalg.sim import gait, iloc_floor, iloc_scenario
+from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 
-__all__ = ["run", "route_walk", "run_filters", "score_points", "readings", "PAPER_KF"]
+__all__ = ["run", "route_walk", "run_filters", "score_points", "score_at_times", "kf_method", "pts_method", "readings",
+           "findings", "PAPER_KF"]
 
 _T = "i-Loc (Chiu 2013)"
 MAIN = "KF (R calibrated)"
@@ -149,47 +157,177 @@ def score_points(tracks: dict, state_index: np.ndarray, true_xy_m: np.ndarray, f
     return pd.concat(rows, ignore_index=True)
 
 
-def _train_pts(rng, n_train, q_range=(0.05, 0.95)):
-    walkers = gait.make_walkers(n_train, rng)
-    feats = gait.fixed_length_features(gait.training_walks(walkers, rng))
+def score_at_times(tracks: dict, state_t_s, eval_t_s, true_xy_m, fix_t_s, fix_xy_m, start_xy_m) -> pd.DataFrame:
+    """Error at each point, causally: every track's latest state at or before the point's time; Wi-Fi only =
+    the latest fix available then (the start fix before any other)."""
+    te = np.asarray(eval_t_s, dtype=np.float64)
+    ft = np.asarray(fix_t_s, dtype=np.float64)
+    fxy = np.asarray(fix_xy_m, dtype=np.float64)
+    ok = np.isfinite(fxy).all(axis=1)
+    held = np.vstack([np.asarray(start_xy_m, dtype=np.float64)[None, :], fxy[ok]])
+    wifi = held[np.searchsorted(ft[ok], te, side="right")]
+    rows = []
+    n = true_xy_m.shape[0]
+    for label, xy in {"Wi-Fi only": None, **tracks}.items():
+        est = wifi if xy is None else track_at(state_t_s, xy, te)
+        rows.append(pd.DataFrame({"method": label, "point": np.arange(1, n + 1), "x_true_m": true_xy_m[:, 0],
+                                  "y_true_m": true_xy_m[:, 1], "x_est_m": est[:, 0], "y_est_m": est[:, 1],
+                                  "error_m": np.hypot(*(est - true_xy_m).T)}))
+    return pd.concat(rows, ignore_index=True)
+
+
+def _train_pts(scn, q_range=(0.05, 0.95)):
+    feats = gait.fixed_length_features(list(scn.train_walks))
     models, _ = fit_step_length_models(feats)
-    return walkers, feats, learn_feature_ranges(feats, *q_range), models
+    return learn_feature_ranges(feats, *q_range), models
 
 
-def readings(scan_latency_s: float = 2.0, q_range=(0.05, 0.95), table4_reading: str = "relative") -> pd.DataFrame:
+def _nearest_point_var(route, var):
+    """R of a fix: the calibrated variance of the route point nearest the fix (the filter knows the fix, not
+    the truth)."""
+    def r_of(xy):
+        xy = np.atleast_2d(np.asarray(xy, dtype=np.float64))
+        good = np.isfinite(xy).all(axis=1)
+        j = np.hypot(*(np.where(good[:, None], xy, 0.0)[:, None, :] - route[None, :, :]).transpose(2, 0, 1)).argmin(1)
+        return np.where(good, var[j], np.nan)
+    return r_of
+
+
+def _walk_inputs(w, pdr, heads_wdm, fx, route) -> FusionInputs:
+    """The KF's inputs on one walk with its truth, for the error budget."""
+    f = fx.iloc[1:]
+    return FusionInputs(
+        t0_s=float(pdr["state_t_s"][0]), start_xy_m=fx[["fix_x_m", "fix_y_m"]].to_numpy()[0],
+        start_ref_t_s=float(fx["t_ref_s"].iloc[0]), step_t_s=pdr["state_t_s"][1:], step_m=pdr["step_m"],
+        theta_rad=pdr["theta_rad"], heading_t_s=w.imu.index.to_numpy(), heading_rad=heads_wdm,
+        fix_t_s=f["t_ready_s"].to_numpy(), fix_ref_t_s=f["t_ref_s"].to_numpy(),
+        fix_xy_m=f[["fix_x_m", "fix_y_m"]].to_numpy(),
+        true_step_t_s=(w.steps["t_strike_s"] + w.steps["duration_s"]).to_numpy(),
+        true_step_mid_t_s=w.steps["t_mid_s"].to_numpy(), true_step_m=w.steps["length_m"].to_numpy(),
+        truth_t_s=w.truth_t_s, truth_xy_m=w.truth_xy_m, truth_theta_rad=w.truth["theta_rad"].to_numpy(),
+        eval_t_s=w.pass_t_s, eval_xy_m=route)
+
+
+def kf_method(r_of, table4_reading: str = "relative"):
+    """The main KF variant (R per fix from ``r_of``, Table 4 Q, start fix with its R as P0) as a budget method."""
+    def kf(inp: FusionInputs) -> np.ndarray:
+        x0 = inp.start_xy_m if np.isfinite(inp.start_xy_m).all() else inp.truth_at([inp.t0_s])[0]
+        fxy = np.asarray(inp.fix_xy_m, dtype=np.float64)
+        ok = np.isfinite(fxy).all(axis=1)
+        al = fixes_at_states(inp.state_t_s, inp.fix_t_s, np.where(ok[:, None], fxy, 0.0), before_start="drop",
+                             same_state="last")
+        used = al.used & ok
+        z = np.full((inp.step_t_s.size + 1, 2), np.nan)
+        z[al.state_index[used]] = fxy[used]
+        r = np.ones(inp.step_t_s.size + 1)
+        r[al.state_index[used]] = r_of(fxy[used])
+        d = np.asarray(inp.step_m, dtype=np.float64)
+        p0 = float(r_of(x0)[0])
+        return filter_walk(x0, p0 * np.eye(2), inp.theta_rad, d, sigma_sl_paper_m(d, reading=table4_reading), z,
+                           r_var_m2=r).x
+    return kf
+
+
+def pts_method(inp: FusionInputs) -> np.ndarray:
+    """PTS alone from the start fix (the PDR-only trajectory of Fig 23) as a budget method."""
+    x0 = inp.start_xy_m if np.isfinite(inp.start_xy_m).all() else inp.truth_at([inp.t0_s])[0]
+    return dead_reckon(np.asarray(inp.step_m), np.asarray(inp.theta_rad), *x0)[["x_m", "y_m"]].to_numpy()
+
+
+def readings(scan_latency_s: float = SCAN_LATENCY_S, q_range=(0.05, 0.95), table4_reading: str = "relative",
+             scan_interval_s: float | None = None, lag_model: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     rows = [
         ("route", f"{_T}, L515, L588", "28 test points 4.11 m apart, also the Wi-Fi test points",
          "the floor's 28-point route 4 m apart (shared with notebooks 01, 05)", "2 m grid of L295; Fig 2 missing"),
-        ("Wi-Fi fix", f"{_T}, L779", "Wi-Fi positions from scans taken while the user walks",
-         f"one scan per test point, started when passing it and tagged there; each AP read within "
-         f"{scan_latency_s:g} s; a new session (drift) per walk",
-         "scan latency: assumption (phones 1-3 s), swept in latency_sweep"),
+        ("Wi-Fi fix", f"{_T}, L777, L779", "the phone detects the Wi-Fi signals periodically (L777); Wi-Fi "
+         "positions from scans taken while the user walks",
+         f"periodic scans while walking, one every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s; "
+         + iloc_scenario.scan_model_text(lag_model, scan_latency_s) +
+         "; a fix is available only when its scan is stamped and enters the KF at the latest step state then "
+         "(causal); a new session (drift) per walk",
+         iloc_scenario.scan_model_source(scan_interval_s)
+         + "; the uniform-within-a-scan model (0-3 s) swept in latency_sweep"),
+        ("scoring", f"{_T}, L588, Fig 23", "errors at the 28 test points",
+         "at each test point's passing time: each track's latest state then; Wi-Fi only = the latest fix "
+         "available then (earlier versions started a scan exactly at each test point: an oracle)", "causal"),
         ("R", f"{_T}, L586-588, Table 5", "R = sigma_RF^2 I, per test point, from the Wi-Fi experiment at the "
-         "28 points", "per-point error variance of the chapter 3 test session (standing scans, another day)",
+         "28 points", "per-point error variance of the chapter 3 test session (standing scans, another day); a "
+         "fix taken anywhere gets the R of the test point nearest the fix itself",
          "Table 5 as R and a constant R: labelled alternatives"),
         ("Q", f"{_T}, L574-578, Table 4 (L602-605)", "Q = sigma_SL^2 [cos^2, sc; sc, sin^2]; Table 4 prints no unit",
          "Table 4 read as " + ("relative variances (sigma = sqrt(var) x step)" if table4_reading == "relative"
                                else "m^2") + "; the other reading shown",
          "L478: mean SLM error 18.43 % = sqrt(0.054) sqrt(2/pi)"),
         ("start", f"{_T}, L735, L792-795", "initial position from Wi-Fi or set by hand",
-         "a Wi-Fi fix from a scan at the start, P0 = that point's R; PTS also from the true start", ""),
+         "the first periodic scan (at the start of the log) gives x0, P0 = the R of its nearest point; the steps "
+         "taken before it ends are dead-reckoned from it; PTS also from the true start", ""),
         ("SAM ranges", f"{_T}, L399", "5 % and 95 % points of the training features' CDFs",
          f"{q_range[0]:.0%}-{q_range[1]:.0%} quantiles of fixed-length training walks", ""),
         ("test walkers", f"{_T}, L515", "users walking the route", "new simulated walkers, not the training walkers",
          "gait model: data/gait"),
         ("F, B, H", f"{_T}, eq. 22-23", "F = I, B = [cos, sin]^T, H = I", "as the text", ""),
         ("update", f"{_T}, eq. 24-26", "Kalman gain, Joseph-form covariance", "as the text", ""),
+        ("error budget", "beyond the thesis", "no error budget",
+         "the main KF and PTS rerun with one error source replaced by the truth at a time (Wi-Fi fix error, "
+         "scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
     ]
     return readings_table([reading(*r) for r in rows])
 
 
+def _walk_tracks(scn, est, cal_var, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag,
+                 main_only=False):
+    """Every track of every walk on a scenario: test-point table, gating, example, budget inputs."""
+    route = scn.route_xy_m
+    paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)
+    r_cal = _nearest_point_var(route, cal_var)
+    r_paper = _nearest_point_var(route, paper_r)
+    tps, gat, ex, inputs = [], [], [], []
+    for w_i, w in enumerate(scn.walks):
+        heads = log_headings_rad(w.imu, w.stand_s)
+        st = pts_steps(w.imu, ranges, models["SLM quadratic"], w.stand_s, headings=heads)
+        pdr = {"state_t_s": np.concatenate([[w.imu.index[0]], st["t_s"].to_numpy()]),
+               "step_m": st["length_m"].to_numpy(), "theta_rad": st["theta_rad"].to_numpy()}
+        fx = walk_fixes(scn, w, est)
+        start_fix = fx[["fix_x_m", "fix_y_m"]].to_numpy()[0]
+        f = fx.iloc[1:]
+        fix = f[["fix_x_m", "fix_y_m"]].to_numpy()
+        fix_t = f["t_ready_s"].to_numpy()
+        x0 = start_fix if np.isfinite(start_fix).all() else route[0]
+        r_var = {"R calibrated": r_cal(fix)}
+        if not main_only:
+            r_var.update({"R = thesis Table 5": r_paper(fix), "R constant": np.full(len(fix), cal_var.mean())})
+        tracks, info = run_filters(x0, pdr, fix_t, fix, r_var, P0_var_m2=float(r_cal(x0)[0]), gate_prob=gate_prob,
+                                   sigma_theta_rad=sigma_theta_rad, lag=lag, table4_reading=table4_reading)
+        tracks = {"PTS (Wi-Fi start)" if k == "PTS" else k: v for k, v in tracks.items()}
+        tracks["PTS (true start)"] = dead_reckon(pdr["step_m"], pdr["theta_rad"], *route[0])[["x_m", "y_m"]].to_numpy()
+        tps.append(score_at_times(tracks, pdr["state_t_s"], w.pass_t_s, route, fix_t, fix, x0).assign(walker=w.name))
+        inputs.append(_walk_inputs(w, pdr, heads["WDM"], fx, route))
+        gat.append({"walker": w.name, "fixes": info["n_fixes"], "gated_out": info["n_gated"],
+                    "superseded": info["n_superseded"], "steps_detected": int(pdr["step_m"].size),
+                    "steps_true": int(len(w.steps)), "start_fix_error_m": float(np.hypot(*(x0 - route[0]))),
+                    "median_aps_heard": float(fx["n_heard"].median()),
+                    "mean_fix_age_at_entry_s": float((f["t_ready_s"] - f["t_ref_s"]).mean())})
+        if w_i == 0:
+            ex.append(pd.DataFrame({"method": "truth", "x_m": np.r_[route[0, 0], w.steps["x_m"]],
+                                    "y_m": np.r_[route[0, 1], w.steps["y_m"]]}))
+            ex.append(pd.DataFrame({"method": "Wi-Fi only", "x_m": fix[:, 0], "y_m": fix[:, 1]}))
+            ex += [pd.DataFrame({"method": k, "x_m": v[:, 0], "y_m": v[:, 1]}) for k, v in tracks.items()]
+    tp = pd.concat(tps, ignore_index=True)
+    tp = tp[["walker"] + [c for c in tp.columns if c != "walker"]]
+    return tp, gat, ex, inputs, r_cal
+
+
 def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 20,
-        method: str = "Simplified-Horus", q_range=(0.05, 0.95), scan_latency_s: float = 2.0,
+        method: str = "Simplified-Horus", q_range=(0.05, 0.95), scan_latency_s: float = SCAN_LATENCY_S,
         table4_reading: str = "relative", gate_prob: float = 0.99, sigma_theta_rad: float = 0.2,
         lag: int = 5, wifi_methods=("Simplified-RADAR", "Simplified-Horus", "KNN (Manhattan, K=5)"),
-        latencies_s=(0.0, 1.0, 2.0, 3.0)) -> dict[str, pd.DataFrame]:
+        latencies_s=(0.0, 1.0, 2.0, 3.0), scan_interval_s: float | None = None,
+        budget: bool = True, lag_model: str = "measured") -> dict[str, pd.DataFrame]:
     """Wi-Fi only, PTS only and the KF variants at the 28 test points (Figs 22-23) for ``n_walkers`` new walkers.
+
+    The world is built once (:func:`ilocalg.sim.iloc_scenario.build`); everything below applies methods
+    to that scenario.
 
     Returns
     -------
@@ -197,56 +335,28 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         ``test_points`` (walker, method, point, true/estimated position, error), ``summary``, ``cdf``,
         ``track_example`` (walker 0: every track, the truth and the fixes), ``r_table`` (calibrated
         per-point fix variance beside the thesis's Table 5), ``gating``, ``comparison``,
-        ``by_wifi_method`` (the main variants with each estimator of ``wifi_methods``), ``latency_sweep``
-        (Wi-Fi only and the main KF with each scan latency of ``latencies_s``, same walks, new scans),
-        ``readings``.
+        ``by_wifi_method`` (the main variants with each estimator of ``wifi_methods``, same scenario),
+        ``latency_sweep`` (Wi-Fi only and the main KF with each scan latency of ``latencies_s``: same
+        walks, new scans), ``budget`` (the error budget of the main KF and PTS), ``budget_inputs`` (the inputs against
+        their truth: fix offsets and age, step counts, distance, heading), ``measures``, ``readings``.
     """
-    rng = as_rng(seed)
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
-    sim = iloc_floor.simulate(rng, scans_per_point=60 if fast else iloc_floor.SCANS_PER_POINT,
-                              scans_per_test_point=n_cal)
-    est = iloc_floor.fit_estimator(sim, method)
-    cal_var = iloc_floor.standing_fix_variance_m2(sim, est)
-    _, _, ranges, models = _train_pts(rng, n_train, q_range)
-    walkers = gait.make_walkers(n_walkers, rng)  # new walkers: not those SAM and SLM were trained on
-    route = iloc_floor.route_xy_m()
+    scn = iloc_scenario.build(seed, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal,
+                              scans_per_point=60 if fast else None, scan_interval_s=scan_interval_s,
+                              scan_latency_s=scan_latency_s, lag_model=lag_model)
+    iv = scn.params["scan_interval_s"]
+    ranges, models = _train_pts(scn, q_range)
+    est = iloc_floor.fit_estimator(scn.floor, method)
+    cal_var = iloc_floor.standing_fix_variance_m2(scn.floor, est)
+    tp, gat, ex, inputs, r_cal = _walk_tracks(scn, est, cal_var, ranges, models, table4_reading, gate_prob,
+                                              sigma_theta_rad, lag)
+    route = scn.route_xy_m
     paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)
-    tps, gat, ex, walks = [], [], [], []
-    for w_i, w in enumerate(walkers):
-        sw = gait.simulate_walk(route, w, rng)
-        pdr = route_walk(sw, ranges, models["SLM quadratic"])
-        t_pass = gait.pass_times_s(sw, route)
-        truth_t = sw.truth.index.to_numpy()
-        truth_xy = sw.truth[["x_m", "y_m"]].to_numpy()
-        drift = iloc_floor.session_drift_db(sim, rng)  # this walk's session
-        walks.append((truth_t, truth_xy, t_pass, pdr, drift))
-        fixes = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, np.r_[truth_t[0], t_pass], scan_latency_s,
-                                         rng, drift)
-        start_fix = fixes[["fix_x_m", "fix_y_m"]].to_numpy()[0]
-        fix = fixes[["fix_x_m", "fix_y_m"]].to_numpy()[1:]
-        x0 = start_fix if np.isfinite(start_fix).all() else route[0]
-        r_var = {"R calibrated": cal_var, "R = thesis Table 5": paper_r,
-                 "R constant": np.full(route.shape[0], cal_var.mean())}
-        tracks, info = run_filters(x0, pdr, t_pass, fix, r_var, P0_var_m2=float(cal_var[0]), gate_prob=gate_prob,
-                                   sigma_theta_rad=sigma_theta_rad, lag=lag, table4_reading=table4_reading)
-        tracks = {"PTS (Wi-Fi start)" if k == "PTS" else k: v for k, v in tracks.items()}
-        tracks["PTS (true start)"] = dead_reckon(pdr["step_m"], pdr["theta_rad"], *route[0])[["x_m", "y_m"]].to_numpy()
-        tps.append(score_points(tracks, info["state_index"], route, fix).assign(walker=w.name))
-        gat.append({"walker": w.name, "fixes": info["n_fixes"], "gated_out": info["n_gated"],
-                    "superseded": info["n_superseded"], "steps_detected": int(pdr["step_m"].size),
-                    "steps_true": int(len(sw.steps)), "start_fix_error_m": float(np.hypot(*(x0 - route[0]))),
-                    "median_aps_heard": float(fixes["n_heard"].median())})
-        if w_i == 0:
-            ex.append(pd.DataFrame({"method": "truth", "x_m": np.r_[route[0, 0], sw.steps["x_m"]],
-                                    "y_m": np.r_[route[0, 1], sw.steps["y_m"]]}))
-            ex.append(pd.DataFrame({"method": "Wi-Fi only", "x_m": fix[:, 0], "y_m": fix[:, 1]}))
-            ex += [pd.DataFrame({"method": k, "x_m": v[:, 0], "y_m": v[:, 1]}) for k, v in tracks.items()]
-    tp = pd.concat(tps, ignore_index=True)
-    tp = tp[["walker"] + [c for c in tp.columns if c != "walker"]]
     summ, cdf = summarise_by_method(tp)
     m = summ.set_index("method")["mean_error_m"]
-    note = f"{len(walkers)} new simulated walkers on the floor's 28-point route; Wi-Fi: {method}"
+    note = (f"{n_walkers} new simulated walkers on the floor's 28-point route; Wi-Fi: {method}; periodic causal "
+            f"scans every {iv:g} s")
     comp = [
         paper_ref(PAPER, "Fig 23", "PTS mean error at the test points", PAPER_KF["pts_mean_m"],
                   m["PTS (Wi-Fi start)"], "m", note + "; PTS from the Wi-Fi start"),
@@ -257,52 +367,50 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         paper_ref(PAPER, "Fig 23", "KF mean / PTS mean", PAPER_KF["kf_mean_m"] / PAPER_KF["pts_mean_m"],
                   m[MAIN] / m["PTS (Wi-Fi start)"], "-", "the improvement ratio"),
     ]
+    # named scalars for the claims ledger: every method's mean and median error (as on main, c62a9bb), the KF
+    # against its own (causal) Wi-Fi, and the budget shares below; "KF mean / PTS mean" is a comparison row
+    measures = [{"quantity": f"{stat} error at the test points", "item": r["method"],
+                 "value": float(r[f"{stat}_error_m"]), "unit": "m"}
+                for _, r in summ.iterrows() for stat in ("mean", "median")]
+    measures.append({"quantity": "KF mean / Wi-Fi only mean", "value": m[MAIN] / m["Wi-Fi only"], "unit": "-"})
+    out = {"test_points": tp, "summary": summ, "cdf": cdf, "track_example": pd.concat(ex, ignore_index=True),
+           "gating": pd.DataFrame(gat), "comparison": comparison_table(comp)}
+    if budget:
+        bud = error_budget(inputs, {MAIN: kf_method(r_cal, table4_reading), "PTS (Wi-Fi start)": pts_method})
+        out["budget"] = bud
+        out["budget_inputs"] = input_diagnostics(inputs)
+        for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():
+            measures.append({"quantity": f"budget share: {r.replaced_by_truth}", "value": r.share_of_error,
+                             "unit": "-", "item": r.method})
     by_method = []
-    if wifi_methods:
-        for meth in wifi_methods:  # the main KF variant with each Wi-Fi estimator
-            by_method.append(_method_row(seed, meth, fast, n_walkers, n_train, n_cal, q_range, scan_latency_s,
-                                         table4_reading, sigma_theta_rad))
-    # scan latency (an assumption): the same walks and sessions, new scans at each latency (drawn after
-    # everything above, so the main tables do not depend on the sweep)
+    for meth in wifi_methods or ():  # the main variants with each Wi-Fi estimator, on the same scenario
+        e2 = iloc_floor.fit_estimator(scn.floor, meth)
+        cv2 = iloc_floor.standing_fix_variance_m2(scn.floor, e2)
+        t2 = _walk_tracks(scn, e2, cv2, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag)[0]
+        mm = t2.groupby("method", sort=False)["error_m"].mean()
+        by_method.append({"wifi_method": meth, "wifi_only_mean_m": mm["Wi-Fi only"],
+                          "pts_mean_m": mm["PTS (Wi-Fi start)"], "kf_mean_m": mm[MAIN],
+                          "kf_table5_mean_m": mm["KF (R = thesis Table 5)"],
+                          "kf_constant_r_mean_m": mm["KF (R constant)"],
+                          "kf_rts_mean_m": mm[f"{MAIN} + RTS"],
+                          "kf_heading_noise_rts_mean_m": mm[f"{MAIN} + heading noise + RTS"]})
     lat_rows = []
-    for lat in latencies_s:
-        errs_w, errs_k, errs_h = [], [], []
-        for truth_t, truth_xy, t_pass, pdr, drift in walks:
-            fx = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, np.r_[truth_t[0], t_pass], lat, rng, drift)
-            xy = fx[["fix_x_m", "fix_y_m"]].to_numpy()
-            x0 = xy[0] if np.isfinite(xy[0]).all() else route[0]
-            tr, inf = run_filters(x0, pdr, t_pass, xy[1:], {"R calibrated": cal_var}, P0_var_m2=float(cal_var[0]),
-                                  gate_prob=gate_prob, sigma_theta_rad=sigma_theta_rad, lag=lag,
-                                  table4_reading=table4_reading)
-            e = score_points(tr, inf["state_index"], route, xy[1:]).set_index("method")["error_m"]
-            errs_w.append(e.loc["Wi-Fi only"].to_numpy())
-            errs_k.append(e.loc[MAIN].to_numpy())
-            errs_h.append(e.loc[f"{MAIN} + heading noise + RTS"].to_numpy())
-        lat_rows.append({"scan_latency_s": float(lat), "wifi_only_mean_m": float(np.nanmean(np.concatenate(errs_w))),
-                         "kf_mean_m": float(np.nanmean(np.concatenate(errs_k))),
-                         "kf_heading_noise_rts_mean_m": float(np.nanmean(np.concatenate(errs_h)))})
-    r_table = pd.DataFrame({"point": np.arange(1, route.shape[0] + 1), "x_m": route[:, 0], "y_m": route[:, 1],
-                            "calibrated_var_m2": cal_var, "thesis_table5_var_m2_paper": paper_r})
-    return {"test_points": tp, "summary": summ, "cdf": cdf, "track_example": pd.concat(ex, ignore_index=True),
-            "r_table": r_table, "gating": pd.DataFrame(gat), "comparison": comparison_table(comp),
-            "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
-            "readings": readings(scan_latency_s, q_range, table4_reading),
-            # named scalars for the claims ledger (ilocalg/papers/iloc.py): every method's mean and median error
-            "measures": pd.DataFrame([{"quantity": f"{stat} error at the test points", "item": r["method"],
-                                       "value": float(r[f"{stat}_error_m"]), "unit": "m"}
-                                      for _, r in summ.iterrows() for stat in ("mean", "median")])}
-
-
-def _method_row(seed, method, fast, n_walkers, n_train, n_cal, q_range, scan_latency_s, table4_reading,
-                sigma_theta_rad) -> dict:
-    t = run(seed=seed, fast=fast, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal, method=method,
-            q_range=q_range, scan_latency_s=scan_latency_s, table4_reading=table4_reading,
-            sigma_theta_rad=sigma_theta_rad, wifi_methods=(), latencies_s=())
-    m = t["summary"].set_index("method")["mean_error_m"]
-    return {"wifi_method": method, "wifi_only_mean_m": m["Wi-Fi only"], "pts_mean_m": m["PTS (Wi-Fi start)"],
-            "kf_mean_m": m[MAIN], "kf_table5_mean_m": m["KF (R = thesis Table 5)"],
-            "kf_constant_r_mean_m": m["KF (R constant)"], "kf_rts_mean_m": m[f"{MAIN} + RTS"],
-            "kf_heading_noise_rts_mean_m": m[f"{MAIN} + heading noise + RTS"]}
+    for lat in latencies_s:  # same world and walks, new periodic scans (uniform reads within a scan of each latency)
+        s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(iv, lat), scan_latency_s=lat,
+                                  lag_model="uniform")
+        t2 = _walk_tracks(s2, est, cal_var, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag,
+                          main_only=True)[0]
+        mm = t2.groupby("method", sort=False)["error_m"].mean()
+        lat_rows.append({"scan_latency_s": float(lat), "scan_interval_s": float(max(iv, lat)),
+                         "wifi_only_mean_m": mm["Wi-Fi only"], "kf_mean_m": mm[MAIN],
+                         "kf_heading_noise_rts_mean_m": mm[f"{MAIN} + heading noise + RTS"]})
+    out.update({
+        "r_table": pd.DataFrame({"point": np.arange(1, route.shape[0] + 1), "x_m": route[:, 0], "y_m": route[:, 1],
+                                 "calibrated_var_m2": cal_var, "thesis_table5_var_m2_paper": paper_r}),
+        "by_wifi_method": pd.DataFrame(by_method), "latency_sweep": pd.DataFrame(lat_rows),
+        "measures": pd.DataFrame([{"item": "", **r} for r in measures])[["quantity", "value", "unit", "item"]],
+        "readings": readings(scan_latency_s, q_range, table4_reading, scan_interval_s, lag_model)})
+    return out
 
 
 def findings(tables: dict) -> str:
@@ -312,11 +420,13 @@ def findings(tables: dict) -> str:
     best = m.drop(["Wi-Fi only", "PTS", "PTS (true start)"]).idxmin()
     g = tables["gating"]
     r = tables["r_table"]
-    return "\n".join([
-        f"Mean error at the test points: PTS {m['PTS']:.2f} m, Wi-Fi only {m['Wi-Fi only']:.2f} m, "
-        f"KF {kf:.2f} m (thesis, paper values: PTS {PAPER_KF['pts_mean_m']} m, KF {PAPER_KF['kf_mean_m']} m).",
+    lines = [
+        f"Mean error at the test points: PTS {m['PTS']:.2f} m, Wi-Fi only {m['Wi-Fi only']:.2f} m (the latest fix "
+        f"available when the point is passed), KF {kf:.2f} m (thesis, paper values: PTS {PAPER_KF['pts_mean_m']} m, "
+        f"KF {PAPER_KF['kf_mean_m']} m).",
         f"The KF is {'better' if kf < min(m['PTS'], m['Wi-Fi only']) else 'not better'} than both inputs; "
-        f"KF / PTS = {kf / m['PTS']:.2f} (thesis {PAPER_KF['kf_mean_m'] / PAPER_KF['pts_mean_m']:.2f}, paper).",
+        f"KF / PTS = {kf / m['PTS']:.2f} (thesis {PAPER_KF['kf_mean_m'] / PAPER_KF['pts_mean_m']:.2f}, paper); "
+        f"KF / Wi-Fi only = {kf / m['Wi-Fi only']:.2f}.",
         f"With the thesis's Table 5 as R: {m['KF (R = thesis Table 5)']:.2f} m; "
         f"with one constant R (no knowledge of where a fix was taken): {m['KF (R constant)']:.2f} m, "
         f"{'better' if m['KF (R constant)'] < m['Wi-Fi only'] else 'not better'} than Wi-Fi alone.",
@@ -325,4 +435,27 @@ def findings(tables: dict) -> str:
         f"Fix variance per point: calibrated median {r['calibrated_var_m2'].median():.2f} m^2, thesis Table 5 median "
         f"{r['thesis_table5_var_m2_paper'].median():.2f} m^2 (paper values); the thesis' is larger at "
         f"{int((r['thesis_table5_var_m2_paper'] > r['calibrated_var_m2']).sum())} of {len(r)} points.",
-    ])
+    ]
+    if "budget" in tables:
+        b = tables["budget"]
+        k = b[(b["method"] == MAIN) & b["replaced_by_truth"].isin(BUDGET_SOURCES)].set_index("replaced_by_truth")
+        top = k["share_of_error"].idxmax()
+        lines.append(f"Error budget of the KF: {top} carries the largest share ({k.loc[top, 'share_of_error']:.0%} of "
+                     "the mean error disappears when it is replaced by the truth); "
+                     + ", ".join(f"{s} {v:.0%}" for s, v in k["share_of_error"].items()) + ".")
+    if "budget_inputs" in tables:
+        lines.append(_inputs_sentence(tables))
+    return "\n".join(lines)
+
+
+def _inputs_sentence(tables: dict) -> str:
+    """One sentence on the budget's inputs against their truth (fix offsets, PDR distance)."""
+    d = tables["budget_inputs"].set_index("quantity")["value"]
+    a = d["fix along-track offset from the position it describes"]
+    b = d["fix along-track offset from the position when it enters"]
+    return (f"Fixes sit {a:+.2f} m along the walk from where their RSSI was read (+ = ahead) and {b:+.2f} m from "
+            f"the walker when they enter, {d['fix age when it enters']:.2f} s later: "
+            + ("the lag and that offset partly cancel, so removing the lag alone can raise the error. "
+               if abs(b) < abs(a) else "")
+            + f"PDR distance / true distance {d['PDR distance / true distance']:.2f}, detected / true steps "
+            f"{d['detected / true steps']:.2f}, heading rms {d['heading error of the detected steps, rms']:.2f} rad.")

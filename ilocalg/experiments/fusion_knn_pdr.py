@@ -50,24 +50,30 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
+from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, steady_state_weight, track_at
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers.claims import interval
 from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_luo_k, luo_steps
-from ilocalg.sim import gait, iloc_floor
+from ilocalg.sim import gait, iloc_floor, iloc_scenario
+from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 from ilocalg.units import as_rng
 
-__all__ = ["run", "crossover_point", "findings", "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS",
-           "SURVEY_SCANS", "LATENCIES_S", "DETECTOR_VARIANTS"]
+__all__ = ["run", "seed_table", "principled_weight", "combined_method", "pdr_method", "crossover_point", "findings",
+           "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS", "SURVEY_SCANS", "LATENCIES_S",
+           "DETECTOR_VARIANTS"]
 
 #: Name of the default combination (the paper's) and of the labelled i-Loc Kalman-filter alternative.
 COMBINED = "combined (Wi-Fi start + fingerprint adjustment)"
 KF_ALT = "i-Loc step KF (alternative)"
-#: Adjustment weights swept (the paper gives none; 0.5 is the default).
-ADJUST_WEIGHTS = (0.25, 0.5, 0.75, 1.0)
+#: Adjustment weights swept as a sensitivity curve (the paper gives none; the default is the inverse-variance
+#: weight from the training data, :func:`principled_weight`).
+ADJUST_WEIGHTS = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
 #: Survey scans per reference point swept (the paper gives none).
 SURVEY_SCANS = (10, 30, 300)
 #: Walking-scan latencies swept, s (the paper gives none; phones take 1-3 s per scan; 2 s is the default).
@@ -97,87 +103,179 @@ def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:
     return int(better[-1] + 1) if better.size else 0
 
 
-def _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad, adjust_weights, scans_per_point,
-                 scan_latency_s):
-    """Simulate, detect, combine: the per-position error table and the example tracks."""
-    if fast:
-        n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
-    # independent streams for the floor, the walks and each walk's scans, so that a sweep of the survey
-    # size or of the scan latency changes only what it sweeps (same walkers, walks and sessions)
-    floor_rng, rng, scan_root = as_rng(seed).spawn(3)
-    scan_rngs = scan_root.spawn(n_walkers)
-    method = "KNN (Manhattan, K=5)"
-    spp = scans_per_point if scans_per_point is not None else (60 if fast else iloc_floor.SCANS_PER_POINT)
-    # survey (its own sessions) and a standing calibration session at the route points (another day)
-    sim = iloc_floor.simulate(floor_rng, scans_per_point=spp, scans_per_test_point=n_cal)
-    est = iloc_floor.fit_estimator(sim, method)
-    r_var = float(iloc_floor.standing_fix_variance_m2(sim, est).mean())
-    walkers = gait.make_walkers(max(n_train, n_walkers), rng)
-    train = gait.training_walks(walkers[:n_train], rng)
-    k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in train], detector)
-    route = iloc_floor.route_xy_m()
-    tps, ex, nsteps, x0_err, n_deaf = [], [], [], [], 0
-    for w_i, w in enumerate(walkers[:n_walkers]):
-        sw = gait.simulate_walk(route, w, rng)
+def _pdr(w, k, detector):
+    """Luo's PDR on one walk: steps (time, eq. 4 length, WDM heading) and the per-sample WDM heading."""
+    acc, t = acc_from_log(w.imu)
+    st = luo_steps(acc, t, k, detector)
+    heads = log_headings_rad(w.imu, w.stand_s)["WDM"]
+    return {"state_t_s": np.concatenate([[t[0]], st["t_s"].to_numpy()]), "step_m": st["length_m"].to_numpy(),
+            "theta_rad": heads[st["i_peak"].to_numpy()], "heading_rad": heads, "n_true": len(w.steps)}
+
+
+def _training_stats(scn, k, detector):
+    """Step-length error sd, WDM heading error sd and mean step duration and length on the training walks."""
+    errs_h, durs, lens = [], [], []
+    for _, _, sw in scn.train_walks:
         acc, t = acc_from_log(sw.imu)
         st = luo_steps(acc, t, k, detector)
-        nsteps.append((len(st), len(sw.steps)))
-        th = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"][st["i_peak"].to_numpy()]
-        d = st["length_m"].to_numpy()
-        ts = np.concatenate([[t[0]], st["t_s"].to_numpy()])
-        truth_t = sw.truth.index.to_numpy()
-        truth_xy = sw.truth[["x_m", "y_m"]].to_numpy()
-        # this walk's session: a new per-AP drift (another day than every survey session)
-        drift = iloc_floor.session_drift_db(sim, scan_rngs[w_i])
-        # the phone scans back to back from the start; scan 0 (at the start, L212) gives the initial position,
-        # the scans started while walking are the test positions (off the reference grid)
-        starts = iloc_floor.back_to_back_scan_starts_s(truth_t[0], truth_t[-1], scan_latency_s)
-        fx = iloc_floor.walking_fixes(sim, est, truth_t, truth_xy, starts, scan_latency_s, scan_rngs[w_i], drift)
-        walk_t0 = float(sw.steps["t_strike_s"].iloc[0])
-        walk_t1 = float((sw.steps["t_strike_s"] + sw.steps["duration_s"]).iloc[-1])
+        if not len(st):
+            continue
+        heads = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"][st["i_peak"].to_numpy()]
+        true_th = np.interp(st["t_s"].to_numpy(), sw.truth.index.to_numpy(), np.unwrap(sw.truth["theta_rad"]))
+        errs_h.append(np.angle(np.exp(1j * (heads - true_th))))
+        durs.append(sw.steps["duration_s"].to_numpy())
+        lens.append(sw.steps["length_m"].to_numpy())
+    e = np.concatenate(errs_h)
+    return float(np.sqrt(np.mean(e**2))), float(np.mean(np.concatenate(durs))), float(np.mean(np.concatenate(lens)))
+
+
+def principled_weight(sig_sl_m: float, sig_theta_rad: float, step_m: float, step_s: float, scan_interval_s: float,
+                      r_var_m2: float) -> tuple[float, float]:
+    """The adjustment weight from variances measured on the training data (not from the test outcome).
+
+    Between two fixes (``scan_interval_s``) the walker takes ``scan_interval_s / step_s`` steps, each adding
+    a position variance of ``(sig_sl^2 + (step_m sig_theta)^2) / 2`` per axis (length along, heading across
+    the walk); a fix has variance ``r_var_m2`` per axis. The steady-state inverse-variance weight of the two
+    (:func:`ilocalg.fusion.budget.steady_state_weight`). Returns ``(weight, q_var_m2)``.
+    """
+    q = scan_interval_s / step_s * 0.5 * (sig_sl_m**2 + (step_m * sig_theta_rad) ** 2)
+    return steady_state_weight(q, r_var_m2), float(q)
+
+
+def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: bool):
+    """Detect, combine and score every walk of a scenario: the per-position error table and the example tracks."""
+    method = "KNN (Manhattan, K=5)"
+    est = iloc_floor.fit_estimator(scn.floor, method)
+    r_var = float(iloc_floor.standing_fix_variance_m2(scn.floor, est).mean())
+    k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in scn.train_walks], detector)
+    sig_th, step_s, step_m = _training_stats(scn, k, detector)
+    w_p, q_var = principled_weight(sig_sl, sig_th, step_m, step_s, scn.params["scan_interval_s"], r_var)
+    weights = tuple(sorted(set(adjust_weights) | ({round(w_p, 3)} if principled else set())))
+    route = scn.route_xy_m
+    tps, ex, nsteps, x0_err, inputs, n_deaf = [], [], [], [], [], 0
+    for w_i, w in enumerate(scn.walks):
+        pdr = _pdr(w, k, detector)
+        ts, d, th = pdr["state_t_s"], pdr["step_m"], pdr["theta_rad"]
+        nsteps.append((d.size, pdr["n_true"]))
+        fx = walk_fixes(scn, w, est)
+        walk_t0 = float(w.steps["t_strike_s"].iloc[0])
+        walk_t1 = float((w.steps["t_strike_s"] + w.steps["duration_s"]).iloc[-1])
         start_fix = fx[["fix_x_m", "fix_y_m"]].to_numpy()[0]
         x0 = start_fix if np.isfinite(start_fix).all() else route[0]
         x0_err.append(float(np.hypot(*(x0 - route[0]))))
-        tst = fx[(fx["t_start_s"] > walk_t0) & (fx["t_start_s"] < walk_t1)].reset_index(drop=True)
+        # test positions: where the walker is when a fix becomes available (its scan has ended) while walking
+        rest = fx.iloc[1:]
+        tst = rest[(rest["t_ready_s"] > walk_t0) & (rest["t_ready_s"] <= walk_t1)].reset_index(drop=True)
         fix = tst[["fix_x_m", "fix_y_m"]].to_numpy()
-        true_xy = tst[["x_m", "y_m"]].to_numpy()
+        t_eval = tst["t_ready_s"].to_numpy()
+        true_xy = np.column_stack([np.interp(t_eval, w.truth_t_s, w.truth_xy_m[:, 0]),
+                                   np.interp(t_eval, w.truth_t_s, w.truth_xy_m[:, 1])])
         heard = np.isfinite(fix).all(axis=1)
         n_deaf += int((~heard).sum())
-        al = fixes_at_states(ts, tst["t_start_s"].to_numpy()[heard], fix[heard], before_start="drop",
-                             same_state="last")
+        fr = rest[np.isfinite(rest[["fix_x_m", "fix_y_m"]].to_numpy()).all(axis=1)]
+        al = fixes_at_states(ts, fr["t_ready_s"].to_numpy(), fr[["fix_x_m", "fix_y_m"]].to_numpy(),
+                             before_start="drop", same_state="last")
         z = al.z_m
         tracks = {"PDR only": dead_reckon(d, th, *route[0])[["x_m", "y_m"]].to_numpy()}
-        for wgt in adjust_weights:
+        for wgt in weights:
             tracks[f"{COMBINED}, weight {wgt:g}"] = fingerprint_adjusted_track(x0, th, d, z, wgt)
         res = filter_walk(x0, r_var * np.eye(2), th, d, sig_sl, z, r_var_m2=r_var)
         hres = filter_walk(x0, r_var * np.eye(2), th, d, sig_sl, z, r_var_m2=r_var, sigma_theta_rad=sigma_theta_rad)
         tracks.update({KF_ALT: res.x, f"{KF_ALT} + RTS": rts_smooth(res).x,
                        f"{KF_ALT} + heading noise": hres.x, f"{KF_ALT} + heading noise + RTS": rts_smooth(hres).x})
-        # each method's estimate at a test position: its latest state at or before the scan's start
-        idx = np.maximum(np.searchsorted(ts, tst["t_start_s"].to_numpy(), side="right") - 1, 0)
-        rows = [("Wi-Fi only (KNN)", fix)] + [(m, xy[idx]) for m, xy in tracks.items()]
+        rows = [("Wi-Fi only (KNN)", fix)] + [(m, track_at(ts, xy, t_eval)) for m, xy in tracks.items()]
         for m, est_xy in rows:
             keep = heard if m == "Wi-Fi only (KNN)" else np.ones(len(tst), dtype=bool)
             tps.append(pd.DataFrame({"walker": w.name, "method": m, "point": np.arange(1, len(tst) + 1)[keep],
-                                     "t_s": tst["t_start_s"].to_numpy()[keep], "x_true_m": true_xy[keep, 0],
+                                     "t_s": t_eval[keep], "x_true_m": true_xy[keep, 0],
                                      "y_true_m": true_xy[keep, 1], "x_est_m": est_xy[keep, 0],
                                      "y_est_m": est_xy[keep, 1],
                                      "error_m": np.hypot(*(est_xy[keep] - true_xy[keep]).T)}))
+        inputs.append(FusionInputs(
+            t0_s=float(ts[0]), start_xy_m=x0, start_ref_t_s=float(fx["t_ref_s"].iloc[0]), step_t_s=ts[1:],
+            step_m=d, theta_rad=th, heading_t_s=w.imu.index.to_numpy(), heading_rad=pdr["heading_rad"],
+            fix_t_s=fr["t_ready_s"].to_numpy(), fix_ref_t_s=fr["t_ref_s"].to_numpy(),
+            fix_xy_m=fr[["fix_x_m", "fix_y_m"]].to_numpy(),
+            true_step_t_s=(w.steps["t_strike_s"] + w.steps["duration_s"]).to_numpy(),
+            true_step_mid_t_s=w.steps["t_mid_s"].to_numpy(), true_step_m=w.steps["length_m"].to_numpy(),
+            truth_t_s=w.truth_t_s, truth_xy_m=w.truth_xy_m, truth_theta_rad=w.truth["theta_rad"].to_numpy(),
+            eval_t_s=t_eval, eval_xy_m=true_xy))
         if w_i == 0:
-            ex.append(pd.DataFrame({"method": "truth", "x_m": np.r_[route[0, 0], sw.steps["x_m"]],
-                                    "y_m": np.r_[route[0, 1], sw.steps["y_m"]]}))
+            ex.append(pd.DataFrame({"method": "truth", "x_m": np.r_[route[0, 0], w.steps["x_m"]],
+                                    "y_m": np.r_[route[0, 1], w.steps["y_m"]]}))
             ex.append(pd.DataFrame({"method": "Wi-Fi only (KNN)", "x_m": fix[heard, 0], "y_m": fix[heard, 1]}))
             ex += [pd.DataFrame({"method": m, "x_m": v[:, 0], "y_m": v[:, 1]}) for m, v in tracks.items()]
     tp = pd.concat(tps, ignore_index=True)
     det = np.asarray(nsteps, dtype=float)
-    info = {"k": k, "sig_sl": sig_sl, "r_var": r_var, "n_walkers": n_walkers, "scans_per_point": spp,
+    info = {"k": k, "sig_sl": sig_sl, "sig_theta": sig_th, "step_s": step_s, "step_m": step_m, "q_var": q_var,
+            "principled_weight": w_p, "r_var": r_var, "n_walkers": len(scn.walks),
+            "scans_per_point": scn.params["scans_per_point"],
             "det_over_true_steps": float(det[:, 0].sum() / det[:, 1].sum()),
-            "start_fix_error_m": float(np.mean(x0_err)), "n_deaf": n_deaf, "scan_latency_s": float(scan_latency_s)}
+            "start_fix_error_m": float(np.mean(x0_err)), "n_deaf": n_deaf,
+            "scan_latency_s": scn.params["scan_latency_s"], "scan_interval_s": scn.params["scan_interval_s"],
+            "inputs": inputs}
     return tp, ex, info
 
 
+def _claim_measures(seed, tp, pp, summ, n_walkers, n_train, detector) -> list:
+    """The claims ledger's named scalars as on main (c62a9bb, ilocalg/papers/luo.py), unchanged in meaning."""
+    # each method's mean error; the PDR drift (Spearman rho of its per-point error with the point index, L235);
+    # how much each error jumps from one test position to the next (mean |change| within a walk, L239-241);
+    # and, on new walkers drawn from a stream of their own (the tables above do not change), the step detector
+    # against its sliding window (L175-177) and time window (L189) and eq. (4) against one constant step length
+    # (L200)
+    meas = [{"quantity": "mean error", "item": r["method"], "value": float(r["mean_error_m"]), "unit": "m"}
+            for _, r in summ.iterrows()]
+    meas.append({"quantity": "PDR only per-point error vs point index, Spearman rho", "item": "PDR only",
+                 "value": float(pp["point"].corr(pp["PDR only"], method="spearman")), "unit": "-"})
+    for mth in ("Wi-Fi only (KNN)", COMBINED, "PDR only"):
+        jumps = tp[tp["method"] == mth].sort_values(["walker", "point"]).groupby("walker")["error_m"].diff().abs()
+        meas.append({"quantity": "mean |error change| between successive test positions", "item": mth,
+                     "value": float(jumps.mean()), "unit": "m"})
+    m_rng = as_rng(seed).spawn(4)[3]
+    m_walkers = gait.make_walkers(max(2, n_train // 2) + max(2, n_walkers // 2), m_rng)
+    m_train, m_test = m_walkers[:max(2, n_train // 2)], m_walkers[max(2, n_train // 2):]
+    det0 = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
+    route_walks = [gait.simulate_walk(iloc_floor.route_xy_m(), w, m_rng) for w in m_test]
+    for lab, det in (*((f"sliding window {ws:g} s", {**det0, "window_s": ws}) for ws in (0.1, 0.4, 1.2)),
+                     ("time window 0.2-2 s", {**det0, "min_dt_s": 0.2, "max_dt_s": 2.0}),
+                     ("time window 0.05-5 s", {**det0, "min_dt_s": 0.05, "max_dt_s": 5.0})):
+        n_det = sum(len(luo_steps(*acc_from_log(sw.imu), 1.0, det)) for sw in route_walks)
+        meas.append({"quantity": "detected / true steps", "item": lab,
+                     "value": n_det / sum(len(sw.steps) for sw in route_walks), "unit": "-"})
+    tr = gait.training_walks(m_train, m_rng)
+    k_m, _ = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in tr], detector)
+    const_m = float(np.mean([sw.steps["length_m"].mean() for _, _, sw in tr]))
+    e4, ec = [], []
+    for _, length_m, sw in gait.training_walks(m_test, m_rng):
+        st4 = luo_steps(*acc_from_log(sw.imu), k_m, detector)
+        e4 += list(np.abs(st4["length_m"].to_numpy() - length_m) / length_m)
+        ec.append(abs(const_m - length_m) / length_m)
+    meas += [{"quantity": "fixed-length walks 40-80 cm, mean relative step-length error", "item": "eq. (4)",
+              "value": 100 * float(np.mean(e4)), "unit": "%"},
+             {"quantity": "fixed-length walks 40-80 cm, mean relative step-length error",
+              "item": "one constant step length", "value": 100 * float(np.mean(ec)), "unit": "%"}]
+    return meas
+
+
+def combined_method(weight: float):
+    """Luo's combination (Wi-Fi start, fixes pull the track by ``weight``) as an error-budget method."""
+    def comb(inp: FusionInputs) -> np.ndarray:
+        fxy = np.asarray(inp.fix_xy_m, dtype=np.float64)
+        z = fixes_at_states(inp.state_t_s, inp.fix_t_s, fxy, before_start="drop", same_state="last").z_m
+        return fingerprint_adjusted_track(inp.start_xy_m, inp.theta_rad, inp.step_m, z, weight)
+    return comb
+
+
+def pdr_method(inp: FusionInputs) -> np.ndarray:
+    """PDR only from the true start (L235) as an error-budget method."""
+    x0 = inp.truth_at([inp.t0_s])[0]
+    return dead_reckon(np.asarray(inp.step_m), np.asarray(inp.theta_rad), *x0)[["x_m", "y_m"]].to_numpy()
+
+
 def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None,
-             scan_latency_s: float = 2.0) -> pd.DataFrame:
+             scan_latency_s: float = SCAN_LATENCY_S, scan_interval_s: float | None = None,
+             principled: bool = True, lag_model: str = "measured") -> pd.DataFrame:
     """One row per modelling choice of :func:`run` (line numbers of Luo et al. 2017's text copy)."""
     det = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
     spp = scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT
@@ -185,8 +283,13 @@ def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per
         ("combination of Wi-Fi and PDR", "L9, L212, L245",
          "Wi-Fi gives the initial position; fingerprint positioning adjusts the PDR position and removes its "
          "accumulated error; no filter or weight given",
-         f"Wi-Fi start, PDR between fixes, each fix pulls the track by {adjust_weight:g} of the gap",
-         "paper's scheme; the weight is an assumption, swept in adjust_sweep"),
+         f"Wi-Fi start, PDR between fixes, each fix pulls the track by {adjust_weight:g} of the gap"
+         + (" (the steady-state inverse-variance weight: PDR variance accumulated over one scan interval from the "
+            "training walks' step-length and heading errors, against the KNN fix variance of the standing "
+            "calibration session)" if principled else ""),
+         "the paper gives no weight: a principled one from variances measured on training data, never from the "
+         "test outcome (earlier: 0.5, the best of its own sweep); the sweep is shown as a sensitivity curve "
+         "(adjust_sweep)"),
         ("Kalman filter", "L103-139 (sec. 3.1), L141-143 (sec. 3.2)",
          "sec. 3.1: a generic KF for KF-based inertial navigation; sec. 3.2 argues against it on phones; no Q",
          "the i-Loc step KF (Chiu 2013) with the toolkit's Q and R, from the same Wi-Fi start",
@@ -220,16 +323,24 @@ def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per
         ("test positions", "L91, L222",
          "the locating phase scans where the user is (L91); the tester walks a preset route holding the phone "
          "(L222); Fig 6's x axis is a coordinate index; no scan rate",
-         "the phone scans back to back from the start; a test position is the walker's true position when a "
-         "scan starts while walking (off the 2 m reference grid); Fig 6's index = the scan's number; the start "
-         "scan gives the initial position only (L212)",
-         "paper (walking); back-to-back scanning: assumption"),
+         f"the phone scans periodically (every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s) from the "
+         "start; a test position is where the "
+         "walker is when a fix becomes available (its scan has ended) while walking; Fig 6's index = the fix's "
+         "number; the start scan gives the initial position only (L212)",
+         "paper (walking); periodic scanning as i-Loc L777; " + iloc_scenario.scan_model_source(scan_interval_s)),
         ("test scans", "L222", "the tester walks the route holding the phone, which locates as it goes; no scan "
          "duration or timing",
-         f"iloc_floor.walking_scans: each AP read at a uniform time within the {scan_latency_s:g} s scan at the "
-         "walker's position then, facing the walking direction (body shadowing); the fix is tagged at the "
-         "scan's start and adjusts the latest PDR state at or before it (as notebook 07)",
-         "scan latency: assumption (phones 1-3 s), swept in latency_sweep; fix timing: assumption"),
+         "iloc_floor.walking_scans: " + iloc_scenario.scan_model_text(lag_model, scan_latency_s) + ", facing the "
+         "walking direction (body shadowing); a fix is available only when its scan is stamped and adjusts the "
+         "latest PDR state then (causal; earlier versions applied it at the scan's start)",
+         "reading ages measured (see 'test positions'); the uniform-within-a-scan model (1-3 s, an assumption) "
+         "swept in latency_sweep"),
+        ("error budget", "beyond the paper", "no error budget",
+         "the combination and PDR only rerun with one error source replaced by the truth at a time (Wi-Fi fix "
+         "error, scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
+        ("headline", "sec. 4 item 3", "one walk: combined 6.74 m vs Wi-Fi only 11.38 m",
+         "the ratio combined / Wi-Fi only per seed; seed_table gives its mean and Student-t 95 % interval over "
+         "seeds", "toolkit (one seed is one draw of the simulated world)"),
     ]
     return readings_table([reading(c, f"Luo et al. 2017, {ln}" if ln.startswith("L") else ln, t, d, src)
                            for c, ln, t, d, src in rows])
@@ -240,11 +351,24 @@ def _summary_rows(tp, label_col, label):
     return {label_col: label, **{f"{k} mean error [m]": float(v) for k, v in m.items()}}
 
 
+def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
+              lag_model="measured"):
+    if fast:
+        n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
+    spp = scans_per_point if scans_per_point is not None else (60 if fast else iloc_floor.SCANS_PER_POINT)
+    # the tester's own walks train k (train_on_test_walkers); the survey and a standing calibration session
+    # at the route points on another day come with the world
+    return iloc_scenario.build(seed, n_walkers=n_walkers, n_train=n_train, n_cal=n_cal, scans_per_point=spp,
+                               scan_interval_s=scan_interval_s, scan_latency_s=scan_latency_s,
+                               train_on_test_walkers=True, lag_model=lag_model)
+
+
 def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8, n_cal: int = 10,
-        detector: dict | None = None, sigma_theta_rad: float = 0.2, adjust_weight: float = 0.5,
-        scans_per_point: int | None = None, scan_latency_s: float = 2.0,
-        sweeps: bool = True) -> dict[str, pd.DataFrame]:
-    """PDR only, Wi-Fi only (KNN) and the paper's combination at the route points (Fig 6).
+        detector: dict | None = None, sigma_theta_rad: float = 0.2, adjust_weight: float | None = None,
+        scans_per_point: int | None = None, scan_latency_s: float = SCAN_LATENCY_S, sweeps: bool = True,
+        scan_interval_s: float | None = None, budget: bool = True,
+        lag_model: str = "measured") -> dict[str, pd.DataFrame]:
+    """PDR only, Wi-Fi only (KNN) and the paper's combination at the walking test positions (Fig 6).
 
     Parameters
     ----------
@@ -253,33 +377,45 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         rule b, threshold 1.0 m/s^2).
     sigma_theta_rad : float
         Heading error sd of the KF variant whose ``Q`` also covers the heading.
-    adjust_weight : float
-        Weight of the fingerprint adjustment of the default combination (swept in ``adjust_sweep``).
+    adjust_weight : float, optional
+        Weight of the fingerprint adjustment of the default combination. The paper gives none; default
+        (None) the steady-state inverse-variance weight from the training walks and the standing
+        calibration session (:func:`principled_weight`). Swept in ``adjust_sweep``.
     scans_per_point : int, optional
         Survey scans per reference point (default: the i-Loc floor's 300; fast: 60).
-    scan_latency_s : float
-        Duration of one walking scan, s (> 0); the phone scans back to back, so it is also the time
-        between test positions (swept in ``latency_sweep``).
+    scan_latency_s, scan_interval_s, lag_model
+        Periodic scans while walking, causal fixes (:mod:`ilocalg.sim.iloc_scenario`): the interval
+        (default measured), the lag model (default the measured reading ages; ``"uniform"``: reads
+        uniform within a scan of ``scan_latency_s``).
     sweeps : bool
         Also run the survey, detector and scan-latency sweeps.
+    budget : bool
+        Also compute the error budget of the combination and of PDR only.
 
     Returns
     -------
     dict of DataFrame
-        ``test_points`` (one row per walker, method and test position: the walker's true position
-        when a scan started while walking, ``point`` = the scan's number), ``summary``, ``cdf``,
+        ``test_points`` (one row per walker, method and test position: the walker's true position when a
+        fix became available while walking, ``point`` = the fix's number), ``summary``, ``cdf``,
         ``per_point`` (mean error per point and method over the walkers, for the points every walker
-        reached: the Fig 6 curves), ``track_example``, ``calibration`` (k, sigma_SL, R, ...),
-        ``comparison``, ``readings``, ``adjust_sweep``, and with ``sweeps`` ``survey_sweep``,
-        ``detector_sweep``, ``latency_sweep``.
+        reached: the Fig 6 curves), ``track_example``, ``calibration`` (k, sigma_SL, R, weight, ...),
+        ``comparison``, ``readings``, ``adjust_sweep``, ``measures``, with ``budget`` ``budget`` and
+        ``budget_inputs`` (the inputs against their truth), and with
+        ``sweeps`` ``survey_sweep``, ``detector_sweep``, ``latency_sweep``.
     """
-    weights = tuple(sorted(set(ADJUST_WEIGHTS) | {float(adjust_weight)}))
-    tp, ex, info = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad, weights,
-                                scans_per_point, scan_latency_s)
-    default = f"{COMBINED}, weight {adjust_weight:g}"
-    adjust_rows = [_summary_rows(tp[tp["method"].str.startswith(COMBINED + ",")
-                                    & (tp["method"] == f"{COMBINED}, weight {w:g}")], "weight", w) for w in weights]
-    adjust = pd.DataFrame([{"weight": r["weight"], "mean_error_m": list(r.values())[1]} for r in adjust_rows])
+    scn = _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
+                    lag_model)
+    tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS, principled=True)
+    w_used = round(info["principled_weight"], 3) if adjust_weight is None else float(adjust_weight)
+    if adjust_weight is not None and f"{COMBINED}, weight {w_used:g}" not in set(tp["method"]):
+        tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS + (w_used,), principled=True)
+    default = f"{COMBINED}, weight {w_used:g}"
+    wts = sorted({float(m.rsplit(" ", 1)[1]) for m in tp["method"].unique() if m.startswith(COMBINED + ",")})
+    mm0 = tp.groupby("method", sort=False)["error_m"].mean()
+    adjust = pd.DataFrame([{"weight": w, "mean_error_m": float(mm0[f"{COMBINED}, weight {w:g}"]),
+                            "wifi_only_mean_m": float(mm0["Wi-Fi only (KNN)"]),
+                            "pdr_only_mean_m": float(mm0["PDR only"]),
+                            "default": w == w_used} for w in wts])
     keep = ~tp["method"].str.startswith(COMBINED + ",") | (tp["method"] == default)
     tp = tp[keep].replace({"method": {default: COMBINED}}).reset_index(drop=True)
     ex = [e.replace({"method": {default: COMBINED}}) for e in ex
@@ -294,18 +430,19 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     cross_kf = crossover_point(pp["PDR only"].to_numpy(), pp[KF_ALT].to_numpy())
     wifi_pp = pp["Wi-Fi only (KNN)"]
     note = f"{info['n_walkers']} simulated walkers, simulated i-Loc floor (not the paper's library)"
+    w_note = ("inverse-variance weight from the training data" if adjust_weight is None else "given weight")
     comp = [
         paper_ref(PAPER, "Fig 6", "Wi-Fi only (KNN, Manhattan, K=5) mean error", PAPER_LUO["wifi_mean_m"],
-                  m["Wi-Fi only (KNN)"], "m", note + "; walking scans off the reference grid, own session per walk"),
+                  m["Wi-Fi only (KNN)"], "m", note + "; periodic walking scans, each fix scored when it is available"),
         paper_ref(PAPER, "Fig 6", "Wi-Fi only, smallest per-point error", PAPER_LUO["wifi_min_m"],
                   tp.loc[tp["method"] == "Wi-Fi only (KNN)", "error_m"].min(), "m", "over every walker and point"),
         paper_ref(PAPER, "Fig 6", "Wi-Fi only, largest per-point error", PAPER_LUO["wifi_max_m"],
                   tp.loc[tp["method"] == "Wi-Fi only (KNN)", "error_m"].max(), "m", "over every walker and point"),
         paper_ref(PAPER, "Fig 6", "combined mean error (Wi-Fi start + fingerprint adjustment)",
-                  PAPER_LUO["combined_mean_m"], m[COMBINED], "m", note + f"; weight {adjust_weight:g} (assumption)"),
+                  PAPER_LUO["combined_mean_m"], m[COMBINED], "m", note + f"; weight {w_used:g} ({w_note})"),
         paper_ref(PAPER, "Fig 6", "combined / Wi-Fi only mean error",
                   PAPER_LUO["combined_mean_m"] / PAPER_LUO["wifi_mean_m"],
-                  m[COMBINED] / m["Wi-Fi only (KNN)"], "-", "the improvement ratio"),
+                  m[COMBINED] / m["Wi-Fi only (KNN)"], "-", "the improvement ratio (one seed; see seed_table)"),
         paper_ref(PAPER, "Fig 6", "last point where PDR only beats combined", PAPER_LUO["pdr_better_points"], cross,
                   "points", "mean over walkers per scan (points every walker reached)"),
         paper_ref(PAPER, "Fig 6 (alternative, not the paper's)", "i-Loc step KF mean error",
@@ -317,48 +454,72 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                           {"quantity": "detected / true steps on the test walks", "value": info["det_over_true_steps"]},
                           {"quantity": "sigma_SL, step-length error sd [m] (KF alternative)", "value": info["sig_sl"]},
                           {"quantity": "R, KNN fix variance per axis [m^2] (KF alternative)", "value": info["r_var"]},
+                          {"quantity": "WDM heading error rms on the training walks [rad]", "value": info["sig_theta"]},
+                          {"quantity": "PDR variance per axis between two fixes [m^2]", "value": info["q_var"]},
+                          {"quantity": "adjustment weight, inverse variances (training data)",
+                           "value": info["principled_weight"]},
+                          {"quantity": "adjustment weight used", "value": w_used},
                           {"quantity": "survey scans per reference point", "value": info["scans_per_point"]},
-                          {"quantity": "scan latency = time between test positions [s]",
-                           "value": info["scan_latency_s"]},
+                          {"quantity": "scan latency [s] (uniform lag model only)", "value": info["scan_latency_s"]},
+                          {"quantity": "scan interval = time between test positions [s]",
+                           "value": info["scan_interval_s"]},
                           {"quantity": "test positions per walker (points every walker reached)", "value": n_common},
                           {"quantity": "Wi-Fi start: mean error of the initial fix [m]",
                            "value": info["start_fix_error_m"]},
                           {"quantity": "test scans hearing no AP (no Wi-Fi fix)", "value": info["n_deaf"]},
                           {"quantity": "Wi-Fi only per-point mean error, min over points [m]", "value": wifi_pp.min()},
                           {"quantity": "Wi-Fi only per-point mean error, max over points [m]", "value": wifi_pp.max()}])
+    # named scalars for the claims ledger ("combined / Wi-Fi only mean error" is a comparison row, not repeated)
+    measures = [{"quantity": "adjustment weight used", "value": w_used, "unit": "-"},
+                {"quantity": "i-Loc step KF / Wi-Fi only mean error", "value": m[KF_ALT] / m["Wi-Fi only (KNN)"],
+                 "unit": "-"}]
+    measures += _claim_measures(seed, tp, pp, summ, n_walkers, n_train, detector)
     out = {"test_points": tp, "summary": summ, "cdf": cdf, "per_point": pp,
            "track_example": pd.concat(ex, ignore_index=True), "calibration": calib,
            "comparison": comparison_table(comp),
-           "readings": readings(adjust_weight, detector, scans_per_point, scan_latency_s),
+           "readings": readings(w_used, detector, scans_per_point, scan_latency_s, scan_interval_s,
+                                adjust_weight is None, lag_model),
            "adjust_sweep": adjust}
+    if budget:
+        bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_method})
+        out["budget"] = bud
+        out["budget_inputs"] = input_diagnostics(info["inputs"])
+        for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():
+            measures.append({"quantity": f"budget share: {r.replaced_by_truth}", "value": r.share_of_error,
+                             "unit": "-", "item": r.method})
+    out["measures"] = pd.DataFrame([{"item": "", **r} for r in measures])[["quantity", "value", "unit", "item"]]
     if sweeps:
+        def _means(t2):
+            return t2.groupby("method", sort=False)["error_m"].mean()
         srows = []
         for spp in ((60,) if fast else SURVEY_SCANS):
-            t2, _, i2 = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad,
-                                     (adjust_weight,), spp, scan_latency_s)
-            mm = t2.groupby("method", sort=False)["error_m"].mean()
+            s2 = _scenario(seed, fast, n_walkers, n_train, n_cal, spp, scan_interval_s, scan_latency_s, lag_model)
+            t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
+            mm = _means(t2)
             srows.append({"scans_per_point": i2["scans_per_point"], "wifi_only_mean_m": mm["Wi-Fi only (KNN)"],
-                          "combined_mean_m": mm[f"{COMBINED}, weight {adjust_weight:g}"],
+                          "combined_mean_m": mm[f"{COMBINED}, weight {w_used:g}"],
                           "kf_alt_mean_m": mm[KF_ALT], "pdr_only_mean_m": mm["PDR only"]})
         out["survey_sweep"] = pd.DataFrame(srows)
         drows = []
         for name, det in (DETECTOR_VARIANTS[:2] if fast else DETECTOR_VARIANTS):
-            t2, _, i2 = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, det, sigma_theta_rad,
-                                     (adjust_weight,), scans_per_point, scan_latency_s)
-            mm = t2.groupby("method", sort=False)["error_m"].mean()
+            t2, _, i2 = _walk_tracks(scn, det, sigma_theta_rad, (w_used,), principled=False)
+            mm = _means(t2)
             drows.append({"detector": name, "det_over_true_steps": i2["det_over_true_steps"], "k": i2["k"],
                           "pdr_only_mean_m": mm["PDR only"],
-                          "combined_mean_m": mm[f"{COMBINED}, weight {adjust_weight:g}"],
+                          "combined_mean_m": mm[f"{COMBINED}, weight {w_used:g}"],
                           "kf_alt_mean_m": mm[KF_ALT]})
         out["detector_sweep"] = pd.DataFrame(drows)
         lrows = []
-        for lat in ((scan_latency_s,) if fast else LATENCIES_S):
-            t2, _, i2 = _walk_tracks(seed, fast, n_walkers, n_train, n_cal, detector, sigma_theta_rad,
-                                     (adjust_weight,), scans_per_point, lat)
-            mm = t2.groupby("method", sort=False)["error_m"].mean()
-            lrows.append({"scan_latency_s": lat, "test_positions": int(t2[t2["method"] == "PDR only"].shape[0]),
+        for lat in ((scan_latency_s,) if fast else LATENCIES_S):  # the uniform-within-a-scan model
+            s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scn.params["scan_interval_s"], lat),
+                                      scan_latency_s=lat,
+                                      lag_model="uniform")
+            t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
+            mm = _means(t2)
+            lrows.append({"scan_latency_s": lat, "scan_interval_s": max(scn.params["scan_interval_s"], lat),
+                          "test_positions": int(t2[t2["method"] == "PDR only"].shape[0]),
                           "wifi_only_mean_m": mm["Wi-Fi only (KNN)"], "pdr_only_mean_m": mm["PDR only"],
-                          "combined_mean_m": mm[f"{COMBINED}, weight {adjust_weight:g}"],
+                          "combined_mean_m": mm[f"{COMBINED}, weight {w_used:g}"],
                           "kf_alt_mean_m": mm[KF_ALT]})
         out["latency_sweep"] = pd.DataFrame(lrows)
     # named scalars for the claims ledger (ilocalg/papers/luo.py): each method's mean error; the PDR drift
@@ -401,6 +562,29 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     return out
 
 
+def seed_table(seeds=range(5), fast: bool = False, **params) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The headline over several seeds: each seed's Wi-Fi only and combined means and their ratio, and the
+    ratio's mean with a Student-t 95 % interval (:func:`ilocalg.papers.claims.interval`).
+
+    Returns
+    -------
+    per_seed : DataFrame (``seed``, ``wifi_only_mean_m``, ``combined_mean_m``, ``ratio``, ``weight``)
+    headline : DataFrame, one row: ``quantity``, ``mean``, ``ci_low``, ``ci_high``, ``n_seeds``, ``paper_value``
+    """
+    rows = []
+    for s in seeds:
+        t = run(seed=s, fast=fast, sweeps=False, budget=False, **params)
+        m = t["summary"].set_index("method")["mean_error_m"]
+        w = t["calibration"].set_index("quantity")["value"]["adjustment weight used"]
+        rows.append({"seed": s, "wifi_only_mean_m": m["Wi-Fi only (KNN)"], "combined_mean_m": m[COMBINED],
+                     "ratio": m[COMBINED] / m["Wi-Fi only (KNN)"], "weight": w})
+    per = pd.DataFrame(rows)
+    mean, lo, hi, n = interval(per["ratio"])
+    head = pd.DataFrame([{"quantity": "combined / Wi-Fi only mean error", "mean": mean, "ci_low": lo, "ci_high": hi,
+                          "n_seeds": n, "paper_value": PAPER_LUO["combined_mean_m"] / PAPER_LUO["wifi_mean_m"]}])
+    return per, head
+
+
 def findings(tables: dict) -> str:
     """Sentences computed from the tables (for the notebook's closing cell)."""
     m = tables["summary"].set_index("method")["mean_error_m"]
@@ -420,6 +604,20 @@ def findings(tables: dict) -> str:
         f"Combined / Wi-Fi only = {c / w:.2f} (paper {PAPER_LUO['combined_mean_m'] / PAPER_LUO['wifi_mean_m']:.2f}); "
         f"PDR only beats the combined scheme up to point {cross} (paper: the first {PAPER_LUO['pdr_better_points']}).",
     ]
+    aw = tables["adjust_sweep"]
+    if "default" in aw.columns and aw["default"].any():
+        d = aw[aw["default"]].iloc[0]
+        b = aw.loc[aw["mean_error_m"].idxmin()]
+        lines.append(f"Adjustment weight {d['weight']:.2f} (inverse variances measured on training data): "
+                     f"{d['mean_error_m']:.2f} m; the sweep's lowest error is {b['mean_error_m']:.2f} m at weight "
+                     f"{b['weight']:g}, a value read off the outcome and not used.")
+    if "budget" in tables:
+        bd = tables["budget"]
+        k = bd[(bd["method"] == COMBINED) & bd["replaced_by_truth"].isin(BUDGET_SOURCES)].set_index("replaced_by_truth")
+        lines.append("Error budget of the combination (share of its mean error removed when the source is true): "
+                     + ", ".join(f"{s} {v:.0%}" for s, v in k["share_of_error"].items()) + ".")
+    if "budget_inputs" in tables:
+        lines.append(_inputs_sentence(tables))
     if "latency_sweep" in tables:
         ls = tables["latency_sweep"]
         lines.append("Scan latency " + ", ".join(f"{r.scan_latency_s:g} s" for r in ls.itertuples())
@@ -431,3 +629,16 @@ def findings(tables: dict) -> str:
                      + ": Wi-Fi only " + " / ".join(f"{v:.2f}" for v in sv["wifi_only_mean_m"])
                      + " m, combined " + " / ".join(f"{v:.2f}" for v in sv["combined_mean_m"]) + " m.")
     return "\n".join(lines)
+
+
+def _inputs_sentence(tables: dict) -> str:
+    """One sentence on the budget's inputs against their truth (fix offsets, PDR distance)."""
+    d = tables["budget_inputs"].set_index("quantity")["value"]
+    a = d["fix along-track offset from the position it describes"]
+    b = d["fix along-track offset from the position when it enters"]
+    return (f"Fixes sit {a:+.2f} m along the walk from where their RSSI was read (+ = ahead) and {b:+.2f} m from "
+            f"the walker when they enter, {d['fix age when it enters']:.2f} s later: "
+            + ("the lag and that offset partly cancel, so removing the lag alone can raise the error. "
+               if abs(b) < abs(a) else "")
+            + f"PDR distance / true distance {d['PDR distance / true distance']:.2f}, detected / true steps "
+            f"{d['detected / true steps']:.2f}, heading rms {d['heading error of the detected steps, rms']:.2f} rad.")

@@ -111,6 +111,7 @@ __all__ = [
     "session_drift_db",
     "walking_fixes",
     "back_to_back_scan_starts_s",
+    "periodic_scan_starts_s",
     "fit_estimator",
     "standing_fix_variance_m2",
     "summary",
@@ -496,7 +497,7 @@ def _corridor_distance_m(xy: np.ndarray) -> np.ndarray:
 
 
 def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s: float = 2.0,
-                  rng=None, session_drift_db=None) -> pd.DataFrame:
+                  rng=None, session_drift_db=None, read_age_s=None, return_read_times: bool = False):
     """Wi-Fi scans taken while walking (one scan per fix), in the test session of ``sim``.
 
     Each AP of a scan is read at a uniform time within ``[start, start + scan_latency_s]`` (the
@@ -518,12 +519,19 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     rng : Generator, int or None
     session_drift_db : array_like (n_aps,), optional
         The session's per-AP drift; default ``sim.test_drift_db`` (the test session).
+    read_age_s : array_like (n_scans, n_aps), optional
+        The age of each AP's reading when the scan's result is ready (``t_ready_s``): the AP is read
+        at ``t_ready_s - age`` (within the track). Default: uniform read times within the scan.
+    return_read_times : bool
+        Also return the (n_scans, n_aps) time at which each AP was read, s.
 
     Returns
     -------
     DataFrame
-        One row per scan: ``t_start_s``, ``t_ready_s`` (= start + latency), ``x_m``, ``y_m`` (true
-        position at the scan's start, the tag) and one column per AP id (dBm, NaN = not heard).
+        One row per scan: ``t_start_s``, ``t_ready_s`` (= start + latency: the scan's end, when its
+        result is available), ``x_m``, ``y_m`` (true position at the scan's start, the tag),
+        ``t_ref_s`` (the mean read time of the APs heard: the time the scan describes) and one column
+        per AP id (dBm, NaN = not heard).
     """
     r = as_rng(rng)
     t = np.asarray(track_t_s, dtype=np.float64)
@@ -542,7 +550,13 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
     if drift.shape != (n_ap,):
         raise ValueError(f"session_drift_db must have shape ({n_ap},), got {drift.shape}")
     n = ts.size
-    t_read = np.minimum(ts[:, None] + r.uniform(0.0, scan_latency_s, (n, n_ap)), t[-1])
+    if read_age_s is None:
+        t_read = np.minimum(ts[:, None] + r.uniform(0.0, scan_latency_s, (n, n_ap)), t[-1])
+    else:
+        age = np.asarray(read_age_s, dtype=np.float64)
+        if age.shape != (n, n_ap) or not (np.isfinite(age).all() and (age >= 0).all()):
+            raise ValueError(f"read_age_s must be finite, >= 0 and of shape ({n}, {n_ap}), got {age.shape}")
+        t_read = np.clip(ts[:, None] + scan_latency_s - age, t[0], t[-1])
     x_read = np.interp(t_read, t, xy[:, 0])
     y_read = np.interp(t_read, t, xy[:, 1])
     # walking direction from the track (finite difference over 0.5 s)
@@ -560,12 +574,17 @@ def walking_scans(sim: IlocFloor, track_t_s, track_xy_m, scan_start_t_s, scan_la
         rssi[:, j] = m + body + drift[j] + p["device_offset_db"] + sim.fade_sd_db[near] * r.normal(size=n)
     rssi += r.normal(0.0, p["local_sd_db"], (n, n_ap))
     rssi = _detect(rssi, p, r)
+    heard = ~np.isnan(rssi)
+    # the time the scan describes: the mean read time of the APs it heard (the start when it heard none)
+    t_ref = np.where(heard.any(axis=1), np.nansum(np.where(heard, t_read, 0.0), axis=1)
+                     / np.maximum(heard.sum(axis=1), 1), ts)
     out = pd.DataFrame(rssi, columns=list(sim.train.ap_ids))
+    out.insert(0, "t_ref_s", t_ref)
     out.insert(0, "y_m", np.interp(ts, t, xy[:, 1]))
     out.insert(0, "x_m", np.interp(ts, t, xy[:, 0]))
     out.insert(0, "t_ready_s", ts + scan_latency_s)
     out.insert(0, "t_start_s", ts)
-    return out
+    return (out, t_read) if return_read_times else out
 
 
 def back_to_back_scan_starts_s(t0_s: float, t1_s: float, scan_latency_s: float) -> np.ndarray:
@@ -577,6 +596,20 @@ def back_to_back_scan_starts_s(t0_s: float, t1_s: float, scan_latency_s: float) 
         raise ValueError(f"t1_s must be >= t0_s, got {t0_s}, {t1_s}")
     n = int(np.floor((t1_s - t0_s) / scan_latency_s + 1e-9))
     return t0_s + scan_latency_s * np.arange(n)
+
+
+def periodic_scan_starts_s(t0_s: float, t1_s: float, scan_interval_s: float, scan_latency_s: float) -> np.ndarray:
+    """Start times (s) of periodic scans from ``t0_s``: one every ``scan_interval_s``, each
+    ``scan_latency_s`` long and ending by ``t1_s``. A phone scanning periodically while its user walks
+    (i-Loc thesis, Chiu 2013, L777: the phone detects the Wi-Fi signals periodically)."""
+    if not scan_interval_s > 0 or not scan_latency_s >= 0:
+        raise ValueError(f"need scan_interval_s > 0 and scan_latency_s >= 0, got {scan_interval_s}, {scan_latency_s}")
+    if scan_latency_s > scan_interval_s:
+        raise ValueError(f"a scan ({scan_latency_s} s) cannot last longer than the scan interval ({scan_interval_s} s)")
+    if not t1_s >= t0_s:
+        raise ValueError(f"t1_s must be >= t0_s, got {t0_s}, {t1_s}")
+    n = int(np.floor((t1_s - t0_s - scan_latency_s) / scan_interval_s + 1e-9)) + 1
+    return t0_s + scan_interval_s * np.arange(max(n, 0))
 
 
 def session_drift_db(sim: IlocFloor, rng=None) -> np.ndarray:
@@ -599,7 +632,8 @@ def walking_fixes(sim: IlocFloor, estimator, track_t_s, track_xy_m, scan_start_t
     -------
     DataFrame
         One row per scan: ``t_start_s``, ``t_ready_s``, ``x_m``, ``y_m`` (true position at the scan's
-        start, the fix's tag), ``fix_x_m``, ``fix_y_m``, ``n_heard``. A scan that hears no AP has a NaN fix.
+        start, the fix's tag), ``t_ref_s``, ``fix_x_m``, ``fix_y_m``, ``n_heard``. A scan that hears no
+        AP has a NaN fix.
     """
     scans = walking_scans(sim, track_t_s, track_xy_m, scan_start_t_s, scan_latency_s, rng, session_drift_db)
     X = scans[list(sim.train.ap_ids)].to_numpy()
@@ -607,7 +641,7 @@ def walking_fixes(sim: IlocFloor, estimator, track_t_s, track_xy_m, scan_start_t
     fix = np.full((X.shape[0], 2), np.nan)
     if heard.any():
         fix[heard] = estimator.predict(X[heard])
-    out = scans[["t_start_s", "t_ready_s", "x_m", "y_m"]].copy()
+    out = scans[["t_start_s", "t_ready_s", "x_m", "y_m", "t_ref_s"]].copy()
     out["fix_x_m"], out["fix_y_m"] = fix[:, 0], fix[:, 1]
     out["n_heard"] = (~np.isnan(X)).sum(axis=1)
     return out

@@ -1,4 +1,4 @@
-"""Command line: ``python -m ilocalg {reproduce,evaluate,notebooks} ...``."""
+"""Command line: ``python -m ilocalg {reproduce,evaluate,sweep,measure,notebooks} ...``."""
 
 from __future__ import annotations
 
@@ -73,6 +73,11 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--out", default=None, help="output folder (default: reports/sweeps/EXPERIMENT)")
     sw.add_argument("--no-cache", action="store_true", help="do not read or write the per-task parquet cache")
 
+    from ilocalg.workflow.commands import measure as _measure
+
+    me = sub.add_parser("measure", help=_measure.HELP)
+    _measure.add_arguments(me)
+
     nb = sub.add_parser("notebooks", help="sync or check the .py <-> .ipynb notebook pairs")
     g = nb.add_mutually_exclusive_group(required=True)
     g.add_argument("--sync", action="store_true", help="write every .ipynb from its .py (outputs stripped)")
@@ -143,6 +148,16 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.command == "sweep":
         return _sweep(args)
+    if args.command == "measure":
+        from ilocalg.workflow.commands import measure
+
+        try:
+            out = measure.run(args)
+        except ValueError as exc:
+            print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+            return 2
+        print(f"wrote {out}", file=sys.stderr)
+        return 0
     if args.command == "notebooks":
         from ilocalg.workflow import notebook_sync
         from ilocalg.workflow.runner import NOTEBOOK_DIR

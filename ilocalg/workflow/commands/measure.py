@@ -1,0 +1,25 @@
+"""``python -m ilocalg measure``: rewrite data/measured_parameters.csv from the shared public data."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+HELP = "measure the simulators' world parameters from ../shared/data and write data/measured_parameters.csv"
+
+
+def add_arguments(p) -> None:
+    p.add_argument("--data", default=None, help="data directory (default: ILOC_DATA_DIR or ../shared/data)")
+    p.add_argument("--out", default=None, help="output CSV (default: data/measured_parameters.csv)")
+    p.add_argument("--every", type=int, default=1,
+                   help="use about 1/EVERY of the ILC site1 walks (deterministic subsample; default 1: all)")
+    p.add_argument("--parts", default=None, help="comma list of scans,radio,gait,heading (default: all)")
+
+
+def run(args) -> Path:
+    from ilocalg.measure import table as mt
+
+    parts = mt.PARTS if not args.parts else tuple(s.strip() for s in args.parts.split(",") if s.strip())
+    df = mt.build_table(args.data, every=args.every, parts=parts)
+    out = mt.write_table(df, args.out or mt.TABLE_PATH)
+    print(df.to_string(index=False))
+    return out
