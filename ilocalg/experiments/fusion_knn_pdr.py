@@ -522,43 +522,6 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                           "combined_mean_m": mm[f"{COMBINED}, weight {w_used:g}"],
                           "kf_alt_mean_m": mm[KF_ALT]})
         out["latency_sweep"] = pd.DataFrame(lrows)
-    # named scalars for the claims ledger (ilocalg/papers/luo.py): each method's mean error; the PDR drift
-    # (Spearman rho of its per-point error with the point index, L235); how much each error jumps from one
-    # test position to the next (mean |change| within a walk, L239-241); and, on new walkers drawn from a
-    # stream of their own (the tables above do not change), the step detector against its sliding window
-    # (L175-177) and time window (L189) and eq. (4) against one constant step length (L200)
-    meas = [{"quantity": "mean error", "item": r["method"], "value": float(r["mean_error_m"]), "unit": "m"}
-            for _, r in summ.iterrows()]
-    meas.append({"quantity": "PDR only per-point error vs point index, Spearman rho", "item": "PDR only",
-                 "value": float(pp["point"].corr(pp["PDR only"], method="spearman")), "unit": "-"})
-    for mth in ("Wi-Fi only (KNN)", COMBINED, "PDR only"):
-        jumps = tp[tp["method"] == mth].sort_values(["walker", "point"]).groupby("walker")["error_m"].diff().abs()
-        meas.append({"quantity": "mean |error change| between successive test positions", "item": mth,
-                     "value": float(jumps.mean()), "unit": "m"})
-    m_rng = as_rng(seed).spawn(4)[3]
-    m_walkers = gait.make_walkers(max(2, n_train // 2) + max(2, n_walkers // 2), m_rng)
-    m_train, m_test = m_walkers[:max(2, n_train // 2)], m_walkers[max(2, n_train // 2):]
-    det0 = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
-    route_walks = [gait.simulate_walk(iloc_floor.route_xy_m(), w, m_rng) for w in m_test]
-    for lab, det in (*((f"sliding window {ws:g} s", {**det0, "window_s": ws}) for ws in (0.1, 0.4, 1.2)),
-                     ("time window 0.2-2 s", {**det0, "min_dt_s": 0.2, "max_dt_s": 2.0}),
-                     ("time window 0.05-5 s", {**det0, "min_dt_s": 0.05, "max_dt_s": 5.0})):
-        n_det = sum(len(luo_steps(*acc_from_log(sw.imu), 1.0, det)) for sw in route_walks)
-        meas.append({"quantity": "detected / true steps", "item": lab,
-                     "value": n_det / sum(len(sw.steps) for sw in route_walks), "unit": "-"})
-    tr = gait.training_walks(m_train, m_rng)
-    k_m, _ = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in tr], detector)
-    const_m = float(np.mean([sw.steps["length_m"].mean() for _, _, sw in tr]))
-    e4, ec = [], []
-    for _, length_m, sw in gait.training_walks(m_test, m_rng):
-        st4 = luo_steps(*acc_from_log(sw.imu), k_m, detector)
-        e4 += list(np.abs(st4["length_m"].to_numpy() - length_m) / length_m)
-        ec.append(abs(const_m - length_m) / length_m)
-    meas += [{"quantity": "fixed-length walks 40-80 cm, mean relative step-length error", "item": "eq. (4)",
-              "value": 100 * float(np.mean(e4)), "unit": "%"},
-             {"quantity": "fixed-length walks 40-80 cm, mean relative step-length error",
-              "item": "one constant step length", "value": 100 * float(np.mean(ec)), "unit": "%"}]
-    out["measures"] = pd.DataFrame(meas)
     return out
 
 
