@@ -71,8 +71,9 @@ report = Report(OUT_DIR, "12_ins_constraints_gcp")
 # Eq. (7) above takes the default height and parameters the paper says it used (L151) - here a = 0.371,
 # b = 0.227, c = 1,
 # h = 1.75 m, the values of Chen et al. (2011) as widely reproduced (not checked against that paper). The
-# paper says nothing about what its filter does on stairs; here the WVC drops its forward and vertical rows
-# where the Samsung's barometer shows a climb (the iPhone 5S has no barometer: no stair handling there).
+# paper says nothing about what its filter does on stairs and processes both phones' data with the same
+# algorithm (L202); the iPhone 5S has no barometer, so by default neither phone gets any stair handling (eq. (7)
+# everywhere). The Samsung's barometric stair handling is a labelled alternative (`stair_handling` below).
 
 # %%
 tables = ins_constraints.run(seed=SEED, fast=FAST)
@@ -139,10 +140,11 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Stairs: Tables 4-7 with the WVC's stair handling off, from the barometer, and from the true stair flag
-# `none`: eq. (7) everywhere (what a filter that ignores stairs does); `baro`: WVC forward and vertical rows
-# dropped where the barometric height changes faster than 0.1 m/s (the default; iPhone: no barometer, same as
-# `none`); `baro, downweight`: the forward speed kept with sd 0.5 m/s there; `truth`: the simulator's stair
-# flag (an upper bound of detection, not a method). Mean over seeds.
+# `none`: eq. (7) everywhere (what a filter that ignores stairs does; the default, the same on both phones as
+# L202 says); `baro`: WVC forward and vertical rows dropped where the barometric height changes faster than
+# 0.1 m/s (an alternative; iPhone: no barometer, same as `none`, so the phones are then not processed alike);
+# `baro, downweight`: the forward speed kept with sd 0.5 m/s there; `truth`: the simulator's stair flag (an
+# upper bound of detection, not a method). Mean over seeds.
 
 # %%
 report.table(tables["stair_handling"], "stair_handling")
