@@ -501,10 +501,10 @@ def readings(prefilter: str = "ma2", band: str = "static", fitness: str = "per_s
          "thesis bound; tau is not in the text (assumed) and sets the GPS distance's bias (the 1 Hz track "
          "sums the fixes' noise: GPS/true distance 1.028 at tau 20 s); swept tau 5-300 s and bound 0.75 m "
          "(sensitivity table, column gps_over_true_mean)"),
-        ("step-to-step scatter", "L793 (walk at constant pace, even steps)",
+        ("step-to-step scatter", "L771 (walk at a normal, steady pace, steps as even as possible)",
          "no variability value", "step length and duration CV 3 % (Hausdorff 2005); vertical-acceleration "
          "amplitude scatter CV 0.18 per step beyond the pendulum's",
-         "amplitude CV measured on the ILC 2020 site2/F4 walks (per-step Amax-Amin CV 0.20, median of 13 walks; "
+         "amplitude CV measured on the ILC 2020 site2/F4 walks (per-step Amax-Amin CV 0.20, median of the 19 walks; "
          "ilc_walks.amp_cv) minus the pendulum's 0.085; swept 0-0.27 and step CV 1.5-5 % (sensitivity table)"),
         ("hand sway, magnetic disturbance", "L769", "the device is held in the hand; no sway or disturbance values",
          "yaw sway 4.5 deg at the stride rate; heading error along the route, sd 2 deg, 10 m correlation",
