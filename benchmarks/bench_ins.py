@@ -6,6 +6,14 @@ of filter + RTS (state only, as the online smoother needs it) and with the smoot
 ratio to filterpy's KalmanFilter + rts_smoother fed the same 21x21 transition matrices (a linear filter
 with precomputed matrices, i.e. a lower bound of what a per-step Python EKF costs).
 
+Goal (asserted): filter + RTS (state only and with the smoothed covariance) runs at
+``REALTIME_FACTOR_GOAL`` = 10x real time or faster on the 100 Hz scenario, in process CPU time (wall time on
+a shared machine mostly measures the load). Why 10: the online smoother must keep up with the sensor stream
+as each window fills (Liao et al. 2016, L169-L171: phones deliver 15-17 Hz, about 20 Hz at L324); this
+scenario runs five times the phones' rate, and the factor 10 leaves room for a phone CPU several times
+slower than one desktop core. Measured on the development machine (loaded): about 90x. The test runs with
+and without pytest-benchmark timing (``--benchmark-disable``): the goal is checked on its own CPU timing.
+
 Memory. The same scenario stretched to N epochs, run in a fresh interpreter that reports its peak
 resident set size: the filter keeping its (N, 21, 21) covariance histories (``keep_covariance=True``)
 against the filter keeping only checkpoints (``keep_covariance=False``), each alone and followed by the
@@ -30,6 +38,8 @@ from ilocalg import ins
 
 DURATION_S = 60.0
 RATE_HZ = 100.0
+#: Real-time factor (log duration / CPU time) that filter + RTS must reach on the 100 Hz scenario.
+REALTIME_FACTOR_GOAL = 10.0
 
 
 def _scenario(n=None):
@@ -89,19 +99,23 @@ def _filterpy_reference():
 @pytest.mark.parametrize("with_cov", [False, True], ids=["state", "state+cov"])
 def test_eskf_rts_realtime_factor(benchmark, with_cov):
     benchmark.pedantic(_run, args=(with_cov,), rounds=3, iterations=1)
-    best = benchmark.stats.stats.min
-    benchmark.extra_info["realtime_factor"] = DURATION_S / best
+    # own timings (pytest-benchmark's stats are absent under --benchmark-disable)
+    best = best_time_s(lambda: _run(with_cov), repeat=2)
     ref = best_time_s(_filterpy_reference(), repeat=1)
-    benchmark.extra_info["filterpy_kf_rts_s"] = ref
-    benchmark.extra_info["speedup_vs_filterpy"] = ref / best
     # CPU time as well: on a shared machine the wall-clock factor mostly measures the load
     cpu = _best_cpu_s(lambda: _run(with_cov))
     cpu_ref = _best_cpu_s(_filterpy_reference(), repeat=1)
-    benchmark.extra_info["realtime_factor_cpu"] = DURATION_S / cpu
-    benchmark.extra_info["speedup_vs_filterpy_cpu"] = cpu_ref / cpu
+    info = {"realtime_factor": DURATION_S / best, "filterpy_kf_rts_s": ref, "speedup_vs_filterpy": ref / best,
+            "realtime_factor_cpu": DURATION_S / cpu, "speedup_vs_filterpy_cpu": cpu_ref / cpu,
+            "realtime_factor_goal": REALTIME_FACTOR_GOAL}
+    if getattr(benchmark, "extra_info", None) is not None:
+        benchmark.extra_info.update(info)
     print(f"\nESKF+RTS ({'with' if with_cov else 'without'} smoothed covariance): {DURATION_S / best:.0f}x real "
           f"time at {RATE_HZ:g} Hz; filterpy KF+RTS reference {DURATION_S / ref:.0f}x; ratio {ref / best:.1f}; "
-          f"in CPU time {DURATION_S / cpu:.0f}x (filterpy {DURATION_S / cpu_ref:.0f}x, ratio {cpu_ref / cpu:.1f})")
+          f"in CPU time {DURATION_S / cpu:.0f}x (filterpy {DURATION_S / cpu_ref:.0f}x, ratio {cpu_ref / cpu:.1f}); "
+          f"goal {REALTIME_FACTOR_GOAL:g}x")
+    assert DURATION_S / cpu >= REALTIME_FACTOR_GOAL, (
+        f"filter + RTS at {DURATION_S / cpu:.1f}x real time (CPU), goal {REALTIME_FACTOR_GOAL:g}x")
 
 
 def _best_cpu_s(fn, repeat: int = 3) -> float:
@@ -153,9 +167,11 @@ def test_eskf_memory_long_walk(benchmark, keep):
     """
     n = 200_000 if not keep else 50_000
     r = benchmark.pedantic(memory_in_subprocess, args=(n, keep, True), rounds=1, iterations=1)
-    benchmark.extra_info.update(r)
+    if r is None:  # --benchmark-disable runs the function but may not hand back its result
+        r = memory_in_subprocess(n, keep, True)
     per_epoch_kb = (r["peak_rss_mb"] - r["rss_before_mb"]) * 1024 / n
-    benchmark.extra_info["kb_per_epoch"] = per_epoch_kb
+    if getattr(benchmark, "extra_info", None) is not None:
+        benchmark.extra_info.update({**r, "kb_per_epoch": per_epoch_kb})
     print(f"\n{'history' if keep else 'checkpoints'}: {n} epochs, peak RSS {r['peak_rss_mb']:.0f} MB "
           f"({per_epoch_kb:.2f} kB/epoch above the start; 1e6 epochs ~ {per_epoch_kb * 1e6 / 1024**2:.1f} GB), "
           f"filter {r['filter_s']:.1f} s, RTS {r['smooth_s']:.1f} s")

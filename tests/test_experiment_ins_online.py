@@ -24,3 +24,25 @@ def test_online_rows_are_averaged_over_grid_offsets_with_their_spread():
     assert row["horizontal_min"] <= row["horizontal"] <= row["horizontal_max"]
     assert {"heading_err_deg", "roll_err_deg", "pitch_err_deg"} <= set(r["trajectory"].columns)
     assert list(r["readings"].columns) == ["choice", "paper_line", "text_says", "code_does", "source"]
+
+
+def test_fig19_monotonicity_and_one_row_per_quantity():
+    r = ins_online.run(seed=0, fast=True, sweep_windows_s=(5.0, 10.0, 20.0, 30.0), offset_fracs=(0.0,))
+    m = r["fig19_monotonicity"].set_index(["phone", "axis"])
+    sw = r["window_sweep"]
+    for phone in ("Samsung", "iPhone"):
+        for ax in ("N", "E", "H", "horizontal"):
+            row = m.loc[(phone, ax)]
+            assert row["rise_10_to_20_m"] == pytest.approx(row["rms_20s_m"] - row["rms_10s_m"])
+            d = sw[(sw.phone == phone) & (sw.stat == "rms") & (sw.window_s > 0) & (sw.window_s < float("inf"))]
+            d = d.sort_values("window_s")[ax].to_numpy()
+            assert row["n_rises"] == int((d[1:] > d[:-1]).sum()) and row["n_windows"] == 4
+            assert row["monotone_falling"] == (row["n_rises"] == 0)
+            assert -1.0 <= row["spearman_rms_vs_window"] <= 1.0
+    # the paper's own rise: Samsung N is worse at 20 s than at 10 s (Table 8; L473), Samsung E falls
+    assert m.loc[("Samsung", "N"), "paper_rise_10_to_20_m"] == pytest.approx(0.6913 - 0.6484)
+    assert m.loc[("Samsung", "E"), "paper_rise_10_to_20_m"] < 0
+    # Tables 8 / 10's "Filtering" rows repeat Tables 4 / 6: not compared twice
+    cmp = r["comparison"]
+    assert not cmp["quantity"].str.contains("Filtering:").any()
+    assert cmp["quantity"].is_unique

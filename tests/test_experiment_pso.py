@@ -21,7 +21,7 @@ def test_bad_prefilter_and_gps_gap():
 
 def test_dr_recovers_distance_with_true_like_k():
     w = simulate_pso_walks(0)["1"][0]
-    st = E.detect_walk_steps(w, "none")
+    st = E.detect_walk_steps(w)
     d_true = w.route_m
     k = d_true / K.step_factors(st).sum()
     tr = E.dr_track(w, st, k)
@@ -65,6 +65,35 @@ def test_run_tables_and_findings(fast_run):
     sens = out["sensitivity"].iloc[0]
     assert sens["k_pso_mean"] == pytest.approx(t["k_pso"].mean())
     assert sens["det_over_true_steps"] == pytest.approx(t["det_steps"].sum() / t["true_steps"].sum())
+
+
+def test_text_reading_is_the_default_and_no_ma_the_labelled_alternative(fast_run):
+    # thesis L692/L718: MA before the step detector is the default; no MA is the alternative reading
+    assert fast_run["sensitivity"]["prefilter"].iloc[0] == "ma2"
+    cmp = fast_run["comparison"]
+    alt = cmp[cmp["item"].str.contains(r"\(none, static band")]
+    assert len(alt) and alt["note"].str.startswith("alternative reading").all()
+    default = cmp[cmp["item"].str.contains(r"\(ma2, static band")]
+    assert len(default) and not default["note"].str.contains("alternative reading").any()
+    # the MA shrinks the step amplitudes, so the learned k rises (the same walks, the same GPS distance)
+    assert (fast_run["table_5_2"]["k_pso"].mean() > fast_run["table_5_2_no_ma"]["k_pso"].mean())
+
+
+def test_sensitivity_sweeps_band_scatter_and_gps():
+    sens = E.sensitivity(0, variants=[v for v in E.SENSITIVITY_VARIANTS
+                                      if v[0].startswith(("default", "band 0", "accelerometer", "GPS tau"))])
+    by = sens.set_index("variant")
+    # the band follows the accelerometer noise of the static log
+    assert (by.loc["accelerometer noise 0.05 m/s^2 (band follows)", "band_mps2"]
+            < by.loc["default (text reading)", "band_mps2"]
+            < by.loc["accelerometer noise 0.20 m/s^2 (band follows)", "band_mps2"])
+    assert by.loc["band 0 (no rejection)", "band_mps2"] == 0.0
+    # a band of 0 rejects nothing: at least as many steps as with the static band
+    assert by.loc["band 0 (no rejection)", "det_over_true_steps"] >= by.loc["default (text reading)",
+                                                                            "det_over_true_steps"]
+    # the 1 Hz GPS track's length bias shrinks as its error becomes more correlated (smoother track)
+    g = [by.loc[f"GPS tau {t} s", "gps_over_true_mean"] for t in (5, 60, 300)]
+    assert g[0] > g[1] > g[2] >= 0.99
 
 
 def test_static_band_is_the_static_log_rms():

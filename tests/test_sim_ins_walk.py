@@ -161,3 +161,38 @@ def test_gait_kw_moves_the_population_mean_with_the_same_walker_draws():
         ins_walk.simulate("iphone", gait_kw={"speed": 1.0})
     with pytest.raises(ValueError, match="gait_kw"):
         ins_walk.simulate("iphone", gait="legacy", gait_kw={"speed_mean_mps": 1.0})
+
+
+def test_swept_noise_scale_scales_the_white_noise_only():
+    base = ins_walk.PROFILES["samsung_s5"]
+    lo = base.swept(noise_scale=1 / 3)          # the MPU-6500 datasheet densities
+    assert lo.acc_noise_mps2_rsqrt_hz == pytest.approx(300e-6 * 9.80665)
+    assert lo.gyr_noise_radps_rsqrt_hz == pytest.approx(np.deg2rad(0.01))
+    assert (lo.acc_bias_sd_mps2, lo.time_jitter_sd_s, lo.acc_gm_sd_mps2) == (
+        base.acc_bias_sd_mps2, base.time_jitter_sd_s, base.acc_gm_sd_mps2)
+    a = ins_walk.simulate("samsung", base, seed=5)
+    b = ins_walk.simulate("samsung", base.swept(noise_scale=2.0), seed=5)
+    np.testing.assert_array_equal(a.t_s, b.t_s)            # paired draws: same clock, same walk
+    np.testing.assert_allclose(a.pos_true_n_m, b.pos_true_n_m)
+    with pytest.raises(ValueError, match="noise_scale"):
+        base.swept(noise_scale=0.0)
+
+
+def test_rssi_control_points_fire_near_the_beacon_once_per_passage():
+    w = ins_walk.simulate("samsung", "samsung_s5", seed=4)          # default: the RSSI model
+    assert w.params["gcp_mode"] == "rssi" and w.gcp_t_s.size >= 4
+    k = np.minimum(np.searchsorted(w.t_s, w.gcp_t_s), w.t_s.size - 1)
+    d = np.linalg.norm(w.pos_true_n_m[k] - ins_walk.GCP_XYZ_M[w.gcp_id], axis=1)
+    assert np.all(d < 3.0)                                          # fired near the beacon it names
+    np.testing.assert_allclose(w.gcp_pos_n_m, ins_walk.GCP_XYZ_M[w.gcp_id])   # the surveyed coordinate
+    assert np.all(w.gcp_t_s >= w.t_indoor_s)
+    # no RSSI scatter and the walker never within the immediate zone of a far beacon: no fix from it
+    trig = ins_walk._rssi_triggers(np.array([0.0, 100.0]), np.array([[0.0, 0.0, 0.0], [50.0, 0.0, 0.0]]),
+                                   np.array([0.0, 10.0, 0.0]), 0.0, 0.0, np.random.default_rng(0))
+    assert trig == []
+    # walking straight through a beacon without scatter: exactly one fix, within a cycle of the passage
+    trig = ins_walk._rssi_triggers(np.array([0.0, 100.0]), np.array([[-50.0, 0.0, 0.0], [50.0, 0.0, 0.0]]),
+                                   np.array([0.0, 0.0, 0.0]), 0.0, 0.0, np.random.default_rng(0))
+    assert len(trig) == 1 and 49.0 < trig[0] < 52.0
+    with pytest.raises(ValueError, match="gcp_mode"):
+        ins_walk.simulate("samsung", "samsung_s5", seed=0, gcp_mode="gate")

@@ -104,3 +104,20 @@ def test_layout_choice_changes_the_geometry_only():
     assert not np.array_equal(a.pois_m, b.pois_m)
     with pytest.raises(ValueError, match="layout"):
         photo_poi.simulate(0, n_photos=1, layout="nope")
+
+
+def test_one_wall_layouts_satisfy_the_text_and_are_the_documented_picks():
+    import itertools
+    g = photo_poi.WALL_LAYOUT_GRID
+    ok = [d for d in itertools.product(*g.values())
+          if photo_poi.check_layout(photo_poi.make_wall_layout("x", *d))["satisfied"].all()]
+    assert len(ok) >= 4
+    picks = [ok[i] for i in np.round(np.linspace(0, len(ok) - 1, 4)).astype(int)]
+    assert [photo_poi.WALL_LAYOUT_DIMENSIONS[k] for k in ("W1", "W2", "W3", "W4")] == picks
+    for k in ("W1", "W2", "W3", "W4"):
+        lay = photo_poi.LAYOUTS[k]
+        assert np.allclose(lay.pois_m[:, 1], 0.0)                  # every PoI on one wall
+        assert photo_poi.check_layout(k)["satisfied"].all()
+    every = photo_poi.satisfying_layouts()
+    assert sum(n.startswith("Wg") for n in every) == len(ok)
+    assert all(photo_poi.check_layout(lay)["satisfied"].all() for lay in every.values())

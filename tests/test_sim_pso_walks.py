@@ -1,6 +1,7 @@
 """Tests of ilocalg.sim.pso_walks (simulated walks of the PSO thesis)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.gnss import gps_track_length_m, haversine_m, latlon_to_local_m
@@ -110,3 +111,26 @@ def test_static_acc_log_rms_is_the_sensor_noise():
     r = [rms(S.simulate_static_acc(np.random.default_rng(i))["acc_z_mps2"]) for i in range(50)]
     expected = np.sqrt(S.SENSORS["acc_noise_mps2"] ** 2 + lsb**2 / 12)
     assert np.mean(r) == pytest.approx(expected, rel=0.05)
+
+
+def test_amplitude_scatter_setting():
+    # CV 0 reproduces the pendulum-only simulator bit for bit (its own stream); the default adds the scatter
+    a = S.simulate_pso_walks(0, sensors={"step_amp_cv": 0.0})["1"][0]
+    b = S.simulate_pso_walks(0)["1"][0]
+    pd.testing.assert_frame_equal(a.gps, b.gps)
+    pd.testing.assert_series_equal(a.steps["length_m"], b.steps["length_m"])
+    cv = lambda x: x.std() / x.mean()  # noqa: E731
+    ratio = b.steps["amp_mps2"] / a.steps["amp_mps2"]
+    assert abs(ratio.mean() - 1) < 0.05                                   # mean-one factor
+    assert cv(ratio) == pytest.approx(S.SENSORS["step_amp_cv"], rel=0.25)  # with the configured CV
+    assert cv(b.steps["amp_mps2"]) > cv(a.steps["amp_mps2"])
+    with pytest.raises(ValueError, match="unknown settings"):
+        S.simulate_pso_walks(0, sensors={"amp_cv": 0.1})
+    with pytest.raises(ValueError, match="non-negative"):
+        S.simulate_pso_walks(0, sensors={"step_amp_cv": -0.1})
+
+
+def test_static_acc_follows_the_noise_override():
+    lo = rms(S.simulate_static_acc(1, sensors={"acc_noise_mps2": 0.05})["acc_z_mps2"])
+    hi = rms(S.simulate_static_acc(1, sensors={"acc_noise_mps2": 0.20})["acc_z_mps2"])
+    assert lo < 0.08 < 0.15 < hi

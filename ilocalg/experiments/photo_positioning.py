@@ -11,7 +11,8 @@ VA's cost function (the sum of squared view-angle mismatches, :mod:`ilocalg.phot
 toolkit's own: the thesis names VA a gradient algorithm (L694) but gives no VA equation. By default VA
 searches the floor position at the known phone height (2-D); ``va_free_z=True`` searches in 3-D.
 
-Sweeps: :func:`layout_sweep` (the layouts that satisfy the text, Fig 28 being missing) and
+Sweeps: :func:`layout_sweep` (the layouts that satisfy the text, Fig 28 being missing: rooms and one-wall
+layouts, both families satisfy every constraint of the text, :mod:`ilocalg.sim.photo_poi`) and
 :func:`good_guess_sweep` (the good guess's spread, an assumption); :func:`readings` lists every
 modelling choice with the thesis line it follows or the source of the value.
 
@@ -381,10 +382,13 @@ def readings(layout: str = photo_poi.DEFAULT_LAYOUT, va_free_z: bool = False,
          "7 PoIs on the walls; 7 test points 1 m apart; distance from p4 grows t1->t7; smallest view angles "
          "p3-t7-p4 and p4-t7-p5; {1,2}, {6,7} nearer than {3,4}, {3,5}, {4,5}, {3,4,5}; p1, p3-p6 on one "
          "horizontal line; coordinates only in Fig 28 (missing)",
-         f"layout {layout!r}: a room satisfying every constraint (layout_check)",
-         "assumption: the seven satisfying rooms A-G are swept in layout_sweep (spread reported)"),
+         f"layout {getattr(layout, 'name', layout)!r}: a layout satisfying every constraint (layout_check)",
+         "assumption: both families that satisfy the text are swept in layout_sweep (spread reported): rooms "
+         "A-G (7 of the 33 satisfying room-grid members) and one-wall layouts W1-W4 (4 of the 9 satisfying "
+         "one-wall grid members); layout_sweep(layouts='all') runs all 42"),
         ("PoI layout (earlier reading)", "L707", "as above",
-         "'row': seven PoIs 0.4 m apart in a row on one wall", "sensitivity row only: violates L696 and L707"),
+         "'row': seven PoIs 0.4 m apart in a row on one wall, test line straight away from it",
+         "sensitivity row only: violates L696 and L707 (one wall as such does not: W1-W4)"),
         ("ST", "L664-680, eq. (29)-(30)", "similar triangles with T_E->AR from accelerometer and magnetometer; "
          "least squares over the PoIs", "linear least squares over the PoIs with the measured orientation",
          "thesis"),
@@ -416,6 +420,11 @@ def readings(layout: str = photo_poi.DEFAULT_LAYOUT, va_free_z: bool = False,
 def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5, 6, 7)) -> dict[str, pd.DataFrame]:
     """Figs 29-30 summaries for every layout that satisfies the text (and the earlier ``"row"``).
 
+    ``layouts``: names of :data:`ilocalg.sim.photo_poi.LAYOUTS` (default: all of them, rooms A-G, one-wall
+    W1-W4 and ``"row"``), or ``"all"`` for every satisfying member of both grids
+    (:func:`ilocalg.sim.photo_poi.satisfying_layouts`, 42 layouts). The ``family`` column says "room",
+    "one wall" or "row (earlier)"; ``spread_by_family`` gives the spread per family.
+
     Returns
     -------
     dict
@@ -423,16 +432,23 @@ def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5
         PoIs, Spearman rho of the per-shot error against the distance to p4, and whether the layout
         satisfies the text; ``spread``: per method, min / max / sd over the satisfying layouts.
     """
-    names = list(layouts) if layouts is not None else list(photo_poi.LAYOUTS)
+    if isinstance(layouts, str) and layouts == "all":
+        items = list(photo_poi.satisfying_layouts().values()) + [photo_poi.LAYOUTS["row"]]
+    else:
+        items = [photo_poi.LAYOUTS[n] if isinstance(n, str) and n in photo_poi.LAYOUTS else n
+                 for n in (layouts if layouts is not None else list(photo_poi.LAYOUTS))]
     rows = []
-    for name in names:
-        t = run(seed=seed, fast=fast, ks=ks, layout=name)
+    for lay in items:
+        name = lay.name if isinstance(lay, photo_poi.Layout) else lay
+        fam = ("row (earlier)" if name == "row" else
+               "one wall" if isinstance(lay, photo_poi.Layout) and lay.dims.get("family") == "one wall" else "room")
+        t = run(seed=seed, fast=fast, ks=ks, layout=lay)
         ok = bool(t["layout_check"]["satisfied"].all())
         pk = t["per_k"].set_index("k")
         tr = t["per_shot"]
         for m in SHOWN_METHODS:
             err = t["errors"]
-            rows.append({"layout": name, "satisfies_text": ok, "method": m,
+            rows.append({"layout": name, "family": fam, "satisfies_text": ok, "method": m,
                          "overall_mean_cm": float(err.loc[err["method"] == m, "error_cm"].mean()),
                          "k2_cm": float(pk.loc[2, m]) if 2 in pk.index else np.nan,
                          "k7_cm": float(pk.loc[7, m]) if 7 in pk.index else np.nan,
@@ -444,7 +460,10 @@ def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5
         overall_max_cm=("overall_mean_cm", "max"), overall_sd_cm=("overall_mean_cm", "std"),
         k2_min_cm=("k2_cm", "min"), k2_max_cm=("k2_cm", "max"),
         k7_min_cm=("k7_cm", "min"), k7_max_cm=("k7_cm", "max")).reset_index()
-    return {"per_layout": per_layout, "spread": spread}
+    by_fam = sat.groupby(["family", "method"], sort=False).agg(
+        n_layouts=("layout", "nunique"), overall_mean_cm=("overall_mean_cm", "mean"),
+        overall_min_cm=("overall_mean_cm", "min"), overall_max_cm=("overall_mean_cm", "max")).reset_index()
+    return {"per_layout": per_layout, "spread": spread, "spread_by_family": by_fam}
 
 
 def good_guess_sweep(seed: int = 0, fast: bool = False, sds=GOOD_GUESS_SD_M, ks=(2, 7),

@@ -9,12 +9,17 @@ the start-end (closure) distance beside the fixed ``k = 0.5`` of the thesis ("TA
 
 Readings (line numbers of the thesis's text copy; every choice is listed by :func:`readings`):
 
-* no moving average on the walking acceleration by default: MA(nL = nR = 2) is stated for the
-  static compass and accelerometer calibration only (L713, L735-743; L718 gives no width for the
-  walk) and at 8 Hz it zeroes 1.6 Hz, inside the step-rate band; MA widths 1 and 2 are sensitivity
-  rows (``prefilter="ma1"``, ``"ma2"``, the latter the toolkit's earlier default);
+* MA(nL = nR = 2) on the walking acceleration before step detection by default: the thesis's
+  processing chain lists "signal correction and filtering (MA Signal Filter)" before the step
+  detection algorithm (L692), L718 adopts MA filtering "for the experiments", and the only width the
+  text gives is nL = nR = 2 (L713, L735-743). No moving average (``prefilter="none"``, the toolkit's
+  earlier default, which read the MA as the compass's only) is the labelled alternative reading,
+  and MA width 1 a sensitivity row. At 8 Hz MA(2,2) zeroes 1.6 Hz, inside the step-rate band: that
+  is what the text's chain does, and it lowers the detected amplitudes, hence a larger learned k;
 * the +-RMS band of Fig. 3.9 (L519-520) from the static-noise RMS (eq. 3.4, L440-444, L699-701) of a
-  simulated static accelerometer log; the walking-signal RMS is the alternative (``band="signal"``);
+  simulated static accelerometer log after the same pre-filter; the accelerometer's noise (HAAM-325B,
+  ref. [34], no value in the text) is assumed 0.10 m/s^2 and swept 0.05-0.20 m/s^2 (the band follows
+  it), a band of 0 (no rejection) and the walking-signal RMS (``band="signal"``) are sensitivity rows;
 * eq. 4.4 read per step (default, Fig. 5.12: Fitness 0.0939 with the PSO distance 2.0996 m off,
   L834, L840), walk-total as the alternative (:mod:`ilocalg.pdr.k_factor`);
 * Table 5-2's accuracy is ``1 - |GPS - PSO| / GPS`` on the learning walk itself (L927-935; A1:
@@ -87,7 +92,8 @@ PAPER = PAPERS["pso"]
 # The published values (PAPER_TABLE_5_2, PAPER_PHASE2_A1, PAPER_COMPASS_RMS, K_FIXED_PAPER) are declared once in
 # ilocalg.papers.pso and re-exported here.
 
-#: Pre-filters of the walking acceleration: none (default), MA half-width 1, MA half-width 2 (nL = nR = 2).
+#: Pre-filters of the walking acceleration: none (alternative reading), MA half-width 1, MA half-width 2
+#: (nL = nR = 2, the text's reading and the default).
 PREFILTERS = ("none", "ma1", "ma2")
 _MA_HALF = {"none": 0, "ma1": 1, "ma2": 2}
 #: Half-width of the +-RMS band: the static-noise RMS (default) or the walking signal's RMS.
@@ -105,25 +111,26 @@ def _check_choice(name, value, allowed):
         raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
 
 
-def static_band_mps2(seed: int = 0, prefilter: str = "none") -> float:
+def static_band_mps2(seed: int = 0, prefilter: str = "ma2", sensors: dict | None = None) -> float:
     """Static-noise RMS of the device's accelerometer (eq. 3.4), after the walk's pre-filter.
 
     A 60 s static log (device on a table, the thesis's static calibration, sec. 5.1.3) from
-    :func:`ilocalg.sim.pso_walks.simulate_static_acc`, one per run (one device).
+    :func:`ilocalg.sim.pso_walks.simulate_static_acc`, one per run (one device); ``sensors``
+    overrides the simulator's settings (e.g. the accelerometer noise).
     """
     _check_choice("prefilter", prefilter, PREFILTERS)
-    log = simulate_static_acc(np.random.default_rng([seed, 54]))
+    log = simulate_static_acc(np.random.default_rng([seed, 54]), sensors=sensors)
     n = _MA_HALF[prefilter]
     return static_rms_mps2(log["acc_z_mps2"].to_numpy(), n, n, smooth=n > 0)
 
 
-def detect_walk_steps(walk: Walk, prefilter: str = "none", band_mps2: float | None = None) -> pd.DataFrame:
+def detect_walk_steps(walk: Walk, prefilter: str = "ma2", band_mps2: float | None = None) -> pd.DataFrame:
     """Sign-change steps of a simulated walk (Fig. 3.9).
 
     Parameters
     ----------
     prefilter : {"none", "ma1", "ma2"}
-        Moving average on the walking acceleration (none by default; module docstring).
+        Moving average on the walking acceleration (MA(2,2) by default; module docstring).
     band_mps2 : float, optional
         Half-width of the +-RMS band (the static-noise RMS, :func:`static_band_mps2`); None uses the
         walking signal's RMS (the alternative reading).
@@ -212,6 +219,14 @@ def ilc_vertical_acc(imu: pd.DataFrame, gravity_halfwidth: int = 25) -> np.ndarr
     return along_gravity_mps2(A, gravity_lowpass_mps2(A, gravity_halfwidth))
 
 
+def _amp_cv(steps: pd.DataFrame) -> float:
+    """Coefficient of variation of the per-step ``Amax - Amin`` (NaN below 3 steps)."""
+    if len(steps) < 3:
+        return float("nan")
+    d = (steps["a_max_mps2"] - steps["a_min_mps2"]).to_numpy(float)
+    return float(d.std(ddof=1) / d.mean())
+
+
 def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_halfwidth: int = 6,
                 min_dist_m: float = 5.0) -> dict[str, pd.DataFrame]:
     """Learn k on half of the ILC site2/F4 walks and apply it to the other half (fast: 10 walks).
@@ -228,7 +243,9 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
     Returns
     -------
     dict
-        ``walks``: one row per walk; ``summary``: learned k (PSO, closed form), mean absolute and
+        ``walks``: one row per walk (with ``amp_cv``, the CV of the per-step ``Amax - Amin``: the
+        measured step-to-step amplitude scatter behind the simulator's ``step_amp_cv``); ``summary``:
+        learned k (PSO, closed form), mean absolute and
         relative distance error on the test walks with the learned k and with k = 0.5.
     """
     from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
@@ -252,7 +269,8 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
         dur = float(wp["t_s"].iloc[-1] - wp["t_s"].iloc[0])
         rows.append({"trace": tr.name, "n_waypoints": len(wp), "duration_s": dur, "waypoint_dist_m": d,
                      "det_steps": len(st), "steps_per_s": len(st) / dur,
-                     "sum_q": float(step_factors(st).sum()) if len(st) else 0.0})
+                     "sum_q": float(step_factors(st).sum()) if len(st) else 0.0,
+                     "amp_cv": _amp_cv(st)})
         step_tabs.append(st)
     walks = pd.DataFrame(rows)
     walks["role"] = np.where(np.arange(len(walks)) % 2 == 0, "learn", "test")
@@ -284,13 +302,22 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
 # the experiment
 # ------------------------------------------------------------------------------------------------
 
-def _band(seed: int, prefilter: str, band: str) -> float | None:
-    return static_band_mps2(seed, prefilter) if band == "static" else None
+def _band(seed: int, prefilter: str, band, sensors: dict | None = None) -> float | None:
+    """Band half-width: "static" (static-log RMS), "signal" (None: the walking signal's RMS) or a number."""
+    if band == "static":
+        return static_band_mps2(seed, prefilter, sensors)
+    if band == "signal":
+        return None
+    b = float(band)
+    if not np.isfinite(b) or b < 0:
+        raise ValueError(f"band must be 'static', 'signal' or a non-negative number in m/s^2, got {band!r}")
+    return b
 
 
-def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int, band: str = "static"):
+def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int, band="static",
+            sensors: dict | None = None):
     rows, results, tracks = [], {}, {}
-    b = _band(seed, prefilter, band)
+    b = _band(seed, prefilter, band, sensors)
     for i, w in enumerate(walks):
         st = detect_walk_steps(w, prefilter, b)
         d_gps = gps_track_length_m(w.gps)
@@ -307,6 +334,7 @@ def _phase1(walks: list[Walk], prefilter: str, fitness: str, seed: int, band: st
             "fitness_closed_m": summ["fitness_closed_m"],
             "k_stop_lo": summ["k_stop_lo"], "k_stop_hi": summ["k_stop_hi"],
             "pso_stopped_by": "minFitness" if summ["iters"] < PSO_SETTINGS_PAPER["max_iters"] else "maxIters",
+            "band_mps2": np.nan if b is None else b,
             "true_steps": w.n_steps, "det_steps": len(st),
             "true_m": w.route_m, "gps_m": d_gps, "pso_m": pso_m,
             "start_end_m": _closure_m(tr),
@@ -376,25 +404,31 @@ def _paper_table(df: pd.DataFrame) -> pd.DataFrame:
     return out
 
 
-def _comparison(t52: pd.DataFrame, p2: pd.DataFrame, compass: pd.DataFrame, label: str) -> list[dict]:
+def _comparison(t52: pd.DataFrame, p2: pd.DataFrame, compass: pd.DataFrame, label: str,
+                note: str = "") -> list[dict]:
     rows = []
+
+    def nt(s=""):
+        return "; ".join(x for x in (note, s) if x)
+
     for r in t52.itertuples():
         p = PAPER_TABLE_5_2[r.walker]
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} k (PSO)", p["k"], r.k_pso))
+        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} k (PSO)", p["k"], r.k_pso, note=nt()))
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} detected steps", p["det_steps"], r.det_steps,
-                              note=f"true steps {r.true_steps} (walk design, from the paper)"))
+                              note=nt(f"true steps {r.true_steps} (walk design, from the paper)")))
         rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} PSO distance", p["pso_m"], r.pso_m, "m",
-                              note="simulated true route = the paper's GPS distance (route_scale 1, swept)"))
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} accuracy vs GPS", p["acc_pct"], r.acc_pct, "%"))
+                              note=nt("simulated true route = the paper's GPS distance (route_scale 1, swept)")))
+        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} accuracy vs GPS", p["acc_pct"], r.acc_pct, "%",
+                              note=nt()))
     for place in ("park", "hall"):
         sel = p2[(p2["walker"] == "A1") & (p2["place"] == place)]
         if len(sel):
             r = sel.iloc[0]
             p = PAPER_PHASE2_A1[place]
             rows.append(paper_ref(PAPER, f"Fig 5.15 {label}", f"A1 {place} closure (PSO k)", p["closure_m"],
-                                  r["pso_closure_m"], "m"))
+                                  r["pso_closure_m"], "m", note=nt()))
             rows.append(paper_ref(PAPER, f"Fig 5.15 {label}", f"A1 {place} closure (PSO k)", p["closure_pct"],
-                                  r["pso_closure_pct"], "%"))
+                                  r["pso_closure_pct"], "%", note=nt()))
     return rows
 
 
@@ -407,7 +441,7 @@ def _compass_rows(compass: pd.DataFrame) -> list[dict]:
     return rows
 
 
-def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_step") -> pd.DataFrame:
+def readings(prefilter: str = "ma2", band: str = "static", fitness: str = "per_step") -> pd.DataFrame:
     """One row per modelling choice of :func:`run`: the thesis's line, what it says, what the code does, the source.
 
     Line numbers are lines of the thesis's text copy (Chao 2008). The earlier readings of the toolkit
@@ -415,18 +449,22 @@ def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_
     """
     s = PSO_SETTINGS_PAPER
     rows = [
-        ("MA on the walking acceleration", "L713-718, L735-743",
-         "MA(nL=nR=2) shown for the static compass (Fig 5.4) and the accelerometer at 0 g / 1 g (Figs 5.6-5.8); "
-         "'MA is used for the experiments' (L718) without a width for the walking signal",
+        ("MA on the walking acceleration", "L692, L718, L713, L735-743",
+         "processing chain: 'signal correction and filtering (MA Signal Filter)', then the step detection "
+         "algorithm (L692); 'MA filtering is adopted for the experiments' (L718); the only width given is "
+         "nL=nR=2 (compass Fig 5.4, accelerometer Figs 5.6-5.8)",
          {"none": "no moving average", "ma1": "MA nL=nR=1", "ma2": "MA nL=nR=2"}[prefilter],
-         "MA(2,2) at 8 Hz zeroes 1.6 Hz (pdr.filters.smoother_gain), inside the step-rate band; widths 1 and 2 "
-         "are sensitivity rows (MA 2 = the toolkit's earlier default)"),
+         "thesis (default MA nL=nR=2); no MA (the toolkit's earlier default) is the labelled alternative "
+         "reading (comparison rows 'Table 5-2 (none, ...)', tables *_no_ma), MA 1 a sensitivity row. "
+         "MA(2,2) at 8 Hz zeroes 1.6 Hz (pdr.filters.smoother_gain), inside the step-rate band"),
         ("+-RMS band of Fig 3.9", "L519-520; eq. 3.4 L440-444; L699-701",
          "reject extrema inside [-RMS, +RMS]; RMS (eq. 3.4) measures the static error; the static experiment "
          "gives 'the error range for the correction of eq. 4.4'",
          "static-noise RMS of a simulated 60 s static log, after the walk's pre-filter" if band == "static"
-         else "RMS of the walking signal itself",
-         "thesis reading; the walking-signal RMS (the toolkit's earlier default) is a sensitivity row"),
+         else ("RMS of the walking signal itself" if band == "signal" else f"fixed {band} m/s^2"),
+         "thesis reading (the band is the static RMS); its size follows the accelerometer noise, which the "
+         "text does not give (HAAM-325B, ref. [34]): 0.10 m/s^2 assumed, swept 0.05-0.20 m/s^2; band 0 and "
+         "the walking-signal RMS are sensitivity rows (sensitivity table)"),
         ("fitness, eq. 4.4", "L632-634; Fig 5.12 L834, L840",
          "f(k) = |S_gps - S_ins| with S the step length; A1: Fitness 0.0939 with Diff(GPS) 2.0996 m",
          "mean over steps of |D_gps/N - k q_j|" if fitness == "per_step" else "|D_gps - k sum q_j| over the walk",
@@ -449,7 +487,14 @@ def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_
          f"assumption; route_scale {ROUTE_SCALES} are sensitivity rows"),
         ("GPS error", "L750-752 (sec. 5.1.3, Fig 5.9)", "static ~30 s, accuracy better than 1.5 m",
          "Gauss-Markov per axis, sd 0.61 m (1.5 m as the 95 % radius), tau 20 s, no white part",
-         "thesis bound; tau assumed (data/pso_walks/README.md)"),
+         "thesis bound; tau is not in the text (assumed) and sets the GPS distance's bias (the 1 Hz track "
+         "sums the fixes' noise: GPS/true distance 1.028 at tau 20 s); swept tau 5-300 s and bound 0.75 m "
+         "(sensitivity table, column gps_over_true_mean)"),
+        ("step-to-step scatter", "L771 (walk at a normal, steady pace, steps as even as possible)",
+         "no variability value", "step length and duration CV 3 % (Hausdorff 2005); vertical-acceleration "
+         "amplitude scatter CV 0.18 per step beyond the pendulum's",
+         "amplitude CV measured on the ILC 2020 site2/F4 walks (per-step Amax-Amin CV 0.20, median of the 19 walks; "
+         "ilc_walks.amp_cv) minus the pendulum's 0.085; swept 0-0.27 and step CV 1.5-5 % (sensitivity table)"),
         ("hand sway, magnetic disturbance", "L769", "the device is held in the hand; no sway or disturbance values",
          "yaw sway 4.5 deg at the stride rate; heading error along the route, sd 2 deg, 10 m correlation",
          "Crosbie et al. 1997 (trunk axial rotation ~9 deg); smartphone azimuth RMSE <= 2 deg (Lviv field study); "
@@ -462,16 +507,29 @@ def readings(prefilter: str = "none", band: str = "static", fitness: str = "per_
                            for c, ln, t, d, src in rows])
 
 
-#: Variants of :func:`sensitivity`: (name, prefilter, band, fitness, route_scale); the first is the default.
+#: Variants of :func:`sensitivity`: (name, prefilter, band, fitness, route_scale[, simulator overrides]);
+#: the first is the default. ``band`` is "static", "signal" or a half-width in m/s^2.
 SENSITIVITY_VARIANTS = (
-    ("default (text reading)", "none", "static", "per_step", 1.0),
+    ("default (text reading)", "ma2", "static", "per_step", 1.0),
+    ("alternative reading: no MA", "none", "static", "per_step", 1.0),
     ("MA nL=nR=1", "ma1", "static", "per_step", 1.0),
-    ("MA nL=nR=2", "ma2", "static", "per_step", 1.0),
-    ("band: walking-signal RMS", "none", "signal", "per_step", 1.0),
-    ("fitness: walk total", "none", "static", "total", 1.0),
+    ("band: walking-signal RMS", "ma2", "signal", "per_step", 1.0),
+    ("band 0 (no rejection)", "ma2", 0.0, "per_step", 1.0),
+    ("accelerometer noise 0.05 m/s^2 (band follows)", "ma2", "static", "per_step", 1.0, {"acc_noise_mps2": 0.05}),
+    ("accelerometer noise 0.20 m/s^2 (band follows)", "ma2", "static", "per_step", 1.0, {"acc_noise_mps2": 0.20}),
+    ("fitness: walk total", "ma2", "static", "total", 1.0),
     ("earlier reading (MA 2, signal RMS, walk total)", "ma2", "signal", "total", 1.0),
-    ("route 0.95 x GPS distance", "none", "static", "per_step", 0.95),
-    ("route 1.05 x GPS distance", "none", "static", "per_step", 1.05),
+    ("route 0.95 x GPS distance", "ma2", "static", "per_step", 0.95),
+    ("route 1.05 x GPS distance", "ma2", "static", "per_step", 1.05),
+    ("amplitude scatter 0 (earlier simulator)", "ma2", "static", "per_step", 1.0, {"step_amp_cv": 0.0}),
+    ("amplitude scatter CV 0.10", "ma2", "static", "per_step", 1.0, {"step_amp_cv": 0.10}),
+    ("amplitude scatter CV 0.27 (ILC IQR top)", "ma2", "static", "per_step", 1.0, {"step_amp_cv": 0.27}),
+    ("step CV 1.5 %", "ma2", "static", "per_step", 1.0, {"step_cv": 0.015}),
+    ("step CV 5 %", "ma2", "static", "per_step", 1.0, {"step_cv": 0.05}),
+    ("GPS tau 5 s", "ma2", "static", "per_step", 1.0, {"gps_open_tau_s": 5.0}),
+    ("GPS tau 60 s", "ma2", "static", "per_step", 1.0, {"gps_open_tau_s": 60.0}),
+    ("GPS tau 300 s", "ma2", "static", "per_step", 1.0, {"gps_open_tau_s": 300.0}),
+    ("GPS 95 % bound 0.75 m", "ma2", "static", "per_step", 1.0, {"gps_static_95_m": 0.75}),
 )
 
 
@@ -479,18 +537,28 @@ def sensitivity(seed: int = 0, variants=SENSITIVITY_VARIANTS) -> pd.DataFrame:
     """Table 5-2 summarised for every reading: the default and the labelled alternatives.
 
     Returns one row per variant: the share of true steps detected, the PSO's k (min, mean, max), the
-    closed-form minimiser's mean, the accuracy vs GPS (min, mean, max) and vs the true distance.
+    closed-form minimiser's mean, the accuracy vs GPS (min, mean, max) and vs the true distance, the
+    PSO's iterations and best fitness (means over walkers), the band used and the GPS/true distance.
     """
     rows = []
     cache = {}
-    for name, pf, band, fit, scale in variants:
+    for v in variants:
+        name, pf, band, fit, scale = v[:5]
+        sensors = dict(v[5]) if len(v) > 5 else {}
         _check_choice("prefilter", pf, PREFILTERS)
-        _check_choice("band", band, BANDS)
+        if isinstance(band, str):
+            _check_choice("band", band, BANDS)
         _check_choice("fitness", fit, FITNESSES)
-        if scale not in cache:
-            cache[scale] = simulate_pso_walks(seed, route_scale=scale)["1"]
-        p1, _, _ = _phase1(cache[scale], pf, fit, seed, band)
-        rows.append({"variant": name, "prefilter": pf, "band": band, "fitness": fit, "route_scale": scale,
+        key = (scale, tuple(sorted(sensors.items())))
+        if key not in cache:
+            cache[key] = simulate_pso_walks(seed, route_scale=scale, sensors=sensors or None)["1"]
+        p1, _, _ = _phase1(cache[key], pf, fit, seed, band, sensors or None)
+        rows.append({"variant": name, "prefilter": pf, "band": str(band), "fitness": fit, "route_scale": scale,
+                     "simulator": ", ".join(f"{k}={x:g}" for k, x in sensors.items()) or "default",
+                     "band_mps2": float(p1["band_mps2"].iloc[0]),
+                     "pso_iters_mean": float(p1["pso_iters"].mean()),
+                     "pso_fitness_mean_m": float(p1["pso_fitness_m"].mean()),
+                     "k_pso_sd": float(p1["k_pso"].std(ddof=1)),
                      "det_over_true_steps": float(p1["det_steps"].sum() / p1["true_steps"].sum()),
                      "k_pso_min": float(p1["k_pso"].min()), "k_pso_mean": float(p1["k_pso"].mean()),
                      "k_pso_max": float(p1["k_pso"].max()), "k_closed_mean": float(p1["k_closed"].mean()),
@@ -505,7 +573,7 @@ def sensitivity(seed: int = 0, variants=SENSITIVITY_VARIANTS) -> pd.DataFrame:
 EARLIER_READING = {"prefilter": "ma2", "band": "signal", "fitness": "total"}
 
 
-def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = "static",
+def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "static",
         fitness: str = "per_step", data_dir: str | Path | None = None, real: bool = True) -> dict[str, pd.DataFrame]:
     """The two-phase experiment on the simulated walks, the compass study and the ILC k study.
 
@@ -516,7 +584,7 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = 
     fast : bool
         Fewer PSO repeats, fewer compass logs, fewer ILC walks.
     prefilter : {"none", "ma1", "ma2"}
-        Moving average on the walking acceleration (default none; module docstring).
+        Moving average on the walking acceleration (default MA nL=nR=2, the text's reading; module docstring).
     band : {"static", "signal"}
         Half-width of the +-RMS band: static-noise RMS (default) or the walking signal's RMS.
     fitness : {"per_step", "total"}
@@ -529,7 +597,8 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = 
     Returns
     -------
     dict of DataFrame
-        ``table_5_2`` (reproduced beside the paper), ``phase1``, ``phase2``, ``table_5_2_alt``,
+        ``table_5_2`` (reproduced beside the paper), ``phase1``, ``phase2``, ``table_5_2_no_ma``,
+        ``phase1_no_ma``, ``phase2_no_ma`` (the alternative reading: no moving average), ``table_5_2_alt``,
         ``phase1_alt``, ``phase2_alt`` (the toolkit's earlier reading, :data:`EARLIER_READING`),
         ``fitness_variants``, ``pso_repeat``, ``stop_rule``, ``pso_a1_swarm``, ``pso_a1_history``,
         ``pso_a1_result``, ``compass``, ``sensitivity``, ``readings``, ``comparison`` (paper_ref
@@ -544,6 +613,10 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = 
     p1, results, tracks1 = _phase1(walks["1"], prefilter, fitness, seed, band)
     k_by = dict(zip(p1["walker"], p1["k_pso"], strict=True))
     p2, tracks2 = _phase2(walks["2"], k_by, prefilter, seed, band)
+    alt_pf = "none" if prefilter != "none" else "ma2"
+    p1_noma, _, _ = _phase1(walks["1"], alt_pf, fitness, seed, band)
+    p2_noma, _ = _phase2(walks["2"], dict(zip(p1_noma["walker"], p1_noma["k_pso"], strict=True)), alt_pf, seed,
+                         band)
     p1_alt, _, _ = _phase1(walks["1"], old["prefilter"], old["fitness"], seed, old["band"])
     p2_alt, tracks2_alt = _phase2(walks["2"], dict(zip(p1_alt["walker"], p1_alt["k_pso"], strict=True)),
                                   old["prefilter"], seed, old["band"])
@@ -581,11 +654,19 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "none", band: str = 
     t52_alt = _paper_table(p1_alt)
     lab = f"({prefilter}, {band} band, {fitness} fitness)"
     rows = _comparison(t52, p2, compass, lab)
-    rows += _comparison(t52_alt, p2_alt, compass, "(earlier reading: MA 2, signal band, walk total)")
+    t52_noma = _paper_table(p1_noma)
+    rows += _comparison(t52_noma, p2_noma, compass, f"({alt_pf}, {band} band, {fitness} fitness)",
+                        note="alternative reading: " + ("no moving average on the walking acceleration (L692, "
+                                                        "L718 read as the compass's only)" if alt_pf == "none"
+                                                        else "MA nL=nR=2 before detection (the text's, L692/L718)"))
+    rows += _comparison(t52_alt, p2_alt, compass, "(earlier reading: MA 2, signal band, walk total)",
+                        note="alternative reading: the toolkit's earlier one (walking-signal RMS band, walk-total "
+                             "fitness)")
     rows += _compass_rows(compass)
     out = {
         "table_5_2": t52, "phase1": p1, "phase2": p2, "table_5_2_alt": t52_alt, "phase1_alt": p1_alt,
-        "phase2_alt": p2_alt, "fitness_variants": variants, "pso_repeat": rep, "stop_rule": stop_rule,
+        "phase2_alt": p2_alt, "table_5_2_no_ma": t52_noma, "phase1_no_ma": p1_noma, "phase2_no_ma": p2_noma,
+        "fitness_variants": variants, "pso_repeat": rep, "stop_rule": stop_rule,
         "pso_a1_swarm": a1.swarm_table(), "pso_a1_history": a1.history_table(), "pso_a1_result": a1_block,
         "compass": compass, "compass_example": out_log,
         "static_band": pd.DataFrame([{"prefilter": pf, "static_rms_mps2": static_band_mps2(seed, pf)}

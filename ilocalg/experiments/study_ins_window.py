@@ -63,7 +63,7 @@ def run(seed: int = 0, fast: bool = False, windows_s=None, offset_fracs=OFFSET_F
     for phone, route, profile in ins_walk.PHONES:
         walk = ins_walk.simulate(route, profile, seed=seed)
         ind = walk.t_s >= walk.t_indoor_s
-        filt = run_walk(walk, "wvc", use_gcp=True, stairs="baro")
+        filt = run_walk(walk, "wvc", use_gcp=True, stairs="none")  # both phones alike (Liao 2016, L202)
         G = rts_gains(filt)
         for off in offsets:  # averaged over where the window grid falls
             res = window_sweep(filt, sorted(set(ws)), ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],

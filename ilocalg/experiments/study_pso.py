@@ -3,9 +3,10 @@
 The fitness is the PSO thesis' eq. 4.4 in the per-step reading the PSO experiment uses by default
 (:func:`ilocalg.pdr.k_factor.per_step_fitness`, ``mean_j |D_gps / N - k q_j|`` in metres; Fig. 5.12 of
 the thesis supports it) on the six simulated phase-1 walks of that experiment
-(:func:`ilocalg.sim.pso_walks.simulate_pso_walks`; steps by the sign-change detector without a moving
-average and with the +-RMS band from the static-noise RMS of the simulated static log, as the PSO
-experiment's default; GPS distance by :func:`ilocalg.gnss.gps_track_length_m`). ``k*`` is that
+(:func:`ilocalg.sim.pso_walks.simulate_pso_walks`; steps by the sign-change detector after MA(nL = nR = 2)
+and with the +-RMS band from the static-noise RMS of the simulated static log after the same filter, as
+the PSO experiment's default (thesis L692, L718); GPS distance by
+:func:`ilocalg.gnss.gps_track_length_m`). ``k*`` is that
 fitness's closed-form minimiser. In this 1-D problem the PSO stops as soon as one particle's fitness
 is below minFitness, often already in the initial swarm, so "iterations" here measure the stop
 rule and the initial box (k in [0, 1], not in the thesis) as much as the swarm dynamics. The
@@ -89,10 +90,11 @@ def run(seed: int = 0, fast: bool = False, n_particles: int = 10, schedule: str 
     settings = {k: PSO_SETTINGS_PAPER[k] for k in ("max_iters", "max_speed", "min_fitness", "c1", "c2")}
     max_iters = settings["max_iters"]
     iters, ok, dk = [], [], []
-    band = static_rms_mps2(simulate_static_acc(np.random.default_rng([int(seed), 54]))["acc_z_mps2"].to_numpy())
+    band = static_rms_mps2(simulate_static_acc(np.random.default_rng([int(seed), 54]))["acc_z_mps2"].to_numpy(),
+                           2, 2, smooth=True)
     for i, walk in enumerate(simulate_pso_walks(seed)["1"]):
         q = step_factors(detect_steps("sign_change", walk.imu["acc_z_mps2"].to_numpy(), walk.imu["t_s"].to_numpy(),
-                                      smooth=False, rms_mps2=band))
+                                      n_left=2, n_right=2, smooth=True, rms_mps2=band))
         d = gps_track_length_m(walk.gps)
         k_star = closed_form_k(q, d, "per_step")["k_min"]
 

@@ -46,8 +46,10 @@ Walker (published gait measurements, independent of the filter's eq. 7):
     wanders slowly (Ornstein-Uhlenbeck, sd 0.05 Hz, 10 s) with the walk ratio fixed;
   - stairs: riser 0.17 m, tread 0.29 m (Blondel's 2R + T = 0.63 m), one tread per step, cadence per walker
     N(1.62, 0.12) Hz up and N(1.80, 0.12) Hz down (gait-laboratory stair cadences, Riener et al. 2002,
-    Protopapadaki et al. 2007), i.e. about 0.47 m/s horizontal upstairs (measured upstairs horizontal
-    speeds peak at 0.4-0.5 m/s, Kretz et al. 2008);
+    Protopapadaki et al. 2007), i.e. about 0.47 m/s horizontal upstairs (derived: cadence x tread; no
+    published horizontal stair speed is used - Kretz et al. 2008, cited here earlier as a cross-check, does
+    not give this quantity for a building stair and is dropped - the speed is swept through the stair
+    cadence +- 1 sd by the experiment's gait_sensitivity);
   - ``gait="legacy"``: the earlier walker (eq. 7 with a personal scale c ~ N(1, 0.05), stairs at 0.5 m/s
     with the level cadence);
   - hand-held vibration and dynamic misalignment: vertical bounce 2.5 cm at the step frequency,
@@ -63,8 +65,7 @@ References
 Liao, Chiang, Zhou, Li (2016), sec. 4, Figs 5-6, Table 3; Chen et al. (2011) step model;
 Bohannon (1997), Age and Ageing 26:15-19; Sekiya & Nagasaki (1998), Gait & Posture 7:225-227;
 Hof (1996), Gait & Posture 4:222-223; Riener, Rabuffetti, Frigo (2002), Gait & Posture 15:32-44;
-Protopapadaki et al. (2007), Clinical Biomechanics 22:203-210; Kretz et al. (2008), Safety Science
-46:72-78 (upstairs walking speed distributions); Gelb (1974) Applied Optimal Estimation (Gauss-Markov).
+Protopapadaki et al. (2007), Clinical Biomechanics 22:203-210; Gelb (1974) Applied Optimal Estimation (Gauss-Markov).
 """
 
 from __future__ import annotations
@@ -101,8 +102,8 @@ WALK_RATIO_PER_HEIGHT, WALK_RATIO_PER_HEIGHT_SD = 0.0064 / 1.70, 0.1 * 0.0064 / 
 STAIR_RISER_M = 0.17
 #: Self-paced stair cadence (Hz), ascent and descent, between-walker sd: about 95-110 steps/min in gait
 #: laboratories (Riener et al. 2002; Protopapadaki et al. 2007). With one tread (0.29 m) per step the ascent's
-#: horizontal speed is about 0.47 m/s, inside the 0.4-0.5 m/s peak of the measured upstairs horizontal speeds
-#: of Kretz et al. (2008).
+#: horizontal speed is about 0.47 m/s (derived, swept through the cadence +- 1 sd; no published horizontal
+#: stair speed is used).
 STAIR_UP_CADENCE_HZ, STAIR_DOWN_CADENCE_HZ, STAIR_CADENCE_SD_HZ = 1.62, 1.80, 0.12
 # ---- end of published values -------------------------------------------------------------------------------
 
@@ -116,6 +117,20 @@ BLE_RANGING_CYCLE_S = 1.0
 BLE_PROXIMITY_SD_M = 0.5
 #: Filter noise of a Bluetooth control-point fix (m): "metre level" (Liao et al. 2016, L109).
 BLE_FIX_SD_M = 1.0
+#: RSSI detection (``gcp_mode="rssi"``, the default), as a phone sees a beacon:
+#: advertising interval (s): 100 ms, the iBeacon recommendation (Apple Proximity Beacon Specification;
+#: recalled, not re-read), plus the Bluetooth Core specification's pseudo-random advDelay of 0-10 ms per event;
+BLE_ADV_INTERVAL_S, BLE_ADV_DELAY_MAX_S = 0.1, 0.01
+#: RSSI at 1 m (dBm): the calibrated "measured power" a beacon broadcasts, -59 dBm at 0 dBm TX (Blue Charm
+#: Beacons' calibration chart; it cancels in the threshold below); path-loss exponent 2 (free space, the model
+#: behind iOS's distance estimate);
+BLE_RSSI_1M_DBM, BLE_PATH_LOSS_EXP = -59.0, 2.0
+#: per-packet RSSI scatter (dB): 4-6 dB measured on beacons at a fixed distance (BlueCats / beacon vendors'
+#: stability tests, a blog-level source: swept 2-8 dB in the experiment's gcp_grade table);
+BLE_RSSI_SD_DB = 5.0
+#: proximity declared when the ranging cycle's mean RSSI reaches the model's RSSI at the iBeacon "immediate"
+#: distance (0.5 m; recalled); the fix is handed over at the end of that ranging cycle (BLE_RANGING_CYCLE_S).
+BLE_IMMEDIATE_M = 0.5
 # ---- end of published values -------------------------------------------------------------------------------
 
 
@@ -150,7 +165,8 @@ class PhoneProfile:
         """The same sensor errors with exact time tags, interval-mean samples and no bias instability."""
         return replace(self, time_jitter_sd_s=0.0, point_sampling=False, acc_gm_sd_mps2=0.0, gyr_gm_sd_radps=0.0)
 
-    def swept(self, bias_instability_factor: float = 1.0, time_jitter_sd_s: float | None = None) -> PhoneProfile:
+    def swept(self, bias_instability_factor: float = 1.0, time_jitter_sd_s: float | None = None,
+              noise_scale: float = 1.0) -> PhoneProfile:
         """The same sensor with its Gauss-Markov bias instability scaled and its time-tag error sd replaced.
 
         Parameters
@@ -160,6 +176,9 @@ class PhoneProfile:
             time unchanged.
         time_jitter_sd_s : float, optional
             Time-tag error sd (s, >= 0; 0: the nominal clock); None keeps the profile's.
+        noise_scale : float
+            Factor (> 0) on both white-noise densities (the phone profiles carry 3 x the MPU-6500 datasheet
+            densities: ``noise_scale = 1/3`` gives the datasheet's, 5/3 five times it).
 
         Used by sensitivity sweeps over values no published measurement fixes for these phones; with a
         point-sampled profile the swept walks share the walk and every other error draw (same seed).
@@ -170,8 +189,12 @@ class PhoneProfile:
         j = self.time_jitter_sd_s if time_jitter_sd_s is None else float(time_jitter_sd_s)
         if not (np.isfinite(j) and j >= 0):
             raise ValueError(f"time_jitter_sd_s must be >= 0 s, got {time_jitter_sd_s}")
+        c = float(noise_scale)
+        if not (np.isfinite(c) and c > 0):
+            raise ValueError(f"noise_scale must be a finite factor > 0, got {noise_scale}")
         return replace(self, acc_gm_sd_mps2=k * self.acc_gm_sd_mps2, gyr_gm_sd_radps=k * self.gyr_gm_sd_radps,
-                       time_jitter_sd_s=j)
+                       time_jitter_sd_s=j, acc_noise_mps2_rsqrt_hz=c * self.acc_noise_mps2_rsqrt_hz,
+                       gyr_noise_radps_rsqrt_hz=c * self.gyr_noise_radps_rsqrt_hz)
 
 
 _MG = 9.80665e-3
@@ -362,8 +385,8 @@ def _path(rng, waypoints, dt, gait, legacy):
 
 def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float | None = None,
              gnss_sd_m=(2.5, 2.5, 4.0), user_height_m: float = 1.70, user_c_sd: float = 0.05,
-             init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "ble",
-             ble_lag_s: float = 0.0, gait_kw: dict | None = None) -> InsWalk:
+             init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "rssi",
+             ble_lag_s: float = 0.0, gait_kw: dict | None = None, rssi_sd_db: float = BLE_RSSI_SD_DB) -> InsWalk:
     """Simulate one hand-held phone walk (see the module docstring for every parameter's source).
 
     Parameters
@@ -379,8 +402,12 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     init_yaw_sd_deg : sd of the initial heading error handed to the filter
     gait : "published" (level speed and cadence from :func:`walker_gait`, stairs one tread per step) or
         "legacy" (speed from eq. 7 with a personal scale, stairs at 0.5 m/s with the level cadence)
-    gcp_mode : "ble" (the surveyed coordinate, triggered by a Bluetooth beacon after a ranging delay, with a
-        proximity offset) or "ideal" (the true phone position plus ``gcp_sd_m`` noise at closest approach)
+    gcp_mode : "rssi" (default: the surveyed coordinate when the beacon's packets, advertised every 100 ms
+        and received with a log-distance RSSI and 5 dB scatter, average over a 1 s ranging cycle to the RSSI of
+        the "immediate" distance; :data:`BLE_ADV_INTERVAL_S` ff.), "ble" (the earlier model: 0.6 m truth gate,
+        a U(0, 1 s) ranging delay and a 0.5 m proximity offset) or "ideal" (the true phone position plus
+        ``gcp_sd_m`` noise at closest approach)
+    rssi_sd_db : per-packet RSSI scatter of the "rssi" model (dB)
     ble_lag_s : extra trigger delay of the Bluetooth fix (s), e.g. RSSI averaging (default none)
     gait_kw : population means handed to :func:`walker_gait` for ``gait="published"`` (``speed_mean_mps``,
         ``walk_ratio_per_height``, ``stair_up_cadence_hz``, ``stair_down_cadence_hz``); default the published
@@ -393,10 +420,12 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         raise ValueError(f"profile must be one of {sorted(PROFILES)} or a PhoneProfile, got {profile!r}")
     if gait not in ("published", "legacy"):
         raise ValueError(f"gait must be 'published' or 'legacy', got {gait!r}")
-    if gcp_mode not in ("ble", "ideal"):
-        raise ValueError(f"gcp_mode must be 'ble' or 'ideal', got {gcp_mode!r}")
+    if gcp_mode not in ("rssi", "ble", "ideal"):
+        raise ValueError(f"gcp_mode must be 'rssi', 'ble' or 'ideal', got {gcp_mode!r}")
+    if not (np.isfinite(rssi_sd_db) and rssi_sd_db >= 0):
+        raise ValueError(f"rssi_sd_db must be >= 0 dB, got {rssi_sd_db}")
     if gcp_sd_m is None:
-        gcp_sd_m = BLE_FIX_SD_M if gcp_mode == "ble" else 0.05
+        gcp_sd_m = 0.05 if gcp_mode == "ideal" else BLE_FIX_SD_M
     if not gcp_sd_m > 0:
         raise ValueError(f"gcp_sd_m must be > 0, got {gcp_sd_m}")
     if not (np.isfinite(ble_lag_s) and ble_lag_s >= 0):
@@ -509,7 +538,15 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     # control-point passages: local minima of the distance below 0.6 m, on the indoor part
     gcp_t, gcp_p, gcp_i = [], [], []
     ph_pos = pos[ep]
-    for jj, g in enumerate(GCP_XYZ_M):
+    # the RSSI model draws from its own stream (jumped), so the other draws do not depend on the GCP model
+    rssi_rng = np.random.Generator(rng.bit_generator.jumped())
+    for jj, g in enumerate(GCP_XYZ_M) if gcp_mode == "rssi" else ():
+        for tt in _rssi_triggers(t, pos, g, t_indoor, rssi_sd_db, rssi_rng):
+            k2 = min(int(np.searchsorted(t_true, tt + ble_lag_s)), n - 1)
+            gcp_t.append(t_ph[k2])
+            gcp_p.append(g.copy())
+            gcp_i.append(jj)
+    for jj, g in enumerate(GCP_XYZ_M) if gcp_mode != "rssi" else ():
         dist = np.linalg.norm(ph_pos - g, axis=1)
         close = (dist < 0.6) & (t_true >= t_indoor)
         runs = np.flatnonzero(np.diff(np.concatenate([[0], close.astype(int), [0]])))
@@ -545,6 +582,39 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         params={"route": route, "profile": prof.name, "user_c": float(user_c), "user_height_m": user_height_m,
                 "gait": gait, "gcp_mode": gcp_mode, **gait_d},
     )
+
+
+def _rssi_triggers(t_s: np.ndarray, pos_m: np.ndarray, beacon_m: np.ndarray, t_from_s: float, rssi_sd_db: float,
+                   rng) -> list:
+    """Times (s, true clock) at which a phone declares itself at ``beacon_m`` (the "rssi" model of :func:`simulate`).
+
+    Packets every :data:`BLE_ADV_INTERVAL_S` plus U(0, :data:`BLE_ADV_DELAY_MAX_S`); RSSI =
+    ``BLE_RSSI_1M_DBM - 10 n log10(d) + N(0, rssi_sd_db)`` with ``d`` the phone-beacon distance (at least
+    0.1 m); ranging cycles of :data:`BLE_RANGING_CYCLE_S` with a random phase; a cycle whose mean RSSI
+    reaches the RSSI of :data:`BLE_IMMEDIATE_M` triggers a fix at its end, once per passage (re-armed by a
+    cycle below the threshold or without packets). Only times after ``t_from_s`` (the indoor part).
+    """
+    n_adv = int((t_s[-1] - t_s[0]) / BLE_ADV_INTERVAL_S)
+    t_adv = t_s[0] + np.cumsum(np.full(n_adv, BLE_ADV_INTERVAL_S) + rng.uniform(0, BLE_ADV_DELAY_MAX_S, n_adv))
+    noise = rng.normal(0.0, rssi_sd_db, n_adv)
+    phase = rng.uniform(0.0, BLE_RANGING_CYCLE_S)
+    keep = (t_adv >= t_from_s) & (t_adv <= t_s[-1])
+    t_adv, noise = t_adv[keep], noise[keep]
+    p = np.column_stack([np.interp(t_adv, t_s, pos_m[:, j]) for j in range(3)])
+    d = np.maximum(np.linalg.norm(p - beacon_m, axis=1), 0.1)
+    rssi = BLE_RSSI_1M_DBM - 10 * BLE_PATH_LOSS_EXP * np.log10(d) + noise
+    thr = BLE_RSSI_1M_DBM - 10 * BLE_PATH_LOSS_EXP * np.log10(BLE_IMMEDIATE_M)
+    cyc = np.floor((t_adv - phase) / BLE_RANGING_CYCLE_S).astype(np.int64)
+    out, armed, last = [], True, None
+    for c in np.unique(cyc):
+        if last is not None and c != last + 1:
+            armed = True                       # a cycle without packets re-arms
+        hit = rssi[cyc == c].mean() >= thr
+        if hit and armed:
+            out.append(phase + (c + 1) * BLE_RANGING_CYCLE_S)
+        armed = not hit
+        last = c
+    return out
 
 
 def _monotonic_tags(t_tag_s: np.ndarray, min_gap_s: float) -> np.ndarray:

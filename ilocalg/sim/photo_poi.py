@@ -24,14 +24,19 @@ Layouts (built from the text; Fig 28, which holds the coordinates, is missing fr
       within 5 cm, and p2 and p7 are off that line (by more than 0.3 m);
     * every PoI is on the screen from every test point (needed for the combinations of all seven).
 
-    The last five together rule out one straight wall (nearer outer pairs and a test line running
-    away from p4 cannot both hold), so the family used here is a room with an end wall holding p3,
-    p4, p5 (p4 in front of the test line) and side walls holding p1, p2 (left) and p6, p7 (right),
-    nearer to the test points, all ahead of ``t1``. :data:`LAYOUTS` holds several such rooms, each
-    built by :func:`make_layout` from a few dimensions and each satisfying every constraint; the
-    choice among them is an assumption that callers sweep (the spread is the uncertainty Fig 28's
-    absence leaves). :data:`LAYOUTS` ``"row"`` is the toolkit's earlier layout (seven PoIs in a
-    2.4 m row on one wall), kept as a labelled sensitivity case: it violates L707's ordering.
+    Two families satisfy them. (1) A room (:func:`make_layout`): an end wall holding p3, p4, p5 (p4 in
+    front of the test line) and side walls holding p1, p2 (left) and p6, p7 (right), nearer to the
+    test points, all ahead of ``t1``. (2) One straight wall (:func:`make_wall_layout`): the test line
+    runs parallel to the wall, starting in front of p4 (so the distance from p4 grows t1 -> t7), with
+    p3, p4, p5 close together at the t1 end and the pairs {p1, p2}, {p6, p7} further along the wall,
+    nearer on average to the test points. (An earlier version of this docstring said the constraints
+    rule out one wall: that holds only for a test line running straight away from the wall; a line
+    along the wall satisfies them all.) :data:`LAYOUTS` holds several members of each family, each
+    satisfying every constraint; the choice among them is an assumption that callers sweep (the
+    spread is the uncertainty Fig 28's absence leaves); :func:`satisfying_layouts` builds every
+    satisfying member of both grids. :data:`LAYOUTS` ``"row"`` is the toolkit's earlier layout (seven
+    PoIs in a 2.4 m row on one wall, test line straight away from it), kept as a labelled
+    sensitivity case: it violates L707's ordering.
     Frame: x across the room, y along the test line (away from the end wall), z up; metres.
 
 Every input parameter and its source
@@ -92,8 +97,9 @@ from ilocalg.photo.camera import look_at, project, rot_x, rot_y, small_rotation
 from ilocalg.units import as_rng
 
 __all__ = ["DEFAULTS", "POIS_M", "POI_IDS", "SHOTS_XY_M", "SHOT_IDS", "ROOM_M", "PhotoPoiSet", "simulate",
-           "pois_frame", "shots_frame", "Layout", "make_layout", "check_layout", "LAYOUTS", "DEFAULT_LAYOUT",
-           "LAYOUT_DIMENSIONS", "LAYOUT_GRID"]
+           "pois_frame", "shots_frame", "Layout", "make_layout", "make_wall_layout", "check_layout", "LAYOUTS",
+           "DEFAULT_LAYOUT", "LAYOUT_DIMENSIONS", "LAYOUT_GRID", "WALL_LAYOUT_DIMENSIONS", "WALL_LAYOUT_GRID",
+           "satisfying_layouts"]
 
 POI_IDS = tuple(f"p{i}" for i in range(1, 8))
 SHOT_IDS = tuple(f"t{i}" for i in range(1, 8))
@@ -158,6 +164,46 @@ def make_layout(name: str, t1_to_end_wall_m: float, half_width_m: float, side_y_
     return Layout(name, pois, shots, room, dims)
 
 
+def make_wall_layout(name: str, wall_dist_m: float, pair_centre_x_m: float, pair_gap_m: float,
+                     end_spacing_m: float, t1_x_m: float = 0.0, line_height_m: float = 1.6,
+                     off_line_m: float = 0.5, pair_dx_m: float = 0.5) -> Layout:
+    """A one-wall layout (family 2 of the module docstring): every PoI on the wall ``y = 0``.
+
+    Parameters
+    ----------
+    wall_dist_m : float
+        Distance of the test line from the wall (``t_k = (t1_x_m + k - 1, wall_dist_m)``).
+    pair_centre_x_m : float
+        Along-wall position of the middle between the pairs {p1, p2} and {p6, p7}.
+    pair_gap_m : float
+        Distance between the two pairs' centres (p1, p2 at ``centre - gap/2 -+ dx/2``; p6, p7 at
+        ``centre + gap/2 -+ dx/2``, ``dx = pair_dx_m``).
+    end_spacing_m : float
+        p3, p4, p5 at ``x = -s, 0, s``.
+    t1_x_m : float
+        Along-wall position of ``t1`` (p4 at ``x = 0``).
+    """
+    h, c, g, sp, dx = line_height_m, pair_centre_x_m, pair_gap_m, end_spacing_m, pair_dx_m
+    z_line = h + _LINE_JITTER_M
+    pois = np.array([
+        [c - g / 2 - dx / 2, 0.0, z_line[0]],
+        [c - g / 2 + dx / 2, 0.0, h + off_line_m],
+        [-sp, 0.0, z_line[1]],
+        [0.0, 0.0, z_line[2]],
+        [sp, 0.0, z_line[3]],
+        [c + g / 2 - dx / 2, 0.0, z_line[4]],
+        [c + g / 2 + dx / 2, 0.0, h - off_line_m],
+    ])
+    shots = np.array([[t1_x_m + k, wall_dist_m] for k in range(7)])
+    x_lo = min(float(pois[:, 0].min()), t1_x_m) - 1.5
+    x_hi = max(float(pois[:, 0].max()), t1_x_m + 6.0) + 1.5
+    room = (x_lo, x_hi, 0.5, wall_dist_m + 2.0)
+    dims = {"family": "one wall", "wall_dist_m": wall_dist_m, "pair_centre_x_m": c, "pair_gap_m": g,
+            "end_spacing_m": sp, "t1_x_m": t1_x_m, "line_height_m": h, "off_line_m": off_line_m,
+            "pair_dx_m": dx}
+    return Layout(name, pois, shots, room, dims)
+
+
 def _row_layout() -> Layout:
     """The toolkit's earlier layout: seven PoIs in a 2.4 m row on one wall (violates L707)."""
     pois = np.array([[-1.2, 0.0, 1.60], [-0.8, 0.0, 2.10], [-0.4, 0.0, 1.62], [0.0, 0.0, 1.58],
@@ -170,6 +216,10 @@ def _row_layout() -> Layout:
 #: end wall, end-wall spacing), m: plausible corridor/room sizes (2-4 m wide, t1 4-6 m from the end wall).
 LAYOUT_GRID = {"t1_to_end_wall_m": (4.0, 5.0, 6.0), "half_width_m": (1.0, 1.5, 2.0),
                "side_y_m": (1.0, 1.4, 1.8, 2.2, 2.6, 3.0), "end_spacing_m": (0.4, 0.6, 0.8, 1.0)}
+#: Grid of the one-wall family (:func:`make_wall_layout`): test line 2.5-4 m from the wall, the pairs'
+#: middle 2-4 m along it, the pairs 1-2 m apart, p3-p5 spacing 0.4-0.6 m (as the room family's).
+WALL_LAYOUT_GRID = {"wall_dist_m": (2.5, 3.0, 3.5, 4.0), "pair_centre_x_m": (2.0, 2.5, 3.0, 3.5, 4.0),
+                    "pair_gap_m": (1.0, 1.5, 2.0), "end_spacing_m": (0.4, 0.6)}
 #: Layouts of the family, from the grid above: 33 of its 216 members satisfy every constraint of
 #: :func:`check_layout` (the L696 smallest-angle constraint keeps the end-wall spacing at 0.4-0.6 m).
 #: "A" (default) is the satisfying member nearest the grid's middle; "B".."G" are the members at six
@@ -184,8 +234,19 @@ LAYOUT_DIMENSIONS = {
     "F": (6.0, 1.5, 2.6, 0.4),
     "G": (6.0, 2.0, 1.8, 0.4),
 }
-#: The layouts: the family members above and the earlier one-wall ``"row"`` (sensitivity only).
+#: One-wall members: 9 of the 120 members of :data:`WALL_LAYOUT_GRID` satisfy every constraint (the screen
+#: constraint binds: the PoIs span a wide angle from t1); "W1".."W4" are those at four evenly spaced positions
+#: (0, 3, 5, 8) of the satisfying list in grid order (chosen from the constraints alone; the test re-derives
+#: them).
+WALL_LAYOUT_DIMENSIONS = {
+    "W1": (3.5, 2.0, 1.0, 0.4),
+    "W2": (4.0, 2.0, 1.0, 0.6),
+    "W3": (4.0, 2.5, 1.0, 0.4),
+    "W4": (4.0, 2.5, 1.5, 0.6),
+}
+#: The layouts: the room members, the one-wall members and the earlier one-wall ``"row"`` (sensitivity only).
 LAYOUTS = {k: make_layout(k, *v) for k, v in LAYOUT_DIMENSIONS.items()}
+LAYOUTS.update({k: make_wall_layout(k, *v) for k, v in WALL_LAYOUT_DIMENSIONS.items()})
 LAYOUTS["row"] = _row_layout()
 #: Default layout (the first of the family; the others are swept).
 DEFAULT_LAYOUT = "A"
@@ -401,3 +462,17 @@ def simulate(seed=0, n_photos: int = 20, layout=DEFAULT_LAYOUT, **params) -> Pho
     return PhotoPoiSet(pois_m=POIS.copy(), shot_index=shot, c_m=c, T_true=T_true, T_meas=T_meas,
                        img_true_px=img_true, img_px=img, c0_good_m=np.c_[good, z0], c0_bad_m=np.c_[bad, z0],
                        params={**p, "n_photos": n, "layout": lay.name})
+
+
+def satisfying_layouts() -> dict[str, Layout]:
+    """Every member of :data:`LAYOUT_GRID` (rooms, ``"R<i>"``) and :data:`WALL_LAYOUT_GRID` (one wall,
+    ``"W<i>"`` numbered over the whole wall grid) that satisfies every constraint of :func:`check_layout`."""
+    import itertools
+
+    out = {}
+    for prefix, grid, maker in (("R", LAYOUT_GRID, make_layout), ("Wg", WALL_LAYOUT_GRID, make_wall_layout)):
+        for i, d in enumerate(itertools.product(*grid.values())):
+            lay = maker(f"{prefix}{i}", *d)
+            if check_layout(lay)["satisfied"].all():
+                out[lay.name] = lay
+    return out

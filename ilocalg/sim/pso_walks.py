@@ -29,6 +29,15 @@ Gait (literature, not the thesis)
     duration ``T`` is ``(h / 2)(2 pi / T)^2``; a second harmonic (heel strike) of relative amplitude
     ~ U(0.2, 0.4) per walker. The Weinberg factor is therefore not an input: it emerges from leg
     length, step length and cadence.
+    Step-to-step scatter of the vertical acceleration amplitude beyond the pendulum's (the hand-held
+    device's own motion, foot placement): each step's amplitude is multiplied by a log-normal factor
+    with coefficient of variation ``step_amp_cv`` = 0.18. Measured on the public ILC 2020 site2/F4
+    walks (hand-held phone, 50 Hz): the per-step ``Amax - Amin`` of the sign-change steps has a CV of
+    0.20 (median over the 19 walks, IQR 0.18-0.28; :func:`ilocalg.experiments.pso_k_factor.ilc_k_study`
+    reports it per walk as ``amp_cv``); the pendulum already gives about 0.085 from the 3 % step
+    length and duration CVs (amplitude ~ s^2 / T^2), so the added part is sqrt(0.20^2 - 0.085^2) =
+    0.18. Swept over 0 (the toolkit's earlier simulator) to 0.27 (the IQR's upper end) by the PSO
+    experiment's sensitivity table.
 
 Sensors (thesis where it says, else typical values of the MEMS parts of the time)
     Accelerometer (z vertical): 8 Hz (thesis sec. 5.1.1), quantised to the thesis's scale, 244.25
@@ -143,6 +152,7 @@ SENSORS = {
     "speed_mean_mps": 1.30,
     "speed_sd_mps": 0.08,
     "step_cv": 0.03,
+    "step_amp_cv": 0.18,
     "k_zijlstra_hof": 1.25,
     "harmonic2_range": (0.2, 0.4),
     "stand_s": 3.0,
@@ -318,12 +328,12 @@ def simulate_static_compass(rng=None, duration_s: float = 60.0, yaw0_deg: float 
     return pd.DataFrame({"t_s": t, "yaw_deg": yaw0_deg + _compass_noise(n, gen)})
 
 
-def simulate_static_acc(rng=None, duration_s: float = 60.0) -> pd.DataFrame:
+def simulate_static_acc(rng=None, duration_s: float = 60.0, sensors: dict | None = None) -> pd.DataFrame:
     """A static accelerometer log (device still on a table, z up), as the thesis's calibration (sec. 5.1.3).
 
     Gravity plus the accelerometer's white noise, quantised to the thesis's scale (the same sensor
     model as :func:`simulate_walk`). Its RMS (eq. 3.4) is the static-noise RMS that sets the
-    +-RMS band of the step detector (Fig. 3.9).
+    +-RMS band of the step detector (Fig. 3.9). ``sensors`` overrides :data:`SENSORS` entries.
 
     Returns
     -------
@@ -331,12 +341,13 @@ def simulate_static_acc(rng=None, duration_s: float = 60.0) -> pd.DataFrame:
         ``t_s``, ``acc_z_mps2`` at :data:`SENSORS` ``acc_rate_hz``.
     """
     gen = as_rng(rng)
-    fs = SENSORS["acc_rate_hz"]
+    S = _sensors(sensors)
+    fs = S["acc_rate_hz"]
     n = int(round(duration_s * fs))
     if n < 10:
         raise ValueError(f"duration_s must give at least 10 samples, got {duration_s}")
-    lsb = G0_MPS2 / SENSORS["acc_counts_per_g"]
-    acc = np.round((G0_MPS2 + gen.normal(0, SENSORS["acc_noise_mps2"], n)) / lsb) * lsb
+    lsb = G0_MPS2 / S["acc_counts_per_g"]
+    acc = np.round((G0_MPS2 + gen.normal(0, S["acc_noise_mps2"], n)) / lsb) * lsb
     return pd.DataFrame({"t_s": np.arange(n) / fs, "acc_z_mps2": acc})
 
 
@@ -352,8 +363,22 @@ def _mag_disturbance_deg(s_m: np.ndarray, rng) -> np.ndarray:
     return np.interp(s_m, grid, e)
 
 
+def _sensors(overrides: dict | None) -> dict:
+    """:data:`SENSORS` with ``overrides`` (unknown names raise)."""
+    if not overrides:
+        return SENSORS
+    unknown = sorted(set(overrides) - set(SENSORS))
+    if unknown:
+        raise ValueError(f"sensors: unknown settings {unknown}; known: {sorted(SENSORS)}")
+    for k, v in overrides.items():
+        if isinstance(SENSORS[k], float) and (not np.isfinite(v) or v < 0):
+            raise ValueError(f"sensors[{k!r}] must be a finite non-negative number, got {v!r}")
+    return {**SENSORS, **overrides}
+
+
 def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_steps: int, leg_m: float,
-                  speed_mps: float, harmonic2: float, origin_deg: tuple, shaded: bool, rng) -> Walk:
+                  speed_mps: float, harmonic2: float, origin_deg: tuple, shaded: bool, rng,
+                  sensors: dict | None = None) -> Walk:
     """Simulate one walk along ``route_xy`` with ``n_steps`` steps (see the module docstring).
 
     Parameters
@@ -369,34 +394,42 @@ def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_s
     shaded : bool
         Partial GPS shading (phase 2).
     rng : Generator, int or None
+    sensors : dict, optional
+        Overrides of :data:`SENSORS` entries (for sweeps).
     """
     gen = as_rng(rng)
+    S = _sensors(sensors)
     if n_steps < 2:
         raise ValueError(f"n_steps must be >= 2, got {n_steps}")
     route_m = float(_arc(route_xy)[-1])
-    cv = SENSORS["step_cv"]
+    cv = S["step_cv"]
     s = 1.0 + cv * gen.standard_normal(n_steps)
     s = s * route_m / s.sum()
     T_mean = (route_m / n_steps) / speed_mps
     T = T_mean * (1.0 + cv * gen.standard_normal(n_steps))
-    stand = SENSORS["stand_s"]
+    stand = S["stand_s"]
     t_hs = stand + np.r_[0.0, np.cumsum(T)[:-1]]  # heel strikes
     t_end_walk = stand + T.sum()
     t_total = t_end_walk + stand
     # vertical trunk motion: inverted pendulum with the Zijlstra-Hof correction
-    K = SENSORS["k_zijlstra_hof"]
+    K = S["k_zijlstra_hof"]
     h = leg_m - np.sqrt(leg_m**2 - (s / (2 * K)) ** 2)
     amp = 0.5 * h * (2 * np.pi / T) ** 2
+    # step-to-step amplitude scatter beyond the pendulum's (log-normal, mean 1, CV step_amp_cv)
+    sig = np.sqrt(np.log1p(S["step_amp_cv"] ** 2))
+    # (its own stream, jumped from the walk's, so the other draws do not depend on the setting)
+    amp_gen = np.random.Generator(gen.bit_generator.jumped())
+    amp = amp * np.exp(sig * amp_gen.standard_normal(n_steps) - 0.5 * sig**2)
     psi2 = gen.uniform(0, 2 * np.pi)
-    fs = SENSORS["acc_rate_hz"]
+    fs = S["acc_rate_hz"]
     t = np.arange(int(np.floor(t_total * fs)) + 1) / fs
     j = np.searchsorted(t_hs, t, side="right") - 1
     walking = (t >= stand) & (t < t_end_walk)
     jj = np.clip(j, 0, n_steps - 1)
     u = np.where(walking, (t - t_hs[jj]) / T[jj], 0.0)
     a_dyn = np.where(walking, amp[jj] * (np.cos(2 * np.pi * u) + harmonic2 * np.cos(4 * np.pi * u + psi2)), 0.0)
-    lsb = G0_MPS2 / SENSORS["acc_counts_per_g"]
-    acc = G0_MPS2 + a_dyn + gen.normal(0, SENSORS["acc_noise_mps2"], t.size)
+    lsb = G0_MPS2 / S["acc_counts_per_g"]
+    acc = G0_MPS2 + a_dyn + gen.normal(0, S["acc_noise_mps2"], t.size)
     acc = np.round(acc / lsb) * lsb
     # position along the route (linear within each step)
     s_cum = np.r_[0.0, np.cumsum(s)]
@@ -405,30 +438,30 @@ def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_s
     # while standing keep the first / last walking direction
     yaw_true = np.where(t < stand, _along(route_xy, np.array([0.0]))[2][0], yaw_true)
     yaw_true = np.where(t >= t_end_walk, _along(route_xy, np.array([route_m - 1e-6]))[2][0], yaw_true)
-    sway = np.where(walking, SENSORS["compass_sway_deg"] * np.sin(np.pi * (j + u)), 0.0)
-    bias = gen.normal(0, SENSORS["compass_bias_sd_deg"])
+    sway = np.where(walking, S["compass_sway_deg"] * np.sin(np.pi * (j + u)), 0.0)
+    bias = gen.normal(0, S["compass_bias_sd_deg"])
     mag = _mag_disturbance_deg(s_t, gen)
     yaw_meas = (yaw_true + bias + sway + mag + _compass_noise(t.size, gen)) % 360.0
     imu = pd.DataFrame({"t_s": t, "acc_z_mps2": acc, "yaw_deg": yaw_meas})
     truth = pd.DataFrame({"t_s": t, "x_m": x, "y_m": y, "yaw_deg": yaw_true})
     # GPS at 1 Hz
-    tg = np.arange(0.0, t_total + 1e-9, 1.0 / SENSORS["gps_rate_hz"])
+    tg = np.arange(0.0, t_total + 1e-9, 1.0 / S["gps_rate_hz"])
     xg, yg, _ = _along(route_xy, np.interp(tg, t, s_t))
-    sd_open = gps_static_sd_m()
-    ex = _gauss_markov(tg.size, 1.0, sd_open, SENSORS["gps_open_tau_s"], gen)
-    ey = _gauss_markov(tg.size, 1.0, sd_open, SENSORS["gps_open_tau_s"], gen)
-    ex += gen.normal(0, 1.0, tg.size) * SENSORS["gps_white_sd_m"]
-    ey += gen.normal(0, 1.0, tg.size) * SENSORS["gps_white_sd_m"]
+    sd_open = gps_static_sd_m(S["gps_static_95_m"])
+    ex = _gauss_markov(tg.size, 1.0, sd_open, S["gps_open_tau_s"], gen)
+    ey = _gauss_markov(tg.size, 1.0, sd_open, S["gps_open_tau_s"], gen)
+    ex += gen.normal(0, 1.0, tg.size) * S["gps_white_sd_m"]
+    ey += gen.normal(0, 1.0, tg.size) * S["gps_white_sd_m"]
     keep = np.ones(tg.size, dtype=bool)
     if shaded:
-        frac = SENSORS["gps_shaded_fraction"]
+        frac = S["gps_shaded_fraction"]
         n_sh = int(frac * tg.size)
         for start in (int(0.25 * tg.size), int(0.6 * tg.size)):
             sl = slice(start, start + n_sh)
             m = tg[sl].size
-            ex[sl] += _gauss_markov(m, 1.0, SENSORS["gps_shaded_sd_m"], SENSORS["gps_shaded_tau_s"], gen)
-            ey[sl] += _gauss_markov(m, 1.0, SENSORS["gps_shaded_sd_m"], SENSORS["gps_shaded_tau_s"], gen)
-            keep[sl] &= gen.random(m) >= SENSORS["gps_shaded_dropout"]
+            ex[sl] += _gauss_markov(m, 1.0, S["gps_shaded_sd_m"], S["gps_shaded_tau_s"], gen)
+            ey[sl] += _gauss_markov(m, 1.0, S["gps_shaded_sd_m"], S["gps_shaded_tau_s"], gen)
+            keep[sl] &= gen.random(m) >= S["gps_shaded_dropout"]
     lat, lon = local_to_latlon(xg + ex, yg + ey, *origin_deg)
     gps = pd.DataFrame({"t_s": tg[keep], "lat_deg": lat[keep], "lon_deg": lon[keep]})
     steps = pd.DataFrame({"t_s": t_hs, "length_m": s, "duration_s": T, "amp_mps2": amp})
@@ -438,7 +471,7 @@ def simulate_walk(walker: str, phase: str, place: str, route_xy: np.ndarray, n_s
 
 
 def simulate_pso_walks(seed: int = 0, route_scale: float = 1.0,
-                       route_m: dict | None = None) -> dict[str, list[Walk]]:
+                       route_m: dict | None = None, sensors: dict | None = None) -> dict[str, list[Walk]]:
     """All walks of the two-phase experiment.
 
     Parameters
@@ -449,6 +482,8 @@ def simulate_pso_walks(seed: int = 0, route_scale: float = 1.0,
         taken as unbiased); phase-2 routes scale with it (same mean step length).
     route_m : dict, optional
         ``{walker: true phase-1 route length in m}``, overriding ``route_scale`` for those walkers.
+    sensors : dict, optional
+        Overrides of :data:`SENSORS` entries (e.g. ``{"step_amp_cv": 0.0}``, ``{"gps_open_tau_s": 60.0}``).
 
     Returns
     -------
@@ -465,12 +500,13 @@ def simulate_pso_walks(seed: int = 0, route_scale: float = 1.0,
     for w, v in lengths.items():
         if not np.isfinite(v) or v <= 0:
             raise ValueError(f"route_m[{w!r}] must be a positive length in m, got {v!r}")
+    S = _sensors(sensors)
     ss = np.random.SeedSequence(seed)
     names = list(WALK_DESIGN_PAPER)
     walker_ss, walk_ss = ss.spawn(2)
     wgen = np.random.default_rng(walker_ss)
-    speeds = SENSORS["speed_mean_mps"] + SENSORS["speed_sd_mps"] * wgen.standard_normal(len(names))
-    harm = wgen.uniform(*SENSORS["harmonic2_range"], len(names))
+    speeds = S["speed_mean_mps"] + S["speed_sd_mps"] * wgen.standard_normal(len(names))
+    harm = wgen.uniform(*S["harmonic2_range"], len(names))
     seeds = iter(walk_ss.spawn(32))
     out: dict[str, list[Walk]] = {"1": [], "2": []}
     for i, name in enumerate(names):
@@ -480,7 +516,7 @@ def simulate_pso_walks(seed: int = 0, route_scale: float = 1.0,
         else:
             route, origin, place = line_route(lengths[name], 20.0 + 15 * i), ORIGINS_DEG["tunghai"], "car park"
         out["1"].append(simulate_walk(name, "1", place, route, d["n_steps"], d["leg_m"], float(speeds[i]),
-                                      float(harm[i]), origin, False, np.random.default_rng(next(seeds))))
+                                      float(harm[i]), origin, False, np.random.default_rng(next(seeds)), sensors))
     for i, name in enumerate(names):
         d = WALK_DESIGN_PAPER[name]
         step_m = lengths[name] / d["n_steps"]
@@ -489,5 +525,5 @@ def simulate_pso_walks(seed: int = 0, route_scale: float = 1.0,
             route = loop_route(n * step_m, rotation_deg=10.0 * i)
             origin = ORIGINS_DEG["wenhu"] if place == "park" else ORIGINS_DEG["tunghai"]
             out["2"].append(simulate_walk(name, "2", place, route, n, d["leg_m"], float(speeds[i]), float(harm[i]),
-                                          origin, True, np.random.default_rng(next(seeds))))
+                                          origin, True, np.random.default_rng(next(seeds)), sensors))
     return out

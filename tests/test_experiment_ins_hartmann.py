@@ -1,0 +1,45 @@
+"""The Hartmann IMU + video-tracker experiment (ilocalg.experiments.ins_hartmann)."""
+
+import numpy as np
+import pytest
+
+from ilocalg.experiments import ins_hartmann
+from ilocalg.ins.paper_values import HARTMANN_TABLE2_OVERALL
+
+
+@pytest.fixture(scope="module")
+def out():
+    return ins_hartmann.run(seed=0, fast=True, n_sequences=1, duration_s=40.0, noise_scales=(0.5, 1.0, 4.0),
+                            outage_factors=((2.0, 1.0),))
+
+
+def test_mean_deviation_is_a_sensitivity_curve_of_the_tracker_noise(out):
+    tn = out["tracker_noise"]
+    assert list(tn["noise_scale"]) == [0.5, 1.0, 4.0]
+    for a in "xyz":
+        dev = tn[f"mean_dev_{a}_m"].to_numpy()
+        assert np.all(np.diff(dev) > 0)               # more tracker noise, larger deviation to the tracker
+        assert (tn[f"paper_mean_dev_{a}_m"] == HARTMANN_TABLE2_OVERALL[f"mean_dev_{a}_m"]).all()
+    imp = out["tracker_noise_implied"].set_index("axis")
+    for a in "xyz":
+        sc = imp.loc[a, "implied_noise_scale"]
+        dev = tn[f"mean_dev_{a}_m"].to_numpy()
+        pv = HARTMANN_TABLE2_OVERALL[f"mean_dev_{a}_m"]
+        if dev[0] <= pv <= dev[-1]:
+            assert 0.5 <= sc <= 4.0
+            assert np.interp(sc, tn["noise_scale"], dev) == pytest.approx(pv)
+        else:
+            assert np.isnan(sc)
+
+
+def test_outage_inputs_are_labelled_and_swept(out):
+    cmp = out["comparison"].set_index("quantity")
+    for key in ("vt_rate_hz", "outage_max_s", "outages_over_1s"):
+        assert cmp.loc[f"overall {key}", "note"].startswith("input, not a reproduction")
+    os_ = out["outage_sensitivity"]
+    assert list(zip(os_["outage_rate_factor"], os_["outage_excess_factor"], strict=True)) == [(1.0, 1.0), (2.0, 1.0)]
+    # twice the outage rate: at least as many outages over 1 s and a lower tracker rate
+    assert os_["outages_over_1s"].iloc[1] >= os_["outages_over_1s"].iloc[0]
+    assert os_["vt_rate_hz"].iloc[1] < os_["vt_rate_hz"].iloc[0]
+    r = out["readings"]
+    assert r["choice"].is_unique and (r["source"].str.len() > 0).all()
