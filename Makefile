@@ -40,8 +40,15 @@ NB ?= notebooks/
 lab: $(STAMP)
 	JUPYTER_CONFIG_PATH=$(CURDIR)/.jupyter $(BIN)/jupyter lab $(NB)
 
+# Every benchmark, then the gate: a table (benchmark, measure, measured, goal, pass) of benchmarks/goals.toml
+# against this run's measures; exits non-zero when a bench fails or a goal is missed. Timings mean
+# something only on an otherwise idle machine.
+BENCH_RESULTS := .benchmarks/results.json
 bench: $(STAMP)
-	$(BIN)/python -m pytest benchmarks -o python_files='bench_*.py' -s
+	rm -f $(BENCH_RESULTS)
+	status=0; ILOC_BENCH_RESULTS=$(BENCH_RESULTS) $(BIN)/python -m pytest benchmarks -o python_files='bench_*.py' \
+	  -s || status=1; $(BIN)/python benchmarks/gate.py $(BENCH_RESULTS) benchmarks/goals.toml || status=1; \
+	  exit $$status
 
 notebooks: $(STAMP)
 	$(BIN)/python -m ilocalg notebooks --sync

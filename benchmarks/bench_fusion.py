@@ -115,7 +115,7 @@ def test_bench_batched_vs_filterpy(benchmark):
     benchmark.extra_info.update(m)
     assert m["max_abs_dx_m"] < 1e-9 and m["max_abs_dP_m2"] < 1e-9
     assert m["gated_max_abs_dx_m"] < 1e-9 and m["gated_max_abs_dP_m2"] < 1e-9 and m["same_gating"]
-    assert m["speedup"] >= TARGET_SPEEDUP, m
+    # the speed-up goal (TARGET_SPEEDUP) is checked by the gate (benchmarks/goals.toml), not here
     inp = make_inputs()
     benchmark.pedantic(run_batched, args=(inp,), rounds=3, iterations=1)
 

@@ -138,7 +138,7 @@ def test_bench_sweep_1000_walks(benchmark):
     benchmark.extra_info.update(m)
     print(pd.Series(m).to_string())
     assert m["failed"] == 0 and m["identical_results"]
-    assert m["ratio_2_over_1"] <= TARGET_RATIO, m
+    # the scaling goal (TARGET_RATIO) is checked by the gate (benchmarks/goals.toml), not here
 
 
 if __name__ == "__main__":

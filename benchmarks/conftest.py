@@ -1,8 +1,25 @@
-"""Benchmarks: pytest-benchmark fixtures plus a helper to report speed ratios."""
+"""Benchmarks: a helper to time ratios, and the collection of every bench's measures for the gate.
+
+Each test's measures are what it puts in pytest-benchmark's ``benchmark.extra_info`` or in the
+``bench_record`` fixture (a dict, for tests that do not use ``benchmark``); numeric values are written,
+at the end of the session, to ``$ILOC_BENCH_RESULTS`` (default ``.benchmarks/results.json``) under the
+test's id (``bench_wifi.py::test_knn_euclidean``), where :mod:`gate` compares them with
+``benchmarks/goals.toml``. Works with and without ``--benchmark-disable`` (``extra_info`` exists either
+way; nothing here reads pytest-benchmark's own statistics, which a disabled run does not have).
+"""
 
 from __future__ import annotations
 
+import json
+import math
+import os
 import time
+from pathlib import Path
+
+import pytest
+
+RESULTS_ENV = "ILOC_BENCH_RESULTS"
+_RESULTS: dict[str, dict[str, float]] = {}
 
 
 def best_time_s(fn, repeat: int = 5) -> float:
@@ -13,3 +30,43 @@ def best_time_s(fn, repeat: int = 5) -> float:
         fn()
         best = min(best, time.perf_counter() - t0)
     return best
+
+
+def results_path() -> Path:
+    """Where the session's measures are written (``$ILOC_BENCH_RESULTS`` or ``.benchmarks/results.json``)."""
+    return Path(os.environ.get(RESULTS_ENV) or Path(__file__).resolve().parents[1] / ".benchmarks" / "results.json")
+
+
+def _test_id(node) -> str:
+    return f"{Path(node.fspath).name}::{node.name}"
+
+
+@pytest.fixture
+def bench_record(request):
+    """A dict of this test's measures (name -> number), collected for the gate."""
+    return _RESULTS.setdefault(_test_id(request.node), {})
+
+
+@pytest.fixture(autouse=True)
+def _collect_measures(request):
+    bm = request.getfixturevalue("benchmark") if "benchmark" in request.fixturenames else None
+    yield
+    if bm is not None:
+        got = _RESULTS.setdefault(_test_id(request.node), {})
+        for k, v in bm.extra_info.items():
+            if isinstance(v, (bool, int, float)) and not (isinstance(v, float) and math.isnan(v)):
+                got[k] = float(v)
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Merge this session's measures into the results file (a bench file run alone keeps the others')."""
+    if not _RESULTS:
+        return
+    path = results_path()
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        old = {}
+    old.update({k: v for k, v in _RESULTS.items() if v})
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(old, indent=1, sort_keys=True) + "\n")

@@ -119,6 +119,12 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
     row = next(line for line in readme.splitlines() if line.startswith("| Fake paper"))
     assert "| 3 | 1.1 |" in row and "inside CI" in row
     assert json.loads((out / "provenance.json").read_text())["n_seeds_for_intervals"] == 3
+    timings = pd.read_csv(out / "timings.csv")  # where the wall time went, written by reproduce itself
+    assert list(timings.columns) == ["stage", "name", "seconds", "runs"]
+    got = set(zip(timings["stage"], timings["name"], strict=True))
+    assert {("notebook", "01_fake"), ("run", "notebooks"), ("run", "sweep after notebooks"), ("run", "report build"),
+            ("run", "total")} <= got
+    assert (timings["seconds"] >= 0).all()
 
 
 def test_rerun_replaces_a_notebooks_old_outputs(tmp_path):

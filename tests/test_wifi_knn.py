@@ -129,3 +129,31 @@ def test_check_estimator():
     # random data from check_estimator may contain any float; use a low not-heard value
     check_estimator(KnnFingerprint(n_neighbors=3, not_heard_dbm=-1e4, rssi_range_dbm=None),
                     expected_failed_checks=EXPECTED_FAILED)
+
+
+@pytest.mark.parametrize("p", [1, 2])
+def test_kernels_agree_exactly_on_a_large_database_with_duplicates(p):
+    # large enough for the threshold selection (n_refs >= 64 k) and the Euclidean GEMM route; duplicated
+    # references make exact ties at and around the k-th neighbour
+    rng = np.random.default_rng(5)
+    X, _, Xq, _ = _radio(rng, n_ref=1500, n_q=300, integer=True)
+    X = np.vstack([X, X[:700]])
+    idx = build_index(to_features(X, -95))
+    fq = to_features(np.vstack([Xq, X[:50]]), -95)
+    d1, i1 = knn_search(fq, idx, 5, p=p, kernel="sparse", batch=64)
+    d2, i2 = knn_search(fq, idx, 5, p=p, kernel="dense")
+    np.testing.assert_array_equal(i1, i2)
+    np.testing.assert_array_equal(d1, d2)
+    full = pairwise_distances_batch(fq, idx, p=p, kernel="dense")
+    ref = np.lexsort((np.broadcast_to(np.arange(full.shape[1]), full.shape), full), axis=1)[:, :5]
+    np.testing.assert_array_equal(i1, ref)
+
+
+def test_smallest_k_matches_a_stable_sort_with_many_ties():
+    from ilocalg.wifi.knn import smallest_k
+
+    rng = np.random.default_rng(6)
+    for hi in (3, 50, 5000):
+        d = rng.integers(0, hi, (40, 2000)).astype(np.float32)
+        for k in (1, 5, 20):
+            np.testing.assert_array_equal(smallest_k(d, k), np.argsort(d, axis=1, kind="stable")[:, :k])

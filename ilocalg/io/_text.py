@@ -480,10 +480,15 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         t0 = rs + width + 1
     label = np.zeros(len(rec), dtype=np.int8)
     names = sorted(known)
+    head = np.ascontiguousarray(bytes8(t0)).view("<u8").ravel()  # each record's first 8 type bytes, one word
+    span = re_ - t0
     for code, name in enumerate(names, start=1):
         kb = name.encode() + sep  # the name and the separator that ends it
-        cand = np.flatnonzero(re_ - t0 > len(kb) - 1)
-        for o in range(0, len(kb), 8):  # eight bytes per comparison
+        first = kb[:8]
+        mask = np.uint64((1 << (8 * len(first))) - 1)
+        key = np.uint64(int.from_bytes(first.ljust(8, b"\0"), "little"))
+        cand = np.flatnonzero(((head & mask) == key) & (span > len(kb) - 1))  # one word compare per record
+        for o in range(8, len(kb), 8):  # then eight bytes per comparison, on the candidates only
             chunk = np.frombuffer(kb[o:o + 8], dtype=np.uint8)
             cand = cand[np.all(bytes8(t0[cand] + o)[:, :len(chunk)] == chunk, axis=1)]
         label[cand] = code

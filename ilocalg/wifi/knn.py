@@ -13,6 +13,13 @@ kernels, both exact for integer dBm (every partial sum is an integer below 2**24
               ``|q - r| = q + r - 2 min(q, r)`` and ``q.r`` only involve the APs heard in both
               scans, so per AP only the (queries hearing it) x (references hearing it) block is
               touched. A scan hears ~18 of UJIIndoorLoc's 520 APs, so this does ~1/30 of the work.
+              For Euclidean distances between integer features (plain dBm, the default) it takes
+              the GEMM route instead, ``|r|^2 - 2 q.r`` as one float32 product per block of queries
+              against the database stored as ``[-2 r, |r|^2]`` (exact: every value is an integer below
+              2**24), which BLAS runs at the hardware's dense rate on every core.
+
+Selecting the K smallest of each row first bounds the K-th smallest by that of a sample of the row (every
+16th column, or the first eighth of a shuffled database), then sorts only the few values at or below it.
 
 Ties in distance are broken by training order (the earlier reference wins), for both kernels.
 
@@ -54,6 +61,8 @@ __all__ = [
 ]
 
 _BATCH = 256
+#: Distances per block of the Euclidean GEMM path (float32: 64 MB).
+_BLOCK_VALUES = 1 << 24
 
 
 class InvertedIndex:
@@ -66,7 +75,7 @@ class InvertedIndex:
     sq_norm, l1_norm : ndarray (n_refs,) float32
     """
 
-    __slots__ = ("features", "indptr", "rows", "values", "sq_norm", "l1_norm")
+    __slots__ = ("features", "indptr", "rows", "values", "sq_norm", "l1_norm", "int_top", "_gemm")
 
     def __init__(self, features: np.ndarray):
         f = np.ascontiguousarray(features, dtype=np.float32)
@@ -80,6 +89,22 @@ class InvertedIndex:
         self.values = f[c, r]
         self.sq_norm = np.einsum("ij,ij->i", f, f, dtype=np.float32)
         self.l1_norm = f.sum(axis=1, dtype=np.float32)
+        #: the largest feature if all are integers, else None (see :func:`_exact_pair`)
+        self.int_top = float(f.max(initial=0.0)) if bool(np.all(f == np.rint(f))) else None
+        self._gemm = None  # built on the first Euclidean search (see _gemm_database)
+
+
+#: Largest integer a float32 holds exactly (every partial sum of an exact distance stays below it).
+_F32_EXACT = float(2**24)
+
+
+def _exact_pair(q: np.ndarray, index: InvertedIndex) -> bool:
+    """Whether queries and database hold integers small enough that every partial sum of
+    ``|q|^2 + |r|^2 - 2 q.r`` is exact in float32, whatever the summation order."""
+    if index.int_top is None or not bool(np.all(q == np.rint(q))):
+        return False
+    top = max(index.int_top, float(q.max(initial=0.0)))
+    return 2.0 * q.shape[1] * top * top < _F32_EXACT
 
 
 def build_index(features) -> InvertedIndex:
@@ -179,6 +204,10 @@ def smallest_k(d: np.ndarray, k: int) -> np.ndarray:
     k = int(k)
     if k >= n:
         return np.argsort(d, axis=1, kind="stable")[:, :k]
+    if n >= 64 * k and d.shape[0]:
+        got = _smallest_k_threshold(d, k)
+        if got is not None:
+            return got
     part = np.argpartition(d, k - 1, axis=1)[:, :k]
     dk = np.take_along_axis(d, part, axis=1)
     kth = dk.max(axis=1)
@@ -197,6 +226,24 @@ def smallest_k(d: np.ndarray, k: int) -> np.ndarray:
         dv = np.take_along_axis(dt, cols, axis=1)
         idx[tied] = np.take_along_axis(cols, np.lexsort((cols, dv), axis=1), axis=1)
     return idx
+
+
+def _smallest_k_threshold(d: np.ndarray, k: int, stride: int = 16) -> np.ndarray | None:
+    """:func:`smallest_k` by a threshold: the ``k``-th smallest of every ``stride``-th column bounds each row's
+    ``k``-th smallest from above, so the ``k`` smallest are among the values at or below it (every tie
+    included); only those few are sorted, by (value, column). ``None`` when too many values pass
+    (many ties) or a value is NaN: the caller then partitions the whole rows."""
+    sample = d[:, ::stride]
+    tau = np.partition(sample, k - 1, axis=1)[:, k - 1]
+    if not np.isfinite(tau).all():
+        return None
+    r, c = np.nonzero(d <= tau[:, None])
+    if r.size > d.size // 8:
+        return None
+    v = d[r, c]
+    o = np.lexsort((c, v, r))
+    starts = np.searchsorted(r, np.arange(d.shape[0]))  # r is sorted (row-major nonzero)
+    return c[o][starts[:, None] + np.arange(k)].astype(np.intp)
 
 
 def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str = "sparse",
@@ -230,6 +277,10 @@ def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str
         raise ValueError(f"n_neighbors must be in [1, {n_ref}] (the number of references), got {k}")
     dist = np.empty((q.shape[0], k), dtype=np.float64)
     idx = np.empty((q.shape[0], k), dtype=np.int64)
+    if kernel == "sparse" and metric == "minkowski" and p == 2 and q.shape[1] == index.features.shape[1] \
+            and _exact_pair(q, index):
+        d2, idx = _euclidean_blocked(q, index, int(k), max(int(batch), 1))
+        return np.sqrt(d2), idx
     for s in range(0, q.shape[0], batch):
         qb = q[s:s + batch]
         if kernel == "sparse":  # rank on the partial sums, add the query's norm to the k kept
@@ -249,6 +300,64 @@ def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str
         dd = np.maximum(dd, 0.0)
         dist[s:s + batch] = np.sqrt(dd) if p == 2 else dd
         idx[s:s + batch] = ii
+    return dist, idx
+
+
+def _gemm_database(index: InvertedIndex) -> tuple[np.ndarray, np.ndarray]:
+    """``(perm, db)``: the references in a fixed shuffled order ``perm`` as rows ``[-2 r, |r|^2]`` (float32), built
+    once per index, so that ``[q, 1] . row = |r|^2 - 2 q.r`` (the squared distance less ``|q|^2``) is one GEMM and
+    the first rows are a uniform sample of the database."""
+    got = getattr(index, "_gemm", None)
+    if got is None:
+        n, m = index.features.shape
+        perm = np.random.default_rng(0).permutation(n)
+        db = np.empty((n, m + 1), dtype=np.float32)
+        np.multiply(index.features[perm], np.float32(-2.0), out=db[:, :m])
+        db[:, m] = index.sq_norm[perm]
+        got = index._gemm = (perm, db)
+    return got
+
+
+def _euclidean_blocked(q: np.ndarray, index: InvertedIndex, k: int, batch: int) -> tuple[np.ndarray, np.ndarray]:
+    """Squared Euclidean distances (float64) and indices of the ``k`` nearest references, for integer features.
+
+    One float32 GEMM per block of queries (at least ``batch``, about 64 MB of distances) gives
+    ``|r|^2 - 2 q.r`` for every reference (see :func:`_gemm_database`); the ``k``-th smallest over the
+    first ``n/8`` (shuffled) references bounds each row's ``k``-th smallest from above, so one comparison
+    pass keeps a few candidates per query (every tie included), sorted by (value, training order). Every
+    value is an integer below 2**24, hence exact in any summation order: the same distances, neighbours and
+    ties (training order) as the other kernels.
+    """
+    n_q, m = q.shape
+    perm, db = _gemm_database(index)
+    n_ref = db.shape[0]
+    n_s = min(max(n_ref // 8, k), n_ref)
+    qn = np.einsum("ij,ij->i", q, q, dtype=np.float32).astype(np.float64)
+    dist = np.empty((n_q, k), dtype=np.float64)
+    idx = np.empty((n_q, k), dtype=np.int64)
+    batch = max(batch, _BLOCK_VALUES // max(n_ref, 1))  # large blocks: BLAS packs the database once per block
+    qa = np.empty((min(batch, n_q), m + 1), dtype=np.float32)
+    qa[:, m] = 1.0
+    for s in range(0, n_q, batch):
+        e = min(s + batch, n_q)
+        qb = qa[:e - s]
+        qb[:, :m] = q[s:e]
+        d = db @ qb.T  # (n_ref, b): |r|^2 - 2 q.r, references in the order perm (the database as the long side)
+        tau = np.partition(d[:n_s], k - 1, axis=0)[k - 1]
+        flat = np.flatnonzero(d <= tau[None, :])
+        if flat.size > d.size // 8:  # very many ties: whole rows, in training order
+            dq = np.ascontiguousarray(d.T[:, np.argsort(perm)])
+            ii = smallest_k(dq, k)
+            dv = np.take_along_axis(dq, ii, axis=1)
+        else:
+            c, r = np.divmod(flat, e - s)
+            v = d.reshape(-1)[flat]
+            c = perm[c]
+            o = np.lexsort((c, v, r))
+            pick = np.searchsorted(r[o], np.arange(e - s))[:, None] + np.arange(k)
+            ii, dv = c[o][pick], v[o][pick]
+        idx[s:e] = ii
+        dist[s:e] = np.maximum(dv.astype(np.float64) + qn[s:e, None], 0.0)
     return dist, idx
 
 

@@ -9,8 +9,9 @@ to ``reports/<name>.ipynb`` and ``.html``. With ``--seeds N`` the swept experime
 same process pool as the notebooks, and the run at the base seed is the notebook's own (recorded into
 the sweep cache by its kernel, see :func:`ilocalg.workflow.sweep.record_runs`), never repeated.
 Afterwards ``reports/README.md``, ``reports/index.html`` (the landing page) and
-``reports/provenance.json`` are built from what the notebooks wrote. A failing notebook stops the run
-(notebooks not yet started are cancelled) with its failing cell's error and a non-zero exit code.
+``reports/provenance.json`` are built from what the notebooks wrote, and ``reports/timings.csv`` says where
+the wall time went (per notebook, per swept experiment, per stage; :func:`write_timings`). A failing notebook
+stops the run (notebooks not yet started are cancelled) with its failing cell's error and a non-zero exit code.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_ex
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
-           "sweep_experiments", "KERNEL_MPLBACKEND"]
+           "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 
@@ -200,6 +201,30 @@ def _load_timings(cache_dir: Path) -> dict:
         return dict(COST_S)
 
 
+#: Columns of ``reports/timings.csv`` (see :func:`write_timings`).
+TIMINGS_COLUMNS = ("stage", "name", "seconds", "runs")
+
+
+def write_timings(out_dir: Path, rows: list[dict]) -> Path:
+    """Write ``out_dir/timings.csv``: where reproduce spent its wall time.
+
+    One row per notebook (stage ``notebook``), per swept experiment (stage ``sweep``: the summed wall time of
+    its runs at the other seeds, ``runs`` of them, run beside the notebooks or after them), and per step of
+    the run (stage ``run``: ``notebooks`` from the first notebook started to the last finished, ``sweep after
+    notebooks``, ``report build``, ``total``). Seconds are wall times of jobs that may have run side by side,
+    so the stages overlap and do not add up to the total.
+    """
+    import csv
+
+    path = Path(out_dir) / "timings.csv"
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(TIMINGS_COLUMNS)
+        for r in rows:
+            w.writerow([r["stage"], r["name"], f"{float(r['seconds']):.2f}", int(r.get("runs", 1))])
+    return path
+
+
 def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, only: str | None = None,
               seed: int = 0, notebook_dir: Path = NOTEBOOK_DIR, html: bool = True,
               progress: bool = True, n_seeds: int = 1, workers: int = 2, cache_dir: Path | None = None,
@@ -249,6 +274,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     inputs_dir = out_dir / ".inputs"
     t_start = time.perf_counter()
     timings = _load_timings(cache_dir)
+    stage_rows: list[dict] = []
+    sweep_s: dict[str, list[float]] = {}
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
     print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
           f"{jobs} side by side)", flush=True)
@@ -269,6 +296,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             print(f"[{i}/{len(nbs)}] {nb.stem}", flush=True)
             r = _notebook_job(nb, out_dir, params_for(nb), html, record_for(nb), progress=progress)
             timings[_timing_key(nb.stem, fast)] = r["seconds"]
+            stage_rows.append({"stage": "notebook", "name": nb.stem, "seconds": r["seconds"]})
             if r["error"]:
                 failed = r["error"]
                 break
@@ -308,15 +336,21 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                     kind, name = futs[f]
                     if kind == "sweep":
                         timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"]
+                        sweep_s.setdefault(name, []).append(r["seconds"])
                         continue
                     n_done += 1
                     timings[_timing_key(name, fast)] = r["seconds"]
+                    stage_rows.append({"stage": "notebook", "name": name, "seconds": r["seconds"]})
                     if r["error"] and failed is None:
                         failed = r["error"]
                         for other in pending:
                             other.cancel()  # jobs not yet started never run
                     elif not r["error"]:
                         print(f"[{n_done}/{len(nbs)}] {name} done in {r['seconds']:.1f} s", flush=True)
+    t_notebooks = time.perf_counter() - t_start
+    stage_rows.sort(key=lambda r: r["name"])
+    stage_rows += [{"stage": "sweep", "name": e, "seconds": sum(v), "runs": len(v)} for e, v in sorted(sweep_s.items())]
+    stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks})
     try:
         _timings_path(cache_dir).parent.mkdir(parents=True, exist_ok=True)
         _timings_path(cache_dir).write_text(json.dumps(timings, indent=1, sort_keys=True) + "\n")
@@ -324,6 +358,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         pass
     if failed:
         print(f"FAILED {failed}", file=sys.stderr, flush=True)
+        write_timings(out_dir, stage_rows)
         return 1
     inputs = []
     if inputs_dir.is_dir():
@@ -331,13 +366,20 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             inputs += [line for line in f.read_text().splitlines() if line]
     summary = None
     if n_seeds > 1:
+        t0 = time.perf_counter()
         code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest)
+        stage_rows.append({"stage": "run", "name": "sweep after notebooks", "seconds": time.perf_counter() - t0})
         if code:
+            write_timings(out_dir, stage_rows)
             return code
+    t0 = time.perf_counter()
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
     build_index(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds, notebook_dir=notebook_dir)
     write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs],
                      n_seeds=n_seeds)
+    stage_rows.append({"stage": "run", "name": "report build", "seconds": time.perf_counter() - t0})
+    stage_rows.append({"stage": "run", "name": "total", "seconds": time.perf_counter() - t_start})
+    write_timings(out_dir, stage_rows)
     print(f"wrote index.html, README.md and provenance.json in {_relative(out_dir, Path.cwd())} "
           f"({time.perf_counter() - t_start:.0f} s in all)", flush=True)
     return 0
