@@ -37,11 +37,14 @@ def _iqr(x):
     return float(q[1] - q[0])
 
 
-def ilc_walk_measures(trace) -> dict:
-    """Per-walk raw measurements of one ILC trace (arrays), the input of the ``*_rows`` builders."""
+def ilc_walk_measures(trace, parts=PARTS) -> dict:
+    """Per-walk raw measurements of one ILC trace (arrays), the input of the ``*_rows`` builders.
+
+    ``parts`` limits the work (``"scans"``; ``"gait"`` and ``"heading"`` need the IMU).
+    """
     out = {}
     w = trace.wifi
-    if len(w):
+    if len(w) and "scans" in parts:
         out["scan_interval_s"] = scans.scan_intervals_s(w)
         out["age_distinct_s"] = scans.reading_ages_s(w, distinct=True)
         out["age_listed_s"] = scans.reading_ages_s(w, distinct=False)
@@ -52,7 +55,7 @@ def ilc_walk_measures(trace) -> dict:
         out["fresh_aps_per_scan"] = fresh.groupby("scan_id").size().reindex(
             np.unique(w["scan_id"]), fill_value=0).to_numpy()
     imu, wp = trace.imu, trace.waypoints
-    if len(imu) > 100 and len(wp) >= 2:
+    if len(imu) > 100 and len(wp) >= 2 and ("gait" in parts or "heading" in parts):
         acc = imu[["acc_x_mps2", "acc_y_mps2", "acc_z_mps2"]].to_numpy()
         try:
             out["segments"] = gait.segment_gait(acc, imu.index.to_numpy(), wp["t_s"].to_numpy(),
