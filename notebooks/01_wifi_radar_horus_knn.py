@@ -24,6 +24,9 @@ SEED = 0
 FAST = False
 OUT_DIR = None
 DATA_DIR = None
+# The simulated world (issue 24): "measured" (defaults from data/measured_parameters.csv, see notebook
+# 16_measured_worlds) or "assumed" (the earlier published-value world, for comparison).
+WORLD = "measured"
 
 # %%
 import matplotlib.pyplot as plt
@@ -65,7 +68,7 @@ report = Report(OUT_DIR, "01_wifi_radar_horus_knn")
 # (eq. 2). All three run inside `wifi_iloc.run` below.
 
 # %%
-tables = wifi_iloc.run(seed=SEED, fast=FAST)
+tables = wifi_iloc.run(seed=SEED, fast=FAST, world=WORLD)
 report.table(tables["sim_summary"], "sim_summary")
 # Test scans that hear no access point cannot be positioned; they are counted, not scored.
 report.table(tables["test_scans"], "test_scans")
@@ -82,7 +85,7 @@ report.table(tables["readings"], "readings")
 # missing from the text); the 28 test points are every second point of the ring corridor.
 
 # %%
-sim = iloc_floor.simulate(SEED, scans_per_point=1, scans_per_test_point=1)
+sim = iloc_floor.simulate(SEED, scans_per_point=1, scans_per_test_point=1, world=WORLD)
 with ilocviz.style():
     fig, ax = plt.subplots(figsize=(7, 4.8))
     ilocviz.wifi.floor_map(sim.points_xy_m, ax=ax, value=sim.fade_sd_db, walls=iloc_floor.walls(),
@@ -111,7 +114,8 @@ with ilocviz.style():
 # ## Fig 4: what Simplified-Horus stores -- one AP's RSSI distribution at one point
 
 # %%
-dist = wifi_iloc.ap_distribution(SEED, scans_per_point=60 if FAST else iloc_floor.SCANS_PER_POINT)
+dist = wifi_iloc.ap_distribution(SEED, scans_per_point=60 if FAST else iloc_floor.SCANS_PER_POINT,
+                                  world=WORLD)
 with ilocviz.style():
     fig, ax = plt.subplots()
     ilocviz.wifi.rssi_distribution(dist, ax=ax)

@@ -25,6 +25,9 @@ SEED = 0
 FAST = False
 OUT_DIR = None
 DATA_DIR = None
+# The simulated world (issue 24): "measured" (defaults from data/measured_parameters.csv, see notebook
+# 16_measured_worlds) or "assumed" (the earlier published-value world, for comparison).
+WORLD = "measured"
 
 # %%
 import matplotlib.pyplot as plt
@@ -58,7 +61,7 @@ report = Report(OUT_DIR, "05_pdr_heading_trajectory")
 # `pdr_heading_trajectory.run` below.
 
 # %%
-tables = pdr_heading_trajectory.run(seed=SEED, fast=FAST)
+tables = pdr_heading_trajectory.run(seed=SEED, fast=FAST, world=WORLD)
 for name in ("heading_summary", "summary", "test_points", "cdf", "wdm_sensitivity", "readings"):
     report.table(tables[name], name)
 comparison = report.compare(tables["comparison"].to_dict("records"))

@@ -61,3 +61,8 @@ def test_cost_hints_name_only_known_notebooks_and_swept_experiments():
             assert key[len("sweep:"):] in swept, key
         else:
             assert key in manifest.MANIFEST, key
+
+
+def test_measured_worlds_notebook_is_listed_and_not_swept():
+    assert manifest.experiments_of("16_measured_worlds") == ["measured_worlds"]
+    assert "measured_worlds" not in manifest.swept_experiments(["16_measured_worlds"])

@@ -85,3 +85,122 @@ def test_accessor_rejects_a_table_with_duplicates(tmp_path):
     p.write_text("parameter,value,ci_low,ci_high,unit,dataset,method\na,1,0,2,s,x,y\na,1,0,2,s,x,y\n")
     with pytest.raises(ValueError, match="line 3"):
         measured.table(p)
+
+
+# --- radio: synthetic fields with known parameters ----------------------------------------------
+
+from ilocalg.measure import gait as mgait  # noqa: E402
+from ilocalg.measure import heading, radio  # noqa: E402
+
+
+def _field(rng, n_aps=30, n_pts=120, n=3.0, p0=-35.0, sigma=5.0):
+    xy = rng.uniform(0, 60, (n_pts, 2))
+    ap = rng.uniform(5, 55, (n_aps, 2))
+    d = np.maximum(np.hypot(xy[:, None, 0] - ap[None, :, 0], xy[:, None, 1] - ap[None, :, 1]), 1.0)
+    return xy, p0 - 10 * n * np.log10(d) + rng.normal(0, sigma, d.shape)
+
+
+def test_path_loss_fit_recovers_exponent_and_sigma():
+    xy, m = _field(np.random.default_rng(0))
+    pl = radio.path_loss_per_ap(xy, m)
+    assert len(pl) == 30
+    assert abs(np.median(pl["n"]) - 3.0) < 0.3
+    assert abs(np.median(pl["sigma_db"]) - 5.0) < 0.5
+
+
+def test_path_loss_fit_rejects_bad_shapes_and_skips_sparse_aps():
+    with pytest.raises(ValueError, match="xy_m"):
+        radio.fit_path_loss(np.zeros((5, 3)), np.zeros(5))
+    assert radio.fit_path_loss(np.zeros((3, 2)), np.array([-50.0, -60.0, np.nan])) is None
+
+
+def test_device_offsets_recovered_on_shared_places():
+    r = np.random.default_rng(1)
+    n_pl, n_ap, offs = 60, 20, np.array([-4.0, 0.0, 3.0, 1.0])
+    mu = r.uniform(-90, -40, (n_pl, n_ap))
+    rows, place, dev = [], [], []
+    for p in range(n_pl):
+        for d in r.choice(4, 2, replace=False):
+            for _ in range(5):
+                rows.append(mu[p] + offs[d] + r.normal(0, 2, n_ap))
+                place.append(p)
+                dev.append(d)
+    off = radio.device_offsets_db(np.array(rows), np.array(place), np.array(dev))
+    np.testing.assert_allclose(off.to_numpy(), offs - offs.mean(), atol=0.4)
+
+
+def test_within_place_sd_and_detection_curve():
+    r = np.random.default_rng(2)
+    means = np.linspace(-100, -50, 40)
+    x = means[None, :] + r.normal(0, 3.0, (400, 40))
+    x[x < -90] = np.nan                                   # hard sensitivity at -90 dBm
+    cell = np.repeat(np.arange(40), 10)
+    sd = radio.within_place_sd_db(x[:, 25:], cell)       # strong APs: always heard
+    assert abs(np.sqrt(np.mean(sd**2)) - 3.0) < 0.3
+    m, f, _ = radio.detection_curve(x, cell)
+    fit = radio.fit_detection(m, f)
+    assert -95 < fit["m50_dbm"] < -85 and fit["p_max"] > 0.9
+
+
+def test_drift_per_ap_recovers_known_drift_and_removes_device_offset():
+    r = np.random.default_rng(3)
+    xy = r.uniform(0, 50, (80, 2))
+    means = r.uniform(-90, -40, (80, 15))
+    drift = r.normal(0, 3.0, 15)
+    idx = r.integers(0, 80, 300)
+    dev = r.integers(0, 3, 300)
+    test = means[idx] + drift[None, :] + np.array([5.0, -2.0, 0.0])[dev][:, None] + r.normal(0, 1, (300, 15))
+    d = radio.drift_per_ap_db(means, xy, np.zeros(80), test, xy[idx], np.zeros(300), dev, radius_m=0.01)
+    np.testing.assert_allclose(d.to_numpy() - d.mean(), drift - drift.mean(), atol=0.5)
+
+
+# --- gait and heading -----------------------------------------------------------------------------
+
+def test_step_variability_recovers_known_cv():
+    r = np.random.default_rng(4)
+    T = 0.5 * (1 + 0.05 * r.normal(size=400))
+    A = 3.0 * (1 + 0.2 * r.normal(size=400))
+    v = mgait.step_variability(pd.DataFrame({"T_s": T, "A_mps2": A}))
+    assert abs(v["cv_T"] - 0.05) < 0.01 and abs(v["cv_A"] - 0.2) < 0.03
+    assert abs(v["rcv_T"] - 0.05) < 0.01
+
+
+def test_step_series_on_a_synthetic_walk_finds_each_step():
+    t = np.arange(0, 30, 0.01)
+    f = 1.8
+    acc = np.column_stack([np.zeros_like(t), np.zeros_like(t), 9.81 + 3.0 * np.cos(2 * np.pi * f * t)])
+    steps = np.arange(1.0, 29.0, 1 / f)
+    s = mgait.step_series(acc, t, steps)
+    assert len(s) == steps.size - 1
+    np.testing.assert_allclose(s["T_s"], 1 / f, atol=0.02)
+    np.testing.assert_allclose(s["A_mps2"], 6.0, rtol=0.05)
+
+
+def test_gait_correlations_known_structure():
+    r = np.random.default_rng(5)
+    SL = r.uniform(0.4, 0.8, 300)
+    v = r.uniform(0.8, 1.5, 300)
+    A = 2 + 5 * SL + 0.5 * r.normal(size=300)
+    c = mgait.gait_correlations(pd.DataFrame({"SL_m": SL, "T_s": SL / v, "speed_mps": v, "A_mps2": A}))
+    assert c["corr_A_SL"] > 0.6
+    assert abs(c["A_resid_rel"] - 0.5 / A.mean()) < 0.02
+
+
+def test_rotvec_heading_and_misalignment():
+    yaw = np.deg2rad(30.0)  # rotation about up by 30 deg: the y axis (north) turns to theta = 120 deg
+    rv = np.array([[0.0, 0.0, np.sin(yaw / 2)]])
+    assert np.isclose(np.rad2deg(heading.rotvec_theta_rad(rv)[0]), 120.0)
+    r = np.random.default_rng(6)
+    d = r.uniform(-np.pi, np.pi, 200)
+    h = d + 0.7 + np.deg2rad(r.normal(0, 5, 200))        # constant map rotation 0.7 rad + 5 deg scatter
+    mis = heading.misalignment(h, d, np.zeros(200))
+    assert abs(np.rad2deg(mis).std() - 5.0) < 1.0 and abs(np.median(mis)) < 0.01
+
+
+def test_measure_command_reports_missing_data_as_one_line(tmp_path, capsys):
+    from ilocalg.workflow.cli import main
+
+    rc = main(["measure", "--data", str(tmp_path), "--out", str(tmp_path / "m.csv"), "--parts", "scans"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("error: ") and "ilc2020_site1" in err
+    assert main(["measure", "--data", str(tmp_path), "--parts", "nonsense"]) == 2

@@ -102,8 +102,8 @@ def test_pendulum_amplitude_and_step_variability():
     # leg 0.9 m, L / K = 0.48 m: h = 0.9 - sqrt(0.81 - 0.0576)
     h = 0.9 - np.sqrt(0.81 - 0.24**2)
     assert float(gait.pendulum_amplitude_mps2(0.6, 2.0, 0.9)) == pytest.approx((4 * np.pi) ** 2 * h / 2)
-    w = gait.make_walkers(1, 5)[0]
-    sw = gait.simulate_walk(gait.straight_route(200.0), w, 5)
+    w = gait.make_walkers(1, 5, world="assumed")[0]
+    sw = gait.simulate_walk(gait.straight_route(200.0), w, 5, gait.gait_config("assumed"))
     st = sw.steps.iloc[1:-1]
     cv_t = st["duration_s"].std() / st["duration_s"].mean()
     cv_l = st["length_m"].std() / st["length_m"].mean()
@@ -141,3 +141,25 @@ def test_training_walks_and_features():
     assert len(f) <= 40 and len(f) > 30                           # most true steps have a wave
     cw = gait.count_walks(ws, rng, n_steps=20)
     assert [len(sw.steps) for sw in cw] == [20, 20]
+
+
+def test_measured_world_breaks_the_amplitude_length_link():
+    from ilocalg.sim.measured import param
+
+    cfg = gait.gait_config("measured")
+    assert cfg.world == "measured"
+    assert cfg.step_time_sd_rel == param("gait_stride_period_cv") and cfg.amp_sd_rel == param("gait_step_amp_cv")
+    w = gait.make_walkers(1, 5, world="measured")[0]
+    sw = gait.simulate_walk(gait.straight_route(200.0), w, 5, cfg)
+    st = sw.steps.iloc[1:-1]
+    pend = gait.pendulum_amplitude_mps2(st["length_m"], 1 / st["duration_s"], w.leg_m) * w.gain
+    ratio = st["amp_mps2"] / pend
+    # amplitude scatters about the pendulum value (the published model stays the mean), independently of length
+    assert abs(ratio.mean() - 1.0) < 0.05
+    assert abs(ratio.std() - cfg.amp_sd_rel) < 0.05
+    assert abs(np.corrcoef(ratio, st["length_m"])[0, 1]) < 0.25
+    # the assumed world is still reachable and unchanged by the measured draws
+    a = gait.make_walkers(3, 1, world="assumed")
+    assert all(x.gain == 1.0 for x in a)
+    with pytest.raises(ValueError, match="world"):
+        gait.gait_config("imagined")

@@ -89,8 +89,9 @@ def test_body_shadowing_and_device_offset():
     np.testing.assert_array_equal(c.train.rssi_dbm, a.train.rssi_dbm)  # survey phone unchanged
 
 
-def test_calibrated_inputs():
-    sim = iloc_floor.simulate(0, scans_per_point=100, scans_per_test_point=2)
+@pytest.mark.parametrize("world", ["measured", "assumed"])
+def test_calibrated_inputs(world):
+    sim = iloc_floor.simulate(0, scans_per_point=100, scans_per_test_point=2, world=world)
     s = iloc_floor.summary(sim).set_index("quantity")["value"]
     # thesis L295: 4-18 APs per scan -> the bulk of the scans (5th-95th percentile) lies in that range
     assert 4 <= s["APs heard per scan, 5th percentile"] and s["APs heard per scan, 95th percentile"] <= 18
@@ -153,3 +154,21 @@ def test_back_to_back_scans_start_when_the_last_one_ends():
     assert iloc_floor.back_to_back_scan_starts_s(0.0, 1.0, 2.0).size == 0
     with pytest.raises(ValueError, match="scan_latency_s"):
         iloc_floor.back_to_back_scan_starts_s(0.0, 6.0, 0.0)
+
+
+def test_worlds_measured_from_the_table_and_assumed_unchanged():
+    from ilocalg.sim.measured import param
+
+    m, a = iloc_floor.world_params("measured"), iloc_floor.world_params("assumed")
+    assert a == iloc_floor.PARAMS
+    for k, row in iloc_floor.MEASURED_ROWS.items():
+        expect = 1.0 - param(row) if k == "miss_p" else param(row)
+        assert m[k] == expect
+    assert m["light_wall_db"] == m["heavy_wall_db"] == 0.0
+    assert (m["n_aps_floor"], m["n_aps_other"]) == (13, 10)
+    src = iloc_floor.world_sources("measured")
+    assert all("measured_parameters.csv" in src[k] for k in iloc_floor.MEASURED_ROWS)
+    s0 = iloc_floor.simulate(0, scans_per_point=2, scans_per_test_point=1, world="assumed")
+    assert s0.params == {**iloc_floor.PARAMS}
+    with pytest.raises(ValueError, match="world"):
+        iloc_floor.world_params("imagined")

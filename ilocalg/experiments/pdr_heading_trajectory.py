@@ -60,7 +60,7 @@ def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarra
     return np.hypot(*(est - test_xy_m).T), est
 
 
-def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
+def readings(q_range=(0.05, 0.95), world: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     rows = [
         ("route", f"{_T}, L515", "28 test points marked on the floor, 4.11 m apart",
@@ -75,7 +75,8 @@ def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
         ("WDM", f"{_T}, eq. 18-19", "yaw from gravity and the magnetic field; magnetic north",
          "phone y axis yaw from 1 s gravity and 0.5 s field means; no declination or hard-iron correction", ""),
         ("phone misalignment", "", "silent (the phone is assumed to point where the walker goes)",
-         "per walker N(0, 5 deg)", "assumption; switched off in wdm_sensitivity"),
+         f"per walker N(0, {_misalign_sd_deg(world):.3g} deg)",
+         ("assumption" if world == "assumed" else _misalign_cite()) + "; switched off in wdm_sensitivity"),
         ("hard-iron residual", "", "silent", "per walker N(0, 2 uT) per axis", "assumption; switched off in "
          "wdm_sensitivity"),
         ("declination", "", "silent (magnetic north)", "-4.5 deg at the site, not corrected by WDM",
@@ -83,8 +84,19 @@ def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
         ("indoor magnetic disturbances", f"{_T}, sec. 4.3", "the field may deviate slightly",
          "1.5 blobs per 100 m^2, N(0, 12 uT)", "assumption (data/gait)"),
         ("sample rate", "", "silent", "50 Hz", "assumption (X1 scales with it)"),
+        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
     ]
     return readings_table([reading(*r) for r in rows])
+
+
+def _misalign_sd_deg(world: str) -> float:
+    return gait.MISALIGN_SD_DEG if world == "assumed" else gait._measured("misalign_sd_deg")
+
+
+def _misalign_cite() -> str:
+    from ilocalg.sim.measured import cite
+
+    return cite(gait.MEASURED_ROWS["misalign_sd_deg"])
 
 
 def _mean_heading_error_deg(walkers, rng, route, config=None, declination_rad: float = 0.0) -> float:
@@ -101,7 +113,7 @@ def _mean_heading_error_deg(walkers, rng, route, config=None, declination_rad: f
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8, q_range=(0.05, 0.95),
-        q_range_alt=(0.01, 0.99)) -> dict[str, pd.DataFrame]:
+        q_range_alt=(0.01, 0.99), world: str = "measured") -> dict[str, pd.DataFrame]:
     """Heading errors beside Fig 16 and test-point position errors beside Figs 17-18.
 
     Returns
@@ -113,23 +125,24 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
         misalignment, hard-iron residual and declination each switched off), ``readings``.
     """
     rng = as_rng(seed)
+    gcfg = gait.gait_config(world)
     if fast:
         n_train, n_walkers = min(n_train, 4), min(n_walkers, 2)
-    train_walkers = gait.make_walkers(n_train, rng)
-    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
+    train_walkers = gait.make_walkers(n_train, rng, world=world)
+    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng, config=gcfg))
     ranges = learn_feature_ranges(feats, *q_range)
     ranges_alt = learn_feature_ranges(feats, *q_range_alt)
     models, _ = fit_step_length_models(feats)
     p_quad = models["SLM quadratic"]
     route = iloc_floor.route_xy_m()
-    walkers = gait.make_walkers(n_walkers, rng)  # new walkers: not those SAM and SLM were trained on
+    walkers = gait.make_walkers(n_walkers, rng, world=world)  # new walkers: not those SAM and SLM were trained on
     test_xy = route[1:]                                    # the points passed after the start
     n_points = test_xy.shape[0]
     s_test = np.cumsum(np.hypot(*np.diff(route, axis=0).T))
 
     hrows, prow, examples = [], [], []
     for w in walkers:
-        sw = gait.simulate_walk(route, w, rng)
+        sw = gait.simulate_walk(route, w, rng, gcfg)
         acc, t = acc_from_log(sw.imu)
         heads = log_headings_rad(sw.imu, sw.config.stand_s)
         steps = pts_steps(sw.imu, ranges, p_quad, headings=heads)
@@ -181,7 +194,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
                   PTS_ERROR_PAPER_M, summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
     ]
     # WDM sensitivity: the same new-walker population with one heading error source switched off at a time
-    dec = np.deg2rad(gait.GaitConfig().declination_deg)
+    dec = np.deg2rad(gcfg.declination_deg)
     straight = [dataclasses.replace(w, misalign_rad=0.0) for w in walkers]
     calibrated = [dataclasses.replace(w, hard_iron_ut=(0.0, 0.0, 0.0)) for w in walkers]
     ideal = [dataclasses.replace(w, misalign_rad=0.0, hard_iron_ut=(0.0, 0.0, 0.0)) for w in walkers]
@@ -190,8 +203,8 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
              ("none of the three", ideal, dec)]
     sub = int(rng.integers(2**31))  # every case walks the same walks (same noise, disturbances): one change each
     sens = pd.DataFrame([{"case": c, "wdm_mean_error_deg": _mean_heading_error_deg(ws, np.random.default_rng(sub),
-                                                                                   route, None, d)}
+                                                                                   route, gcfg, d)}
                          for c, ws, d in cases])
     return {"heading_steps": hs, "heading_summary": hsum, "test_points": tp, "summary": summ, "cdf": cdf,
             "track_example": pd.concat(examples, ignore_index=True), "comparison": pd.DataFrame(comp),
-            "wdm_sensitivity": sens, "readings": readings(q_range)}
+            "wdm_sensitivity": sens, "readings": readings(q_range, world)}

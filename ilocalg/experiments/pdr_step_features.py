@@ -57,7 +57,7 @@ PAPER = PAPERS["iloc"]
 SAM_COUNT_ERROR_PAPER = PUBLISHED["pdr_step_features"]["sam_count_error"]
 
 
-def readings() -> pd.DataFrame:
+def readings(world: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     rows = [
         ("training walks", f"{_T}, L399", "walkers of different builds, 15 steps at each fixed length 40-80 cm",
@@ -77,6 +77,7 @@ def readings() -> pd.DataFrame:
          "training walkers and new walkers", "the text does not say whether the testers trained SAM"),
         ("real data", "", "not in the thesis", "Oxford step counter, in-hand optimisation recordings, leave one "
          "recording out, 5-95 % ranges, resampled to 50 Hz", "Oxford step counter data set (CC BY 4.0)"),
+        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
     ]
     return readings_table([reading(*r) for r in rows])
 
@@ -143,7 +144,7 @@ def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, posi
 
 
 def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_test: int = 8,
-               n_steps: int = 100, q_range=(0.05, 0.95)) -> pd.DataFrame:
+               n_steps: int = 100, q_range=(0.05, 0.95), world: str = "measured") -> pd.DataFrame:
     """The sample rate the thesis does not give: X1's learned range and SAM's count error at each rate.
 
     Same walkers and seed at every rate (only the sensor rate changes); ranges learned at that rate.
@@ -151,9 +152,9 @@ def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_
     rows = []
     for rate in rates_hz:
         rng = as_rng(seed)
-        cfg = gait.GaitConfig(rate_hz=float(rate))
-        tw = gait.make_walkers(n_train, rng)
-        nw = gait.make_walkers(n_test, rng)
+        cfg = gait.gait_config(world, rate_hz=float(rate))
+        tw = gait.make_walkers(n_train, rng, world=world)
+        nw = gait.make_walkers(n_test, rng, world=world)
         feats = gait.fixed_length_features(gait.training_walks(tw, rng, config=cfg))
         r = learn_feature_ranges(feats, *q_range)
         errs = []
@@ -169,7 +170,8 @@ def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_steps: int = 100,
-        quantiles=((0.05, 0.95), (0.01, 0.99), (0.0, 1.0)), data_dir=None) -> dict[str, pd.DataFrame]:
+        quantiles=((0.05, 0.95), (0.01, 0.99), (0.0, 1.0)), data_dir=None,
+        world: str = "measured") -> dict[str, pd.DataFrame]:
     """Feature ranges beside Table 1 and SAM step-count errors beside Fig 12.
 
     Returns
@@ -181,12 +183,13 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
         ``rate_sweep`` (:func:`rate_sweep`), ``readings``.
     """
     rng = as_rng(seed)
+    gcfg = gait.gait_config(world)
     if fast:
         n_train, n_test = min(n_train, 4), min(n_test, 4)
-    train_walkers = gait.make_walkers(n_train, rng)
+    train_walkers = gait.make_walkers(n_train, rng, world=world)
     test_walkers = [gait.Walker(**{**w.__dict__, "name": f"test{i}"})
-                    for i, w in enumerate(gait.make_walkers(n_test, rng))]
-    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
+                    for i, w in enumerate(gait.make_walkers(n_test, rng, world=world))]
+    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng, config=gcfg))
     ranges = {q: learn_feature_ranges(feats, *q) for q in quantiles}
     paper_q = quantiles[0]
     rtab = ranges[paper_q].rename(columns={"min": "learned_min", "max": "learned_max"})
@@ -203,7 +206,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
     groups = {"training walkers": train_walkers[:n_test], "new walkers": test_walkers}
     tests = [(name, r, None) for name, r in variants.items()] + [(vote, ranges[paper_q], 6)]
     for group, ws in groups.items():
-        for sw in gait.count_walks(ws, rng, n_steps):
+        for sw in gait.count_walks(ws, rng, n_steps, config=gcfg):
             acc, t = acc_from_log(sw.imu)
             waves = sam_waves(acc, t)
             for name, r, k in tests:
@@ -235,10 +238,11 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
                               note="real recordings, not the thesis's testers"))
     else:
         ox_sum = ox
-    rs = rate_sweep(seed, (25.0, 50.0) if fast else (25.0, 50.0, 100.0), n_train, n_test, n_steps, quantiles[0])
+    rs = rate_sweep(seed, (25.0, 50.0) if fast else (25.0, 50.0, 100.0), n_train, n_test, n_steps, quantiles[0],
+                    world)
     return {"features": feats, "ranges": rtab, "counts": counts, "summary": summary,
             "comparison": pd.DataFrame(comp), "oxford": ox, "oxford_summary": ox_sum, "rate_sweep": rs,
-            "readings": readings(),
+            "readings": readings(world),
             # named scalars for the claims ledger (ilocalg/papers/iloc.py): the Fig 12 count error under a name
             # that does not change with the number of test walkers
             "measures": pd.DataFrame([{"quantity": "SAM step-count error, 5/95 % ranges", "item": g,

@@ -59,7 +59,7 @@ FIXED_ERROR_PAPER = _PUB["fixed_error"]
 FREE20_ACCURACY_PAPER = _PUB["free20_accuracy"]
 
 
-def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
+def readings(q_range=(0.05, 0.95), world: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     rows = [
         ("training walks", f"{_T}, L399, L478", "walkers at fixed lengths 40-80 cm", "8 simulated walkers x 15 steps "
@@ -74,12 +74,13 @@ def readings(q_range=(0.05, 0.95)) -> pd.DataFrame:
          ""),
         ("Table 4 units", f"{_T}, L578, L602-605", "variances of the step length error, no unit",
          "table4: relative-error variance and m^2 variance per target length, both shown", "L478 supports relative"),
+        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
     ]
     return readings_table([reading(*r) for r in rows])
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_range=(0.05, 0.95),
-        free_length_m: float = 20.0, q_range_alt=(0.01, 0.99)) -> dict[str, pd.DataFrame]:
+        free_length_m: float = 20.0, q_range_alt=(0.01, 0.99), world: str = "measured") -> dict[str, pd.DataFrame]:
     """Tables 2-3 and Figs 14-15 reproduced on simulated walkers.
 
     Parameters
@@ -91,10 +92,11 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
         experiment ``pdr_step_features``, which turns 20 m distances into step-count errors).
     """
     rng = as_rng(seed)
+    gcfg = gait.gait_config(world)
     if fast:
         n_train, n_test = min(n_train, 4), min(n_test, 4)
-    train_walkers = gait.make_walkers(n_train, rng)
-    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng))
+    train_walkers = gait.make_walkers(n_train, rng, world=world)
+    feats = gait.fixed_length_features(gait.training_walks(train_walkers, rng, config=gcfg))
     # Table 2: correlations
     corr = pd.DataFrame({"feature": list(SAM_FEATURES),
                          "corr_reproduced": [float(np.corrcoef(feats[f], feats["length_m"])[0, 1])
@@ -102,7 +104,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
                          "corr_paper": [CORR_PAPER[f] for f in SAM_FEATURES]})
     models, fits = fit_step_length_models(feats)
     # Kim: the scale c fitted on the training walks' mean |a_perp| (0.98 in the thesis's eq. 2.1, for a foot sensor)
-    tw = gait.training_walks(train_walkers[:2], rng)
+    tw = gait.training_walks(train_walkers[:2], rng, config=gcfg)
     ranges = learn_feature_ranges(feats, *q_range)
     kim_x, kim_y = [], []
     for _, _, sw in tw:
@@ -114,13 +116,13 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     models["Kim"] = fit_scale(kx, ky)
 
     test_walkers = [gait.Walker(**{**w.__dict__, "name": f"new{i}"})
-                    for i, w in enumerate(gait.make_walkers(n_test, rng))]
+                    for i, w in enumerate(gait.make_walkers(n_test, rng, world=world))]
     # the thesis's testers were probably the walkers the model was fitted on: test both
     groups = {"training walkers": train_walkers[:n_test], "new walkers": test_walkers}
     # Fig 14: fixed lengths, per-step estimates of detected steps
     rows = []
     for group, ws in groups.items():
-        for w, L, sw in gait.training_walks(ws, rng, gait.LENGTHS_M, 15):
+        for w, L, sw in gait.training_walks(ws, rng, gait.LENGTHS_M, 15, config=gcfg):
             acc, t = acc_from_log(sw.imu)
             st = detect_steps_sam(acc, t, ranges)
             if len(st) == 0:
@@ -145,7 +147,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
         r2 = as_rng(int(rng.integers(2**31)))
         for group, ws in groups.items():
             for w in ws:
-                sw = gait.simulate_walk(gait.straight_route(free_length_m), w, r2)
+                sw = gait.simulate_walk(gait.straight_route(free_length_m), w, r2, gcfg)
                 acc, t = acc_from_log(sw.imu)
                 st = detect_steps_sam(acc, t, rq)
                 est = step_lengths_m(acc, st, models).sum() if len(st) else pd.Series(0.0, index=model_names)
@@ -195,4 +197,4 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     table4["thesis_table4_paper"] = table4["target_m"].map(paper4)
     return {"features": feats, "correlation": corr, "fits": fits, "fixed": fixed,
             "fixed_error": fixed_err.reset_index(), "box": box, "free20": free, "models": models_tab,
-            "comparison": pd.DataFrame(comp), "table4": table4, "readings": readings(q_range)}
+            "comparison": pd.DataFrame(comp), "table4": table4, "readings": readings(q_range, world)}

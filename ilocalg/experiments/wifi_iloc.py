@@ -64,9 +64,10 @@ PAPER_ILOC = {**PUBLISHED_ILOC["wifi_iloc"], "knn_mean_m": PUBLISHED_LUO["wifi_m
 _T = "i-Loc (Chiu 2013)"
 
 
-def readings() -> pd.DataFrame:
+def readings(world: str = "measured") -> pd.DataFrame:
     """The modelling choices of this experiment against the thesis's text, one row each."""
     p = iloc_floor.PARAM_SOURCES
+    wp, ws = iloc_floor.world_params(world), iloc_floor.world_sources(world)
     rows = [
         ("floor plan", "", "Fig 2 (missing from the text)",
          "assumed ring corridor 36 m x 20 m + stair corridor, offices in 8 m bays", "assumption (data/iloc_floor)"),
@@ -76,11 +77,17 @@ def readings() -> pd.DataFrame:
          "28 ring points 4.0 m apart (every second 2 m point), 108 m", "2 m grid of L295"),
         ("APs per scan", f"{_T}, L295", "4-18 APs per scan", "AP counts and detection calibrated to it",
          p["n_aps_floor"]),
-        ("wall losses", "", "silent", "COST 231 multi-wall: light 3.4 dB, heavy 6.9 dB, floor 18.3 dB",
-         p["heavy_wall_db"]),
+        ("wall losses", "", "silent",
+         f"light {wp['light_wall_db']:.3g} dB, heavy {wp['heavy_wall_db']:.3g} dB, floor {wp['floor_db']:.3g} dB "
+         f"({world} world)", ws["heavy_wall_db"]),
         ("survey vs test", f"{_T}, L295", "signals drift; points near windows and corners drift more",
-         "test session on another day: per-AP drift 3 dB, body shadowing 5 dB, device offset 0 dB",
-         f"{p['drift_sd_db']}; {p['body_loss_db']}; {p['device_offset_db']}"),
+         f"test session on another day: per-AP drift {wp['drift_sd_db']:.3g} dB, body shadowing "
+         f"{wp['body_loss_db']:.3g} dB, device offset {wp['device_offset_db']:.3g} dB ({world} world)",
+         f"{ws['drift_sd_db']}; {p['body_loss_db']}; {p['device_offset_db']}"),
+        ("radio world", "", "silent (the thesis's radio map is not published)",
+         f"{world} world: path-loss exponent {wp['path_loss_exponent']:.3g}, shadowing {wp['shadow_sd_db']:.3g} dB, "
+         f"fast fading {wp['fade_sd_db']:.3g} dB, detection at {wp['detect_dbm']:.4g} dBm, miss {wp['miss_p']:.3g}",
+         "; ".join(ws[k] for k in ("path_loss_exponent", "shadow_sd_db", "fade_sd_db", "detect_dbm", "miss_p"))),
         ("test scans per point", "", "silent", "20 standing scans per test point facing the walking direction "
          "(5 in fast mode)", "assumption"),
         ("RADAR database", f"{_T}, L283, L287", "every stored scan of every point; N nearest training points",
@@ -103,7 +110,7 @@ def _fit(name, est, sim, fp, pts):
 
 def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: int = 5,
         scans_per_point: int | None = None, scans_per_test_point: int | None = None,
-        timing_repeats: int = 3) -> dict[str, pd.DataFrame]:
+        timing_repeats: int = 3, world: str = "measured") -> dict[str, pd.DataFrame]:
     """Simulate, estimate and score; see the module docstring for the tables.
 
     Parameters
@@ -115,10 +122,13 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         AP counts k of the RADAR k study (Fig 3).
     k_aps : int
         k used by RADAR and Horus in the method comparison (the thesis' best, 5).
+    world : {"measured", "assumed"}
+        The floor's radio parameters: data/measured_parameters.csv (default) or the earlier
+        published-value world (:func:`ilocalg.sim.iloc_floor.world_params`).
     """
     spp = scans_per_point or (60 if fast else iloc_floor.SCANS_PER_POINT)
     spt = scans_per_test_point or (5 if fast else 20)
-    sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt)
+    sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, world=world)
     nh = sim.detect_dbm
     fp, pts, _ = mean_fingerprints(sim.train.rssi_dbm, sim.train.xy_m, min_heard_fraction=0.5)
     # A test scan that hears no access point cannot be positioned by any method: it is left out of
@@ -193,7 +203,7 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         "timing": pd.DataFrame(timing),
         "sim_summary": iloc_floor.summary(sim),
         "test_scans": test_scans,
-        "readings": readings(),
+        "readings": readings(world),
         "measures": pd.DataFrame(meas),
     }
 
@@ -219,13 +229,13 @@ def findings(tables: dict[str, pd.DataFrame]) -> str:
 
 
 def ap_distribution(seed: int = 0, point: int | None = None, scans_per_point: int = iloc_floor.SCANS_PER_POINT,
-                    bin_width_db: float = 1.0) -> pd.DataFrame:
+                    bin_width_db: float = 1.0, world: str = "measured") -> pd.DataFrame:
     """The RSSI distribution of the strongest AP at one training point, as Simplified-Horus stores
     it (thesis Fig 4): columns ``rssi_dbm`` (bin start), ``probability`` and ``cdf``.
 
     ``point`` defaults to the first test-route point. Only the scans in which the AP was heard count.
     """
-    sim = iloc_floor.simulate(seed, scans_per_point=scans_per_point, scans_per_test_point=1)
+    sim = iloc_floor.simulate(seed, scans_per_point=scans_per_point, scans_per_test_point=1, world=world)
     j = int(sim.test_points[0] if point is None else point)
     x = sim.train.rssi_dbm[sim.train.meta["point"].to_numpy() == j]
     ap = int(np.nanargmax(np.nanmean(np.where(np.isnan(x), -200.0, x), axis=0)))

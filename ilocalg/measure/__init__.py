@@ -24,7 +24,8 @@ radio    path-loss fit, shadowing, device offset, drift, detection probability, 
 gait     step-to-step variability, amplitude spread, gait correlations
 heading  phone heading vs walking direction, magnetic disturbance
 sources  iterators over the shared recordings (ILC site1 archive, UJIIndoorLoc, Oxford)
-table    the measured-parameter table: build, write, compare
+table    the measured-parameter table: build, write
+simulated  the same statistics measured on simulator output, side by side with the real ones
 """
 
 from ilocalg.measure.stats import Estimate, bootstrap

@@ -68,18 +68,25 @@ def bootstrap(groups, statistic, n_boot: int = N_BOOT, rng=SEED, level: float = 
         raise ValueError(f"n_boot must be >= 50, got {n_boot}")
     if not 0.0 < level < 1.0:
         raise ValueError(f"level must be in (0, 1), got {level}")
+    r = np.random.default_rng(rng)
+    a = (1.0 - level) / 2.0
     if isinstance(groups, np.ndarray) and groups.dtype != object and groups.ndim == 1:
-        groups = [groups[i:i + 1] for i in range(groups.size)]
+        # each value its own cluster: same draws as the clustered path, vectorised
+        x = groups
+        k = x.size
+        if k < 2:
+            raise ValueError(f"bootstrap needs at least 2 non-empty groups, got {k}")
+        reps = np.array([statistic(x[r.integers(0, k, size=k)]) for _ in range(n_boot)], dtype=np.float64)
+        lo, hi = np.nanquantile(reps, [a, 1.0 - a])
+        return Estimate(value=float(statistic(x)), ci_low=float(lo), ci_high=float(hi), n=k)
     groups = [np.asarray(g) for g in groups if len(g) > 0]
     if len(groups) < 2:
         raise ValueError(f"bootstrap needs at least 2 non-empty groups, got {len(groups)}")
-    r = np.random.default_rng(rng)
     value = float(statistic(np.concatenate(groups)))
     reps = np.empty(n_boot)
     k = len(groups)
     for b in range(n_boot):
         idx = r.integers(0, k, size=k)
         reps[b] = statistic(np.concatenate([groups[i] for i in idx]))
-    a = (1.0 - level) / 2.0
     lo, hi = np.nanquantile(reps, [a, 1.0 - a])
     return Estimate(value=value, ci_low=float(lo), ci_high=float(hi), n=k)

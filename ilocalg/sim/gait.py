@@ -19,6 +19,13 @@ Step-to-step variability
     ``cv_time = 0.025`` (healthy young adults: stride-time CV 1.5-2.5 %, stride-length CV 2-3 %;
     Hausdorff 2005; Beauchet et al. 2009); on imposed lengths ``N(target, 0.02 m)`` (stepping on
     floor marks: an assumption).
+Worlds
+    ``world="measured"`` (default of :func:`gait_config`, :func:`make_walkers` and
+    :func:`simulate_walk`): step-time CV, per-step amplitude scatter, per-walker hand gain and phone
+    misalignment are rows of data/measured_parameters.csv (:data:`MEASURED_ROWS`, measured on the
+    Oxford InHand walks and the ILC 2.0 site1 walks); the published models below stay the mean.
+    ``world="assumed"`` is the earlier world: amplitude an exact function of step length and
+    cadence, step time CV 2.5 %, misalignment 5 deg (an assumption).
 Vertical acceleration vs speed: inverted pendulum (Zijlstra & Hof 2003)
     The centre of mass rises and falls by ``h = l - sqrt(l^2 - (L / (2 K))^2)`` per step, with
     Zijlstra & Hof's correction ``K = 1.25`` (the pendulum estimate of step length is ``L / K``);
@@ -93,6 +100,11 @@ from ilocalg.units import G0_MPS2, as_rng
 __all__ = [
     "Walker",
     "GaitConfig",
+    "gait_config",
+    "world_reading",
+    "WORLDS",
+    "MEASURED_ROWS",
+    "MEASURED_SOURCES",
     "SimWalk",
     "make_walkers",
     "simulate_walk",
@@ -158,6 +170,8 @@ class GaitConfig:
     disturbance_sd_ut: float = 12.0
     disturbance_width_m: tuple = (1.0, 3.0)
     stand_s: float = 1.0
+    amp_sd_rel: float = 0.0
+    world: str = "assumed"
 
     @property
     def mag_earth_ut(self) -> tuple:
@@ -173,6 +187,74 @@ SPEED_MPS = (1.39, 0.15, 1.0, 1.8)  # Bohannon 1997: mean, sd, clip low, clip hi
 ALEXANDER_C, ALEXANDER_EXP = 2.3, 0.3  # Alexander 1976, 1984: lambda / l = 2.3 Fr^0.3
 MISALIGN_SD_DEG = 5.0  # assumption (switched off in the WDM sensitivity table)
 HARD_IRON_SD_UT = 2.0  # assumption (switched off in the WDM sensitivity table)
+
+#: The simulated worlds: "measured" (defaults from data/measured_parameters.csv) and "assumed" (the
+#: published-value world used before the table existed, kept for comparison).
+WORLDS = ("measured", "assumed")
+
+#: Measured world: GaitConfig field / walker spread -> row of data/measured_parameters.csv.
+MEASURED_ROWS = {
+    "step_time_sd_rel": "gait_stride_period_cv",
+    "amp_sd_rel": "gait_step_amp_cv",
+    "walker_gain_sd_rel": "gait_A_resid_rel",
+    "misalign_sd_deg": "heading_mis_rv_walk_sd_deg",
+}
+
+#: Where each measured-world default comes from (readings tables quote these).
+MEASURED_SOURCES = {
+    "step_time_sd_rel": "within-walk robust CV of the two-step stride period (phone peak to peak) of the 16 Oxford "
+                        "InHand walks (heel-sensor contacts quantised at ~48 ms, so the phone's peaks time it); "
+                        "replaces Hausdorff 2005's 2.5 %",
+    "amp_sd_rel": "within-walk robust CV of the per-step peak-to-trough amplitude (3 Hz low-passed norm), Oxford "
+                  "InHand walks: each step's amplitude is the pendulum value times (1 + amp_sd_rel N(0, 1)), "
+                  "independent of its length",
+    "walker_gain_sd_rel": "residual sd of segment amplitude at equal step length and speed across ILC site1 walks "
+                          "(A ~ 1 + SL + speed): each walker's (hand) gain is 1 + walker_gain_sd_rel N(0, 1)",
+    "misalign_sd_deg": "sd over ILC site1 walks of the walk's mean rotation-vector heading minus walking direction "
+                       "(each floor's median removed)",
+}
+
+
+def _measured(name: str) -> float:
+    from ilocalg.sim.measured import param
+
+    return param(MEASURED_ROWS[name])
+
+
+def _check_world(world: str) -> None:
+    if world not in WORLDS:
+        raise ValueError(f"unknown world {world!r}; known: {list(WORLDS)}")
+
+
+def world_reading(world: str = "measured") -> tuple[str, str]:
+    """``(what the world does, where its values come from)`` for a readings table row."""
+    _check_world(world)
+    if world == "assumed":
+        return ("assumed world: step time CV 2.5 %, amplitude an exact function of step length and cadence, "
+                "hand gain 1, misalignment N(0, 5 deg)", "Hausdorff 2005; Zijlstra & Hof 2003; assumption")
+    from ilocalg.sim.measured import cite
+
+    v = {k: _measured(k) for k in MEASURED_ROWS}
+    what = (f"measured world: step time CV {v['step_time_sd_rel']:.3g}, per-step amplitude CV {v['amp_sd_rel']:.3g} "
+            f"independent of length, hand gain sd {v['walker_gain_sd_rel']:.3g}, misalignment sd "
+            f"{v['misalign_sd_deg']:.3g} deg; Alexander/Zijlstra-Hof models stay the mean")
+    return what, "; ".join(cite(r) for r in MEASURED_ROWS.values())
+
+
+def gait_config(world: str = "measured", **overrides) -> GaitConfig:
+    """The simulator's configuration of a world, with ``overrides`` (any :class:`GaitConfig` field).
+
+    ``world="measured"`` takes ``step_time_sd_rel`` and ``amp_sd_rel`` from
+    data/measured_parameters.csv (:data:`MEASURED_ROWS`, :data:`MEASURED_SOURCES`); ``"assumed"``
+    is the published-value world (step time CV 2.5 %, amplitude a deterministic function of step
+    length and cadence).
+    """
+    _check_world(world)
+    base = {"world": world}
+    if world == "measured":
+        base.update(step_time_sd_rel=_measured("step_time_sd_rel"), amp_sd_rel=_measured("amp_sd_rel"))
+    base.update(overrides)
+    return GaitConfig(**base)
 
 
 def alexander_step(leg_m, speed_mps=None, step_length_m=None):
@@ -221,13 +303,20 @@ class SimWalk:
     config: GaitConfig = field(repr=False)
 
 
-def make_walkers(n: int, rng=None, misalign_sd_deg: float = MISALIGN_SD_DEG,
-                 hard_iron_sd_ut: float = HARD_IRON_SD_UT) -> list[Walker]:
+def make_walkers(n: int, rng=None, misalign_sd_deg: float | None = None,
+                 hard_iron_sd_ut: float = HARD_IRON_SD_UT, world: str = "measured") -> list[Walker]:
     """``n`` walkers of different builds (module docstring: distributions and sources).
 
-    ``misalign_sd_deg`` (phone y axis vs walking direction) and ``hard_iron_sd_ut`` (magnetometer
-    hard-iron residual per axis) are per-walker spreads; 0 turns them off.
+    ``misalign_sd_deg`` (phone y axis vs walking direction; default: the world's value, measured
+    or :data:`MISALIGN_SD_DEG`) and ``hard_iron_sd_ut`` (magnetometer hard-iron residual per axis)
+    are per-walker spreads; 0 turns them off. In the measured world each walker also gets a hand
+    gain ``1 + walker_gain_sd_rel N(0, 1)`` (clipped to >= 0.3; :data:`MEASURED_SOURCES`), drawn
+    after the walker's other values so the assumed world's draws are unchanged.
     """
+    _check_world(world)
+    if misalign_sd_deg is None:
+        misalign_sd_deg = _measured("misalign_sd_deg") if world == "measured" else MISALIGN_SD_DEG
+    gain_sd = _measured("walker_gain_sd_rel") if world == "measured" else 0.0
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     if not (misalign_sd_deg >= 0 and hard_iron_sd_ut >= 0):
@@ -244,9 +333,10 @@ def make_walkers(n: int, rng=None, misalign_sd_deg: float = MISALIGN_SD_DEG,
         pitch = np.deg2rad(r.normal(25.0, 5.0))
         mis = np.deg2rad(r.normal(0.0, misalign_sd_deg))
         hi_ut = tuple(float(x) for x in r.normal(0.0, hard_iron_sd_ut, 3))
+        gain = max(1.0 + gain_sd * r.normal(), 0.3) if gain_sd > 0 else 1.0
         out.append(Walker(
             name=f"walker{i}", height_m=float(h), leg_m=float(leg), step_length_m=float(L),
-            cadence_hz=float(f), gain=1.0, h2=float(h2), psi2_rad=float(psi2), pitch_rad=float(pitch),
+            cadence_hz=float(f), gain=float(gain), h2=float(h2), psi2_rad=float(psi2), pitch_rad=float(pitch),
             speed_mps=v, misalign_rad=float(mis), hard_iron_ut=hi_ut,
         ))
     return out
@@ -345,6 +435,7 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     walker : Walker
     rng : Generator, int or None
     config : GaitConfig, optional
+        Default :func:`gait_config` (the measured world).
     step_length_m : float, optional
         Impose a step length (fixed-length walks); default the walker's natural length.
     n_steps : int, optional
@@ -360,7 +451,7 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
         ``steps`` (one row per step: ``t_strike_s, t_mid_s, length_m, theta_rad, x_m, y_m``);
         ``truth`` (per sample ``x_m, y_m, theta_rad``).
     """
-    cfg = config or GaitConfig()
+    cfg = config or gait_config()
     r = as_rng(rng)
     route = np.asarray(route_xy_m, dtype=np.float64)
     if route.ndim != 2 or route.shape[1] != 2 or route.shape[0] < 2:
@@ -399,6 +490,8 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     dur = (1.0 + cfg.step_time_sd_rel * r.normal(size=n)) / f_mean
     f = 1.0 / dur
     B = cfg.hand_gain * walker.gain * pendulum_amplitude_mps2(L, f, walker.leg_m, cfg.pendulum_k)
+    if cfg.amp_sd_rel > 0:  # measured world: step amplitude scatters independently of the step's length
+        B = B * np.maximum(1.0 + cfg.amp_sd_rel * r.normal(size=n), 0.2)
 
     # --- time base
     rate = float(cfg.rate_hz)

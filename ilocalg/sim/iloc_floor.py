@@ -54,6 +54,12 @@ Scans while walking (thesis ch. 5)
     direction; the fix is tagged with the position and time at the scan's start and becomes
     available at its end.
 
+Measured world (the default, ``simulate(world="measured")``)
+    The path-loss P0 and exponent (fitted jointly), shadowing sd, survey-to-test drift sd, fast-fading sd, detection
+    threshold and miss probability are rows of data/measured_parameters.csv measured on
+    UJIIndoorLoc (:data:`MEASURED_ROWS`, :func:`world_sources`); walls count 0 dB there (the
+    measured log-distance fit carries them). Everything above is the ``"assumed"`` world.
+
 Everything is deterministic from ``seed`` (same seed -> identical arrays).
 
 References
@@ -99,6 +105,10 @@ __all__ = [
     "ROUTE_SPACING_M",
     "PARAMS",
     "PARAM_SOURCES",
+    "WORLDS",
+    "MEASURED_ROWS",
+    "world_params",
+    "world_sources",
     "IlocFloor",
     "training_points",
     "test_route_index",
@@ -138,7 +148,8 @@ CORRIDOR_HALF_WIDTH_M = 1.2
 BAY_M = 8.0
 STOREY_M = 3.5
 
-#: Radio-model parameters (see the module docstring and :data:`PARAM_SOURCES`).
+#: Radio-model parameters of the assumed world (see the module docstring and :data:`PARAM_SOURCES`);
+#: the default world is the measured one, :func:`world_params`.
 PARAMS = {
     "n_aps_floor": 16,
     "n_aps_other": 12,
@@ -185,6 +196,63 @@ PARAM_SOURCES = {
     "detect_dbm": "smartphone scan sensitivity -90 to -100 dBm; calibrated to 4-18 APs per scan (L295)",
     "miss_p": "scans are not exhaustive (assumption)",
 }
+
+#: The radio worlds: "measured" (default; values from data/measured_parameters.csv where a row exists)
+#: and "assumed" (:data:`PARAMS`, the published-value world kept for comparison).
+WORLDS = ("measured", "assumed")
+
+#: Measured world: parameter -> row of data/measured_parameters.csv (UJIIndoorLoc). The per-AP log-distance
+#: fit behind path_loss_exponent and shadow_sd_db has no walls, so the measured world sets the wall losses
+#: to 0 dB (their effect is inside the measured exponent and shadowing).
+MEASURED_ROWS = {
+    "p0_dbm": "path_loss_p0_dbm",
+    "path_loss_exponent": "path_loss_exponent",
+    "shadow_sd_db": "shadow_sd_db",
+    "drift_sd_db": "drift_sd_db",
+    "fade_sd_db": "fade_sd_db",
+    "detect_dbm": "detect_m50_dbm",
+    "miss_p": "detect_p_max",
+}
+#: Measured world: values fixed by the fit's form rather than read from a row, and the AP counts
+#: recalibrated to the thesis's 4-18 APs per scan (L295) for the measured propagation: the largest
+#: counts, stepping down from the assumed 16 + 12, whose 5th-95th percentile of APs per scan lies in
+#: 4-18 (seed 0; 16 + 12 gives 14-21 with the measured P0 and exponent).
+MEASURED_FIXED = {"light_wall_db": 0.0, "heavy_wall_db": 0.0, "n_aps_floor": 13, "n_aps_other": 10}
+
+
+def world_params(world: str = "measured") -> dict:
+    """The radio parameters of a world (a new dict; see :data:`MEASURED_ROWS`)."""
+    if world not in WORLDS:
+        raise ValueError(f"unknown world {world!r}; known: {list(WORLDS)}")
+    p = dict(PARAMS)
+    if world == "measured":
+        from ilocalg.sim.measured import param
+
+        for k, row in MEASURED_ROWS.items():
+            p[k] = 1.0 - param(row) if k == "miss_p" else param(row)
+        # thesis Fig 2: window/corner points fade more; the assumed 2 dB excess over the corridor value is kept
+        p["fade_sd_edge_db"] = p["fade_sd_db"] + (PARAMS["fade_sd_edge_db"] - PARAMS["fade_sd_db"])
+        p.update(MEASURED_FIXED)
+    return p
+
+
+def world_sources(world: str = "measured") -> dict:
+    """Where each parameter of a world comes from (one line each; measured rows cite the table)."""
+    src = dict(PARAM_SOURCES)
+    if world == "measured":
+        from ilocalg.sim.measured import cite
+
+        for k, row in MEASURED_ROWS.items():
+            src[k] = cite(row) + (" (miss_p = 1 - p_max)" if k == "miss_p" else "")
+        src["fade_sd_edge_db"] = ("fade_sd_db + 2 dB (the assumed world's excess at windows and corners, thesis "
+                                  "Fig 2)")
+        for k in ("light_wall_db", "heavy_wall_db"):
+            src[k] = "0 dB: the measured log-distance fit (no walls) carries the wall losses in its exponent and sigma"
+        for k in ("n_aps_floor", "n_aps_other"):
+            src[k] = ("recalibrated for the measured propagation to the thesis's 4-18 APs per scan (L295): 13 + 10, "
+                      "the largest counts below 16 + 12 whose 5th-95th percentile lies in 4-18")
+    return src
+
 
 _N_RFF = 256  # random Fourier features per AP for the shadowing field
 
@@ -385,11 +453,11 @@ def _detect(rssi: np.ndarray, p: dict, rng) -> np.ndarray:
     return out
 
 
-def _check_params(overrides: dict) -> dict:
+def _check_params(overrides: dict, world: str = "measured") -> dict:
     unknown = set(overrides) - set(PARAMS)
     if unknown:
         raise ValueError(f"unknown simulator parameters {sorted(unknown)}; known: {sorted(PARAMS)}")
-    p = {**PARAMS, **overrides}
+    p = {**world_params(world), **overrides}
     for k in ("shadow_sd_db", "drift_sd_db", "local_sd_db", "fade_sd_db", "fade_sd_edge_db", "body_loss_db"):
         if not p[k] >= 0:
             raise ValueError(f"{k} must be >= 0 dB, got {p[k]}")
@@ -401,7 +469,7 @@ def _check_params(overrides: dict) -> dict:
 
 
 def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_point: int = 10,
-             **overrides) -> IlocFloor:
+             world: str = "measured", **overrides) -> IlocFloor:
     """Simulate the i-Loc floor survey and a later test session.
 
     Parameters
@@ -414,6 +482,9 @@ def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_poin
     scans_per_test_point : int
         Scans standing at each test-route point in the test session (one session, another day),
         facing the walking direction.
+    world : {"measured", "assumed"}
+        Where the defaults come from (:func:`world_params`): data/measured_parameters.csv, or the
+        published-value world :data:`PARAMS`.
     **overrides
         Any key of :data:`PARAMS`.
 
@@ -421,7 +492,7 @@ def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_poin
     -------
     IlocFloor
     """
-    p = _check_params(overrides)
+    p = _check_params(overrides, world)
     if scans_per_point < 1 or scans_per_test_point < 1:
         raise ValueError("scans_per_point and scans_per_test_point must be >= 1")
     rng = as_rng(seed)

@@ -37,6 +37,7 @@ MANIFEST: dict[str, dict[str, bool]] = {
     "14_imu_video_ekf": {"ins_hartmann": True},
     "15_sweep_studies": {"study_wifi": False, "study_ins_window": False, "study_kf_noise": False,
                          "study_pso": False},  # each study sweeps its own parameters
+    "16_measured_worlds": {"measured_worlds": False},  # real vs simulated statistics, no paper comparison
 }
 
 
@@ -61,6 +62,7 @@ COST_S: dict[str, float] = {
     "13_ins_online_window": 18,
     "14_imu_video_ekf": 26,
     "15_sweep_studies": 186,
+    "16_measured_worlds": 120,
     "sweep:fusion_iloc_kf": 3,
     "sweep:fusion_knn_pdr": 1,
     "sweep:ins_constraints": 66,
