@@ -267,7 +267,10 @@ def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = 
     Detections are matched one-to-one to the heel-sensor steps within ``tol_s``
     (:func:`ilocalg.pdr.robust.match_steps`); a count alone hides missed steps balanced by extra ones.
     ``missed_close_to_true`` counts missed true steps closer than 0.75 median step intervals to another
-    true step (a heel-sensor double trigger is the likely cause, not the detector).
+    true step (a heel-sensor double trigger is the likely cause, not the detector);
+    ``true_steps_without_close_repeats`` is the true count less the true steps that follow the previous
+    one by under 0.75 median intervals, with ``accuracy_without_close_repeats`` against it (a
+    sensitivity check, not the score).
     ``hardware_steps`` is the phone's own step counter where the recording has one (the data set's
     validation layout; the optimisation recordings have none: NaN), with its accuracy beside.
 
@@ -293,11 +296,16 @@ def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = 
         rows.append({"recording": p.name, "position": p.meta.get("position", ""), "phone": p.meta.get("phone", ""),
                      "true_steps": p.true_steps, "counted": len(d), "missed": int((~tm).sum()),
                      "extra": int((~dm).sum()), "missed_close_to_true": int((~tm & close).sum()),
+                     "true_steps_without_close_repeats": int(p.true_steps - (dt < 0.75 * np.median(dt)).sum())
+                     if dt.size else p.true_steps,
                      "accuracy": float(accuracy(len(d), p.true_steps)),
                      "median_step_interval_s": float(np.median(dt)) if dt.size else float("nan"),
+                     "accuracy_without_close_repeats": float("nan"),
                      "hardware_steps": float("nan") if hw is None else float(hw),
                      "hardware_accuracy": float("nan") if hw is None else float(accuracy(hw, p.true_steps))})
-    return pd.DataFrame(rows)
+    out = pd.DataFrame(rows)
+    out["accuracy_without_close_repeats"] = accuracy(out["counted"], out["true_steps_without_close_repeats"])
+    return out
 
 
 def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dict | None = None,
