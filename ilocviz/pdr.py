@@ -6,7 +6,8 @@ import numpy as np
 
 from ilocviz.core import new_axes
 
-__all__ = ["feature_cdfs", "wave", "length_boxes", "step_headings", "accuracy_bars", "free_walk_distances"]
+__all__ = ["step_detections", "feature_cdfs", "wave", "length_boxes", "step_headings", "accuracy_bars",
+           "free_walk_distances"]
 
 
 def feature_cdfs(features, names, ranges=None, ax=None, unit: str = ""):
@@ -104,4 +105,37 @@ def accuracy_bars(summary, ax=None, goal: float | None = None):
     ax.set_ylabel("Step-count accuracy [%]")
     ax.set_ylim(max(0.0, float(summary["min_accuracy"].min()) * 100 - 5), 100.5)
     ax.legend(loc="lower left")
+    return ax
+
+
+def step_detections(t_s, signal_mps2, true_t_s, det_t_s, true_matched=None, det_matched=None, ax=None,
+                    label: str = "low-passed |a|"):
+    """A step signal with true and detected steps; unmatched ones (missed / extra) marked apart.
+
+    Parameters
+    ----------
+    t_s, signal_mps2 : array_like (n,)
+        Time (s) and the detector's signal (m/s^2).
+    true_t_s, det_t_s : array_like
+        True and detected step times (s).
+    true_matched, det_matched : array_like of bool, optional
+        :func:`ilocalg.pdr.robust.match_steps` output; unmatched true steps are drawn as "missed",
+        unmatched detections as "extra".
+    """
+    ax = new_axes(ax)
+    t, y = np.asarray(t_s, dtype=float), np.asarray(signal_mps2, dtype=float)
+    ax.plot(t, y, lw=0.9, color="0.3", label=label)
+    tt, td = np.asarray(true_t_s, dtype=float), np.asarray(det_t_s, dtype=float)
+    yt, yd = np.interp(tt, t, y), np.interp(td, t, y)
+    tmk = np.ones(tt.size, bool) if true_matched is None else np.asarray(true_matched, bool)
+    dmk = np.ones(td.size, bool) if det_matched is None else np.asarray(det_matched, bool)
+    ax.plot(td[dmk], yd[dmk], "v", color="C0", ms=6, label="detected")
+    ax.plot(tt[tmk], yt[tmk] - 0.3, "^", color="C2", ms=5, label="true (heel sensor)")
+    if (~tmk).any():
+        ax.plot(tt[~tmk], yt[~tmk] - 0.3, "X", color="C3", ms=9, label=f"missed ({int((~tmk).sum())})")
+    if (~dmk).any():
+        ax.plot(td[~dmk], yd[~dmk], "o", mfc="none", color="C1", ms=10, mew=1.5, label=f"extra ({int((~dmk).sum())})")
+    ax.set_xlabel("Time [s]")
+    ax.set_ylabel("Acceleration magnitude [m/s^2]")
+    ax.legend(loc="upper right", fontsize="small", ncol=2)
     return ax

@@ -39,6 +39,12 @@ def test_ujiindoorloc_fast_run(shared_data):
     m = t["methods"].set_index("method")
     assert (m["n"] == 256).all()
     assert m.loc["best (union top-5 APs, N=12)", "mean_m"] < m.loc["KNN K=5 (Euclidean)", "mean_m"]
+    lad = t["toolkit_ladder"]
+    assert len(lad) == 5 and lad["method"].str.startswith("toolkit: ").all()
+    assert set(lad["method"]) <= set(m.index)                          # the literal rows stay, toolkit rows added
+    assert ((lad["mean_ci95_lo_m"] <= lad["mean_m"]) & (lad["mean_m"] <= lad["mean_ci95_hi_m"])).all()
+    assert set(t["toolkit_cv"]["groups"]) == {"USERID"}
+    assert set(t["measures"]["quantity"]) >= {"toolkit_mean_error", "toolkit_floor_hit_rate"}
     assert wifi_ujiindoorloc.run(data_dir=d.parent / "nowhere") is None
 
 
@@ -97,3 +103,14 @@ def test_uji_metrics_row_counts_unlocated_scans_apart():
     row = metrics_row(res, test)
     assert row["n"] == 4 and row["n_unlocated"] == 1
     assert row["mean_m"] == pytest.approx(2.0) and row["floor_hit_rate"] == pytest.approx(0.75)
+
+
+def test_subsampled_group_kfold_keeps_groups_apart():
+    from ilocalg.experiments.wifi_ujiindoorloc import SubsampledGroupKFold
+
+    groups = np.repeat(np.arange(6), 50)
+    folds = list(SubsampledGroupKFold(3, max_test=40, seed=1).split(np.zeros((300, 1)), groups=groups))
+    assert len(folds) == 3
+    for tr, te in folds:
+        assert te.size == 40 and not set(groups[tr]) & set(groups[te])
+        assert tr.size == 200                                           # training parts stay whole

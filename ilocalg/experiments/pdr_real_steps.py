@@ -41,7 +41,7 @@ from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["run", "Prepared", "prepare", "DETECTORS", "detector_params", "count_steps",
            "loro_cv", "accuracy", "load", "truth_artefacts",
-           "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN"]
+           "missing_table", "headline", "worst", "GOAL_MEAN", "GOAL_MIN", "step_diagnosis", "diagnosis_window"]
 
 OXFORD_REPORT = "Oxford step counter report"
 # Settings from the paper
@@ -250,9 +250,80 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
                   OXFORD_MEDIAN_PAPER * 100, best["median_accuracy"] * 100, unit="%",
                   note="reference: the data set's own windowed peak detector"),
     ]
+    diag = step_diagnosis(prep, recs)
+    by_pos_diag = diag.groupby("position")[["accuracy", "missed", "missed_close_to_true", "extra"]]
+    by_pos_diag = by_pos_diag.agg(["mean", "min", "max"])
+    by_pos_diag.columns = [f"{a}_{b}" for a, b in by_pos_diag.columns]
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
+            "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
             "comparison": pd.DataFrame(comp)}
+
+
+def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = None,
+                   tol_s: float = 0.25) -> pd.DataFrame:
+    """Per recording: true, counted, *missed* and *extra* steps of the robust detector, and the phone's counter.
+
+    Detections are matched one-to-one to the heel-sensor steps within ``tol_s``
+    (:func:`ilocalg.pdr.robust.match_steps`); a count alone hides missed steps balanced by extra ones.
+    ``missed_close_to_true`` counts missed true steps closer than 0.75 median step intervals to another
+    true step (a heel-sensor double trigger is the likely cause, not the detector);
+    ``true_steps_without_close_repeats`` is the true count less the true steps that follow the previous
+    one by under 0.75 median intervals, with ``accuracy_without_close_repeats`` against it (a
+    sensitivity check, not the score).
+    ``hardware_steps`` is the phone's own step counter where the recording has one (the data set's
+    validation layout; the optimisation recordings have none: NaN), with its accuracy beside.
+
+    Parameters
+    ----------
+    prep : list of Prepared
+    recordings : list of OxfordRecording, optional
+        The same recordings, for their hardware counters.
+    params : dict, optional
+        Robust detector parameters (default :data:`ilocalg.pdr.robust.ROBUST_DEFAULTS`).
+    """
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust, match_steps
+
+    par = dict(ROBUST_DEFAULTS if params is None else params)
+    rows = []
+    for k, p in enumerate(prep):
+        d = detect_steps_robust(p.acc_mps2, p.t_s, **par)
+        tm, dm = match_steps(p.step_t_s, d["t_s"].to_numpy(), tol_s)
+        hw = None if recordings is None else recordings[k].hardware_steps
+        dt = np.diff(p.step_t_s)
+        gap = np.minimum(np.r_[np.inf, dt], np.r_[dt, np.inf])     # to the nearer neighbouring true step
+        close = gap < 0.75 * np.median(dt) if dt.size else np.zeros(tm.size, dtype=bool)
+        rows.append({"recording": p.name, "position": p.meta.get("position", ""), "phone": p.meta.get("phone", ""),
+                     "true_steps": p.true_steps, "counted": len(d), "missed": int((~tm).sum()),
+                     "extra": int((~dm).sum()), "missed_close_to_true": int((~tm & close).sum()),
+                     "true_steps_without_close_repeats": int(p.true_steps - (dt < 0.75 * np.median(dt)).sum())
+                     if dt.size else p.true_steps,
+                     "accuracy": float(accuracy(len(d), p.true_steps)),
+                     "median_step_interval_s": float(np.median(dt)) if dt.size else float("nan"),
+                     "accuracy_without_close_repeats": float("nan"),
+                     "hardware_steps": float("nan") if hw is None else float(hw),
+                     "hardware_accuracy": float("nan") if hw is None else float(accuracy(hw, p.true_steps))})
+    out = pd.DataFrame(rows)
+    out["accuracy_without_close_repeats"] = accuracy(out["counted"], out["true_steps_without_close_repeats"])
+    return out
+
+
+def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dict | None = None,
+                     tol_s: float = 0.25) -> dict:
+    """Signal, true and detected steps of one recording in ``[t0_s, t0_s + span_s]`` (for a figure)."""
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust, lowpass_magnitude, match_steps
+    from ilocalg.pdr.signals import magnitude_mps2
+
+    par = dict(ROBUST_DEFAULTS if params is None else params)
+    d = detect_steps_robust(p.acc_mps2, p.t_s, **par)
+    det = d["t_s"].to_numpy()
+    tm, dm = match_steps(p.step_t_s, det, tol_s)
+    y = lowpass_magnitude(magnitude_mps2(p.acc_mps2), par["rate_hz"], par["cutoff_hz"])
+    w = (p.t_s >= t0_s) & (p.t_s <= t0_s + span_s)
+    wt = (p.step_t_s >= t0_s) & (p.step_t_s <= t0_s + span_s)
+    wd = (det >= t0_s) & (det <= t0_s + span_s)
+    return {"t_s": p.t_s[w], "signal_mps2": y[w], "true_t_s": p.step_t_s[wt], "det_t_s": det[wd],
+            "true_matched": tm[wt], "det_matched": dm[wd]}
 
 
 def truth_artefacts(recordings, min_interval_s: float = 0.25) -> pd.DataFrame:

@@ -25,7 +25,8 @@ from scipy import signal as ss
 from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, resample_uniform
 
-__all__ = ["lowpass_magnitude", "bout_gate", "detect_steps_robust", "detect_steps_find_peaks", "RobustStepDetector",
+__all__ = ["match_steps", "lowpass_magnitude", "bout_gate", "detect_steps_robust", "detect_steps_find_peaks",
+           "RobustStepDetector",
            "ROBUST_DEFAULTS"]
 
 #: Default parameters (selected by leave-one-recording-out search on the Oxford set).
@@ -53,6 +54,45 @@ def bout_gate(t_peak_s, max_step_s: float, min_bout_steps: int) -> np.ndarray:
     bout = np.cumsum(brk) - 1
     size = np.bincount(bout)
     return size[bout] >= min_bout_steps
+
+
+def match_steps(true_t_s, det_t_s, tol_s: float = 0.2) -> tuple[np.ndarray, np.ndarray]:
+    """One-to-one matching of detected to true step times (greedy by time order).
+
+    A true step and a detection match when they are within ``tol_s`` and neither is matched yet;
+    each is used once. Use it to tell *missed* steps (true, unmatched) from *extra* ones (detected,
+    unmatched), which a count alone mixes up.
+
+    Parameters
+    ----------
+    true_t_s, det_t_s : array_like, increasing times, s
+    tol_s : float
+        Largest |t_true - t_det| of a match, s (keep it below half a step period, about 0.25 s).
+
+    Returns
+    -------
+    true_matched : ndarray of bool (n_true,)
+    det_matched : ndarray of bool (n_det,)
+    """
+    t = np.asarray(true_t_s, dtype=np.float64)
+    d = np.asarray(det_t_s, dtype=np.float64)
+    if tol_s <= 0:
+        raise ValueError(f"tol_s must be > 0, got {tol_s}")
+    if (np.diff(t) < 0).any() or (np.diff(d) < 0).any():
+        raise ValueError("true_t_s and det_t_s must be sorted in time")
+    tm = np.zeros(t.size, dtype=bool)
+    dm = np.zeros(d.size, dtype=bool)
+    i = j = 0
+    while i < t.size and j < d.size:            # one merge pass over the two sorted lists
+        if abs(t[i] - d[j]) <= tol_s:
+            tm[i] = dm[j] = True
+            i += 1
+            j += 1
+        elif t[i] < d[j]:
+            i += 1
+        else:
+            j += 1
+    return tm, dm
 
 
 @register_step_detector("robust")

@@ -8,11 +8,14 @@ Inputs are RSSI matrices ``X`` of shape (n_samples, n_aps) in dBm with ``NaN`` =
 Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:`~ilocalg.wifi.knn`
 (KNN / WKNN, 罗思奇 et al. 2017 eq. 1-2), :mod:`~ilocalg.wifi.radar` (i-Loc thesis eq. 1-3),
 :mod:`~ilocalg.wifi.horus` (i-Loc thesis eq. 5-7), :mod:`~ilocalg.wifi.hierarchical`
-(building -> floor -> position), :mod:`~ilocalg.wifi.registry` (the one registry of estimator
+(building -> floor -> position), :mod:`~ilocalg.wifi.cascade` (the toolkit's building -> floor ->
+position WKNN estimator), :mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
+:mod:`~ilocalg.wifi.registry` (the one registry of estimator
 factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
 (fit a registered method on one fingerprint set, locate another).
 """
 
+from ilocalg.wifi.cascade import CascadeFingerprint
 from ilocalg.wifi.evaluate import evaluate_method
 from ilocalg.wifi.hierarchical import HierarchicalLocator, locate_flat
 from ilocalg.wifi.horus import SimplifiedHorus, fit_horus, horus_predict_index, horus_scores
@@ -33,6 +36,7 @@ __all__ = [
     "SimplifiedRadar",
     "SimplifiedHorus",
     "HierarchicalLocator",
+    "CascadeFingerprint",
     "locate_flat",
     "ESTIMATORS",
     "register_estimator",

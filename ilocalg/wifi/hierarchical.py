@@ -11,7 +11,9 @@ Two ways to add floor and building to a fingerprint estimator:
     floor by the K nearest references inside the predicted building; the position by a position
     estimator fitted on the references of the predicted building and floor only.
 
-Ties in the votes go to the nearest neighbour's label among the tied labels. A query sharing no
+Ties in the votes go to the nearest neighbour's label among the tied labels. A query that hears none
+of the access points of its predicted building (or floor) keeps the whole-database vote for the floor
+(and the whole-database neighbours' weighted position). A query sharing no
 access point with the training set gets NaN position, floor and building (the documented no-AP
 result of :mod:`ilocalg.wifi.preprocessing`); the labels are then float columns.
 """
@@ -180,12 +182,18 @@ class HierarchicalLocator:
         b_hat = vote(self._building[idx], w)
         f_hat = np.empty(n, dtype=self._floor.dtype)
         xy = np.empty((n, 2))
+        f_hat[:] = vote(self._floor[idx], w)                     # fallback: the whole-database vote
         for b in np.unique(b_hat):
             qb = np.flatnonzero(b_hat == b)
             clf = self.floor_clf_[b]
-            d, i = clf.kneighbors(x[qb])
-            f_hat[qb] = vote(self._floor[self._floor_rows[b]][i], _nbr_weights(clf, d))
+            qb = qb[~shares_no_ap(x[qb], clf.heard_aps_)]        # a query hearing none of b's APs keeps it
+            if qb.size:
+                d, i = clf.kneighbors(x[qb])
+                f_hat[qb] = vote(self._floor[self._floor_rows[b]][i], _nbr_weights(clf, d))
+        flat_xy = np.einsum("qk,qkd->qd", w, self.building_clf_.y_[idx][:, :, :2])
         for b, f in sorted({(bb, ff) for bb, ff in zip(b_hat.tolist(), f_hat.tolist(), strict=True)}):
             q = np.flatnonzero((b_hat == b) & (f_hat == f))
             xy[q] = np.asarray(self.pos_[(b, f)].predict(x[q]))[:, :2]
+        miss = np.isnan(xy).any(axis=1)                            # hears none of the floor's APs
+        xy[miss] = flat_xy[miss]
         return pd.DataFrame({X_M: xy[:, 0], Y_M: xy[:, 1], FLOOR: f_hat, BUILDING: b_hat})

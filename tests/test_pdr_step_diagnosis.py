@@ -1,0 +1,63 @@
+"""match_steps (one-to-one step matching), the per-recording diagnosis and its plot."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pytest
+
+from ilocalg.experiments.pdr_real_steps import Prepared, diagnosis_window, step_diagnosis
+from ilocalg.pdr.robust import match_steps
+
+
+def test_match_steps_counts_missed_and_extra():
+    true = np.arange(10) * 0.5
+    det = np.r_[true[:4] + 0.05, true[5:] - 0.05, 4.9]          # step 4 missed, one extra at 4.9 s
+    tm, dm = match_steps(true, det, 0.2)
+    assert (~tm).sum() == 1 and not tm[4]
+    assert (~dm).sum() == 1 and not dm[-1]
+    # one detection never serves two true steps 0.1 s apart
+    tm, dm = match_steps([1.0, 1.1], [1.05], 0.2)
+    assert tm.sum() == 1 and dm.all()
+
+
+def test_match_steps_bad_input():
+    with pytest.raises(ValueError, match="tol_s must be > 0"):
+        match_steps([1.0], [1.0], 0.0)
+    with pytest.raises(ValueError, match="sorted"):
+        match_steps([2.0, 1.0], [1.0], 0.2)
+
+
+def _walk(rate_hz=100.0, f_step_hz=1.8, dur_s=40.0):
+    t = np.arange(0, dur_s, 1 / rate_hz)
+    acc = np.column_stack([0.3 * np.sin(2 * np.pi * 0.9 * t), np.zeros_like(t),
+                           9.81 + 2.0 * np.sin(2 * np.pi * f_step_hz * t)])
+    steps = (0.25 + np.arange(int(dur_s * f_step_hz))) / f_step_hz      # the sine's maxima
+    return Prepared("synthetic_InHand", {"position": "InHand", "phone": "x"}, steps.size, steps, t, acc, t, acc)
+
+
+def test_diagnosis_of_a_clean_periodic_walk():
+    p = _walk()
+    d = step_diagnosis([p]).iloc[0]
+    assert d["missed"] <= 1 and d["extra"] <= 1                      # an edge step at most
+    assert d["accuracy"] >= 0.98
+    assert np.isnan(d["hardware_steps"])                            # no counter: NaN, not 0
+    w = diagnosis_window(p, 10.0, 5.0)
+    assert w["t_s"].min() >= 10.0 and w["t_s"].max() <= 15.0
+    assert w["true_matched"].all() and w["det_matched"].all()
+
+
+def test_step_detections_plot():
+    import matplotlib.pyplot as plt
+
+    import ilocviz.pdr
+
+    w = diagnosis_window(_walk(), 10.0, 5.0)
+    ax = ilocviz.pdr.step_detections(w["t_s"], w["signal_mps2"], w["true_t_s"], w["det_t_s"],
+                                     np.r_[False, w["true_matched"][1:]], w["det_matched"])
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "missed (1)" in labels and not any(s.startswith("extra") for s in labels)
+    plt.close(ax.figure)
