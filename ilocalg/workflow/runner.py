@@ -119,10 +119,9 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
             pmeta[key] = _relative(pmeta[key], base)
     nbformat.write(node, out_nb)
     if html:
-        from nbconvert import HTMLExporter
+        from ilocalg.workflow.html_export import export_html
 
-        body, _ = HTMLExporter().from_notebook_node(node)
-        out_nb.with_suffix(".html").write_text(body)
+        export_html(node, out_nb.with_suffix(".html"))  # equations typeset, no remote script
     return out_nb
 
 
