@@ -88,6 +88,7 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
     import papermill as pm  # heavy; imported only when notebooks run
 
     from ilocalg.workflow import sweep as sw
+    from ilocalg.workflow.kernels import QuietKernelManager
 
     out_nb = out_dir / nb.name
     env = {"MPLBACKEND": KERNEL_MPLBACKEND,
@@ -103,6 +104,7 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
                 progress_bar=progress,
                 cwd=str(nb.parent),
                 log_output=False,
+                kernel_manager_class=QuietKernelManager,  # no transport warning, no SIGINT at shutdown
             )
     except pm.PapermillExecutionError as exc:
         raise NotebookFailed(
@@ -127,19 +129,24 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
 
 def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, fast: bool, workers: int,
                       progress: bool, cache_dir=None,
-                      manifest: Mapping[str, Mapping[str, bool]] | None = None) -> tuple[int, object]:
+                      manifest: Mapping[str, Mapping[str, bool]] | None = None,
+                      since: float | None = None) -> tuple[int, object]:
     """Re-run the notebooks' swept experiments (:data:`ilocalg.workflow.manifest.MANIFEST`) over ``n_seeds``
     seeds; write ``sweeps/summary`` and return it. Runs already in the cache (the notebooks' own, at the
-    base seed, and those the runner's pool made) are read, not repeated."""
+    base seed, and those the runner's pool made) are read, not repeated; ``since`` (a ``time.time()``) tells
+    the runs of this reproduce (cached after it) from those reused from an earlier one."""
     from ilocalg.workflow import sweep as sw
 
     exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
     if not exps:
         return 0, None
     tasks = [t for e in exps for t in sw.make_tasks(e, range(seed, seed + n_seeds), fast=fast)]
+    cached = [sw._cache_path(cache_dir or sw.DEFAULT_CACHE, t) for t in tasks]
+    n_fresh = sum(1 for p in cached if p.exists() and since is not None and p.stat().st_mtime >= since)
     res = sw.sweep(tasks, workers=workers, cache_dir=cache_dir or sw.DEFAULT_CACHE, progress=progress)
-    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds ({res.n_cached} of "
-          f"{res.n_tasks} runs reused, {res.n_tasks - res.n_cached} run now on {workers} worker(s))", flush=True)
+    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds = {res.n_tasks} runs ("
+          f"{n_fresh} made by this reproduce's notebooks and pool, {res.n_cached - n_fresh} reused from an "
+          f"earlier reproduce, {res.n_tasks - res.n_cached} run now on {workers} worker(s))", flush=True)
     for f in res.failures:
         print(f"FAILED {f['task']}: {f['error']}", file=sys.stderr, flush=True)
     if res.results.empty:
@@ -247,6 +254,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     (out_dir / "tables").mkdir(exist_ok=True)
     inputs_dir = out_dir / ".inputs"
     t_start = time.perf_counter()
+    t_wall = time.time() - 1.0  # runs cached after this are this reproduce's (file times may be coarse)
     timings = _load_timings(cache_dir)
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
     print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
@@ -330,7 +338,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             inputs += [line for line in f.read_text().splitlines() if line]
     summary = None
     if n_seeds > 1:
-        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest)
+        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest,
+                                          since=t_wall)
         if code:
             return code
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
