@@ -2,7 +2,7 @@
 
 ``python -m ilocalg reproduce [--fast] [--only PATTERN] [--seed N] [--seeds N] [--jobs J]`` executes
 ``notebooks/NN_*.ipynb`` with papermill (each notebook's cell tagged ``parameters`` receives ``SEED``,
-``FAST``, ``OUT_DIR`` and ``DATA_DIR``, the paths relative to the notebook's folder), ``J`` notebooks side
+``FAST`` and ``OUT_DIR``, relative to the notebook's folder; ``DATA_DIR`` keeps its default), ``J`` notebooks side
 by side (independent processes, longest first), and exports each executed notebook, figures inline,
 to ``reports/<name>.ipynb`` and ``.html``. With ``--seeds N`` the swept experiments of
 :data:`ilocalg.workflow.manifest.MANIFEST` are re-run over seeds: the runs at the other seeds share the
@@ -24,7 +24,7 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
-from ilocalg.io.paths import REPO_ROOT, data_dir
+from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
@@ -264,8 +264,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
 
     def params_for(nb: Path) -> dict:
         # relative to the notebook's folder (the kernel's working directory): no absolute paths in the reports
-        return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent),
-                "DATA_DIR": _relative(data_dir(), nb.parent)}
+        # DATA_DIR stays the notebook's None (= ilocalg.io.paths.data_dir() in the kernel, which inherits
+        # ILOC_DATA_DIR): the reports show no machine's folder layout
+        return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent)}
 
     def record_for(nb: Path):
         return (str(cache_dir), swept[nb.stem]) if n_seeds > 1 else None
