@@ -24,7 +24,8 @@ REPORT_CSS = """
 .jp-RenderedHTMLCommon h1, .jp-RenderedHTMLCommon h2, .jp-RenderedHTMLCommon h3 { overflow-wrap: normal;
   word-break: normal; hyphens: manual; }
 math[display="block"] { display: block; overflow-x: auto; overflow-y: hidden; margin: 0.6em 0; }
-math { font-size: 1.05em; }
+math { font-size: 1.1em; font-family: "Latin Modern Math", "STIX Two Math", "Cambria Math", "DejaVu Math TeX Gyre",
+  math; }
 """
 
 # The lab template without its remote scripts (require.js, MathJax, mermaid), plus the report style.
@@ -47,6 +48,10 @@ def latex_to_mathml(tex: str, display: bool = False) -> str:
         out = convert(tex.strip(), display="block" if display else "inline")
     except Exception as exc:  # noqa: BLE001 - the converter raises its own exception types
         raise ValueError(f"cannot typeset the formula {tex!r}: {type(exc).__name__}: {exc}") from None
+    # a matrix's brackets stretch to its height (latex2mathml writes them as plain operators)
+    out = re.sub(r"<mo>([^<]{1,10})</mo>(?=<mtable)", r'<mo stretchy="true" fence="true" form="prefix">\1</mo>', out)
+    out = re.sub(r"(?<=</mtable>)<mo>([^<]{1,10})</mo>", r'<mo stretchy="true" fence="true" form="postfix">\1</mo>',
+                 out)
     unknown = re.findall(r">(\\[A-Za-z]+)<", out)  # a command the converter does not know stays raw LaTeX
     if unknown:
         raise ValueError(f"cannot typeset the formula {tex!r}: unknown command(s) {', '.join(unknown)}")
