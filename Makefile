@@ -34,7 +34,8 @@ lint: $(STAMP)
 	$(BIN)/ruff check ilocalg ilocviz tests benchmarks notebooks
 	$(BIN)/python -m ilocalg notebooks --check
 
-# JupyterLab with the project's settings (.jupyter/labconfig): a paired notebooks/*.py opens as a notebook.
+# JupyterLab with the project's settings (.jupyter/): a paired notebooks/*.py opens as a notebook, and the
+# file browser hides the .ipynb side of each pair (jupyter_server_config.json, hide_globs).
 # Open one directly with e.g. `make lab NB=notebooks/07_fusion_iloc_kf.py`.
 NB ?= notebooks/
 lab: $(STAMP)

@@ -7,7 +7,8 @@ here calls ``plt.show()`` or changes global rcParams on import; apply :data:`STY
 A paper's published value is drawn beside the reproduced one with :func:`paper_mark` (a labelled
 dashed line or band on any plot), ``error_cdf(..., paper=...)``, or :func:`paper_vs_reproduced` (every
 row of a comparison table as a ratio to the paper's value); legends name methods as the papers do
-(:func:`legend_name`).
+(:func:`legend_name`). Tables show numbers as a reader writes them once a notebook calls
+:func:`table_display`.
 """
 
 from ilocviz.core import (
@@ -24,6 +25,7 @@ from ilocviz.core import (
     style,
     trajectory,
 )
+from ilocviz.tables import readable_number, table_display
 
 __all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
-           "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced"]
+           "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced", "table_display", "readable_number"]

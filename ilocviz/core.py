@@ -163,7 +163,9 @@ def trajectory(tracks: dict, ax=None, floor_plan=None, markers: dict | None = No
         ax.plot(xy[:, 0], xy[:, 1], label=label, marker=".", ms=3)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_aspect("equal", adjustable="datalim")
+    # equal scales by resizing the box, not the data limits: a caller may then fix both x and y limits
+    # (zoom on part of the floor) without matplotlib overriding one of them with a warning
+    ax.set_aspect("equal", adjustable="box")
     ax.legend(loc="best")
     return ax
 

@@ -36,7 +36,9 @@ def tracks(track_example, methods=None, ax=None, floor_plan=None, point_methods=
                     label=m)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_aspect("equal", adjustable="datalim")
+    # equal scales by resizing the box, not the data limits: a caller may then fix both x and y limits
+    # (zoom on part of the floor) without matplotlib overriding one of them with a warning
+    ax.set_aspect("equal", adjustable="box")
     ax.legend(loc="best", fontsize="small")
     return ax
 

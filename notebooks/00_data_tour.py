@@ -28,6 +28,7 @@ from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "00_data_tour")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 root = Path(DATA_DIR) if DATA_DIR else data_dir()
 
 # %% [markdown]

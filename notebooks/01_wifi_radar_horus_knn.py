@@ -39,6 +39,7 @@ from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "01_wifi_radar_horus_knn")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: i-Loc (Chiu 2013) eq. (1)-(7) and Luo et al. 2017 eq. (1)-(2)

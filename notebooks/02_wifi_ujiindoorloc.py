@@ -26,6 +26,7 @@ from ilocalg.experiments import wifi_ujiindoorloc
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "02_wifi_ujiindoorloc")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 files = wifi_ujiindoorloc.find_files(DATA_DIR)
 if files is None:
     print("UJIIndoorLoc not found (expected <DATA_DIR>/ujiindoorloc/trainingData.csv[.gz] and "

@@ -39,6 +39,7 @@ from ilocalg.sim import gait
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "03_pdr_step_features")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: i-Loc (Chiu 2013) eq. (8)-(15), the SAM step test

@@ -34,6 +34,7 @@ from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "04_pdr_step_length")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: i-Loc (Chiu 2013) eq. (16)-(17), the step length model (SLM)

@@ -40,6 +40,7 @@ from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "05_pdr_heading_trajectory")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: i-Loc (Chiu 2013) eq. (18)-(19), the walking direction method (WDM)

@@ -31,6 +31,7 @@ from ilocalg.io.paths import data_dir
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "06_pdr_real_steps")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 folder = Path(DATA_DIR or data_dir()) / "oxford_step_counter"
 archive = folder / pdr_real_steps.ARCHIVE
 HAVE_DATA = archive.is_file()

@@ -9,10 +9,12 @@
 # trajectories of one walk (**Fig 22**). Beyond the thesis: RTS and fixed-lag smoothing, a heading-error
 # term in `Q`, innovation gating.
 #
-# $$s_k = s_{k-1} + [\cos\theta_k\ \sin\theta_k]^T D_k + w_k,\quad
-#   Q_k = \delta_{SL,k}^2 \begin{bmatrix}\cos^2\theta_k & \sin\theta_k\cos\theta_k\\
-#   \sin\theta_k\cos\theta_k & \sin^2\theta_k\end{bmatrix}\ (22),\quad
-#   z_k = s_k + v_k,\ R_k = \delta_{RF,k}^2 I\ (23)$$
+# $$s_k = s_{k-1} + [\cos\theta_k\ \sin\theta_k]^T D_k + w_k,$$
+#
+# $$Q_k = \delta_{SL,k}^2 \begin{bmatrix}\cos^2\theta_k & \sin\theta_k\cos\theta_k\\
+#   \sin\theta_k\cos\theta_k & \sin^2\theta_k\end{bmatrix}\ (22),$$
+#
+# $$z_k = s_k + v_k,\quad R_k = \delta_{RF,k}^2 I\ (23)$$
 #
 # Data: the simulated i-Loc floor (`ilocalg.sim.iloc_floor`) and new simulated walkers
 # (`ilocalg.sim.gait`) walking its 28-point test route (about 4 m apart, the route of notebooks 01 and
@@ -44,6 +46,7 @@ from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "07_fusion_iloc_kf")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: i-Loc (Chiu 2013) eq. (20)-(26), the Kalman filter

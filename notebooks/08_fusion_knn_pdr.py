@@ -45,6 +45,7 @@ from ilocalg.sim import iloc_floor
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "08_fusion_knn_pdr")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: Luo et al. 2017 eq. (1)-(2), (4), (5)-(6)

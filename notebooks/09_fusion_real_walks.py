@@ -36,6 +36,7 @@ from ilocalg.io.paths import data_dir
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "09_fusion_real_walks")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 folder = Path(DATA_DIR or data_dir()) / fusion_real_walks.DATASET
 HAVE_DATA = folder.exists()
 if not HAVE_DATA:

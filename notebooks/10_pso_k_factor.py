@@ -44,6 +44,7 @@ from ilocalg.workflow.reporting import Report
 from ilocviz import pso as vpso
 
 report = Report(OUT_DIR, "10_pso_k_factor")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 res = pso_k_factor.run(seed=SEED, fast=FAST, data_dir=DATA_DIR)
 report.table(res["readings"], "readings")
 

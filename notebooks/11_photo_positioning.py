@@ -44,6 +44,7 @@ from ilocalg.workflow.reporting import Report
 from ilocviz import photo as photoviz
 
 report = Report(OUT_DIR, "11_photo_positioning")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: i-Loc (Chiu 2013) eq. (27)-(30)

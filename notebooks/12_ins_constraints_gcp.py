@@ -31,6 +31,7 @@ from ilocalg.sim.ins_walk import GCP_XYZ_M, PROFILES
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "12_ins_constraints_gcp")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## The method: Liao et al. 2016 eq. (1)-(10)
@@ -117,8 +118,10 @@ report.table(tables["errors_per_seed"], "errors_per_seed")
 report.compare(tables["comparison"].to_dict("records"))
 
 # %% [markdown]
-# ## Figs 7 and 10: trajectories; Figs 8 and 11: north and east errors against time; Figs 9 and 12:
-# heading errors against time
+# ## Figs 7-12: trajectories, position and heading errors
+#
+# Figs 7 and 10: trajectories; Figs 8 and 11: north and east errors against time; Figs 9 and 12: heading errors
+# against time.
 
 # %%
 with ilocviz.style():

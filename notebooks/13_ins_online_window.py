@@ -27,6 +27,7 @@ from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "13_ins_online_window")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## Readings: what the paper says and what the code does

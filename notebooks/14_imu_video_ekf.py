@@ -28,6 +28,7 @@ from ilocalg.papers import PAPERS
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "14_imu_video_ekf")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 
 # %% [markdown]
 # ## Readings: what the survey says and what the code does

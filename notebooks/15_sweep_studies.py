@@ -42,6 +42,7 @@ from ilocalg.workflow.studies import curves, select
 from ilocalg.workflow.sweep import aggregate, sweep
 
 report = Report(OUT_DIR, "15_sweep_studies")
+ilocviz.table_display()  # whole numbers without decimals, text cells in full
 N_SEEDS = 3 if FAST else 12
 seeds = range(SEED, SEED + N_SEEDS)
 STUDIES = {"wifi": study_wifi, "ins_window": study_ins_window, "kf_noise": study_kf_noise, "pso": study_pso}

@@ -2,7 +2,7 @@
 
 ``python -m ilocalg reproduce [--fast] [--only PATTERN] [--seed N] [--seeds N] [--jobs J]`` executes
 ``notebooks/NN_*.ipynb`` with papermill (each notebook's cell tagged ``parameters`` receives ``SEED``,
-``FAST``, ``OUT_DIR`` and ``DATA_DIR``, the paths relative to the notebook's folder), ``J`` notebooks side
+``FAST`` and ``OUT_DIR``, relative to the notebook's folder; ``DATA_DIR`` keeps its default), ``J`` notebooks side
 by side (independent processes, longest first), and exports each executed notebook, figures inline,
 to ``reports/<name>.ipynb`` and ``.html``. With ``--seeds N`` the swept experiments of
 :data:`ilocalg.workflow.manifest.MANIFEST` are re-run over seeds: the runs at the other seeds share the
@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
-from ilocalg.io.paths import REPO_ROOT, data_dir
+from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
@@ -89,6 +89,7 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
     import papermill as pm  # heavy; imported only when notebooks run
 
     from ilocalg.workflow import sweep as sw
+    from ilocalg.workflow.kernels import QuietKernelManager
 
     out_nb = out_dir / nb.name
     env = {"MPLBACKEND": KERNEL_MPLBACKEND,
@@ -104,6 +105,7 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
                 progress_bar=progress,
                 cwd=str(nb.parent),
                 log_output=False,
+                kernel_manager_class=QuietKernelManager,  # no transport warning, no SIGINT at shutdown
             )
     except pm.PapermillExecutionError as exc:
         raise NotebookFailed(
@@ -120,28 +122,32 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
             pmeta[key] = _relative(pmeta[key], base)
     nbformat.write(node, out_nb)
     if html:
-        from nbconvert import HTMLExporter
+        from ilocalg.workflow.html_export import export_html
 
-        body, _ = HTMLExporter().from_notebook_node(node)
-        out_nb.with_suffix(".html").write_text(body)
+        export_html(node, out_nb.with_suffix(".html"))  # equations typeset, no remote script
     return out_nb
 
 
 def sweep_experiments(nbs: list[Path], out_dir: Path, seed: int, n_seeds: int, fast: bool, workers: int,
                       progress: bool, cache_dir=None,
-                      manifest: Mapping[str, Mapping[str, bool]] | None = None) -> tuple[int, object]:
+                      manifest: Mapping[str, Mapping[str, bool]] | None = None,
+                      since: float | None = None) -> tuple[int, object]:
     """Re-run the notebooks' swept experiments (:data:`ilocalg.workflow.manifest.MANIFEST`) over ``n_seeds``
     seeds; write ``sweeps/summary`` and return it. Runs already in the cache (the notebooks' own, at the
-    base seed, and those the runner's pool made) are read, not repeated."""
+    base seed, and those the runner's pool made) are read, not repeated; ``since`` (a ``time.time()``) tells
+    the runs of this reproduce (cached after it) from those reused from an earlier one."""
     from ilocalg.workflow import sweep as sw
 
     exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
     if not exps:
         return 0, None
     tasks = [t for e in exps for t in sw.make_tasks(e, range(seed, seed + n_seeds), fast=fast)]
+    cached = [sw._cache_path(cache_dir or sw.DEFAULT_CACHE, t) for t in tasks]
+    n_fresh = sum(1 for p in cached if p.exists() and since is not None and p.stat().st_mtime >= since)
     res = sw.sweep(tasks, workers=workers, cache_dir=cache_dir or sw.DEFAULT_CACHE, progress=progress)
-    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds ({res.n_cached} of "
-          f"{res.n_tasks} runs reused, {res.n_tasks - res.n_cached} run now on {workers} worker(s))", flush=True)
+    print(f"confidence intervals: {len(exps)} experiment(s) x {n_seeds} seeds = {res.n_tasks} runs ("
+          f"{n_fresh} made by this reproduce's notebooks and pool, {res.n_cached - n_fresh} reused from an "
+          f"earlier reproduce, {res.n_tasks - res.n_cached} run now on {workers} worker(s))", flush=True)
     for f in res.failures:
         print(f"FAILED {f['task']}: {f['error']}", file=sys.stderr, flush=True)
     if res.results.empty:
@@ -273,6 +279,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     (out_dir / "tables").mkdir(exist_ok=True)
     inputs_dir = out_dir / ".inputs"
     t_start = time.perf_counter()
+    t_wall = time.time() - 1.0  # runs cached after this are this reproduce's (file times may be coarse)
     timings = _load_timings(cache_dir)
     stage_rows: list[dict] = []
     sweep_s: dict[str, list[float]] = {}
@@ -284,8 +291,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
 
     def params_for(nb: Path) -> dict:
         # relative to the notebook's folder (the kernel's working directory): no absolute paths in the reports
-        return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent),
-                "DATA_DIR": _relative(data_dir(), nb.parent)}
+        # DATA_DIR stays the notebook's None (= ilocalg.io.paths.data_dir() in the kernel, which inherits
+        # ILOC_DATA_DIR): the reports show no machine's folder layout
+        return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent)}
 
     def record_for(nb: Path):
         return (str(cache_dir), swept[nb.stem]) if n_seeds > 1 else None
@@ -367,7 +375,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     summary = None
     if n_seeds > 1:
         t0 = time.perf_counter()
-        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest)
+        code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest,
+                                          since=t_wall)
         stage_rows.append({"stage": "run", "name": "sweep after notebooks", "seconds": time.perf_counter() - t0})
         if code:
             write_timings(out_dir, stage_rows)

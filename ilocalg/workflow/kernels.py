@@ -1,0 +1,34 @@
+"""The kernel manager of the notebook runs: kernels that start and stop without noise.
+
+jupyter_client's defaults make every notebook run print two things that are not problems:
+
+- ipykernel warns "Kernel is running over TCP without encryption" at each start: the runner's kernels are
+  local child processes, so they talk over IPC (Unix domain sockets in the user's Jupyter runtime folder,
+  private to the user) where the platform has it, and TCP on localhost elsewhere;
+- a graceful shutdown first interrupts the kernel (SIGINT) and then asks it to quit; a kernel caught
+  inside a message handler by that SIGINT logs "ERROR | KeyboardInterrupt caught in kernel" although
+  nothing failed. A kernel that has finished every cell is idle, so the shutdown skips the interrupt
+  and only sends the shutdown request (escalating to SIGTERM/SIGKILL as before if it does not exit).
+"""
+
+from __future__ import annotations
+
+import os
+
+from jupyter_client.manager import AsyncKernelManager
+from traitlets import default
+
+__all__ = ["QuietKernelManager"]
+
+
+class QuietKernelManager(AsyncKernelManager):
+    """``AsyncKernelManager`` over IPC (POSIX) whose shutdown sends no interrupt (see the module doc)."""
+
+    @default("transport")
+    def _transport_default(self) -> str:
+        return "ipc" if os.name == "posix" else "tcp"
+
+    async def _async_interrupt_kernel(self) -> None:
+        if self.shutting_down:  # the run is over and the kernel idle: nothing to interrupt
+            return
+        await super()._async_interrupt_kernel()
