@@ -164,3 +164,35 @@ def test_landing_page_images_load_in_headless_chromium(tmp_path):
     assert total == 4 and broken == []  # notebook 07_demo's two figures, in the i-Loc and the Luo section
     (out / "figures" / "07_demo_tracks.png").write_bytes(b"not a png")  # the check does see a broken image
     assert _images_in_browser(page) == (4, ["figures/07_demo_tracks.png"] * 2)
+
+
+def test_scoreboard_counts_results_only_and_shows_other_classes_apart(tmp_path):
+    Report(tmp_path, "10_demo").compare([
+        paper_ref("PSO (Chao 2008)", "Table 5-2", "A1 k (PSO)", 0.5, 0.51),
+        paper_ref("PSO (Chao 2008)", "Table 5-2", "A1 detected steps", 100, 100, "steps", row_class="set by input"),
+        paper_ref("PSO (Chao 2008)", "Table 5-2 (earlier)", "A1 k (PSO)", 0.5, 0.7, row_class="alternative reading",
+                  replaces=("Table 5-2", "A1 k (PSO)")),
+    ])
+    rows = reporting.comparison_rows(tmp_path)
+    board = reporting._scoreboard(rows[rows["group"] == "pso"])
+    assert board.iloc[0][["rows", "inside", "far off", "shown apart"]].tolist() == [1, 1, 0, 2]
+    html = reporting.build_index(tmp_path).read_text()
+    readme = reporting.build_readme(tmp_path).read_text()
+    for text in (html, readme):
+        assert "Set by input" in text and "Alternative readings" in text
+    alt = html.split("Alternative readings")[1]
+    # the alternative sits beside the default it replaces, with the default's value
+    assert "A1 k (PSO) (Table 5-2)" in alt and '<td class="num">0.51</td>' in alt
+
+
+def test_duplicate_rows_across_notebooks_are_found_except_known_ones(tmp_path):
+    Report(tmp_path, "05_a").compare([paper_ref("PSO (Chao 2008)", "Sec 5.1.3", "static compass RMS, MA", 1, 1)])
+    Report(tmp_path, "10_b").compare([paper_ref("PSO (Chao 2008)", "Sec 5.1.3", "static compass RMS, MA", 1, 1),
+                                      paper_ref("PSO (Chao 2008)", "Fig 1", "closure", 1, 1, "m"),
+                                      paper_ref("PSO (Chao 2008)", "Fig 1", "closure", 1, 1, "%")])
+    dup = reporting.duplicate_rows(reporting.comparison_rows(tmp_path), known={})
+    assert dup[["quantity", "n"]].values.tolist() == [["closure", 2], ["static compass RMS, MA", 2]]
+    assert dup["tables"].iloc[1] == "05_a__paper_vs_reproduced, 10_b__paper_vs_reproduced"
+    known = {("PSO (Chao 2008)", "Fig 1", "closure"): "m and %"}
+    assert reporting.duplicate_rows(reporting.comparison_rows(tmp_path), known=known)["quantity"].tolist() == [
+        "static compass RMS, MA"]

@@ -32,6 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ilocalg.papers import PAPER_REF_COLUMNS, clip_interval
+
 __all__ = [
     "KINDS",
     "VERDICTS",
@@ -55,6 +57,8 @@ __all__ = [
     "evaluate_claims",
     "CLAIM_COLUMNS",
     "claims_from_tables",
+    "RESULT_COLUMNS",
+    "tables_to_long",
 ]
 
 #: Kinds of claim.
@@ -277,6 +281,42 @@ def judge(claim: Claim, mean: float, lo: float, hi: float) -> str:
     return "partly"
 
 
+#: Long-format columns of one run's sweepable values (what :func:`lookup` reads, with ``experiment`` and
+#: ``seed``; :mod:`ilocalg.workflow.sweep` adds ``params``).
+RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "value")
+
+
+def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
+    """The sweepable values of an experiment's tables, in long format (:data:`RESULT_COLUMNS`)."""
+    parts = []
+    for name, df in tables.items():
+        if not isinstance(df, pd.DataFrame):
+            continue
+        if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            p = df[list(PAPER_REF_COLUMNS)].rename(columns={"reproduced_value": "value"})
+            p["unit"] = df["unit"] if "unit" in df.columns else ""
+        elif (name.startswith(("sweep_", "measures")) and "value" in df.columns
+              and "quantity" in df.columns):
+            p = df[["quantity", "value"]].copy()
+            for c in ("paper", "item", "unit"):
+                p[c] = df[c] if c in df.columns else ""
+            p["paper_value"] = df["paper_value"] if "paper_value" in df.columns else np.nan
+        else:
+            continue
+        p = p.copy()
+        p.insert(0, "table", name)
+        parts.append(p[list(RESULT_COLUMNS)])
+    if not parts:
+        return pd.DataFrame({c: pd.Series(dtype=float if c in ("paper_value", "value") else object)
+                             for c in RESULT_COLUMNS})
+    out = pd.concat(parts, ignore_index=True)
+    out["paper_value"] = out["paper_value"].astype(np.float64)
+    out["value"] = out["value"].astype(np.float64)
+    for c in ("table", "paper", "item", "quantity", "unit"):
+        out[c] = ["" if pd.isna(v) else str(v) for v in out[c]]
+    return out
+
+
 #: Columns of the claims ledger (reports/claims.csv).
 CLAIM_COLUMNS = ("paper", "claim_id", "line", "kind", "claim", "paper_value", "reproduced", "ci_low", "ci_high",
                  "verdict", "robust_share", "decided_in")
@@ -291,12 +331,15 @@ def evaluate(claim: Claim, results: pd.DataFrame, level: float = 0.95) -> dict:
            "reproduced": math.nan, "ci_low": math.nan, "ci_high": math.nan, "verdict": "cannot be tested",
            "robust_share": math.nan, "decided_in": claim.decided_in, "n_seeds": 0,
            "statistic": "" if claim.statistic is None else claim.statistic.label, "expect": claim.expect,
+           "ci_clipped": False,
            "note": claim.untestable or claim.note}
     if claim.statistic is None:
         return row
     per_seed = statistic_by_seed(claim.statistic, results)
     mean, lo, hi, n = interval(per_seed.to_numpy(), level)
-    row.update(reproduced=mean, ci_low=lo, ci_high=hi, n_seeds=n, verdict=judge(claim, mean, lo, hi))
+    lo, hi, clipped = clip_interval(lo, hi, claim.statistic.unit, claim.statistic.label)
+    row.update(reproduced=mean, ci_low=lo, ci_high=hi, n_seeds=n, ci_clipped=clipped,
+               verdict=judge(claim, mean, lo, hi))
     return row
 
 
@@ -309,8 +352,6 @@ def evaluate_claims(claims: Iterable[Claim], results: pd.DataFrame, level: float
 def claims_from_tables(claims: Iterable[Claim], tables_by_experiment: Mapping[str, Mapping[str, pd.DataFrame]]
                        ) -> pd.DataFrame:
     """Evaluate claims on one run's tables (e.g. in a notebook: ``{"fusion_iloc_kf": tables}``), seed 0 only."""
-    from ilocalg.workflow.sweep import tables_to_long
-
     parts = []
     for exp, tables in tables_by_experiment.items():
         long = tables_to_long(tables)
