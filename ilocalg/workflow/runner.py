@@ -260,8 +260,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent),
                 "DATA_DIR": _relative(data_dir(), nb.parent)}
 
-    def record_for(nb: Path):
-        return (str(cache_dir), swept[nb.stem]) if n_seeds > 1 else None
+    def record_for(nb: Path):  # every run at the base seed: the sweep and the claims step read them
+        return (str(cache_dir), list(manifest.get(nb.stem, {})))
 
     failed = None
     if jobs == 1:
@@ -334,6 +334,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest)
         if code:
             return code
+    from ilocalg.workflow.claims_step import claims_step  # reports/claims.csv, read by the pages below
+    if claims_step(out_dir, [nb.stem for nb in nbs], seed, n_seeds, fast, workers, cache_dir, progress, manifest):
+        return 1
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
     build_index(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds, notebook_dir=notebook_dir)
     write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs],
