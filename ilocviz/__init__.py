@@ -14,6 +14,7 @@ from ilocviz.core import (
     LEGEND_NAMES,
     STYLE,
     error_cdf,
+    figure_title,
     legend_name,
     new_axes,
     paper_mark,
@@ -25,5 +26,6 @@ from ilocviz.core import (
     trajectory,
 )
 
-__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
+__all__ = ["STYLE", "style", "new_axes", "savefig", "figure_title", "error_cdf", "trajectory", "LEGEND_NAMES",
+           "legend_name",
            "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced"]

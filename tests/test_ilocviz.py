@@ -139,3 +139,18 @@ def test_error_cdf_counts_unlocated_and_ends_below_one():
     with pytest.raises(ValueError, match="all NaN"):
         ilocviz.error_cdf({"KNN": [np.nan]}, ax=ax)
     plt.close(fig)
+
+
+def test_figure_title_prefers_suptitle_then_axes_titles_then_the_name():
+    import matplotlib.pyplot as plt
+
+    from ilocviz import figure_title
+
+    fig, (a, b) = plt.subplots(1, 2)
+    assert figure_title(fig, "07_fusion_cdf") == "07 fusion cdf"
+    a.set_title("Error CDF")
+    b.set_title("Tracks\non the floor")
+    assert figure_title(fig) == "Error CDF / Tracks on the floor"
+    fig.suptitle("KF against Wi-Fi")
+    assert figure_title(fig) == "KF against Wi-Fi"
+    plt.close(fig)

@@ -315,20 +315,20 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
 
 
 def ci_agreement(paper_value: float, lo: float, hi: float, mean: float) -> str:
-    """Where the paper's value lies relative to the reproduced 95 % CI.
+    """Where the paper's value lies relative to the reproduced 95 % CI, in the project's one vocabulary.
 
-    ``inside`` the interval; ``beside`` when outside it but within one interval width of it or
-    within 10 % of the mean; ``far off`` otherwise.
+    ``agrees (inside CI)``: inside the interval; ``close (beside CI)``: outside it but within one
+    interval width of it or within 10 % of the mean; ``differs (far from CI)`` otherwise.
     """
     if not all(math.isfinite(v) for v in (paper_value, mean)):
         return "n/a"
     if math.isfinite(lo) and lo <= paper_value <= hi:
-        return "inside CI"
+        return "agrees (inside CI)"
     width = (hi - lo) if math.isfinite(hi - lo) else 0.0
     dist = min(abs(paper_value - lo), abs(paper_value - hi)) if math.isfinite(lo) else abs(paper_value - mean)
     if dist <= width or abs(paper_value - mean) <= 0.10 * abs(mean):
-        return "beside CI"
-    return "far off"
+        return "close (beside CI)"
+    return "differs (far from CI)"
 
 
 def aggregate(results: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
