@@ -15,9 +15,10 @@
 #   z_k = s_k + v_k,\ R_k = \delta_{RF,k}^2 I\ (23)$$
 #
 # Data: the simulated i-Loc floor (`ilocalg.sim.iloc_floor`) and new simulated walkers
-# (`ilocalg.sim.gait`) walking its 28-point test route (about 4 m apart, the route of notebooks 01 and
+# (`ilocalg.sim.gait`) walking its 28-point test route (about 4 m apart, L515, the route of notebooks 01 and
 # 05) with a handheld phone. A Wi-Fi fix is one scan taken while walking, started at a test point and
-# tagged there (2 s scan latency); each walk is its own session (per-AP drift). R per point is
+# tagged there (2 s scan latency, an assumption swept below); each walk is its own session (per-AP drift). R per point
+# is
 # calibrated on the chapter 3 test session (another day); Table 4 is read as relative variances (L478),
 # the m^2 reading shown beside.
 
@@ -101,7 +102,7 @@ tables["by_wifi_method"].round(2)
 
 # %% [markdown]
 # ## Scan latency (an assumption: phones take 1-3 s per scan)
-# The same walks and sessions, new scans read over 0-3 s after the walker passes each test point.
+# The same walks and sessions, new scans read over the assumed 0-3 s after the walker passes each test point.
 
 # %%
 tables["latency_sweep"].round(2)
@@ -113,7 +114,7 @@ tables["latency_sweep"].round(2)
 tables["r_table"].round(3)
 
 # %% [markdown]
-# ## Innovation gating (chi-square 99 %, on the KF with heading noise): fixes given and rejected per walker
+# ## Innovation gating (chi-square 99 % level, on the KF with heading noise): fixes given and rejected per walker
 
 # %%
 tables["gating"]

@@ -77,9 +77,10 @@ report.table(res["readings"], "readings")
 # ## Phase 1: step detection on A1's walk (Fig 5.10)
 #
 # The thesis states MA(nL = nR = 2) for its static compass and accelerometer calibration, not a width for the
-# walking signal. At 8 Hz that filter has its first zero at 1.6 Hz, inside the range of normal walking cadence,
-# so it would remove much of the step signal itself (below, the MA curve against the raw one; the steps are
-# detected on the raw signal, the default). The band is the static-noise RMS of a simulated static log
+# walking signal. At the thesis's 8 Hz (L672) that filter has its first zero at 1.6 Hz, inside the range of
+# normal walking cadence, so it would remove much of the step signal itself (below, the MA curve against the
+# raw one; the steps are detected on the raw signal, the default). The band is the static-noise RMS of a simulated
+# static log
 # (`static_band`).
 
 # %%
@@ -259,7 +260,7 @@ print("\n".join(lines))
 #   test, Fig 5.9) measures the route about 2-3 % long, mostly from 1 Hz fixes while standing and walking.
 #   Scaling the assumed true route by 0.95 or 1.05 moves k by the same factor (`sensitivity`).
 # * **Phase 2.** The closure error as a percentage of the DR distance does not depend on k at all (k scales the
-#   whole DR path), so the thesis's 1.6 % / 1.9 % measure heading and detection quality, not the learned k.
+#   whole DR path), so the thesis's 1.6 % / 1.9 % (Fig 5.15) measure heading and detection quality, not the learned k.
 # * **Compass.** MA(2,2) lowers the static RMS more than SG(2,2,2), as in the thesis; the exact ratios depend on
 #   the compass noise spectrum, which the thesis does not give (the simulator assumes AR(1)).
 # * **Real data (ILC).** The k learned on half the walks gives a smaller distance error on the other half than

@@ -10,7 +10,7 @@
 #
 # Data: simulated hand-held phone walks (`ilocalg.sim.ins_walk`, see `data/ins_walk/README.md`): two
 # outdoor GNSS loops, into the building, up the stairs, around a classroom and back (Samsung S5 route) or
-# on to a lab (iPhone 5S route), phone IMUs at irregular 14-20 Hz, four indoor control points.
+# on to a lab (iPhone 5S route), phone IMUs at irregular 14-20 Hz (a simulator input), four indoor control points.
 
 # %% tags=["parameters"]
 # Seed of the simulations; FAST runs one seed instead of six; OUT_DIR (set by the runner) receives
@@ -140,7 +140,7 @@ with ilocviz.style():
 # %% [markdown]
 # ## Stairs: Tables 4-7 with the WVC's stair handling off, from the barometer, and from the true stair flag
 # `none`: eq. (7) everywhere (what a filter that ignores stairs does); `baro`: WVC forward and vertical rows
-# dropped where the barometric height changes faster than 0.1 m/s (the default; iPhone: no barometer, same as
+# dropped where the barometric height changes faster than 0.1 m/s (the default setting; iPhone: no barometer, same as
 # `none`); `baro, downweight`: the forward speed kept with sd 0.5 m/s there; `truth`: the simulator's stair
 # flag (an upper bound of detection, not a method). Mean over seeds.
 
@@ -161,7 +161,7 @@ report.table(tables["sensor_grade"], "sensor_grade")
 
 # %% [markdown]
 # ## Sensitivity to the sensor values no published measurement fixes
-# The phones' time-tag error (default sd 10 ms) and Gauss-Markov bias instability (default 0.5 mg, 20 deg/h,
+# The phones' assumed time-tag error (default sd 10 ms) and Gauss-Markov bias instability (default 0.5 mg, 20 deg/h,
 # 300 s) have no published measurement behind them for these phones, so they are swept: bias instability x0
 # (only the constant turn-on bias), x1, x3 and time-tag error sd 0 (the nominal clock), 10 and 30 ms. The swept
 # walks are the same walks (same seed, same other error draws); Filtering + WVC/ZUPT + GCP, RMS on the indoor
@@ -186,7 +186,8 @@ for phone in ("Samsung", "iPhone"):
 # ## Sensitivity to the recalled gait values
 # The walker's published gait values were quoted as recalled, not re-read (data/ins_walk/README.md): each
 # population mean is moved by one between-walker sd of its own study (level speed, walk ratio, stair cadence),
-# and the earlier walker (level speed from eq. (7) itself, stairs at 0.5 m/s) is added for contrast. Same filter
+# and the earlier walker (level speed from eq. (7) itself, stairs at 0.5 m/s as an input) is added for contrast. Same
+# filter
 # and seeds as above.
 
 # %%

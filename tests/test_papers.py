@@ -76,3 +76,18 @@ def test_clip_interval_flags_only_a_change():
     assert papers.clip_interval(1.0, 5.0, "m") == (1.0, 5.0, False)
     lo, hi, c = papers.clip_interval(float("nan"), float("nan"), "m")
     assert not c and lo != lo
+
+
+def test_claims_markdown_and_rows_markdown_say_what_the_numbers_say():
+    from ilocalg.papers.claims import M, Claim, claims_from_tables, claims_markdown, ratio, rows_markdown
+
+    comp = papers.comparison_table([papers.paper_ref("i-Loc", "Fig 23", "KF", 2.82, 4.9, "m"),
+                                    papers.paper_ref("i-Loc", "Fig 23", "Wi-Fi", 5.15, 4.1, "m")])
+    claim = Claim("k", "iloc", 1520, "improvement", "The KF lowers the Wi-Fi error.", paper_value=2.82 / 5.15,
+                  statistic=ratio(M("exp", "KF"), M("exp", "Wi-Fi")), expect="<1")
+    led = claims_from_tables([claim], {"exp": {"comparison": comp}})
+    text = claims_markdown(led)
+    assert text.startswith("- **not reproduced**: The KF lowers the Wi-Fi error. (line 1520)")
+    assert "= 1.2" in text and "the paper: 0.548" in text
+    rows = rows_markdown(comp, where=lambda r: r["quantity"] == "KF")
+    assert rows == "- Fig 23, KF: reproduced 4.9 m, larger than the paper's 2.82 m (+74 %)."

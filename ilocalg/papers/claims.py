@@ -59,6 +59,8 @@ __all__ = [
     "claims_from_tables",
     "RESULT_COLUMNS",
     "tables_to_long",
+    "claims_markdown",
+    "rows_markdown",
 ]
 
 #: Kinds of claim.
@@ -363,3 +365,55 @@ def claims_from_tables(claims: Iterable[Claim], tables_by_experiment: Mapping[st
     wanted = [c for c in claims if c.statistic is None or all(r.experiment in tables_by_experiment
                                                                 for r in c.statistic.refs)]
     return evaluate_claims(wanted, results)
+
+
+def _num(x: float) -> str:
+    return f"{x:.3g}" if isinstance(x, (int, float, np.floating)) and math.isfinite(x) else "n/a"
+
+
+def claims_markdown(ledger: pd.DataFrame, heading: str = "") -> str:
+    """Markdown sentences from a claims ledger (:func:`claims_from_tables` on a notebook's own run, or
+    :func:`evaluate_claims`): one bullet per claim with its verdict, the paper's figure, the reproduced
+    statistic (with its interval over seeds, when there is one) and the note. A notebook displays this as
+    its generated conclusion (``IPython.display.Markdown``), so no measured number is typed by hand.
+    """
+    lines = [heading, ""] if heading else []
+    if ledger is None or len(ledger) == 0:
+        return "\n".join(lines + ["No claim of this paper is decided by this run."])
+    for r in ledger.to_dict("records"):
+        stat = r.get("statistic", "")
+        rep = _num(r.get("reproduced", math.nan))
+        lo, hi = r.get("ci_low", math.nan), r.get("ci_high", math.nan)
+        if rep != "n/a" and math.isfinite(lo) and math.isfinite(hi) and hi > lo:
+            rep += f" (95 % CI {_num(lo)} to {_num(hi)}, {int(r.get('n_seeds', 0))} seeds)"
+        pv = r.get("paper_value", math.nan)
+        exp = r.get("expect", "~")
+        paper = (f"the paper: {_num(pv)}" if pv is not None and math.isfinite(pv)
+                 else f"the claim asserts {stat} {exp[0]} {exp[1:]}" if exp and exp != "~" else "")
+        body = f"- **{r['verdict']}**: {r['claim']} (line {r['line']})"
+        if r["verdict"] != "cannot be tested":
+            body += f". Reproduced {stat} = {rep}" + (f"; {paper}" if paper else "")
+        note = r.get("note", "")
+        if isinstance(note, str) and note.strip():
+            body += f". {note.strip()}"
+        lines.append(body.rstrip(".") + ".")
+    return "\n".join(lines)
+
+
+def rows_markdown(rows: pd.DataFrame, where: Callable[[pd.Series], bool] | None = None) -> str:
+    """Markdown sentences from comparison rows (``paper_ref`` rows): for each, the reproduced value beside
+    the paper's, which is larger, and by how much; ``where`` selects rows. Numbers come from the table."""
+    out = []
+    for _, r in rows.iterrows():
+        if where is not None and not where(r):
+            continue
+        p, v, unit = float(r["paper_value"]), float(r["reproduced_value"]), str(r.get("unit", "") or "")
+        u = f" {unit}" if unit and unit not in ("-", "nan") else ""
+        if not (math.isfinite(p) and math.isfinite(v)):
+            out.append(f"- {r['item']}, {r['quantity']}: no value to compare.")
+            continue
+        side = "equal to" if v == p else "smaller than" if v < p else "larger than"
+        rel = f" ({(v - p) / abs(p) * 100:+.0f} %)" if p != 0 else ""
+        out.append(f"- {r['item']}, {r['quantity']}: reproduced {_num(v)}{u}, {side} the paper's "
+                   f"{_num(p)}{u}{rel}.")
+    return "\n".join(out) if out else "No comparison row selected."
