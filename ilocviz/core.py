@@ -132,7 +132,7 @@ def savefig(fig, name: str, out_dir, formats=("png", "pdf")) -> list[Path]:
     for fmt in formats:
         p = d / f"{name}.{fmt}"
         meta = ({"CreationDate": None} if fmt == "pdf" else
-                {"Software": None, "Title": figure_title(fig, name)} if fmt == "png" else None)
+                {"Software": None, "Title": figure_title(fig)} if fmt == "png" else None)
         fig.savefig(p, format=fmt, metadata=meta)
         paths.append(p)
     _anchor_in_notebook(name)

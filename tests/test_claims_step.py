@@ -56,7 +56,8 @@ def test_robust_share_is_the_share_of_samples_judged_on_their_own(tmp_path):
     rob = cs.robustness(claims, pd.DataFrame({"seed": []}), seed=0, fast=False, workers=0,
                         cache_dir=tmp_path, n_samples=8, budget_s=math.inf).set_index("claim_id")
     scales = cs.sample_assumptions([SCALE], 8, 0)["scale"]
-    sds = np.array([sweep_toy.run(seed=0, scale=float(s))["sweep_std"]["value"].iloc[0] for s in scales])
+    # samples are fast-mode runs (the toy then draws n // 2 values)
+    sds = np.array([sweep_toy.run(seed=0, fast=True, scale=float(s))["sweep_std"]["value"].iloc[0] for s in scales])
     assert rob.loc["toy-1", "robust_share"] == pytest.approx(np.mean(np.abs(sds - 1.0) <= 0.10))
     assert rob.loc["toy-2", "robust_share"] == pytest.approx(np.mean(sds > 0.8))
     assert rob.loc["toy-2", "most_influential"].startswith("scale (rho 1.00")
@@ -98,10 +99,18 @@ def test_an_experiment_no_notebook_runs_is_an_error_and_other_notebooks_claims_w
     assert pd.read_csv(tmp_path / "claims.csv")["claim_id"].tolist() == ["toy-4"]
 
 
-def test_samples_are_planned_within_the_budget_cheapest_first():
-    timings = {"sweep:a": 1.0, "sweep:b": 10.0, "sweep:c": 100.0}
-    plan = cs.plan_samples(["c", "b", "a"], fast=False, workers=2, n_samples=8, budget_s=45, timings=timings)
-    # 90 s of capacity: a takes 8 s and b 80 s in full mode; c fits in neither mode
-    assert plan == {"a": "full", "b": "full", "c": None}
-    plan = cs.plan_samples(["c", "b", "a"], fast=False, workers=1, n_samples=8, budget_s=45, timings=timings)
-    assert plan == {"a": "full", "b": "fast", "c": None}
+def test_samples_fit_the_wall_time_budget(tmp_path):
+    def clock():  # every reading of the clock advances it by 5 s: one sample "takes" 5 s
+        clock.t += 5.0
+        return clock.t
+
+    joint = {TOY: [SCALE]}
+    clock.t = 0.0
+    used, res, notes = cs.run_samples(joint, 0, workers=1, cache_dir=tmp_path, budget_s=30, clock=clock)
+    assert len(used[TOY]) == 3 and "3 samples, not 8" in notes[TOY]  # 10 s left after the timed sample
+    assert res["params"].nunique() == 3
+    clock.t = 0.0
+    used, res, notes = cs.run_samples(joint, 0, workers=1, cache_dir=tmp_path, budget_s=21, clock=clock)
+    assert TOY not in used and "not sampled" in notes[TOY]
+    used, res, notes = cs.run_samples(joint, 0, workers=0, cache_dir=tmp_path, budget_s=math.inf)
+    assert len(used[TOY]) == 8 and not notes and res["params"].nunique() == 8

@@ -79,7 +79,7 @@ def test_clip_interval_flags_only_a_change():
 
 
 def test_claims_markdown_and_rows_markdown_say_what_the_numbers_say():
-    from ilocalg.papers.claims import M, Claim, claims_from_tables, claims_markdown, ratio, rows_markdown
+    from ilocalg.papers.claims import Claim, M, claims_from_tables, claims_markdown, ratio, rows_markdown
 
     comp = papers.comparison_table([papers.paper_ref("i-Loc", "Fig 23", "KF", 2.82, 4.9, "m"),
                                     papers.paper_ref("i-Loc", "Fig 23", "Wi-Fi", 5.15, 4.1, "m")])

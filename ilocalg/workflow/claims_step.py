@@ -17,12 +17,13 @@ the per-seed long results of the experiments the claims name (:mod:`ilocalg.pape
   agreeing with the paper (a value claim); ``most_influential`` is the assumption with the largest
   \\|Spearman rho\\| between its value and the statistic over the samples.
 
-Budget: the samples are :data:`N_SAMPLES` per experiment at the base seed, in the run's mode, and the
-step plans them against :data:`BUDGET_S` seconds of one worker per core (``workers``) from the measured
-run times (``.ilocalg-cache/timings.json``, else :data:`ilocalg.workflow.manifest.COST_S`): an experiment
-whose full-mode samples do not fit falls back to fast-mode samples (said in the claim's note), and one
-whose fast samples do not fit either is not sampled (``robust_share`` empty, the reason in the note).
-Samples are cached, so a second reproduce spends nothing on them.
+Budget (the claims step must add about a minute at most to ``make reproduce`` on 2 cores): the samples
+are :data:`N_SAMPLES` per experiment, fast-mode runs at the base seed, within :data:`BUDGET_S` seconds of
+wall time (:func:`run_samples`): cheapest experiment first (measured run times, ``.ilocalg-cache/
+timings.json``, else :data:`ilocalg.workflow.manifest.COST_S`), one sample is timed and the budget left
+decides how many the experiment gets (all, a smaller hypercube of at least 3, or none: the claim's note
+says which). Samples are cached, so a later reproduce spends nothing on those already run and samples
+the experiments the first one had no time for.
 
 Writes ``reports/claims.csv`` (:data:`LEDGER_COLUMNS`) and ``reports/tables/claims.md``. A claim whose
 reference does not resolve (no such experiment, quantity or item; several rows where one is meant) stops
@@ -44,14 +45,14 @@ import pandas as pd
 from ilocalg.papers import claims as cl
 
 __all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "BUDGET_S", "ClaimError", "claim_experiments", "gather_results",
-           "evaluate_ledger", "sample_assumptions", "robustness", "write_ledger", "claims_step"]
+           "evaluate_ledger", "sample_assumptions", "run_samples", "robustness", "write_ledger", "claims_step"]
 
 #: Columns of reports/claims.csv.
 LEDGER_COLUMNS = (*cl.CLAIM_COLUMNS, "n_seeds", "statistic", "expect", "most_influential", "ci_clipped", "note")
 #: Latin-hypercube samples per experiment for robustness.
 N_SAMPLES = 8
-#: Seconds of one worker per core the robustness samples may take (planned from measured run times).
-BUDGET_S = 45.0
+#: Seconds of wall time the robustness samples may take (the rest of the step reads the cache: a few s).
+BUDGET_S = 40.0
 #: Fast-mode run time over full-mode run time, when no fast-mode time was measured yet.
 FAST_FACTOR = 0.35
 
@@ -152,40 +153,78 @@ def _joint_assumptions(claims: Sequence[cl.Claim]) -> dict[str, list[cl.Assumpti
 
 
 def _cost(timings: Mapping[str, float], experiment: str, fast: bool) -> float:
-    """Estimated seconds of one run of ``experiment`` (a sweep run, else its notebook, else 60 s)."""
+    """Estimated seconds of one run of ``experiment``: its measured sweep run (the fast one in fast mode, else
+    the full one scaled by :data:`FAST_FACTOR`), else its notebook's time (an upper bound), else 60 s."""
     from ilocalg.workflow.manifest import MANIFEST
 
-    def full(name: str) -> float | None:
-        return timings.get(name)
-
+    factor = FAST_FACTOR if fast else 1.0
+    if fast and timings.get(f"sweep:{experiment} (fast)"):
+        return float(timings[f"sweep:{experiment} (fast)"])
+    if timings.get(f"sweep:{experiment}"):
+        return float(timings[f"sweep:{experiment}"]) * factor
     nb = next((s for s, exps in MANIFEST.items() if experiment in exps), None)
-    if fast:
-        t = timings.get(f"sweep:{experiment} (fast)") or (timings.get(f"{nb} (fast)") if nb else None)
-        if t:
-            return float(t)
-    t = full(f"sweep:{experiment}") or (full(nb) if nb else None) or 60.0
-    return float(t) * (FAST_FACTOR if fast else 1.0)
+    if nb and fast and timings.get(f"{nb} (fast)"):
+        return float(timings[f"{nb} (fast)"])
+    if nb and timings.get(nb):
+        return float(timings[nb]) * factor
+    return 60.0 * factor
 
 
-def plan_samples(experiments: Sequence[str], fast: bool, workers: int, n_samples: int = N_SAMPLES,
-                 budget_s: float = BUDGET_S, timings: Mapping[str, float] | None = None) -> dict[str, str | None]:
-    """experiment -> ``"full"``, ``"fast"`` or None (not sampled), cheapest first, within the budget."""
-    from ilocalg.workflow.manifest import COST_S
+def _tasks(e: str, samples: pd.DataFrame, seed: int) -> list:
+    from ilocalg.workflow import sweep as sw
 
-    timings = dict(COST_S) if timings is None else timings
-    capacity = budget_s * max(workers, 1)
-    plan: dict[str, str | None] = {}
-    used = 0.0
-    for e in sorted(experiments, key=lambda e: (_cost(timings, e, True), e)):
-        modes = (("fast", True),) if fast else (("full", False), ("fast", True))
-        plan[e] = None
-        for mode, f in modes:
-            need = n_samples * _cost(timings, e, f)
-            if used + need <= capacity:
-                plan[e] = mode
-                used += need
-                break
-    return plan
+    return [sw.SweepTask(e, tuple(sorted((k, v.item() if hasattr(v, "item") else v) for k, v in rec.items())),
+                         int(seed), True) for rec in samples.to_dict("records")]
+
+
+def run_samples(joint: Mapping[str, Sequence[cl.Assumption]], seed: int, workers: int, cache_dir: Path | None,
+                n_samples: int = N_SAMPLES, budget_s: float = BUDGET_S, timings: Mapping[str, float] | None = None,
+                progress: bool = False, clock=None) -> tuple[dict[str, pd.DataFrame], pd.DataFrame, dict[str, str]]:
+    """Run the Latin-hypercube samples of each experiment (fast mode, base seed) within ``budget_s`` seconds
+    of wall time, cheapest experiment first (:func:`_cost`).
+
+    Per experiment, one sample runs first and is timed; the rest of the budget (as if one run at a time:
+    ``workers`` only run them side by side) then decides how many samples it gets: all :data:`N_SAMPLES`,
+    a smaller Latin hypercube (at least 3), or none. Cached samples cost nothing, so a second reproduce
+    samples everything that fits once.
+    Returns (samples per experiment, their long results, a note per experiment that got fewer or none).
+    """
+    import time
+
+    from ilocalg.workflow import sweep as sw
+
+    clock = time.perf_counter if clock is None else clock
+    timings = {} if timings is None else timings
+    t0 = clock()
+    used: dict[str, pd.DataFrame] = {}
+    frames, notes = [], {}
+    for e in sorted(joint, key=lambda e: (_cost(timings, e, True), e)):
+        left = budget_s - (clock() - t0)
+        full = sample_assumptions(joint[e], n_samples, seed)
+        if left <= 0:
+            notes[e] = f"robustness not sampled: the step's {budget_s:.0f} s budget was spent"
+            continue
+        t1 = clock()
+        first = sw.sweep(_tasks(e, full.iloc[:1], seed), workers=0, cache_dir=cache_dir, progress=False)
+        one = max(clock() - t1, 1e-3)
+        left = budget_s - (clock() - t0)
+        # no parallel speed-up is assumed: on a shared machine the workers' runs slow each other down
+        fit = n_samples if not math.isfinite(left) else 1 + int(max(left, 0.0) // one)
+        n = min(n_samples, fit)
+        if n < 3:
+            notes[e] = (f"robustness not sampled: one run of {e} took {one:.0f} s, beyond the step's "
+                        f"{budget_s:.0f} s budget")
+            continue
+        chosen = full if n == n_samples else sample_assumptions(joint[e], n, seed)
+        if n < n_samples:
+            notes[e] = f"{n} samples, not {n_samples}, within the step's {budget_s:.0f} s budget"
+        todo = _tasks(e, chosen, seed) if n < n_samples else _tasks(e, full.iloc[1:], seed)
+        res = sw.sweep(todo, workers=workers if len(todo) > 1 else 0, cache_dir=cache_dir, progress=progress)
+        parts = [res.results] + ([first.results] if n == n_samples else [])
+        frames += [f for f in parts if not f.empty]
+        used[e] = chosen
+    results = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    return used, results, notes
 
 
 def robustness(claims: Sequence[cl.Claim], base: pd.DataFrame, seed: int, fast: bool, workers: int,
@@ -196,36 +235,23 @@ def robustness(claims: Sequence[cl.Claim], base: pd.DataFrame, seed: int, fast: 
     ``base`` are the long results at default parameters (the references a claim's statistic reads in
     other experiments than the sampled one come from there, at the base seed).
     """
-    from ilocalg.workflow import sweep as sw
-
     claims = [c for c in claims if c.assumptions and c.statistic is not None]
     cols = ["claim_id", "robust_share", "most_influential", "n_samples", "note"]
     if not claims:
         return pd.DataFrame(columns=cols)
     joint = _joint_assumptions(claims)
-    plan = plan_samples(list(joint), fast, workers, n_samples, budget_s, timings)
-    samples, tasks = {}, []
-    for e, assumptions in joint.items():
-        if plan[e] is None:
-            continue
-        s = sample_assumptions(assumptions, n_samples, seed)
-        samples[e] = s
-        for rec in s.to_dict("records"):
-            params = tuple(sorted((k, v.item() if hasattr(v, "item") else v) for k, v in rec.items()))
-            tasks.append(sw.SweepTask(e, params, int(seed), plan[e] == "fast"))
-    res = sw.sweep(tasks, workers=workers, cache_dir=cache_dir, progress=progress) if tasks else None
+    samples, results, notes = run_samples(joint, seed, workers, cache_dir, n_samples, budget_s, timings, progress)
     by_task = {}
-    if res is not None and not res.results.empty:
-        r = res.results
-        for (e, p), g in r.groupby(["experiment", "params"], sort=False):
+    if not results.empty:
+        for (e, p), g in results.groupby(["experiment", "params"], sort=False):
             by_task[(e, p)] = g
     base0 = base[base["seed"] == seed] if "seed" in base.columns else base
     out = []
     for c in claims:
         e = c.assumptions[0].experiment
-        if plan.get(e) is None:
+        if e not in samples:
             out.append({"claim_id": c.id, "robust_share": math.nan, "most_influential": "", "n_samples": 0,
-                        "note": f"robustness not sampled: {n_samples} runs of {e} exceed the step's budget"})
+                        "note": notes.get(e, "robustness not sampled")})
             continue
         own = [a.param for a in c.assumptions if a.experiment == e]
         stats, xs = [], []
@@ -252,8 +278,8 @@ def robustness(claims: Sequence[cl.Claim], base: pd.DataFrame, seed: int, fast: 
         share = float(np.mean([cl.judge(c, v, v, v) == "reproduced" for v in stats]))
         infl = _most_influential(own, np.asarray(xs, dtype=np.float64), np.asarray(stats))
         extra = [a.experiment for a in c.assumptions if a.experiment != e]
-        note = f"robustness: {n} Latin-hypercube samples of {', '.join(own)}" + (
-            " (fast-mode runs)" if plan[e] == "fast" and not fast else "")
+        note = f"robustness: {n} Latin-hypercube samples of {', '.join(own)} (fast-mode runs)" + (
+            f"; {notes[e]}" if e in notes else "")
         if extra:
             note += f"; assumptions of {sorted(set(extra))} not sampled jointly"
         out.append({"claim_id": c.id, "robust_share": share, "most_influential": infl, "n_samples": n,
@@ -293,8 +319,10 @@ def write_ledger(ledger: pd.DataFrame, out_dir: str | Path) -> Path:
     ledger.to_csv(path, index=False, float_format="%.10g", lineterminator="\n")
     cols = ["claim_id", "claim", "paper_value", "reproduced", "ci_low", "ci_high", "verdict", "robust_share",
             "most_influential", "note"]
-    lines = ["# Claims ledger", "", "Written by the claims step of `python -m ilocalg reproduce` (columns: "
-             "see `claims.csv`).", ""]
+    lines = ["# Claims ledger", "", "Written by the claims step of `python -m ilocalg reproduce` (columns: see "
+             "`claims.csv`). Verdicts over the seeds of the run; robustness over up to "
+             f"{N_SAMPLES} Latin-hypercube samples of each experiment's assumptions (fast-mode runs at the base "
+             f"seed, within a {BUDGET_S:.0f} s budget; a claim's note says when fewer were run).", ""]
     for key, name in PAPERS.items():
         part = ledger[ledger["paper"] == key]
         if part.empty:

@@ -397,6 +397,8 @@ _CLAIM_CLASS = {"reproduced": "agrees", "partly": "close", "not reproduced": "di
 
 def how_to_read(seed, fast: bool, n_seeds: int, sweep: bool) -> list[str]:
     """The "How to read this page" section (Markdown lines): the one vocabulary of the page and the notebooks."""
+    from ilocalg.workflow.claims_step import BUDGET_S, N_SAMPLES
+
     ci = (f"the 95 % confidence interval over N = {n_seeds} simulation seeds" if sweep else
           "a single run (no interval: reproduce with `--seeds N` for one)")
     return [
@@ -414,8 +416,10 @@ def how_to_read(seed, fast: bool, n_seeds: int, sweep: bool) -> list[str]:
         "- **cannot be tested**: the paper's data or setting are not available (the note says what is missing).",
         "",
         "**Robustness** is the share of the space of the assumptions the paper does not fix (sampled jointly, Latin "
-        "hypercube) in which the verdict holds, and the assumption that moves it most. Each claim links to the "
-        "notebook section that decides it.",
+        f"hypercube: up to {N_SAMPLES} fast-mode runs per experiment at the base seed, within a {BUDGET_S:.0f} s "
+        "budget per reproduce; the note says when fewer were run) in which the verdict holds, and the assumption "
+        "that moves it most (largest |Spearman rho| with the claim's statistic). Each claim links to the notebook "
+        "section that decides it.",
         "",
         "Below the claims, collapsed, are the **comparison rows**: one published number beside the reproduced one, "
         "with the words of the notebooks' `agreement` column: the paper's value **agrees** (inside the interval; "
