@@ -245,8 +245,13 @@ def _row_columns(allrows: pd.DataFrame) -> list[str]:
     return cols + ["agreement", "table"]
 
 
+#: Headings of a notebook's closing section (its account of where and why the numbers differ).
+_CONCLUSION_HEADINGS = ("## conclusion", "## where and why")
+
+
 def _conclusion(out_dir: Path, stem: str, notebook_dir: Path | None) -> str:
-    """The notebook's ``## Conclusion`` markdown (executed copy first, else the paired source), or ``""``."""
+    """The notebook's ``## Conclusion`` (or ``## Where and why ...``) markdown (executed copy first, else the
+    paired source), or ``""``."""
     import nbformat
 
     for path in (out_dir / f"{stem}.ipynb", (notebook_dir / f"{stem}.ipynb") if notebook_dir else None):
@@ -257,7 +262,7 @@ def _conclusion(out_dir: Path, stem: str, notebook_dir: Path | None) -> str:
         except (OSError, ValueError):
             continue
         for c in cells:
-            if c.cell_type == "markdown" and c.source.lstrip().lower().startswith("## conclusion"):
+            if c.cell_type == "markdown" and c.source.lstrip().lower().startswith(_CONCLUSION_HEADINGS):
                 return c.source.lstrip().split("\n", 1)[1].strip() if "\n" in c.source.strip() else ""
     return ""
 
