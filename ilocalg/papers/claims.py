@@ -412,7 +412,7 @@ def rows_markdown(rows: pd.DataFrame, where: Callable[[pd.Series], bool] | None 
         if not (math.isfinite(p) and math.isfinite(v)):
             out.append(f"- {r['item']}, {r['quantity']}: no value to compare.")
             continue
-        side = "equal to" if v == p else "smaller than" if v < p else "larger than"
+        side = "equal (to 3 digits) to" if _num(v) == _num(p) else "smaller than" if v < p else "larger than"
         rel = f" ({(v - p) / abs(p) * 100:+.0f} %)" if p != 0 else ""
         out.append(f"- {r['item']}, {r['quantity']}: reproduced {_num(v)}{u}, {side} the paper's "
                    f"{_num(p)}{u}{rel}.")
