@@ -114,3 +114,25 @@ def test_samples_fit_the_wall_time_budget(tmp_path):
     assert TOY not in used and "not sampled" in notes[TOY]
     used, res, notes = cs.run_samples(joint, 0, workers=0, cache_dir=tmp_path, budget_s=math.inf)
     assert len(used[TOY]) == 8 and not notes and res["params"].nunique() == 8
+
+
+def test_reproduce_runs_the_claims_step_and_the_page_shows_the_claims(tmp_path, monkeypatch):
+    import nbformat
+
+    import ilocalg.papers
+    from ilocalg.workflow.runner import reproduce
+
+    nbdir = tmp_path / "nbs"
+    nbdir.mkdir()
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("SEED = 0", metadata={"tags": ["parameters"]})]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, nbdir / "99_toy.ipynb")
+    monkeypatch.setattr(ilocalg.papers, "all_claims", lambda: tuple(_claims()))
+    code = reproduce(tmp_path / "out", notebook_dir=nbdir, html=False, progress=False, jobs=1, n_seeds=2,
+                     workers=0, cache_dir=tmp_path / "cache", manifest=MANIFEST)
+    assert code == 0
+    led = pd.read_csv(tmp_path / "out" / "claims.csv")
+    assert led["claim_id"].tolist() == ["toy-1", "toy-2", "toy-3", "toy-4"] and (led["n_seeds"].iloc[:3] == 2).all()
+    html = (tmp_path / "out" / "index.html").read_text()
+    assert "The draws&#x27; sd is 1." in html and "Holds:" in html
