@@ -15,6 +15,7 @@ from ilocviz.core import (
     LEGEND_NAMES,
     STYLE,
     error_cdf,
+    figure_title,
     legend_name,
     new_axes,
     paper_mark,
@@ -27,5 +28,6 @@ from ilocviz.core import (
 )
 from ilocviz.tables import readable_number, table_display
 
-__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
-           "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced", "table_display", "readable_number"]
+__all__ = ["STYLE", "style", "new_axes", "savefig", "figure_title", "error_cdf", "trajectory", "LEGEND_NAMES",
+           "legend_name", "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced", "table_display",
+           "readable_number"]

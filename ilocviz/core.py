@@ -9,7 +9,8 @@ import matplotlib as mpl
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["STYLE", "style", "new_axes", "savefig", "error_cdf", "trajectory", "LEGEND_NAMES", "legend_name",
+__all__ = ["STYLE", "style", "new_axes", "savefig", "figure_title", "error_cdf", "trajectory", "LEGEND_NAMES",
+           "legend_name",
            "paper_mark", "paper_point", "paper_values", "paper_vs_reproduced"]
 
 #: Method ids used in result tables -> the names a reader of the papers knows (legends use these).
@@ -92,8 +93,37 @@ def new_axes(ax=None, **subplots_kw):
     return ax
 
 
+def figure_title(fig, name: str = "") -> str:
+    """The figure's own title: its suptitle, else the titles of its axes (joined by " / "), else ``name``
+    with underscores as spaces. Used as the caption of the figure's thumbnail on the landing page."""
+    sup = getattr(fig, "_suptitle", None)
+    text = sup.get_text().strip() if sup is not None else ""
+    if not text:
+        titles = [ax.get_title().strip() for ax in fig.get_axes()]
+        text = " / ".join(dict.fromkeys(t for t in titles if t))
+    return " ".join(text.split()) or name.replace("_", " ")
+
+
+def _anchor_in_notebook(name: str) -> None:
+    """In a notebook kernel, an invisible HTML anchor ``fig-<name>`` in the cell's output, just before the
+    figure the inline backend draws: the landing page's thumbnails link to it."""
+    try:
+        from IPython import get_ipython
+        from IPython.display import HTML, display
+    except ImportError:
+        return
+    ip = get_ipython()
+    if ip is None or not hasattr(ip, "kernel"):
+        return
+    display(HTML(f'<a id="fig-{name}"></a>'))
+
+
 def savefig(fig, name: str, out_dir, formats=("png", "pdf")) -> list[Path]:
-    """Save ``fig`` as ``<out_dir>/figures/<name>.<fmt>``; returns the paths (nothing when out_dir is None)."""
+    """Save ``fig`` as ``<out_dir>/figures/<name>.<fmt>``; returns the paths (nothing when out_dir is None).
+
+    The PNG carries the figure's title (:func:`figure_title`) in its ``Title`` text chunk; in a notebook
+    kernel an anchor ``#fig-<name>`` marks the figure in the executed notebook's HTML.
+    """
     if out_dir is None:
         return []
     d = Path(out_dir) / "figures"
@@ -101,9 +131,11 @@ def savefig(fig, name: str, out_dir, formats=("png", "pdf")) -> list[Path]:
     paths = []
     for fmt in formats:
         p = d / f"{name}.{fmt}"
-        meta = {"CreationDate": None} if fmt == "pdf" else {"Software": None} if fmt == "png" else None
+        meta = ({"CreationDate": None} if fmt == "pdf" else
+                {"Software": None, "Title": figure_title(fig)} if fmt == "png" else None)
         fig.savefig(p, format=fmt, metadata=meta)
         paths.append(p)
+    _anchor_in_notebook(name)
     return paths
 
 

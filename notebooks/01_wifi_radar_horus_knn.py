@@ -96,7 +96,8 @@ with ilocviz.style():
 
 # %% [markdown]
 # ## Fig 3: how many strongest APs (k) should Simplified-RADAR compare?
-# The thesis' values (dashed, from the comparison table): its chosen k and RADAR's median and 80 % error at it.
+# The thesis' values (dashed, from the comparison table): its chosen k and RADAR's median and 80th-percentile error at
+# it.
 
 # %%
 report.table(tables["k_study"], "k_study")

@@ -113,7 +113,7 @@ if tables is not None and "toolkit_ladder" in tables:
 #
 # * The K=5 and 1-NN Euclidean baselines reproduce the independent re-measurement (the command
 #   `python -m ilocalg evaluate wifi ... --method knn --k 5 --metric euclidean` prints the same
-#   figure); the dataset paper's 1-NN of 7.9 m used another protocol and is not comparable.
+#   figure); the 1-NN error the dataset paper reports (7.9 m) used another protocol and is not comparable.
 # * Manhattan distance (the setting of Luo et al. 2017) is clearly worse than Euclidean here: with
 #   -104 dBm for "not heard", the many APs heard by one scan and not the other dominate an L1 sum.
 # * The Simplified-RADAR distance, taken only over the union of each pair's strongest APs, is the

@@ -69,7 +69,7 @@ comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
 
 # %% [markdown]
-# The same rows as ratios to the thesis' values (1 = the paper; bands: within 10 % and 35 %).
+# The same rows as ratios to the thesis' values (1 = the paper; bands: the agreement setting, within 10 % and 35 %).
 
 # %%
 with ilocviz.style():

@@ -57,7 +57,8 @@ comparison = report.compare(tables["comparison"].to_dict("records"))
 comparison
 
 # %% [markdown]
-# The same rows as ratios to the thesis' values (1 = the paper; bands: within 10 % and 35 %; rows whose paper
+# The same rows as ratios to the thesis' values (1 = the paper; bands: the agreement setting, within 10 % and 35 %;
+# rows whose paper
 # value is 0 or of the other sign have no ratio and are left out of the figure, not of the table).
 
 # %%

@@ -136,7 +136,7 @@ print(f"WDM mean heading error {h['WDM']:.1f} deg (gyro {h['gyro']:.1f} deg); PT
 # * **Fig 16.** WDM's per-step error comes from the indoor magnetic disturbances (an assumption), the
 #   phone's misalignment and hard-iron residual (assumptions) and the site's declination (published); the
 #   sensitivity table shows what each contributes on the same walks. The printed line above gives the
-#   result beside the thesis's 13.87 deg.
+#   result beside the thesis's 13.87 deg (Fig 16).
 # * The gyro-integrated heading (beyond the paper) drifts with the uncalibrated gyro bias.
 # * **Figs 17-18.** The PTS error at the test points is dominated by step *counting*: with true steps and
 #   lengths the same WDM headings give a much smaller error, and the 1-99 % ranges, which miss fewer

@@ -112,10 +112,12 @@ if HAVE_DATA:
 # * The toolkit's best detector (resample to 100 Hz, zero-phase low-pass of |a|, prominence peaks, a
 #   walking-bout gate that drops isolated peaks from handling the phone) beats the data set's own report
 #   and the plain `find_peaks` baseline under leave-one-recording-out tuning, and its median is at the
-#   goal. Its **mean does not reach the 99.3 % goal and several recordings stay below 98 %** (printed above):
-#   the shortfall is concentrated in the swinging-arm and armband recordings of one phone/user.
+#   goal. Whether its **mean reaches the goal set above, and which recordings stay below its floor**, is
+#   printed above (computed, not typed here); the shortfall is concentrated in the swinging-arm and armband recordings
+#   of one phone/user.
 # * Part of that shortfall is in the ground truth: the last table lists, for the worst recordings, how
-#   many "true" steps follow the previous one by less than 0.25 s (over 4 steps per second while walking
+#   many "true" steps follow the previous one by less than 0.25 s (the table's setting) (over 4 steps per second while
+#   walking
 #   at about 2): heel-sensor double triggers that no accelerometer detector can or should count. The rest
 #   is real: with the phone swinging in the hand, the arm's pendulum motion at the stride frequency masks
 #   every other step.

@@ -17,7 +17,7 @@
 # $$z_k = s_k + v_k,\quad R_k = \delta_{RF,k}^2 I\ (23)$$
 #
 # Data: the simulated i-Loc floor (`ilocalg.sim.iloc_floor`) and new simulated walkers
-# (`ilocalg.sim.gait`) walking its 28-point test route (about 4 m apart, the route of notebooks 01 and
+# (`ilocalg.sim.gait`) walking its 28-point test route (about 4 m apart, L515, the route of notebooks 01 and
 # 05) with a handheld phone. The world is built once as a scenario (`ilocalg.sim.iloc_scenario`: survey,
 # calibration session, training walks, test walks with their IMU logs and scans). The phone scans
 # periodically while walking (L777), at the interval measured on the ILC 2.0 walks, each RSSI value aged
@@ -122,7 +122,7 @@ tables["latency_sweep"].round(2)
 tables["r_table"].round(3)
 
 # %% [markdown]
-# ## Innovation gating (chi-square 99 %, on the KF with heading noise): fixes given and rejected per walker
+# ## Innovation gating (chi-square 99 % level, on the KF with heading noise): fixes given and rejected per walker
 
 # %%
 tables["gating"]

@@ -127,7 +127,7 @@ tables["latency_sweep"].round(2)
 
 # %% [markdown]
 # ## Error at each point (Fig 6)
-# The paper's means are dashed (Wi-Fi only, 11.38 m, with the shaded span of its per-point errors; combined,
+# The paper's means (Fig 6) are dashed (Wi-Fi only, 11.38 m, with the shaded span of its per-point errors; combined,
 # 6.74 m), and the dotted line is the last point where the paper's PDR only beats the combination; all from
 # the comparison table.
 
@@ -196,7 +196,7 @@ print(fusion_knn_pdr.findings(tables))
 #   its largest errors reach the paper's range. Its mean stays well below the paper's 11.38 m: the simulated
 #   floor is a ring corridor with a dense 2 m survey, and the paper's library (its layout, AP density and
 #   survey, Fig 8) is unknown. The smallest error is near 0 because a K = 5 average can land anywhere,
-#   including on the true position; the paper's smallest is 1.0 m for one walk.
+#   including on the true position; the paper's smallest is 1.0 m for one walk (Fig 6).
 # - The survey size and the scan latency are not given by the paper (`survey_sweep`, `latency_sweep`): a longer
 #   scan hears the walker over a longer stretch and spaces the fixes further apart, so both Wi-Fi only and the
 #   combination get worse with it; fewer survey scans per point (10 or 30 instead of 300) also worsen them.
@@ -206,7 +206,7 @@ print(fusion_knn_pdr.findings(tables))
 #   the paper defines, it is only a different reading). The Wi-Fi start costs the combination its first points:
 #   PDR only, started at the true start (L235), is better there, as in the paper.
 # - The literal rule b rejects a peak that differs from the previous one by more than the threshold. The paper
-#   gives no threshold; with 1 m/s^2 a share of the simulated steps is rejected and the fitted k absorbs it
+#   gives no threshold; with an assumed 1 m/s^2 a share of the simulated steps is rejected and the fitted k absorbs it
 #   (`calibration`, `detector_sweep`). The earlier valley-rise reading is a row of `detector_sweep`.
 # - The i-Loc step KF is not the paper's method; it is shown because the toolkit reproduces it elsewhere
 #   (notebook 07), and its numbers sit beside the combination for comparison only.

@@ -105,7 +105,8 @@ if HAVE_DATA:
 #
 # - There is no paper value for these walks: the comparison is between the variants, with Wi-Fi only as
 #   the reference and the goal of half its error (the findings above say which variants, if any, meet it).
-# - Wi-Fi is poor here: 19 short walks cover a 237 m x 220 m floor sparsely, so a held-out walk often
+# - Wi-Fi is poor here: 19 short walks cover a large floor (its plan is in notebook 00) sparsely, so a held-out walk
+#   often
 #   passes where no other walk has scanned and its fixes land tens of metres away on the nearest
 #   surveyed path. The fix variance learned from the other walks says so, and the filters weight the
 #   fixes accordingly.

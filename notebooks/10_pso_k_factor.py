@@ -275,7 +275,7 @@ print("\n".join(lines))
 #   test, Fig 5.9) measures the route about 2-3 % long, mostly from 1 Hz fixes while standing and walking.
 #   Scaling the assumed true route by 0.95 or 1.05 moves k by the same factor (`sensitivity`).
 # * **Phase 2.** The closure error as a percentage of the DR distance does not depend on k at all (k scales the
-#   whole DR path), so the thesis's 1.6 % / 1.9 % measure heading and detection quality, not the learned k.
+#   whole DR path), so the thesis's 1.6 % / 1.9 % (Fig 5.15) measure heading and detection quality, not the learned k.
 # * **Compass.** MA(2,2) lowers the static RMS more than SG(2,2,2), as in the thesis; the exact ratios depend on
 #   the compass noise spectrum, which the thesis does not give (the simulator assumes AR(1)).
 # * **Real data (ILC).** The k learned on half the walks gives a smaller distance error on the other half than

@@ -82,7 +82,7 @@ report.table(tables["readings"], "readings")
 # %% [markdown]
 # ## Set-up (Figs 27-28) and the simulation inputs
 # The layout is checked against each constraint of the text (`layout_check`).
-# The pinhole model uses the focal length as the image distance (eq. 27-28). For a 3.7 mm phone lens, the
+# The pinhole model uses the focal length as the image distance (eq. 27-28). For an assumed 3.7 mm phone lens, the
 # printed relative difference `d_i / f - 1` at the nearest and farthest shooting points shows how small the
 # approximation error is.
 
@@ -210,7 +210,8 @@ ggs.pivot_table(index="good_guess_sd_m", columns=["method", "k"], values="error_
 # $$\lambda \begin{pmatrix} x \\ y \\ 1 \end{pmatrix} = H \begin{pmatrix} X \\ Y \\ 1 \end{pmatrix} \quad (3),
 # \qquad H = K [r_1\ r_2\ t] \quad (4), \qquad P'_i = H P_i \quad (5)$$
 #
-# A QR code of side 0.18 m on the wall, seen from 1-5 m at up to 30 deg off its normal; the four corners carry a
+# Simulation inputs: a QR code of side 0.18 m on the wall, seen from 1-5 m at up to 30 deg off its normal; the four
+# corners carry a
 # detection error of 0.5-2 px. The range `l = ||t||` from `H = K [r1 r2 t]` (scale from the column norms, as in
 # Zhang's decomposition) is compared with OpenCV's IPPE on the same corners.
 
@@ -258,28 +259,34 @@ print("ST rank of the near-collinear combinations among combinations of the same
 # %% [markdown]
 # ## Conclusion
 #
-# Numbers quoted are from the full run, seed 0 (the printed lines above give them for the current run).
+# Every measured number behind these statements is printed under "What the numbers say (computed)" and in the
+# tables above, for this run; the thesis's own values are in the comparison table (Figs 29-30).
 #
-# - **ST agrees with the thesis where the thesis is most specific.** Its overall mean (about 72 cm, thesis 74.3 cm)
-#   and its 2-PoI error (about 100 cm, thesis 112 cm) are close; its 7-PoI error (about 57 cm) is above the thesis's
-#   48 cm. Over the seven layouts that satisfy the text, ST's overall mean stays within about 70-92 cm: ST depends
+# - **ST against the thesis.** Its overall mean and its 2-PoI error sit near the thesis's (Fig 30), its 7-PoI
+#   error above it; over the seven layouts that satisfy the text, ST's overall mean moves little, so ST depends
 #   little on the missing Fig 28. The magnetometer heading dominates its error: with the true orientation ST's
-#   error drops to about a third.
-# - **VA's result is mostly set by where it starts.** Started at the truth, VA with 7 PoIs ends about 31 cm off (the
-#   drag error alone), as VAGIG does; with 2-3 PoIs the single or few view angles leave a curve of solutions, so
-#   even VA from the truth drifts 64-170 cm, and VAGIG's error grows with the good guess's spread (88 -> 256 cm with
-#   2 PoIs for 0.5 -> 4 m). The thesis's ordering ST < VAGIG < VABIG holds in the overall means; VAGIG (about
-#   119 cm) is above the thesis's 88.9 cm, VABIG (about 190 cm) below its 246 cm, and over the layouts VAGIG's mean
-#   ranges about 100-210 cm. Which guess spread the thesis used is not written; the sweep shows how much it matters.
+#   error falls to a fraction (the `modern` table).
+# - **VA's result is mostly set by where it starts.** Started at the truth, VA with 7 PoIs ends near its drag
+#   error alone, as VAGIG does; with 2-3 PoIs the single or few view angles leave a curve of solutions, so even
+#   VA from the truth drifts, and VAGIG's error grows with the good guess's spread (the sensitivity table). The
+#   thesis's ordering ST < VAGIG < VABIG (Fig 30) is checked on the overall means printed above; which guess
+#   spread the thesis used is not written, and the sweep shows how much it matters.
 # - **Fig 29's explanation holds:** in the default layout the per-shot errors of ST and VAGIG rise with the distance
-#   to p4 (Spearman rho about 0.9), VABIG's less regularly.
+#   to p4 (the Spearman rho printed above), VABIG's less regularly.
 # - **Near-collinear combinations (Fig 32) are not singled out here.** {1,3}, {1,4}, {5,6} rank 6th-10th of 21 pairs
 #   for ST, {1,3,4} 3rd of 35 triples. In these rooms p1 and p6 are on the side walls at the line's height, so "one
 #   horizontal line" leaves the rays from the test points far from parallel; the thesis's Fig 28 may have placed
 #   them differently.
-# - **The earlier one-wall row** (a sensitivity row) gave a lower ST error but VA errors near 2 m: with all PoIs in a
-#   2.4 m row far ahead, view angles hardly fix the bearing. It also contradicts L707's distance ordering.
+# - **The earlier one-wall row** (a sensitivity row) gave a lower ST error but larger VA errors: with all PoIs in
+#   one row far ahead, view angles hardly fix the bearing. It also contradicts L707's distance ordering.
 # - **Marker ranging (Yeh & Huang survey):** with exact corners, `H = K [r1 r2 t]` gives the exact range. With
 #   pixel-level corner errors, the scale taken from the column norms of `K^-1 H` underestimates the range more and
 #   more as the marker shrinks on the screen, because the noisy perspective terms inflate those norms. IPPE on the
 #   same corners keeps the range error small.
+
+# %%
+from IPython.display import Markdown
+
+from ilocalg.papers.claims import rows_markdown
+
+Markdown(rows_markdown(tables["comparison"], where=lambda r: r["item"] in ("Fig 30", "Figs 29-30")))

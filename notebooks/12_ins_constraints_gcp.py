@@ -10,7 +10,7 @@
 #
 # Data: simulated hand-held phone walks (`ilocalg.sim.ins_walk`, see `data/ins_walk/README.md`): two
 # outdoor GNSS loops, into the building, up the stairs, around a classroom and back (Samsung S5 route) or
-# on to a lab (iPhone 5S route), phone IMUs at irregular 14-20 Hz, four indoor control points.
+# on to a lab (iPhone 5S route), phone IMUs at irregular 14-20 Hz (a simulator input), four indoor control points.
 
 # %% tags=["parameters"]
 # Seed of the simulations; FAST runs one seed instead of six; OUT_DIR (set by the runner) receives
@@ -215,7 +215,8 @@ for phone in ("Samsung", "iPhone"):
 # ## Sensitivity to the recalled gait values
 # The walker's published gait values were quoted as recalled, not re-read (data/ins_walk/README.md): each
 # population mean is moved by one between-walker sd of its own study (level speed, walk ratio, stair cadence),
-# and the earlier walker (level speed from eq. (7) itself, stairs at 0.5 m/s) is added for contrast. Same filter
+# and the earlier walker (level speed from eq. (7) itself, stairs at 0.5 m/s as an input) is added for contrast. Same
+# filter
 # and seeds as above.
 
 # %%

@@ -71,7 +71,7 @@ print(f"{res.n_tasks} tasks, {len(res.failures)} failed, {wall_s:.1f} s on 2 wor
 
 # %% [markdown]
 # ## 1 Wi-Fi: error vs k, training-point spacing and scans per point
-# Each curve varies one factor around the thesis' survey (k = 5, 2 m grid, 300 scans per point;
+# Each curve varies one factor around the thesis' survey settings (k = 5, 2 m grid, 300 scans per point;
 # fast mode: 60); the other factors stay at that base (radio parameters at the simulator's defaults).
 
 # %%

@@ -161,3 +161,18 @@ def test_error_budget_bars_and_weight_sensitivity():
     ax2 = ilocviz.fusion.weight_sensitivity(sw)
     assert "[m]" in ax2.get_ylabel() and any("default" in t.get_text() for t in ax2.get_legend().get_texts())
     plt.close("all")
+
+
+def test_figure_title_prefers_suptitle_then_axes_titles_then_the_name():
+    import matplotlib.pyplot as plt
+
+    from ilocviz import figure_title
+
+    fig, (a, b) = plt.subplots(1, 2)
+    assert figure_title(fig, "07_fusion_cdf") == "07 fusion cdf"
+    a.set_title("Error CDF")
+    b.set_title("Tracks\non the floor")
+    assert figure_title(fig) == "Error CDF / Tracks on the floor"
+    fig.suptitle("KF against Wi-Fi")
+    assert figure_title(fig) == "KF against Wi-Fi"
+    plt.close(fig)

@@ -1,6 +1,7 @@
 import shutil
 
 import nbformat
+import pytest
 
 from ilocalg.workflow import notebook_sync
 from ilocalg.workflow.runner import NOTEBOOK_DIR
@@ -71,3 +72,33 @@ def test_check_reports_an_unreadable_notebook_instead_of_raising(tmp_path):
     notebook_sync.sync(tmp_path)
     (tmp_path / "00_data_tour.ipynb").write_text('{\n<<<<<<< HEAD\n "cells": []\n')
     assert any("not a readable notebook" in p for p in notebook_sync.check(tmp_path))
+
+
+@pytest.mark.parametrize("text, hits", [
+    ("The KF comes out at 4.9 m against Wi-Fi's 4.1 m.", ["'4.9 m'", "'4.1 m'"]),
+    ("SAM misses 12 % of the steps.", ["'12 %'"]),
+    ("The thesis reports 2.82 m (L1520).", []),                     # a line citation marks a quote
+    ("Beside **Fig 23**: PTS 5.15 m -> KF 2.82 m.", []),             # the paper's item in bold
+    ("> KF mean error 2.82 m", []),                                  # a blockquote
+    ("Scan latency (an assumption: 1-3 s per scan).", []),           # a declared input
+    ("The error is $\\sigma = 2\\,m$ and `window_s=2 s`.", []),       # maths and code
+    ("Quoted 2.82 m (L1520). Measured 4.9 m.", ["'4.9 m'"]),         # the citation covers its sentence only
+    ("Table 3 has 28 points and eq. (16) uses L2 norms.", []),       # numbers without units
+])
+def test_typed_numbers_flags_measured_numbers_not_quotes_inputs_or_code(text, hits):
+    found = notebook_sync.typed_numbers(text)
+    assert [h.split(" in ")[0] for h in found] == hits
+
+
+def test_check_fails_on_a_typed_measured_number(tmp_path):
+    shutil.copy(NOTEBOOK_DIR / "00_data_tour.py", tmp_path / "00_data_tour.py")
+    with open(tmp_path / "00_data_tour.py", "a") as fh:
+        fh.write("\n# %% [markdown]\n# ## Conclusion\n# The fused error is 4.9 m.\n")
+    notebook_sync.sync(tmp_path)
+    problems = notebook_sync.check(tmp_path)
+    assert len(problems) == 1 and "types a measured number '4.9 m'" in problems[0]
+
+
+def test_every_notebook_passes_the_words_from_numbers_check():
+    problems = [p for p in notebook_sync.check(NOTEBOOK_DIR) if "measured number" in p]
+    assert not problems, "\n".join(problems)

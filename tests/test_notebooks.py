@@ -265,3 +265,15 @@ def test_equation_cells_cite_the_paper_numbering_and_name_functions_that_exist()
             for attr in parts[cut:]:
                 assert hasattr(obj, attr), f"{nb.name} cites {name}, which does not exist"
                 obj = getattr(obj, attr)
+
+
+def test_no_comparison_row_appears_twice_across_the_manifests_notebooks(fast_reports):
+    """(paper, item, quantity) names one reproduced value: two rows with the same key (in one notebook or
+    two) would be counted twice and make a claim's reference ambiguous. Known exceptions are listed, with
+    their reason, in ilocalg.workflow.reporting.KNOWN_DUPLICATES."""
+    from ilocalg.workflow.reporting import comparison_rows, duplicate_rows
+
+    code, out = fast_reports
+    assert code == 0
+    dup = duplicate_rows(comparison_rows(out))
+    assert dup.empty, f"comparison rows carried twice:\n{dup.to_string()}"

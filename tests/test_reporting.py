@@ -113,7 +113,7 @@ def test_landing_page_has_one_section_per_paper_and_regression_checks_apart(tmp_
     assert "1-NN mean" in regression and "1-NN mean" not in iloc
     rows = reporting.comparison_rows(out)
     assert rows.set_index("quantity")["verdict"].to_dict() == {
-        "KF mean error": "inside", "PTS mean error": "far off", "fused mean error": "beside", "1-NN mean": "inside"}
+        "KF mean error": "agrees", "PTS mean error": "differs", "fused mean error": "close", "1-NN mean": "agrees"}
 
 
 def _chromium():
@@ -161,6 +161,102 @@ def test_landing_page_images_load_in_headless_chromium(tmp_path):
     out = _demo_reports(tmp_path)
     page = reporting.build_index(out, seed=0)
     total, broken = _images_in_browser(page)
-    assert total == 4 and broken == []  # notebook 07_demo's two figures, in the i-Loc and the Luo section
+    assert total == 2 and broken == []  # notebook 07_demo's two figures, once (in its home section, i-Loc)
     (out / "figures" / "07_demo_tracks.png").write_bytes(b"not a png")  # the check does see a broken image
-    assert _images_in_browser(page) == (4, ["figures/07_demo_tracks.png"] * 2)
+    assert _images_in_browser(page) == (2, ["figures/07_demo_tracks.png"])
+
+
+def test_scoreboard_counts_results_only_and_shows_other_classes_apart(tmp_path):
+    Report(tmp_path, "10_demo").compare([
+        paper_ref("PSO (Chao 2008)", "Table 5-2", "A1 k (PSO)", 0.5, 0.51),
+        paper_ref("PSO (Chao 2008)", "Table 5-2", "A1 detected steps", 100, 100, "steps", row_class="set by input"),
+        paper_ref("PSO (Chao 2008)", "Table 5-2 (earlier)", "A1 k (PSO)", 0.5, 0.7, row_class="alternative reading",
+                  replaces=("Table 5-2", "A1 k (PSO)")),
+    ])
+    rows = reporting.comparison_rows(tmp_path)
+    board = reporting._scoreboard(rows[rows["group"] == "pso"])
+    assert board.iloc[0][["rows", "agrees", "differs", "shown apart"]].tolist() == [1, 1, 0, 2]
+    html = reporting.build_index(tmp_path).read_text()
+    readme = reporting.build_readme(tmp_path).read_text()
+    for text in (html, readme):
+        assert "Set by input" in text and "Alternative readings" in text
+    alt = html.split("Alternative readings")[1]
+    # the alternative sits beside the default it replaces, with the default's value
+    assert "A1 k (PSO) (Table 5-2)" in alt and '<td class="num">0.51</td>' in alt
+
+
+def test_duplicate_rows_across_notebooks_are_found_except_known_ones(tmp_path):
+    Report(tmp_path, "05_a").compare([paper_ref("PSO (Chao 2008)", "Sec 5.1.3", "static compass RMS, MA", 1, 1)])
+    Report(tmp_path, "10_b").compare([paper_ref("PSO (Chao 2008)", "Sec 5.1.3", "static compass RMS, MA", 1, 1),
+                                      paper_ref("PSO (Chao 2008)", "Fig 1", "closure", 1, 1, "m"),
+                                      paper_ref("PSO (Chao 2008)", "Fig 1", "closure", 1, 1, "%")])
+    dup = reporting.duplicate_rows(reporting.comparison_rows(tmp_path), known={})
+    assert dup[["quantity", "n"]].values.tolist() == [["closure", 2], ["static compass RMS, MA", 2]]
+    assert dup["tables"].iloc[1] == "05_a__paper_vs_reproduced, 10_b__paper_vs_reproduced"
+    known = {("PSO (Chao 2008)", "Fig 1", "closure"): "m and %"}
+    assert reporting.duplicate_rows(reporting.comparison_rows(tmp_path), known=known)["quantity"].tolist() == [
+        "static compass RMS, MA"]
+
+
+def test_landing_page_opens_with_how_to_read_then_claims_and_links_every_notebook(tmp_path):
+    import nbformat
+
+    out = _demo_reports(tmp_path)
+    for stem in ("00_tour", "09_walks"):
+        nb = nbformat.v4.new_notebook()
+        nb.cells = [nbformat.v4.new_markdown_cell(f"# Tour {stem}\n\ntext")]
+        nbformat.write(nb, out / f"{stem}.ipynb")
+        (out / f"{stem}.html").write_text("<html></html>")
+    pd.DataFrame([
+        {"paper": "iloc", "claim_id": "iloc-kf", "line": "1520", "kind": "improvement",
+         "claim": "The KF lowers the Wi-Fi error.", "paper_value": float("nan"), "reproduced": 1.19,
+         "ci_low": 1.1, "ci_high": 1.3, "verdict": "not reproduced", "robust_share": 0.25,
+         "decided_in": "07_demo#Kalman-filter", "n_seeds": 5, "statistic": "KF / Wi-Fi", "expect": "<1",
+         "most_influential": "scan_latency_s (rho 0.80)", "ci_clipped": False, "note": "worse on this floor"},
+        {"paper": "iloc", "claim_id": "iloc-v", "line": "10", "kind": "value", "claim": "RADAR is 4.5 m.",
+         "paper_value": 4.5, "reproduced": 4.6, "ci_low": 4.4, "ci_high": 4.8, "verdict": "reproduced",
+         "robust_share": float("nan"), "decided_in": "", "n_seeds": 5, "statistic": "x", "expect": "~",
+         "most_influential": "", "ci_clipped": False, "note": ""},
+    ]).to_csv(out / "claims.csv", index=False)
+    html = reporting.build_index(out, seed=0).read_text()
+    readme = reporting.build_readme(out, seed=0).read_text()
+    for text in (html, readme):
+        assert text.index("How to read this page") < text.index("Holds: 1 of 2 testable claims reproduced")
+        for stem in ("00_tour", "09_walks", "07_demo", "02_demo"):
+            assert f"{stem}.html" in text, stem
+        assert "Does not hold: 1." in text
+    iloc = html.split('id="iloc"')[1].split("</section>")[0]
+    assert '<td class="differs">not reproduced</td>' in iloc and '<td class="agrees">reproduced</td>' in iloc
+    assert '<a href="07_demo.html#Kalman-filter">' in iloc and "25%, most: scan_latency_s" in iloc
+    assert "1.19 [1.1, 1.3] (n = 5)" in iloc
+    assert iloc.index("not reproduced") < iloc.index("Comparison rows")  # claims first, rows below
+    # the words of the page are the notebooks' words
+    for word in ("inside CI", "far off", "beside CI"):
+        assert word not in html
+
+
+def test_thumbnails_carry_the_figures_title_and_link_to_its_anchor(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import ilocviz
+
+    Report(tmp_path, "05_demo").compare([paper_ref("i-Loc thesis", "Fig 16", "heading error", 13.87, 14.0, "deg")])
+    fig, ax = plt.subplots()
+    ax.set_title("Per-step heading error")
+    ilocviz.savefig(fig, "05_demo_heading", tmp_path)
+    plt.close(fig)
+    assert reporting.png_title(tmp_path / "figures" / "05_demo_heading.png") == "Per-step heading error"
+    import nbformat
+
+    nb = nbformat.v4.new_notebook()
+    cell = nbformat.v4.new_code_cell("ilocviz.savefig(fig, '05_demo_heading', OUT_DIR)")
+    cell.outputs = [nbformat.v4.new_output("display_data", data={"text/html": '<a id="fig-05_demo_heading"></a>'})]
+    nb.cells = [cell]
+    nbformat.write(nb, tmp_path / "05_demo.ipynb")
+    (fig_,) = reporting._figures(tmp_path, "05_demo")
+    assert fig_.title == "Per-step heading error" and fig_.href == "05_demo.html#fig-05_demo_heading"
+    html = reporting.build_index(tmp_path).read_text()
+    assert "<figcaption>Per-step heading error (05_demo)</figcaption>" in html

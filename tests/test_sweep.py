@@ -74,14 +74,14 @@ def test_aggregate_mean_sd_and_t_interval():
     assert row["mean"] == pytest.approx(vals.mean())
     assert row["std"] == pytest.approx(vals.std(ddof=1))
     assert (row["ci95_low"], row["ci95_high"]) == pytest.approx((lo, hi))
-    assert row["ci_agreement"] in ("inside CI", "beside CI", "far off")
+    assert row["ci_agreement"] in ("agrees (inside CI)", "close (beside CI)", "differs (far from CI)")
     assert (agg["quantity"] == "std of normals").any()
 
 
 def test_ci_agreement_classes():
-    assert sw.ci_agreement(1.0, 0.9, 1.1, 1.0) == "inside CI"
-    assert sw.ci_agreement(1.15, 0.9, 1.1, 1.0) == "beside CI"
-    assert sw.ci_agreement(5.0, 0.9, 1.1, 1.0) == "far off"
+    assert sw.ci_agreement(1.0, 0.9, 1.1, 1.0) == "agrees (inside CI)"
+    assert sw.ci_agreement(1.15, 0.9, 1.1, 1.0) == "close (beside CI)"
+    assert sw.ci_agreement(5.0, 0.9, 1.1, 1.0) == "differs (far from CI)"
 
 
 def test_cli_sweep_writes_summary_and_reports_failures(tmp_path, capsys):
@@ -155,3 +155,15 @@ def test_record_runs_stores_default_calls_in_the_cache_and_returns_the_same_tabl
     assert not sw._cache_path(tmp_path, sw.SweepTask(TOY, (), 5, True)).exists()
     res = sw.sweep([task], workers=0, cache_dir=tmp_path, progress=False)
     assert res.n_cached == 1
+
+
+def test_aggregate_clips_intervals_to_the_physical_range_and_flags_them():
+    vals = [99.0, 100.0, 96.0, 100.0]
+    res = pd.DataFrame({"experiment": "x", "params": "{}", "seed": range(4), "table": "comparison", "paper": "P",
+                        "item": "T", "quantity": "accuracy", "unit": "%", "paper_value": 98.0, "value": vals})
+    res = pd.concat([res, res.assign(quantity="error", unit="m", value=[0.1, 0.0, 0.5, 0.0]),
+                     res.assign(quantity="error difference", unit="m", value=[0.1, 0.0, -0.5, 0.0])])
+    agg = sw.aggregate(res).set_index("quantity")
+    assert agg.loc["accuracy", "ci95_high"] == 100.0 and agg.loc["accuracy", "ci_clipped"]
+    assert agg.loc["error", "ci95_low"] == 0.0 and agg.loc["error", "ci_clipped"]
+    assert agg.loc["error difference", "ci95_low"] < 0 and not agg.loc["error difference", "ci_clipped"]

@@ -82,6 +82,16 @@ def readings(world: str = "measured") -> pd.DataFrame:
     return readings_table([reading(*r) for r in rows])
 
 
+def _oxford_archive(data_dir=None) -> Path:
+    """The in-hand archive: ``data_dir`` is the data root the runner passes (``<root>/oxford_step_counter/``
+    holds the archive) or the data set's own folder; None means the default data root."""
+    if data_dir is None:
+        return dataset_path("oxford_step_counter") / OXFORD_ARCHIVE
+    root = Path(data_dir)
+    direct = root / OXFORD_ARCHIVE
+    return direct if direct.exists() else root / "oxford_step_counter" / OXFORD_ARCHIVE
+
+
 def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, position: str = "InHand",
                 max_recordings: int | None = None, tol_s: float = 0.25) -> pd.DataFrame:
     """SAM on the Oxford step counter recordings, leave one recording out.
@@ -100,8 +110,7 @@ def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, posi
         test its matched steps fail most, and how often), ``why`` (a sentence). Empty with a
         ``missing`` column when the data are not on disk.
     """
-    root = Path(data_dir) if data_dir is not None else dataset_path("oxford_step_counter")
-    archive = root / OXFORD_ARCHIVE
+    archive = _oxford_archive(data_dir)
     if not archive.exists():
         return pd.DataFrame([{"missing": str(archive)}])
     names = [n for n in list_oxford_archive(archive) if parse_recording_name(n).get("position") == position]
@@ -173,6 +182,9 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
         quantiles=((0.05, 0.95), (0.01, 0.99), (0.0, 1.0)), data_dir=None,
         world: str = "measured") -> dict[str, pd.DataFrame]:
     """Feature ranges beside Table 1 and SAM step-count errors beside Fig 12.
+
+    ``data_dir`` is the folder of the real data sets (the reproduce runner passes it; the Oxford archive is
+    under its ``oxford_step_counter/``) or the Oxford data set's own folder; None: the default data root.
 
     Returns
     -------

@@ -405,30 +405,39 @@ def _paper_table(df: pd.DataFrame) -> pd.DataFrame:
 
 
 def _comparison(t52: pd.DataFrame, p2: pd.DataFrame, compass: pd.DataFrame, label: str,
-                note: str = "") -> list[dict]:
+                default_label: str | None = None, note: str = "") -> list[dict]:
+    """Table 5-2 and Fig 5.15 rows; with ``default_label`` the rows are an alternative reading of the rows
+    labelled ``default_label``; ``note`` prefixes every row's note. Detected steps and PSO distance are set by
+    input: the simulator walks the paper's true step count along a route as long as the paper's GPS distance."""
     rows = []
 
-    def nt(s=""):
-        return "; ".join(x for x in (note, s) if x)
+    def ref(item, quantity, p, r, unit="", row_note="", by_input=False):
+        full = "; ".join(x for x in (note, row_note) if x)
+        if default_label is not None:
+            alt_item = item.replace(label, default_label)
+            return paper_ref(PAPER, item, quantity, p, r, unit, full, row_class="alternative reading",
+                             replaces=(alt_item, quantity))
+        return paper_ref(PAPER, item, quantity, p, r, unit, full,
+                         row_class="set by input" if by_input else "result")
 
     for r in t52.itertuples():
         p = PAPER_TABLE_5_2[r.walker]
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} k (PSO)", p["k"], r.k_pso, note=nt()))
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} detected steps", p["det_steps"], r.det_steps,
-                              note=nt(f"true steps {r.true_steps} (walk design, from the paper)")))
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} PSO distance", p["pso_m"], r.pso_m, "m",
-                              note=nt("simulated true route = the paper's GPS distance (route_scale 1, swept)")))
-        rows.append(paper_ref(PAPER, f"Table 5-2 {label}", f"{r.walker} accuracy vs GPS", p["acc_pct"], r.acc_pct, "%",
-                              note=nt()))
+        rows.append(ref(f"Table 5-2 {label}", f"{r.walker} k (PSO)", p["k"], r.k_pso))
+        rows.append(ref(f"Table 5-2 {label}", f"{r.walker} detected steps", p["det_steps"], r.det_steps,
+                        row_note=f"true steps {r.true_steps} (walk design, from the paper)", by_input=True))
+        rows.append(ref(f"Table 5-2 {label}", f"{r.walker} PSO distance", p["pso_m"], r.pso_m, "m",
+                        row_note="simulated true route = the paper's GPS distance (route_scale 1, swept)",
+                        by_input=True))
+        rows.append(ref(f"Table 5-2 {label}", f"{r.walker} accuracy vs GPS", p["acc_pct"], r.acc_pct, "%"))
     for place in ("park", "hall"):
         sel = p2[(p2["walker"] == "A1") & (p2["place"] == place)]
         if len(sel):
             r = sel.iloc[0]
             p = PAPER_PHASE2_A1[place]
-            rows.append(paper_ref(PAPER, f"Fig 5.15 {label}", f"A1 {place} closure (PSO k)", p["closure_m"],
-                                  r["pso_closure_m"], "m", note=nt()))
-            rows.append(paper_ref(PAPER, f"Fig 5.15 {label}", f"A1 {place} closure (PSO k)", p["closure_pct"],
-                                  r["pso_closure_pct"], "%", note=nt()))
+            rows.append(ref(f"Fig 5.15 {label}", f"A1 {place} closure (PSO k)", p["closure_m"],
+                            r["pso_closure_m"], "m"))
+            rows.append(ref(f"Fig 5.15 {label}", f"A1 {place} closure (PSO k)", p["closure_pct"],
+                            r["pso_closure_pct"], "%"))
     return rows
 
 
@@ -437,7 +446,7 @@ def _compass_rows(compass: pd.DataFrame) -> list[dict]:
     for key, r in zip(("raw", "ma", "sg"), compass.itertuples(), strict=True):
         note = "input: the simulator's static noise is scaled to this value" if key == "raw" else ""
         rows.append(paper_ref(PAPER, "Sec 5.1.3", f"static compass RMS, {r.filter}", PAPER_COMPASS_RMS[key],
-                              r.rms_deg_mean, "deg", note=note))
+                              r.rms_deg_mean, "deg", note=note, row_class="set by input" if key == "raw" else "result"))
     return rows
 
 
@@ -655,11 +664,11 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
     lab = f"({prefilter}, {band} band, {fitness} fitness)"
     rows = _comparison(t52, p2, compass, lab)
     t52_noma = _paper_table(p1_noma)
-    rows += _comparison(t52_noma, p2_noma, compass, f"({alt_pf}, {band} band, {fitness} fitness)",
+    rows += _comparison(t52_noma, p2_noma, compass, f"({alt_pf}, {band} band, {fitness} fitness)", lab,
                         note="alternative reading: " + ("no moving average on the walking acceleration (L692, "
                                                         "L718 read as the compass's only)" if alt_pf == "none"
                                                         else "MA nL=nR=2 before detection (the text's, L692/L718)"))
-    rows += _comparison(t52_alt, p2_alt, compass, "(earlier reading: MA 2, signal band, walk total)",
+    rows += _comparison(t52_alt, p2_alt, compass, "(earlier reading: MA 2, signal band, walk total)", lab,
                         note="alternative reading: the toolkit's earlier one (walking-signal RMS band, walk-total "
                              "fitness)")
     rows += _compass_rows(compass)

@@ -42,6 +42,10 @@ __all__ = [
     "readings_table",
     "COMPARISON_COLUMNS",
     "PAPER_REF_COLUMNS",
+    "ROW_CLASSES",
+    "row_class_of",
+    "physical_range",
+    "clip_interval",
     "AGREE_REL",
     "CLOSE_REL",
     "paper_ref",
@@ -180,6 +184,7 @@ COMPARISON_COLUMNS = (
     "paper_value",
     "reproduced_value",
     "agreement",
+    "row_class",
 )
 
 #: Columns that make a table a comparison table: rows built with :func:`paper_ref` (``agreement`` is
@@ -191,8 +196,17 @@ AGREE_REL = 0.10
 CLOSE_REL = 0.35
 
 
+#: Classes of comparison rows. Only ``result`` rows are counted on the scoreboard; the others are shown
+#: apart: ``set by input`` (the reproduced value is an input of the simulation, e.g. a noise level scaled
+#: to the paper's value, so agreement proves nothing), ``alternative reading`` (another reading of the
+#: text, shown beside the default row it replaces, named in ``replaces``), ``regression check`` (the
+#: toolkit against an earlier measurement of its own, :data:`SELF_COMPARISON`).
+ROW_CLASSES = ("result", "set by input", "alternative reading", "regression check")
+
+
 def paper_ref(paper: str, item: str, quantity: str, paper_value: float, reproduced_value: float,
-              unit: str = "", note: str = "") -> dict:
+              unit: str = "", note: str = "", *, row_class: str = "result",
+              replaces: tuple[str, str] | str | None = None) -> dict:
     """One comparison row: the paper's published value (a reference) beside the reproduced one.
 
     Parameters
@@ -208,8 +222,23 @@ def paper_ref(paper: str, item: str, quantity: str, paper_value: float, reproduc
     reproduced_value : float
         The value this toolkit computed from data.
     unit, note : str
+    row_class : str
+        One of :data:`ROW_CLASSES`; ``"result"`` (counted) unless the row compares an input with itself
+        (``"set by input"``), is an alternative reading (``"alternative reading"``, with ``replaces``) or
+        a regression check.
+    replaces : (item, quantity) or quantity, optional
+        For an alternative reading: the default row it replaces (a bare quantity means the same item).
+
+    Raises
+    ------
+    ValueError
+        An unknown ``row_class``, or ``replaces`` given for a row that is not an alternative reading.
     """
-    return {
+    if row_class not in ROW_CLASSES:
+        raise ValueError(f"paper_ref {quantity!r}: row_class {row_class!r} is not one of {ROW_CLASSES}")
+    if replaces is not None and row_class != "alternative reading":
+        raise ValueError(f"paper_ref {quantity!r}: replaces= is only for row_class='alternative reading'")
+    row = {
         "paper": paper,
         "item": item,
         "quantity": quantity,
@@ -217,7 +246,60 @@ def paper_ref(paper: str, item: str, quantity: str, paper_value: float, reproduc
         "paper_value": float(paper_value),
         "reproduced_value": float(reproduced_value),
         "note": note,
+        "row_class": row_class,
     }
+    if replaces is not None:
+        r_item, r_quantity = (item, replaces) if isinstance(replaces, str) else replaces
+        row["replaces_item"], row["replaces_quantity"] = str(r_item), str(r_quantity)
+    return row
+
+
+def row_class_of(row: dict | pd.Series) -> str:
+    """The row class of a comparison row: its ``row_class`` when set, else ``regression check`` for a
+    :data:`SELF_COMPARISON` label and ``result`` otherwise (rows written before row classes existed)."""
+    rc = row.get("row_class", "")
+    if isinstance(rc, str) and rc.strip():
+        if rc not in ROW_CLASSES:
+            raise ValueError(f"comparison row {row.get('quantity', '?')!r}: row_class {rc!r} is not one of "
+                             f"{ROW_CLASSES}")
+        return rc
+    return "regression check" if is_self_comparison(row.get("paper", "")) else "result"
+
+
+_NONNEG_UNITS = {"m", "cm", "mm", "km", "s", "ms", "min", "h", "hz", "m^2", "m2", "points", "steps", "count",
+                 "counts", "aps", "walks", "scans", "samples", "ratio", "x", "m/s", "px", "pixel", "pixels"}
+_SIGNED_WORDS = ("difference", " diff", "bias", "offset", "change", "improvement", "gain", " - ", "drift",
+                 "rho", "correlation", "slope", "log", "minus", "signed", "mean error x", "mean error y")
+
+
+def physical_range(unit: str, quantity: str = "") -> tuple[float, float]:
+    """The physically possible range of a quantity, from its unit: ``(-inf, inf)`` when unknown.
+
+    Lengths, durations, rates, counts and ratios are ``>= 0``; a percentage lies in ``[0, 100]``; a
+    probability (unit ``"probability"`` or ``"p"``) in ``[0, 1]``. A quantity whose name says it is
+    signed (a difference, bias, offset, change, improvement, correlation, slope ...) keeps the whole
+    real line, as does any unit not listed (degrees, dB, dBm, m/s^2: signed or wrapped).
+    """
+    u = str(unit).strip().lower()
+    q = f" {str(quantity).lower()} "
+    if any(w in q for w in _SIGNED_WORDS):
+        return -math.inf, math.inf
+    if u in ("%", "percent", "pct"):
+        return 0.0, 100.0
+    if u in ("probability", "p", "share", "fraction"):
+        return 0.0, 1.0
+    if u in _NONNEG_UNITS:
+        return 0.0, math.inf
+    return -math.inf, math.inf
+
+
+def clip_interval(lo: float, hi: float, unit: str, quantity: str = "") -> tuple[float, float, bool]:
+    """``(lo, hi)`` clipped to :func:`physical_range`, and whether clipping changed it (NaNs pass)."""
+    a, b = physical_range(unit, quantity)
+    clo = min(max(lo, a), b) if math.isfinite(lo) else lo
+    chi = max(min(hi, b), a) if math.isfinite(hi) else hi
+    clipped = (math.isfinite(lo) and clo != lo) or (math.isfinite(hi) and chi != hi)
+    return clo, chi, bool(clipped)
 
 
 def agreement(paper_value: float, reproduced_value: float) -> str:
@@ -249,6 +331,10 @@ def comparison_table(rows: list[dict]) -> pd.DataFrame:
         df["unit"] = ""
     if "note" not in df:
         df["note"] = ""
+    df["row_class"] = [row_class_of(r) for r in df.to_dict("records")]
+    for c in ("replaces_item", "replaces_quantity"):
+        if c in df:
+            df[c] = ["" if not isinstance(v, str) else v for v in df[c]]
     df["agreement"] = [agreement(p, r) for p, r in zip(df["paper_value"], df["reproduced_value"], strict=True)]
     extra = [c for c in df.columns if c not in COMPARISON_COLUMNS and c != "note"]
     return df[list(COMPARISON_COLUMNS) + extra + ["note"]]

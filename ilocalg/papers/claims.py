@@ -32,6 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ilocalg.papers import PAPER_REF_COLUMNS, clip_interval
+
 __all__ = [
     "KINDS",
     "VERDICTS",
@@ -55,6 +57,10 @@ __all__ = [
     "evaluate_claims",
     "CLAIM_COLUMNS",
     "claims_from_tables",
+    "RESULT_COLUMNS",
+    "tables_to_long",
+    "claims_markdown",
+    "rows_markdown",
 ]
 
 #: Kinds of claim.
@@ -277,6 +283,42 @@ def judge(claim: Claim, mean: float, lo: float, hi: float) -> str:
     return "partly"
 
 
+#: Long-format columns of one run's sweepable values (what :func:`lookup` reads, with ``experiment`` and
+#: ``seed``; :mod:`ilocalg.workflow.sweep` adds ``params``).
+RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "value")
+
+
+def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
+    """The sweepable values of an experiment's tables, in long format (:data:`RESULT_COLUMNS`)."""
+    parts = []
+    for name, df in tables.items():
+        if not isinstance(df, pd.DataFrame):
+            continue
+        if all(c in df.columns for c in PAPER_REF_COLUMNS):
+            p = df[list(PAPER_REF_COLUMNS)].rename(columns={"reproduced_value": "value"})
+            p["unit"] = df["unit"] if "unit" in df.columns else ""
+        elif (name.startswith(("sweep_", "measures")) and "value" in df.columns
+              and "quantity" in df.columns):
+            p = df[["quantity", "value"]].copy()
+            for c in ("paper", "item", "unit"):
+                p[c] = df[c] if c in df.columns else ""
+            p["paper_value"] = df["paper_value"] if "paper_value" in df.columns else np.nan
+        else:
+            continue
+        p = p.copy()
+        p.insert(0, "table", name)
+        parts.append(p[list(RESULT_COLUMNS)])
+    if not parts:
+        return pd.DataFrame({c: pd.Series(dtype=float if c in ("paper_value", "value") else object)
+                             for c in RESULT_COLUMNS})
+    out = pd.concat(parts, ignore_index=True)
+    out["paper_value"] = out["paper_value"].astype(np.float64)
+    out["value"] = out["value"].astype(np.float64)
+    for c in ("table", "paper", "item", "quantity", "unit"):
+        out[c] = ["" if pd.isna(v) else str(v) for v in out[c]]
+    return out
+
+
 #: Columns of the claims ledger (reports/claims.csv).
 CLAIM_COLUMNS = ("paper", "claim_id", "line", "kind", "claim", "paper_value", "reproduced", "ci_low", "ci_high",
                  "verdict", "robust_share", "decided_in")
@@ -291,12 +333,15 @@ def evaluate(claim: Claim, results: pd.DataFrame, level: float = 0.95) -> dict:
            "reproduced": math.nan, "ci_low": math.nan, "ci_high": math.nan, "verdict": "cannot be tested",
            "robust_share": math.nan, "decided_in": claim.decided_in, "n_seeds": 0,
            "statistic": "" if claim.statistic is None else claim.statistic.label, "expect": claim.expect,
+           "ci_clipped": False,
            "note": claim.untestable or claim.note}
     if claim.statistic is None:
         return row
     per_seed = statistic_by_seed(claim.statistic, results)
     mean, lo, hi, n = interval(per_seed.to_numpy(), level)
-    row.update(reproduced=mean, ci_low=lo, ci_high=hi, n_seeds=n, verdict=judge(claim, mean, lo, hi))
+    lo, hi, clipped = clip_interval(lo, hi, claim.statistic.unit, claim.statistic.label)
+    row.update(reproduced=mean, ci_low=lo, ci_high=hi, n_seeds=n, ci_clipped=clipped,
+               verdict=judge(claim, mean, lo, hi))
     return row
 
 
@@ -309,8 +354,6 @@ def evaluate_claims(claims: Iterable[Claim], results: pd.DataFrame, level: float
 def claims_from_tables(claims: Iterable[Claim], tables_by_experiment: Mapping[str, Mapping[str, pd.DataFrame]]
                        ) -> pd.DataFrame:
     """Evaluate claims on one run's tables (e.g. in a notebook: ``{"fusion_iloc_kf": tables}``), seed 0 only."""
-    from ilocalg.workflow.sweep import tables_to_long
-
     parts = []
     for exp, tables in tables_by_experiment.items():
         long = tables_to_long(tables)
@@ -322,3 +365,55 @@ def claims_from_tables(claims: Iterable[Claim], tables_by_experiment: Mapping[st
     wanted = [c for c in claims if c.statistic is None or all(r.experiment in tables_by_experiment
                                                                 for r in c.statistic.refs)]
     return evaluate_claims(wanted, results)
+
+
+def _num(x: float) -> str:
+    return f"{x:.3g}" if isinstance(x, (int, float, np.floating)) and math.isfinite(x) else "n/a"
+
+
+def claims_markdown(ledger: pd.DataFrame, heading: str = "") -> str:
+    """Markdown sentences from a claims ledger (:func:`claims_from_tables` on a notebook's own run, or
+    :func:`evaluate_claims`): one bullet per claim with its verdict, the paper's figure, the reproduced
+    statistic (with its interval over seeds, when there is one) and the note. A notebook displays this as
+    its generated conclusion (``IPython.display.Markdown``), so no measured number is typed by hand.
+    """
+    lines = [heading, ""] if heading else []
+    if ledger is None or len(ledger) == 0:
+        return "\n".join(lines + ["No claim of this paper is decided by this run."])
+    for r in ledger.to_dict("records"):
+        stat = r.get("statistic", "")
+        rep = _num(r.get("reproduced", math.nan))
+        lo, hi = r.get("ci_low", math.nan), r.get("ci_high", math.nan)
+        if rep != "n/a" and math.isfinite(lo) and math.isfinite(hi) and hi > lo:
+            rep += f" (95 % CI {_num(lo)} to {_num(hi)}, {int(r.get('n_seeds', 0))} seeds)"
+        pv = r.get("paper_value", math.nan)
+        exp = r.get("expect", "~")
+        paper = (f"the paper: {_num(pv)}" if pv is not None and math.isfinite(pv)
+                 else f"the claim asserts {stat} {exp[0]} {exp[1:]}" if exp and exp != "~" else "")
+        body = f"- **{r['verdict']}**: {r['claim']} (line {r['line']})"
+        if r["verdict"] != "cannot be tested":
+            body += f". Reproduced {stat} = {rep}" + (f"; {paper}" if paper else "")
+        note = r.get("note", "")
+        if isinstance(note, str) and note.strip():
+            body += f". {note.strip()}"
+        lines.append(body.rstrip(".") + ".")
+    return "\n".join(lines)
+
+
+def rows_markdown(rows: pd.DataFrame, where: Callable[[pd.Series], bool] | None = None) -> str:
+    """Markdown sentences from comparison rows (``paper_ref`` rows): for each, the reproduced value beside
+    the paper's, which is larger, and by how much; ``where`` selects rows. Numbers come from the table."""
+    out = []
+    for _, r in rows.iterrows():
+        if where is not None and not where(r):
+            continue
+        p, v, unit = float(r["paper_value"]), float(r["reproduced_value"]), str(r.get("unit", "") or "")
+        u = f" {unit}" if unit and unit not in ("-", "nan") else ""
+        if not (math.isfinite(p) and math.isfinite(v)):
+            out.append(f"- {r['item']}, {r['quantity']}: no value to compare.")
+            continue
+        side = "equal (to 3 digits) to" if _num(v) == _num(p) else "smaller than" if v < p else "larger than"
+        rel = f" ({(v - p) / abs(p) * 100:+.0f} %)" if p != 0 else ""
+        out.append(f"- {r['item']}, {r['quantity']}: reproduced {_num(v)}{u}, {side} the paper's "
+                   f"{_num(p)}{u}{rel}.")
+    return "\n".join(out) if out else "No comparison row selected."

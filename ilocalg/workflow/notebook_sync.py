@@ -3,15 +3,30 @@
 The ``.py`` file is the source of truth; ``--sync`` writes the ``.ipynb`` from it with no outputs and
 the metadata JupyterLab itself writes (the kernel's ``kernelspec`` and ``language_info``, jupytext's
 filters), so an unchanged notebook opens unmodified; ``--check`` fails when a pair is missing, out of
-step, holds outputs or carries other metadata.
+step, holds outputs or carries other metadata, or when a Markdown cell types a measured number.
+
+Words from numbers (:func:`typed_numbers`): a Markdown cell must not state a number with a unit or a
+percent sign (``4.9 m``, ``12 %``, ``0.25 s``, ``50 Hz``, ``13.87 deg``) that no code computed; a measured
+number reaches the reader through code (a printed table, or generated text such as
+:func:`ilocalg.papers.claims.claims_markdown` displayed as Markdown). Allowed, and how to mark them:
+
+- a quote of the paper: in a blockquote (a line starting with ``>``), or in a sentence that cites the
+  paper: a line citation ``L<number>`` (``the thesis reports 2.82 m (L1520)``), a paper item (``Fig 23``,
+  ``Table 2``, ``eq. (16)``, ``sec. 5``: the notebooks number none of their own, so these always name the
+  paper's) or a sentence reporting the paper's words (``the thesis reports ...``, ``the paper gives ...``);
+- an input, not a result: a sentence that says so with the word ``assumption``/``assumed`` or ``input``
+  or ``setting`` (``scan latency (an assumption: phones take 1-3 s per scan)``);
+- anything inside LaTeX math (``$...$``) or inline code (`` `...` ``).
 """
 
 from __future__ import annotations
 
 import hashlib
+import re
 from pathlib import Path
 
-__all__ = ["sync", "check", "notebook_metadata", "kernel_language_info", "kernelspec", "JUPYTEXT_METADATA"]
+__all__ = ["sync", "check", "typed_numbers", "notebook_metadata", "kernel_language_info", "kernelspec",
+           "JUPYTEXT_METADATA"]
 
 
 def _pairs(notebook_dir: Path):
@@ -75,6 +90,42 @@ def sync(notebook_dir: Path) -> list[Path]:
     return out
 
 
+_UNIT = r"(?:%|percent|m/s\^?2|m/s²|m/s|km|cm|mm|m\^2|m²|m|ms|s|min|Hz|dBm|dB|deg|°|rad)"
+#: A number (or a range of two) followed by a unit or %, as prose states a measured value; a percentage
+#: that names a level or a quantile ("95 % CI", "the 5 % and 95 % points") is not a measurement.
+NUMBER_WITH_UNIT = re.compile(
+    rf"(?<![\w.$^_\-/])[-+±]?\d+(?:\.\d+)?(?:\s?(?:-|–|to)\s?\d+(?:\.\d+)?)?\s?{_UNIT}(?![\w/^²])"
+    r"(?!\s*(?:CIs?\b|confidence|intervals?\b|levels?\b|points?\b|quantiles?\b|ranges?\b|,\s*\d+\s*%\]|\]))")
+_QUOTE = re.compile(r"(?<![A-Za-z])L\d+|\b(?:Figs?\.?|Figures?|Tables?|eqs?\.|Eqs?\.|[Ss]ec\.)\s*\(?\d"
+                    r"|\b(?:paper|thesis|survey|text)s? (?:reports|gives|says|prints)|data set's own report")
+_INPUT = re.compile(r"assum|\binputs?\b|\bsettings?\b", re.IGNORECASE)
+_SPANS = re.compile(r"\$\$.*?\$\$|\$[^$\n]*\$|`[^`\n]*`", re.DOTALL)
+_SENTENCE_END = re.compile(r"(?<=[.!?])\s+(?=[A-Z*(\[\-])|\n\s*\n|\n\s*[-*]\s")
+
+
+def typed_numbers(markdown: str) -> list[str]:
+    """Numbers with a unit typed in ``markdown`` that are neither marked quotes of the paper nor declared
+    inputs (the rules are in the module docstring); each as ``'4.9 m' in "<its sentence>"``."""
+    blocks, cur = [], []
+    for line in markdown.splitlines():
+        if line.lstrip().startswith(">"):  # a blockquote: the paper's words
+            continue
+        if line.lstrip().startswith("#"):  # a heading is a sentence of its own
+            blocks += ["\n".join(cur), line]
+            cur = []
+        else:
+            cur.append(line)
+    blocks.append("\n".join(cur))
+    out = []
+    sentences = [x for b in blocks for x in _SENTENCE_END.split(_SPANS.sub(" ", b))]
+    for sentence in sentences:
+        if _QUOTE.search(sentence) or _INPUT.search(sentence):
+            continue
+        for m in NUMBER_WITH_UNIT.finditer(sentence):
+            out.append(f"{m.group(0)!r} in \"{' '.join(sentence.split())[:100]}\"")
+    return out
+
+
 def check(notebook_dir: Path) -> list[str]:
     """Problems with the notebook pairs (empty when all is well)."""
     import nbformat
@@ -109,4 +160,10 @@ def check(notebook_dir: Path) -> list[str]:
             if c.cell_type == "code" and (c.get("outputs") or c.get("execution_count")):
                 problems.append(f"{ipynb.name} holds outputs; strip them (`make notebooks`)")
                 break
+        for i, c in enumerate(expect.cells):
+            if c.cell_type == "markdown":
+                for hit in typed_numbers(c.source):
+                    problems.append(f"{py.name}: markdown cell {i} types a measured number {hit}: generate it "
+                                    f"from code, or mark a quote of the paper / an input (see "
+                                    f"ilocalg.workflow.notebook_sync)")
     return problems

@@ -295,8 +295,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         # ILOC_DATA_DIR): the reports show no machine's folder layout
         return {"SEED": int(seed), "FAST": bool(fast), "OUT_DIR": _relative(out_dir, nb.parent)}
 
-    def record_for(nb: Path):
-        return (str(cache_dir), swept[nb.stem]) if n_seeds > 1 else None
+    def record_for(nb: Path):  # every run at the base seed: the sweep and the claims step read them
+        return (str(cache_dir), list(manifest.get(nb.stem, {})))
 
     failed = None
     if jobs == 1:
@@ -381,6 +381,13 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         if code:
             write_timings(out_dir, stage_rows)
             return code
+    from ilocalg.workflow.claims_step import claims_step  # reports/claims.csv, read by the pages below
+    t0 = time.perf_counter()
+    failed = claims_step(out_dir, [nb.stem for nb in nbs], seed, n_seeds, fast, workers, cache_dir, progress, manifest)
+    stage_rows.append({"stage": "run", "name": "claims ledger", "seconds": time.perf_counter() - t0})
+    if failed:
+        write_timings(out_dir, stage_rows)
+        return 1
     t0 = time.perf_counter()
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
     build_index(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds, notebook_dir=notebook_dir)

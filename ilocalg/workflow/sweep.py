@@ -34,9 +34,12 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.io.paths import REPO_ROOT
-from ilocalg.workflow.reporting import PAPER_REF_COLUMNS
+from ilocalg.papers import clip_interval
+from ilocalg.papers.claims import RESULT_COLUMNS, tables_to_long  # the long format the claims read
 
 __all__ = [
+    "RESULT_COLUMNS",
+    "tables_to_long",
     "SweepTask",
     "SweepResult",
     "make_tasks",
@@ -51,8 +54,6 @@ __all__ = [
 
 DEFAULT_CACHE = REPO_ROOT / ".ilocalg-cache" / "sweeps"
 
-#: Long-format columns of one task's result.
-RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "value")
 
 
 @functools.lru_cache(maxsize=1)
@@ -138,37 +139,6 @@ def _experiment(name: str):
     if not hasattr(mod, "run"):
         raise ValueError(f"ilocalg.experiments.{name} has no run() function")
     return mod
-
-
-def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
-    """The sweepable values of an experiment's tables, in long format (:data:`RESULT_COLUMNS`)."""
-    parts = []
-    for name, df in tables.items():
-        if not isinstance(df, pd.DataFrame):
-            continue
-        if all(c in df.columns for c in PAPER_REF_COLUMNS):
-            p = df[list(PAPER_REF_COLUMNS)].rename(columns={"reproduced_value": "value"})
-            p["unit"] = df["unit"] if "unit" in df.columns else ""
-        elif (name.startswith(("sweep_", "measures")) and "value" in df.columns
-              and "quantity" in df.columns):
-            p = df[["quantity", "value"]].copy()
-            for c in ("paper", "item", "unit"):
-                p[c] = df[c] if c in df.columns else ""
-            p["paper_value"] = df["paper_value"] if "paper_value" in df.columns else np.nan
-        else:
-            continue
-        p = p.copy()
-        p.insert(0, "table", name)
-        parts.append(p[list(RESULT_COLUMNS)])
-    if not parts:
-        return pd.DataFrame({c: pd.Series(dtype=float if c in ("paper_value", "value") else object)
-                             for c in RESULT_COLUMNS})
-    out = pd.concat(parts, ignore_index=True)
-    out["paper_value"] = out["paper_value"].astype(np.float64)
-    out["value"] = out["value"].astype(np.float64)
-    for c in ("table", "paper", "item", "quantity", "unit"):
-        out[c] = ["" if pd.isna(v) else str(v) for v in out[c]]
-    return out
 
 
 def _task_result(task: SweepTask, tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
@@ -345,24 +315,28 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
 
 
 def ci_agreement(paper_value: float, lo: float, hi: float, mean: float) -> str:
-    """Where the paper's value lies relative to the reproduced 95 % CI.
+    """Where the paper's value lies relative to the reproduced 95 % CI, in the project's one vocabulary.
 
-    ``inside`` the interval; ``beside`` when outside it but within one interval width of it or
-    within 10 % of the mean; ``far off`` otherwise.
+    ``agrees (inside CI)``: inside the interval; ``close (beside CI)``: outside it but within one
+    interval width of it or within 10 % of the mean; ``differs (far from CI)`` otherwise.
     """
     if not all(math.isfinite(v) for v in (paper_value, mean)):
         return "n/a"
     if math.isfinite(lo) and lo <= paper_value <= hi:
-        return "inside CI"
+        return "agrees (inside CI)"
     width = (hi - lo) if math.isfinite(hi - lo) else 0.0
     dist = min(abs(paper_value - lo), abs(paper_value - hi)) if math.isfinite(lo) else abs(paper_value - mean)
     if dist <= width or abs(paper_value - mean) <= 0.10 * abs(mean):
-        return "beside CI"
-    return "far off"
+        return "close (beside CI)"
+    return "differs (far from CI)"
 
 
 def aggregate(results: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
-    """Mean, sample standard deviation and a Student-t confidence interval per reported quantity."""
+    """Mean, sample standard deviation and a Student-t confidence interval per reported quantity.
+
+    The interval is clipped to the quantity's physical range (:func:`ilocalg.papers.physical_range`: a
+    length or count is not negative, a percentage lies in [0, 100]); ``ci_clipped`` flags an interval
+    that had to be clipped (the t interval is then a poor model of the spread: few seeds, skewed values)."""
     from scipy import stats
 
     if results.empty:
@@ -377,7 +351,8 @@ def aggregate(results: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
         sd = float(v.std(ddof=1)) if n > 1 else float("nan")
         half = float(stats.t.ppf(0.5 + level / 2, n - 1) * sd / math.sqrt(n)) if n > 1 else float("nan")
         pv = float(g["paper_value"].iloc[0])
-        rows.append(dict(zip(keys, k, strict=True), n=n, mean=mean, std=sd, ci95_low=mean - half,
-                         ci95_high=mean + half, paper_value=pv,
-                         ci_agreement=ci_agreement(pv, mean - half, mean + half, mean)))
+        rec = dict(zip(keys, k, strict=True))
+        lo, hi, clipped = clip_interval(mean - half, mean + half, rec["unit"], rec["quantity"])
+        rows.append(dict(rec, n=n, mean=mean, std=sd, ci95_low=lo, ci95_high=hi, ci_clipped=clipped,
+                         paper_value=pv, ci_agreement=ci_agreement(pv, lo, hi, mean)))
     return pd.DataFrame(rows)
