@@ -74,7 +74,8 @@ if HAVE_DATA:
 # %% [markdown]
 # ## Why steps are missed or doubled, per placement
 # The robust detector at its default parameters (`ilocalg.pdr.robust.ROBUST_DEFAULTS`), each detection matched
-# one-to-one to a heel-sensor step within 0.25 s (`ilocalg.pdr.robust.match_steps`): *missed* = true steps
+# one-to-one to a heel-sensor step within a tolerance (a setting: 0.25 s, `ilocalg.pdr.robust.match_steps`):
+# *missed* = true steps
 # without a detection, *extra* = detections without a true step; a count alone lets one cancel the other.
 # `hardware_steps` is the phone's own step counter: the Oxford set records it only in its validation
 # layout, so on these optimisation recordings the column is empty (NaN), not zero.
@@ -130,9 +131,9 @@ if HAVE_DATA:
 #   shows what the counts hide: on the weakest placements (armband and swinging arm of one phone and user)
 #   the robust detector mostly *misses* steps (12-21 per recording) and adds few, and nearly all of those
 #   missed "true" steps lie closer than 0.75 median step intervals to another true step (column
-#   `missed_close_to_true`; 0.18-0.3 s apart within a 0.54 s cadence). In the windows drawn above the
+#   `missed_close_to_true`). In the windows drawn above the
 #   filtered |a| has one clear peak per step, the detector finds it, and the unmatched "true" steps sit in
 #   the valleys. Yet dropping every such close repeat from the truth (`accuracy_without_close_repeats`)
-#   makes the counts *worse* (mean 97.5 % instead of 98.8 %), so heel-sensor double triggers do not explain
-#   the shortfall on their own. The cause stays open and no detector change was made: the goal (no
-#   recording below 98 %) is not met by this branch.
+#   makes the counts *worse* (compare the two mean columns of the diagnosis table), so heel-sensor double
+#   triggers do not explain the shortfall on their own. The cause stays open and no detector change was made;
+#   the table shows whether every recording reaches the goal set for the toolkit (an input of this section).

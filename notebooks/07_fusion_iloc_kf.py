@@ -109,7 +109,7 @@ tables["by_wifi_method"].round(2)
 
 # %% [markdown]
 # ## Scan latency (sensitivity: the uniform-within-a-scan model)
-# The same walks and sessions, new periodic scans whose APs are read uniformly within a 0-3 s scan and
+# The same walks and sessions, new periodic scans whose APs are read uniformly within an assumed 0-3 s scan and
 # whose fix is ready at the scan's end (the default reads ages as measured on the ILC 2.0 walks instead).
 
 # %%

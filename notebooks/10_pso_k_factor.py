@@ -79,7 +79,8 @@ report.table(res["readings"], "readings")
 # %% [markdown]
 # ## Phase 1: step detection on A1's walk (Fig 5.10)
 #
-# The thesis filters the signal with MA(nL = nR = 2) before its step detector (L692, L718). At 8 Hz that filter
+# The thesis filters the signal with MA(nL = nR = 2) before its step detector (L692, L718). At the thesis's 8 Hz
+# (L672) that filter
 # has its first zero at 1.6 Hz, inside the range of normal walking cadence, so it removes part of the step
 # signal itself (below, the MA curve against the raw one; the steps are detected on the MA curve, the default).
 # The band is the static-noise RMS of a simulated static log after the same filter (`static_band`).
@@ -158,7 +159,8 @@ report.table(res["pso_repeat"], "pso_repeat")
 
 # %% [markdown]
 # ## Sensitivity: the earlier readings and the assumed route length
-# One row per reading: the default (MA 2), no MA (the alternative reading), MA width 1, the walking-signal RMS
+# One row per reading (each an input setting): the default (MA 2), no MA (the alternative reading), MA width 1,
+# the walking-signal RMS
 # band, no band, the accelerometer noise behind the static band (0.05 and 0.20 m/s^2), the walk-total fitness,
 # the toolkit's earlier combination, the true route at 0.95 and 1.05 times the thesis's GPS distance, the
 # step-to-step amplitude scatter (0, 0.10, 0.27; default 0.18 from the ILC walks' `amp_cv`), the step length and

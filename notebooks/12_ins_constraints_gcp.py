@@ -154,9 +154,11 @@ report.table(tables["stair_handling"], "stair_handling")
 
 # %% [markdown]
 # ## Control points: how the phone sees a beacon, RMS
-# The default fix is the surveyed coordinate handed over when the phone sees the beacon: packets every 100 ms,
+# The default fix (assumed settings, swept) is the surveyed coordinate handed over when the phone sees the beacon:
+# packets every 100 ms,
 # log-distance RSSI with 5 dB per-packet scatter, averaged over 1 s ranging cycles, proximity declared at the RSSI
-# of the 0.5 m "immediate" zone (readings). Beside it: the packet scatter at 2 and 8 dB, the earlier truth-gate
+# of the 0.5 m "immediate" zone (readings). Beside it (assumed settings): the packet scatter at 2 and 8 dB, the
+# earlier truth-gate
 # model (0.6 m gate, U(0, 1 s) delay, 0.5 m offset) and the ideal fix (true position + 5 cm); `n_fixes` and
 # `fix_horizontal_error_mean_m` (phone to surveyed point at the fix) describe the fixes themselves.
 

@@ -126,7 +126,8 @@ with ilocviz.style():
 # ## Does the error fall with the window? (L471-L473)
 # The text's point: a longer window usually helps (more windows hold a control point), but not always: for
 # Samsung N the 20 s window is worse than the 10 s one (Table 8: 0.6913 vs 0.6484 m), because the few 20 s
-# windows without a control point pile up error in their middle. Per phone and axis: the RMS at 10 and 20 s,
+# windows without a control point pile up error in their middle. Per phone and axis: the RMS at the window
+# settings 10 and 20 s,
 # their difference beside the paper's, the number of rises along the window sweep and the Spearman correlation
 # of the RMS with the window. (The "best of 5/10/20 s" rows of the comparison are no independent test: longer
 # windows hold more control points by construction.)

@@ -82,7 +82,7 @@ with ilocviz.style():
 # ## Outage statistics are inputs set from Table 2: swept
 # The simulated tracker's outages were set from Table 2's own statistics, so the rate and outage rows of the
 # comparison are inputs, not reproductions. No published marker-tracking outage statistics are used; the rate
-# and the excess duration of the outages over 1 s are scaled by 0.5 and 2 to show what the deviations do.
+# and the excess duration of the outages over an assumed 1 s are scaled by 0.5 and 2 to show what the deviations do.
 
 # %%
 report.table(tables["outage_sensitivity"], "outage_sensitivity")
