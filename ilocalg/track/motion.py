@@ -1,0 +1,116 @@
+"""Motion of a walk: steps, heading and what the other walks teach (step length factor, floor heading offset)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.fusion.heading_offset import circular_mean_rad, fit_track_to_fixes
+from ilocalg.io.schema import ACC_COLS, GYR_COLS, MAG_COLS, T_S, X_M, Y_M
+from ilocalg.pdr.dead_reckoning import dead_reckon
+from ilocalg.pdr.heading import gyr_heading_theta_rad, heading_theta_rad
+from ilocalg.pdr.robust import detect_steps_robust
+from ilocalg.pdr.signals import moving_mean
+from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
+from ilocalg.units import wrap_angle_rad
+
+
+@dataclass(frozen=True)
+class WalkSteps:
+    """Steps of one walk: ``state_t_s`` (n+1: the log start, then each step), ``a_range_mps2`` (n, the
+    Weinberg input), ``theta_rel_rad`` (n, compass-aligned gyro heading, map convention, before the floor
+    offset)."""
+
+    state_t_s: np.ndarray
+    a_range_mps2: np.ndarray
+    theta_rel_rad: np.ndarray
+
+
+def _n_samples(duration_s: float, rate_hz: float) -> int:
+    """Samples in a window: ``floor(duration * rate)`` (at least 1), immune to the rounding of the rate
+    estimated from timestamps (a 50 Hz log stored as Unix milliseconds gives 49.99999 or 50.00005 Hz)."""
+    return max(int(duration_s * rate_hz + 1e-3), 1)
+
+
+def walk_steps(trace, cfg: RealWalkConfig = DEFAULT_CONFIG) -> WalkSteps:
+    """Detect the steps of a walk and their heading (gyro shape, compass mean); uses no waypoint.
+
+    Gravity is the 1 s moving mean of the accelerometer, the magnetic field the 0.5 s one
+    (:func:`ilocalg.pdr.signals.moving_mean`).
+
+    References
+    ----------
+    Chiu (2013), eq. 18-19 (WDM heading from gravity and the magnetic field).
+    """
+    imu = trace.imu
+    if len(imu) < 50:
+        raise ValueError(f"{trace.name}: too few IMU samples ({len(imu)})")
+    t = imu.index.to_numpy()
+    acc = imu[list(ACC_COLS)].to_numpy()
+    rate = 1.0 / float(np.median(np.diff(t)))
+    st = detect_steps_robust(acc, t, min_bout_steps=cfg.min_bout_steps)
+    g = np.column_stack([moving_mean(acc[:, j], _n_samples(0.5, rate)) for j in range(3)])
+    m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], _n_samples(0.25, rate))
+                         for j in range(3)])
+    wdm = heading_theta_rad(g, m)
+    gyro = gyr_heading_theta_rad(imu[list(GYR_COLS)].to_numpy(), g, t, 0.0)
+    th = wrap_angle_rad(gyro + circular_mean_rad(wdm - gyro))
+    i = st["i_peak"].to_numpy()
+    return WalkSteps(np.concatenate([[t[0]], st["t_s"].to_numpy()]),
+                     (st["a_max_mps2"] - st["a_min_mps2"]).to_numpy(), th[i])
+
+
+def _track_at(state_t_s, xy, t_s):
+    """Positions at times ``t_s`` by linear interpolation between states (held outside)."""
+    return np.column_stack([np.interp(t_s, state_t_s, xy[:, 0]), np.interp(t_s, state_t_s, xy[:, 1])])
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """What the other walks teach: Weinberg ``k``, the floor heading offset, per-walk fits."""
+
+    k_weinberg: float
+    offset_rad: float
+    per_walk: pd.DataFrame
+
+
+def calibrate(traces, steps: dict | None = None, cfg: RealWalkConfig = DEFAULT_CONFIG) -> Calibration:
+    """Fit ``k`` and the compass-to-map heading offset on walks with waypoints (never the scored one).
+
+    ``steps`` (walk name -> :class:`WalkSteps`, optional) saves re-detecting the steps.
+
+    References
+    ----------
+    Weinberg (2002), the step length ``k * (a_max - a_min)^(1/4)``; Umeyama (1991), the rotation of
+    each walk's track onto its waypoints.
+    """
+    items = list(traces.values() if isinstance(traces, dict) else traces)
+    if not items:
+        raise ValueError("calibrate: no walks given")
+    rows, f_tot, l_tot = [], 0.0, 0.0
+    for tr in items:
+        ws = (steps or {}).get(tr.name) or walk_steps(tr, cfg)
+        wp = tr.waypoints
+        tw = wp[T_S].to_numpy()
+        inside = (ws.state_t_s[1:] >= tw[0]) & (ws.state_t_s[1:] <= tw[-1])
+        path_m = float(np.hypot(*np.diff(wp[[X_M, Y_M]].to_numpy(), axis=0).T).sum())
+        f = float((ws.a_range_mps2[inside] ** 0.25).sum())
+        row = {"walk": tr.name, "steps": int(ws.a_range_mps2.size), "path_m": path_m, "angle_rad": np.nan,
+               "rms_m": np.nan}
+        if inside.sum() >= 2 and len(wp) >= 2:
+            f_tot += f
+            l_tot += path_m
+            rel = dead_reckon(np.full(ws.theta_rel_rad.size, 0.7), ws.theta_rel_rad)[["x_m", "y_m"]].to_numpy()
+            fit = fit_track_to_fixes(_track_at(ws.state_t_s, rel, tw), wp[[X_M, Y_M]].to_numpy(), huber_m=None)
+            row.update(angle_rad=fit.angle_rad, rms_m=fit.rms_m)
+        rows.append(row)
+    pw = pd.DataFrame(rows)
+    ok = pw["angle_rad"].notna()
+    if f_tot <= 0 or not ok.any():
+        raise ValueError("calibrate: no walk with steps inside its waypoint span")
+    off = circular_mean_rad(pw.loc[ok, "angle_rad"].to_numpy(), pw.loc[ok, "path_m"].to_numpy())
+    return Calibration(l_tot / f_tot, off, pw)
+
+
