@@ -33,11 +33,11 @@ class RealWalkConfig:
     """
 
     k_neighbors: int = 5
-    p: int = 1
+    p: int = 2
     weights: str = "distance"
     metric: str = "minkowski"
     not_heard_dbm: float = -100.0
-    max_age_s: float | None = None
+    max_age_s: float | None = 2.0
     fix_min_var_m2: float = 25.0
     fix_scale: float = 1.0
     sigma_heading_rad: float = 0.1

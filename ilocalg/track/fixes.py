@@ -20,8 +20,6 @@ from ilocalg.pdr.signals import moving_mean
 from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
 from ilocalg.wifi import KnnFingerprint
-from ilocalg.wifi.knn import knn_predict, neighbour_weights
-from ilocalg.wifi.preprocessing import shares_no_ap
 
 
 @dataclass(frozen=True)
@@ -40,6 +38,7 @@ class WifiFixes:
     true_floor: np.ndarray | None = None
     n_outside_walk: int = 0
     n_no_shared_ap: int = 0
+    floor_confidence: np.ndarray | None = None
 
 
 
@@ -48,34 +47,107 @@ def _wknn(db: WifiDatabase, cfg: RealWalkConfig):
                           not_heard_dbm=cfg.not_heard_dbm, kernel="dense", metric=cfg.metric).fit(db.rssi_dbm, db.xy_m)
 
 
-def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, return_floor: bool = False):
+def db_matrix(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> np.ndarray:
+    """The database RSSI matrix the queries see: readings older than ``cfg.max_age_s`` (when the database
+    keeps the readings' ages) are not heard (NaN)."""
+    X = db.rssi_dbm
+    if cfg.max_age_s is not None and db.age_s is not None:
+        X = np.where(db.age_s > cfg.max_age_s, np.nan, X)
+    return X
+
+
+def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, exclude=None):
+    """Euclidean K nearest fingerprints of every query (dense numpy; one matrix product).
+
+    Not-heard readings (NaN) take ``not_heard_dbm``. Database rows hearing nothing and the pairs where
+    ``exclude`` (bool, (m, n)) is True are never neighbours. Returns ``(idx, dist)``, each (m, k), nearest
+    first; ``dist`` is inf where fewer than ``k`` rows were allowed.
+
+    References
+    ----------
+    Luo et al. (2017), eq. 1 (the RSSI-space distance of KNN fingerprinting).
+    """
+    A = np.nan_to_num(np.asarray(db_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+    B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+    D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+    D2 = np.maximum(D2, 0.0)
+    D2[:, ~(A > 0).any(axis=1)] = np.inf
+    if exclude is not None:
+        D2[np.asarray(exclude, dtype=bool)] = np.inf
+    k = min(k, D2.shape[1])
+    idx = np.argpartition(D2, k - 1, axis=1)[:, :k]
+    d2 = np.take_along_axis(D2, idx, 1)
+    o = np.argsort(d2, axis=1)
+    return np.take_along_axis(idx, o, 1), np.sqrt(np.take_along_axis(d2, o, 1))
+
+
+def _weights(dist, weights: str) -> np.ndarray:
+    if weights == "distance":
+        w = 1.0 / np.maximum(dist, 1e-9)
+    elif weights == "uniform":
+        w = np.ones_like(dist)
+    else:
+        raise ValueError(f"weights must be 'distance' or 'uniform', got {weights!r}")
+    return np.where(np.isfinite(dist), w, 0.0)
+
+
+def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, return_floor: bool = False,
+                exclude=None):
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances.
 
-    With ``return_floor`` also each query's floor: the distance-weighted (``cfg.weights``) majority of
-    its neighbours' floors (NaN when the database has no floors). A query sharing no access point with
-    the database gets NaN (the estimators' documented no-AP result).
+    Euclidean distance (``cfg.p == 2``, the fast dense path :func:`dense_wknn`) or, for other
+    ``cfg.p``/``cfg.metric``, :class:`ilocalg.wifi.KnnFingerprint`. With ``return_floor`` also each
+    query's floor: the weighted (``cfg.weights``) majority of its neighbours' floors (NaN when the
+    database has no floors), and its confidence (the winning share of the weights). A query sharing
+    no access point with the database gets NaN (the estimators' documented no-AP result).
+    ``exclude`` (bool (m, n_rows), dense path only): database rows a query may not use.
 
     References
     ----------
     Luo et al. (2017), eq. 1-2 (KNN fingerprinting).
     """
-    est = _wknn(db, cfg)
     X = np.asarray(X, dtype=np.float64)
-    miss = shares_no_ap(X, est.heard_aps_)
+    D = db_matrix(db, cfg)
+    heard = ~np.isnan(D).all(axis=0)
+    miss = ~(~np.isnan(X[:, heard])).any(axis=1) if X.size else np.zeros(X.shape[0], dtype=bool)
     n = X.shape[0]
-    xy, C, fl_out = np.full((n, 2), np.nan), np.full((n, 2, 2), np.nan), np.full(n, np.nan)
+    xy, C, fl_out, conf = np.full((n, 2), np.nan), np.full((n, 2, 2), np.nan), np.full(n, np.nan), np.full(n, np.nan)
     if (~miss).any():
-        dist, idx = est.kneighbors(X[~miss])
-        xy[~miss] = knn_predict(est.y_, idx, neighbour_weights(dist, cfg.weights))
-        w = 1.0 / np.maximum(dist, 1e-9) if cfg.weights == "distance" else None
-        C[~miss] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+        if cfg.p == 2 and cfg.metric == "minkowski":
+            idx, dist = dense_wknn(D, X[~miss], cfg.k_neighbors, cfg.not_heard_dbm,
+                                   None if exclude is None else np.asarray(exclude)[~miss])
+        else:
+            est = _wknn(db, cfg)
+            dist, idx = est.kneighbors(X[~miss])
+        w = _weights(dist, cfg.weights)
+        ok = w.sum(axis=1) > 0
+        sub = np.flatnonzero(~miss)[ok]
+        idx, dist, w = idx[ok], dist[ok], w[ok]
+        xy[sub] = (w[..., None] * db.xy_m[idx]).sum(1) / w.sum(1)[:, None]
+        C[sub] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
         if return_floor and db.has_floors:
-            wv = np.ones(idx.shape) if w is None else w
             fl = db.floor[idx]
             levels = np.unique(fl)
-            score = np.stack([(wv * (fl == f)).sum(axis=1) for f in levels], axis=1)
-            fl_out[~miss] = levels[np.argmax(score, axis=1)]
+            score = np.stack([(w * (fl == f)).sum(axis=1) for f in levels], axis=1)
+            fl_out[sub] = levels[np.argmax(score, axis=1)]
+            conf[sub] = score.max(axis=1) / score.sum(axis=1)
+    if return_floor == "confidence":
+        return xy, C, fl_out, conf
     return (xy, C, fl_out) if return_floor else (xy, C)
+
+
+def loo_fix_errors(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, without=()) -> np.ndarray:
+    """Leave-one-walk-out fix error (m) of every database row: each row located against the rows of the
+    *other* walks, never those of ``without`` (nested leave-out); NaN for rows of ``without`` and rows
+    hearing nothing the others hear."""
+    excl = db.walk[:, None] == db.walk[None, :]
+    if len(without):
+        excl |= np.isin(db.walk, list(without))[None, :]
+    xy, _ = locate_wknn(db, db_matrix(db, cfg), cfg, exclude=excl)
+    e = np.hypot(*(xy - db.xy_m).T)
+    if len(without):
+        e[np.isin(db.walk, list(without))] = np.nan
+    return e
 
 
 def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
@@ -111,35 +183,39 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
         raise ValueError(f"{rec.source or rec.name}: no scan inside the walk's time span shares an access point "
                          f"with the database ({int((~inside).sum())} outside the span, "
                          f"{int((inside & ~heard).sum())} hearing none of its {len(db.ap_ids)} APs)")
-    xy, C, fl = locate_wknn(db, X, cfg, return_floor=True)
+    xy, C, fl, conf = locate_wknn(db, X, cfg, return_floor="confidence")
     R = (fix_var_m2 * np.broadcast_to(np.eye(2), C.shape).copy() if fix_var_m2 is not None
          else C + (cfg.fix_min_var_m2 - 1.0) * np.eye(2))
     if len(rec.truth) >= 2:
         true, tfl = truth_at(rec.truth, t, outside="nan")
     else:
         true, tfl = np.full((t.size, 2), np.nan), np.full(t.size, np.nan)
-    return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()))
+    return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()), conf)
 
 
 def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:
     """Isotropic Wi-Fi fix variance (per axis, m^2) by leave-one-walk-out *inside* ``db``.
 
-    Each walk of ``db`` is located against the others; ``var = mean(error^2) / 2``. Scans sharing no
-    access point with the other walks are not located and not counted (``n_unlocated``). Returns the
-    variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n`` located scans).
+    Each walk of ``db`` is located against the others (:func:`loo_fix_errors`); ``var = mean(error^2) / 2``.
+    Scans sharing no access point with the other walks are not located and not counted (``n_unlocated``).
+    Returns the variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n``
+    located scans).
     """
-    walks = list(dict.fromkeys(db.walk))
-    errs, rows = [], []
-    for v in walks:
-        rest = db.without(v)
-        m = db.walk == v
-        xy, _ = locate_wknn(rest, db.rssi_dbm[m], cfg)
-        e = np.hypot(*(xy - db.xy_m[m]).T)
+    if cfg.p == 2 and cfg.metric == "minkowski":
+        e_all = loo_fix_errors(db, cfg)
+    else:
+        e_all = np.full(len(db.walk), np.nan)
+        for v in dict.fromkeys(db.walk):
+            m = db.walk == v
+            xy, _ = locate_wknn(db.without(v), db_matrix(db, cfg)[m], cfg)
+            e_all[m] = np.hypot(*(xy - db.xy_m[m]).T)
+    rows = []
+    for v in dict.fromkeys(db.walk):
+        e = e_all[db.walk == v]
         ok = np.isfinite(e)
-        errs.append(e[ok])
         rows.append({"walk": v, "n": int(ok.sum()), "mean_error_m": float(e[ok].mean()) if ok.any() else np.nan,
                      "n_unlocated": int((~ok).sum())})
-    e = np.concatenate(errs)
+    e = e_all[np.isfinite(e_all)]
     if not e.size:
         raise ValueError("calibrate_fix_var: no scan of any fingerprint walk shares an access point with the other "
                          "walks; the Wi-Fi fix variance cannot be learned")
@@ -148,11 +224,11 @@ def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) ->
 
 #: Wi-Fi configurations :func:`select_wifi` chooses from (label -> RealWalkConfig fields).
 WIFI_CANDIDATES = {
-    "KNN Manhattan K=5 (Luo et al. 2017)": {"k_neighbors": 5, "p": 1, "weights": "uniform", "metric": "minkowski"},
-    "WKNN Manhattan K=5": {"k_neighbors": 5, "p": 1, "weights": "distance", "metric": "minkowski"},
-    "WKNN Euclidean K=5": {"k_neighbors": 5, "p": 2, "weights": "distance", "metric": "minkowski"},
-    "WKNN Sorensen K=5": {"k_neighbors": 5, "p": 1, "weights": "distance", "metric": "sorensen"},
-    "WKNN Manhattan K=10": {"k_neighbors": 10, "p": 1, "weights": "distance", "metric": "minkowski"},
+    "WKNN Euclidean K=5, readings <= 2 s": {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 2.0},
+    "WKNN Euclidean K=5, readings <= 5 s": {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 5.0},
+    "WKNN Euclidean K=5, every reading": {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": None},
+    "WKNN Euclidean K=10, readings <= 5 s": {"k_neighbors": 10, "p": 2, "weights": "distance", "max_age_s": 5.0},
+    "KNN Euclidean K=5, readings <= 5 s": {"k_neighbors": 5, "p": 2, "weights": "uniform", "max_age_s": 5.0},
 }
 
 
