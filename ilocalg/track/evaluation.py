@@ -19,8 +19,9 @@ from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.step_length import weinberg_length_m
 from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
+from ilocalg.track.estimators import ESTIMATORS, TrackProblem
 from ilocalg.track.fixes import calibrate_fix_var, estimate_floors, select_wifi, wifi_fixes
-from ilocalg.track.motion import Calibration, WalkSteps, _track_at, calibrate, walk_steps
+from ilocalg.track.motion import Calibration, WalkSteps, _track_at, calibrate, calibrate_step_var, walk_steps
 from ilocalg.units import as_rng, wrap_angle_rad
 
 
@@ -31,13 +32,15 @@ def _latest_fix(fix_t, fix_xy, t_s):
 
 def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2: float,
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
-                  steps: WalkSteps | None = None, rng=None, methods=METHODS) -> dict:
+                  steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
     which builds them from walk files); ``db`` containing the walk (by name or sensor content) raises.
     ``grid``: the floor's walkable raster (:meth:`OccupancyGrid.from_floor_map`), needed by
-    ``map_align``; the particle filter runs unconstrained without it.
+    ``map_align`` and ``lsq*_map``; the particle filter runs unconstrained without it. ``step_var_m2``:
+    the per-step PDR displacement variance of the least-squares estimators
+    (:func:`ilocalg.track.motion.calibrate_step_var` on the other walks; default ``cfg.sigma_sl_m**2``).
 
     Returns
     -------
@@ -124,6 +127,14 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         rm = filter_walk(ma.t_m, P0, th_m, d, cfg.sigma_sl_m, z, R_m2=R, sigma_theta_rad=cfg.sigma_heading_rad)
         tracks["map_align_kf_rts"] = rts_smooth(rm).x
         info.update(map_align_offset_deg=float(np.degrees(ma.angle_rad)), map_align_off_map=ma.off_map)
+    lsq_names = [m for m in methods if m in ESTIMATORS]
+    if lsq_names:
+        sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
+        prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, fx.t_s, fx.xy_m,
+                            fix_var_m2, grid)
+        for m in lsq_names:
+            tracks[m] = ESTIMATORS[m].fn(prob)
+        info["step_sd_m"] = float(np.sqrt(sv))
     err = {"waypoint": np.arange(len(wp)), "t_s": tw}
     # diagnostic only, not a method: the PDR track rigidly fitted onto this walk's own waypoints (how good
     # the track's shape is; the remaining error of every method is mostly its placement)
@@ -247,12 +258,14 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
         label, cfg, var, _ = select_wifi(db, cfg)
     else:
         var, _ = calibrate_fix_var(db, cfg)
-    cal = calibrate(recs, cfg=cfg)
+    steps = {r.name: walk_steps(r, cfg) for r in recs}
+    cal = calibrate(recs, steps, cfg=cfg)
+    step_var = calibrate_step_var(recs, steps, cal)
     if floor_map is None or isinstance(floor_map, OccupancyGrid):
         grid = floor_map
     else:
         grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
-    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods)
+    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var)
     r["info"]["wifi_config"] = label
     return r
 

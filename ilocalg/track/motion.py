@@ -13,6 +13,7 @@ from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import gyr_heading_theta_rad, heading_theta_rad
 from ilocalg.pdr.robust import detect_steps_robust
 from ilocalg.pdr.signals import moving_mean
+from ilocalg.pdr.step_length import weinberg_length_m
 from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
 from ilocalg.units import wrap_angle_rad
 
@@ -114,3 +115,40 @@ def calibrate(traces, steps: dict | None = None, cfg: RealWalkConfig = DEFAULT_C
     return Calibration(l_tot / f_tot, off, pw)
 
 
+
+
+def step_errors(trace, steps: WalkSteps, calibration: Calibration) -> tuple[float, int]:
+    """Sum of squared PDR displacement errors (m^2) between consecutive waypoints of a walk and the number
+    of steps they span: the PDR displacement (Weinberg length with ``calibration.k_weinberg``, heading with
+    the floor offset) between two waypoint times against the waypoints' own displacement."""
+    wp = trace.waypoints
+    tw = wp[T_S].to_numpy()
+    if len(wp) < 2 or steps.a_range_mps2.size < 1:
+        return 0.0, 0
+    d = weinberg_length_m(steps.a_range_mps2, np.zeros_like(steps.a_range_mps2), calibration.k_weinberg)
+    th = wrap_angle_rad(steps.theta_rel_rad + calibration.offset_rad)
+    rel = dead_reckon(d, th)[["x_m", "y_m"]].to_numpy()
+    inside = (tw >= steps.state_t_s[0]) & (tw <= steps.state_t_s[-1])
+    tw, true = tw[inside], wp[[X_M, Y_M]].to_numpy()[inside]
+    if tw.size < 2:
+        return 0.0, 0
+    at = _track_at(steps.state_t_s, rel, tw)
+    e = np.diff(at, axis=0) - np.diff(true, axis=0)
+    n = np.diff(np.searchsorted(steps.state_t_s, tw))
+    ok = n > 0
+    return float((e[ok] ** 2).sum()), int(n[ok].sum())
+
+
+def calibrate_step_var(traces, steps: dict, calibration: Calibration) -> float:
+    """Per-axis variance (m^2) of one step's PDR displacement error, measured on walks with waypoints
+    (never the scored one): the squared errors of :func:`step_errors` over all walks, divided by twice
+    the steps they span (a random-walk error model: the variance grows with the number of steps)."""
+    items = list(traces.values() if isinstance(traces, dict) else traces)
+    s, n = 0.0, 0
+    for tr in items:
+        ws = steps.get(tr.name) if steps else None
+        a, b = step_errors(tr, ws or walk_steps(tr), calibration)
+        s, n = s + a, n + b
+    if n == 0:
+        raise ValueError("calibrate_step_var: no walk has steps between two waypoints")
+    return s / (2.0 * n)
