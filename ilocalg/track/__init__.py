@@ -52,6 +52,16 @@ floor map); the ``evaluate track`` command and the real-walk experiment call it.
     r = evaluate_track(load_recording(path), db_walks)       # or evaluate_walk with a built database
     r["track"], r["errors"], summary_table(r)                # per-state tracks, per-point errors, statistics
 
+Least squares (:mod:`ilocalg.track.estimators`), the floor model built once (:mod:`ilocalg.track.floor`)
+    ``lsq`` / ``lsq_map`` (offline) and ``lsq_online`` / ``lsq_online_map`` (causal): one sparse system
+    of Wi-Fi fixes and PDR steps per walk, weighted by the fix variance (leave-one-walk-out on the
+    database) and the step variance (PDR vs waypoints on the database walks), then the map step.
+    :func:`build_floor_model` / :func:`cached_floor_model` build a floor's database and calibration
+    rows once and save them; :meth:`FloorModel.for_walk` leaves the scored walk out.
+
+Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (steps, calibration),
+``estimators`` (least squares, map step), ``floor`` (the cached floor model), ``evaluation``.
+
 References
 ----------
 Chiu P.-J., i-Loc M.S. thesis, NCTU (2013), eq. 18-19 (WDM heading) and eq. 20-26 (step Kalman
@@ -66,6 +76,7 @@ map-constrained particle filters.
 """
 from ilocalg.track._config import CAUSAL_METHODS, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
+from ilocalg.track.estimators import ESTIMATORS, Estimator, TrackProblem
 from ilocalg.track.evaluation import error_table, evaluate_track, evaluate_walk, summary_table, track_table
 from ilocalg.track.fixes import (
     WIFI_CANDIDATES,
@@ -78,9 +89,11 @@ from ilocalg.track.fixes import (
     select_wifi,
     wifi_fixes,
 )
-from ilocalg.track.motion import Calibration, WalkSteps, calibrate, walk_steps
+from ilocalg.track.floor import FloorModel, WalkModel, build_floor_model, cached_floor_model
+from ilocalg.track.motion import Calibration, WalkSteps, calibrate, calibrate_step_var, walk_steps
 
 __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_steps", "Calibration", "calibrate",
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
            "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
-           "track_table", "error_table", "summary_table", "CAUSAL_METHODS"]
+           "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "ESTIMATORS", "Estimator", "TrackProblem",
+           "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var"]

@@ -90,7 +90,7 @@ def calibrate(traces, steps: dict | None = None, cfg: RealWalkConfig = DEFAULT_C
     items = list(traces.values() if isinstance(traces, dict) else traces)
     if not items:
         raise ValueError("calibrate: no walks given")
-    rows, f_tot, l_tot = [], 0.0, 0.0
+    rows = []
     for tr in items:
         ws = (steps or {}).get(tr.name) or walk_steps(tr, cfg)
         wp = tr.waypoints
@@ -99,20 +99,27 @@ def calibrate(traces, steps: dict | None = None, cfg: RealWalkConfig = DEFAULT_C
         path_m = float(np.hypot(*np.diff(wp[[X_M, Y_M]].to_numpy(), axis=0).T).sum())
         f = float((ws.a_range_mps2[inside] ** 0.25).sum())
         row = {"walk": tr.name, "steps": int(ws.a_range_mps2.size), "path_m": path_m, "angle_rad": np.nan,
-               "rms_m": np.nan}
+               "rms_m": np.nan, "f_sum": f, "used": False}
         if inside.sum() >= 2 and len(wp) >= 2:
-            f_tot += f
-            l_tot += path_m
+            row["used"] = True
             rel = dead_reckon(np.full(ws.theta_rel_rad.size, 0.7), ws.theta_rel_rad)[["x_m", "y_m"]].to_numpy()
             fit = fit_track_to_fixes(_track_at(ws.state_t_s, rel, tw), wp[[X_M, Y_M]].to_numpy(), huber_m=None)
             row.update(angle_rad=fit.angle_rad, rms_m=fit.rms_m)
         rows.append(row)
-    pw = pd.DataFrame(rows)
-    ok = pw["angle_rad"].notna()
-    if f_tot <= 0 or not ok.any():
+    return calibration_from_rows(pd.DataFrame(rows))
+
+
+def calibration_from_rows(per_walk: pd.DataFrame) -> Calibration:
+    """The :class:`Calibration` of the walks of a per-walk table made by :func:`calibrate` (leave walks
+    out by dropping their rows): ``k = sum(path) / sum(f)`` over the used walks, the offset their
+    path-weighted circular mean angle."""
+    pw = per_walk
+    u = pw["used"].to_numpy(dtype=bool) & pw["angle_rad"].notna().to_numpy()
+    f_tot = float(pw.loc[u, "f_sum"].sum())
+    if f_tot <= 0 or not u.any():
         raise ValueError("calibrate: no walk with steps inside its waypoint span")
-    off = circular_mean_rad(pw.loc[ok, "angle_rad"].to_numpy(), pw.loc[ok, "path_m"].to_numpy())
-    return Calibration(l_tot / f_tot, off, pw)
+    off = circular_mean_rad(pw.loc[u, "angle_rad"].to_numpy(), pw.loc[u, "path_m"].to_numpy())
+    return Calibration(float(pw.loc[u, "path_m"].sum()) / f_tot, off, pw)
 
 
 
@@ -152,3 +159,38 @@ def calibrate_step_var(traces, steps: dict, calibration: Calibration) -> float:
     if n == 0:
         raise ValueError("calibrate_step_var: no walk has steps between two waypoints")
     return s / (2.0 * n)
+
+
+def step_intervals(trace, steps: WalkSteps) -> pd.DataFrame:
+    """Per pair of consecutive waypoints of a walk: the PDR displacement for ``k = 1`` and no heading offset
+    as a complex number (``s_re, s_im``; the displacement for any calibration is ``k exp(i offset) s``),
+    the waypoints' displacement (``dx_m, dy_m``) and the steps spanned (``n``). The table
+    :func:`step_var_from_intervals` turns into a step variance for any leave-walks-out calibration."""
+    wp = trace.waypoints
+    tw = wp[T_S].to_numpy()
+    cols = ["walk", "s_re", "s_im", "dx_m", "dy_m", "n"]
+    if len(wp) < 2 or steps.a_range_mps2.size < 1:
+        return pd.DataFrame(columns=cols)
+    d = steps.a_range_mps2 ** 0.25
+    rel = dead_reckon(d, steps.theta_rel_rad)[["x_m", "y_m"]].to_numpy()
+    inside = (tw >= steps.state_t_s[0]) & (tw <= steps.state_t_s[-1])
+    tw, true = tw[inside], wp[[X_M, Y_M]].to_numpy()[inside]
+    if tw.size < 2:
+        return pd.DataFrame(columns=cols)
+    ds = np.diff(_track_at(steps.state_t_s, rel, tw), axis=0)
+    dt = np.diff(true, axis=0)
+    n = np.diff(np.searchsorted(steps.state_t_s, tw))
+    return pd.DataFrame({"walk": trace.name, "s_re": ds[:, 0], "s_im": ds[:, 1], "dx_m": dt[:, 0], "dy_m": dt[:, 1],
+                         "n": n})
+
+
+def step_var_from_intervals(intervals: pd.DataFrame, calibration: Calibration) -> float:
+    """Per-axis variance (m^2) of one step's displacement error from :func:`step_intervals` tables:
+    ``sum |k exp(i offset) s - (dx + i dy)|^2 / (2 sum n)`` over intervals spanning at least one step."""
+    iv = intervals[intervals["n"] > 0]
+    if not len(iv):
+        raise ValueError("no walk has steps between two waypoints; the step variance cannot be learned")
+    s = (iv["s_re"].to_numpy(dtype=float) + 1j * iv["s_im"].to_numpy(dtype=float))
+    pred = calibration.k_weinberg * np.exp(1j * calibration.offset_rad) * s
+    e = pred - (iv["dx_m"].to_numpy(dtype=float) + 1j * iv["dy_m"].to_numpy(dtype=float))
+    return float((np.abs(e) ** 2).sum() / (2.0 * iv["n"].sum()))
