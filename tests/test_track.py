@@ -22,7 +22,7 @@ def floor():
     p = dataset_path(DATASET)
     if not p.is_dir():
         pytest.skip(f"{p} not found")
-    return load_ilc_floor(p, duplicate_bssid="keep_latest")
+    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi="keep")
 
 
 @pytest.mark.realdata

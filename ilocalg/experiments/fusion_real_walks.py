@@ -46,7 +46,7 @@ def load_floor(data_dir=None):
     p = Path(default_data_dir() if data_dir is None else data_dir)
     if (p / DATASET).exists():
         p = p / DATASET
-    return load_ilc_floor(p, duplicate_bssid="keep_latest")
+    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi="keep")
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
