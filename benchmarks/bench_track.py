@@ -27,7 +27,7 @@ from ilocalg import track
 from ilocalg.io import load_ipin_logfile, load_recording, write_ipin_logfile
 from ilocalg.sim import walk_recordings as wr
 
-NO_PF = tuple(m for m in track.METHODS if m not in ("pf", "pf_smooth", "map_align", "map_align_kf_rts"))
+NO_PF = tuple(m for m in track.METHODS if m not in track.MAP_METHODS)
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["tracks_on_plan"]
+__all__ = ["tracks_on_plan", "save_tracks_on_plan"]
 
 
 def tracks_on_plan(track, truth_xy_m, image=None, size_m=None, methods=("wifi", "kf_rts", "lsq"), ax=None):
@@ -30,3 +30,20 @@ def tracks_on_plan(track, truth_xy_m, image=None, size_m=None, methods=("wifi", 
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(loc="best", fontsize=8)
     return ax
+
+
+def save_tracks_on_plan(path, track, truth_xy_m, png_bytes=None, size_m=None, title="", methods=None) -> None:
+    """:func:`tracks_on_plan` into an image file (the ``evaluate track --plot`` output); ``png_bytes``: the
+    floor plan image file's content (or None)."""
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    img = None if png_bytes is None else plt.imread(io.BytesIO(png_bytes), format="png")
+    ax = tracks_on_plan(track, truth_xy_m, img, size_m, **({} if methods is None else {"methods": methods}))
+    ax.set_title(title)
+    ax.figure.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(ax.figure)

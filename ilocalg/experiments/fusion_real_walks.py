@@ -23,17 +23,17 @@ from ilocalg.fusion.particle_filter import OccupancyGrid
 from ilocalg.io.ilc import load_ilc_floor
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import X_M, Y_M
+from ilocalg.papers import reading, readings_table
 from ilocalg.track import (
+    CAUSAL_METHODS,
     METHODS,
     RealWalkConfig,
-    WifiDatabase,
-    calibrate,
-    calibrate_fix_var,
+    build_floor_model,
     evaluate_track,
     evaluate_walk,
-    select_wifi,
     walk_steps,
 )
+from ilocalg.track.fixes import select_wifi_nested
 from ilocalg.units import as_rng
 
 __all__ = ["DATASET", "load_floor", "run", "example", "findings"]
@@ -41,62 +41,70 @@ __all__ = ["DATASET", "load_floor", "run", "example", "findings"]
 DATASET = "ilc2020_site2_F4"
 
 
-def load_floor(data_dir=None):
-    """The site2/F4 floor (traces and map) from ``data_dir`` (None: the toolkit's data folder)."""
+def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep"):
+    """A floor (traces and map) from ``data_dir`` (None: the toolkit's data folder). ``dataset`` is a data
+    set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive
+    (``"ilc2020_site1/site1_F1"``); ``relisted_wifi``: the loader's re-listing policy
+    (:func:`ilocalg.io.scans.relisted_readings`)."""
     p = Path(default_data_dir() if data_dir is None else data_dir)
-    if (p / DATASET).exists():
-        p = p / DATASET
-    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi="keep")
+    folder, _, floor_name = dataset.partition("/")
+    if (p / folder).exists():
+        p = p / folder
+    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi, floor_name=floor_name or None)
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
-        names=None, select: bool | None = None) -> dict[str, pd.DataFrame]:
+        names=None, select: bool | None = None, dataset: str = DATASET, relisted_wifi: str = "keep",
+        methods=None) -> dict[str, pd.DataFrame]:
     """Leave-one-walk-out over the floor's walks; every variant at every waypoint.
 
     ``fast`` scores every fifth walk with fewer particles, a coarser map raster and the default Wi-Fi
     configuration. ``select`` (default: not ``fast``): choose the Wi-Fi configuration per held-out walk
-    by leave-one-walk-out inside the other walks.
+    by leave-one-walk-out inside the other walks (:func:`ilocalg.track.fixes.select_wifi_nested`).
+    ``dataset`` (see :func:`load_floor`), ``relisted_wifi`` (loader policy), ``methods`` (default all of
+    :data:`ilocalg.track.METHODS`). The floor's database and calibration rows are built once
+    (:func:`ilocalg.track.build_floor_model`); each scored walk is left out of all of them.
 
     Returns
     -------
     dict of DataFrame
         ``waypoints`` (walk, waypoint, one error column per method), ``per_walk`` (mean per walk and
         method + what was learned from the other walks), ``summary`` (mean over all waypoints, median,
-        p90, mean of the walk means, ratio to Wi-Fi only, goal met), ``diagnostics`` (what limits the
-        fusion: the error of the PDR track's shape alone, fitted onto the walk's own waypoints as an
-        oracle, beside the Wi-Fi fix errors).
+        p75 (EvAAL), p90, mean of the walk means, ratio to Wi-Fi only, goal met), ``diagnostics``,
+        ``measures`` (named scalars per method: mean, p75, ratio to Wi-Fi; item = the data set) and
+        ``readings``.
     """
     cfg = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
     select = (not fast) if select is None else select
-    fl = floor or load_floor(data_dir)
+    methods = tuple(METHODS if methods is None else methods)
+    fl = floor or load_floor(data_dir, dataset, relisted_wifi)
     all_names = fl.names
     scored = list(names) if names is not None else (all_names[::5] if fast else all_names)
     grid = OccupancyGrid.from_floor_map(fl.floor_map, cfg.grid_cell_m)
     steps = {n: walk_steps(fl.traces[n], cfg) for n in all_names}
-    db_all = WifiDatabase.from_traces(fl.traces, cfg.max_age_s)
+    model = build_floor_model(fl.traces, cfg, steps=steps)
+    sel = select_wifi_nested(model.db, scored, cfg) if select else {}
     rng = as_rng(seed)
     wrows, prow = [], []
     for name in scored:
-        others = {k: v for k, v in fl.traces.items() if k != name}
-        db = db_all.without(name)
-        if select:
-            label, wcfg, var, _ = select_wifi(db, cfg)
-        else:
-            label, wcfg, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
-        cal = calibrate(others, steps, wcfg)
-        r = evaluate_walk(fl.traces[name], db, cal, var, wcfg, grid=grid, steps=steps[name], rng=rng)
+        wm = model.for_walk(name, cfg, select=False)
+        label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
+        r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name], rng=rng,
+                          methods=methods, step_var_m2=wm.step_var_m2)
         e = r["errors"].assign(walk=name)
         wrows.append(e)
-        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in METHODS},
+        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                      "wifi_config": label, **r["info"]})
     wp = pd.concat(wrows, ignore_index=True)
     wp = wp[["walk"] + [c for c in wp.columns if c != "walk"]]
     pw = pd.DataFrame(prow)
     wifi_mean = float(wp["wifi"].mean())
     summ = pd.DataFrame([{"method": m, "mean_error_m": float(wp[m].mean()), "median_error_m": float(wp[m].median()),
+                          "p75_error_m": float(wp[m].quantile(0.75)),
                           "p90_error_m": float(wp[m].quantile(0.9)), "mean_of_walk_means_m": float(pw[m].mean()),
                           "ratio_to_wifi": float(wp[m].mean()) / wifi_mean, "meets_goal_half_wifi":
-                          bool(float(wp[m].mean()) <= 0.5 * wifi_mean)} for m in METHODS])
+                          bool(float(wp[m].mean()) <= 0.5 * wifi_mean), "online": m in CAUSAL_METHODS}
+                         for m in methods])
     diag = pd.DataFrame([
         {"quantity": "PDR track fitted onto the walk's own waypoints (oracle, diagnostic only), mean error [m]",
          "value": float(wp["oracle_shape_m"].mean())},
@@ -105,7 +113,32 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
         {"quantity": "waypoints scored", "value": float(len(wp))},
         {"quantity": "walks scored", "value": float(len(pw))},
     ])
-    return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag}
+    meas = []
+    for _, row in summ.iterrows():
+        m = row["method"]
+        meas += [{"quantity": f"mean error, {m}", "value": row["mean_error_m"], "unit": "m", "item": dataset},
+                 {"quantity": f"p75 error, {m}", "value": row["p75_error_m"], "unit": "m", "item": dataset},
+                 {"quantity": f"ratio to Wi-Fi only, {m}", "value": row["ratio_to_wifi"], "unit": "1",
+                  "item": dataset}]
+    return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag, "measures": pd.DataFrame(meas),
+            "readings": _readings(relisted_wifi)}
+
+
+def _readings(relisted_wifi: str) -> pd.DataFrame:
+    return readings_table([
+        reading("Wi-Fi re-listed readings", "", "silent (ILC 2.0 files: about half the TYPE_WIFI lines re-list the "
+                "previous scan's reading of the same AP, last seen within 1 ms)",
+                f"loader policy relisted_wifi={relisted_wifi!r} (ilocalg.io.scans.relisted_readings)",
+                "rule measured on site1 F1/F2 and site2 F4: same RSSI and |last_seen shift| <= 1 ms"),
+        reading("Wi-Fi fingerprint estimator", "Luo et al. 2017, KNN K = 5", "KNN with K = 5",
+                "WKNN, Euclidean, K and reading-age limit chosen per held-out walk among WIFI_CANDIDATES by "
+                "leave-one-walk-out inside the other walks", "nested leave-one-walk-out"),
+        reading("least-squares weights", "", "silent",
+                "fix variance: leave-one-walk-out fix errors of the other walks; step variance: PDR vs waypoint "
+                "displacements of the other walks", "measured on the database walks"),
+        reading("least-squares robustness", "", "silent", "Huber weights on the fixes, c = 1.345 sd",
+                "Huber (1981)"),
+    ])
 
 
 def example(floor, name: str | None = None, cfg: RealWalkConfig | None = None, seed: int = 0,

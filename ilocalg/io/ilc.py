@@ -592,14 +592,20 @@ def _read_members(archive: Path, want) -> dict[str, bytes]:
     return out
 
 
-def list_ilc_traces(root) -> list[str]:
-    """Trace ids (file stems, sorted) under a floor folder or inside its archive."""
+def _in_floor(name: str, floor_name: str | None) -> bool:
+    """Whether an archive member belongs to the floor folder ``floor_name`` (None: any)."""
+    return floor_name is None or f"/{floor_name}/" in "/" + name
+
+
+def list_ilc_traces(root, floor_name: str | None = None) -> list[str]:
+    """Trace ids (file stems, sorted) under a floor folder or inside its archive (only the floor folder
+    ``floor_name`` of a several-floor archive)."""
     r = _resolve_root(root)
     if r.is_dir():
         return sorted(f.stem for f in (r / "path_data_files").glob("*.txt"))
     with ArchiveReader(r) as ar:
         names = [m.name for m in ar.tar if m.isfile() and "/path_data_files/" in "/" + m.name
-                 and m.name.endswith(".txt")]
+                 and m.name.endswith(".txt") and _in_floor(m.name, floor_name)]
     return sorted(Path(n).stem for n in names)
 
 
@@ -732,16 +738,20 @@ def _floor_map(info_bytes: bytes, geo_bytes: bytes, source: str) -> IlcFloorMap:
                        obstacles=tuple(obstacles), lonlat_bbox=(lo[0], lo[1], hi[0], hi[1]), source=source)
 
 
-def load_ilc_floor_map(root) -> IlcFloorMap:
-    """Floor size and walkable polygons from a floor folder or its archive (see module docstring)."""
+def load_ilc_floor_map(root, floor_name: str | None = None) -> IlcFloorMap:
+    """Floor size and walkable polygons from a floor folder or its archive (see module docstring;
+    ``floor_name`` as in :func:`load_ilc_floor`)."""
     r = _resolve_root(root)
     if r.is_dir():
         return _floor_map(read_bytes(r / "floor_info.json"), read_bytes(r / "geojson_map.json"), str(r))
-    m = _read_members(r, lambda n: n.endswith(("floor_info.json", "geojson_map.json")))
+    m = _read_members(r, lambda n: n.endswith(("floor_info.json", "geojson_map.json")) and _in_floor(n, floor_name))
     info = [v for k, v in m.items() if k.endswith("floor_info.json")]
     geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
     if len(info) != 1 or len(geo) != 1:
-        raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive")
+        found = sorted(Path(k).parent.name for k in m if k.endswith("floor_info.json"))
+        raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive; found "
+                         f"{len(found)} floors ({', '.join(found) or 'none'}); pick one with floor_name="
+                         f"{found[0] if found else 'NAME'!r} (command line: --floor-name)")
     return _floor_map(info[0], geo[0], str(r))
 
 
@@ -767,14 +777,15 @@ class IlcFloor:
 
 
 def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_last_line: str = "error",
-                   relisted_wifi: str = "refuse") -> IlcFloor:
+                   relisted_wifi: str = "refuse", floor_name: str | None = None) -> IlcFloor:
     """Load a floor's traces (all, or ``names``) and map from a folder or directly from its archive.
 
     ``root`` may be the extracted floor folder (``.../site2_F4`` with ``path_data_files/``), the
     data-set folder holding the ``.tar.xz`` or the archive itself; archive members are read in
     memory with :mod:`tarfile` (nothing is extracted); a corrupt or truncated archive raises a
     ValueError naming it (and the member being read). ``duplicate_bssid``, ``relisted_wifi`` and
-    ``truncated_last_line`` are passed to :func:`parse_ilc_trace` for every trace.
+    ``truncated_last_line`` are passed to :func:`parse_ilc_trace` for every trace. ``floor_name``
+    picks one floor folder of an archive holding several (e.g. ``"site1_F1"`` in ``site1_F1_F2.tar.xz``).
     """
     r = _resolve_root(root)
     want = None if names is None else set(names)
@@ -785,17 +796,19 @@ def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_l
                 texts[f.stem] = (read_bytes(f), str(f))
         fmap = load_ilc_floor_map(r)
     else:
-        m = _read_members(r, lambda n: n.endswith((".txt", "floor_info.json", "geojson_map.json")))
+        m = _read_members(r, lambda n: n.endswith((".txt", "floor_info.json", "geojson_map.json"))
+                          and _in_floor(n, floor_name))
         for k, v in sorted(m.items()):
             if "path_data_files/" in k and k.endswith(".txt") and (want is None or Path(k).stem in want):
                 texts[Path(k).stem] = (v, f"{r}:{k}")
         info = [v for k, v in m.items() if k.endswith("floor_info.json")]
         geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
         if len(info) != 1 or len(geo) != 1:
-            found = sorted(str(Path(k).parent) for k in m if k.endswith("floor_info.json"))
+            found = sorted(Path(k).parent.name for k in m if k.endswith("floor_info.json"))
             raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive; found "
-                             f"{len(found)} floors ({', '.join(found) or 'none'}): extract the archive (tar xf "
-                             f"{r.name}) and pass one floor's folder, e.g. {found[0] if found else 'site_F1'}/")
+                             f"{len(found)} floors ({', '.join(found) or 'none'}); pick one with floor_name="
+                             f"{found[0] if found else 'NAME'!r} (command line: --floor-name), or extract "
+                             "the archive and pass that floor's folder")
         fmap = _floor_map(info[0], geo[0], str(r))
     if want is not None and set(texts) != want:
         raise ValueError(f"{r}: traces not found: {sorted(want - set(texts))}")

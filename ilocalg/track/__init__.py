@@ -74,7 +74,7 @@ the Manhattan distance and K = 5, PDR + Wi-Fi fusion; Weinberg H., Analog Device
 length; Rauch, Tung, Striebel, AIAA J. 3(8) (1965), smoothing; Woodman & Harle, UbiComp (2008),
 map-constrained particle filters.
 """
-from ilocalg.track._config import CAUSAL_METHODS, METHODS, RealWalkConfig
+from ilocalg.track._config import CAUSAL_METHODS, MAP_METHODS, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, Estimator, TrackProblem
 from ilocalg.track.evaluation import error_table, evaluate_track, evaluate_walk, summary_table, track_table
@@ -95,5 +95,6 @@ from ilocalg.track.motion import Calibration, WalkSteps, calibrate, calibrate_st
 __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_steps", "Calibration", "calibrate",
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
            "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
-           "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "ESTIMATORS", "Estimator", "TrackProblem",
+           "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "MAP_METHODS", "ESTIMATORS",
+           "Estimator", "TrackProblem",
            "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var"]

@@ -128,6 +128,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         tracks["map_align_kf_rts"] = rts_smooth(rm).x
         info.update(map_align_offset_deg=float(np.degrees(ma.angle_rad)), map_align_off_map=ma.off_map)
     lsq_names = [m for m in methods if m in ESTIMATORS]
+    if grid is None and any(ESTIMATORS[m].needs_map for m in lsq_names):
+        raise ValueError(f"{[m for m in lsq_names if ESTIMATORS[m].needs_map]} need the floor map (grid)")
     if lsq_names:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, fx.t_s, fx.xy_m,

@@ -172,7 +172,9 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
     w = rec.wifi
     if not len(w):
         raise ValueError(f"{rec.source or rec.name}: the walk has no Wi-Fi scan")
-    fresh = None if cfg.max_age_s is None else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy()
+    # readings without a last-seen time (IPIN logfiles) count as fresh: their age is unknown, not large
+    fresh = (None if cfg.max_age_s is None or "last_seen_s" not in w.columns
+             else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy())
     _, t, X = scan_matrix(w, db.ap_ids, keep=fresh)
     t0, t1 = rec.t_span_s
     inside = (t >= t0) & (t <= t1)

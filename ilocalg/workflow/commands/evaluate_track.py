@@ -76,6 +76,9 @@ def add_arguments(parser) -> None:
                         help="walk file format (default: from the content)")
     parser.add_argument("--floor", default=None, metavar="PATH",
                         help="ILC floor folder or archive holding the trace ids (default: the shared ilc2020_site2_F4)")
+    parser.add_argument("--floor-name", default=None, metavar="NAME",
+                        help="the floor folder inside an archive holding several floors (e.g. site1_F1 in "
+                             "site1_F1_F2.tar.xz)")
     parser.add_argument("--map", default=None, metavar="PATH",
                         help="floor folder or archive with floor_info.json and geojson_map.json (default: --floor)")
     parser.add_argument("--no-map", action="store_true", help="skip the map-constrained variants")
@@ -98,16 +101,16 @@ def _default_floor() -> Path:
     return data_dir() / "ilc2020_site2_F4"
 
 
-def _ids_in(floor) -> list[str]:
+def _ids_in(floor, floor_name=None) -> list[str]:
     from ilocalg.io.ilc import list_ilc_traces
 
-    return list_ilc_traces(floor)
+    return list_ilc_traces(floor, floor_name=floor_name)
 
 
 POLICY = {"duplicate_bssid": "keep_latest", "relisted_wifi": "keep"}
 
 
-def _load(paths, floor, fmt="auto"):
+def _load(paths, floor, fmt="auto", floor_name=None):
     """Walks for PATHs: files are read directly (format ``fmt`` or from the content), the rest are ILC
     trace ids inside ``floor`` (one archive pass)."""
     from ilocalg.io.ilc import IlcTrace, load_ilc_floor, load_ilc_trace, require_walk
@@ -129,11 +132,11 @@ def _load(paths, floor, fmt="auto"):
     if ids:
         if floor is None or not Path(floor).exists():
             raise ValueError(f"{ids[0]!r} is neither a trace file nor a trace id of an existing --floor ({floor})")
-        known = set(_ids_in(floor))
+        known = set(_ids_in(floor, floor_name))
         missing = [i for i in ids if i not in known]
         if missing:
             raise ValueError(f"trace {missing[0]!r} is neither a file nor a trace id in {floor}")
-        fl = load_ilc_floor(floor, names=ids, **POLICY)
+        fl = load_ilc_floor(floor, names=ids, floor_name=floor_name, **POLICY)
         for i in ids:
             out[i] = fl.traces[i]
     return {k: require_walk(v) if isinstance(v, IlcTrace) else require_recording_walk(v) for k, v in out.items()}
@@ -185,12 +188,13 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
 
     st("loading the scored walk")
     fp_paths = list(args.fingerprints)
-    trace = _load([args.trace], floor, args.format)[args.trace]
+    fn = getattr(args, "floor_name", None)
+    trace = _load([args.trace], floor, args.format, fn)[args.trace]
     use_floor_model = fp_paths == ["all"]
     if use_floor_model:
         if not floor.exists():
             raise ValueError(f"--fingerprints all needs an existing --floor, got {floor}")
-        fp_paths = [i for i in _ids_in(floor) if i != trace.name]
+        fp_paths = [i for i in _ids_in(floor, fn) if i != trace.name]
     if args.trace in fp_paths:
         raise ValueError(f"--fingerprints must not contain the scored trace {args.trace!r} (leave-one-walk-out)")
     fmap = None
@@ -203,15 +207,16 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
         if args.map and not mp.exists():
             raise ValueError(f"--map {mp}: no such folder or archive")
         if mp.exists():
-            fmap = load_ilc_floor_map(mp)
+            fmap = load_ilc_floor_map(mp, floor_name=fn)
     methods = tuple(m for m in METHODS if fmap is not None or m not in MAP_METHODS)
     cfg = RealWalkConfig(n_particles=args.particles)
     rec = as_recording(trace)
     if use_floor_model:
         st("building or reading the floor database")
         files = [floor] if floor.is_file() else sorted((floor / "path_data_files").glob("*.txt")) or [floor]
-        model, cached = cached_floor_model(files, lambda: _load(_ids_in(floor), floor, args.format),
-                                           _cache_dir(args.cache_dir) or Path(_tmp_cache()), cfg, **POLICY)
+        model, cached = cached_floor_model(files, lambda: _load(_ids_in(floor, fn), floor, args.format, fn),
+                                           _cache_dir(args.cache_dir) or Path(_tmp_cache()), cfg, floor_name=fn,
+                                           **POLICY)
         wm = model.for_walk(trace.name, cfg, content_id=rec.content_id)
         _check_same_site(rec, wm.db, args.trace)
         st("tracking the walk")
@@ -223,7 +228,7 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
         n_db = len(model.walks) - (trace.name in set(model.walks))
     else:
         st("loading the fingerprint walks")
-        db = _load(fp_paths, floor, args.format)
+        db = _load(fp_paths, floor, args.format, fn)
         for p, w in db.items():
             if as_recording(w).content_id == rec.content_id and len(rec.imu):
                 raise ValueError(f"--fingerprints {p}: same sensor content as the scored walk {args.trace} (a copy "
@@ -256,7 +261,7 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
     if args.out_track:
         r["track"].to_csv(args.out_track, index=False, float_format="%.3f")
     if args.plot:
-        _plot(args.plot, r, floor, rec)
+        _plot(args.plot, r, floor, rec, fn)
     return out
 
 
@@ -278,25 +283,23 @@ def _check_same_site(rec, db, path):
                          "of another floor or site")
 
 
-def _plot(path, r, floor, rec):
-    """Tracks on the floor plan (ilocviz draws; matplotlib is imported only here, by the command)."""
-    import matplotlib
+def _plot(path, r, floor, rec, floor_name=None):
+    """Tracks on the floor plan: ilocviz draws (imported only for --plot; ilocalg itself never draws)."""
+    from ilocalg.io.ilc import _read_members, _resolve_root, load_ilc_floor_map
+    from ilocviz.track import save_tracks_on_plan
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from ilocalg.io.ilc import load_ilc_floor_map
-    from ilocviz.track import tracks_on_plan
-
-    img = None
-    f = Path(floor) / "floor_image.png"
-    if f.is_file():
-        img = plt.imread(f)
-    fm = load_ilc_floor_map(floor)
-    ax = tracks_on_plan(r["track"], rec.truth[["x_m", "y_m"]].to_numpy(), img, (fm.width_m, fm.height_m))
-    ax.set_title(f"{rec.name}: tracks on the floor plan")
-    ax.figure.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(ax.figure)
+    png = None
+    root = _resolve_root(floor)
+    if root.is_dir() and (root / "floor_image.png").is_file():
+        png = (root / "floor_image.png").read_bytes()
+    elif root.is_file():
+        m = _read_members(root, lambda n: n.endswith("floor_image.png") and (floor_name is None or
+                                                                            f"/{floor_name}/" in "/" + n))
+        if len(m) == 1:
+            png = next(iter(m.values()))
+    fm = load_ilc_floor_map(floor, floor_name=floor_name)
+    save_tracks_on_plan(path, r["track"], rec.truth[["x_m", "y_m"]].to_numpy(), png, (fm.width_m, fm.height_m),
+                        title=f"{rec.name}: tracks on the floor plan")
 
 
 def format_text(out: dict) -> str:
