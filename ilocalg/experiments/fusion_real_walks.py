@@ -17,12 +17,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ilocalg.fusion.particle_filter import OccupancyGrid
 from ilocalg.io.ilc import load_ilc_floor
 from ilocalg.io.paths import data_dir as default_data_dir
-from ilocalg.io.schema import X_M, Y_M
+from ilocalg.io.schema import T_S, X_M, Y_M
 from ilocalg.papers import reading, readings_table
 from ilocalg.track import (
     CAUSAL_METHODS,
@@ -36,7 +37,7 @@ from ilocalg.track import (
 from ilocalg.track.fixes import select_wifi_nested
 from ilocalg.units import as_rng
 
-__all__ = ["DATASET", "load_floor", "run", "example", "findings"]
+__all__ = ["DATASET", "load_floor", "run", "example", "findings", "wifi_ablation", "floor_image"]
 
 DATASET = "ilc2020_site2_F4"
 
@@ -85,13 +86,14 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     model = build_floor_model(fl.traces, cfg, steps=steps)
     sel = select_wifi_nested(model.db, scored, cfg) if select else {}
     rng = as_rng(seed)
-    wrows, prow = [], []
+    wrows, prow, trk = [], [], {}
     for name in scored:
         wm = model.for_walk(name, cfg, select=False)
         label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
         r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name], rng=rng,
                           methods=methods, step_var_m2=wm.step_var_m2)
         e = r["errors"].assign(walk=name)
+        trk[name] = r["track"]
         wrows.append(e)
         prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                      "wifi_config": label, **r["info"]})
@@ -120,8 +122,66 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
                  {"quantity": f"p75 error, {m}", "value": row["p75_error_m"], "unit": "m", "item": dataset},
                  {"quantity": f"ratio to Wi-Fi only, {m}", "value": row["ratio_to_wifi"], "unit": "1",
                   "item": dataset}]
+    # the tracks of the best and the worst walk (by the best offline method's walk mean) for the figures
+    off = summ[~summ["online"] & (summ["method"] != "wifi")]
+    best_m = off.loc[off["mean_error_m"].idxmin(), "method"] if len(off) else "wifi"
+    order = pw.sort_values(best_m)["walk"].tolist()
+    picks = {"best": order[0], "worst": order[-1]}
+    tracks = pd.concat([trk[w].assign(walk=w, which=k) for k, w in picks.items()], ignore_index=True)
+    truth = pd.concat([fl.traces[w].waypoints[[T_S, X_M, Y_M]].assign(walk=w, which=k) for k, w in picks.items()],
+                      ignore_index=True)
     return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag, "measures": pd.DataFrame(meas),
-            "readings": _readings(relisted_wifi)}
+            "readings": _readings(relisted_wifi), "tracks": tracks, "truth": truth}
+
+
+def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
+    """What each Wi-Fi piece buys: leave-one-walk-out fix error of every database scan (each walk located
+    against the others) for every Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` (the first
+    one is the plain reference: WKNN, K = 5, readings older than 2 s dropped) with the re-listed readings
+    kept and merged (:func:`ilocalg.io.scans.merge_relisted_wifi`, the loader's ``relisted_wifi`` rule).
+    ``floor`` must be loaded with ``relisted_wifi="keep"``. Columns: ``relisted_wifi, wifi_config, n,
+    mean_m, median_m, p75_m, merged_readings``.
+    """
+    import dataclasses
+
+    from ilocalg.io.scans import merge_relisted_wifi
+    from ilocalg.track import WIFI_CANDIDATES, WifiDatabase
+    from ilocalg.track.fixes import loo_fix_errors
+
+    cfg = cfg or RealWalkConfig()
+    rows = []
+    for policy in ("keep", "merge"):
+        n_merged = 0
+        trs = {}
+        for k, t in floor.traces.items():
+            if policy == "merge":
+                w, n = merge_relisted_wifi(t.wifi)
+                n_merged += n
+                t = dataclasses.replace(t, wifi=w)
+            trs[k] = t
+        db = WifiDatabase.from_traces(trs)
+        for label, kw in WIFI_CANDIDATES.items():
+            e = loo_fix_errors(db, dataclasses.replace(cfg, **kw))
+            e = e[np.isfinite(e)]
+            rows.append({"relisted_wifi": policy, "wifi_config": label, "n": int(e.size), "mean_m": float(e.mean()),
+                         "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
+                         "merged_readings": n_merged})
+    return pd.DataFrame(rows)
+
+
+def floor_image(data_dir=None, dataset: str = DATASET) -> bytes | None:
+    """The floor plan image (``floor_image.png``) of a data set's floor, or None when absent."""
+    from ilocalg.io.ilc import _read_members, _resolve_root
+
+    p = Path(default_data_dir() if data_dir is None else data_dir)
+    folder, _, floor_name = dataset.partition("/")
+    root = _resolve_root(p / folder if (p / folder).exists() else p)
+    if root.is_dir():
+        f = root / "floor_image.png"
+        return f.read_bytes() if f.is_file() else None
+    m = _read_members(root, lambda n: n.endswith("floor_image.png") and (not floor_name or f"/{floor_name}/" in
+                                                                        "/" + n))
+    return next(iter(m.values())) if len(m) == 1 else None
 
 
 def _readings(relisted_wifi: str) -> pd.DataFrame:
@@ -161,13 +221,22 @@ def findings(tables: dict) -> str:
     """Sentences computed from the tables (for the notebook's closing cell)."""
     s = tables["summary"].set_index("method")
     w = s.loc["wifi", "mean_error_m"]
-    best = s.drop("wifi")["mean_error_m"].idxmin()
+    rest = s.drop("wifi")
+    best = rest["mean_error_m"].idxmin()
+    on = rest[rest["online"]] if "online" in rest.columns else rest.iloc[:0]
+    off = rest[~rest["online"]] if "online" in rest.columns else rest
     met = [m for m in s.index if s.loc[m, "meets_goal_half_wifi"]]
-    return "\n".join([
+    out = [
         f"Wi-Fi only: {w:.2f} m mean waypoint error over {len(tables['waypoints'])} waypoints of "
         f"{len(tables['per_walk'])} walks (leave-one-walk-out).",
         f"Best variant: {best}, {s.loc[best, 'mean_error_m']:.2f} m ({s.loc[best, 'ratio_to_wifi']:.2f} x Wi-Fi only).",
-        f"Goal (at most half the Wi-Fi-only error, {0.5 * w:.2f} m) met by: {', '.join(met) if met else 'none'}; "
-        f"KF {s.loc['kf', 'mean_error_m']:.2f} m, KF + RTS {s.loc['kf_rts', 'mean_error_m']:.2f} m, "
-        f"PF {s.loc['pf', 'mean_error_m']:.2f} m, PF smoothed {s.loc['pf_smooth', 'mean_error_m']:.2f} m.",
-    ])
+        f"Goal (at most half the Wi-Fi-only error, {0.5 * w:.2f} m) met by: {', '.join(met) if met else 'none'}.",
+    ]
+    for label, part, goal in (("offline", off, 0.5), ("online", on, 0.7)):
+        if len(part):
+            m = part["mean_error_m"].idxmin()
+            r = part.loc[m]
+            out.append(f"Best {label}: {m}, mean {r['mean_error_m']:.2f} m, p75 (EvAAL) "
+                       f"{r.get('p75_error_m', float('nan')):.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only "
+                       f"(goal <= {goal} x: {'met' if r['ratio_to_wifi'] <= goal else 'missed'}).")
+    return "\n".join(out)
