@@ -140,3 +140,26 @@ def test_map_methods_not_worse_than_wifi_on_a_site1_walk(shared_data):
     e = r["errors"].mean()
     for m in ("pf", "pf_smooth", "map_align", "lsq_map"):
         assert e[m] < 1.5 * e["wifi"], (m, e[m], e["wifi"])
+
+
+def test_floor_model_leaves_the_walk_out_exactly_and_survives_save_load(tmp_path):
+    """FloorModel.for_walk(s) gives what a model built without s gives; save/load is lossless."""
+    from ilocalg.sim import walk_recordings as wr
+    from ilocalg.track import build_floor_model
+    from ilocalg.track.fixes import calibrate_fix_var
+
+    _, recs = wr.simulate_recordings(6, seed=5, n_nodes=20)
+    full = build_floor_model(recs)
+    full.save(tmp_path / "m")
+    back = type(full).load(tmp_path / "m")
+    np.testing.assert_array_equal(np.nan_to_num(back.db.rssi_dbm, nan=1), np.nan_to_num(full.db.rssi_dbm, nan=1))
+    s = recs[2].name
+    a = back.for_walk(s, select=False)
+    b = build_floor_model([r for r in recs if r.name != s])
+    cal_b = b.for_walk(None, select=False)
+    assert a.calibration.k_weinberg == pytest.approx(cal_b.calibration.k_weinberg, rel=1e-9)
+    assert a.calibration.offset_rad == pytest.approx(cal_b.calibration.offset_rad, abs=1e-9)
+    assert a.step_var_m2 == pytest.approx(cal_b.step_var_m2, rel=1e-9)
+    assert a.fix_var_m2 == pytest.approx(calibrate_fix_var(b.db)[0], rel=1e-9)
+    with pytest.raises(ValueError, match="same sensor content"):
+        back.for_walk("renamed", content_id=full.db.content_ids[s])

@@ -25,7 +25,16 @@ holds ``geojson_map.json``), ``pf``, ``pf_smooth`` (map-constrained particle fil
 When the walks have floor numbers (IPIN logfiles), ``floor_hit_rate`` gives per method the fraction of
 ground-truth points whose estimated floor is right (see :func:`ilocalg.track.estimate_floors`).
 ``info`` counts the scans left out: ``n_scans_outside_walk`` (outside the walk's IMU time span) and
-``n_scans_no_shared_ap`` (hearing no access point of the database).
+``n_scans_no_shared_ap`` (hearing no access point of the database). Added keys (the old ones are
+unchanged): ``lsq``, ``lsq_online`` (least squares, offline and online) and, with a map, ``lsq_map``,
+``lsq_online_map``; ``warning`` when every method's mean error exceeds 20 m.
+
+With ``--fingerprints all`` the floor's database and calibration rows are built once and saved in
+``--cache-dir`` (:func:`ilocalg.track.cached_floor_model`); later walks of the same floor read them and
+leave the scored walk out (:meth:`ilocalg.track.FloorModel.for_walk`). ``--floor-name`` picks one floor
+of an archive holding several (``site1_F1`` in ``site1_F1_F2.tar.xz``). A walk sharing no access
+point with the database, or in another floor's map frame, is refused naming its file; so is a
+fingerprint file with the scored walk's sensor content under another name.
 """
 
 from __future__ import annotations
