@@ -84,6 +84,7 @@ from ilocalg.track.fixes import (
     WifiFixes,
     barometric_segments,
     calibrate_fix_var,
+    classify_floor,
     estimate_floors,
     locate_wknn,
     select_wifi,
@@ -97,4 +98,5 @@ __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_st
            "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
            "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "MAP_METHODS", "ESTIMATORS",
            "Estimator", "TrackProblem",
-           "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var"]
+           "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var",
+           "classify_floor"]
