@@ -39,6 +39,7 @@ fingerprint file with the scored walk's sensor content under another name.
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -70,10 +71,14 @@ METHOD_HELP = {
 #: Every method's mean error above this (m) prints a warning: the walk is probably not of this floor.
 FAR_OFF_M = 20.0
 
-EPILOG = ("methods (keys of errors_m): " + "; ".join(f"{k}: {v}" for k, v in METHOD_HELP.items()) + ".  "
-          "examples: python -m ilocalg evaluate track --floor DIR/site1_F1 --trace 5dd9e7aac5b77e0006b1732b "
-          "--fingerprints all;  ... --json > result.json;  ... --out-track track.csv --plot track.png;  "
-          "python -m ilocalg evaluate track --format ipin --trace walk1.txt --fingerprints walk2.txt walk3.txt")
+EPILOG = ("methods (the table's rows, the keys of errors_m in --json):\n"
+          + "\n".join(f"  {k:<17}{v}" for k, v in METHOD_HELP.items())
+          + "\n\nexamples:\n"
+          "  python -m ilocalg evaluate track --floor DATA/ilc2020_site1 --floor-name site1_F1 \\\n"
+          "      --trace 5dd9e7aac5b77e0006b1732b --fingerprints all          # table; database cached\n"
+          "  ... --json > result.json                                        # the JSON contract\n"
+          "  ... --out-track track.csv --plot track.png                      # the track and a plan figure\n"
+          "  python -m ilocalg evaluate track --format ipin --trace walk1.txt --fingerprints walk2.txt walk3.txt")
 
 
 def add_arguments(parser) -> None:
@@ -102,6 +107,7 @@ def add_arguments(parser) -> None:
                              "'none': do not cache)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.epilog = EPILOG
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
 
 
 def _default_floor() -> Path:
