@@ -1,28 +1,34 @@
 # %% [markdown]
-# # 09 PDR + Wi-Fi fusion on real walks (Indoor Location Competition 2.0, site 2, floor F4)
+# # 09 PDR + Wi-Fi fusion on real walks (Indoor Location Competition 2.0, site 1 floor F1, or site 2 floor F4)
 #
 # The fusion of notebooks 07-08 (the i-Loc step Kalman filter, eq. 20-26; the fingerprint + PDR
-# scheme of Luo et al. 2017) on real phone logs: 19 surveyor walks with accelerometer, gyroscope,
-# magnetometer and Wi-Fi scans, and waypoints for ground truth. Every walk is scored
+# scheme of Luo et al. 2017) on real phone logs: surveyor walks with accelerometer, gyroscope,
+# magnetometer and Wi-Fi scans, and waypoints for ground truth. By default the densely surveyed
+# site 1 floor F1 of a 240 m x 176 m mall (100 walks: a Wi-Fi database as dense as the competition's own);
+# `DATASET = "ilc2020_site2_F4"` gives the sparse 19-walk floor. Every walk is scored
 # **leave-one-walk-out**: the Wi-Fi fingerprint database (each scan positioned by interpolating its
-# walk's waypoints in time), the step-length factor, the compass-to-map heading offset and the Wi-Fi
-# fix variance (and the Wi-Fi configuration, by leave-one-walk-out inside them) are learned from the other
-# 18 walks; the scored walk's waypoints give only its errors
-# (its start position and heading come from its own Wi-Fi fixes and the other walks, never from them).
+# walk's waypoints in time), the step-length factor, the compass-to-map heading offset, the Wi-Fi
+# fix variance and the Wi-Fi configuration (by leave-one-walk-out inside them), and the PDR step
+# variance are learned from the other walks; the scored walk's waypoints give only its errors.
 #
 # Variants, errors at every waypoint: PDR only (from the first fix), Wi-Fi only, KF, KF + RTS, the PDR
 # track fitted onto all the walk's fixes, a particle filter constrained by the floor map
-# (`geojson_map.json`) and its smoother, and a whole-walk map matching: the track pipeline of `ilocalg.track`
-# (the same functions a user calls on one walk, or `python -m ilocalg evaluate track`). Goal (beyond the
-# papers): fused mean waypoint error at most half the Wi-Fi-only error.
+# (`geojson_map.json`) and its smoother, a whole-walk map matching, and the least-squares trajectory
+# (one sparse system of Wi-Fi fixes and PDR steps per walk, weighted by their measured variances; its
+# causal variant `lsq_online`; `*_map`: pulled onto the walkable map): the track pipeline of
+# `ilocalg.track` (the same functions a user calls on one walk, or `python -m ilocalg evaluate track`).
+# Goals (beyond the papers): best offline mean error <= 0.5 x Wi-Fi only, best online <= 0.7 x, reported
+# with the EvAAL 75th percentile.
 
 # %% tags=["parameters"]
 # Seed of the particle filter; FAST scores every fifth walk with fewer particles; OUT_DIR (set by the
-# runner) receives tables and figures; DATA_DIR is the folder of the real data sets (None: default).
+# runner) receives tables and figures; DATA_DIR is the folder of the real data sets (None: default);
+# DATASET the floor ("folder/floor" for one floor of a two-floor archive).
 SEED = 0
 FAST = False
 OUT_DIR = None
 DATA_DIR = None
+DATASET = "ilc2020_site1/site1_F1"
 
 # %%
 from pathlib import Path
@@ -31,33 +37,54 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 import ilocviz.fusion
+import ilocviz.track
 from ilocalg.experiments import fusion_real_walks
 from ilocalg.io.paths import data_dir
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "09_fusion_real_walks")
 ilocviz.table_display()  # whole numbers without decimals, text cells in full
-folder = Path(DATA_DIR or data_dir()) / fusion_real_walks.DATASET
+folder = Path(DATA_DIR or data_dir()) / DATASET.split("/")[0]
 HAVE_DATA = folder.exists()
 if not HAVE_DATA:
-    print(f"ILC 2.0 site2/F4 not found (expected {folder} with site2_F4.tar.xz). "
-          "The real-data part of this notebook is skipped.")
+    print(f"ILC 2.0 {DATASET} not found (expected {folder}). The real-data part of this notebook is skipped.")
 
 # %%
 if HAVE_DATA:
     report.record_input(folder)
-    floor = fusion_real_walks.load_floor(folder)
-    tables = fusion_real_walks.run(seed=SEED, fast=FAST, floor=floor)
-    for name in ("summary", "per_walk", "waypoints", "diagnostics"):
+    floor = fusion_real_walks.load_floor(DATA_DIR, DATASET)
+    tables = fusion_real_walks.run(seed=SEED, fast=FAST, floor=floor, dataset=DATASET)
+    for name in ("summary", "per_walk", "waypoints", "diagnostics", "measures", "readings"):
         report.table(tables[name], name)
     display(tables["summary"].round(2))  # noqa: F821
 
 # %% [markdown]
-# What limits the fusion: the PDR track's shape alone (fitted onto the walk's own waypoints: an oracle,
-# shown only as a diagnostic, never used by a method) beside the Wi-Fi fix errors.
+# ## Ablation: what each Wi-Fi piece buys
+#
+# Leave-one-walk-out fix error of every database scan (each walk located against the others) for each
+# Wi-Fi configuration; the first row of each policy is the plain reference (weighted KNN, K = 5, readings
+# older than 2 s dropped: a few dozen lines of numpy). `relisted_wifi`: the loader's rule for the readings
+# that re-list the previous scan's reading of the same access point (same RSSI, last seen within 1 ms;
+# `ilocalg.io.scans.relisted_readings`), kept or merged into their first listing.
 
 # %%
 if HAVE_DATA:
+    abl = fusion_real_walks.wifi_ablation(floor)
+    report.table(abl, "wifi_ablation")
+    display(abl.round(2))  # noqa: F821
+
+# %% [markdown]
+# ## Ablation: what each estimator buys (the summary above, as ratios to Wi-Fi only)
+#
+# The least-squares system solves, for the states $p_0 \dots p_n$ of a walk,
+# $\min \sum_i \lVert p_{i+1} - p_i - d_i \rVert^2 / \sigma_d^2 + \sum_j \rho\big(\lVert (1-a_j) p_{k_j} + a_j p_{k_j+1}
+# - z_j \rVert / \sigma_z\big)$ with Huber's $\rho$ (c = 1.345): $d_i$ the PDR step, $z_j$ the Wi-Fi fixes,
+# $\sigma_z^2$ and $\sigma_d^2$ measured on the other walks.
+
+# %%
+if HAVE_DATA:
+    display(tables["summary"][["method", "online", "mean_error_m", "median_error_m", "p75_error_m",  # noqa: F821
+                               "ratio_to_wifi"]].sort_values("mean_error_m").round(2))
     display(tables["diagnostics"].round(2))  # noqa: F821
 
 # %% [markdown]
@@ -68,7 +95,7 @@ if HAVE_DATA:
     display(tables["per_walk"].round(2))  # noqa: F821
 
 # %%
-shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align"]
+shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align", "lsq", "lsq_online"]
 if HAVE_DATA:
     with ilocviz.style():
         fig, ax = plt.subplots(figsize=(8, 5))
@@ -80,20 +107,27 @@ if HAVE_DATA:
 if HAVE_DATA:
     with ilocviz.style():
         fig, ax = plt.subplots(figsize=(10, 4.5))
-        ilocviz.fusion.walk_means(tables["per_walk"], ["wifi", "kf_rts", "pf_smooth", "map_align"], ax=ax)
+        ilocviz.fusion.walk_means(tables["per_walk"], ["wifi", "kf_rts", "pf_smooth", "lsq"], ax=ax)
         ilocviz.savefig(fig, "09_fusion_real_walks_per_walk", OUT_DIR)
 
 # %% [markdown]
-# ## The longest walk on the floor map
+# ## The best and the worst walk on the floor plan (`floor_image.png`)
 
 # %%
 if HAVE_DATA:
-    ex = fusion_real_walks.example(floor, seed=SEED, select=not FAST)
-    plan = list(floor.floor_map.outline) + list(floor.floor_map.obstacles)
+    import io
+
+    png = fusion_real_walks.floor_image(DATA_DIR, DATASET)
+    img = None if png is None else plt.imread(io.BytesIO(png), format="png")
+    size = (floor.floor_map.width_m, floor.floor_map.height_m)
     with ilocviz.style():
-        fig, ax = plt.subplots(figsize=(9, 8))
-        ilocviz.fusion.tracks(ex, ["Wi-Fi fixes", "pdr", "kf_rts", "pf_smooth", "map_align", "waypoints"], ax=ax,
-                              floor_plan=plan, point_methods=("Wi-Fi fixes",))
+        fig, axes = plt.subplots(1, 2, figsize=(14, 6))
+        for ax, which in zip(axes, ("best", "worst"), strict=True):
+            tr = tables["tracks"][tables["tracks"]["which"] == which]
+            truth = tables["truth"][tables["truth"]["which"] == which]
+            ilocviz.track.tracks_on_plan(tr, truth[["x_m", "y_m"]].to_numpy(), img, size,
+                                         methods=("wifi", "kf_rts", "pf_smooth", "lsq"), ax=ax)
+            ax.set_title(f"{which} walk: {truth['walk'].iloc[0]}")
         ilocviz.savefig(fig, "09_fusion_real_walks_tracks", OUT_DIR)
 
 # %%
@@ -104,20 +138,16 @@ if HAVE_DATA:
 # ## What the numbers say
 #
 # - There is no paper value for these walks: the comparison is between the variants, with Wi-Fi only as
-#   the reference and the goal of half its error (the findings above say which variants, if any, meet it).
-# - Wi-Fi is poor here: 19 short walks cover a large floor (its plan is in notebook 00) sparsely, so a held-out walk
-#   often
-#   passes where no other walk has scanned and its fixes land tens of metres away on the nearest
-#   surveyed path. The fix variance learned from the other walks says so, and the filters weight the
-#   fixes accordingly.
+#   the reference; the findings above say which goals are met, and every variant is reported.
+# - On the densely surveyed site 1 floors the Wi-Fi fixes are a few metres off; on the sparse site 2 F4
+#   floor a held-out walk often passes where no other walk has scanned and its fixes land tens of metres
+#   away. The fix variance learned from the other walks says so, and every fusion weights the fixes by it.
 # - PDR is good in shape (gyro heading aligned on average to the compass, steps from the robust detector,
-#   Weinberg lengths with `k` from the other walks), but started from the first Wi-Fi fix it inherits that
-#   fix's error for the whole walk; the causal KF cannot remove it either.
-# - Whole-walk smoothing (RTS) and fitting the track onto all of the walk's fixes average the start error
-#   down, and the floor map adds the constraint that the whole track must lie in walkable space (the
-#   particle filter's smoother and the whole-walk map matching). The gains are modest: the fixes of one walk
-#   share their error (they all snap to the same nearest surveyed path), so averaging them removes little.
-#   The diagnostics table shows where the limit is: the PDR track's shape alone is accurate to a metre or
-#   two, the placement is what the Wi-Fi cannot give. Whether any variant meets the goal of half the
-#   Wi-Fi-only error is printed in the findings above; every variant is reported, including those that miss.
-# - Causal variants (`pdr`, `wifi`, `kf`, `pf`) only use the past; the others use the whole walk (offline).
+#   Weinberg lengths with `k` from the other walks) but started from the first Wi-Fi fix it inherits that
+#   fix's error; the causal variants (`pdr`, `wifi`, `kf`, `pf`, `lsq_online*`) use only the past, the others
+#   the whole walk (offline).
+# - The least-squares trajectory equals the Kalman smoother for Gaussian errors (same model); what it adds is
+#   robustness (Huber weights) and a place to add constraints. The map-constrained particle filter's smoother
+#   uses the floor plan as well and is the strongest offline variant where the corridors are narrow.
+# - Map matching of the whole walk as one rigid placement failed on site 1 before (mean 17 m) because its map
+#   term counted every track point as an independent observation; it now counts as many as there are fixes.

@@ -56,7 +56,8 @@ def test_trace_files_and_no_map(shared_data, tmp_path):
                 files[stem].write_bytes(tf.extractfile(m).read())
     out = cmd.run(_args(trace=str(files[TRACE]), fingerprints=[str(files[d]) for d in DB[:2]], no_map=True,
                         floor=tmp_path / "nowhere"))
-    assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts"}
+    assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "lsq",
+                                    "lsq_online"}
     assert out["n_fingerprint_walks"] == 2
 
 
@@ -94,7 +95,8 @@ def test_ipin_logfile_scored_against_other_logfiles(ipin_files):
     n = out["n_waypoints"]
     assert out["trace"] == "sim001" and out["n_fingerprint_walks"] == len(db)
     # no floor map for geographic walks: the map-constrained methods are left out, as for ILC with --no-map
-    assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts"}
+    assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "lsq",
+                                    "lsq_online"}
     for k, e in out["errors_m"].items():
         assert len(e) == n and all(np.isfinite(e)) and out["mean_m"][k] == pytest.approx(np.mean(e))
     assert out["mean_m"]["kf_rts"] < 10 and out["mean_m"]["wifi"] < 10
@@ -108,7 +110,7 @@ def test_ipin_logfile_scored_against_other_logfiles(ipin_files):
 def test_ipin_scored_walk_under_another_name_is_refused(ipin_files, tmp_path):
     copy = tmp_path / "renamed_walk.txt"
     copy.write_bytes(ipin_files[1].read_bytes())
-    with pytest.raises(ValueError, match="same sensor content"):
+    with pytest.raises(ValueError, match="renamed_walk.txt: same sensor content"):
         cmd.run(_args(trace=str(ipin_files[1]), fingerprints=[str(copy), *map(str, ipin_files[2:5])], particles=100))
     with pytest.raises(ValueError, match="pass --no-map"):
         cmd.run(_args(trace=str(ipin_files[1]), fingerprints=[str(p) for p in ipin_files[2:5]], map=str(tmp_path)))
@@ -125,3 +127,37 @@ def test_ipin_from_the_command_line(ipin_files):
                           "--fingerprints", str(ipin_files[1]), "--format", "ilc", "--json"],
                          capture_output=True, text=True, timeout=600)
     assert bad.returncode == 2 and "Traceback" not in bad.stderr and "sim000.txt" in bad.stderr
+
+
+def test_table_by_default_out_track_and_help(ipin_files, tmp_path):
+    csv = tmp_path / "track.csv"
+    p = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "track", "--trace", str(ipin_files[0]),
+                        "--fingerprints", *map(str, ipin_files[1:5]), "--particles", "50", "--quiet",
+                        "--out-track", str(csv)], capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert lines[0].startswith("walk sim000") and lines[1].split()[:4] == ["method", "mean", "m", "median"]
+    rows = {ln.split()[0]: float(ln.split()[1]) for ln in lines[2:] if ln.split() and ln.split()[0] in cmd.METHOD_HELP}
+    assert {"wifi", "kf_rts", "lsq", "lsq_online"} <= set(rows)
+    import pandas as pd
+
+    t = pd.read_csv(csv)
+    assert {"t_s", "method", "x_m", "y_m", "floor"} <= set(t.columns) and "lsq" in set(t["method"])
+    h = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "track", "--help"], capture_output=True, text=True)
+    assert "lsq_online" in h.stdout and "examples" in h.stdout
+
+
+def test_two_floor_archive_names_the_floors(tmp_path):
+    import io
+
+    arch = tmp_path / "site_F1_F2.tar.xz"
+    with tarfile.open(arch, "w:xz") as tf:
+        for fl in ("site_F1", "site_F2"):
+            for name, data in (("floor_info.json", b"{}"), ("geojson_map.json", b"{}")):
+                ti = tarfile.TarInfo(f"{fl}/{name}")
+                ti.size = len(data)
+                tf.addfile(ti, io.BytesIO(data))
+    from ilocalg.io.ilc import load_ilc_floor_map
+
+    with pytest.raises(ValueError, match=r"found 2 floors \(site_F1, site_F2\); pick one with floor_name='site_F1'"):
+        load_ilc_floor_map(arch)

@@ -143,7 +143,7 @@ def test_points_in_polygon_and_bad_ring():
 
 @functools.lru_cache(maxsize=1)
 def _floor(root):
-    return ilc.load_ilc_floor(root, duplicate_bssid="keep_latest")
+    return ilc.load_ilc_floor(root, duplicate_bssid="keep_latest", relisted_wifi="keep")
 
 
 def test_real_archive_all_19_traces_load(shared_data):
@@ -174,7 +174,8 @@ def test_real_archive_default_policy_refuses_duplicates(shared_data):
     root = shared_data("ilc2020_site2_F4")
     with pytest.raises(ValueError, match=r"5dd3ac5f44333f00067aa66a.txt: line \d+: TYPE_WIFI bssid"):
         ilc.load_ilc_floor(root, names=["5dd3ac5f44333f00067aa66a"])
-    tr = ilc.load_ilc_floor(root, names=["5dd3a32544333f00067aa5ab"]).traces["5dd3a32544333f00067aa5ab"]
+    tr = ilc.load_ilc_floor(root, names=["5dd3a32544333f00067aa5ab"], relisted_wifi="keep").traces[
+        "5dd3a32544333f00067aa5ab"]
     assert tr.n_duplicate_bssid_dropped == 0 and len(tr.waypoints) == 14
 
 

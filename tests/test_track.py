@@ -22,7 +22,7 @@ def floor():
     p = dataset_path(DATASET)
     if not p.is_dir():
         pytest.skip(f"{p} not found")
-    return load_ilc_floor(p, duplicate_bssid="keep_latest")
+    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi="keep")
 
 
 @pytest.mark.realdata
@@ -44,7 +44,7 @@ def test_wknn_fixes_agree_with_the_estimator(shared_data, floor):
     """locate_wknn is KnnFingerprint's prediction, plus a neighbour-spread covariance."""
     shared_data(DATASET)
     db = track.WifiDatabase.from_traces(floor.traces).without(SHORT[0])
-    cfg = track.RealWalkConfig()
+    cfg = track.RealWalkConfig(max_age_s=None)                          # every reading: KnnFingerprint sees them all
     fx = track.wifi_fixes(floor.traces[SHORT[0]], db, cfg)
     est = KnnFingerprint(n_neighbors=cfg.k_neighbors, p=cfg.p, weights=cfg.weights, not_heard_dbm=cfg.not_heard_dbm,
                          kernel="dense", metric=cfg.metric).fit(db.rssi_dbm, db.xy_m)
@@ -109,7 +109,7 @@ def test_evaluate_track_scores_every_method_and_smoothing_helps(shared_data, flo
 # format-neutral: simulated walks (no real data needed)
 # ---------------------------------------------------------------------------------------------------
 
-NO_MAP = tuple(m for m in track.METHODS if not m.startswith("map_align"))
+NO_MAP = tuple(m for m in track.METHODS if not m.startswith("map_align") and not m.endswith("_map"))
 
 
 @pytest.fixture(scope="module")
@@ -134,11 +134,13 @@ def test_ipin_and_ilc_exports_give_the_same_track(sim_walks, tmp_path):
     file's by ~1e-7 s, which can move a step peak that falls midway between two 50 Hz samples to the
     other sample (the step's heading is then read one sample away).
     """
-    cfg = track.RealWalkConfig(n_particles=200)
+    # every reading counts: IPIN logfiles carry no last-seen time, ILC traces do (an age limit would drop
+    # readings from the ILC copy only)
+    cfg = track.RealWalkConfig(n_particles=200, max_age_s=None)
     out = {}
     for fmt in ("ipin", "ilc"):
         recs = _reload(sim_walks, tmp_path, fmt)
-        out[fmt] = track.evaluate_track(recs[0], recs[1:], cfg=cfg, rng=0, methods=NO_MAP)
+        out[fmt] = track.evaluate_track(recs[0], recs[1:], cfg=cfg, rng=0, methods=NO_MAP, select=False)
         if fmt == "ipin":
             ipin_frame = recs[1].frame               # the database's frame: the first fingerprint logfile's
     a, b = out["ipin"], out["ilc"]
@@ -154,6 +156,10 @@ def test_ipin_and_ilc_exports_give_the_same_track(sim_walks, tmp_path):
         if m == "wifi":
             continue
         xy = sim_frame.to_xy(*ipin_frame.to_latlon(*a["tracks"][m].T).T)
+        if m.startswith("pf"):
+            # resampling turns the clock's 1e-7 s into other particle draws: same accuracy, not the same path
+            assert abs(a["errors"][m].mean() - b["errors"][m].mean()) < 0.5, m
+            continue
         # a few steps' headings read one sample apart: decimetres, never more (a wrong frame would be metres)
         assert np.hypot(*(xy - b["tracks"][m]).T).max() < 0.3, m
         assert abs(a["errors"][m].mean() - b["errors"][m].mean()) < 0.15, m
@@ -249,4 +255,7 @@ def test_map_methods_run_on_a_walkable_grid_in_the_walks_frame():
     # particle filter can lock onto a parallel corridor); the KF started from the map placement stays sane
     assert e["map_align_kf_rts"].mean() < 2 * e["wifi"].mean()
     # the map-constrained states lie on the corridors (the particle filter's mean may cut a corner)
-    assert grid.walkable(*r["tracks"]["map_align"].T).mean() > 0.75     # a rigid placement: most states on the map
+    # a rigid placement among those the Wi-Fi fixes accept (map_align's wifi_margin): most states on the map, and
+    # never far from where the fixes put the walk
+    assert grid.walkable(*r["tracks"]["map_align"].T).mean() > 0.6
+    assert e["map_align"].mean() < 1.5 * e["wifi"].mean()

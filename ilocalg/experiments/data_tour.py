@@ -114,7 +114,8 @@ def real_summaries(data_dir: str | Path | None = None, fast: bool = False) -> di
         from ilocalg.io.summaries import floor_summary
 
         names = list_ilc_traces(ilc)
-        floor = load_ilc_floor(ilc, names=names[:3] if fast else None, duplicate_bssid="keep_latest")
+        floor = load_ilc_floor(ilc, names=names[:3] if fast else None, duplicate_bssid="keep_latest",
+                           relisted_wifi="keep")
         out["ilc2020_site2_F4"] = floor_summary(floor.traces)
     return out
 

@@ -17,86 +17,96 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ilocalg.fusion.particle_filter import OccupancyGrid
 from ilocalg.io.ilc import load_ilc_floor
 from ilocalg.io.paths import data_dir as default_data_dir
-from ilocalg.io.schema import X_M, Y_M
+from ilocalg.io.schema import T_S, X_M, Y_M
+from ilocalg.papers import reading, readings_table
 from ilocalg.track import (
+    CAUSAL_METHODS,
     METHODS,
     RealWalkConfig,
-    WifiDatabase,
-    calibrate,
-    calibrate_fix_var,
+    build_floor_model,
     evaluate_track,
     evaluate_walk,
-    select_wifi,
     walk_steps,
 )
+from ilocalg.track.fixes import select_wifi_nested
 from ilocalg.units import as_rng
 
-__all__ = ["DATASET", "load_floor", "run", "example", "findings"]
+__all__ = ["DATASET", "load_floor", "run", "example", "findings", "wifi_ablation", "floor_image"]
 
 DATASET = "ilc2020_site2_F4"
 
 
-def load_floor(data_dir=None):
-    """The site2/F4 floor (traces and map) from ``data_dir`` (None: the toolkit's data folder)."""
+def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep"):
+    """A floor (traces and map) from ``data_dir`` (None: the toolkit's data folder). ``dataset`` is a data
+    set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive
+    (``"ilc2020_site1/site1_F1"``); ``relisted_wifi``: the loader's re-listing policy
+    (:func:`ilocalg.io.scans.relisted_readings`)."""
     p = Path(default_data_dir() if data_dir is None else data_dir)
-    if (p / DATASET).exists():
-        p = p / DATASET
-    return load_ilc_floor(p, duplicate_bssid="keep_latest")
+    folder, _, floor_name = dataset.partition("/")
+    if (p / folder).exists():
+        p = p / folder
+    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi, floor_name=floor_name or None)
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
-        names=None, select: bool | None = None) -> dict[str, pd.DataFrame]:
+        names=None, select: bool | None = None, dataset: str = DATASET, relisted_wifi: str = "keep",
+        methods=None) -> dict[str, pd.DataFrame]:
     """Leave-one-walk-out over the floor's walks; every variant at every waypoint.
 
     ``fast`` scores every fifth walk with fewer particles, a coarser map raster and the default Wi-Fi
     configuration. ``select`` (default: not ``fast``): choose the Wi-Fi configuration per held-out walk
-    by leave-one-walk-out inside the other walks.
+    by leave-one-walk-out inside the other walks (:func:`ilocalg.track.fixes.select_wifi_nested`).
+    ``dataset`` (see :func:`load_floor`), ``relisted_wifi`` (loader policy), ``methods`` (default all of
+    :data:`ilocalg.track.METHODS`). The floor's database and calibration rows are built once
+    (:func:`ilocalg.track.build_floor_model`); each scored walk is left out of all of them.
 
     Returns
     -------
     dict of DataFrame
         ``waypoints`` (walk, waypoint, one error column per method), ``per_walk`` (mean per walk and
         method + what was learned from the other walks), ``summary`` (mean over all waypoints, median,
-        p90, mean of the walk means, ratio to Wi-Fi only, goal met), ``diagnostics`` (what limits the
-        fusion: the error of the PDR track's shape alone, fitted onto the walk's own waypoints as an
-        oracle, beside the Wi-Fi fix errors).
+        p75 (EvAAL), p90, mean of the walk means, ratio to Wi-Fi only, goal met), ``diagnostics``,
+        ``measures`` (named scalars per method: mean, p75, ratio to Wi-Fi; item = the data set) and
+        ``readings``.
     """
     cfg = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
     select = (not fast) if select is None else select
-    fl = floor or load_floor(data_dir)
+    methods = tuple(METHODS if methods is None else methods)
+    fl = floor or load_floor(data_dir, dataset, relisted_wifi)
     all_names = fl.names
     scored = list(names) if names is not None else (all_names[::5] if fast else all_names)
     grid = OccupancyGrid.from_floor_map(fl.floor_map, cfg.grid_cell_m)
     steps = {n: walk_steps(fl.traces[n], cfg) for n in all_names}
-    db_all = WifiDatabase.from_traces(fl.traces, cfg.max_age_s)
+    model = build_floor_model(fl.traces, cfg, steps=steps)
+    sel = select_wifi_nested(model.db, scored, cfg) if select else {}
     rng = as_rng(seed)
-    wrows, prow = [], []
+    wrows, prow, trk = [], [], {}
     for name in scored:
-        others = {k: v for k, v in fl.traces.items() if k != name}
-        db = db_all.without(name)
-        if select:
-            label, wcfg, var, _ = select_wifi(db, cfg)
-        else:
-            label, wcfg, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
-        cal = calibrate(others, steps, wcfg)
-        r = evaluate_walk(fl.traces[name], db, cal, var, wcfg, grid=grid, steps=steps[name], rng=rng)
+        wm = model.for_walk(name, cfg, select=False)
+        label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
+        r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name], rng=rng,
+                          methods=methods, step_var_m2=wm.step_var_m2)
         e = r["errors"].assign(walk=name)
+        trk[name] = r["track"]
         wrows.append(e)
-        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in METHODS},
+        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                      "wifi_config": label, **r["info"]})
     wp = pd.concat(wrows, ignore_index=True)
     wp = wp[["walk"] + [c for c in wp.columns if c != "walk"]]
     pw = pd.DataFrame(prow)
     wifi_mean = float(wp["wifi"].mean())
     summ = pd.DataFrame([{"method": m, "mean_error_m": float(wp[m].mean()), "median_error_m": float(wp[m].median()),
+                          "p75_error_m": float(wp[m].quantile(0.75)),
                           "p90_error_m": float(wp[m].quantile(0.9)), "mean_of_walk_means_m": float(pw[m].mean()),
                           "ratio_to_wifi": float(wp[m].mean()) / wifi_mean, "meets_goal_half_wifi":
-                          bool(float(wp[m].mean()) <= 0.5 * wifi_mean)} for m in METHODS])
+                          bool(float(wp[m].mean()) <= 0.5 * wifi_mean), "online": m in CAUSAL_METHODS}
+                         for m in methods])
     diag = pd.DataFrame([
         {"quantity": "PDR track fitted onto the walk's own waypoints (oracle, diagnostic only), mean error [m]",
          "value": float(wp["oracle_shape_m"].mean())},
@@ -105,7 +115,90 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
         {"quantity": "waypoints scored", "value": float(len(wp))},
         {"quantity": "walks scored", "value": float(len(pw))},
     ])
-    return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag}
+    meas = []
+    for _, row in summ.iterrows():
+        m = row["method"]
+        meas += [{"quantity": f"mean error, {m}", "value": row["mean_error_m"], "unit": "m", "item": dataset},
+                 {"quantity": f"p75 error, {m}", "value": row["p75_error_m"], "unit": "m", "item": dataset},
+                 {"quantity": f"ratio to Wi-Fi only, {m}", "value": row["ratio_to_wifi"], "unit": "1",
+                  "item": dataset}]
+    # the tracks of the best and the worst walk (by the best offline method's walk mean) for the figures
+    off = summ[~summ["online"] & (summ["method"] != "wifi")]
+    best_m = off.loc[off["mean_error_m"].idxmin(), "method"] if len(off) else "wifi"
+    order = pw.sort_values(best_m)["walk"].tolist()
+    picks = {"best": order[0], "worst": order[-1]}
+    tracks = pd.concat([trk[w].assign(walk=w, which=k) for k, w in picks.items()], ignore_index=True)
+    truth = pd.concat([fl.traces[w].waypoints[[T_S, X_M, Y_M]].assign(walk=w, which=k) for k, w in picks.items()],
+                      ignore_index=True)
+    return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag, "measures": pd.DataFrame(meas),
+            "readings": _readings(relisted_wifi), "tracks": tracks, "truth": truth}
+
+
+def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
+    """What each Wi-Fi piece buys: leave-one-walk-out fix error of every database scan (each walk located
+    against the others) for every Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` (the first
+    one is the plain reference: WKNN, K = 5, readings older than 2 s dropped) with the re-listed readings
+    kept and merged (:func:`ilocalg.io.scans.merge_relisted_wifi`, the loader's ``relisted_wifi`` rule).
+    ``floor`` must be loaded with ``relisted_wifi="keep"``. Columns: ``relisted_wifi, wifi_config, n,
+    mean_m, median_m, p75_m, merged_readings``.
+    """
+    import dataclasses
+
+    from ilocalg.io.scans import merge_relisted_wifi
+    from ilocalg.track import WIFI_CANDIDATES, WifiDatabase
+    from ilocalg.track.fixes import loo_fix_errors
+
+    cfg = cfg or RealWalkConfig()
+    rows = []
+    for policy in ("keep", "merge"):
+        n_merged = 0
+        trs = {}
+        for k, t in floor.traces.items():
+            if policy == "merge":
+                w, n = merge_relisted_wifi(t.wifi)
+                n_merged += n
+                t = dataclasses.replace(t, wifi=w)
+            trs[k] = t
+        db = WifiDatabase.from_traces(trs)
+        for label, kw in WIFI_CANDIDATES.items():
+            e = loo_fix_errors(db, dataclasses.replace(cfg, **kw))
+            e = e[np.isfinite(e)]
+            rows.append({"relisted_wifi": policy, "wifi_config": label, "n": int(e.size), "mean_m": float(e.mean()),
+                         "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
+                         "merged_readings": n_merged})
+    return pd.DataFrame(rows)
+
+
+def floor_image(data_dir=None, dataset: str = DATASET) -> bytes | None:
+    """The floor plan image (``floor_image.png``) of a data set's floor, or None when absent."""
+    from ilocalg.io.ilc import _read_members, _resolve_root
+
+    p = Path(default_data_dir() if data_dir is None else data_dir)
+    folder, _, floor_name = dataset.partition("/")
+    root = _resolve_root(p / folder if (p / folder).exists() else p)
+    if root.is_dir():
+        f = root / "floor_image.png"
+        return f.read_bytes() if f.is_file() else None
+    m = _read_members(root, lambda n: n.endswith("floor_image.png") and (not floor_name or f"/{floor_name}/" in
+                                                                        "/" + n))
+    return next(iter(m.values())) if len(m) == 1 else None
+
+
+def _readings(relisted_wifi: str) -> pd.DataFrame:
+    return readings_table([
+        reading("Wi-Fi re-listed readings", "", "silent (ILC 2.0 files: about half the TYPE_WIFI lines re-list the "
+                "previous scan's reading of the same AP, last seen within 1 ms)",
+                f"loader policy relisted_wifi={relisted_wifi!r} (ilocalg.io.scans.relisted_readings)",
+                "rule measured on site1 F1/F2 and site2 F4: same RSSI and |last_seen shift| <= 1 ms"),
+        reading("Wi-Fi fingerprint estimator", "Luo et al. 2017, KNN K = 5", "KNN with K = 5",
+                "WKNN, Euclidean, K and reading-age limit chosen per held-out walk among WIFI_CANDIDATES by "
+                "leave-one-walk-out inside the other walks", "nested leave-one-walk-out"),
+        reading("least-squares weights", "", "silent",
+                "fix variance: leave-one-walk-out fix errors of the other walks; step variance: PDR vs waypoint "
+                "displacements of the other walks", "measured on the database walks"),
+        reading("least-squares robustness", "", "silent", "Huber weights on the fixes, c = 1.345 sd",
+                "Huber (1981)"),
+    ])
 
 
 def example(floor, name: str | None = None, cfg: RealWalkConfig | None = None, seed: int = 0,
@@ -128,13 +221,22 @@ def findings(tables: dict) -> str:
     """Sentences computed from the tables (for the notebook's closing cell)."""
     s = tables["summary"].set_index("method")
     w = s.loc["wifi", "mean_error_m"]
-    best = s.drop("wifi")["mean_error_m"].idxmin()
+    rest = s.drop("wifi")
+    best = rest["mean_error_m"].idxmin()
+    on = rest[rest["online"]] if "online" in rest.columns else rest.iloc[:0]
+    off = rest[~rest["online"]] if "online" in rest.columns else rest
     met = [m for m in s.index if s.loc[m, "meets_goal_half_wifi"]]
-    return "\n".join([
+    out = [
         f"Wi-Fi only: {w:.2f} m mean waypoint error over {len(tables['waypoints'])} waypoints of "
         f"{len(tables['per_walk'])} walks (leave-one-walk-out).",
         f"Best variant: {best}, {s.loc[best, 'mean_error_m']:.2f} m ({s.loc[best, 'ratio_to_wifi']:.2f} x Wi-Fi only).",
-        f"Goal (at most half the Wi-Fi-only error, {0.5 * w:.2f} m) met by: {', '.join(met) if met else 'none'}; "
-        f"KF {s.loc['kf', 'mean_error_m']:.2f} m, KF + RTS {s.loc['kf_rts', 'mean_error_m']:.2f} m, "
-        f"PF {s.loc['pf', 'mean_error_m']:.2f} m, PF smoothed {s.loc['pf_smooth', 'mean_error_m']:.2f} m.",
-    ])
+        f"Goal (at most half the Wi-Fi-only error, {0.5 * w:.2f} m) met by: {', '.join(met) if met else 'none'}.",
+    ]
+    for label, part, goal in (("offline", off, 0.5), ("online", on, 0.7)):
+        if len(part):
+            m = part["mean_error_m"].idxmin()
+            r = part.loc[m]
+            out.append(f"Best {label}: {m}, mean {r['mean_error_m']:.2f} m, p75 (EvAAL) "
+                       f"{r.get('p75_error_m', float('nan')):.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only "
+                       f"(goal <= {goal} x: {'met' if r['ratio_to_wifi'] <= goal else 'missed'}).")
+    return "\n".join(out)

@@ -251,7 +251,8 @@ def ilc_k_study(data_dir: str | Path, seed: int = 0, fast: bool = False, ma_half
     from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
 
     names = list_ilc_traces(data_dir)
-    floor = load_ilc_floor(data_dir, names=names[:10] if fast else None, duplicate_bssid="keep_latest")
+    floor = load_ilc_floor(data_dir, names=names[:10] if fast else None, duplicate_bssid="keep_latest",
+                           relisted_wifi="keep")
     traces = sorted(floor.traces.values(), key=lambda tr: float(tr.imu.index[0]))
     rows, step_tabs = [], []
     for tr in traces:

@@ -6,10 +6,13 @@ searches every rigid placement ``p -> R(a) p + t`` of the track (``a`` on a grid
 ``t`` on the walkable raster's cells) and scores it by
 
 ``log L = sum_fixes log[(1 - eps) N(z_j; R(a) p_j + t, R_j) + eps / area]``
-``        + n_off_map(a, t) log(blocked_weight) - a^2 / (2 sigma_a^2)``
+``        + w n_off_map(a, t) log(blocked_weight) - a^2 / (2 sigma_a^2)``
 
 (robust Wi-Fi likelihood, a penalty per track point off the walkable area, a Gaussian prior on
-the offset). The walkable count for every translation at once is a correlation of the raster with
+the offset). ``w = min(1, n_fixes / n_points)``: the track's points are strongly correlated, so the map
+term counts as many observations as there are fixes, not one per point; and only placements the fixes
+accept (Wi-Fi log-likelihood within ``wifi_margin`` nats per fix of the best) are candidates.
+The walkable count for every translation at once is a correlation of the raster with
 the track's point pattern, computed by shifted sums. The best placement is returned with the score
 grid's summary. Offline (uses the whole walk), like the RTS smoother.
 
@@ -65,7 +68,7 @@ def _walkable_counts(mask: np.ndarray, shifts: np.ndarray) -> np.ndarray:
 
 def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, angles_rad=None,
               sigma_angle_rad: float = 0.35, outlier_prob: float = 0.2, blocked_weight: float = 1e-3,
-              max_points: int = 200) -> MapAlignResult:
+              max_points: int = 200, wifi_margin: float = 1.0) -> MapAlignResult:
     """Best rigid placement of a relative track on the walkable map given fixes at some of its states.
 
     Parameters
@@ -87,6 +90,9 @@ def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, 
         As in :func:`ilocalg.fusion.particle_filter.map_particle_filter`.
     max_points : int
         Track points used for the map term (evenly subsampled).
+    wifi_margin : float
+        Placements whose Wi-Fi log-likelihood is more than this many nats per fix below the best
+        placement's are excluded (1 nat per fix: a mean fix residual about 1.4 sd larger).
 
     Returns
     -------
@@ -114,21 +120,33 @@ def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, 
     sub = np.unique(np.linspace(0, p.shape[0] - 1, min(max_points, p.shape[0])).round().astype(np.int64))
     area = grid.area_m2
     lb = np.log(blocked_weight)
+    # neighbouring track points are not independent map observations: the map term counts as many
+    # observations as there are fixes (a track of 200 points otherwise outvotes 30 fixes and a wholly
+    # walkable placement 20-30 m from every fix wins, as on the densely surveyed ILC site1 floors)
+    map_w = min(1.0, max(fi.size, 1) / sub.size)
     best = (-np.inf, 0.0, np.zeros(2), 0)
     by_angle = np.full(angles.size, -np.inf)
-    for ai, a in enumerate(angles):
+    wifi_terms = []
+    for a in angles:                  # the Wi-Fi log-likelihood of every placement, per angle
         q = rotate_xy(p, a)
-        shifts = np.round(q[sub] / c).astype(np.int64)
-        walk = _walkable_counts(grid.walkable_mask, shifts)
-        s = (sub.size - walk) * lb - 0.5 * (a / sigma_angle_rad) ** 2
+        sw = np.zeros((ny, nx))
         for j in range(fi.size):
             cx, cy = z[j] - q[fi[j]]
             dx2 = (tx - cx) ** 2
             dy2 = (ty - cy) ** 2
             g = np.exp(-0.5 * (dy2[:, None] + dx2[None, :]) / var[j]) / (2 * np.pi * var[j])
-            s = s + np.log((1 - outlier_prob) * g + outlier_prob / area)
+            sw = sw + np.log((1 - outlier_prob) * g + outlier_prob / area)
+        wifi_terms.append(sw)
+    # placements the fixes reject (Wi-Fi log-likelihood more than wifi_margin nats per fix below the best
+    # placement's) are not candidates, whatever the map says: the map chooses among Wi-Fi-consistent ones
+    floor_ll = max(float(w.max()) for w in wifi_terms) - wifi_margin * max(fi.size, 1)
+    for ai, a in enumerate(angles):
+        q = rotate_xy(p, a)
+        shifts = np.round(q[sub] / c).astype(np.int64)
+        walk = _walkable_counts(grid.walkable_mask, shifts)
+        s = map_w * (sub.size - walk) * lb - 0.5 * (a / sigma_angle_rad) ** 2 + wifi_terms[ai]
         # the origin (start) itself must be walkable
-        s = np.where(grid.walkable_mask, s, -np.inf)
+        s = np.where(grid.walkable_mask & (wifi_terms[ai] >= floor_ll), s, -np.inf)
         k = int(np.argmax(s))
         jj, ii = divmod(k, nx)
         by_angle[ai] = s[jj, ii]

@@ -95,7 +95,7 @@ from ilocalg.io._text import (
     split_by_type,
     to_float,
 )
-from ilocalg.io.scans import scan_matrix
+from ilocalg.io.scans import RELISTED_WIFI_POLICIES, merge_relisted_wifi, relisted_readings, scan_matrix
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -352,10 +352,12 @@ def _blocks_slow(lines: list[str], source) -> tuple[dict, dict, list]:
 
 
 def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid: str = "error",
-                    truncated_last_line: str = "error") -> IlcTrace:
+                    truncated_last_line: str = "error", relisted_wifi: str = "refuse") -> IlcTrace:
     """Parse the text of one ILC trace file (see :func:`load_ilc_trace`)."""
     if duplicate_bssid not in _DUPLICATE_POLICIES:
         raise ValueError(f"duplicate_bssid must be one of {_DUPLICATE_POLICIES}, got {duplicate_bssid!r}")
+    if relisted_wifi not in RELISTED_WIFI_POLICIES:
+        raise ValueError(f"relisted_wifi must be one of {RELISTED_WIFI_POLICIES}, got {relisted_wifi!r}")
     fast, n_cut = parse_record_log(text, source, truncated_last_line, _blocks_fast, _blocks_slow, _is_cut)
     by_type, counts, header_lines = fast
     empty = _Block(np.zeros(0, dtype=np.int64), [], np.zeros((0, 3)), [], [])
@@ -457,6 +459,16 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
             keep[order[first]] = True
     n_dropped = int((~keep).sum())
     wifi = wifi[keep].reset_index(drop=True)
+    n_relisted = 0
+    if len(wifi) and relisted_wifi != "keep":          # re-listed cached readings (ilocalg.io.scans)
+        rel = relisted_readings(wifi)
+        if rel.any() and relisted_wifi == "refuse":
+            i = int(np.flatnonzero(rel)[0])
+            fail(source, np.asarray(linenos)[keep][i], f"TYPE_WIFI bssid {wifi[BSSID].iloc[i]!r} re-lists its reading "
+                 f"of the previous scan (same RSSI, last seen within 1 ms; {int(rel.sum())} such lines); pass "
+                 "relisted_wifi='merge' to merge them into their first listing (counted) or 'keep' to take them as "
+                 "new readings")
+        wifi, n_relisted = merge_relisted_wifi(wifi)
     if len(wifi):
         check_wifi_scans(wifi, source)
 
@@ -466,12 +478,16 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     if n_dropped:
         kept["TYPE_WIFI"] -= n_dropped
         skipped["TYPE_WIFI duplicate bssid"] = n_dropped
+    if n_relisted:
+        kept["TYPE_WIFI"] -= n_relisted
+        skipped["TYPE_WIFI relisted reading"] = n_relisted
     return IlcTrace(imu=imu, rotation_vector=rotvec, wifi=wifi, waypoints=waypoints,
                     header=_parse_header(header_lines), kept=kept, skipped=skipped,
                     n_duplicate_bssid_dropped=n_dropped, source=source)
 
 
-def load_ilc_trace(path, duplicate_bssid: str = "error", truncated_last_line: str = "error") -> IlcTrace:
+def load_ilc_trace(path, duplicate_bssid: str = "error", truncated_last_line: str = "error",
+                   relisted_wifi: str = "refuse") -> IlcTrace:
     """Load one ILC 2.0 trace file.
 
     Parameters
@@ -485,6 +501,11 @@ def load_ilc_trace(path, duplicate_bssid: str = "error", truncated_last_line: st
     truncated_last_line : {"error", "drop"}
         A file cut while being written ends without a line end inside its last record: raise
         naming that line, or drop the line and count it in ``skipped["truncated last line"]``.
+    relisted_wifi : {"refuse", "merge", "keep"}
+        A reading that re-lists the same access point's reading of an earlier scan (same RSSI, last seen
+        within 1 ms: :func:`ilocalg.io.scans.relisted_readings`; about half the Wi-Fi lines of the ILC
+        2020 walks): raise naming the line, merge it into its first listing (counted in
+        ``skipped["TYPE_WIFI relisted reading"]``) or keep it as a new reading.
 
     Returns
     -------
@@ -507,7 +528,7 @@ def load_ilc_trace(path, duplicate_bssid: str = "error", truncated_last_line: st
     """
     path = Path(path)
     return parse_ilc_trace(read_bytes(path), str(path), duplicate_bssid=duplicate_bssid,
-                           truncated_last_line=truncated_last_line)
+                           truncated_last_line=truncated_last_line, relisted_wifi=relisted_wifi)
 
 
 def require_walk(trace: IlcTrace, min_imu: int = 50, min_waypoints: int = 2, min_scans: int = 1) -> IlcTrace:
@@ -571,14 +592,20 @@ def _read_members(archive: Path, want) -> dict[str, bytes]:
     return out
 
 
-def list_ilc_traces(root) -> list[str]:
-    """Trace ids (file stems, sorted) under a floor folder or inside its archive."""
+def _in_floor(name: str, floor_name: str | None) -> bool:
+    """Whether an archive member belongs to the floor folder ``floor_name`` (None: any)."""
+    return floor_name is None or f"/{floor_name}/" in "/" + name
+
+
+def list_ilc_traces(root, floor_name: str | None = None) -> list[str]:
+    """Trace ids (file stems, sorted) under a floor folder or inside its archive (only the floor folder
+    ``floor_name`` of a several-floor archive)."""
     r = _resolve_root(root)
     if r.is_dir():
         return sorted(f.stem for f in (r / "path_data_files").glob("*.txt"))
     with ArchiveReader(r) as ar:
         names = [m.name for m in ar.tar if m.isfile() and "/path_data_files/" in "/" + m.name
-                 and m.name.endswith(".txt")]
+                 and m.name.endswith(".txt") and _in_floor(m.name, floor_name)]
     return sorted(Path(n).stem for n in names)
 
 
@@ -711,16 +738,20 @@ def _floor_map(info_bytes: bytes, geo_bytes: bytes, source: str) -> IlcFloorMap:
                        obstacles=tuple(obstacles), lonlat_bbox=(lo[0], lo[1], hi[0], hi[1]), source=source)
 
 
-def load_ilc_floor_map(root) -> IlcFloorMap:
-    """Floor size and walkable polygons from a floor folder or its archive (see module docstring)."""
+def load_ilc_floor_map(root, floor_name: str | None = None) -> IlcFloorMap:
+    """Floor size and walkable polygons from a floor folder or its archive (see module docstring;
+    ``floor_name`` as in :func:`load_ilc_floor`)."""
     r = _resolve_root(root)
     if r.is_dir():
         return _floor_map(read_bytes(r / "floor_info.json"), read_bytes(r / "geojson_map.json"), str(r))
-    m = _read_members(r, lambda n: n.endswith(("floor_info.json", "geojson_map.json")))
+    m = _read_members(r, lambda n: n.endswith(("floor_info.json", "geojson_map.json")) and _in_floor(n, floor_name))
     info = [v for k, v in m.items() if k.endswith("floor_info.json")]
     geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
     if len(info) != 1 or len(geo) != 1:
-        raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive")
+        found = sorted(Path(k).parent.name for k in m if k.endswith("floor_info.json"))
+        raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive; found "
+                         f"{len(found)} floors ({', '.join(found) or 'none'}); pick one with floor_name="
+                         f"{found[0] if found else 'NAME'!r} (command line: --floor-name)")
     return _floor_map(info[0], geo[0], str(r))
 
 
@@ -745,14 +776,16 @@ class IlcFloor:
         return list(self.traces)
 
 
-def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_last_line: str = "error") -> IlcFloor:
+def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_last_line: str = "error",
+                   relisted_wifi: str = "refuse", floor_name: str | None = None) -> IlcFloor:
     """Load a floor's traces (all, or ``names``) and map from a folder or directly from its archive.
 
     ``root`` may be the extracted floor folder (``.../site2_F4`` with ``path_data_files/``), the
     data-set folder holding the ``.tar.xz`` or the archive itself; archive members are read in
     memory with :mod:`tarfile` (nothing is extracted); a corrupt or truncated archive raises a
-    ValueError naming it (and the member being read). ``duplicate_bssid`` and
-    ``truncated_last_line`` are passed to :func:`parse_ilc_trace` for every trace.
+    ValueError naming it (and the member being read). ``duplicate_bssid``, ``relisted_wifi`` and
+    ``truncated_last_line`` are passed to :func:`parse_ilc_trace` for every trace. ``floor_name``
+    picks one floor folder of an archive holding several (e.g. ``"site1_F1"`` in ``site1_F1_F2.tar.xz``).
     """
     r = _resolve_root(root)
     want = None if names is None else set(names)
@@ -763,21 +796,26 @@ def load_ilc_floor(root, names=None, duplicate_bssid: str = "error", truncated_l
                 texts[f.stem] = (read_bytes(f), str(f))
         fmap = load_ilc_floor_map(r)
     else:
-        m = _read_members(r, lambda n: n.endswith((".txt", "floor_info.json", "geojson_map.json")))
+        m = _read_members(r, lambda n: n.endswith((".txt", "floor_info.json", "geojson_map.json"))
+                          and _in_floor(n, floor_name))
         for k, v in sorted(m.items()):
             if "path_data_files/" in k and k.endswith(".txt") and (want is None or Path(k).stem in want):
                 texts[Path(k).stem] = (v, f"{r}:{k}")
         info = [v for k, v in m.items() if k.endswith("floor_info.json")]
         geo = [v for k, v in m.items() if k.endswith("geojson_map.json")]
         if len(info) != 1 or len(geo) != 1:
-            raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive")
+            found = sorted(Path(k).parent.name for k in m if k.endswith("floor_info.json"))
+            raise ValueError(f"{r}: expected one floor_info.json and one geojson_map.json in the archive; found "
+                             f"{len(found)} floors ({', '.join(found) or 'none'}); pick one with floor_name="
+                             f"{found[0] if found else 'NAME'!r} (command line: --floor-name), or extract "
+                             "the archive and pass that floor's folder")
         fmap = _floor_map(info[0], geo[0], str(r))
     if want is not None and set(texts) != want:
         raise ValueError(f"{r}: traces not found: {sorted(want - set(texts))}")
     if not texts:
         raise ValueError(f"{r}: no trace files (path_data_files/*.txt)")
-    traces = {k: parse_ilc_trace(t, src, duplicate_bssid=duplicate_bssid, truncated_last_line=truncated_last_line)
-              for k, (t, src) in sorted(texts.items())}
+    traces = {k: parse_ilc_trace(t, src, duplicate_bssid=duplicate_bssid, truncated_last_line=truncated_last_line,
+                                 relisted_wifi=relisted_wifi) for k, (t, src) in sorted(texts.items())}
     return IlcFloor(traces=traces, floor_map=fmap, source=str(r))
 
 

@@ -18,6 +18,8 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 DATASETS = {
     "ujiindoorloc": "UJIIndoorLoc, UCI Machine Learning Repository dataset 310 (trainingData.csv, validationData.csv)",
     "oxford_step_counter": "Oxford step counter DataSet, GitHub Oxford-step-counter/DataSet (optimisation/)",
+    "ilc2020_site1": "Indoor Location Competition 2.0, GitHub location-competition/indoor-location-competition-20 "
+                     "(data/site1/F1 and F2, one archive site1_F1_F2.tar.xz)",
     "ilc2020_site2_F4": "Indoor Location Competition 2.0, GitHub location-competition/indoor-location-competition-20 "
                         "(data/site2/F4)",
     "ilc2020_site1": "Indoor Location Competition 2.0, GitHub location-competition/indoor-location-competition-20 "

@@ -56,9 +56,11 @@ def build_parser() -> argparse.ArgumentParser:
     ev = sub.add_parser("evaluate", help="score a method on data and print JSON")
     evsub = ev.add_subparsers(dest="what", required=True, metavar="WHAT")
     for name, mod in evaluators().items():
-        sp = evsub.add_parser(name, help=mod.HELP)
+        sp = evsub.add_parser(name, help=mod.HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
         mod.add_arguments(sp)
-        sp.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
+        sp.add_argument("--json", action="store_true",
+                        help="print one JSON object" + (" instead of the table" if hasattr(mod, "format_text")
+                                                        else " (the default output)"))
         sp.set_defaults(_evaluator=mod)
 
     sw = sub.add_parser("sweep", help="run an experiment across seeds and parameter values on Dask")
@@ -144,7 +146,8 @@ def main(argv: list[str] | None = None) -> int:
             print("error: out of memory while evaluating; the input is larger than this machine can hold "
                   "(split it into shorter recordings)", file=sys.stderr)
             return 2
-        print(json.dumps(_jsonable(result), sort_keys=False))
+        fmt = getattr(args._evaluator, "format_text", None)
+        print(fmt(result) if fmt is not None and not args.json else json.dumps(_jsonable(result), sort_keys=False))
         return 0
     if args.command == "sweep":
         return _sweep(args)

@@ -1,0 +1,63 @@
+"""Configuration and method names of the track pipeline (see :mod:`ilocalg.track`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: Keys of the scored tracks (the ``evaluate track`` command's ``errors_m`` keys).
+METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "pf", "pf_smooth", "map_align",
+           "map_align_kf_rts", "lsq", "lsq_map", "lsq_online", "lsq_online_map")
+#: The online methods (an estimate at time t uses the walk up to t only); the others use the whole walk.
+CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf", "lsq_online", "lsq_online_map")
+#: The methods that need the floor map.
+MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map")
+
+
+@dataclass(frozen=True)
+class RealWalkConfig:
+    """Parameters of the track pipeline (defaults: chosen a priori, documented here).
+
+    k_neighbors, p, weights, metric, not_heard_dbm : WKNN (K = 5, Manhattan as in Luo et al. 2017; 1/d
+        weights); :func:`evaluate_track` by default chooses among :data:`WIFI_CANDIDATES` by
+        leave-one-walk-out inside the fingerprint walks (:func:`select_wifi`).
+    max_age_s : stale AP readings older than this are left out of database and queries (None: keep).
+    fix_min_var_m2, fix_scale : R = scale * neighbour scatter + min_var I.
+    sigma_heading_rad : heading error sd per step in the KF's Q (beyond the papers).
+    sigma_sl_m : step-length error sd.
+    min_bout_steps : robust detector's bout gate (short walks have short bouts).
+    huber_m : robust threshold of the track-to-fixes fit.
+    n_particles, pf_* : particle filter (see :func:`ilocalg.fusion.particle_filter.map_particle_filter`).
+    grid_cell_m : walkable raster resolution.
+    baro_change_m, baro_smooth_s : a floor change is a barometric height change of more than
+        ``baro_change_m`` (half a typical 3-4 m storey; smoothed over ``baro_smooth_s``).
+    floor_votes : Wi-Fi floor votes in the majority without a barometer (latest ones for causal
+        methods, centred for whole-walk ones).
+    """
+
+    k_neighbors: int = 5
+    p: int = 2
+    weights: str = "distance"
+    metric: str = "minkowski"
+    not_heard_dbm: float = -100.0
+    max_age_s: float | None = 2.0
+    fix_min_var_m2: float = 25.0
+    fix_scale: float = 1.0
+    sigma_heading_rad: float = 0.1
+    sigma_sl_m: float = 0.15
+    min_bout_steps: int = 4
+    huber_m: float = 10.0
+    n_particles: int = 1000
+    pf_sigma_heading_rad: float = 0.1
+    pf_sigma_offset0_rad: float = 0.35
+    pf_outlier_prob: float = 0.2
+    pf_blocked_weight: float = 1e-3
+    grid_cell_m: float = 0.5
+    baro_change_m: float = 2.0
+    baro_smooth_s: float = 2.0
+    floor_votes: int = 5
+
+
+
+
+#: The default configuration (module-level, frozen).
+DEFAULT_CONFIG = RealWalkConfig()

@@ -1,0 +1,133 @@
+"""The fingerprint database of a floor: every scan of the surveyed walks positioned by their ground truth."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ilocalg.io.recording import (
+    LocalFrame,
+    as_recording,
+    recording_fingerprints,
+)
+from ilocalg.io.scans import scan_matrix
+from ilocalg.io.schema import RSSI_DBM, SCAN_ID, T_S
+
+
+@dataclass(frozen=True)
+class WifiDatabase:
+    """Fingerprints of walks, one row per scan: ``rssi_dbm`` (n, n_aps), ``xy_m`` (n, 2) in ``frame``,
+    ``walk`` (n,), ``floor`` (n,; NaN when unknown), the walks' content ids (``content_ids``, walk ->
+    :attr:`ilocalg.io.recording.Recording.content_id`)."""
+
+    rssi_dbm: np.ndarray
+    xy_m: np.ndarray
+    walk: np.ndarray
+    ap_ids: tuple
+    floor: np.ndarray | None = None
+    frame: LocalFrame | None = None
+    content_ids: dict = dataclasses.field(default_factory=dict, compare=False)
+    age_s: np.ndarray | None = dataclasses.field(default=None, compare=False)
+
+    @classmethod
+    def from_recordings(cls, recordings, max_age_s: float | None = None,
+                        frame: LocalFrame | None = None) -> WifiDatabase:
+        """Every scan of ``recordings`` positioned by interpolating its walk's ground truth (outside: left
+        out), all in one shared frame (``frame``, default the first walk's:
+        :func:`ilocalg.io.recording.common_frame`)."""
+        recs = [as_recording(r) for r in (recordings.values() if isinstance(recordings, dict) else recordings)]
+        if not recs:
+            raise ValueError("no fingerprint walks given")
+        names = [r.name for r in recs]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ValueError(f"fingerprint walks must have distinct names; {dup[0]!r} appears twice")
+        rf = recording_fingerprints(recs, frame=frame, max_age_s=max_age_s)
+        fp = rf.fingerprints
+        ages = _age_matrix(recs, rf, fp)
+        return cls(fp.rssi_dbm, fp.xy_m, fp.meta["walk"].to_numpy(dtype=object), tuple(fp.ap_ids),
+                   np.asarray(fp.floor, dtype=np.float64), rf.frame, {r.name: r.content_id for r in recs}, ages)
+
+    @classmethod
+    def from_traces(cls, traces, max_age_s: float | None = None) -> WifiDatabase:
+        """:meth:`from_recordings` (kept for walks of any loader type, e.g. ILC traces)."""
+        return cls.from_recordings(traces, max_age_s)
+
+    @property
+    def has_floors(self) -> bool:
+        return self.floor is not None and bool(np.isfinite(self.floor).all())
+
+    def without(self, *walks) -> WifiDatabase:
+        """The database without the rows of ``walks`` (leave-walks-out)."""
+        keep = ~np.isin(self.walk, list(walks))
+        if not keep.any():
+            raise ValueError(f"no fingerprint left after removing {walks}")
+        return WifiDatabase(self.rssi_dbm[keep], self.xy_m[keep], self.walk[keep], self.ap_ids,
+                            None if self.floor is None else self.floor[keep], self.frame,
+                            {k: v for k, v in self.content_ids.items() if k not in walks},
+                            None if self.age_s is None else self.age_s[keep])
+
+    def save(self, path) -> Path:
+        """Write the database to one ``.npz`` file (:meth:`load` reads it back, bit-identical)."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fr = self.frame
+        meta = {"ap_ids": list(self.ap_ids), "content_ids": self.content_ids, "version": _FORMAT_VERSION,
+                "frame": None if fr is None else [fr.name, fr.origin_lat_deg, fr.origin_lon_deg]}
+        arrays = {"rssi_dbm": self.rssi_dbm.astype(np.float32), "xy_m": self.xy_m,
+                  "walk": np.asarray(self.walk, dtype=str),
+                  "floor": np.full(len(self.xy_m), np.nan) if self.floor is None else self.floor,
+                  "meta": np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)}
+        if self.age_s is not None:
+            arrays["age_s"] = self.age_s.astype(np.float32)
+        with open(path, "wb") as f:
+            np.savez_compressed(f, **arrays)
+        return path
+
+    @classmethod
+    def load(cls, path) -> WifiDatabase:
+        """Read a database written by :meth:`save`; a file of another format version raises naming it."""
+        path = Path(path)
+        try:
+            z = np.load(path, allow_pickle=False)
+            meta = json.loads(bytes(z["meta"]).decode())
+        except (OSError, ValueError, KeyError) as e:
+            raise ValueError(f"{path}: not a fingerprint database file ({type(e).__name__}: {e})") from None
+        if meta.get("version") != _FORMAT_VERSION:
+            raise ValueError(f"{path}: database format version {meta.get('version')!r}, expected {_FORMAT_VERSION}; "
+                             "delete the file to rebuild it")
+        fr = meta["frame"]
+        return cls(z["rssi_dbm"].astype(np.float64), z["xy_m"], z["walk"].astype(object), tuple(meta["ap_ids"]),
+                   z["floor"], None if fr is None else LocalFrame(*fr), dict(meta["content_ids"]),
+                   z["age_s"].astype(np.float64) if "age_s" in z.files else None)
+
+
+#: Version of the ``.npz`` layout written by :meth:`WifiDatabase.save`.
+_FORMAT_VERSION = 2
+
+
+def _age_matrix(recs, rf, fp) -> np.ndarray:
+    """Age (s, scan time minus the reading's ``last_seen``) of every reading of the database rows; NaN where
+    not heard (same rows and columns as ``fp.rssi_dbm``)."""
+    out = np.full(fp.rssi_dbm.shape, np.nan)
+    meta = fp.meta
+    by = {r.name: r for r in recs}
+    row = 0
+    for name, g in meta.groupby("walk", sort=False):
+        w = by[name].wifi
+        n = len(g)
+        if "last_seen_s" in w.columns:
+            aged = w.assign(**{RSSI_DBM: (w[T_S] - w["last_seen_s"]).to_numpy(dtype=np.float64)})
+            sids, _, A = scan_matrix(aged, fp.ap_ids)
+            pos = np.searchsorted(sids, g[SCAN_ID].to_numpy())
+            out[row:row + n] = A[pos]
+        else:
+            out[row:row + n] = np.where(np.isnan(fp.rssi_dbm[row:row + n]), np.nan, 0.0)
+        row += n
+    return np.where(np.isnan(fp.rssi_dbm), np.nan, out)
+
+

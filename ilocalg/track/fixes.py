@@ -1,0 +1,467 @@
+"""Wi-Fi fixes of a walk against a database: WKNN, fix variance, floor votes."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.fusion import fix_covariance_from_spread
+from ilocalg.io.recording import (
+    PRESSURE_HPA,
+    as_recording,
+    truth_at,
+)
+from ilocalg.io.scans import scan_matrix
+from ilocalg.io.schema import T_S
+from ilocalg.pdr.signals import moving_mean
+from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
+from ilocalg.track.database import WifiDatabase
+from ilocalg.wifi import KnnFingerprint
+
+
+@dataclass(frozen=True)
+class WifiFixes:
+    """Fixes of the scored walk: ``t_s`` (m,), ``xy_m`` (m, 2), ``R_m2`` (m, 2, 2), ``true_xy_m`` (m, 2;
+    interpolated ground truth, NaN outside its span: for scoring only), ``floor`` (m,; the Wi-Fi floor
+    vote, NaN when the database has no floors), ``true_floor`` (m,), and the scans left out:
+    ``n_outside_walk`` (outside the walk's IMU time span), ``n_no_shared_ap`` (hearing no access
+    point of the database)."""
+
+    t_s: np.ndarray
+    xy_m: np.ndarray
+    R_m2: np.ndarray
+    true_xy_m: np.ndarray
+    floor: np.ndarray | None = None
+    true_floor: np.ndarray | None = None
+    n_outside_walk: int = 0
+    n_no_shared_ap: int = 0
+    floor_confidence: np.ndarray | None = None
+
+
+
+def _wknn(db: WifiDatabase, cfg: RealWalkConfig):
+    return KnnFingerprint(n_neighbors=min(cfg.k_neighbors, db.xy_m.shape[0]), p=cfg.p, weights=cfg.weights,
+                          not_heard_dbm=cfg.not_heard_dbm, kernel="dense", metric=cfg.metric).fit(db.rssi_dbm, db.xy_m)
+
+
+def db_matrix(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> np.ndarray:
+    """The database RSSI matrix the queries see: readings older than ``cfg.max_age_s`` (when the database
+    keeps the readings' ages) are not heard (NaN)."""
+    X = db.rssi_dbm
+    if cfg.max_age_s is not None and db.age_s is not None:
+        X = np.where(db.age_s > cfg.max_age_s, np.nan, X)
+    return X
+
+
+def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, exclude=None):
+    """Euclidean K nearest fingerprints of every query (dense numpy; one matrix product).
+
+    Not-heard readings (NaN) take ``not_heard_dbm``. Database rows hearing nothing and the pairs where
+    ``exclude`` (bool, (m, n)) is True are never neighbours. Returns ``(idx, dist)``, each (m, k), nearest
+    first; ``dist`` is inf where fewer than ``k`` rows were allowed.
+
+    References
+    ----------
+    Luo et al. (2017), eq. 1 (the RSSI-space distance of KNN fingerprinting).
+    """
+    A = np.nan_to_num(np.asarray(db_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+    B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+    D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+    D2 = np.maximum(D2, 0.0)
+    D2[:, ~(A > 0).any(axis=1)] = np.inf
+    if exclude is not None:
+        D2[np.asarray(exclude, dtype=bool)] = np.inf
+    k = min(k, D2.shape[1])
+    idx = np.argpartition(D2, k - 1, axis=1)[:, :k]
+    d2 = np.take_along_axis(D2, idx, 1)
+    o = np.argsort(d2, axis=1)
+    return np.take_along_axis(idx, o, 1), np.sqrt(np.take_along_axis(d2, o, 1))
+
+
+def _weights(dist, weights: str) -> np.ndarray:
+    if weights == "distance":
+        w = 1.0 / np.maximum(dist, 1e-9)
+    elif weights == "uniform":
+        w = np.ones_like(dist)
+    else:
+        raise ValueError(f"weights must be 'distance' or 'uniform', got {weights!r}")
+    return np.where(np.isfinite(dist), w, 0.0)
+
+
+def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, return_floor: bool = False,
+                exclude=None):
+    """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances.
+
+    Euclidean distance (``cfg.p == 2``, the fast dense path :func:`dense_wknn`) or, for other
+    ``cfg.p``/``cfg.metric``, :class:`ilocalg.wifi.KnnFingerprint`. With ``return_floor`` also each
+    query's floor: the weighted (``cfg.weights``) majority of its neighbours' floors (NaN when the
+    database has no floors), and its confidence (the winning share of the weights). A query sharing
+    no access point with the database gets NaN (the estimators' documented no-AP result).
+    ``exclude`` (bool (m, n_rows), dense path only): database rows a query may not use.
+
+    References
+    ----------
+    Luo et al. (2017), eq. 1-2 (KNN fingerprinting).
+    """
+    X = np.asarray(X, dtype=np.float64)
+    D = db_matrix(db, cfg)
+    heard = ~np.isnan(D).all(axis=0)
+    miss = ~(~np.isnan(X[:, heard])).any(axis=1) if X.size else np.zeros(X.shape[0], dtype=bool)
+    n = X.shape[0]
+    xy, C, fl_out, conf = np.full((n, 2), np.nan), np.full((n, 2, 2), np.nan), np.full(n, np.nan), np.full(n, np.nan)
+    if (~miss).any():
+        if cfg.p == 2 and cfg.metric == "minkowski":
+            idx, dist = dense_wknn(D, X[~miss], cfg.k_neighbors, cfg.not_heard_dbm,
+                                   None if exclude is None else np.asarray(exclude)[~miss])
+        else:
+            est = _wknn(db, cfg)
+            dist, idx = est.kneighbors(X[~miss])
+        w = _weights(dist, cfg.weights)
+        ok = w.sum(axis=1) > 0
+        sub = np.flatnonzero(~miss)[ok]
+        idx, dist, w = idx[ok], dist[ok], w[ok]
+        xy[sub] = (w[..., None] * db.xy_m[idx]).sum(1) / w.sum(1)[:, None]
+        C[sub] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+        if return_floor and db.has_floors:
+            fl = db.floor[idx]
+            levels = np.unique(fl)
+            score = np.stack([(w * (fl == f)).sum(axis=1) for f in levels], axis=1)
+            fl_out[sub] = levels[np.argmax(score, axis=1)]
+            conf[sub] = score.max(axis=1) / score.sum(axis=1)
+    if return_floor == "confidence":
+        return xy, C, fl_out, conf
+    return (xy, C, fl_out) if return_floor else (xy, C)
+
+
+def loo_fix_errors(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, without=()) -> np.ndarray:
+    """Leave-one-walk-out fix error (m) of every database row: each row located against the rows of the
+    *other* walks, never those of ``without`` (nested leave-out); NaN for rows of ``without`` and rows
+    hearing nothing the others hear."""
+    excl = db.walk[:, None] == db.walk[None, :]
+    if len(without):
+        excl |= np.isin(db.walk, list(without))[None, :]
+    xy, _ = locate_wknn(db, db_matrix(db, cfg), cfg, exclude=excl)
+    e = np.hypot(*(xy - db.xy_m).T)
+    if len(without):
+        e[np.isin(db.walk, list(without))] = np.nan
+    return e
+
+
+def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
+               fix_var_m2: float | None = None) -> WifiFixes:
+    """WKNN fixes of every scan of ``trace`` against ``db``, which must not contain the walk.
+
+    ``R`` of each fix: ``fix_var_m2 I`` (isotropic, e.g. calibrated on other walks by
+    :func:`calibrate_fix_var`) or, when None, the neighbour spread plus ``cfg.fix_min_var_m2``.
+    Scans outside the walk's IMU time span and scans hearing no access point of the database are left
+    out and counted (``n_outside_walk``, ``n_no_shared_ap``). The walk's ground truth (for
+    ``true_xy_m``) is moved into the database's frame.
+    """
+    rec = as_recording(trace)
+    if rec.name and rec.name in set(db.walk):
+        raise ValueError(f"the fingerprint database must not contain the scored walk {rec.name!r}")
+    same = [k for k, v in db.content_ids.items() if len(rec.imu) and v == rec.content_id]
+    if same:
+        raise ValueError(f"the fingerprint database must not contain the scored walk {rec.name!r}: its walk "
+                         f"{same[0]!r} has the same sensor content")
+    if db.frame is not None and len(rec.truth):
+        rec = rec.in_frame(db.frame)
+    w = rec.wifi
+    if not len(w):
+        raise ValueError(f"{rec.source or rec.name}: the walk has no Wi-Fi scan")
+    # readings without a last-seen time (IPIN logfiles) count as fresh: their age is unknown, not large
+    fresh = (None if cfg.max_age_s is None or "last_seen_s" not in w.columns
+             else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy())
+    _, t, X = scan_matrix(w, db.ap_ids, keep=fresh)
+    t0, t1 = rec.t_span_s
+    inside = (t >= t0) & (t <= t1)
+    heard = ~np.isnan(X).all(axis=1)          # scans sharing no AP with the database cannot be located
+    keep = inside & heard
+    t, X = t[keep], X[keep]
+    if not t.size:
+        raise ValueError(f"{rec.source or rec.name}: no scan inside the walk's time span shares an access point "
+                         f"with the database ({int((~inside).sum())} outside the span, "
+                         f"{int((inside & ~heard).sum())} hearing none of its {len(db.ap_ids)} APs)")
+    xy, C, fl, conf = locate_wknn(db, X, cfg, return_floor="confidence")
+    R = (fix_var_m2 * np.broadcast_to(np.eye(2), C.shape).copy() if fix_var_m2 is not None
+         else C + (cfg.fix_min_var_m2 - 1.0) * np.eye(2))
+    if len(rec.truth) >= 2:
+        true, tfl = truth_at(rec.truth, t, outside="nan")
+    else:
+        true, tfl = np.full((t.size, 2), np.nan), np.full(t.size, np.nan)
+    return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()), conf)
+
+
+def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:
+    """Isotropic Wi-Fi fix variance (per axis, m^2) by leave-one-walk-out *inside* ``db``.
+
+    Each walk of ``db`` is located against the others (:func:`loo_fix_errors`); ``var = mean(error^2) / 2``.
+    Scans sharing no access point with the other walks are not located and not counted (``n_unlocated``).
+    Returns the variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n``
+    located scans).
+    """
+    if cfg.p == 2 and cfg.metric == "minkowski":
+        e_all = loo_fix_errors(db, cfg)
+    else:
+        e_all = np.full(len(db.walk), np.nan)
+        for v in dict.fromkeys(db.walk):
+            m = db.walk == v
+            xy, _ = locate_wknn(db.without(v), db_matrix(db, cfg)[m], cfg)
+            e_all[m] = np.hypot(*(xy - db.xy_m[m]).T)
+    rows = []
+    for v in dict.fromkeys(db.walk):
+        e = e_all[db.walk == v]
+        ok = np.isfinite(e)
+        rows.append({"walk": v, "n": int(ok.sum()), "mean_error_m": float(e[ok].mean()) if ok.any() else np.nan,
+                     "n_unlocated": int((~ok).sum())})
+    e = e_all[np.isfinite(e_all)]
+    if not e.size:
+        raise ValueError("calibrate_fix_var: no scan of any fingerprint walk shares an access point with the other "
+                         "walks; the Wi-Fi fix variance cannot be learned")
+    return float(np.mean(e**2) / 2.0), pd.DataFrame(rows)
+
+
+#: Wi-Fi configurations :func:`select_wifi` chooses from (label -> RealWalkConfig fields).
+WIFI_CANDIDATES = {
+    "WKNN Euclidean K=5, readings <= 2 s": {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 2.0},
+    "WKNN Euclidean K=5, readings <= 5 s": {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 5.0},
+    "WKNN Euclidean K=5, every reading": {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": None},
+    "WKNN Euclidean K=10, readings <= 5 s": {"k_neighbors": 10, "p": 2, "weights": "distance", "max_age_s": 5.0},
+    "KNN Euclidean K=5, readings <= 5 s": {"k_neighbors": 5, "p": 2, "weights": "uniform", "max_age_s": 5.0},
+}
+
+
+def select_wifi(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, candidates=None):
+    """Choose the Wi-Fi configuration with the lowest leave-one-walk-out mean error inside ``db``.
+
+    Returns ``(label, cfg_with_it, fix_var_m2, table)``; ``table`` has one row per candidate
+    (``label, mean_error_m, fix_sd_m``). Uses only the walks of ``db`` (model selection nested inside
+    the outer leave-one-walk-out).
+    """
+    cands = WIFI_CANDIDATES if candidates is None else candidates
+    rows, best = [], None
+    for label, kw in cands.items():
+        c = dataclasses.replace(cfg, **kw)
+        var, per = calibrate_fix_var(db, c)
+        per = per[per["n"] > 0]
+        e = float(np.average(per["mean_error_m"], weights=per["n"]))
+        rows.append({"label": label, "mean_error_m": e, "fix_sd_m": float(np.sqrt(var))})
+        if best is None or e < best[0]:
+            best = (e, label, c, var)
+    return best[1], best[2], best[3], pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class FloorEstimate:
+    """Floors of one walk: ``causal`` and ``offline`` (functions of time, see :func:`estimate_floors`) are
+    given as values at ``t_s`` of the queries; ``segments`` (DataFrame ``t0_s, t1_s, height_m``: the
+    barometric level segments, one row when there is no barometer); ``source`` ("wifi" or
+    "wifi+barometer")."""
+
+    segments: pd.DataFrame
+    source: str
+    vote_t_s: np.ndarray
+    vote_floor: np.ndarray
+
+    def _segment(self, t_s):
+        """Segment of each time; a time during a level change belongs to the level it is nearer in time
+        (the change's midpoint splits it)."""
+        seg = self.segments
+        cut = 0.5 * (seg["t1_s"].to_numpy()[:-1] + seg["t0_s"].to_numpy()[1:])
+        return np.searchsorted(cut, t_s, side="right")
+
+    def at(self, t_s, causal: bool, n_votes: int = 5) -> np.ndarray:
+        """Floor at times ``t_s`` (NaN before the first vote of a causal estimate without a barometer)."""
+        t = np.atleast_1d(np.asarray(t_s, dtype=np.float64))
+        out = np.full(t.size, np.nan)
+        vt, vf = self.vote_t_s, self.vote_floor
+        if not vt.size:
+            return out
+        if self.source == "wifi":
+            for i, ti in enumerate(t):
+                if causal:
+                    sel = vf[max(0, np.searchsorted(vt, ti, side="right") - n_votes):
+                             np.searchsorted(vt, ti, side="right")]
+                    if not sel.size:
+                        sel = vf[:1]            # before the first scan: the first scan's floor
+                else:
+                    c = int(np.argmin(np.abs(vt - ti)))
+                    sel = vf[max(0, c - n_votes // 2): c + n_votes // 2 + 1]
+                out[i] = _majority(sel)
+            return out
+        seg = self._segment(t)
+        vseg = self._segment(vt)
+        h = self.segments["height_m"].to_numpy()
+        for i, (ti, si) in enumerate(zip(t, seg, strict=True)):
+            # every vote, referred to this segment by the barometric height difference
+            m = (vt <= ti) if causal else np.ones(vt.size, dtype=bool)
+            if not m.any():
+                m = np.zeros(vt.size, dtype=bool)
+                m[0] = True
+            here = m & (vseg == si)
+            if here.any():
+                out[i] = _majority(vf[here])
+            else:          # no vote on this level yet: the nearest level's floor + the height change in storeys
+                j = vseg[m][np.argmin(np.abs(vseg[m] - si))]
+                base = _majority(vf[m & (vseg == j)])
+                dz = (h[si] - h[j]) / _STOREY_M
+                out[i] = base + (np.sign(dz) * max(1.0, round(abs(dz))) if abs(dz) > 0 else 0.0)
+        return out
+
+
+#: Storey height (m) used only to count storeys of a barometric level change that no Wi-Fi vote covers.
+_STOREY_M = 3.5
+
+
+def _majority(v) -> float:
+    v = np.asarray(v, dtype=np.float64)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return np.nan
+    u, c = np.unique(v, return_counts=True)
+    return float(u[np.argmax(c)])        # ties: the lowest floor
+
+
+def barometric_segments(pressure: pd.DataFrame, change_m: float = 2.0, smooth_s: float = 2.0) -> pd.DataFrame:
+    """Cut a walk into level segments where the barometric height changes by more than ``change_m``.
+
+    Height from pressure by the ICAO standard atmosphere, ``h = 44330.8 (1 - (p / p_ref)^0.190263)`` m,
+    relative to the walk's start, after a moving mean over ``smooth_s``. A segment ends when the height
+    leaves its level by more than ``change_m``; the next starts when the height is level again (changes
+    by less than ``change_m / 4`` over ``smooth_s``).
+
+    Returns
+    -------
+    DataFrame
+        ``t0_s, t1_s, height_m`` (mean height of the segment), one row per level segment.
+
+    References
+    ----------
+    ICAO, Manual of the ICAO Standard Atmosphere, Doc 7488 (1993); Ye H. et al., B-Loc, IEEE MASS (2014).
+    """
+    t = pressure.index.to_numpy(dtype=np.float64)
+    p = pressure[PRESSURE_HPA].to_numpy(dtype=np.float64)
+    if t.size < 2:
+        raise ValueError(f"barometer: need at least 2 pressure samples, got {t.size}")
+    if not np.all((p > 300) & (p < 1100)):
+        raise ValueError("barometer: pressure outside (300, 1100) hPa")
+    rate = 1.0 / float(np.median(np.diff(t)))
+    h = 44330.8 * (1.0 - (p / p[0]) ** 0.190263)
+    hs = moving_mean(h, max(int(round(smooth_s * rate)), 1))
+    lag = max(int(round(smooth_s * rate)), 1)
+    rows, start, ref, moving = [], 0, hs[0], False
+    for i in range(t.size):
+        if not moving and abs(hs[i] - ref) > change_m:
+            moving = True
+            end = i
+            while end > start and abs(hs[end] - ref) > change_m / 4:
+                end -= 1
+            rows.append((t[start], t[end], float(np.mean(hs[start:end + 1]))))
+        elif moving and i >= lag and abs(hs[i] - hs[i - lag]) < change_m / 4:
+            moving, start, ref = False, i, hs[i]
+    last = (t[start], t[-1], float(np.mean(hs[start:]))) if not moving else (t[end + 1], t[-1], float(hs[-1]))
+    rows.append(last)
+    return pd.DataFrame(rows, columns=["t0_s", "t1_s", "height_m"])
+
+
+def estimate_floors(fixes: WifiFixes, pressure: pd.DataFrame | None = None,
+                    cfg: RealWalkConfig = DEFAULT_CONFIG) -> FloorEstimate | None:
+    """The walk's floors from its Wi-Fi floor votes (and barometric level changes when ``pressure`` is given).
+
+    None when the fixes carry no floor (a database without floor numbers).
+    """
+    if fixes.floor is None or not np.isfinite(fixes.floor).any():
+        return None
+    if pressure is not None and len(pressure) >= 2:
+        seg = barometric_segments(pressure, cfg.baro_change_m, cfg.baro_smooth_s)
+        return FloorEstimate(seg, "wifi+barometer", fixes.t_s, fixes.floor)
+    seg = pd.DataFrame({"t0_s": [-np.inf], "t1_s": [np.inf], "height_m": [0.0]})
+    return FloorEstimate(seg, "wifi", fixes.t_s, fixes.floor)
+
+
+
+
+
+def select_wifi_nested(db: WifiDatabase, scored_walks, cfg: RealWalkConfig = DEFAULT_CONFIG, candidates=None) -> dict:
+    """:func:`select_wifi` for many held-out walks at once (a leave-one-walk-out sweep over a floor).
+
+    For each walk ``s`` of ``scored_walks``: the candidate with the lowest leave-one-walk-out mean error
+    over the *other* walks of ``db`` (never using ``s``'s rows, neither as queries nor as neighbours),
+    and its fix variance; the same numbers as ``select_wifi(db.without(s))``, from one distance matrix per
+    candidate. Returns ``{s: (label, cfg, fix_var_m2)}``.
+    """
+    cands = WIFI_CANDIDATES if candidates is None else candidates
+    walk = db.walk
+    same = walk[:, None] == walk[None, :]
+    per = {}
+    for label, kw in cands.items():
+        c = dataclasses.replace(cfg, **kw)
+        if not (c.p == 2 and c.metric == "minkowski"):
+            raise ValueError(f"select_wifi_nested: candidate {label!r} is not Euclidean (p=2)")
+        D = db_matrix(db, c)
+        A = np.nan_to_num(D, nan=c.not_heard_dbm) - c.not_heard_dbm
+        sq = (A * A).sum(1)
+        D2 = np.maximum(sq[:, None] + sq[None, :] - 2.0 * (A @ A.T), 0.0)
+        D2[:, ~(A > 0).any(axis=1)] = np.inf
+        D2[same] = np.inf
+        for s in scored_walks:
+            ms = walk == s
+            Ds = D2[~ms][:, ~ms]
+            k = min(c.k_neighbors, Ds.shape[1])
+            idx = np.argpartition(Ds, k - 1, axis=1)[:, :k]
+            dist = np.sqrt(np.take_along_axis(Ds, idx, 1))
+            w = _weights(dist, c.weights)
+            ok = w.sum(1) > 0
+            xy = db.xy_m[~ms]
+            est = (w[ok, :, None] * xy[idx[ok]]).sum(1) / w[ok].sum(1)[:, None]
+            e = np.hypot(*(est - xy[ok]).T)
+            per.setdefault(s, []).append((float(e.mean()), label, c, float(np.mean(e ** 2) / 2.0)))
+    return {s: min(v, key=lambda r: r[0])[1:] for s, v in per.items()}
+
+
+def classify_floor(floor_dbs: dict, trace, cfg: RealWalkConfig = DEFAULT_CONFIG, without=None) -> tuple:
+    """The floor of a walk among several floors' databases, with a confidence.
+
+    Every scan of the walk (readings older than ``cfg.max_age_s`` left out) votes for the floor holding
+    its nearest fingerprint (Euclidean, not-heard readings at ``cfg.not_heard_dbm``; the access points
+    of all floors together); the walk's floor is the majority and its confidence the share of the votes
+    (0.5-1 for two floors). ``without``: a walk name left out of every database (leave-one-walk-out).
+
+    Returns ``(floor_label, confidence, votes)`` with ``votes`` a dict label -> number of scans.
+
+    References
+    ----------
+    Torres-Sospedra et al. (2018): floor classification before positioning; the 15 m penalty per wrong floor.
+    """
+    if len(floor_dbs) < 1:
+        raise ValueError("classify_floor: no floor database given")
+    rec = as_recording(trace)
+    w = rec.wifi
+    if not len(w):
+        raise ValueError(f"{rec.source or rec.name}: the walk has no Wi-Fi scan")
+    aps = sorted(set().union(*[set(db.ap_ids) for db in floor_dbs.values()]))
+    fresh = (None if cfg.max_age_s is None or "last_seen_s" not in w.columns
+             else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy())
+    _, _, Q = scan_matrix(w, aps, keep=fresh)
+    Q = Q[~np.isnan(Q).all(axis=1)]
+    if not Q.shape[0]:
+        raise ValueError(f"{rec.source or rec.name}: no scan hears an access point of the floors' databases")
+    best = []
+    labels = list(floor_dbs)
+    for lab in labels:
+        db = floor_dbs[lab]
+        if without is not None and without in set(db.walk):
+            db = db.without(without)
+        D = db_matrix(db, cfg)
+        col = {a: j for j, a in enumerate(aps)}
+        full = np.full((D.shape[0], len(aps)), np.nan)
+        full[:, [col[a] for a in db.ap_ids]] = D
+        _, dist = dense_wknn(full, Q, 1, cfg.not_heard_dbm)
+        best.append(dist[:, 0])
+    vote = np.argmin(np.column_stack(best), axis=1)
+    counts = {lab: int((vote == i).sum()) for i, lab in enumerate(labels)}
+    win = max(counts, key=counts.get)
+    return win, counts[win] / vote.size, counts
