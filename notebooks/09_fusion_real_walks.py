@@ -4,7 +4,8 @@
 # The fusion of notebooks 07-08 (the i-Loc step Kalman filter, eq. 20-26; the fingerprint + PDR
 # scheme of Luo et al. 2017) on real phone logs: surveyor walks with accelerometer, gyroscope,
 # magnetometer and Wi-Fi scans, and waypoints for ground truth. By default the densely surveyed
-# site 1 floor F1 of a 240 m x 176 m mall (100 walks: a Wi-Fi database as dense as the competition's own);
+# site 1 floor F1 of a mall (about 240 m x 176 m, the data set's own report; 100 walks: a Wi-Fi database as
+# dense as the competition's own);
 # `DATASET = "ilc2020_site2_F4"` gives the sparse 19-walk floor. Every walk is scored
 # **leave-one-walk-out**: the Wi-Fi fingerprint database (each scan positioned by interpolating its
 # walk's waypoints in time), the step-length factor, the compass-to-map heading offset, the Wi-Fi
@@ -62,7 +63,8 @@ if HAVE_DATA:
 # ## Ablation: what each Wi-Fi piece buys
 #
 # Leave-one-walk-out fix error of every database scan (each walk located against the others) for each
-# Wi-Fi configuration; the first row of each policy is the plain reference (weighted KNN, K = 5, readings
+# Wi-Fi configuration (each an input setting); the first row of each policy is the plain reference (weighted
+# KNN, K = 5, readings
 # older than 2 s dropped: a few dozen lines of numpy). `relisted_wifi`: the loader's rule for the readings
 # that re-list the previous scan's reading of the same access point (same RSSI, last seen within 1 ms;
 # `ilocalg.io.scans.relisted_readings`), kept or merged into their first listing.
@@ -149,5 +151,6 @@ if HAVE_DATA:
 # - The least-squares trajectory equals the Kalman smoother for Gaussian errors (same model); what it adds is
 #   robustness (Huber weights) and a place to add constraints. The map-constrained particle filter's smoother
 #   uses the floor plan as well and is the strongest offline variant where the corridors are narrow.
-# - Map matching of the whole walk as one rigid placement failed on site 1 before (mean 17 m) because its map
+# - Map matching of the whole walk as one rigid placement failed on site 1 before (see the figures)
+# because its map
 #   term counted every track point as an independent observation; it now counts as many as there are fixes.

@@ -22,8 +22,6 @@ DATASETS = {
                      "(data/site1/F1 and F2, one archive site1_F1_F2.tar.xz)",
     "ilc2020_site2_F4": "Indoor Location Competition 2.0, GitHub location-competition/indoor-location-competition-20 "
                         "(data/site2/F4)",
-    "ilc2020_site1": "Indoor Location Competition 2.0, GitHub location-competition/indoor-location-competition-20 "
-                     "(data/site1/F1 and F2, one archive site1_F1_F2.tar.xz)",
 }
 
 
