@@ -49,7 +49,7 @@ from ilocalg.fusion import (
     sigma_sl_paper_m,
 )
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, track_at
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, inputs_sentence, track_at
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.papers.iloc import PUBLISHED
@@ -445,18 +445,5 @@ def findings(tables: dict) -> str:
                      "the mean error disappears when it is replaced by the truth); "
                      + ", ".join(f"{s} {v:.0%}" for s, v in k["share_of_error"].items()) + ".")
     if "budget_inputs" in tables:
-        lines.append(_inputs_sentence(tables))
+        lines.append(inputs_sentence(tables["budget_inputs"]))
     return "\n".join(lines)
-
-
-def _inputs_sentence(tables: dict) -> str:
-    """One sentence on the budget's inputs against their truth (fix offsets, PDR distance)."""
-    d = tables["budget_inputs"].set_index("quantity")["value"]
-    a = d["fix along-track offset from the position it describes"]
-    b = d["fix along-track offset from the position when it enters"]
-    return (f"Fixes sit {a:+.2f} m along the walk from where their RSSI was read (+ = ahead) and {b:+.2f} m from "
-            f"the walker when they enter, {d['fix age when it enters']:.2f} s later: "
-            + ("the lag and that offset partly cancel, so removing the lag alone can raise the error. "
-               if abs(b) < abs(a) else "")
-            + f"PDR distance / true distance {d['PDR distance / true distance']:.2f}, detected / true steps "
-            f"{d['detected / true steps']:.2f}, heading rms {d['heading error of the detected steps, rms']:.2f} rad.")

@@ -51,7 +51,14 @@ import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, steady_state_weight, track_at
+from ilocalg.fusion.budget import (
+    FusionInputs,
+    error_budget,
+    input_diagnostics,
+    inputs_sentence,
+    steady_state_weight,
+    track_at,
+)
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
 from ilocalg.papers.claims import interval
@@ -583,7 +590,7 @@ def findings(tables: dict) -> str:
         lines.append("Error budget of the combination (share of its mean error removed when the source is true): "
                      + ", ".join(f"{s} {v:.0%}" for s, v in k["share_of_error"].items()) + ".")
     if "budget_inputs" in tables:
-        lines.append(_inputs_sentence(tables))
+        lines.append(inputs_sentence(tables["budget_inputs"]))
     if "latency_sweep" in tables:
         ls = tables["latency_sweep"]
         lines.append("Scan latency " + ", ".join(f"{r.scan_latency_s:g} s" for r in ls.itertuples())
@@ -595,16 +602,3 @@ def findings(tables: dict) -> str:
                      + ": Wi-Fi only " + " / ".join(f"{v:.2f}" for v in sv["wifi_only_mean_m"])
                      + " m, combined " + " / ".join(f"{v:.2f}" for v in sv["combined_mean_m"]) + " m.")
     return "\n".join(lines)
-
-
-def _inputs_sentence(tables: dict) -> str:
-    """One sentence on the budget's inputs against their truth (fix offsets, PDR distance)."""
-    d = tables["budget_inputs"].set_index("quantity")["value"]
-    a = d["fix along-track offset from the position it describes"]
-    b = d["fix along-track offset from the position when it enters"]
-    return (f"Fixes sit {a:+.2f} m along the walk from where their RSSI was read (+ = ahead) and {b:+.2f} m from "
-            f"the walker when they enter, {d['fix age when it enters']:.2f} s later: "
-            + ("the lag and that offset partly cancel, so removing the lag alone can raise the error. "
-               if abs(b) < abs(a) else "")
-            + f"PDR distance / true distance {d['PDR distance / true distance']:.2f}, detected / true steps "
-            f"{d['detected / true steps']:.2f}, heading rms {d['heading error of the detected steps, rms']:.2f} rad.")

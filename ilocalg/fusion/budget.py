@@ -46,7 +46,7 @@ import numpy as np
 import pandas as pd
 
 __all__ = ["SOURCES", "FusionInputs", "with_truth", "track_at", "walk_errors", "error_budget", "steady_state_weight",
-           "input_diagnostics"]
+           "input_diagnostics", "inputs_sentence"]
 
 #: The error sources a budget replaces by the truth, one at a time.
 SOURCES = ("Wi-Fi fix error", "scan lag", "step detection", "step length", "heading")
@@ -266,3 +266,17 @@ def steady_state_weight(q_var_m2: float, r_var_m2: float) -> float:
         raise ValueError(f"need q_var_m2 >= 0 and r_var_m2 > 0, got {q_var_m2!r}, {r_var_m2!r}")
     p = 0.5 * (q + np.sqrt(q * q + 4.0 * q * r))
     return float(p / (p + r))
+
+
+def inputs_sentence(diagnostics: pd.DataFrame) -> str:
+    """One sentence on a budget's inputs against their truth (fix offsets, fix age, PDR distance, detection,
+    heading), from the table of :func:`input_diagnostics`."""
+    d = diagnostics.set_index("quantity")["value"]
+    a = d["fix along-track offset from the position it describes"]
+    b = d["fix along-track offset from the position when it enters"]
+    return (f"Fixes sit {a:+.2f} m along the walk from where their RSSI was read (+ = ahead) and {b:+.2f} m from "
+            f"the walker when they enter, {d['fix age when it enters']:.2f} s later: "
+            + ("the lag and that offset partly cancel, so removing the lag alone can raise the error. "
+               if abs(b) < abs(a) else "")
+            + f"PDR distance / true distance {d['PDR distance / true distance']:.2f}, detected / true steps "
+            f"{d['detected / true steps']:.2f}, heading rms {d['heading error of the detected steps, rms']:.2f} rad.")
