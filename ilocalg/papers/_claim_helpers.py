@@ -1,4 +1,4 @@
-"""Small statistics and labels shared by the claim modules of Liao, the survey and the PSO thesis.
+"""Small statistics and labels shared by the papers' claim modules.
 
 Each helper returns a :class:`ilocalg.papers.claims.Stat` (a function of reproduced scalars) or a string;
 nothing here reads a paper value.

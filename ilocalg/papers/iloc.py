@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from ilocalg.papers._claim_helpers import decided
 from ilocalg.papers.claims import Assumption, Claim, M, Stat, constant, diff, ratio, spearman, value
 
 __all__ = ["CLAIMS", "KEY", "FILE", "PUBLISHED", "TABLE2_CORR", "TABLE4_VAR", "TABLE5_VAR_M2",
@@ -32,12 +33,6 @@ __all__ = ["CLAIMS", "KEY", "FILE", "PUBLISHED", "TABLE2_CORR", "TABLE4_VAR", "T
 KEY = "iloc"
 #: The text copy the line numbers refer to (in the shared papers folder).
 FILE = "000_42091e6b84aac0f5.txt"
-
-
-def _decided(stem: str, heading: str) -> str:
-    """``decided_in``: a notebook stem and the anchor nbconvert and JupyterLab give one of its Markdown headings
-    (spaces -> '-')."""
-    return f"{stem}#{heading.strip().replace(' ', '-')}"
 
 
 # The thesis's printed tables, as printed (used only by the consistency claims below).
@@ -163,24 +158,24 @@ _KF_MEAN = "mean error at the test points"
 _PK = "mean error by PoI count"
 
 # Notebook sections that decide the claims.
-_S_FLOOR = _decided(_NB01, "The simulated floor (Fig 2)")
-_S_FIG3 = _decided(_NB01, "Fig 3: how many strongest APs (k) should Simplified-RADAR compare?")
-_S_CDF = _decided(_NB01, "Figs 3 and 5: error CDFs of the three methods")
-_S_TIME = _decided(_NB01, "Time per query (the thesis: Horus is cheaper than RADAR)")
-_S_STUDY = _decided("15_sweep_studies", "1 Wi-Fi: error vs k, training-point spacing and scans per point")
-_S_SAM_READ = _decided(_NB03, "Readings: each modelling choice against the thesis's text")
-_S_SAM_END = _decided(_NB03, "Conclusion")
-_S_SLM = _decided(_NB04, "The method: i-Loc (Chiu 2013) eq. (16)-(17), the step length model (SLM)")
-_S_FIG14 = _decided(_NB04, "Fixed-length error boxes (Fig 14) and 20 m free walks (Fig 15)")
-_S_TABLE4 = _decided(_NB04, "Table 4's unit: the fixed-length errors as relative and as m^2 variances")
-_S_FIG16 = _decided(_NB05, "Per-step heading (Fig 16)")
-_S_FIG17 = _decided(_NB05, "Trajectory along the test route and error CDF (Figs 17-18)")
-_S_KF = _decided(_NB07, "Mean errors of every variant")
-_S_TABLE5 = _decided(_NB07, "Fix variances: calibrated on the simulated floor beside the thesis' Table 5")
-_S_PHOTO = _decided(_NB11, "Paper vs reproduced")
-_S_FIG30 = _decided(_NB11, "Fig 30: error against the number of PoIs (stars: the thesis's values)")
-_S_FIG29 = _decided(_NB11, "Fig 29: mean error per shooting point")
-_S_FIG31 = _decided(_NB11, "Figs 31-32: error per PoI combination, near-collinear combinations")
+_S_FLOOR = decided(_NB01, "The simulated floor (Fig 2)")
+_S_FIG3 = decided(_NB01, "Fig 3: how many strongest APs (k) should Simplified-RADAR compare?")
+_S_CDF = decided(_NB01, "Figs 3 and 5: error CDFs of the three methods")
+_S_TIME = decided(_NB01, "Time per query (the thesis: Horus is cheaper than RADAR)")
+_S_STUDY = decided("15_sweep_studies", "1 Wi-Fi: error vs k, training-point spacing and scans per point")
+_S_SAM_READ = decided(_NB03, "Readings: each modelling choice against the thesis's text")
+_S_SAM_END = decided(_NB03, "Conclusion")
+_S_SLM = decided(_NB04, "The method: i-Loc (Chiu 2013) eq. (16)-(17), the step length model (SLM)")
+_S_FIG14 = decided(_NB04, "Fixed-length error boxes (Fig 14) and 20 m free walks (Fig 15)")
+_S_TABLE4 = decided(_NB04, "Table 4's unit: the fixed-length errors as relative and as m^2 variances")
+_S_FIG16 = decided(_NB05, "Per-step heading (Fig 16)")
+_S_FIG17 = decided(_NB05, "Trajectory along the test route and error CDF (Figs 17-18)")
+_S_KF = decided(_NB07, "Mean errors of every variant")
+_S_TABLE5 = decided(_NB07, "Fix variances: calibrated on the simulated floor beside the thesis' Table 5")
+_S_PHOTO = decided(_NB11, "Paper vs reproduced")
+_S_FIG30 = decided(_NB11, "Fig 30: error against the number of PoIs (stars: the thesis's values)")
+_S_FIG29 = decided(_NB11, "Fig 29: mean error per shooting point")
+_S_FIG31 = decided(_NB11, "Figs 31-32: error per PoI combination, near-collinear combinations")
 
 CLAIMS = (
     # ---- ch. 3 Wi-Fi ------------------------------------------------------------------------------------

@@ -18,6 +18,7 @@ track. Computer Systems & Applications.
 
 from __future__ import annotations
 
+from ilocalg.papers._claim_helpers import decided
 from ilocalg.papers.claims import Assumption, Claim, M, Stat, diff, ratio, spearman, value
 
 __all__ = ["CLAIMS", "KEY", "FILE", "PUBLISHED"]
@@ -32,12 +33,6 @@ FILE = "004_b095b672cff2e388.txt"
 #: and item 3 (L241: combined mean error; PDR better than the combination for the first 6 points).
 PUBLISHED = {"wifi_mean_m": 11.38, "wifi_min_m": 1.0, "wifi_max_m": 21.5, "combined_mean_m": 6.74,
              "pdr_better_points": 6}
-
-
-def _decided(stem: str, heading: str) -> str:
-    """``decided_in``: a notebook stem and the anchor nbconvert and JupyterLab give one of its Markdown headings
-    (spaces -> '-')."""
-    return f"{stem}#{heading.strip().replace(' ', '-')}"
 
 
 _X, _W = "fusion_knn_pdr", "wifi_iloc"
@@ -61,13 +56,13 @@ _A_KNN = (Assumption(_W, "scans_per_point", 10, 300, "survey scans per sample po
 _A_PDR = (Assumption(_X, "n_train", 3, 8, "walks of known length behind eq. (4)'s k: not given (k itself is not "
                      "given, L202)", integer=True),)
 
-_SENS = _decided(_NB08, "Sensitivity: adjustment weight, survey scans per point, peak rule and threshold, scan latency")
-_FIG6 = _decided(_NB08, "Error at each point (Fig 6)")
-_METHOD = _decided(_NB08, "The method: Luo et al. 2017 eq. (1)-(2), (4), (5)-(6)")
+_SENS = decided(_NB08, "Sensitivity: adjustment weight, survey scans per point, peak rule and threshold, scan latency")
+_FIG6 = decided(_NB08, "Error at each point (Fig 6)")
+_METHOD = decided(_NB08, "The method: Luo et al. 2017 eq. (1)-(2), (4), (5)-(6)")
 _DET = "detected / true steps"
 
 # Notebook sections that decide the claims.
-_S_KNN = _decided(_NB01, "Figs 3 and 5: error CDFs of the three methods")
+_S_KNN = decided(_NB01, "Figs 3 and 5: error CDFs of the three methods")
 
 CLAIMS = (
     # ---- sec. 2 KNN fingerprint -----------------------------------------------------------------------
