@@ -48,7 +48,8 @@ def iter_ilc_site1(root=None, every: int = 1):
             if _pick(stem, every):
                 data = tar.extractfile(m).read()
                 floor = m.name.split("/")[0].replace("site1_", "")
-                yield floor, stem, parse_ilc_trace(data, f"{arch}:{m.name}", duplicate_bssid="keep_latest")
+                yield floor, stem, parse_ilc_trace(data, f"{arch}:{m.name}", duplicate_bssid="keep_latest",
+                                                     relisted_wifi="keep")  # the scan measures drop re-listings
 
 
 def _pick(stem: str, every: int) -> bool:
