@@ -14,6 +14,7 @@ jupyter_client's defaults make every notebook run print two things that are not 
 from __future__ import annotations
 
 import os
+import tempfile
 
 from jupyter_client.manager import AsyncKernelManager
 from traitlets import default
@@ -27,6 +28,15 @@ class QuietKernelManager(AsyncKernelManager):
     @default("transport")
     def _transport_default(self) -> str:
         return "ipc" if os.name == "posix" else "tcp"
+
+    @default("ip")
+    def _ip_default(self) -> str:
+        # jupyter_client names IPC sockets "kernel-ipc-<n>" in the working directory when no connection
+        # file is set yet, so kernels started side by side from one folder could pick the same sockets
+        # (the other kernel's messages then fail as "Invalid Signature"); each kernel gets its own folder
+        if self.transport == "ipc":
+            return os.path.join(tempfile.mkdtemp(prefix="ilocalg-kernel-"), "ipc")
+        return super()._ip_default()
 
     async def _async_interrupt_kernel(self) -> None:
         if self.shutting_down:  # the run is over and the kernel idle: nothing to interrupt

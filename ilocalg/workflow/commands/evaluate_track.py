@@ -158,13 +158,14 @@ def _load(paths, floor, fmt="auto", floor_name=None):
 
 
 class _Stages:
-    """A one-line progress bar over the command's stages (stderr; off with --quiet)."""
+    """A one-line progress bar over the command's stages (stderr, on a terminal only; off with --quiet): an
+    error then stays the one line the command prints."""
 
     def __init__(self, quiet: bool, n: int):
         from tqdm import tqdm
 
-        self.bar = tqdm(total=n, disable=quiet, file=sys.stderr, bar_format="{desc:<38}{bar:20}| {elapsed}",
-                        leave=False)
+        self.bar = tqdm(total=n, disable=True if quiet else None, file=sys.stderr,
+                        bar_format="{desc:<38}{bar:20}| {elapsed}", leave=False)
 
     def __call__(self, desc: str):
         self.bar.set_description_str(desc)
