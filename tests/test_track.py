@@ -147,8 +147,9 @@ def test_ipin_and_ilc_exports_give_the_same_track(sim_walks, tmp_path):
     sim_frame = sim_walks[0].frame
     assert a["info"]["wifi_config"] == b["info"]["wifi_config"]
     assert a["info"]["n_steps"] == b["info"]["n_steps"] and a["info"]["n_fixes"] == b["info"]["n_fixes"]
-    assert a["info"]["k_weinberg"] == pytest.approx(b["info"]["k_weinberg"], rel=1e-6)
-    assert a["info"]["fix_sd_m"] == pytest.approx(b["info"]["fix_sd_m"], rel=1e-6)
+    # a step peak moved by one sample (the clock, above) moves the fitted factor and fix sd in the 5th digit
+    assert a["info"]["k_weinberg"] == pytest.approx(b["info"]["k_weinberg"], rel=1e-4)
+    assert a["info"]["fix_sd_m"] == pytest.approx(b["info"]["fix_sd_m"], rel=1e-4)
     np.testing.assert_allclose(sim_frame.to_xy(*ipin_frame.to_latlon(*a["fixes"].xy_m.T).T), b["fixes"].xy_m,
                                atol=1e-6)
     np.testing.assert_allclose(a["state_t_s"] - a["state_t_s"][0], b["state_t_s"] - b["state_t_s"][0], atol=1e-6)

@@ -244,7 +244,8 @@ def robustness(claims: Sequence[cl.Claim], base: pd.DataFrame, seed: int, fast: 
     by_task = {}
     if not results.empty:
         for (e, p), g in results.groupby(["experiment", "params"], sort=False):
-            by_task[(e, p)] = g
+            # integer assumptions can round two samples to the same parameters: one task's rows each
+            by_task[(e, p)] = g.drop_duplicates(subset=["seed", "table", "item", "quantity"])
     base0 = base[base["seed"] == seed] if "seed" in base.columns else base
     out = []
     for c in claims:
@@ -364,7 +365,9 @@ def claims_step(out_dir: str | Path, stems: Sequence[str], seed: int = 0, n_seed
         return 0
     claims = list(all_claims() if claims is None else claims)
     cache_dir = Path(cache_dir) if cache_dir is not None else sw.DEFAULT_CACHE
-    known = {e for exps in manifest.values() for e in exps}
+    # a claim must name an experiment of the project (a typo in a claims module is an error); with a manifest
+    # of one's own notebooks, the project's claims whose experiments it does not run are simply not judged
+    known = {e for exps in MANIFEST.values() for e in exps} | {e for exps in manifest.values() for e in exps}
     in_run = [e for s in stems for e in manifest.get(s, {})]
     swept = {e for s in stems for e, on in manifest.get(s, {}).items() if on}
     orphans = [f"claim {c.id}: experiment {e!r} is run by no notebook of the manifest"
