@@ -220,7 +220,8 @@ def comparison_rows(out_dir: str | Path, sweep_summary: pd.DataFrame | None = No
 KNOWN_DUPLICATES = {
     ("PSO (Chao 2008)", f"Fig 5.15 {lab}", f"A1 {place} closure (PSO k)"):
         "the same closure in m and in % (one row per unit)"
-    for lab in ("(none, static band, per_step fitness)", "(earlier reading: MA 2, signal band, walk total)")
+    for lab in ("(ma2, static band, per_step fitness)", "(none, static band, per_step fitness)",
+                "(earlier reading: MA 2, signal band, walk total)")
     for place in ("park", "hall")
 }
 
