@@ -51,7 +51,7 @@ from ilocalg.fusion import (
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
 from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, inputs_sentence, track_at
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, comparison_table, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
@@ -64,7 +64,6 @@ from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 __all__ = ["run", "route_walk", "run_filters", "score_points", "score_at_times", "kf_method", "pts_method", "readings",
            "findings", "PAPER_KF"]
 
-_T = "i-Loc (Chiu 2013)"
 MAIN = "KF (R calibrated)"
 
 PAPER = PAPERS["iloc"]
@@ -236,43 +235,12 @@ def pts_method(inp: FusionInputs) -> np.ndarray:
 
 def readings(scan_latency_s: float = SCAN_LATENCY_S, q_range=(0.05, 0.95), table4_reading: str = "relative",
              scan_interval_s: float | None = None, lag_model: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("route", f"{_T}, L515, L588", "28 test points 4.11 m apart, also the Wi-Fi test points",
-         "the floor's 28-point route 4 m apart (shared with notebooks 01, 05)", "2 m grid of L295; Fig 2 missing"),
-        ("Wi-Fi fix", f"{_T}, L777, L779", "the phone detects the Wi-Fi signals periodically (L777); Wi-Fi "
-         "positions from scans taken while the user walks",
-         f"periodic scans while walking, one every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s; "
-         + iloc_scenario.scan_model_text(lag_model, scan_latency_s) +
-         "; a fix is available only when its scan is stamped and enters the KF at the latest step state then "
-         "(causal); a new session (drift) per walk",
-         iloc_scenario.scan_model_source(scan_interval_s)
-         + "; the uniform-within-a-scan model (0-3 s) swept in latency_sweep"),
-        ("scoring", f"{_T}, L588, Fig 23", "errors at the 28 test points",
-         "at each test point's passing time: each track's latest state then; Wi-Fi only = the latest fix "
-         "available then (earlier versions started a scan exactly at each test point: an oracle)", "causal"),
-        ("R", f"{_T}, L586-588, Table 5", "R = sigma_RF^2 I, per test point, from the Wi-Fi experiment at the "
-         "28 points", "per-point error variance of the chapter 3 test session (standing scans, another day); a "
-         "fix taken anywhere gets the R of the test point nearest the fix itself",
-         "Table 5 as R and a constant R: labelled alternatives"),
-        ("Q", f"{_T}, L574-578, Table 4 (L602-605)", "Q = sigma_SL^2 [cos^2, sc; sc, sin^2]; Table 4 prints no unit",
-         "Table 4 read as " + ("relative variances (sigma = sqrt(var) x step)" if table4_reading == "relative"
-                               else "m^2") + "; the other reading shown",
-         "L478: mean SLM error 18.43 % = sqrt(0.054) sqrt(2/pi)"),
-        ("start", f"{_T}, L735, L792-795", "initial position from Wi-Fi or set by hand",
-         "the first periodic scan (at the start of the log) gives x0, P0 = the R of its nearest point; the steps "
-         "taken before it ends are dead-reckoned from it; PTS also from the true start", ""),
-        ("SAM ranges", f"{_T}, L399", "5 % and 95 % points of the training features' CDFs",
-         f"{q_range[0]:.0%}-{q_range[1]:.0%} quantiles of fixed-length training walks", ""),
-        ("test walkers", f"{_T}, L515", "users walking the route", "new simulated walkers, not the training walkers",
-         "gait model: data/gait"),
-        ("F, B, H", f"{_T}, eq. 22-23", "F = I, B = [cos, sin]^T, H = I", "as the text", ""),
-        ("update", f"{_T}, eq. 24-26", "Kalman gain, Joseph-form covariance", "as the text", ""),
-        ("error budget", "beyond the thesis", "no error budget",
-         "the main KF and PTS rerun with one error source replaced by the truth at a time (Wi-Fi fix error, "
-         "scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    return readings_iloc.readings(
+        "fusion_iloc_kf", q_range=q_range, table4_reading=table4_reading,
+        scan_interval_s=iloc_scenario.resolve_scan_interval_s(scan_interval_s),
+        scan_text=iloc_scenario.scan_model_text(lag_model, scan_latency_s),
+        scan_source=iloc_scenario.scan_model_source(scan_interval_s))
 
 
 def _walk_tracks(scn, est, cal_var, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag,

@@ -60,7 +60,7 @@ from ilocalg.fusion.budget import (
     track_at,
 )
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, comparison_table, paper_ref, readings_luo
 from ilocalg.papers.claims import interval
 from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
@@ -283,79 +283,15 @@ def pdr_method(inp: FusionInputs) -> np.ndarray:
 def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None,
              scan_latency_s: float = SCAN_LATENCY_S, scan_interval_s: float | None = None,
              principled: bool = True, lag_model: str = "measured") -> pd.DataFrame:
-    """One row per modelling choice of :func:`run` (line numbers of Luo et al. 2017's text copy)."""
+    """One row per modelling choice of :func:`run` (:mod:`ilocalg.papers.readings_luo`)."""
     det = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
-    spp = scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT
-    rows = [
-        ("combination of Wi-Fi and PDR", "L9, L212, L245",
-         "Wi-Fi gives the initial position; fingerprint positioning adjusts the PDR position and removes its "
-         "accumulated error; no filter or weight given",
-         f"Wi-Fi start, PDR between fixes, each fix pulls the track by {adjust_weight:g} of the gap"
-         + (" (the steady-state inverse-variance weight: PDR variance accumulated over one scan interval from the "
-            "training walks' step-length and heading errors, against the KNN fix variance of the standing "
-            "calibration session)" if principled else ""),
-         "the paper gives no weight: a principled one from variances measured on training data, never from the "
-         "test outcome (earlier: 0.5, the best of its own sweep); the sweep is shown as a sensitivity curve "
-         "(adjust_sweep)"),
-        ("Kalman filter", "L103-139 (sec. 3.1), L141-143 (sec. 3.2)",
-         "sec. 3.1: a generic KF for KF-based inertial navigation; sec. 3.2 argues against it on phones; no Q",
-         "the i-Loc step KF (Chiu 2013) with the toolkit's Q and R, from the same Wi-Fi start",
-         "labelled alternative, not the paper's method"),
-        ("KNN", "L77-85 (eq. 1-2)", "Manhattan distance (a = 1), K = 5", "KNN, Manhattan, K = 5, mean fingerprints",
-         "paper"),
-        ("peak rule", "L185", "reject a peak whose value differs from the previous peak by more than the threshold "
-         "or whose interval is outside the time window", f"rule {det['rule']!r}",
-         "paper; the valley-rise reading (the toolkit's earlier default) is a sensitivity row"),
-        ("peak threshold", "L175-185", "a threshold; no value", f"{det['threshold_mps2']:g} m/s^2",
-         "assumption, swept in detector_sweep"),
-        ("time window", "L189", "0.2-2 s", "0.2-2 s", "paper"),
-        ("sliding window, smoothing", "L175-177, L183", "window size matters; filtered before peak detection; "
-         "no values", "0.4 s window, 0.1 s moving mean", "assumption"),
-        ("step length", "L202 (eq. 4)", "k((a_max - a_min) * 3.5 + (a_max - a_min)^(1/4))",
-         "eq. 4 with k fitted on training walks of known length", "paper (k: not given, fitted)"),
-        ("PDR start", "L235", "PDR starts at the true start", "PDR only starts at the true start", "paper"),
-        ("survey", "L9, L91 (sec. 2.3), L233, L251",
-         "a handheld phone collects the coordinates and Wi-Fi hotspots of sample points in a given area (L9); "
-         "two phases, collect and upload, then locate (L91); Fig 8 (missing) shows the sample points; much "
-         "Wi-Fi data is needed (L251); no point spacing, scan count or procedure",
-         f"the i-Loc floor survey: {spp} scans per 2 m grid point in sessions of "
-         f"{iloc_floor.PARAMS['scans_per_session']}, each session facing one corridor direction; KNN on the "
-         "per-point mean fingerprints",
-         "assumption (i-Loc thesis L295; RADAR's survey protocol), scans per point swept in survey_sweep"),
-        ("test session", "L222, L239",
-         "the test is a walk of its own (L222); environment and weather change the Wi-Fi signal strength (L239)",
-         "each walk is its own session: a new per-AP drift, unlike every survey session, plus a local change "
-         "per scan",
-         "iloc_floor drift_sd_db, local_sd_db (Kaemarungsi & Krishnamurthy 2004; data/iloc_floor/README.md)"),
-        ("test positions", "L91, L222",
-         "the locating phase scans where the user is (L91); the tester walks a preset route holding the phone "
-         "(L222); Fig 6's x axis is a coordinate index; no scan rate",
-         f"the phone scans periodically (every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s) from the "
-         "start; a test position is where the "
-         "walker is when a fix becomes available (its scan has ended) while walking; Fig 6's index = the fix's "
-         "number; the start scan gives the initial position only (L212)",
-         "paper (walking); periodic scanning as i-Loc L777; " + iloc_scenario.scan_model_source(scan_interval_s)),
-        ("test scans", "L222", "the tester walks the route holding the phone, which locates as it goes; no scan "
-         "duration or timing",
-         "iloc_floor.walking_scans: " + iloc_scenario.scan_model_text(lag_model, scan_latency_s) + ", facing the "
-         "walking direction (body shadowing); a fix is available only when its scan is stamped and adjusts the "
-         "latest PDR state then (causal; earlier versions applied it at the scan's start)",
-         "reading ages measured (see 'test positions'); the uniform-within-a-scan model (1-3 s, an assumption) "
-         "swept in latency_sweep"),
-        ("error budget", "beyond the paper", "no error budget",
-         "the combination and PDR only rerun with one error source replaced by the truth at a time (Wi-Fi fix "
-         "error, scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
-        ("headline", "sec. 4 item 3", "one walk: combined 6.74 m vs Wi-Fi only 11.38 m",
-         "the ratio combined / Wi-Fi only per seed; seed_table gives its mean and Student-t 95 % interval over "
-         "seeds", "toolkit (one seed is one draw of the simulated world)"),
-    ]
-    return readings_table([reading(c, f"Luo et al. 2017, {ln}" if ln.startswith("L") else ln, t, d, src)
-                           for c, ln, t, d, src in rows])
-
-
-def _summary_rows(tp, label_col, label):
-    m = tp.groupby("method", sort=False)["error_m"].mean()
-    return {label_col: label, **{f"{k} mean error [m]": float(v) for k, v in m.items()}}
+    return readings_luo.readings(
+        principled=principled, adjust_weight=adjust_weight, rule=det["rule"], threshold_mps2=det["threshold_mps2"],
+        scans_per_point=scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT,
+        scans_per_session=iloc_floor.PARAMS["scans_per_session"],
+        scan_interval_s=iloc_scenario.resolve_scan_interval_s(scan_interval_s),
+        scan_text=iloc_scenario.scan_model_text(lag_model, scan_latency_s),
+        scan_source=iloc_scenario.scan_model_source(scan_interval_s))
 
 
 def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,

@@ -28,7 +28,7 @@ import pandas as pd
 
 from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive, parse_recording_name
 from ilocalg.io.paths import dataset_path
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
@@ -45,7 +45,6 @@ from ilocalg.units import as_rng
 
 __all__ = ["run", "headline", "oxford_loro", "rate_sweep", "readings", "PAPER"]
 
-_T = "i-Loc (Chiu 2013)"
 OXFORD_ARCHIVE = "optimisation_data.tar.xz"
 
 PAPER = PAPERS["iloc"]
@@ -58,28 +57,9 @@ SAM_COUNT_ERROR_PAPER = PUBLISHED["pdr_step_features"]["sam_count_error"]
 
 
 def readings(world: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("training walks", f"{_T}, L399", "walkers of different builds, 15 steps at each fixed length 40-80 cm",
-         "8 simulated walkers x 15 steps x 40, 50, 60, 70, 80 cm", "gait model: data/gait"),
-        ("feature ranges", f"{_T}, L399", "5 % and 95 % points of each feature's CDF",
-         "5-95 % quantiles (1-99 % and 0-100 % shown beside)", ""),
-        ("tested features", f"{_T}, L385-397", "A2, A, T1, T2, T, X1, I in range (A1 listed in Table 1, not tested)",
-         "the same seven tests, all must pass", ""),
-        ("peak window", f"{_T}, L357", "W_peak = 0.25 s", "no larger value within 0.125 s either side", ""),
-        ("valley window", f"{_T}, L357, Table 1 (L424-425)", "valleys within W_wave / 2 = 0.25 s, yet T1 and T2 "
-         "reach 0.35-0.40 s", "valleys within 0.5 s either side (the literal window cannot give Table 1's T1, T2)",
-         ""),
-        ("window in samples", f"{_T}, L357", "N = floor(W_wave f / 2) - 1",
-         "seconds snapped to 1e-3 samples then rounded, so 49.99999 and 50.000001 Hz logs agree", ""),
-        ("sample rate", "", "silent", "50 Hz", "assumption; X1 scales with it: swept in rate_sweep"),
-        ("count test", f"{_T}, L430", "8 testers x 100 steps, 4.13 % error", "8 walkers x 100 natural steps; "
-         "training walkers and new walkers", "the text does not say whether the testers trained SAM"),
-        ("real data", "", "not in the thesis", "Oxford step counter, in-hand optimisation recordings, leave one "
-         "recording out, 5-95 % ranges, resampled to 50 Hz", "Oxford step counter data set (CC BY 4.0)"),
-        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    code, source = gait.world_reading(world)
+    return readings_iloc.readings("pdr_step_features", gait_code=code, gait_source=source)
 
 
 def _oxford_archive(data_dir=None) -> Path:

@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.fusion import PAPER_TABLE4_SIGMA_SL_VAR_M2, PAPER_TABLE4_STEP_M
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
@@ -37,8 +37,6 @@ from ilocalg.sim import gait
 from ilocalg.units import as_rng
 
 __all__ = ["run", "readings", "PAPER"]
-
-_T = "i-Loc (Chiu 2013)"
 
 PAPER = PAPERS["iloc"]
 
@@ -60,23 +58,9 @@ FREE20_ACCURACY_PAPER = _PUB["free20_accuracy"]
 
 
 def readings(q_range=(0.05, 0.95), world: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("training walks", f"{_T}, L399, L478", "walkers at fixed lengths 40-80 cm", "8 simulated walkers x 15 steps "
-         "x 40-80 cm", "gait model: data/gait"),
-        ("SLM", f"{_T}, eq. 16-17, Table 3", "linear and quadratic regression on A and X1, fitted in cm",
-         "least squares on the training steps' A, X1 (cm)", ""),
-        ("SAM ranges", f"{_T}, L399", "5 % and 95 % points", f"{q_range[0]:.0%}-{q_range[1]:.0%}; 1-99 % shown beside",
-         ""),
-        ("fixed-length test", f"{_T}, L478", "8 testers at 40-80 cm, mean error 18.43 %",
-         "training walkers and new walkers at 40-80 cm", "the text does not say who the testers were"),
-        ("free walk", f"{_T}, L478", "8 testers walk 20 m freely, 96.41 % accuracy", "20 m straight, natural steps",
-         ""),
-        ("Table 4 units", f"{_T}, L578, L602-605", "variances of the step length error, no unit",
-         "table4: relative-error variance and m^2 variance per target length, both shown", "L478 supports relative"),
-        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    code, source = gait.world_reading(world)
+    return readings_iloc.readings("pdr_step_length", q_range=q_range, gait_code=code, gait_source=source)
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_range=(0.05, 0.95),
