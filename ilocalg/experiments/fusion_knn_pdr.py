@@ -51,29 +51,23 @@ import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import (
-    FusionInputs,
-    error_budget,
-    input_diagnostics,
-    inputs_sentence,
-    steady_state_weight,
-    track_at,
-)
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, inputs_sentence, track_at
+from ilocalg.fusion.fingerprint_adjust import combined_method, pdr_true_start_method, principled_weight
+from ilocalg.fusion.tracks import crossover_point
 from ilocalg.metrics import summarise_by_method
 from ilocalg.papers import PAPERS, comparison_table, paper_ref, readings_luo
 from ilocalg.papers.claims import interval
 from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.heading import log_headings_rad
+from ilocalg.pdr.luo_pdr import luo_pdr, luo_training_spread
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import gait, iloc_floor, iloc_scenario
 from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 from ilocalg.units import as_rng
 
-__all__ = ["run", "seed_table", "principled_weight", "combined_method", "pdr_method", "crossover_point", "findings",
-           "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS", "SURVEY_SCANS", "LATENCIES_S",
-           "DETECTOR_VARIANTS"]
+__all__ = ["run", "seed_table", "findings", "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS",
+           "SURVEY_SCANS", "LATENCIES_S", "DETECTOR_VARIANTS"]
 
 #: Name of the default combination (the paper's) and of the labelled i-Loc Kalman-filter alternative.
 COMBINED = "combined (Wi-Fi start + fingerprint adjustment)"
@@ -103,67 +97,21 @@ PAPER = PAPERS["luo"]
 PAPER_LUO = PUBLISHED
 
 
-def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:
-    """Number of leading points (1-based count) before which PDR is better and after which the
-    combined error stays below PDR's: the last point where PDR < combined (0 if never)."""
-    better = np.flatnonzero(np.asarray(pdr_err) < np.asarray(comb_err))
-    return int(better[-1] + 1) if better.size else 0
-
-
-def _pdr(w, k, detector):
-    """Luo's PDR on one walk: steps (time, eq. 4 length, WDM heading) and the per-sample WDM heading."""
-    acc, t = acc_from_log(w.imu)
-    st = luo_steps(acc, t, k, detector)
-    heads = log_headings_rad(w.imu, w.stand_s)["WDM"]
-    return {"state_t_s": np.concatenate([[t[0]], st["t_s"].to_numpy()]), "step_m": st["length_m"].to_numpy(),
-            "theta_rad": heads[st["i_peak"].to_numpy()], "heading_rad": heads, "n_true": len(w.steps)}
-
-
-def _training_stats(scn, k, detector):
-    """Step-length error sd, WDM heading error sd and mean step duration and length on the training walks."""
-    errs_h, durs, lens = [], [], []
-    for _, _, sw in scn.train_walks:
-        acc, t = acc_from_log(sw.imu)
-        st = luo_steps(acc, t, k, detector)
-        if not len(st):
-            continue
-        heads = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"][st["i_peak"].to_numpy()]
-        true_th = np.interp(st["t_s"].to_numpy(), sw.truth.index.to_numpy(), np.unwrap(sw.truth["theta_rad"]))
-        errs_h.append(np.angle(np.exp(1j * (heads - true_th))))
-        durs.append(sw.steps["duration_s"].to_numpy())
-        lens.append(sw.steps["length_m"].to_numpy())
-    e = np.concatenate(errs_h)
-    return float(np.sqrt(np.mean(e**2))), float(np.mean(np.concatenate(durs))), float(np.mean(np.concatenate(lens)))
-
-
-def principled_weight(sig_sl_m: float, sig_theta_rad: float, step_m: float, step_s: float, scan_interval_s: float,
-                      r_var_m2: float) -> tuple[float, float]:
-    """The adjustment weight from variances measured on the training data (not from the test outcome).
-
-    Between two fixes (``scan_interval_s``) the walker takes ``scan_interval_s / step_s`` steps, each adding
-    a position variance of ``(sig_sl^2 + (step_m sig_theta)^2) / 2`` per axis (length along, heading across
-    the walk); a fix has variance ``r_var_m2`` per axis. The steady-state inverse-variance weight of the two
-    (:func:`ilocalg.fusion.budget.steady_state_weight`). Returns ``(weight, q_var_m2)``.
-    """
-    q = scan_interval_s / step_s * 0.5 * (sig_sl_m**2 + (step_m * sig_theta_rad) ** 2)
-    return steady_state_weight(q, r_var_m2), float(q)
-
-
 def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: bool):
     """Detect, combine and score every walk of a scenario: the per-position error table and the example tracks."""
     method = "KNN (Manhattan, K=5)"
     est = iloc_floor.fit_estimator(scn.floor, method)
     r_var = float(iloc_floor.standing_fix_variance_m2(scn.floor, est).mean())
     k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in scn.train_walks], detector)
-    sig_th, step_s, step_m = _training_stats(scn, k, detector)
+    sig_th, step_s, step_m = luo_training_spread([sw for _, _, sw in scn.train_walks], k, detector)
     w_p, q_var = principled_weight(sig_sl, sig_th, step_m, step_s, scn.params["scan_interval_s"], r_var)
     weights = tuple(sorted(set(adjust_weights) | ({round(w_p, 3)} if principled else set())))
     route = scn.route_xy_m
     tps, ex, nsteps, x0_err, inputs, n_deaf = [], [], [], [], [], 0
     for w_i, w in enumerate(scn.walks):
-        pdr = _pdr(w, k, detector)
+        pdr = luo_pdr(w.imu, k, detector, w.stand_s)
         ts, d, th = pdr["state_t_s"], pdr["step_m"], pdr["theta_rad"]
-        nsteps.append((d.size, pdr["n_true"]))
+        nsteps.append((d.size, len(w.steps)))
         fx = walk_fixes(scn, w, est)
         walk_t0 = float(w.steps["t_strike_s"].iloc[0])
         walk_t1 = float((w.steps["t_strike_s"] + w.steps["duration_s"]).iloc[-1])
@@ -198,15 +146,9 @@ def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: boo
                                      "y_true_m": true_xy[keep, 1], "x_est_m": est_xy[keep, 0],
                                      "y_est_m": est_xy[keep, 1],
                                      "error_m": np.hypot(*(est_xy[keep] - true_xy[keep]).T)}))
-        inputs.append(FusionInputs(
-            t0_s=float(ts[0]), start_xy_m=x0, start_ref_t_s=float(fx["t_ref_s"].iloc[0]), step_t_s=ts[1:],
-            step_m=d, theta_rad=th, heading_t_s=w.imu.index.to_numpy(), heading_rad=pdr["heading_rad"],
-            fix_t_s=fr["t_ready_s"].to_numpy(), fix_ref_t_s=fr["t_ref_s"].to_numpy(),
-            fix_xy_m=fr[["fix_x_m", "fix_y_m"]].to_numpy(),
-            true_step_t_s=(w.steps["t_strike_s"] + w.steps["duration_s"]).to_numpy(),
-            true_step_mid_t_s=w.steps["t_mid_s"].to_numpy(), true_step_m=w.steps["length_m"].to_numpy(),
-            truth_t_s=w.truth_t_s, truth_xy_m=w.truth_xy_m, truth_theta_rad=w.truth["theta_rad"].to_numpy(),
-            eval_t_s=t_eval, eval_xy_m=true_xy))
+        inputs.append(FusionInputs.from_walk(
+            w, state_t_s=ts, step_m=d, theta_rad=th, heading_rad=pdr["heading_rad"], start_xy_m=x0,
+            start_ref_t_s=fx["t_ref_s"].iloc[0], fixes=fr, eval_t_s=t_eval, eval_xy_m=true_xy))
         if w_i == 0:
             ex.append(pd.DataFrame({"method": "truth", "x_m": np.r_[route[0, 0], w.steps["x_m"]],
                                     "y_m": np.r_[route[0, 1], w.steps["y_m"]]}))
@@ -263,21 +205,6 @@ def _claim_measures(seed, tp, pp, summ, n_walkers, n_train, detector) -> list:
              {"quantity": "fixed-length walks 40-80 cm, mean relative step-length error",
               "item": "one constant step length", "value": 100 * float(np.mean(ec)), "unit": "%"}]
     return meas
-
-
-def combined_method(weight: float):
-    """Luo's combination (Wi-Fi start, fixes pull the track by ``weight``) as an error-budget method."""
-    def comb(inp: FusionInputs) -> np.ndarray:
-        fxy = np.asarray(inp.fix_xy_m, dtype=np.float64)
-        z = fixes_at_states(inp.state_t_s, inp.fix_t_s, fxy, before_start="drop", same_state="last").z_m
-        return fingerprint_adjusted_track(inp.start_xy_m, inp.theta_rad, inp.step_m, z, weight)
-    return comb
-
-
-def pdr_method(inp: FusionInputs) -> np.ndarray:
-    """PDR only from the true start (L235) as an error-budget method."""
-    x0 = inp.truth_at([inp.t0_s])[0]
-    return dead_reckon(np.asarray(inp.step_m), np.asarray(inp.theta_rad), *x0)[["x_m", "y_m"]].to_numpy()
 
 
 def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None,
@@ -427,7 +354,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                                 adjust_weight is None, lag_model),
            "adjust_sweep": adjust}
     if budget:
-        bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_method})
+        bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_true_start_method})
         out["budget"] = bud
         out["budget_inputs"] = input_diagnostics(info["inputs"])
         for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():
