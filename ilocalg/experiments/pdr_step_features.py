@@ -36,10 +36,10 @@ from ilocalg.pdr.sam import (
     SAM_TESTED_FEATURES,
     in_ranges,
     learn_feature_ranges,
-    match_waves_to_steps,
     sam_waves,
 )
-from ilocalg.pdr.signals import acc_from_log, resample_uniform
+from ilocalg.pdr.sam_evaluate import sam_leave_one_out
+from ilocalg.pdr.signals import acc_from_log
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 
@@ -74,62 +74,16 @@ def _oxford_archive(data_dir=None) -> Path:
 
 def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, position: str = "InHand",
                 max_recordings: int | None = None, tol_s: float = 0.25) -> pd.DataFrame:
-    """SAM on the Oxford step counter recordings, leave one recording out.
-
-    For each recording, the ranges are the ``q_range`` quantiles of the features of the true steps of
-    the other recordings (each true step matched to the nearest wave within ``tol_s``); SAM then counts
-    the held-out recording. Logs are resampled to ``rate_hz`` (X1 depends on the rate).
-
-    Returns
-    -------
-    DataFrame
-        One row per recording: ``recording``, ``phone``, ``user``, ``surface``, ``true_steps``,
-        ``counted``, ``error`` (|counted - true| / true), ``cadence_hz`` (true steps / duration),
-        ``waves_matched`` (share of true steps with a wave within ``tol_s``), ``steps_passing`` (share
-        of matched true steps passing all seven tests), ``worst_test`` and ``worst_test_fail`` (the
-        test its matched steps fail most, and how often), ``why`` (a sentence). Empty with a
-        ``missing`` column when the data are not on disk.
-    """
+    """SAM on the Oxford step counter recordings held at ``position``, leave one recording out
+    (:func:`ilocalg.pdr.sam_evaluate.sam_leave_one_out`; columns ``phone``, ``user``, ``surface`` from the
+    recording's name). One row with a ``missing`` column when the data are not on disk."""
     archive = _oxford_archive(data_dir)
     if not archive.exists():
         return pd.DataFrame([{"missing": str(archive)}])
     names = [n for n in list_oxford_archive(archive) if parse_recording_name(n).get("position") == position]
     if max_recordings is not None:
         names = names[:max_recordings]
-    recs = load_oxford_archive(archive, names)
-    waves, matched, cadence = [], [], []
-    for r in recs:
-        acc, t = acc_from_log(r.imu)
-        a50, t50 = resample_uniform(acc, t, rate_hz)
-        w = sam_waves(a50, t50)
-        waves.append(w)
-        matched.append(match_waves_to_steps(w, r.step_t_s, tol_s))
-        cadence.append(r.true_steps / (t[-1] - t[0]))
-    rows = []
-    for i, r in enumerate(recs):
-        others = [j for j in range(len(recs)) if j != i]
-        rg = learn_feature_ranges(pd.concat([matched[j] for j in others], ignore_index=True), *q_range)
-        counted = int(in_ranges(waves[i], rg, SAM_TESTED_FEATURES).sum())
-        m = matched[i]
-        fail = {f: float(((m[f] < rg.loc[f, "min"]) | (m[f] > rg.loc[f, "max"])).mean()) if len(m) else np.nan
-                for f in SAM_TESTED_FEATURES}
-        worst = max(fail, key=lambda f: fail[f])
-        med = float(m[worst].median()) if len(m) else np.nan
-        side = "below" if med < rg.loc[worst, "min"] else "above" if med > rg.loc[worst, "max"] else "inside"
-        c_oth = np.array([cadence[j] for j in others])
-        err = abs(counted - r.true_steps) / r.true_steps
-        over = (f"counts {counted - r.true_steps} more steps than taken (extra waves pass every test); "
-                if counted > r.true_steps else "")
-        why = over + (f"{fail[worst]:.0%} of its true steps fail {worst} (median {med:.2f}, {side} the learned "
-               f"{rg.loc[worst, 'min']:.2f}-{rg.loc[worst, 'max']:.2f}); cadence {cadence[i]:.2f} steps/s vs "
-               f"{c_oth.min():.2f}-{c_oth.max():.2f} in the others; {len(m) / r.true_steps:.0%} of true steps "
-               f"have a wave within {tol_s:g} s")
-        rows.append({"recording": r.name, **parse_recording_name(r.name), "true_steps": int(r.true_steps),
-                     "counted": counted, "error": err, "cadence_hz": cadence[i],
-                     "waves_matched": len(m) / r.true_steps,
-                     "steps_passing": float(in_ranges(m, rg, SAM_TESTED_FEATURES).mean()) if len(m) else np.nan,
-                     "worst_test": worst, "worst_test_fail": fail[worst], "why": why})
-    return pd.DataFrame(rows)
+    return sam_leave_one_out(load_oxford_archive(archive, names), q_range, rate_hz, tol_s, parse_recording_name)
 
 
 def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_test: int = 8,
