@@ -60,10 +60,7 @@ __all__ = ["run", "readings", "findings", "PAPER_KF"]
 MAIN = "KF (R calibrated)"
 
 PAPER = PAPERS["iloc"]
-# Settings from the paper
-# -----------------------
-# PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.
-#: Published values (paper, thesis ch. 5 text below Table 5 and Fig 23): reference only.
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`, ch. 5 "5.15 m -> 2.82 m"): reference only.
 PAPER_KF = PUBLISHED["fusion_iloc_kf"]
 
 

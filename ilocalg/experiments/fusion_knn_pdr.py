@@ -89,11 +89,7 @@ DETECTOR_VARIANTS = (
 )
 
 PAPER = PAPERS["luo"]
-# Settings from the paper
-# -----------------------
-# PAPER_LUO: Luo et al. (2017) sec. 4, item 2 (Wi-Fi only mean, min, max error) and item 3
-# (combined mean error; PDR better than the combination for the first 6 points); reference only.
-#: Published values (paper, sec. 4 items 2-3): reference only.
+#: Published values (:data:`ilocalg.papers.luo.PUBLISHED`, sec. 4 items 2-3): reference only.
 PAPER_LUO = PUBLISHED
 
 

@@ -42,13 +42,8 @@ __all__ = ["run", "track_errors", "readings", "PAPER"]
 
 PAPER = PAPERS["iloc"]
 
-# Settings from the paper
-# -----------------------
-# Chiu (2013): HEADING_ERROR_PAPER_DEG, Fig 16 text (WDM mean heading error); PTS_ERROR_PAPER_M,
-# Fig 18 text (PTS mean position error): reference values only. The test loop of run() (28
-# points 4.11 m apart) is sec. 4.4.
-HEADING_ERROR_PAPER_DEG = PUBLISHED["pdr_heading_trajectory"]["heading_error_deg"]
-PTS_ERROR_PAPER_M = PUBLISHED["pdr_heading_trajectory"]["pts_error_m"]
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`): reference only, never used to compute.
+PUB = PUBLISHED["pdr_heading_trajectory"]
 
 
 def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarray, test_t_s: np.ndarray):
@@ -160,9 +155,9 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
                     ignore_index=True)
     comp = [
         paper_ref(PAPER, "Fig 16", "WDM mean per-step heading error",
-                  HEADING_ERROR_PAPER_DEG, hsum.set_index("heading").loc["WDM", "mean_error_deg"], unit="deg"),
+                  PUB["heading_error_deg"], hsum.set_index("heading").loc["WDM", "mean_error_deg"], unit="deg"),
         paper_ref(PAPER, "Figs 17-18", "PTS mean position error at the test points (27 after the start)",
-                  PTS_ERROR_PAPER_M, summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
+                  PUB["pts_error_m"], summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
     ]
     # WDM sensitivity: the same new-walker population with one heading error source switched off at a time
     dec = np.deg2rad(gcfg.declination_deg)

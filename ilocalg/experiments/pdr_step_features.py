@@ -49,11 +49,8 @@ OXFORD_ARCHIVE = "optimisation_data.tar.xz"
 
 PAPER = PAPERS["iloc"]
 
-# Settings from the paper
-# -----------------------
-# SAM_COUNT_ERROR_PAPER: Chiu (2013) Fig 12 and sec. 4.1 text, SAM step-count error on 8 walkers
-# x 100 steps (a reference value, never used to compute).
-SAM_COUNT_ERROR_PAPER = PUBLISHED["pdr_step_features"]["sam_count_error"]
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`): reference only, never used to compute.
+PUB = PUBLISHED["pdr_step_features"]
 
 
 def readings(world: str = "measured") -> pd.DataFrame:
@@ -172,7 +169,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
     key = f"learned q{paper_q[0]:g}-{paper_q[1]:g}"
     for group in groups:
         comp.append(paper_ref(PAPER, "Fig 12", f"SAM step-count error, {n_test} x {n_steps} steps ({group})",
-                              SAM_COUNT_ERROR_PAPER * 100, lit.loc[(group, key)] * 100, unit="%",
+                              PUB["sam_count_error"] * 100, lit.loc[(group, key)] * 100, unit="%",
                               note="ranges = 5/95 % points of simulated training steps"))
     ox = oxford_loro(data_dir, quantiles[0], max_recordings=6 if fast else None)
     if "error" in ox.columns:
@@ -180,7 +177,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
                                 "mean_error": float(ox["error"].mean()), "max_error": float(ox["error"].max()),
                                 "recordings_over_20pct": int((ox["error"] > 0.2).sum())}])
         comp.append(paper_ref(PAPER, "Fig 12", "SAM step-count error, Oxford in-hand recordings (leave one out), mean",
-                              SAM_COUNT_ERROR_PAPER * 100, ox["error"].mean() * 100, unit="%",
+                              PUB["sam_count_error"] * 100, ox["error"].mean() * 100, unit="%",
                               note="real recordings, not the thesis's testers"))
     else:
         ox_sum = ox

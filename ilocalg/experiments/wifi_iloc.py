@@ -50,14 +50,8 @@ __all__ = ["run", "findings", "ap_distribution", "readings", "PAPER_ILOC"]
 
 ILOC = PAPERS["iloc"]
 LUO = PAPERS["luo"]
-#: Published values used only as labelled references (paper values; never used in computation).
-#
-# Settings from the paper
-# -----------------------
-# radar_median_m  Chiu (2013) sec. 3.1, Fig 3, k = 5     radar_p80_m   sec. 3.1, "80 % within 14 m"
-# radar_best_k    sec. 3.1, "k = 5 is the most accurate"  horus_median_m  sec. 3.2, Fig 5
-# horus_p80_m     sec. 3.2, "80 % within 9 m"
-# knn_mean_m      Luo et al. (2017) sec. 4, Wi-Fi only mean error (their building)
+#: Published values (:data:`ilocalg.papers.iloc.PUBLISHED` ch. 3 and Luo et al.'s Wi-Fi only mean,
+#: :data:`ilocalg.papers.luo.PUBLISHED`): labelled references only, never used in computation.
 PAPER_ILOC = {**PUBLISHED_ILOC["wifi_iloc"], "knn_mean_m": PUBLISHED_LUO["wifi_mean_m"]}
 
 
