@@ -1,8 +1,9 @@
 """ilocalg.pdr.luo_pdr: Luo et al.'s PDR on a seeded simulated walk."""
 
 import numpy as np
+import pytest
 
-from ilocalg.pdr.luo_pdr import luo_pdr, luo_training_spread
+from ilocalg.pdr.luo_pdr import eq4_vs_constant_error, luo_pdr, luo_training_spread
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_luo_k
 from ilocalg.sim import gait
@@ -23,3 +24,14 @@ def test_luo_pdr_gives_filter_inputs_along_the_walk_and_a_physical_training_spre
     assert np.degrees(np.abs(np.angle(np.exp(1j * p["theta_rad"])))).mean() < 30.0
     sig_th, step_s, step_m = luo_training_spread(train, k)
     assert 0 < sig_th < np.pi and 0.3 < step_s < 1.5 and 0.3 < step_m < 1.0
+
+
+def test_eq4_against_a_constant_on_walks_of_known_length():
+    rng = np.random.default_rng(6)
+    tw = gait.training_walks(gait.make_walkers(2, rng), rng)
+    train = [sw for _, _, sw in tw]
+    test = [(length, sw) for _, length, sw in tw]
+    e4, ec = eq4_vs_constant_error(train, test)
+    const = np.mean([sw.steps["length_m"].mean() for sw in train])
+    assert ec == pytest.approx(np.mean([abs(const - length) / length for length, _ in test]))
+    assert 0 < ec < 1 and np.isfinite(e4) and e4 >= 0

@@ -18,9 +18,9 @@ import pandas as pd
 
 from ilocalg.pdr.heading import log_headings_rad
 from ilocalg.pdr.signals import acc_from_log
-from ilocalg.pdr.step_length import luo_steps
+from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 
-__all__ = ["luo_pdr", "luo_training_spread"]
+__all__ = ["luo_pdr", "luo_training_spread", "eq4_vs_constant_error"]
 
 
 def luo_pdr(imu: pd.DataFrame, k: float, detector: dict | None = None, rest_s: float = 0.0) -> dict:
@@ -64,3 +64,30 @@ def luo_training_spread(walks, k: float, detector: dict | None = None) -> tuple[
         lens.append(sw.steps["length_m"].to_numpy())
     e = np.concatenate(errs_h)
     return float(np.sqrt(np.mean(e**2))), float(np.mean(np.concatenate(durs))), float(np.mean(np.concatenate(lens)))
+
+
+def eq4_vs_constant_error(train, test, detector: dict | None = None) -> tuple[float, float]:
+    """Mean relative step-length error of eq. (4) and of one constant step length on walks of known length.
+
+    ``k`` of eq. (4) is fitted on ``train`` (:func:`ilocalg.pdr.step_length.fit_luo_k`) and the constant is
+    the mean true step of ``train``; both are scored per detected step (eq. 4) or per walk (the constant)
+    on ``test``.
+
+    Parameters
+    ----------
+    train : sequence of walks with ``imu`` and ``steps`` (``length_m``), e.g. :func:`ilocalg.sim.gait.training_walks`.
+    test : iterable of ``(imposed step length m, walk)``.
+    detector : dict, optional, parameters of the peak-window detector.
+
+    Returns
+    -------
+    (eq4_error, constant_error) : mean |estimate - length| / length (fractions).
+    """
+    k, _ = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for sw in train], detector)
+    const_m = float(np.mean([sw.steps["length_m"].mean() for sw in train]))
+    e4, ec = [], []
+    for length_m, sw in test:
+        st = luo_steps(*acc_from_log(sw.imu), k, detector)
+        e4 += list(np.abs(st["length_m"].to_numpy() - length_m) / length_m)
+        ec.append(abs(const_m - length_m) / length_m)
+    return float(np.mean(e4)), float(np.mean(ec))
