@@ -1,14 +1,15 @@
 """Checks shared by the claim-ledger tests of the papers (tests/test_claims_<paper>.py).
 
-The paper text copies are read from ``$ILOC_PAPERS_DIR`` or ``papers`` beside the data folder
-(:func:`ilocalg.io.paths.data_dir`); when missing they skip on a developer machine and FAIL under CI=true.
-Fast runs of the experiments are cached per process, so test files that need the same experiment share
-one run.
+Every check takes the paper's key (:data:`ilocalg.papers.PAPERS`). The paper text copies are read from
+``$ILOC_PAPERS_DIR`` or ``papers`` beside the data folder (:func:`ilocalg.io.paths.data_dir`); when missing
+they skip on a developer machine and FAIL under CI=true, as the real-data tests do. Fast runs of the
+experiments (seed 0) are cached per process, so test files that need the same experiment share one run.
 """
 
 from __future__ import annotations
 
 import functools
+import importlib
 import inspect
 import math
 import os
@@ -20,7 +21,7 @@ import pytest
 
 from ilocalg.io.paths import REPO_ROOT, data_dir
 from ilocalg.papers import claims_of
-from ilocalg.papers.claims import VERDICTS, evaluate, judge, statistic_by_seed
+from ilocalg.papers.claims import KINDS, VERDICTS, claims_from_tables, judge, statistic_by_seed
 
 #: Text copy of each paper in the shared papers folder.
 PAPER_FILES = {
@@ -40,62 +41,98 @@ FAST_KWARGS = {
 _NUMBER = re.compile(r"\d+(?:\.\d+)?")
 
 
-def papers_dir() -> Path:
-    env = os.environ.get("ILOC_PAPERS_DIR")
-    return Path(env).expanduser().resolve() if env else data_dir().parent / "papers"
+def papers_dir() -> Path | None:
+    """The shared papers folder (``$ILOC_PAPERS_DIR``, else beside the data folder or a parent), or None."""
+    cands = [Path(os.environ["ILOC_PAPERS_DIR"]).expanduser()] if os.environ.get("ILOC_PAPERS_DIR") else []
+    cands += [data_dir().parent / "papers"] + [p / "shared" / "papers" for p in REPO_ROOT.parents]
+    return next((p.resolve() for p in cands if p.is_dir()), None)
 
 
 def paper_lines(key: str) -> list[str]:
-    """Lines of a paper's text copy (skip, or fail under CI=true, when the file is missing)."""
-    p = papers_dir() / PAPER_FILES[key]
-    if not p.is_file():
-        msg = f"paper text {p} not found (set ILOC_PAPERS_DIR or ILOC_DATA_DIR)"
+    """Lines of a paper's text copy (``lines[n - 1]`` is line n); skip, or fail under CI=true, when missing."""
+    d = papers_dir()
+    if d is None or not (d / PAPER_FILES[key]).is_file():
+        msg = f"paper text {PAPER_FILES[key]} not found (set ILOC_PAPERS_DIR or ILOC_DATA_DIR)"
         if os.environ.get("CI", "").lower() == "true":
             pytest.fail(msg)
         pytest.skip(msg)
-    return p.read_text(encoding="utf-8").splitlines()
+    return (d / PAPER_FILES[key]).read_text(encoding="utf-8").splitlines()
 
 
 @functools.cache
-def fast_long(experiment: str) -> pd.DataFrame:
-    """One fast run (seed 0) of an experiment in the sweep's long format, with ``experiment`` and ``seed``."""
-    import importlib
-
-    from ilocalg.workflow.sweep import tables_to_long
-
+def fast_tables(experiment: str) -> dict:
+    """One fast run (seed 0) of an experiment, shared by every claims test of the session."""
     mod = importlib.import_module(f"ilocalg.experiments.{experiment}")
-    long = tables_to_long(mod.run(seed=0, fast=True, **FAST_KWARGS.get(experiment, {})))
-    long.insert(0, "experiment", experiment)
-    long["seed"] = 0
-    return long
+    return mod.run(seed=0, fast=True, **FAST_KWARGS.get(experiment, {}))
 
 
 def experiments_of(claims) -> list[str]:
-    return sorted({r.experiment for c in claims if c.statistic is not None for r in c.statistic.refs}
-                  | {a.experiment for c in claims for a in c.assumptions})
+    """The experiments whose results the claims read."""
+    return sorted({r.experiment for c in claims if c.statistic is not None for r in c.statistic.refs})
 
 
-def check_ids_and_kinds(key: str, minimum: int) -> tuple:
+def run_kwargs(experiment: str) -> set[str]:
+    """Keywords ``run()`` of an experiment accepts (named ones plus those its ``**kwargs`` forward)."""
+    mod = importlib.import_module(f"ilocalg.experiments.{experiment}")
+    params = inspect.signature(mod.run).parameters
+    names = {n for n, p in params.items() if p.kind is not p.VAR_KEYWORD}
+    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        if experiment == "study_wifi":
+            names |= set(mod.RADIO)
+        elif experiment == "photo_positioning":
+            from ilocalg.sim import photo_poi
+
+            names |= set(photo_poi.DEFAULTS)
+    return names - {"seed", "fast"}
+
+
+def notebook_anchors(stem: str) -> set[str]:
+    """Anchors of the Markdown headings of notebooks/<stem>.py (jupytext percent format), as nbconvert and
+    JupyterLab give them: the heading's text with spaces -> '-'."""
+    nb = REPO_ROOT / "notebooks" / f"{stem}.py"
+    if not nb.is_file():
+        return set()
+    return {ln.lstrip("# ").strip().replace(" ", "-") for ln in nb.read_text(encoding="utf-8").splitlines()
+            if re.match(r"^# #+ ", ln)}
+
+
+# ---- the checks --------------------------------------------------------------------------------------------
+
+def check_ids_and_kinds(key: str, minimum: int, require_assumptions: bool = False) -> tuple:
+    """Unique ids of this paper, known kinds, a reason for every untestable claim, the paper's value for an
+    agreement claim, printed numbers only for a consistency check, at least 60 % testable; with
+    ``require_assumptions``, every claim on reproduced values names the values the text does not fix."""
     claims = claims_of(key)
-    assert len(claims) >= minimum
+    assert len(claims) >= minimum, f"{key}: {len(claims)} claims, want at least {minimum}"
     ids = [c.id for c in claims]
-    assert len(set(ids)) == len(ids), "claim ids must be unique"
-    assert all(i.startswith(f"{key}-") for i in ids)
-    assert all(c.paper == key for c in claims)
+    assert len(set(ids)) == len(ids), f"duplicate claim ids: {sorted({i for i in ids if ids.count(i) > 1})}"
     for c in claims:
-        assert c.statistic is not None or c.untestable, c.id
-        if c.expect == "~" and c.statistic is not None:
+        assert c.paper == key and c.id.startswith(f"{key}-"), c.id
+        assert c.kind in KINDS, c.id
+        if c.statistic is None:
+            assert len(c.untestable) > 20, f"{c.id}: say why it cannot be tested"
+            continue
+        if c.expect == "~":
             assert c.paper_value is not None and math.isfinite(c.paper_value), f"{c.id}: '~' needs the paper value"
+        if not c.statistic.refs:
+            assert c.kind == "consistency", f"{c.id}: a statistic of printed numbers only is a consistency check"
+        elif require_assumptions:
+            assert c.assumptions, f"{c.id}: name the values the text does not fix (assumptions)"
+    testable = sum(c.statistic is not None for c in claims)
+    assert testable >= 0.6 * len(claims), f"{key}: only {testable} of {len(claims)} claims testable"
     return claims
 
 
-def check_lines_and_numbers(key: str) -> None:
-    """Every cited line exists and every number quoted in ``paper_text`` is printed on the cited lines."""
+def check_lines_and_numbers(key: str, quoted: bool = False) -> None:
+    """Every cited line exists and every number quoted in ``paper_text`` is printed on the cited lines; with
+    ``quoted``, every claim quotes the paper and cites no blank line."""
     lines = paper_lines(key)
     for c in claims_of(key):
         assert c.lines, c.id
+        assert c.paper_text.strip() or not quoted, f"{c.id}: quote the paper (paper_text)"
         for n in c.lines:
             assert 1 <= n <= len(lines), f"{c.id}: line {n} outside 1..{len(lines)}"
+            assert lines[n - 1].strip() or not quoted, f"{c.id}: line {n} is blank"
         cited = "\n".join(lines[n - 1] for n in c.lines)
         missing = [x for x in _NUMBER.findall(c.paper_text) if x not in cited]
         assert not missing, f"{c.id}: {missing} not on lines {c.lines}"
@@ -107,7 +144,8 @@ def check_paper_value_on_asserted_side(key: str) -> None:
     for c in claims_of(key):
         if c.kind == "consistency" or c.expect == "~" or c.paper_value is None or c.statistic is None:
             continue
-        assert judge(c, c.paper_value, c.paper_value, c.paper_value) == "reproduced", c.id
+        pv = float(c.paper_value)
+        assert judge(c, pv, pv, pv) == "reproduced", f"{c.id}: paper value {pv} against expect {c.expect}"
 
 
 def check_consistency_arithmetic(key: str, expected: dict[str, float]) -> None:
@@ -121,40 +159,43 @@ def check_consistency_arithmetic(key: str, expected: dict[str, float]) -> None:
 
 
 def check_refs_resolve(key: str) -> pd.DataFrame:
-    """Every ref of every claim resolves on a fast run (one row per seed) and evaluate() gives a verdict."""
+    """Every ref of every claim resolves on a fast run (one row per seed) and every testable claim gets a
+    finite statistic inside its interval and a verdict; returns the ledger."""
     claims = claims_of(key)
-    exps = [e for e in experiments_of(claims)]
-    results = pd.concat([fast_long(e) for e in exps], ignore_index=True) if exps else pd.DataFrame()
-    rows = []
-    for c in claims:
-        row = evaluate(c, results)
+    tables = {e: fast_tables(e) for e in experiments_of(claims)}
+    ledger = claims_from_tables(claims, tables)
+    assert list(ledger["claim_id"]) == [c.id for c in claims]
+    for c, row in zip(claims, ledger.to_dict("records"), strict=True):
         assert row["verdict"] in VERDICTS, c.id
         if c.statistic is None:
-            assert row["verdict"] == "cannot be tested"
+            assert row["verdict"] == "cannot be tested", c.id
         else:
-            assert row["n_seeds"] == 1, c.id
-        rows.append(row)
-    return pd.DataFrame(rows)
+            assert row["n_seeds"] == 1 and math.isfinite(row["reproduced"]), f"{c.id}: {row['reproduced']}"
+            assert row["verdict"] != "cannot be tested", c.id
+            assert row["ci_low"] <= row["reproduced"] <= row["ci_high"], c.id
+    return ledger
 
 
 def check_assumptions(key: str) -> None:
-    import importlib
-
+    """Each assumption is a ``run()`` keyword of an experiment the claim reads, with a range and a source."""
     for c in claims_of(key):
+        exps = {r.experiment for r in c.statistic.refs} if c.statistic is not None else set()
         for a in c.assumptions:
-            run = importlib.import_module(f"ilocalg.experiments.{a.experiment}").run
-            assert a.param in inspect.signature(run).parameters, f"{c.id}: {a.param} is no keyword of run()"
-            assert a.low < a.high and a.source.strip(), c.id
+            assert a.experiment in exps, f"{c.id}: assumption on {a.experiment}, which the claim does not read"
+            assert a.param in run_kwargs(a.experiment), f"{c.id}: {a.experiment}.run() has no keyword {a.param}"
+            assert a.low < a.high and a.source.strip(), f"{c.id}: {a.param} range {a.low}..{a.high}"
+            if a.log:
+                assert a.low > 0, c.id
 
 
-def check_decided_in(key: str) -> None:
-    """``decided_in`` names a notebook and one of its Markdown headings (anchor: spaces -> '-')."""
+def check_decided_in(key: str, required: bool = False) -> None:
+    """``decided_in`` names a notebook and one of its Markdown headings (anchor: spaces -> '-'); with
+    ``required``, every claim names one."""
     for c in claims_of(key):
         if not c.decided_in:
+            assert not required, f"{c.id}: name the notebook section that decides it (decided_in)"
             continue
         stem, _, anchor = c.decided_in.partition("#")
-        nb = REPO_ROOT / "notebooks" / f"{stem}.py"
-        assert nb.is_file(), f"{c.id}: no notebook {stem}"
-        heads = [ln.lstrip("# ").strip().replace(" ", "-") for ln in nb.read_text(encoding="utf-8").splitlines()
-                 if re.match(r"^# #+ ", ln)]
-        assert anchor in heads, f"{c.id}: no heading {anchor!r} in {stem}"
+        anchors = notebook_anchors(stem)
+        assert anchors, f"{c.id}: no notebook {stem}"
+        assert anchor in anchors, f"{c.id}: no section #{anchor} in {stem} (sections: {sorted(anchors)})"

@@ -10,7 +10,7 @@ import pytest
 
 from ilocalg.papers import claims_of
 from ilocalg.papers import iloc as paper
-from tests import claims_checks_iloc_luo as chk
+from tests import claims_checks as chk
 
 CLAIMS = claims_of("iloc")
 BY_ID = {c.id: c for c in CLAIMS}
@@ -18,18 +18,19 @@ BY_ID = {c.id: c for c in CLAIMS}
 
 def test_declarations():
     assert CLAIMS == paper.CLAIMS
-    chk.check_declarations(CLAIMS, "iloc", at_least=15)
+    chk.check_ids_and_kinds("iloc", 15, require_assumptions=True)
+    chk.check_paper_value_on_asserted_side("iloc")
     # every chapter with results has claims: Wi-Fi, SAM, SLM, WDM/PTS, KF, photo
     for part in ("radar", "horus", "sam", "slm", "wdm", "pts", "kf", "photo"):
         assert any(part in c.id for c in CLAIMS), part
 
 
 def test_cited_lines_carry_the_quoted_numbers():
-    chk.check_lines(CLAIMS, paper.FILE)
+    chk.check_lines_and_numbers("iloc", quoted=True)
 
 
 def test_printed_tables_match_the_text_copy():
-    lines = chk.paper_lines(paper.FILE)
+    lines = chk.paper_lines("iloc")
     t5 = " ".join(lines[n - 1] for n in (610, 612, 614, 616))
     assert [float(x) for x in t5.split() if x[0].isdigit()] == list(paper.TABLE5_VAR_M2)
     assert [float(x) for x in lines[604].split() if x[0].isdigit()] == list(paper.TABLE4_VAR)
@@ -38,15 +39,15 @@ def test_printed_tables_match_the_text_copy():
 
 
 def test_decided_in_sections_exist():
-    chk.check_decided_in(CLAIMS)
+    chk.check_decided_in("iloc", required=True)
 
 
 def test_assumptions_are_run_keywords():
-    chk.check_assumptions(CLAIMS)
+    chk.check_assumptions("iloc")
 
 
 def test_every_claim_evaluates_on_fast_runs():
-    chk.check_evaluation(CLAIMS)
+    chk.check_refs_resolve("iloc")
 
 
 def _const(cid: str) -> float:
@@ -110,9 +111,9 @@ def test_one_copy_of_each_printed_value():
     pub = paper.PUBLISHED
     assert fusion_iloc_kf.PAPER_KF is pub["fusion_iloc_kf"]
     assert photo_positioning.PAPER is pub["photo_positioning"]
-    assert pdr_step_features.SAM_COUNT_ERROR_PAPER == pub["pdr_step_features"]["sam_count_error"]
-    assert pdr_step_length.CORR_PAPER is pub["pdr_step_length"]["corr"]
-    assert pdr_heading_trajectory.PTS_ERROR_PAPER_M == pub["pdr_heading_trajectory"]["pts_error_m"]
+    assert pdr_step_features.PUB is pub["pdr_step_features"]
+    assert pdr_step_length.PUB is pub["pdr_step_length"]
+    assert pdr_heading_trajectory.PUB is pub["pdr_heading_trajectory"]
     assert {k: wifi_iloc.PAPER_ILOC[k] for k in pub["wifi_iloc"]} == pub["wifi_iloc"]
     assert pub["pdr_step_length"]["corr"] == paper.TABLE2_CORR
     # the KF's Q and R tables (ilocalg.fusion) are the printed Tables 4 and 5 the consistency claims check

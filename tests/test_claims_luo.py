@@ -5,33 +5,34 @@ from __future__ import annotations
 
 from ilocalg.papers import claims_of
 from ilocalg.papers import luo as paper
-from tests import claims_checks_iloc_luo as chk
+from tests import claims_checks as chk
 
 CLAIMS = claims_of("luo")
 
 
 def test_declarations():
     assert CLAIMS == paper.CLAIMS
-    chk.check_declarations(CLAIMS, "luo", at_least=6)
+    chk.check_ids_and_kinds("luo", 6, require_assumptions=True)
+    chk.check_paper_value_on_asserted_side("luo")
     # what the text says about each component, not only the headline ratio
     for part in ("knn", "kf", "sliding-window", "time-window", "eq4", "pdr", "combined-improves"):
         assert any(part in c.id for c in CLAIMS), part
 
 
 def test_cited_lines_carry_the_quoted_numbers():
-    chk.check_lines(CLAIMS, paper.FILE)
+    chk.check_lines_and_numbers("luo", quoted=True)
 
 
 def test_decided_in_sections_exist():
-    chk.check_decided_in(CLAIMS)
+    chk.check_decided_in("luo", required=True)
 
 
 def test_assumptions_are_run_keywords():
-    chk.check_assumptions(CLAIMS)
+    chk.check_assumptions("luo")
 
 
 def test_every_claim_evaluates_on_fast_runs():
-    chk.check_evaluation(CLAIMS)
+    chk.check_refs_resolve("luo")
 
 
 def test_component_measures_are_sane():
@@ -55,7 +56,7 @@ def test_published_values_are_the_papers_and_the_experiments_show_them():
 
     assert fusion_knn_pdr.PAPER_LUO is paper.PUBLISHED
     assert wifi_iloc.PAPER_ILOC["knn_mean_m"] == paper.PUBLISHED["wifi_mean_m"]
-    text = "\n".join(chk.paper_lines(paper.FILE))
+    text = "\n".join(chk.paper_lines("luo"))
     for key in ("wifi_mean_m", "wifi_min_m", "wifi_max_m", "combined_mean_m"):
         assert f"{paper.PUBLISHED[key]}" in text, key
     assert f"前 {paper.PUBLISHED['pdr_better_points']} 个点" in text

@@ -1,12 +1,13 @@
 import numpy as np
 
 from ilocalg.experiments import data_tour
+from ilocalg.io.summaries import dataset_availability, real_dataset_summaries
 
 
 def test_absent_real_sets_are_reported_not_raised(tmp_path):
-    av = data_tour.availability(tmp_path)
+    av = dataset_availability(tmp_path)
     assert not av["present"].any()
-    assert data_tour.real_summaries(tmp_path) == {}
+    assert real_dataset_summaries(tmp_path) == {}
 
 
 def test_embedded_summary_is_deterministic_and_plausible():
@@ -25,7 +26,7 @@ def test_real_summaries_on_the_shared_copies(shared_data):
     root = shared_data("ujiindoorloc").parent
     shared_data("oxford_step_counter")
     shared_data("ilc2020_site2_F4")
-    out = data_tour.real_summaries(root, fast=True)
+    out = real_dataset_summaries(root, fast=True)
     uji = out["ujiindoorloc"].set_index("file")
     assert uji.loc["trainingData.csv.gz", "rows"] == 19937 and uji.loc["validationData.csv.gz", "rows"] == 1111
     assert (out["oxford_step_counter"]["true_steps"] > 0).all()

@@ -1,6 +1,5 @@
 """Experiment fusion_iloc_kf: the i-Loc KF on the simulated floor (notebook 07)."""
 
-import numpy as np
 import pandas as pd
 import pytest
 
@@ -43,36 +42,3 @@ def test_fast_run_is_deterministic_and_reports_every_reading():
     assert list(a["latency_sweep"]["scan_latency_s"]) == [0.0, 1.0, 2.0, 3.0]
     c = fusion_iloc_kf.run(seed=0, fast=True, wifi_methods=(), latencies_s=())
     pd.testing.assert_frame_equal(a["summary"], c["summary"])  # the sweep draws after the main tables
-
-
-def test_filter_starts_where_it_is_told_and_a_scan_without_fix_is_skipped():
-    pdr = {"state_t_s": np.array([0.0, 1.0, 2.0]), "step_m": np.array([0.7, 0.7]), "theta_rad": np.zeros(2)}
-    fix = np.array([[0.7, 0.0], [np.nan, np.nan]])
-    tracks, info = fusion_iloc_kf.run_filters(np.array([0.0, 0.0]), pdr, np.array([1.0, 2.0]), fix,
-                                              {"R": np.array([1.0, 1.0])}, P0_var_m2=1.0)
-    np.testing.assert_allclose(tracks["PTS"][0], [0.0, 0.0])
-    np.testing.assert_allclose(tracks["PTS"][-1], [1.4, 0.0])
-    assert info["n_fixes"] == 1
-
-
-def test_score_points_wifi_is_the_fix():
-    true = np.array([[0.0, 0.0], [1.0, 0.0]])
-    fix = np.array([[3.0, 4.0], [1.0, 0.0]])
-    tracks = {"A": np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]])}
-    tp = fusion_iloc_kf.score_points(tracks, np.array([0, 2]), true, fix)
-    e = tp.set_index(["method", "point"])["error_m"]
-    assert e[("Wi-Fi only", 1)] == 5.0 and e[("Wi-Fi only", 2)] == 0.0
-    assert e[("A", 1)] == 0.0 and e[("A", 2)] == 1.0
-
-
-def test_score_at_times_is_causal():
-    # states at 0, 1, 2 s; fixes available at 1.5 s and 2.5 s
-    tracks = {"A": np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])}
-    fix_t = np.array([1.5, 2.5])
-    fix = np.array([[10.0, 0.0], [20.0, 0.0]])
-    tp = fusion_iloc_kf.score_at_times(tracks, np.array([0.0, 1.0, 2.0]), np.array([0.5, 1.5, 2.4]),
-                                       np.zeros((3, 2)), fix_t, fix, np.array([5.0, 0.0]))
-    e = tp.set_index(["method", "point"])["error_m"]
-    # Wi-Fi only holds the latest fix available (the start fix before any), never a later one
-    assert [e[("Wi-Fi only", k)] for k in (1, 2, 3)] == [5.0, 10.0, 10.0]
-    assert [e[("A", k)] for k in (1, 2, 3)] == [0.0, 1.0, 2.0]

@@ -37,10 +37,6 @@ def test_fast_run_is_deterministic_and_structured():
     assert "Combined" in fusion_knn_pdr.findings(a)
 
 
-def test_crossover_point():
-    assert fusion_knn_pdr.crossover_point([0, 1, 2, 5, 6], [3, 3, 3, 3, 3]) == 3
-    assert fusion_knn_pdr.crossover_point([4, 4], [3, 3]) == 0
-
 
 def test_test_positions_are_walking_positions_off_the_reference_grid():
     a = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
@@ -109,12 +105,6 @@ def test_fixes_enter_only_after_their_scan_ends():
     assert not set(meas["quantity"]) & set(a["comparison"]["quantity"])
     assert not meas.duplicated(["quantity", "item"]).any()
 
-
-def test_principled_weight_grows_with_pdr_noise_and_shrinks_with_wifi_noise():
-    w1, q1 = fusion_knn_pdr.principled_weight(0.1, 0.1, 0.7, 0.55, 3.0, 4.0)
-    w2, q2 = fusion_knn_pdr.principled_weight(0.3, 0.1, 0.7, 0.55, 3.0, 4.0)
-    w3, _ = fusion_knn_pdr.principled_weight(0.1, 0.1, 0.7, 0.55, 3.0, 16.0)
-    assert q2 > q1 and w2 > w1 and w3 < w1 and 0 < w3 < w1 < w2 < 1
 
 
 def test_survey_sweep_keeps_the_walks():

@@ -1,6 +1,7 @@
 """ilocalg.fusion.budget: replacing error sources by the truth, the budget table, the steady-state weight."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.fusion.budget import (
@@ -113,3 +114,25 @@ def test_input_diagnostics():
     assert d["fix age when it enters"] == pytest.approx(1.0)
     assert d["detected / true steps"] == pytest.approx(50 / 60)
     assert 0.7 < d["PDR distance / true distance"] < 0.95
+
+
+def test_inputs_from_a_walk_carry_its_truth_and_the_given_estimates():
+    from types import SimpleNamespace
+
+    t = np.arange(0.0, 4.0, 0.5)
+    steps = pd.DataFrame({"t_strike_s": [0.5, 1.5], "duration_s": [1.0, 1.0], "t_mid_s": [1.0, 2.0],
+                          "length_m": [0.7, 0.8]})
+    walk = SimpleNamespace(imu=pd.DataFrame(index=t), steps=steps, truth_t_s=t,
+                           truth_xy_m=np.column_stack([t, 0 * t]), truth=pd.DataFrame({"theta_rad": 0 * t}))
+    fixes = pd.DataFrame({"t_ready_s": [2.0, 3.0], "t_ref_s": [1.0, 2.5], "fix_x_m": [1.0, np.nan],
+                          "fix_y_m": [0.5, np.nan]})
+    inp = FusionInputs.from_walk(walk, state_t_s=np.array([0.0, 2.5, 3.5]), step_m=np.array([0.7, 0.7]),
+                                 theta_rad=np.zeros(2), heading_rad=0 * t, start_xy_m=np.zeros(2), start_ref_t_s=0.2,
+                                 fixes=fixes, eval_t_s=np.array([3.0]))
+    assert inp.t0_s == 0.0 and inp.start_ref_t_s == 0.2
+    np.testing.assert_array_equal(inp.step_t_s, [2.5, 3.5])
+    np.testing.assert_array_equal(inp.true_step_t_s, [1.5, 2.5])
+    np.testing.assert_array_equal(inp.true_step_m, [0.7, 0.8])
+    np.testing.assert_array_equal(inp.fix_xy_m[0], [1.0, 0.5])
+    assert np.isnan(inp.fix_xy_m[1]).all() and inp.eval_xy_m is None
+    np.testing.assert_allclose(inp.truth_at([3.0]), [[3.0, 0.0]])

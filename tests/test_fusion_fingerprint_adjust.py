@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ilocalg.fusion.fingerprint_adjust import fingerprint_adjusted_track
+from ilocalg.fusion.fingerprint_adjust import fingerprint_adjusted_track, principled_weight
 from ilocalg.pdr.dead_reckoning import dead_reckon
 
 
@@ -42,3 +42,10 @@ def test_bad_input():
     z[1, 0] = 1.0
     with pytest.raises(ValueError, match="row 1"):
         fingerprint_adjusted_track([0, 0], [0.0], [1.0], z, 0.5)
+
+
+def test_principled_weight_grows_with_pdr_noise_and_shrinks_with_wifi_noise():
+    w1, q1 = principled_weight(0.1, 0.1, 0.7, 0.55, 3.0, 4.0)
+    w2, q2 = principled_weight(0.3, 0.1, 0.7, 0.55, 3.0, 4.0)
+    w3, _ = principled_weight(0.1, 0.1, 0.7, 0.55, 3.0, 16.0)
+    assert q2 > q1 and w2 > w1 and w3 < w1 and 0 < w3 < w1 < w2 < 1

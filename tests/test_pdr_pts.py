@@ -42,3 +42,19 @@ def test_strong_second_harmonic_walker_is_over_counted(trained):
     sw = gait.simulate_walk(gait.straight_route(30.0, 0.7), walkers[0], 4)
     st = pts_steps(sw.imu, ranges, p, sw.config.stand_s)
     assert 1.2 * len(sw.steps) < len(st) < 1.5 * len(sw.steps)
+
+
+def test_pts_filter_inputs_are_the_steps_after_the_log_start():
+    from ilocalg.pdr.pts import pts_filter_inputs
+
+    rng = np.random.default_rng(3)
+    feats = gait.fixed_length_features(gait.training_walks(gait.make_walkers(2, rng), rng))
+    slm = fit_step_length_models(feats)[0]["SLM quadratic"]
+    ranges = learn_feature_ranges(feats, 0.01, 0.99)
+    sw = gait.simulate_walk(gait.straight_route(15.0), gait.make_walkers(1, rng)[0], rng)
+    st = pts_steps(sw.imu, ranges, slm, sw.config.stand_s)
+    inp = pts_filter_inputs(sw.imu, ranges, slm, sw.config.stand_s)
+    assert inp["state_t_s"][0] == sw.imu.index[0] and len(st) > 5
+    np.testing.assert_array_equal(inp["state_t_s"][1:], st["t_s"])
+    np.testing.assert_array_equal(inp["step_m"], st["length_m"])
+    np.testing.assert_array_equal(inp["theta_rad"], st["theta_rad"])

@@ -3,7 +3,8 @@
 ``run(seed, fast, data_dir)`` returns one summary table per set: ``embedded`` (one row per
 simulated set: sample rate, duration, distance, scans), ``iloc_floor_inputs`` (the calibrated
 radio inputs), and, for each real set present, its own table. A real set that is absent is listed
-in the ``availability`` table with where to download it, never an error.
+in the ``availability`` table with where to download it, never an error
+(:func:`ilocalg.io.summaries.dataset_availability`, :func:`~ilocalg.io.summaries.real_dataset_summaries`).
 """
 
 from __future__ import annotations
@@ -13,21 +14,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.paths import DATASETS
-from ilocalg.io.paths import data_dir as default_data_dir
-from ilocalg.io.summaries import sample_rate_hz
+from ilocalg.io.summaries import dataset_availability, real_dataset_summaries, sample_rate_hz
 
-__all__ = ["run", "availability", "embedded_summary", "real_summaries"]
-
-
-def availability(data_dir: str | Path | None = None) -> pd.DataFrame:
-    """Which real data sets are present under ``data_dir`` (default :func:`ilocalg.io.paths.data_dir`)."""
-    root = Path(data_dir) if data_dir else default_data_dir()
-    rows = []
-    for name, where in DATASETS.items():
-        p = root / name
-        rows.append({"dataset": name, "present": p.is_dir(), "download": where})
-    return pd.DataFrame(rows)
+__all__ = ["run", "embedded_summary"]
 
 
 def _row(name, simulator, what, rate_hz=np.nan, duration_s=np.nan, distance_m=np.nan, n_scans=np.nan,
@@ -77,52 +66,9 @@ def embedded_summary(seed: int = 0, fast: bool = False) -> dict[str, pd.DataFram
     return {"embedded": pd.DataFrame(rows), "iloc_floor_inputs": iloc_floor.summary(floor)}
 
 
-def real_summaries(data_dir: str | Path | None = None, fast: bool = False) -> dict[str, pd.DataFrame]:
-    """Summaries of the real sets present under ``data_dir`` (absent sets are simply left out)."""
-    root = Path(data_dir) if data_dir else default_data_dir()
-    out = {}
-    uji = root / "ujiindoorloc"
-    if uji.is_dir():
-        from ilocalg.io.ujiindoorloc import load_ujiindoorloc
-
-        rows = []
-        for stem in ("trainingData", "validationData"):
-            f = next((p for p in (uji / f"{stem}.csv.gz", uji / f"{stem}.csv") if p.exists()), None)
-            if f is None:
-                continue
-            fs = load_ujiindoorloc(f)
-            heard = np.sum(~np.isnan(fs.rssi_dbm), axis=1)
-            rows.append({"file": f.name, "rows": fs.n_samples, "aps": fs.n_aps,
-                         "aps_heard_per_scan_median": float(np.median(heard)),
-                         "buildings": int(np.unique(fs.building).size), "floors": int(np.unique(fs.floor).size)})
-        out["ujiindoorloc"] = pd.DataFrame(rows)
-    ox = root / "oxford_step_counter" / "optimisation_data.tar.xz"
-    if ox.exists():
-        from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive
-
-        names = list_oxford_archive(ox)
-        recs = load_oxford_archive(ox, names[:3] if fast else None)
-        rows = []
-        for r in recs:
-            t = r.imu.index.to_numpy()
-            rows.append({"recording": r.name, "rate_hz": sample_rate_hz(t), "duration_s": float(t[-1] - t[0]),
-                         "true_steps": int(r.true_steps)})
-        out["oxford_step_counter"] = pd.DataFrame(rows)
-    ilc = root / "ilc2020_site2_F4"
-    if ilc.is_dir():
-        from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
-        from ilocalg.io.summaries import floor_summary
-
-        names = list_ilc_traces(ilc)
-        floor = load_ilc_floor(ilc, names=names[:3] if fast else None, duplicate_bssid="keep_latest",
-                           relisted_wifi="keep")
-        out["ilc2020_site2_F4"] = floor_summary(floor.traces)
-    return out
-
-
 def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None) -> dict[str, pd.DataFrame]:
     """Summaries of every available data set (embedded and real)."""
-    tables = {"availability": availability(data_dir)}
+    tables = {"availability": dataset_availability(data_dir)}
     tables.update(embedded_summary(seed, fast))
-    tables.update(real_summaries(data_dir, fast))
+    tables.update(real_dataset_summaries(data_dir, fast))
     return tables

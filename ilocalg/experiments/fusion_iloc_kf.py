@@ -39,141 +39,29 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.fusion import (
-    PAPER_TABLE5_SIGMA_RF_VAR_M2,
-    filter_walk,
-    fixed_lag_smooth,
-    fixes_at_states,
-    nis_gate,
-    rts_smooth,
-    sigma_sl_paper_m,
-)
+from ilocalg.fusion import PAPER_TABLE5_SIGMA_RF_VAR_M2
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, inputs_sentence, track_at
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, inputs_sentence
+from ilocalg.fusion.iloc_kf import kf_method, nearest_point_variance, pts_method, run_filters
+from ilocalg.fusion.tracks import score_at_times
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, comparison_table, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
-from ilocalg.pdr.pts import pts_steps
+from ilocalg.pdr.pts import pts_filter_inputs
 from ilocalg.pdr.sam import learn_feature_ranges
 from ilocalg.pdr.step_length import fit_step_length_models
 from ilocalg.sim import gait, iloc_floor, iloc_scenario
 from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 
-__all__ = ["run", "route_walk", "run_filters", "score_points", "score_at_times", "kf_method", "pts_method", "readings",
-           "findings", "PAPER_KF"]
+__all__ = ["run", "readings", "findings", "PAPER_KF"]
 
-_T = "i-Loc (Chiu 2013)"
 MAIN = "KF (R calibrated)"
 
 PAPER = PAPERS["iloc"]
-# Settings from the paper
-# -----------------------
-# PAPER_KF: Chiu (2013) ch. 5, text below Table 5 and Fig 23 ("5.15 m -> 2.82 m"); reference only.
-#: Published values (paper, thesis ch. 5 text below Table 5 and Fig 23): reference only.
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`, ch. 5 "5.15 m -> 2.82 m"): reference only.
 PAPER_KF = PUBLISHED["fusion_iloc_kf"]
-
-
-def route_walk(sw, ranges, slm_p) -> dict:
-    """The thesis' PTS (:func:`ilocalg.pdr.pts.pts_steps`) on one simulated walk, as filter inputs.
-
-    Returns ``state_t_s`` (n+1: the log start, then each detected step), ``step_m``, ``theta_rad`` (n).
-    """
-    st = pts_steps(sw.imu, ranges, slm_p, sw.config.stand_s)
-    return {"state_t_s": np.concatenate([[sw.imu.index[0]], st["t_s"].to_numpy()]),
-            "step_m": st["length_m"].to_numpy(), "theta_rad": st["theta_rad"].to_numpy()}
-
-
-def run_filters(x0_m, pdr: dict, fix_t_s, fix_xy_m, r_var: dict, P0_var_m2: float = 0.25, gate_prob: float = 0.99,
-                sigma_theta_rad: float = 0.2, lag: int = 5, table4_reading: str = "relative") -> tuple[dict, dict]:
-    """Every PDR / KF variant on one walk.
-
-    Parameters
-    ----------
-    x0_m : (2,) start position.
-    pdr : dict from :func:`route_walk` (or any dict with ``state_t_s``, ``step_m``, ``theta_rad``).
-    fix_t_s, fix_xy_m : (m,), (m, 2) Wi-Fi fixes (time order); a NaN row is a scan without a fix.
-    r_var : dict label -> (m,) isotropic fix variances (one KF variant per entry; the first is the main one).
-    P0_var_m2 : float, the start's variance per axis.
-    table4_reading : {"relative", "m2"}, how Table 4 reads (:func:`ilocalg.fusion.sigma_sl_paper_m`); the
-        main variant is also run with the other reading.
-
-    Returns
-    -------
-    tracks : dict label -> (n+1, 2) state estimates (``"PTS"``, ``"KF (...)"``, ...)
-    info : dict with ``state_index`` of each fix, the number of gated fixes, ``n_superseded``.
-    """
-    ts, d, th = pdr["state_t_s"], pdr["step_m"], pdr["theta_rad"]
-    n1 = ts.size
-    tr = dead_reckon(d, th, *x0_m)[["x_m", "y_m"]].to_numpy()
-    tracks = {"PTS": tr}
-    first = next(iter(r_var))
-    fxy = np.asarray(fix_xy_m, dtype=np.float64)
-    ok = np.isfinite(fxy).all(axis=1)
-    # align on the fix times (positions only fill the slots; a scan without a fix leaves its state empty)
-    al = fixes_at_states(ts, fix_t_s, np.where(ok[:, None], fxy, 0.0), before_start="drop", same_state="last")
-    used = al.used & ok
-    z = np.full((n1, 2), np.nan)
-    z[al.state_index[used]] = fxy[used]
-    other = "m2" if table4_reading == "relative" else "relative"
-    sig = sigma_sl_paper_m(d, reading=table4_reading)
-    P0 = P0_var_m2 * np.eye(2)
-    info = {"state_index": al.state_index, "n_superseded": al.n_superseded, "n_before_start": al.n_before_start}
-    for label, rv in r_var.items():
-        r = np.full(n1, np.nan)
-        r[al.state_index[used]] = np.asarray(rv, dtype=np.float64)[used]
-        rr = np.where(np.isnan(r), 1.0, r)
-        res = filter_walk(x0_m, P0, th, d, sig, z, r_var_m2=rr)
-        tracks[f"KF ({label})"] = res.x
-        if label == first:
-            alt = filter_walk(x0_m, P0, th, d, sigma_sl_paper_m(d, reading=other), z, r_var_m2=rr)
-            tracks[f"KF ({label}, Table 4 read as {other})"] = alt.x
-            tracks[f"KF ({label}) + RTS"] = rts_smooth(res).x
-            tracks[f"KF ({label}) + fixed-lag {lag}"] = fixed_lag_smooth(res, lag).x
-            h = filter_walk(x0_m, P0, th, d, sig, z, r_var_m2=rr, sigma_theta_rad=sigma_theta_rad)
-            tracks[f"KF ({label}) + heading noise"] = h.x
-            tracks[f"KF ({label}) + heading noise + RTS"] = rts_smooth(h).x
-            # gating needs a P that admits the heading error, else good fixes are rejected as the PTS drifts
-            g = filter_walk(x0_m, P0, th, d, sig, z, r_var_m2=rr, gate_nis=nis_gate(gate_prob),
-                            sigma_theta_rad=sigma_theta_rad)
-            tracks[f"KF ({label}) + heading noise + gating"] = g.x
-            info["n_gated"] = int(g.n_rejected)
-            info["n_fixes"] = int(used.sum())
-    return tracks, info
-
-
-def score_points(tracks: dict, state_index: np.ndarray, true_xy_m: np.ndarray, fix_xy_m: np.ndarray) -> pd.DataFrame:
-    """Error at each point: every track's state at the point's state index; Wi-Fi only = the fix itself."""
-    rows = []
-    ok = state_index >= 0
-    k = np.where(ok, state_index, 0)
-    n = true_xy_m.shape[0]
-    for label, xy in {"Wi-Fi only": None, **tracks}.items():
-        est = fix_xy_m if xy is None else np.where(ok[:, None], xy[k], np.nan)
-        rows.append(pd.DataFrame({"method": label, "point": np.arange(1, n + 1), "x_true_m": true_xy_m[:, 0],
-                                  "y_true_m": true_xy_m[:, 1], "x_est_m": est[:, 0], "y_est_m": est[:, 1],
-                                  "error_m": np.hypot(*(est - true_xy_m).T)}))
-    return pd.concat(rows, ignore_index=True)
-
-
-def score_at_times(tracks: dict, state_t_s, eval_t_s, true_xy_m, fix_t_s, fix_xy_m, start_xy_m) -> pd.DataFrame:
-    """Error at each point, causally: every track's latest state at or before the point's time; Wi-Fi only =
-    the latest fix available then (the start fix before any other)."""
-    te = np.asarray(eval_t_s, dtype=np.float64)
-    ft = np.asarray(fix_t_s, dtype=np.float64)
-    fxy = np.asarray(fix_xy_m, dtype=np.float64)
-    ok = np.isfinite(fxy).all(axis=1)
-    held = np.vstack([np.asarray(start_xy_m, dtype=np.float64)[None, :], fxy[ok]])
-    wifi = held[np.searchsorted(ft[ok], te, side="right")]
-    rows = []
-    n = true_xy_m.shape[0]
-    for label, xy in {"Wi-Fi only": None, **tracks}.items():
-        est = wifi if xy is None else track_at(state_t_s, xy, te)
-        rows.append(pd.DataFrame({"method": label, "point": np.arange(1, n + 1), "x_true_m": true_xy_m[:, 0],
-                                  "y_true_m": true_xy_m[:, 1], "x_est_m": est[:, 0], "y_est_m": est[:, 1],
-                                  "error_m": np.hypot(*(est - true_xy_m).T)}))
-    return pd.concat(rows, ignore_index=True)
 
 
 def _train_pts(scn, q_range=(0.05, 0.95)):
@@ -182,97 +70,14 @@ def _train_pts(scn, q_range=(0.05, 0.95)):
     return learn_feature_ranges(feats, *q_range), models
 
 
-def _nearest_point_var(route, var):
-    """R of a fix: the calibrated variance of the route point nearest the fix (the filter knows the fix, not
-    the truth)."""
-    def r_of(xy):
-        xy = np.atleast_2d(np.asarray(xy, dtype=np.float64))
-        good = np.isfinite(xy).all(axis=1)
-        j = np.hypot(*(np.where(good[:, None], xy, 0.0)[:, None, :] - route[None, :, :]).transpose(2, 0, 1)).argmin(1)
-        return np.where(good, var[j], np.nan)
-    return r_of
-
-
-def _walk_inputs(w, pdr, heads_wdm, fx, route) -> FusionInputs:
-    """The KF's inputs on one walk with its truth, for the error budget."""
-    f = fx.iloc[1:]
-    return FusionInputs(
-        t0_s=float(pdr["state_t_s"][0]), start_xy_m=fx[["fix_x_m", "fix_y_m"]].to_numpy()[0],
-        start_ref_t_s=float(fx["t_ref_s"].iloc[0]), step_t_s=pdr["state_t_s"][1:], step_m=pdr["step_m"],
-        theta_rad=pdr["theta_rad"], heading_t_s=w.imu.index.to_numpy(), heading_rad=heads_wdm,
-        fix_t_s=f["t_ready_s"].to_numpy(), fix_ref_t_s=f["t_ref_s"].to_numpy(),
-        fix_xy_m=f[["fix_x_m", "fix_y_m"]].to_numpy(),
-        true_step_t_s=(w.steps["t_strike_s"] + w.steps["duration_s"]).to_numpy(),
-        true_step_mid_t_s=w.steps["t_mid_s"].to_numpy(), true_step_m=w.steps["length_m"].to_numpy(),
-        truth_t_s=w.truth_t_s, truth_xy_m=w.truth_xy_m, truth_theta_rad=w.truth["theta_rad"].to_numpy(),
-        eval_t_s=w.pass_t_s, eval_xy_m=route)
-
-
-def kf_method(r_of, table4_reading: str = "relative"):
-    """The main KF variant (R per fix from ``r_of``, Table 4 Q, start fix with its R as P0) as a budget method."""
-    def kf(inp: FusionInputs) -> np.ndarray:
-        x0 = inp.start_xy_m if np.isfinite(inp.start_xy_m).all() else inp.truth_at([inp.t0_s])[0]
-        fxy = np.asarray(inp.fix_xy_m, dtype=np.float64)
-        ok = np.isfinite(fxy).all(axis=1)
-        al = fixes_at_states(inp.state_t_s, inp.fix_t_s, np.where(ok[:, None], fxy, 0.0), before_start="drop",
-                             same_state="last")
-        used = al.used & ok
-        z = np.full((inp.step_t_s.size + 1, 2), np.nan)
-        z[al.state_index[used]] = fxy[used]
-        r = np.ones(inp.step_t_s.size + 1)
-        r[al.state_index[used]] = r_of(fxy[used])
-        d = np.asarray(inp.step_m, dtype=np.float64)
-        p0 = float(r_of(x0)[0])
-        return filter_walk(x0, p0 * np.eye(2), inp.theta_rad, d, sigma_sl_paper_m(d, reading=table4_reading), z,
-                           r_var_m2=r).x
-    return kf
-
-
-def pts_method(inp: FusionInputs) -> np.ndarray:
-    """PTS alone from the start fix (the PDR-only trajectory of Fig 23) as a budget method."""
-    x0 = inp.start_xy_m if np.isfinite(inp.start_xy_m).all() else inp.truth_at([inp.t0_s])[0]
-    return dead_reckon(np.asarray(inp.step_m), np.asarray(inp.theta_rad), *x0)[["x_m", "y_m"]].to_numpy()
-
-
 def readings(scan_latency_s: float = SCAN_LATENCY_S, q_range=(0.05, 0.95), table4_reading: str = "relative",
              scan_interval_s: float | None = None, lag_model: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("route", f"{_T}, L515, L588", "28 test points 4.11 m apart, also the Wi-Fi test points",
-         "the floor's 28-point route 4 m apart (shared with notebooks 01, 05)", "2 m grid of L295; Fig 2 missing"),
-        ("Wi-Fi fix", f"{_T}, L777, L779", "the phone detects the Wi-Fi signals periodically (L777); Wi-Fi "
-         "positions from scans taken while the user walks",
-         f"periodic scans while walking, one every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s; "
-         + iloc_scenario.scan_model_text(lag_model, scan_latency_s) +
-         "; a fix is available only when its scan is stamped and enters the KF at the latest step state then "
-         "(causal); a new session (drift) per walk",
-         iloc_scenario.scan_model_source(scan_interval_s)
-         + "; the uniform-within-a-scan model (0-3 s) swept in latency_sweep"),
-        ("scoring", f"{_T}, L588, Fig 23", "errors at the 28 test points",
-         "at each test point's passing time: each track's latest state then; Wi-Fi only = the latest fix "
-         "available then (earlier versions started a scan exactly at each test point: an oracle)", "causal"),
-        ("R", f"{_T}, L586-588, Table 5", "R = sigma_RF^2 I, per test point, from the Wi-Fi experiment at the "
-         "28 points", "per-point error variance of the chapter 3 test session (standing scans, another day); a "
-         "fix taken anywhere gets the R of the test point nearest the fix itself",
-         "Table 5 as R and a constant R: labelled alternatives"),
-        ("Q", f"{_T}, L574-578, Table 4 (L602-605)", "Q = sigma_SL^2 [cos^2, sc; sc, sin^2]; Table 4 prints no unit",
-         "Table 4 read as " + ("relative variances (sigma = sqrt(var) x step)" if table4_reading == "relative"
-                               else "m^2") + "; the other reading shown",
-         "L478: mean SLM error 18.43 % = sqrt(0.054) sqrt(2/pi)"),
-        ("start", f"{_T}, L735, L792-795", "initial position from Wi-Fi or set by hand",
-         "the first periodic scan (at the start of the log) gives x0, P0 = the R of its nearest point; the steps "
-         "taken before it ends are dead-reckoned from it; PTS also from the true start", ""),
-        ("SAM ranges", f"{_T}, L399", "5 % and 95 % points of the training features' CDFs",
-         f"{q_range[0]:.0%}-{q_range[1]:.0%} quantiles of fixed-length training walks", ""),
-        ("test walkers", f"{_T}, L515", "users walking the route", "new simulated walkers, not the training walkers",
-         "gait model: data/gait"),
-        ("F, B, H", f"{_T}, eq. 22-23", "F = I, B = [cos, sin]^T, H = I", "as the text", ""),
-        ("update", f"{_T}, eq. 24-26", "Kalman gain, Joseph-form covariance", "as the text", ""),
-        ("error budget", "beyond the thesis", "no error budget",
-         "the main KF and PTS rerun with one error source replaced by the truth at a time (Wi-Fi fix error, "
-         "scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    return readings_iloc.readings(
+        "fusion_iloc_kf", q_range=q_range, table4_reading=table4_reading,
+        scan_interval_s=iloc_scenario.resolve_scan_interval_s(scan_interval_s),
+        scan_text=iloc_scenario.scan_model_text(lag_model, scan_latency_s),
+        scan_source=iloc_scenario.scan_model_source(scan_interval_s))
 
 
 def _walk_tracks(scn, est, cal_var, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag,
@@ -280,14 +85,12 @@ def _walk_tracks(scn, est, cal_var, ranges, models, table4_reading, gate_prob, s
     """Every track of every walk on a scenario: test-point table, gating, example, budget inputs."""
     route = scn.route_xy_m
     paper_r = np.asarray(PAPER_TABLE5_SIGMA_RF_VAR_M2, dtype=np.float64)
-    r_cal = _nearest_point_var(route, cal_var)
-    r_paper = _nearest_point_var(route, paper_r)
+    r_cal = nearest_point_variance(route, cal_var)
+    r_paper = nearest_point_variance(route, paper_r)
     tps, gat, ex, inputs = [], [], [], []
     for w_i, w in enumerate(scn.walks):
         heads = log_headings_rad(w.imu, w.stand_s)
-        st = pts_steps(w.imu, ranges, models["SLM quadratic"], w.stand_s, headings=heads)
-        pdr = {"state_t_s": np.concatenate([[w.imu.index[0]], st["t_s"].to_numpy()]),
-               "step_m": st["length_m"].to_numpy(), "theta_rad": st["theta_rad"].to_numpy()}
+        pdr = pts_filter_inputs(w.imu, ranges, models["SLM quadratic"], w.stand_s, headings=heads)
         fx = walk_fixes(scn, w, est)
         start_fix = fx[["fix_x_m", "fix_y_m"]].to_numpy()[0]
         f = fx.iloc[1:]
@@ -302,7 +105,9 @@ def _walk_tracks(scn, est, cal_var, ranges, models, table4_reading, gate_prob, s
         tracks = {"PTS (Wi-Fi start)" if k == "PTS" else k: v for k, v in tracks.items()}
         tracks["PTS (true start)"] = dead_reckon(pdr["step_m"], pdr["theta_rad"], *route[0])[["x_m", "y_m"]].to_numpy()
         tps.append(score_at_times(tracks, pdr["state_t_s"], w.pass_t_s, route, fix_t, fix, x0).assign(walker=w.name))
-        inputs.append(_walk_inputs(w, pdr, heads["WDM"], fx, route))
+        inputs.append(FusionInputs.from_walk(
+            w, state_t_s=pdr["state_t_s"], step_m=pdr["step_m"], theta_rad=pdr["theta_rad"], heading_rad=heads["WDM"],
+            start_xy_m=start_fix, start_ref_t_s=fx["t_ref_s"].iloc[0], fixes=f, eval_t_s=w.pass_t_s, eval_xy_m=route))
         gat.append({"walker": w.name, "fixes": info["n_fixes"], "gated_out": info["n_gated"],
                     "superseded": info["n_superseded"], "steps_detected": int(pdr["step_m"].size),
                     "steps_true": int(len(w.steps)), "start_fix_error_m": float(np.hypot(*(x0 - route[0]))),

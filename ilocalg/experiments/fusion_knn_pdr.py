@@ -51,29 +51,23 @@ import pandas as pd
 
 from ilocalg.fusion import filter_walk, fingerprint_adjusted_track, fixes_at_states, rts_smooth
 from ilocalg.fusion.budget import SOURCES as BUDGET_SOURCES
-from ilocalg.fusion.budget import (
-    FusionInputs,
-    error_budget,
-    input_diagnostics,
-    inputs_sentence,
-    steady_state_weight,
-    track_at,
-)
+from ilocalg.fusion.budget import FusionInputs, error_budget, input_diagnostics, inputs_sentence, track_at
+from ilocalg.fusion.fingerprint_adjust import combined_method, pdr_true_start_method, principled_weight
+from ilocalg.fusion.tracks import crossover_point
 from ilocalg.metrics import summarise_by_method
-from ilocalg.papers import PAPERS, comparison_table, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, comparison_table, paper_ref, readings_luo
 from ilocalg.papers.claims import interval
 from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.heading import log_headings_rad
+from ilocalg.pdr.luo_pdr import eq4_vs_constant_error, luo_pdr, luo_training_spread
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import gait, iloc_floor, iloc_scenario
 from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 from ilocalg.units import as_rng
 
-__all__ = ["run", "seed_table", "principled_weight", "combined_method", "pdr_method", "crossover_point", "findings",
-           "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS", "SURVEY_SCANS", "LATENCIES_S",
-           "DETECTOR_VARIANTS"]
+__all__ = ["run", "seed_table", "findings", "readings", "PAPER_LUO", "COMBINED", "KF_ALT", "ADJUST_WEIGHTS",
+           "SURVEY_SCANS", "LATENCIES_S", "DETECTOR_VARIANTS"]
 
 #: Name of the default combination (the paper's) and of the labelled i-Loc Kalman-filter alternative.
 COMBINED = "combined (Wi-Fi start + fingerprint adjustment)"
@@ -95,58 +89,8 @@ DETECTOR_VARIANTS = (
 )
 
 PAPER = PAPERS["luo"]
-# Settings from the paper
-# -----------------------
-# PAPER_LUO: Luo et al. (2017) sec. 4, item 2 (Wi-Fi only mean, min, max error) and item 3
-# (combined mean error; PDR better than the combination for the first 6 points); reference only.
-#: Published values (paper, sec. 4 items 2-3): reference only.
+#: Published values (:data:`ilocalg.papers.luo.PUBLISHED`, sec. 4 items 2-3): reference only.
 PAPER_LUO = PUBLISHED
-
-
-def crossover_point(pdr_err: np.ndarray, comb_err: np.ndarray) -> int:
-    """Number of leading points (1-based count) before which PDR is better and after which the
-    combined error stays below PDR's: the last point where PDR < combined (0 if never)."""
-    better = np.flatnonzero(np.asarray(pdr_err) < np.asarray(comb_err))
-    return int(better[-1] + 1) if better.size else 0
-
-
-def _pdr(w, k, detector):
-    """Luo's PDR on one walk: steps (time, eq. 4 length, WDM heading) and the per-sample WDM heading."""
-    acc, t = acc_from_log(w.imu)
-    st = luo_steps(acc, t, k, detector)
-    heads = log_headings_rad(w.imu, w.stand_s)["WDM"]
-    return {"state_t_s": np.concatenate([[t[0]], st["t_s"].to_numpy()]), "step_m": st["length_m"].to_numpy(),
-            "theta_rad": heads[st["i_peak"].to_numpy()], "heading_rad": heads, "n_true": len(w.steps)}
-
-
-def _training_stats(scn, k, detector):
-    """Step-length error sd, WDM heading error sd and mean step duration and length on the training walks."""
-    errs_h, durs, lens = [], [], []
-    for _, _, sw in scn.train_walks:
-        acc, t = acc_from_log(sw.imu)
-        st = luo_steps(acc, t, k, detector)
-        if not len(st):
-            continue
-        heads = log_headings_rad(sw.imu, sw.config.stand_s)["WDM"][st["i_peak"].to_numpy()]
-        true_th = np.interp(st["t_s"].to_numpy(), sw.truth.index.to_numpy(), np.unwrap(sw.truth["theta_rad"]))
-        errs_h.append(np.angle(np.exp(1j * (heads - true_th))))
-        durs.append(sw.steps["duration_s"].to_numpy())
-        lens.append(sw.steps["length_m"].to_numpy())
-    e = np.concatenate(errs_h)
-    return float(np.sqrt(np.mean(e**2))), float(np.mean(np.concatenate(durs))), float(np.mean(np.concatenate(lens)))
-
-
-def principled_weight(sig_sl_m: float, sig_theta_rad: float, step_m: float, step_s: float, scan_interval_s: float,
-                      r_var_m2: float) -> tuple[float, float]:
-    """The adjustment weight from variances measured on the training data (not from the test outcome).
-
-    Between two fixes (``scan_interval_s``) the walker takes ``scan_interval_s / step_s`` steps, each adding
-    a position variance of ``(sig_sl^2 + (step_m sig_theta)^2) / 2`` per axis (length along, heading across
-    the walk); a fix has variance ``r_var_m2`` per axis. The steady-state inverse-variance weight of the two
-    (:func:`ilocalg.fusion.budget.steady_state_weight`). Returns ``(weight, q_var_m2)``.
-    """
-    q = scan_interval_s / step_s * 0.5 * (sig_sl_m**2 + (step_m * sig_theta_rad) ** 2)
-    return steady_state_weight(q, r_var_m2), float(q)
 
 
 def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: bool):
@@ -155,15 +99,15 @@ def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: boo
     est = iloc_floor.fit_estimator(scn.floor, method)
     r_var = float(iloc_floor.standing_fix_variance_m2(scn.floor, est).mean())
     k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in scn.train_walks], detector)
-    sig_th, step_s, step_m = _training_stats(scn, k, detector)
+    sig_th, step_s, step_m = luo_training_spread([sw for _, _, sw in scn.train_walks], k, detector)
     w_p, q_var = principled_weight(sig_sl, sig_th, step_m, step_s, scn.params["scan_interval_s"], r_var)
     weights = tuple(sorted(set(adjust_weights) | ({round(w_p, 3)} if principled else set())))
     route = scn.route_xy_m
     tps, ex, nsteps, x0_err, inputs, n_deaf = [], [], [], [], [], 0
     for w_i, w in enumerate(scn.walks):
-        pdr = _pdr(w, k, detector)
+        pdr = luo_pdr(w.imu, k, detector, w.stand_s)
         ts, d, th = pdr["state_t_s"], pdr["step_m"], pdr["theta_rad"]
-        nsteps.append((d.size, pdr["n_true"]))
+        nsteps.append((d.size, len(w.steps)))
         fx = walk_fixes(scn, w, est)
         walk_t0 = float(w.steps["t_strike_s"].iloc[0])
         walk_t1 = float((w.steps["t_strike_s"] + w.steps["duration_s"]).iloc[-1])
@@ -198,15 +142,9 @@ def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: boo
                                      "y_true_m": true_xy[keep, 1], "x_est_m": est_xy[keep, 0],
                                      "y_est_m": est_xy[keep, 1],
                                      "error_m": np.hypot(*(est_xy[keep] - true_xy[keep]).T)}))
-        inputs.append(FusionInputs(
-            t0_s=float(ts[0]), start_xy_m=x0, start_ref_t_s=float(fx["t_ref_s"].iloc[0]), step_t_s=ts[1:],
-            step_m=d, theta_rad=th, heading_t_s=w.imu.index.to_numpy(), heading_rad=pdr["heading_rad"],
-            fix_t_s=fr["t_ready_s"].to_numpy(), fix_ref_t_s=fr["t_ref_s"].to_numpy(),
-            fix_xy_m=fr[["fix_x_m", "fix_y_m"]].to_numpy(),
-            true_step_t_s=(w.steps["t_strike_s"] + w.steps["duration_s"]).to_numpy(),
-            true_step_mid_t_s=w.steps["t_mid_s"].to_numpy(), true_step_m=w.steps["length_m"].to_numpy(),
-            truth_t_s=w.truth_t_s, truth_xy_m=w.truth_xy_m, truth_theta_rad=w.truth["theta_rad"].to_numpy(),
-            eval_t_s=t_eval, eval_xy_m=true_xy))
+        inputs.append(FusionInputs.from_walk(
+            w, state_t_s=ts, step_m=d, theta_rad=th, heading_rad=pdr["heading_rad"], start_xy_m=x0,
+            start_ref_t_s=fx["t_ref_s"].iloc[0], fixes=fr, eval_t_s=t_eval, eval_xy_m=true_xy))
         if w_i == 0:
             ex.append(pd.DataFrame({"method": "truth", "x_m": np.r_[route[0, 0], w.steps["x_m"]],
                                     "y_m": np.r_[route[0, 1], w.steps["y_m"]]}))
@@ -250,112 +188,28 @@ def _claim_measures(seed, tp, pp, summ, n_walkers, n_train, detector) -> list:
         n_det = sum(len(luo_steps(*acc_from_log(sw.imu), 1.0, det)) for sw in route_walks)
         meas.append({"quantity": "detected / true steps", "item": lab,
                      "value": n_det / sum(len(sw.steps) for sw in route_walks), "unit": "-"})
-    tr = gait.training_walks(m_train, m_rng)
-    k_m, _ = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in tr], detector)
-    const_m = float(np.mean([sw.steps["length_m"].mean() for _, _, sw in tr]))
-    e4, ec = [], []
-    for _, length_m, sw in gait.training_walks(m_test, m_rng):
-        st4 = luo_steps(*acc_from_log(sw.imu), k_m, detector)
-        e4 += list(np.abs(st4["length_m"].to_numpy() - length_m) / length_m)
-        ec.append(abs(const_m - length_m) / length_m)
+    tr = [sw for _, _, sw in gait.training_walks(m_train, m_rng)]
+    e4, ec = eq4_vs_constant_error(tr, [(length_m, sw) for _, length_m, sw in gait.training_walks(m_test, m_rng)],
+                                   detector)
     meas += [{"quantity": "fixed-length walks 40-80 cm, mean relative step-length error", "item": "eq. (4)",
-              "value": 100 * float(np.mean(e4)), "unit": "%"},
+              "value": 100 * e4, "unit": "%"},
              {"quantity": "fixed-length walks 40-80 cm, mean relative step-length error",
-              "item": "one constant step length", "value": 100 * float(np.mean(ec)), "unit": "%"}]
+              "item": "one constant step length", "value": 100 * ec, "unit": "%"}]
     return meas
-
-
-def combined_method(weight: float):
-    """Luo's combination (Wi-Fi start, fixes pull the track by ``weight``) as an error-budget method."""
-    def comb(inp: FusionInputs) -> np.ndarray:
-        fxy = np.asarray(inp.fix_xy_m, dtype=np.float64)
-        z = fixes_at_states(inp.state_t_s, inp.fix_t_s, fxy, before_start="drop", same_state="last").z_m
-        return fingerprint_adjusted_track(inp.start_xy_m, inp.theta_rad, inp.step_m, z, weight)
-    return comb
-
-
-def pdr_method(inp: FusionInputs) -> np.ndarray:
-    """PDR only from the true start (L235) as an error-budget method."""
-    x0 = inp.truth_at([inp.t0_s])[0]
-    return dead_reckon(np.asarray(inp.step_m), np.asarray(inp.theta_rad), *x0)[["x_m", "y_m"]].to_numpy()
 
 
 def readings(adjust_weight: float = 0.5, detector: dict | None = None, scans_per_point=None,
              scan_latency_s: float = SCAN_LATENCY_S, scan_interval_s: float | None = None,
              principled: bool = True, lag_model: str = "measured") -> pd.DataFrame:
-    """One row per modelling choice of :func:`run` (line numbers of Luo et al. 2017's text copy)."""
+    """One row per modelling choice of :func:`run` (:mod:`ilocalg.papers.readings_luo`)."""
     det = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
-    spp = scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT
-    rows = [
-        ("combination of Wi-Fi and PDR", "L9, L212, L245",
-         "Wi-Fi gives the initial position; fingerprint positioning adjusts the PDR position and removes its "
-         "accumulated error; no filter or weight given",
-         f"Wi-Fi start, PDR between fixes, each fix pulls the track by {adjust_weight:g} of the gap"
-         + (" (the steady-state inverse-variance weight: PDR variance accumulated over one scan interval from the "
-            "training walks' step-length and heading errors, against the KNN fix variance of the standing "
-            "calibration session)" if principled else ""),
-         "the paper gives no weight: a principled one from variances measured on training data, never from the "
-         "test outcome (earlier: 0.5, the best of its own sweep); the sweep is shown as a sensitivity curve "
-         "(adjust_sweep)"),
-        ("Kalman filter", "L103-139 (sec. 3.1), L141-143 (sec. 3.2)",
-         "sec. 3.1: a generic KF for KF-based inertial navigation; sec. 3.2 argues against it on phones; no Q",
-         "the i-Loc step KF (Chiu 2013) with the toolkit's Q and R, from the same Wi-Fi start",
-         "labelled alternative, not the paper's method"),
-        ("KNN", "L77-85 (eq. 1-2)", "Manhattan distance (a = 1), K = 5", "KNN, Manhattan, K = 5, mean fingerprints",
-         "paper"),
-        ("peak rule", "L185", "reject a peak whose value differs from the previous peak by more than the threshold "
-         "or whose interval is outside the time window", f"rule {det['rule']!r}",
-         "paper; the valley-rise reading (the toolkit's earlier default) is a sensitivity row"),
-        ("peak threshold", "L175-185", "a threshold; no value", f"{det['threshold_mps2']:g} m/s^2",
-         "assumption, swept in detector_sweep"),
-        ("time window", "L189", "0.2-2 s", "0.2-2 s", "paper"),
-        ("sliding window, smoothing", "L175-177, L183", "window size matters; filtered before peak detection; "
-         "no values", "0.4 s window, 0.1 s moving mean", "assumption"),
-        ("step length", "L202 (eq. 4)", "k((a_max - a_min) * 3.5 + (a_max - a_min)^(1/4))",
-         "eq. 4 with k fitted on training walks of known length", "paper (k: not given, fitted)"),
-        ("PDR start", "L235", "PDR starts at the true start", "PDR only starts at the true start", "paper"),
-        ("survey", "L9, L91 (sec. 2.3), L233, L251",
-         "a handheld phone collects the coordinates and Wi-Fi hotspots of sample points in a given area (L9); "
-         "two phases, collect and upload, then locate (L91); Fig 8 (missing) shows the sample points; much "
-         "Wi-Fi data is needed (L251); no point spacing, scan count or procedure",
-         f"the i-Loc floor survey: {spp} scans per 2 m grid point in sessions of "
-         f"{iloc_floor.PARAMS['scans_per_session']}, each session facing one corridor direction; KNN on the "
-         "per-point mean fingerprints",
-         "assumption (i-Loc thesis L295; RADAR's survey protocol), scans per point swept in survey_sweep"),
-        ("test session", "L222, L239",
-         "the test is a walk of its own (L222); environment and weather change the Wi-Fi signal strength (L239)",
-         "each walk is its own session: a new per-AP drift, unlike every survey session, plus a local change "
-         "per scan",
-         "iloc_floor drift_sd_db, local_sd_db (Kaemarungsi & Krishnamurthy 2004; data/iloc_floor/README.md)"),
-        ("test positions", "L91, L222",
-         "the locating phase scans where the user is (L91); the tester walks a preset route holding the phone "
-         "(L222); Fig 6's x axis is a coordinate index; no scan rate",
-         f"the phone scans periodically (every {iloc_scenario.resolve_scan_interval_s(scan_interval_s):g} s) from the "
-         "start; a test position is where the "
-         "walker is when a fix becomes available (its scan has ended) while walking; Fig 6's index = the fix's "
-         "number; the start scan gives the initial position only (L212)",
-         "paper (walking); periodic scanning as i-Loc L777; " + iloc_scenario.scan_model_source(scan_interval_s)),
-        ("test scans", "L222", "the tester walks the route holding the phone, which locates as it goes; no scan "
-         "duration or timing",
-         "iloc_floor.walking_scans: " + iloc_scenario.scan_model_text(lag_model, scan_latency_s) + ", facing the "
-         "walking direction (body shadowing); a fix is available only when its scan is stamped and adjusts the "
-         "latest PDR state then (causal; earlier versions applied it at the scan's start)",
-         "reading ages measured (see 'test positions'); the uniform-within-a-scan model (1-3 s, an assumption) "
-         "swept in latency_sweep"),
-        ("error budget", "beyond the paper", "no error budget",
-         "the combination and PDR only rerun with one error source replaced by the truth at a time (Wi-Fi fix "
-         "error, scan lag, step detection, step length, heading): ilocalg.fusion.budget", "toolkit"),
-        ("headline", "sec. 4 item 3", "one walk: combined 6.74 m vs Wi-Fi only 11.38 m",
-         "the ratio combined / Wi-Fi only per seed; seed_table gives its mean and Student-t 95 % interval over "
-         "seeds", "toolkit (one seed is one draw of the simulated world)"),
-    ]
-    return readings_table([reading(c, f"Luo et al. 2017, {ln}" if ln.startswith("L") else ln, t, d, src)
-                           for c, ln, t, d, src in rows])
-
-
-def _summary_rows(tp, label_col, label):
-    m = tp.groupby("method", sort=False)["error_m"].mean()
-    return {label_col: label, **{f"{k} mean error [m]": float(v) for k, v in m.items()}}
+    return readings_luo.readings(
+        principled=principled, adjust_weight=adjust_weight, rule=det["rule"], threshold_mps2=det["threshold_mps2"],
+        scans_per_point=scans_per_point if scans_per_point is not None else iloc_floor.SCANS_PER_POINT,
+        scans_per_session=iloc_floor.PARAMS["scans_per_session"],
+        scan_interval_s=iloc_scenario.resolve_scan_interval_s(scan_interval_s),
+        scan_text=iloc_scenario.scan_model_text(lag_model, scan_latency_s),
+        scan_source=iloc_scenario.scan_model_source(scan_interval_s))
 
 
 def _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
@@ -491,7 +345,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                                 adjust_weight is None, lag_model),
            "adjust_sweep": adjust}
     if budget:
-        bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_method})
+        bud = error_budget(info["inputs"], {COMBINED: combined_method(w_used), "PDR only": pdr_true_start_method})
         out["budget"] = bud
         out["budget_inputs"] = input_diagnostics(info["inputs"])
         for r in bud[bud["replaced_by_truth"].isin(BUDGET_SOURCES)].itertuples():

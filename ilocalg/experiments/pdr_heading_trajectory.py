@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import error_cdf
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.heading import log_headings_rad
@@ -40,17 +40,10 @@ from ilocalg.units import as_rng, wrap_angle_rad, yaw_to_theta
 
 __all__ = ["run", "track_errors", "readings", "PAPER"]
 
-_T = "i-Loc (Chiu 2013)"
-
 PAPER = PAPERS["iloc"]
 
-# Settings from the paper
-# -----------------------
-# Chiu (2013): HEADING_ERROR_PAPER_DEG, Fig 16 text (WDM mean heading error); PTS_ERROR_PAPER_M,
-# Fig 18 text (PTS mean position error): reference values only. The test loop of run() (28
-# points 4.11 m apart) is sec. 4.4.
-HEADING_ERROR_PAPER_DEG = PUBLISHED["pdr_heading_trajectory"]["heading_error_deg"]
-PTS_ERROR_PAPER_M = PUBLISHED["pdr_heading_trajectory"]["pts_error_m"]
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`): reference only, never used to compute.
+PUB = PUBLISHED["pdr_heading_trajectory"]
 
 
 def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarray, test_t_s: np.ndarray):
@@ -61,42 +54,15 @@ def track_errors(track: pd.DataFrame, step_t_s: np.ndarray, test_xy_m: np.ndarra
 
 
 def readings(q_range=(0.05, 0.95), world: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("route", f"{_T}, L515", "28 test points marked on the floor, 4.11 m apart",
-         "the floor's 28-point route 4 m apart, 108 m (shared with notebooks 01, 07)",
-         "2 m grid of L295; Fig 2 missing"),
-        ("test walkers", f"{_T}, L515", "users walking the route", "new simulated walkers, not the training walkers",
-         "gait model: data/gait"),
-        ("SAM ranges", f"{_T}, L399", "5 % and 95 % points of the training features' CDFs",
-         f"{q_range[0]:.0%}-{q_range[1]:.0%} quantiles; 1-99 % shown as 'PTS (SAM 1-99 %)'", ""),
-        ("valley window", f"{_T}, L357, Table 1 (L424-425)", "W_wave / 2 = 0.25 s either side, yet T1, T2 reach "
-         "0.35-0.40 s", "0.5 s either side (the literal window cannot produce Table 1's T1, T2)", ""),
-        ("WDM", f"{_T}, eq. 18-19", "yaw from gravity and the magnetic field; magnetic north",
-         "phone y axis yaw from 1 s gravity and 0.5 s field means; no declination or hard-iron correction", ""),
-        ("phone misalignment", "", "silent (the phone is assumed to point where the walker goes)",
-         f"per walker N(0, {_misalign_sd_deg(world):.3g} deg)",
-         ("assumption" if world == "assumed" else _misalign_cite()) + "; switched off in wdm_sensitivity"),
-        ("hard-iron residual", "", "silent", "per walker N(0, 2 uT) per axis", "assumption; switched off in "
-         "wdm_sensitivity"),
-        ("declination", "", "silent (magnetic north)", "-4.5 deg at the site, not corrected by WDM",
-         "WMM2010 for Hsinchu, 2013 (approximate); corrected in wdm_sensitivity"),
-        ("indoor magnetic disturbances", f"{_T}, sec. 4.3", "the field may deviate slightly",
-         "1.5 blobs per 100 m^2, N(0, 12 uT)", "assumption (data/gait)"),
-        ("sample rate", "", "silent", "50 Hz", "assumption (X1 scales with it)"),
-        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
-    ]
-    return readings_table([reading(*r) for r in rows])
-
-
-def _misalign_sd_deg(world: str) -> float:
-    return gait.MISALIGN_SD_DEG if world == "assumed" else gait._measured("misalign_sd_deg")
-
-
-def _misalign_cite() -> str:
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
     from ilocalg.sim.measured import cite
 
-    return cite(gait.MEASURED_ROWS["misalign_sd_deg"])
+    code, source = gait.world_reading(world)
+    assumed = world == "assumed"
+    return readings_iloc.readings(
+        "pdr_heading_trajectory", q_range=q_range, gait_code=code, gait_source=source,
+        misalign_sd_deg=gait.MISALIGN_SD_DEG if assumed else gait._measured("misalign_sd_deg"),
+        misalign_source="assumption" if assumed else cite(gait.MEASURED_ROWS["misalign_sd_deg"]))
 
 
 def _mean_heading_error_deg(walkers, rng, route, config=None, declination_rad: float = 0.0) -> float:
@@ -189,9 +155,9 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_walkers: int = 8,
                     ignore_index=True)
     comp = [
         paper_ref(PAPER, "Fig 16", "WDM mean per-step heading error",
-                  HEADING_ERROR_PAPER_DEG, hsum.set_index("heading").loc["WDM", "mean_error_deg"], unit="deg"),
+                  PUB["heading_error_deg"], hsum.set_index("heading").loc["WDM", "mean_error_deg"], unit="deg"),
         paper_ref(PAPER, "Figs 17-18", "PTS mean position error at the test points (27 after the start)",
-                  PTS_ERROR_PAPER_M, summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
+                  PUB["pts_error_m"], summ.set_index("method").loc["PTS: SAM + SLM + WDM", "mean_error_m"], unit="m"),
     ]
     # WDM sensitivity: the same new-walker population with one heading error source switched off at a time
     dec = np.deg2rad(gcfg.declination_deg)

@@ -28,7 +28,7 @@ import pandas as pd
 
 from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive, parse_recording_name
 from ilocalg.io.paths import dataset_path
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.sam import (
     SAM_FEATURES,
@@ -36,50 +36,27 @@ from ilocalg.pdr.sam import (
     SAM_TESTED_FEATURES,
     in_ranges,
     learn_feature_ranges,
-    match_waves_to_steps,
     sam_waves,
 )
-from ilocalg.pdr.signals import acc_from_log, resample_uniform
+from ilocalg.pdr.sam_evaluate import sam_leave_one_out
+from ilocalg.pdr.signals import acc_from_log
 from ilocalg.sim import gait
 from ilocalg.units import as_rng
 
 __all__ = ["run", "headline", "oxford_loro", "rate_sweep", "readings", "PAPER"]
 
-_T = "i-Loc (Chiu 2013)"
 OXFORD_ARCHIVE = "optimisation_data.tar.xz"
 
 PAPER = PAPERS["iloc"]
 
-# Settings from the paper
-# -----------------------
-# SAM_COUNT_ERROR_PAPER: Chiu (2013) Fig 12 and sec. 4.1 text, SAM step-count error on 8 walkers
-# x 100 steps (a reference value, never used to compute).
-SAM_COUNT_ERROR_PAPER = PUBLISHED["pdr_step_features"]["sam_count_error"]
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`): reference only, never used to compute.
+PUB = PUBLISHED["pdr_step_features"]
 
 
 def readings(world: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("training walks", f"{_T}, L399", "walkers of different builds, 15 steps at each fixed length 40-80 cm",
-         "8 simulated walkers x 15 steps x 40, 50, 60, 70, 80 cm", "gait model: data/gait"),
-        ("feature ranges", f"{_T}, L399", "5 % and 95 % points of each feature's CDF",
-         "5-95 % quantiles (1-99 % and 0-100 % shown beside)", ""),
-        ("tested features", f"{_T}, L385-397", "A2, A, T1, T2, T, X1, I in range (A1 listed in Table 1, not tested)",
-         "the same seven tests, all must pass", ""),
-        ("peak window", f"{_T}, L357", "W_peak = 0.25 s", "no larger value within 0.125 s either side", ""),
-        ("valley window", f"{_T}, L357, Table 1 (L424-425)", "valleys within W_wave / 2 = 0.25 s, yet T1 and T2 "
-         "reach 0.35-0.40 s", "valleys within 0.5 s either side (the literal window cannot give Table 1's T1, T2)",
-         ""),
-        ("window in samples", f"{_T}, L357", "N = floor(W_wave f / 2) - 1",
-         "seconds snapped to 1e-3 samples then rounded, so 49.99999 and 50.000001 Hz logs agree", ""),
-        ("sample rate", "", "silent", "50 Hz", "assumption; X1 scales with it: swept in rate_sweep"),
-        ("count test", f"{_T}, L430", "8 testers x 100 steps, 4.13 % error", "8 walkers x 100 natural steps; "
-         "training walkers and new walkers", "the text does not say whether the testers trained SAM"),
-        ("real data", "", "not in the thesis", "Oxford step counter, in-hand optimisation recordings, leave one "
-         "recording out, 5-95 % ranges, resampled to 50 Hz", "Oxford step counter data set (CC BY 4.0)"),
-        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    code, source = gait.world_reading(world)
+    return readings_iloc.readings("pdr_step_features", gait_code=code, gait_source=source)
 
 
 def _oxford_archive(data_dir=None) -> Path:
@@ -94,62 +71,16 @@ def _oxford_archive(data_dir=None) -> Path:
 
 def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, position: str = "InHand",
                 max_recordings: int | None = None, tol_s: float = 0.25) -> pd.DataFrame:
-    """SAM on the Oxford step counter recordings, leave one recording out.
-
-    For each recording, the ranges are the ``q_range`` quantiles of the features of the true steps of
-    the other recordings (each true step matched to the nearest wave within ``tol_s``); SAM then counts
-    the held-out recording. Logs are resampled to ``rate_hz`` (X1 depends on the rate).
-
-    Returns
-    -------
-    DataFrame
-        One row per recording: ``recording``, ``phone``, ``user``, ``surface``, ``true_steps``,
-        ``counted``, ``error`` (|counted - true| / true), ``cadence_hz`` (true steps / duration),
-        ``waves_matched`` (share of true steps with a wave within ``tol_s``), ``steps_passing`` (share
-        of matched true steps passing all seven tests), ``worst_test`` and ``worst_test_fail`` (the
-        test its matched steps fail most, and how often), ``why`` (a sentence). Empty with a
-        ``missing`` column when the data are not on disk.
-    """
+    """SAM on the Oxford step counter recordings held at ``position``, leave one recording out
+    (:func:`ilocalg.pdr.sam_evaluate.sam_leave_one_out`; columns ``phone``, ``user``, ``surface`` from the
+    recording's name). One row with a ``missing`` column when the data are not on disk."""
     archive = _oxford_archive(data_dir)
     if not archive.exists():
         return pd.DataFrame([{"missing": str(archive)}])
     names = [n for n in list_oxford_archive(archive) if parse_recording_name(n).get("position") == position]
     if max_recordings is not None:
         names = names[:max_recordings]
-    recs = load_oxford_archive(archive, names)
-    waves, matched, cadence = [], [], []
-    for r in recs:
-        acc, t = acc_from_log(r.imu)
-        a50, t50 = resample_uniform(acc, t, rate_hz)
-        w = sam_waves(a50, t50)
-        waves.append(w)
-        matched.append(match_waves_to_steps(w, r.step_t_s, tol_s))
-        cadence.append(r.true_steps / (t[-1] - t[0]))
-    rows = []
-    for i, r in enumerate(recs):
-        others = [j for j in range(len(recs)) if j != i]
-        rg = learn_feature_ranges(pd.concat([matched[j] for j in others], ignore_index=True), *q_range)
-        counted = int(in_ranges(waves[i], rg, SAM_TESTED_FEATURES).sum())
-        m = matched[i]
-        fail = {f: float(((m[f] < rg.loc[f, "min"]) | (m[f] > rg.loc[f, "max"])).mean()) if len(m) else np.nan
-                for f in SAM_TESTED_FEATURES}
-        worst = max(fail, key=lambda f: fail[f])
-        med = float(m[worst].median()) if len(m) else np.nan
-        side = "below" if med < rg.loc[worst, "min"] else "above" if med > rg.loc[worst, "max"] else "inside"
-        c_oth = np.array([cadence[j] for j in others])
-        err = abs(counted - r.true_steps) / r.true_steps
-        over = (f"counts {counted - r.true_steps} more steps than taken (extra waves pass every test); "
-                if counted > r.true_steps else "")
-        why = over + (f"{fail[worst]:.0%} of its true steps fail {worst} (median {med:.2f}, {side} the learned "
-               f"{rg.loc[worst, 'min']:.2f}-{rg.loc[worst, 'max']:.2f}); cadence {cadence[i]:.2f} steps/s vs "
-               f"{c_oth.min():.2f}-{c_oth.max():.2f} in the others; {len(m) / r.true_steps:.0%} of true steps "
-               f"have a wave within {tol_s:g} s")
-        rows.append({"recording": r.name, **parse_recording_name(r.name), "true_steps": int(r.true_steps),
-                     "counted": counted, "error": err, "cadence_hz": cadence[i],
-                     "waves_matched": len(m) / r.true_steps,
-                     "steps_passing": float(in_ranges(m, rg, SAM_TESTED_FEATURES).mean()) if len(m) else np.nan,
-                     "worst_test": worst, "worst_test_fail": fail[worst], "why": why})
-    return pd.DataFrame(rows)
+    return sam_leave_one_out(load_oxford_archive(archive, names), q_range, rate_hz, tol_s, parse_recording_name)
 
 
 def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_test: int = 8,
@@ -238,7 +169,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
     key = f"learned q{paper_q[0]:g}-{paper_q[1]:g}"
     for group in groups:
         comp.append(paper_ref(PAPER, "Fig 12", f"SAM step-count error, {n_test} x {n_steps} steps ({group})",
-                              SAM_COUNT_ERROR_PAPER * 100, lit.loc[(group, key)] * 100, unit="%",
+                              PUB["sam_count_error"] * 100, lit.loc[(group, key)] * 100, unit="%",
                               note="ranges = 5/95 % points of simulated training steps"))
     ox = oxford_loro(data_dir, quantiles[0], max_recordings=6 if fast else None)
     if "error" in ox.columns:
@@ -246,7 +177,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, n_
                                 "mean_error": float(ox["error"].mean()), "max_error": float(ox["error"].max()),
                                 "recordings_over_20pct": int((ox["error"] > 0.2).sum())}])
         comp.append(paper_ref(PAPER, "Fig 12", "SAM step-count error, Oxford in-hand recordings (leave one out), mean",
-                              SAM_COUNT_ERROR_PAPER * 100, ox["error"].mean() * 100, unit="%",
+                              PUB["sam_count_error"] * 100, ox["error"].mean() * 100, unit="%",
                               note="real recordings, not the thesis's testers"))
     else:
         ox_sum = ox

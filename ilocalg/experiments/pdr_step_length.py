@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.fusion import PAPER_TABLE4_SIGMA_SL_VAR_M2, PAPER_TABLE4_STEP_M
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
 from ilocalg.pdr.sam import SAM_FEATURES, detect_steps_sam, learn_feature_ranges
 from ilocalg.pdr.signals import acc_from_log
@@ -38,45 +38,16 @@ from ilocalg.units import as_rng
 
 __all__ = ["run", "readings", "PAPER"]
 
-_T = "i-Loc (Chiu 2013)"
-
 PAPER = PAPERS["iloc"]
 
-# Settings from the paper
-# -----------------------
-# Reference values of Chiu (2013), never used to compute:
-# CORR_PAPER        Table 2, correlation of each feature with step length;
-# P_LINEAR_PAPER    Table 3, eq. (16) coefficients (cm);  P_QUAD_PAPER  Table 3, eq. (17) (cm);
-# RMSE_PAPER_CM     sec. 4.2 text, regression RMSE;
-# FIXED_ERROR_PAPER Fig 14 text, mean error at the fixed lengths;
-# FREE20_ACCURACY_PAPER  Fig 15 text, 20 m free-walk distance accuracy.
-_PUB = PUBLISHED["pdr_step_length"]
-CORR_PAPER = _PUB["corr"]
-P_LINEAR_PAPER = _PUB["p_linear_cm"]
-P_QUAD_PAPER = _PUB["p_quad_cm"]
-RMSE_PAPER_CM = _PUB["rmse_cm"]
-FIXED_ERROR_PAPER = _PUB["fixed_error"]
-FREE20_ACCURACY_PAPER = _PUB["free20_accuracy"]
+#: The thesis's published values (:data:`ilocalg.papers.iloc.PUBLISHED`): reference only, never used to compute.
+PUB = PUBLISHED["pdr_step_length"]
 
 
 def readings(q_range=(0.05, 0.95), world: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    rows = [
-        ("training walks", f"{_T}, L399, L478", "walkers at fixed lengths 40-80 cm", "8 simulated walkers x 15 steps "
-         "x 40-80 cm", "gait model: data/gait"),
-        ("SLM", f"{_T}, eq. 16-17, Table 3", "linear and quadratic regression on A and X1, fitted in cm",
-         "least squares on the training steps' A, X1 (cm)", ""),
-        ("SAM ranges", f"{_T}, L399", "5 % and 95 % points", f"{q_range[0]:.0%}-{q_range[1]:.0%}; 1-99 % shown beside",
-         ""),
-        ("fixed-length test", f"{_T}, L478", "8 testers at 40-80 cm, mean error 18.43 %",
-         "training walkers and new walkers at 40-80 cm", "the text does not say who the testers were"),
-        ("free walk", f"{_T}, L478", "8 testers walk 20 m freely, 96.41 % accuracy", "20 m straight, natural steps",
-         ""),
-        ("Table 4 units", f"{_T}, L578, L602-605", "variances of the step length error, no unit",
-         "table4: relative-error variance and m^2 variance per target length, both shown", "L478 supports relative"),
-        ("gait world", "", "silent (the thesis's walkers are not published)", *gait.world_reading(world)),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    code, source = gait.world_reading(world)
+    return readings_iloc.readings("pdr_step_length", q_range=q_range, gait_code=code, gait_source=source)
 
 
 def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_range=(0.05, 0.95),
@@ -101,7 +72,7 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     corr = pd.DataFrame({"feature": list(SAM_FEATURES),
                          "corr_reproduced": [float(np.corrcoef(feats[f], feats["length_m"])[0, 1])
                                              for f in SAM_FEATURES],
-                         "corr_paper": [CORR_PAPER[f] for f in SAM_FEATURES]})
+                         "corr_paper": [PUB["corr"][f] for f in SAM_FEATURES]})
     models, fits = fit_step_length_models(feats)
     # Kim: the scale c fitted on the training walks' mean |a_perp| (0.98 in the thesis's eq. 2.1, for a foot sensor)
     tw = gait.training_walks(train_walkers[:2], rng, config=gcfg)
@@ -158,11 +129,12 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     acc_tab = free.groupby(["ranges", "test_set"], sort=False)[model_names].agg(
         lambda d: float(np.mean(1 - np.abs(d - free_length_m) / free_length_m))).reset_index()
 
-    comp = [paper_ref(PAPER, "Table 2", f"corr({f}, step length)", CORR_PAPER[f],
+    comp = [paper_ref(PAPER, "Table 2", f"corr({f}, step length)", PUB["corr"][f],
                       corr.set_index("feature").loc[f, "corr_reproduced"]) for f in SAM_FEATURES]
     fit_idx = fits.set_index("model")
-    for kind, name, pp in (("linear", "SLM linear", P_LINEAR_PAPER), ("quadratic", "SLM quadratic", P_QUAD_PAPER)):
-        comp.append(paper_ref(PAPER, "Table 3 / sec. 4.2", f"{kind} SLM RMSE", RMSE_PAPER_CM[kind],
+    for kind, name in (("linear", "SLM linear"), ("quadratic", "SLM quadratic")):
+        pp = PUB["p_linear_cm"] if kind == "linear" else PUB["p_quad_cm"]
+        comp.append(paper_ref(PAPER, "Table 3 / sec. 4.2", f"{kind} SLM RMSE", PUB["rmse_cm"][kind],
                               fit_idx.loc[name, "rmse_cm"], unit="cm"))
         for i, v in enumerate(pp):
             comp.append(paper_ref(PAPER, "Table 3", f"{kind} p{i + 1}", v, fit_idx.loc[name, f"p{i + 1}_cm"],
@@ -172,12 +144,12 @@ def run(seed: int = 0, fast: bool = False, n_train: int = 8, n_test: int = 8, q_
     for group in groups:
         comp.append(paper_ref(PAPER, "Fig 14",
                               f"mean relative error at fixed lengths 40-80 cm, quadratic SLM ({group})",
-                              FIXED_ERROR_PAPER * 100, float(rel_by.loc[group, "SLM quadratic"]) * 100, unit="%"))
+                              PUB["fixed_error"] * 100, float(rel_by.loc[group, "SLM quadratic"]) * 100, unit="%"))
     for q in (q_range, q_range_alt):
         for group in groups:
             a = acc_by.loc[(f"q{q[0]:g}-{q[1]:g}", group), "SLM quadratic"]
             comp.append(paper_ref(PAPER, "Fig 15", f"20 m free-walk accuracy, quadratic SLM, SAM q{q[0]:g}-{q[1]:g} "
-                                  f"({group})", FREE20_ACCURACY_PAPER * 100, a * 100, unit="%"))
+                                  f"({group})", PUB["free20_accuracy"] * 100, a * 100, unit="%"))
     main = f"q{q_range[0]:g}-{q_range[1]:g}"
     models_tab = pd.DataFrame({"model": model_names,
                                "fixed_rel_error_training_walkers": [float(rel_by.loc["training walkers", m])

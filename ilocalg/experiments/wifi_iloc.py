@@ -39,7 +39,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.metrics import horizontal_error_m, summary
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED as PUBLISHED_ILOC
 from ilocalg.papers.luo import PUBLISHED as PUBLISHED_LUO
 from ilocalg.sim import iloc_floor
@@ -50,56 +50,16 @@ __all__ = ["run", "findings", "ap_distribution", "readings", "PAPER_ILOC"]
 
 ILOC = PAPERS["iloc"]
 LUO = PAPERS["luo"]
-#: Published values used only as labelled references (paper values; never used in computation).
-#
-# Settings from the paper
-# -----------------------
-# radar_median_m  Chiu (2013) sec. 3.1, Fig 3, k = 5     radar_p80_m   sec. 3.1, "80 % within 14 m"
-# radar_best_k    sec. 3.1, "k = 5 is the most accurate"  horus_median_m  sec. 3.2, Fig 5
-# horus_p80_m     sec. 3.2, "80 % within 9 m"
-# knn_mean_m      Luo et al. (2017) sec. 4, Wi-Fi only mean error (their building)
+#: Published values (:data:`ilocalg.papers.iloc.PUBLISHED` ch. 3 and Luo et al.'s Wi-Fi only mean,
+#: :data:`ilocalg.papers.luo.PUBLISHED`): labelled references only, never used in computation.
 PAPER_ILOC = {**PUBLISHED_ILOC["wifi_iloc"], "knn_mean_m": PUBLISHED_LUO["wifi_mean_m"]}
 
 
-_T = "i-Loc (Chiu 2013)"
-
 
 def readings(world: str = "measured") -> pd.DataFrame:
-    """The modelling choices of this experiment against the thesis's text, one row each."""
-    p = iloc_floor.PARAM_SOURCES
-    wp, ws = iloc_floor.world_params(world), iloc_floor.world_sources(world)
-    rows = [
-        ("floor plan", "", "Fig 2 (missing from the text)",
-         "assumed ring corridor 36 m x 20 m + stair corridor, offices in 8 m bays", "assumption (data/iloc_floor)"),
-        ("training points", f"{_T}, L295", "63 points 2 m apart, 300 scans each at different times",
-         "63 points 2 m apart; 300 scans in sessions of 30 (60 in fast mode)", p["scans_per_session"]),
-        ("test route", f"{_T}, L295, L515", "28 test points that are training points, 4.11 m apart",
-         "28 ring points 4.0 m apart (every second 2 m point), 108 m", "2 m grid of L295"),
-        ("APs per scan", f"{_T}, L295", "4-18 APs per scan", "AP counts and detection calibrated to it",
-         p["n_aps_floor"]),
-        ("wall losses", "", "silent",
-         f"light {wp['light_wall_db']:.3g} dB, heavy {wp['heavy_wall_db']:.3g} dB, floor {wp['floor_db']:.3g} dB "
-         f"({world} world)", ws["heavy_wall_db"]),
-        ("survey vs test", f"{_T}, L295", "signals drift; points near windows and corners drift more",
-         f"test session on another day: per-AP drift {wp['drift_sd_db']:.3g} dB, body shadowing "
-         f"{wp['body_loss_db']:.3g} dB, device offset {wp['device_offset_db']:.3g} dB ({world} world)",
-         f"{ws['drift_sd_db']}; {p['body_loss_db']}; {p['device_offset_db']}"),
-        ("radio world", "", "silent (the thesis's radio map is not published)",
-         f"{world} world: path-loss exponent {wp['path_loss_exponent']:.3g}, shadowing {wp['shadow_sd_db']:.3g} dB, "
-         f"fast fading {wp['fade_sd_db']:.3g} dB, detection at {wp['detect_dbm']:.4g} dBm, miss {wp['miss_p']:.3g}",
-         "; ".join(ws[k] for k in ("path_loss_exponent", "shadow_sd_db", "fade_sd_db", "detect_dbm", "miss_p"))),
-        ("test scans per point", "", "silent", "20 standing scans per test point facing the walking direction "
-         "(5 in fast mode)", "assumption"),
-        ("RADAR database", f"{_T}, L283, L287", "every stored scan of every point; N nearest training points",
-         "query vs every stored scan; a point's distance is its nearest scan; N = 3 nearest points",
-         "mean map shown as 'Simplified-RADAR (mean map)'"),
-        ("RADAR k, N", f"{_T}, L287, L297", "k strongest APs (k = 5 best), N = 3", "k = 5, N = 3", ""),
-        ("Horus", f"{_T}, L329, L331", "per-point RSSI histograms of every scan, k strongest APs",
-         "1 dB histograms of every scan, k = 5, probability floor 1e-3", "probability floor: assumption"),
-        ("KNN", "Luo et al. 2017, eq. 1-2", "Manhattan, K = 5 (their paper)", "per-point mean map, K = 5",
-         "not in the i-Loc thesis"),
-    ]
-    return readings_table([reading(*r) for r in rows])
+    """The modelling choices of this experiment against the thesis's text (:mod:`ilocalg.papers.readings_iloc`)."""
+    return readings_iloc.readings("wifi_iloc", world=world, p=iloc_floor.PARAM_SOURCES,
+                                  wp=iloc_floor.world_params(world), ws=iloc_floor.world_sources(world))
 
 
 def _fit(name, est, sim, fp, pts):

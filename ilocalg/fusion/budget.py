@@ -125,6 +125,34 @@ class FusionInputs:
         """Times of the filter states: the start, then each step."""
         return np.concatenate([[self.t0_s], self.step_t_s])
 
+    @classmethod
+    def from_walk(cls, walk, *, state_t_s, step_m, theta_rad, heading_rad, start_xy_m, start_ref_t_s, fixes,
+                  eval_t_s, eval_xy_m=None) -> FusionInputs:
+        """A filter's inputs on one recorded walk, with the walk's truth.
+
+        Parameters
+        ----------
+        walk : a walk shaped like a recording (:mod:`ilocalg.sim.iloc_scenario`): ``imu`` indexed by time,
+            ``steps`` (``t_strike_s``, ``duration_s``, ``t_mid_s``, ``length_m``), ``truth_t_s``,
+            ``truth_xy_m`` and ``truth["theta_rad"]``.
+        state_t_s : (n + 1,) the start state's time, then each detected step's.
+        step_m, theta_rad : (n,) the detected steps' lengths and headings.
+        heading_rad : the estimated heading at every IMU sample of ``walk.imu``.
+        start_xy_m, start_ref_t_s : the start position and the time it describes.
+        fixes : DataFrame with ``t_ready_s``, ``t_ref_s``, ``fix_x_m``, ``fix_y_m`` (the fixes the filter reads).
+        eval_t_s, eval_xy_m : the scoring times and, when known exactly, the true positions there.
+        """
+        st = walk.steps
+        return cls(t0_s=float(state_t_s[0]), start_xy_m=start_xy_m, start_ref_t_s=float(start_ref_t_s),
+                   step_t_s=state_t_s[1:], step_m=step_m, theta_rad=theta_rad,
+                   heading_t_s=walk.imu.index.to_numpy(), heading_rad=heading_rad,
+                   fix_t_s=fixes["t_ready_s"].to_numpy(), fix_ref_t_s=fixes["t_ref_s"].to_numpy(),
+                   fix_xy_m=fixes[["fix_x_m", "fix_y_m"]].to_numpy(),
+                   true_step_t_s=(st["t_strike_s"] + st["duration_s"]).to_numpy(),
+                   true_step_mid_t_s=st["t_mid_s"].to_numpy(), true_step_m=st["length_m"].to_numpy(),
+                   truth_t_s=walk.truth_t_s, truth_xy_m=walk.truth_xy_m,
+                   truth_theta_rad=walk.truth["theta_rad"].to_numpy(), eval_t_s=eval_t_s, eval_xy_m=eval_xy_m)
+
 
 def with_truth(inp: FusionInputs, sources) -> FusionInputs:
     """``inp`` with each error source of ``sources`` (names from :data:`SOURCES`) replaced by the truth."""

@@ -24,7 +24,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["fingerprint_adjusted_track"]
+from ilocalg.fusion.align import fixes_at_states
+from ilocalg.fusion.budget import FusionInputs, steady_state_weight
+from ilocalg.pdr.dead_reckoning import dead_reckon
+
+__all__ = ["fingerprint_adjusted_track", "principled_weight", "combined_method", "pdr_true_start_method"]
 
 
 def fingerprint_adjusted_track(x0_m, theta_rad, step_m, z_m, weight: float) -> np.ndarray:
@@ -85,3 +89,31 @@ def fingerprint_adjusted_track(x0_m, theta_rad, step_m, z_m, weight: float) -> n
             x[k] = x[k] + weight * (z[k] - x[k])
             start = k
     return x
+
+
+def principled_weight(sig_sl_m: float, sig_theta_rad: float, step_m: float, step_s: float, scan_interval_s: float,
+                      r_var_m2: float) -> tuple[float, float]:
+    """The adjustment weight from variances measured on the training data (not from the test outcome).
+
+    Between two fixes (``scan_interval_s``) the walker takes ``scan_interval_s / step_s`` steps, each adding
+    a position variance of ``(sig_sl^2 + (step_m sig_theta)^2) / 2`` per axis (length along, heading across
+    the walk); a fix has variance ``r_var_m2`` per axis. The steady-state inverse-variance weight of the two
+    (:func:`ilocalg.fusion.budget.steady_state_weight`). Returns ``(weight, q_var_m2)``.
+    """
+    q = scan_interval_s / step_s * 0.5 * (sig_sl_m**2 + (step_m * sig_theta_rad) ** 2)
+    return steady_state_weight(q, r_var_m2), float(q)
+
+
+def combined_method(weight: float):
+    """Luo's combination (Wi-Fi start, fixes pull the track by ``weight``) as an error-budget method."""
+    def comb(inp: FusionInputs) -> np.ndarray:
+        fxy = np.asarray(inp.fix_xy_m, dtype=np.float64)
+        z = fixes_at_states(inp.state_t_s, inp.fix_t_s, fxy, before_start="drop", same_state="last").z_m
+        return fingerprint_adjusted_track(inp.start_xy_m, inp.theta_rad, inp.step_m, z, weight)
+    return comb
+
+
+def pdr_true_start_method(inp: FusionInputs) -> np.ndarray:
+    """PDR only from the true start (L235) as an error-budget method."""
+    x0 = inp.truth_at([inp.t0_s])[0]
+    return dead_reckon(np.asarray(inp.step_m), np.asarray(inp.theta_rad), *x0)[["x_m", "y_m"]].to_numpy()

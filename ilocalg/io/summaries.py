@@ -1,4 +1,4 @@
-"""Summaries of loaded Indoor Location Competition 2.0 traces (for the data tour).
+"""Summaries of loaded Indoor Location Competition 2.0 traces and of the real data sets (for the data tour).
 
 All numbers are computed from the loaded data: sample rates from the median sampling interval,
 Wi-Fi scan statistics from the long scan table, walk length as the polyline length through the
@@ -8,12 +8,17 @@ waypoints only approximately).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 
+from ilocalg.io.paths import DATASETS
+from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import BSSID, SCAN_ID, T_S, X_M, Y_M
 
-__all__ = ["sample_rate_hz", "aps_per_scan", "walk_length_m", "trace_summary", "floor_summary"]
+__all__ = ["sample_rate_hz", "aps_per_scan", "walk_length_m", "trace_summary", "floor_summary",
+           "dataset_availability", "real_dataset_summaries"]
 
 
 def sample_rate_hz(t_s) -> float:
@@ -95,3 +100,57 @@ def floor_summary(traces) -> pd.DataFrame:
     tot["n_bssids"] = int(pd.concat([t.wifi[BSSID] for t in items]).nunique())
     all_df = pd.concat([df, pd.DataFrame([tot])], ignore_index=True)
     return all_df
+
+
+def dataset_availability(data_dir: str | Path | None = None) -> pd.DataFrame:
+    """Which real data sets are present under ``data_dir`` (default :func:`ilocalg.io.paths.data_dir`)."""
+    root = Path(data_dir) if data_dir else default_data_dir()
+    rows = []
+    for name, where in DATASETS.items():
+        p = root / name
+        rows.append({"dataset": name, "present": p.is_dir(), "download": where})
+    return pd.DataFrame(rows)
+
+
+def real_dataset_summaries(data_dir: str | Path | None = None, fast: bool = False) -> dict[str, pd.DataFrame]:
+    """Summaries of the real sets present under ``data_dir`` (absent sets are simply left out): UJIIndoorLoc
+    files (rows, APs, APs heard per scan, buildings, floors), the Oxford in-hand archive's recordings (rate,
+    duration, true steps) and the ILC 2.0 site2 F4 traces (:func:`floor_summary`); ``fast`` reads 3 of each."""
+    root = Path(data_dir) if data_dir else default_data_dir()
+    out = {}
+    uji = root / "ujiindoorloc"
+    if uji.is_dir():
+        from ilocalg.io.ujiindoorloc import load_ujiindoorloc
+
+        rows = []
+        for stem in ("trainingData", "validationData"):
+            f = next((p for p in (uji / f"{stem}.csv.gz", uji / f"{stem}.csv") if p.exists()), None)
+            if f is None:
+                continue
+            fs = load_ujiindoorloc(f)
+            heard = np.sum(~np.isnan(fs.rssi_dbm), axis=1)
+            rows.append({"file": f.name, "rows": fs.n_samples, "aps": fs.n_aps,
+                         "aps_heard_per_scan_median": float(np.median(heard)),
+                         "buildings": int(np.unique(fs.building).size), "floors": int(np.unique(fs.floor).size)})
+        out["ujiindoorloc"] = pd.DataFrame(rows)
+    ox = root / "oxford_step_counter" / "optimisation_data.tar.xz"
+    if ox.exists():
+        from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive
+
+        names = list_oxford_archive(ox)
+        recs = load_oxford_archive(ox, names[:3] if fast else None)
+        rows = []
+        for r in recs:
+            t = r.imu.index.to_numpy()
+            rows.append({"recording": r.name, "rate_hz": sample_rate_hz(t), "duration_s": float(t[-1] - t[0]),
+                         "true_steps": int(r.true_steps)})
+        out["oxford_step_counter"] = pd.DataFrame(rows)
+    ilc = root / "ilc2020_site2_F4"
+    if ilc.is_dir():
+        from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
+
+        names = list_ilc_traces(ilc)
+        floor = load_ilc_floor(ilc, names=names[:3] if fast else None, duplicate_bssid="keep_latest",
+                           relisted_wifi="keep")
+        out["ilc2020_site2_F4"] = floor_summary(floor.traces)
+    return out

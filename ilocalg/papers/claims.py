@@ -15,9 +15,12 @@ judges it (:func:`judge`):
 - an ordering, improvement, ratio or trend claim on the *direction* it asserts (``expect="<1"``: the
   statistic is below 1): ``reproduced`` when the whole interval is on the asserted side, ``partly``
   when the interval straddles the threshold, ``not reproduced`` when it lies wholly on the other side;
-- a value or consistency claim (``expect="~"``) on agreement: ``reproduced`` when the paper's value
-  lies inside the interval or within :data:`AGREE_REL` of the mean, ``partly`` within
-  :data:`CLOSE_REL`, else ``not reproduced``;
+- a value claim (``expect="~"``) on agreement: ``reproduced`` when the paper's value lies inside the
+  interval or within :data:`AGREE_REL` of the mean, ``partly`` within :data:`CLOSE_REL`, else
+  ``not reproduced``;
+- a consistency claim (the paper checked against its own printed numbers) is arithmetic, not a
+  measurement: ``reproduced`` within :data:`AGREE_REL`, else ``not reproduced`` (a 15 % mismatch of
+  the paper's own numbers is a contradiction, never ``partly``);
 - a claim without a statistic is ``cannot be tested``, with the reason in ``untestable``.
 
 Paper values enter only as labelled references and never feed a computation.
@@ -274,7 +277,10 @@ def judge(claim: Claim, mean: float, lo: float, hi: float) -> str:
         if lo <= p <= hi:
             return "reproduced"
         rel = abs(mean - p) / abs(p) if p != 0 else (0.0 if mean == 0 else math.inf)
-        return "reproduced" if rel <= AGREE_REL else "partly" if rel <= CLOSE_REL else "not reproduced"
+        if rel <= AGREE_REL:
+            return "reproduced"
+        # the paper's own arithmetic either holds or contradicts it: no "partly" for a consistency claim
+        return "partly" if rel <= CLOSE_REL and claim.kind != "consistency" else "not reproduced"
     right = (lambda x: x < thr) if op == "<" else (lambda x: x > thr)
     if right(lo) and right(hi):
         return "reproduced"

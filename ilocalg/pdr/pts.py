@@ -23,7 +23,7 @@ from ilocalg.pdr.sam import detect_steps_sam
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import slm_length_m
 
-__all__ = ["pts_steps"]
+__all__ = ["pts_steps", "pts_filter_inputs"]
 
 
 def pts_steps(imu: pd.DataFrame, ranges: pd.DataFrame, slm_p, rest_s: float = 0.0,
@@ -55,3 +55,17 @@ def pts_steps(imu: pd.DataFrame, ranges: pd.DataFrame, slm_p, rest_s: float = 0.
     i = steps["i_peak"].to_numpy()
     lengths = np.maximum(slm_length_m(steps["A"], steps["X1"], slm_p), 0.0)
     return steps.assign(length_m=np.asarray(lengths), theta_rad=heads["WDM"][i], theta_gyr_rad=heads["gyro"][i])
+
+
+def pts_filter_inputs(imu: pd.DataFrame, ranges: pd.DataFrame, slm_p, rest_s: float = 0.0,
+                      headings: dict | None = None) -> dict:
+    """PTS on one sensor log (:func:`pts_steps`) as a step filter's inputs.
+
+    Returns
+    -------
+    dict
+        ``state_t_s`` (n + 1: the log's start, then each detected step), ``step_m`` and ``theta_rad`` (n, WDM).
+    """
+    st = pts_steps(imu, ranges, slm_p, rest_s, headings=headings)
+    return {"state_t_s": np.concatenate([[imu.index[0]], st["t_s"].to_numpy()]),
+            "step_m": st["length_m"].to_numpy(), "theta_rad": st["theta_rad"].to_numpy()}
