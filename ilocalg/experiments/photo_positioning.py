@@ -70,6 +70,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.papers.comparison_iloc_photo import NEAR_COLLINEAR_PAPER, PAPER, fig30_rows
+from ilocalg.papers.readings_iloc_photo import GOOD_GUESS_SD_M, SENSITIVITY_GRID
 from ilocalg.papers.readings_iloc_photo import readings as _readings
 from ilocalg.photo import (
     homography_dlt,
@@ -92,8 +93,6 @@ __all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_D
 METHODS = ("ST", "VAGIG", "VABIG")
 #: Methods shown in the per-shot / per-k tables: the thesis's three and VA started at the truth.
 SHOWN_METHODS = METHODS + ("VA_truth",)
-#: Spreads of the good initial guess swept by :func:`good_guess_sweep` (m per axis; 2.25 m is the default).
-GOOD_GUESS_SD_M = (0.5, 1.0, 2.25, 4.0)
 
 
 def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = False,
@@ -370,16 +369,6 @@ def good_guess_sweep(seed: int = 0, fast: bool = False, sds=GOOD_GUESS_SD_M, ks=
             for m in ("VA_truth", "VAGIG", "VABIG", "ST"):
                 rows.append({"good_guess_sd_m": float(sd), "k": int(r["k"]), "method": m, "error_cm": float(r[m])})
     return pd.DataFrame(rows)
-
-
-#: Input values tried by :func:`sensitivity` (one input changed at a time from the defaults).
-SENSITIVITY_GRID = (
-    ("drag_sd_px", (3.0, 6.0, 12.0, 24.0)),
-    ("yaw_sd_deg", (1.0, 2.5, 5.0, 10.0)),
-    ("tilt_sd_deg", (0.5, 1.0, 2.0)),
-    ("good_guess_sd_m", (0.5, 1.0, 2.25)),
-    ("va_free_z", (False, True)),
-)
 
 
 def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_GRID) -> pd.DataFrame:

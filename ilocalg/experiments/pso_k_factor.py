@@ -39,7 +39,7 @@ import pandas as pd
 
 from ilocalg.gnss import gps_track_length_m, latlon_to_local_m, path_length_m
 from ilocalg.papers import PAPERS
-from ilocalg.papers.comparison_pso import comparison_rows, compass_rows, table_5_2
+from ilocalg.papers.comparison_pso import comparison_rows, compass_rows, fig_5_12_block, table_5_2
 from ilocalg.papers.pso import K_FIXED_PAPER, PAPER_COMPASS_RMS, PAPER_PHASE2_A1, PAPER_TABLE_5_2
 from ilocalg.papers.readings_pso import SENSITIVITY_VARIANTS
 from ilocalg.papers.readings_pso import readings as _readings
@@ -362,16 +362,7 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
                      for pf, b in ((prefilter, band), (old["prefilter"], old["band"]))
                      for f in FITNESSES], ignore_index=True)
     a1 = results["A1"]
-    r1 = p1.iloc[0]
-    a1_block = pd.DataFrame([{
-        "particles": PSO_SETTINGS_PAPER["n_particles"], "maxSpeed": PSO_SETTINGS_PAPER["max_speed"],
-        "minFitness": PSO_SETTINGS_PAPER["min_fitness"], "initWeight": PSO_SETTINGS_PAPER["w_init"],
-        "finalWeight": PSO_SETTINGS_PAPER["w_final"], "c1": PSO_SETTINGS_PAPER["c1"], "c2": PSO_SETTINGS_PAPER["c2"],
-        "Iters": a1.n_iters, "Fitness": a1.f_best, "Index": a1.best_particle, "BestPos": float(a1.x_best[0]),
-        "PSO_sigma_dist_m": r1["pso_m"], "PSO_start_end_dist_m": r1["start_end_m"], "GPS_sigma_dist_m": r1["gps_m"],
-        "PSO_diff_gps_m": abs(r1["gps_m"] - r1["pso_m"]),
-        "PSO_diff_gps_rel": abs(r1["gps_m"] - r1["pso_m"]) / r1["gps_m"],
-    }])
+    a1_block = fig_5_12_block(a1, p1.iloc[0])
     compass = compass_filter_study(seed, fast)
     log = sim.simulate_static_compass(np.random.default_rng([seed, 53]))
     y = log["yaw_deg"].to_numpy()

@@ -17,8 +17,9 @@ import pandas as pd
 
 from ilocalg.papers import PAPERS, paper_ref
 from ilocalg.papers.pso import PAPER_COMPASS_RMS, PAPER_PHASE2_A1, PAPER_TABLE_5_2
+from ilocalg.pdr.k_factor import PSO_SETTINGS_PAPER
 
-__all__ = ["table_5_2", "comparison_rows", "compass_rows"]
+__all__ = ["table_5_2", "fig_5_12_block", "comparison_rows", "compass_rows"]
 
 _PAPER = PAPERS["pso"]
 
@@ -29,6 +30,20 @@ def table_5_2(phase1: pd.DataFrame) -> pd.DataFrame:
     for col in ("k", "true_steps", "det_steps", "gps_m", "pso_m", "acc_pct"):
         out[f"paper_{col}"] = [PAPER_TABLE_5_2[w][col] for w in out["walker"]]
     return out
+
+
+def fig_5_12_block(result, walk_row: pd.Series) -> pd.DataFrame:
+    """A PSO run laid out as the thesis's result block (Fig 5.12, L833-840): its settings, iterations, fitness,
+    best particle and position, and the walk's PSO, start-end and GPS distances (``walk_row``: one phase-1 row)."""
+    s, r1 = PSO_SETTINGS_PAPER, walk_row
+    return pd.DataFrame([{
+        "particles": s["n_particles"], "maxSpeed": s["max_speed"], "minFitness": s["min_fitness"],
+        "initWeight": s["w_init"], "finalWeight": s["w_final"], "c1": s["c1"], "c2": s["c2"],
+        "Iters": result.n_iters, "Fitness": result.f_best, "Index": result.best_particle,
+        "BestPos": float(result.x_best[0]), "PSO_sigma_dist_m": r1["pso_m"], "PSO_start_end_dist_m": r1["start_end_m"],
+        "GPS_sigma_dist_m": r1["gps_m"], "PSO_diff_gps_m": abs(r1["gps_m"] - r1["pso_m"]),
+        "PSO_diff_gps_rel": abs(r1["gps_m"] - r1["pso_m"]) / r1["gps_m"],
+    }])
 
 
 def comparison_rows(t52: pd.DataFrame, p2: pd.DataFrame, label: str, default_label: str | None = None,

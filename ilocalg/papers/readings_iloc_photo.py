@@ -17,7 +17,7 @@ import pandas as pd
 
 from ilocalg.papers._reading_rows import Fmt, Pick, render
 
-__all__ = ["ROWS", "readings"]
+__all__ = ["ROWS", "GOOD_GUESS_SD_M", "SENSITIVITY_GRID", "readings"]
 
 ROWS = (
     ("PoI layout", "L658, L688, L696, L707; Figs 27-28",
@@ -55,6 +55,20 @@ ROWS = (
      "swept in sensitivity"),
     ("error measure", "L696, L702", "mean positioning error in cm", "horizontal (floor) error, cm",
      "thesis (the floor map is 2-D)"),
+)
+
+
+#: Spreads of the good initial guess swept by the experiment's ``good_guess_sweep`` (m per axis; 2.25 m is the
+#: default, from the i-Loc fix error).
+GOOD_GUESS_SD_M = (0.5, 1.0, 2.25, 4.0)
+#: Inputs the experiment's ``sensitivity`` tries, one changed at a time from the defaults (the values the thesis does
+#: not give; sources in :data:`ROWS`).
+SENSITIVITY_GRID = (
+    ("drag_sd_px", (3.0, 6.0, 12.0, 24.0)),
+    ("yaw_sd_deg", (1.0, 2.5, 5.0, 10.0)),
+    ("tilt_sd_deg", (0.5, 1.0, 2.0)),
+    ("good_guess_sd_m", (0.5, 1.0, 2.25)),
+    ("va_free_z", (False, True)),
 )
 
 
