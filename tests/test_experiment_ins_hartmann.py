@@ -43,3 +43,13 @@ def test_outage_inputs_are_labelled_and_swept(out):
     assert os_["vt_rate_hz"].iloc[1] < os_["vt_rate_hz"].iloc[0]
     r = out["readings"]
     assert r["choice"].is_unique and (r["source"].str.len() > 0).all()
+
+
+def test_assumed_tracker_noise_sets_the_main_sequences_and_the_readings():
+    kw = {"seed": 0, "fast": True, "n_sequences": 1, "duration_s": 15.0, "noise_scales": (1.0,), "outage_factors": ()}
+    base, noisy = ins_hartmann.run(**kw), ins_hartmann.run(vt_noise_scale=3.0, **kw)
+    t0, t1 = base["table2"].iloc[-1], noisy["table2"].iloc[-1]
+    assert t1["mean_dev_x_m"] > t0["mean_dev_x_m"]
+    assert noisy["readings"].loc[2, "code_does"].startswith("sd 9 / 9 / 24 mm")
+    # the sensitivity curve stays about the default noise
+    assert noisy["tracker_noise"]["mean_dev_x_m"].iloc[0] == base["tracker_noise"]["mean_dev_x_m"].iloc[0]

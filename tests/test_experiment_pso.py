@@ -6,6 +6,7 @@ import pytest
 
 from ilocalg.experiments import pso_k_factor as E
 from ilocalg.pdr import k_factor as K
+from ilocalg.pdr import k_walks as KW
 from ilocalg.sim.pso_walks import simulate_pso_walks
 
 
@@ -21,10 +22,10 @@ def test_bad_prefilter_and_gps_gap():
 
 def test_dr_recovers_distance_with_true_like_k():
     w = simulate_pso_walks(0)["1"][0]
-    st = E.detect_walk_steps(w)
+    st = KW.detect_walk_steps(w.imu)
     d_true = w.route_m
     k = d_true / K.step_factors(st).sum()
-    tr = E.dr_track(w, st, k)
+    tr = KW.dr_track(w.imu, w.gps, st, k, w.origin_deg)
     from ilocalg.gnss import path_length_m
     assert path_length_m(tr.lat_deg.to_numpy(), tr.lon_deg.to_numpy()) == pytest.approx(d_true, rel=1e-6)
     # the loop closes to within a few metres (compass noise and bias only)
@@ -101,10 +102,24 @@ def test_static_band_is_the_static_log_rms():
     assert 0.05 < b < 0.2                           # the simulated sensor noise, 0.10 m/s^2, plus quantisation
     assert E.static_band_mps2(0, "ma2") < b         # the moving average lowers the static RMS
     w = simulate_pso_walks(0)["1"][0]
-    wide = E.detect_walk_steps(w, "none", band_mps2=10.0)
+    wide = KW.detect_walk_steps(w.imu, "none", band_mps2=10.0)
     assert len(wide) == 0                           # a band wider than the signal rejects every extremum
     with pytest.raises(ValueError, match="prefilter"):
-        E.detect_walk_steps(w, "ma")
+        KW.detect_walk_steps(w.imu, "ma")
+    with pytest.raises(ValueError, match="walk A1/x: no GPS fix"):
+        KW.dr_track(w.imu, w.gps.iloc[:0], wide, 0.5, w.origin_deg, "A1/x")
+
+
+def test_readings_follow_the_runs_assumed_values():
+    default = E.readings().set_index("choice")
+    changed = E.readings(acc_noise_mps2=0.2, gps_open_tau_s=60.0, step_amp_cv=0.27, route_scale=1.05)
+    changed = changed.set_index("choice")
+    assert "0.10 m/s^2 assumed" in default.loc["+-RMS band of Fig 3.9", "source"]
+    assert "0.20 m/s^2 assumed" in changed.loc["+-RMS band of Fig 3.9", "source"]
+    assert "tau 20 s" in default.loc["GPS error", "code_does"] and "tau 60 s" in changed.loc["GPS error", "code_does"]
+    assert "CV 0.27 per step" in changed.loc["step-to-step scatter", "code_does"]
+    assert changed.loc["true route length", "code_does"].endswith("route_scale 1.05")
+    assert E.readings(band="0.3").loc[1, "code_does"] == "fixed 0.3 m/s^2"
 
 
 def test_run_is_deterministic(fast_run):
@@ -115,7 +130,7 @@ def test_run_is_deterministic(fast_run):
 
 def test_ilc_k_study_on_real_data(shared_data):
     p = shared_data("ilc2020_site2_F4")
-    res = E.ilc_k_study(p, seed=0)
+    res = KW.ilc_k_study(p, seed=0)
     s = res["summary"].iloc[0]
     assert s["n_learn_walks"] >= 5 and s["n_test_walks"] >= 5
     assert 0.3 < s["k_pso"] < 1.0

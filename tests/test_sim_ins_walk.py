@@ -196,3 +196,16 @@ def test_rssi_control_points_fire_near_the_beacon_once_per_passage():
     assert len(trig) == 1 and 49.0 < trig[0] < 52.0
     with pytest.raises(ValueError, match="gcp_mode"):
         ins_walk.simulate("samsung", "samsung_s5", seed=0, gcp_mode="gate")
+
+
+def test_phone_profile_changes_only_the_unsourced_values():
+    from ilocalg.sim.ins_walk import PHONE_NOISE_FACTOR, PROFILES, phone_profile
+
+    for name in ("samsung_s5", "iphone_5s"):
+        assert phone_profile(name) == PROFILES[name]
+        p = phone_profile(name, noise_factor=1.0, bias_instability_factor=0.0, time_jitter_sd_s=0.03)
+        base = PROFILES[name]
+        assert p.acc_noise_mps2_rsqrt_hz == pytest.approx(base.acc_noise_mps2_rsqrt_hz / PHONE_NOISE_FACTOR)
+        assert p.acc_gm_sd_mps2 == 0.0 and p.time_jitter_sd_s == 0.03 and p.acc_bias_sd_mps2 == base.acc_bias_sd_mps2
+    with pytest.raises(ValueError, match="profile must be one of"):
+        phone_profile("nokia")

@@ -13,11 +13,14 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.ins.evaluate import AXES, nav_errors, window_sweep, window_sweep_tables
-from ilocalg.ins.paper_values import LIAO_2016, paper_value, side_by_side
+from ilocalg.ins.chain import trajectory_frame
+from ilocalg.ins.evaluate import AXES, window_sweep, window_sweep_tables
+from ilocalg.ins.paper_values import side_by_side
 from ilocalg.ins.pipeline import run_walk
 from ilocalg.ins.smoother import rts_gains
-from ilocalg.papers import paper_ref, reading, readings_table
+from ilocalg.papers.comparison_liao import fig19_monotonicity, online_rows
+from ilocalg.papers.comparison_liao import online_label as _label
+from ilocalg.papers.readings_liao import online_readings
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
 
@@ -29,43 +32,21 @@ TABLE_WINDOWS_S = (5.0, 10.0, 20.0)
 SWEEP_WINDOWS_S = (2.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0)
 
 
-def _label(w):
-    return f"Online {int(w)}sec"
-
-
 #: Window-grid offsets, as fractions of the window, averaged over (full and fast mode).
 OFFSET_FRACS = (0.0, 0.25, 0.5, 0.75)
 OFFSET_FRACS_FAST = (0.0, 0.5)
 
 
 def readings(stairs: str, offsets) -> pd.DataFrame:
-    """One row per modelling choice of the online-smoothing experiment (see also ins_constraints' readings)."""
-    rows = [
-        ("online smoother", "L169-L171, Fig 3", "RTS (eq. 8-10) on fixed time windows, run as each window fills",
-         "RTS on consecutive fixed windows; the last epoch of a window keeps its filtered value",
-         "paper"),
-        ("RTS gain", "L165 (eq. 10)", "G_k = P_k^update Phi_(k+1) P_(k+1)^predict as printed",
-         "G_k = P_k^update Phi_(k+1)^T (P_(k+1)^predict)^-1 (standard RTS gain)", "Shin (2005), as cited"),
-        ("window sizes", "L328-L330, Tables 8-11, Fig 19", "5, 10, 20 s; best 20 s", "5, 10, 20 s and a sweep",
-         "paper"),
-        ("window grid", "-", "not given (where the first window starts)",
-         f"averaged over grid offsets {tuple(offsets)} x window and over seeds; spread reported",
-         "no value in the paper: averaged instead of chosen"),
-        ("filter", "L328; L202", "WVC/ZUPT + indoor control points; both phones by the same algorithm",
-         f"as notebook 12 (stairs={stairs!r}: " + ("no stair handling on either phone)" if stairs == "none"
-                                                   else "not the same on both phones: the iPhone has no barometer)"),
-         "see ins_constraints readings"),
-        ("does the error fall with the window", "L464, L471-L473, Fig 19",
-         "best window 20 s; but Samsung N is worse at 20 s than at 10 s (mid-window error of windows without a "
-         "control point)", "fig19_monotonicity: RMS at 10 vs 20 s per phone and axis beside the paper's, rises "
-         "along the window sweep, Spearman correlation", "paper (Tables 8, 10 for the paper's differences)"),
-    ]
-    return readings_table([reading(c, "" if line == "-" else "Liao et al. (2016), " + line, text, code, src)
-                           for c, line, text, code, src in rows])
+    """One row per modelling choice (declared in :mod:`ilocalg.papers.readings_liao`; see also ins_constraints')."""
+    return online_readings(stairs, offsets)
 
 
 def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
-        sweep_windows_s=SWEEP_WINDOWS_S, offset_fracs=None, stairs: str = "none") -> dict[str, pd.DataFrame]:
+        sweep_windows_s=SWEEP_WINDOWS_S, offset_fracs=None, stairs: str = "none",
+        noise_factor: float = ins_walk.PHONE_NOISE_FACTOR, bias_instability_factor: float = 1.0,
+        time_jitter_sd_s: float = ins_walk.PHONE_TIME_JITTER_SD_S, rssi_sd_db: float = ins_walk.BLE_RSSI_SD_DB,
+        speed_mean_mps: float = ins_walk.LEVEL_SPEED_MEAN_MPS) -> dict[str, pd.DataFrame]:
     """Tables 8-11 and Fig 19 reproduced on simulated walks, averaged over seeds and window-grid offsets.
 
     Returns
@@ -85,6 +66,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
     ``stairs`` (default "none"): the WVC's stair handling, the same on both phones (L202; see ins_constraints).
     The ``comparison`` holds one row per published quantity: the "Filtering" rows of Tables 8 and 10 repeat
     Tables 4 and 6 and are compared in ins_constraints only.
+
+    ``noise_factor``, ``bias_instability_factor``, ``time_jitter_sd_s``, ``rssi_sd_db`` and ``speed_mean_mps``:
+    the simulated phones', beacons' and walkers' values the paper does not fix, as in ins_constraints.
     """
     n_seeds = n_seeds or (1 if fast else 6)
     offsets = tuple(float(f) for f in (offset_fracs if offset_fracs is not None
@@ -94,11 +78,13 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
     # Window lengths as floats (an int window from a caller or a sweep is the same window).
     windows = sorted({float(w) for w in sweep_windows_s} | {float(w) for w in TABLE_WINDOWS_S})
     rows, sweep, gcp_rows, traj = [], [], [], []
-    for phone, route, profile in PHONES:
+    gait_kw = {"speed_mean_mps": speed_mean_mps} if speed_mean_mps != ins_walk.LEVEL_SPEED_MEAN_MPS else None
+    for phone, route, name in PHONES:
+        profile = ins_walk.phone_profile(name, noise_factor, bias_instability_factor, time_jitter_sd_s)
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
-            walk = ins_walk.simulate(route, profile, seed=s)
+            walk = ins_walk.simulate(route, profile, seed=s, rssi_sd_db=rssi_sd_db, gait_kw=gait_kw)
             res = run_walk(walk, "wvc", use_gcp=True, stairs=stairs)
             G = rts_gains(res)
             ind = walk.t_s >= walk.t_indoor_s
@@ -106,7 +92,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
                 ws = window_sweep(res, windows, ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind], walk.gcp_t_s,
                                   gains=G, offset_frac=off)
                 if s == seed * n_seeds and off == offsets[0]:
-                    traj.append(_trajectory(phone, walk, ws.solutions, ind))
+                    sols = {k if k == "Filtering" else _label(k): ws.solutions[k][:2]
+                            for k in ["Filtering", *TABLE_WINDOWS_S]}
+                    traj.append(trajectory_frame(phone, walk, sols, ind, attitude="errors"))
                 for key, st in ws.stats.items():
                     if not isinstance(key, float) or key in TABLE_WINDOWS_S:
                         method = _label(key) if isinstance(key, float) else key
@@ -129,28 +117,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
             .agg(horizontal_sd="std", horizontal_min="min", horizontal_max="max").reset_index().assign(stat="rms"))
     sw = sw.merge(band, on=["phone", "window_s", "stat"], how="left")
     in_paper = errors[errors.method.isin(["Filtering"] + [_label(w) for w in TABLE_WINDOWS_S])]
-    comp = []
-    for phone, *_ in PHONES:
-        table = "Table 8" if phone == "Samsung" else "Table 10"
-        # "Filtering" of Tables 8 / 10 is Tables 4 / 6's Filtering + WVC/ZUPT + GCP: compared in ins_constraints
-        for method in [_label(w) for w in TABLE_WINDOWS_S]:
-            sel = errors[(errors.phone == phone) & (errors.method == method) & (errors.stat == "rms")].iloc[0]
-            for ax in ("N", "E", "H"):
-                comp.append(paper_ref(LIAO_2016, table, f"{phone} WVC/ZUPT/GCP {method}: RMS {ax} error",
-                                      paper_value(phone, method, "rms", ax), sel[ax], unit="m",
-                                      note=f"simulated walk, mean of {n_seeds} seed(s) x {len(offsets)} grid offsets"))
-        r = sw[(sw.phone == phone) & (sw.stat == "rms") & sw.window_s.isin(TABLE_WINDOWS_S)]
-        best = float(r.loc[r["horizontal"].idxmin(), "window_s"])
-        comp.append(paper_ref(LIAO_2016, "Fig 19", f"{phone}: best of the 5/10/20 s windows (horizontal RMS)",
-                              20.0, best, unit="s",
-                              note="paper: best window 20 s, 10-20 s recommended; not an independent test: a longer "
-                                   "window holds more control points by construction (L471), see fig19_monotonicity"))
-    mono = _monotonicity(sw)
-    for r in mono.itertuples():
-        if r.axis in ("N", "E", "H"):
-            comp.append(paper_ref(LIAO_2016, "Fig 19", f"{r.phone}: RMS {r.axis} at 20 s minus at 10 s",
-                                  r.paper_rise_10_to_20_m, r.rise_10_to_20_m, unit="m",
-                                  note="L471-L473: Samsung N rises from 10 to 20 s, the other cases fall"))
+    mono = fig19_monotonicity(sw)
+    comp = online_rows(errors, sw, mono, [ph for ph, *_ in PHONES], TABLE_WINDOWS_S, n_seeds, len(offsets))
     return {
         "errors": errors,
         "errors_per_seed": per_run,
@@ -176,47 +144,3 @@ def _measures(errors: pd.DataFrame, sweep: pd.DataFrame) -> pd.DataFrame:
     rows += [{"quantity": "rms horizontal error", "item": f"{r['phone']} window={r['window_s']:g}s",
               "value": float(r["horizontal"]), "unit": "m"} for _, r in sweep[sweep["stat"] == "rms"].iterrows()]
     return pd.DataFrame(rows)
-
-
-def _monotonicity(sw: pd.DataFrame) -> pd.DataFrame:
-    """Does the RMS error fall monotonically with the window (Fig 19, L471-L473)? One row per phone and axis,
-    over the finite online windows of the sweep (not the filter, window 0, nor the whole-run RTS)."""
-    from scipy.stats import spearmanr
-
-    rows = []
-    r = sw[sw.stat == "rms"]
-    for phone in r["phone"].unique():
-        d = r[(r.phone == phone) & (r.window_s > 0) & np.isfinite(r.window_s)].sort_values("window_s")
-        for ax in ("N", "E", "H", "horizontal"):
-            v = d[ax].to_numpy(float)
-            at = dict(zip(d["window_s"], v, strict=True))
-            if ax == "horizontal":
-                p10 = float(np.hypot(*[paper_value(phone, _label(10.0), "rms", a) for a in ("N", "E")]))
-                p20 = float(np.hypot(*[paper_value(phone, _label(20.0), "rms", a) for a in ("N", "E")]))
-            else:
-                p10, p20 = paper_value(phone, _label(10.0), "rms", ax), paper_value(phone, _label(20.0), "rms", ax)
-            rows.append({"phone": phone, "axis": ax, "rms_10s_m": at.get(10.0, np.nan),
-                         "rms_20s_m": at.get(20.0, np.nan),
-                         "rise_10_to_20_m": at.get(20.0, np.nan) - at.get(10.0, np.nan),
-                         "paper_rise_10_to_20_m": p20 - p10,
-                         "n_windows": len(v), "n_rises": int(np.sum(np.diff(v) > 0)),
-                         "monotone_falling": bool(np.all(np.diff(v) <= 0)),
-                         "spearman_rms_vs_window": float(spearmanr(d["window_s"], v).statistic)})
-    return pd.DataFrame(rows)
-
-
-def _trajectory(phone, walk, sols, ind):
-    """Per-epoch E, N, H and roll / pitch / heading errors (deg) of the truth, the filter and the online windows of
-    Tables 8-11 (first seed)."""
-    zero = np.zeros(walk.t_s.size)
-    frames = [pd.DataFrame({"phone": phone, "method": "Truth", "t_s": walk.t_s, "indoor": ind,
-                            "E": walk.pos_true_n_m[:, 0], "N": walk.pos_true_n_m[:, 1], "H": walk.pos_true_n_m[:, 2],
-                            "roll_err_deg": zero, "pitch_err_deg": zero, "heading_err_deg": zero})]
-    for key in ["Filtering", *TABLE_WINDOWS_S]:
-        pos, mat = sols[key][0], sols[key][1]
-        err = nav_errors(pos, mat, walk.pos_true_n_m, walk.mat_true_nb)
-        frames.append(pd.DataFrame({"phone": phone, "method": key if key == "Filtering" else _label(key),
-                                    "t_s": walk.t_s, "indoor": ind, "E": pos[:, 0], "N": pos[:, 1], "H": pos[:, 2],
-                                    "roll_err_deg": err["Roll"].to_numpy(), "pitch_err_deg": err["Pitch"].to_numpy(),
-                                    "heading_err_deg": err["Heading"].to_numpy()}))
-    return pd.concat(frames, ignore_index=True)

@@ -69,22 +69,20 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
-from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
-from ilocalg.papers.iloc import PUBLISHED
+from ilocalg.papers.comparison_iloc_photo import NEAR_COLLINEAR_PAPER, PAPER, fig30_rows
+from ilocalg.papers.readings_iloc_photo import GOOD_GUESS_SD_M, SENSITIVITY_GRID
+from ilocalg.papers.readings_iloc_photo import readings as _readings
 from ilocalg.photo import (
     homography_dlt,
     homography_pose,
-    look_at,
-    measured_view_angles_rad,
-    pnp_solve_batch,
-    project,
     square_marker_pose,
     st_error_propagation,
     st_solve_batch,
-    va_solve_batch,
     view_angles_rad,
 )
+from ilocalg.photo.combinations import combo_label, horizontal_error_cm, locate_methods
 from ilocalg.sim import photo_poi
+from ilocalg.sim.marker_views import MARKER_DEFAULTS, simulate_marker_views
 from ilocalg.units import as_rng
 
 __all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_DEFAULTS", "combo_label",
@@ -95,46 +93,6 @@ __all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_D
 METHODS = ("ST", "VAGIG", "VABIG")
 #: Methods shown in the per-shot / per-k tables: the thesis's three and VA started at the truth.
 SHOWN_METHODS = METHODS + ("VA_truth",)
-#: Spreads of the good initial guess swept by :func:`good_guess_sweep` (m per axis; 2.25 m is the default).
-GOOD_GUESS_SD_M = (0.5, 1.0, 2.25, 4.0)
-
-# Settings from the paper
-# -----------------------
-# PAPER: Chiu (2013) sec. 6.3 and Fig 30, reference only (never used to compute): ST and VABIG
-# errors with 2 and 7 PoIs (fig30_*) and the overall mean errors of ST, VAGIG and VABIG (mean_*), cm.
-# NEAR_COLLINEAR_PAPER: the PoI combinations Fig 32 names as nearly collinear (1-based).
-PAPER = PUBLISHED["photo_positioning"]
-
-#: The combinations the thesis names as nearly collinear in Fig 32 (paper: 1-based PoI numbers).
-NEAR_COLLINEAR_PAPER = ((1, 3), (1, 4), (5, 6), (1, 3, 4))
-
-_PAPER_LABEL = PAPERS["iloc"]
-
-
-def combo_label(combo) -> str:
-    """``(0, 2)`` -> ``"{1,3}"`` (1-based PoI numbers, as in the thesis)."""
-    return "{" + ",".join(str(i + 1) for i in combo) + "}"
-
-
-def _horizontal_error_cm(c_est, c_true):
-    return 100.0 * np.hypot(c_est[..., 0] - c_true[..., 0], c_est[..., 1] - c_true[..., 1])
-
-
-def _homography_batch(pois_m, img_px, f_px):
-    """World centres (B, 3) from PoIs on the wall y = 0 (plane axes x and z)."""
-    XY = pois_m[..., [0, 2]]
-    out = np.empty((img_px.shape[0], 3))
-    for b in range(img_px.shape[0]):
-        pose = homography_pose(homography_dlt(XY[b], img_px[b]), f_px)
-        # plane frame (e1 = x, e2 = z, e3 = e1 x e2 = -y) -> world
-        cp = pose.c_plane_m
-        out[b] = [cp[0], -cp[2], cp[1]]
-    return out
-
-
-def _coplanar_on_end_wall(P) -> np.ndarray:
-    """(B,) True where every PoI of a combination lies on the end wall y = 0 (the homography's plane)."""
-    return np.all(np.abs(P[..., 1]) < 1e-9, axis=-1)
 
 
 def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = False,
@@ -183,26 +141,10 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         Tm = np.repeat(sim.T_meas, C, axis=0)
         Tt = np.repeat(sim.T_true, C, axis=0)
         ctrue = np.repeat(sim.c_m, C, axis=0)
-        est = {}
-        st = st_solve_batch(P, U, f, Tm)
-        if np.any(st["rank"] < 3):
-            raise ValueError("ST system rank deficient in the simulated set-up; the layout is degenerate")
-        est["ST"] = st["c_m"]
-        est["ST_true_orientation"] = st_solve_batch(P, U, f, Tt)["c_m"]
-        ang = measured_view_angles_rad(U, f)
-        for name, c0 in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m), ("VA_truth", sim.c_m)):
-            va = va_solve_batch(P, ang, np.repeat(c0, C, axis=0), max_iter=va_max_iter, free_z=va_free_z,
-                                step_tol_m=1e-6)
-            est[name] = va["c_m"]
-            conv_rows.append({"method": name, "k": k, "converged_share": float(va["converged"].mean()),
-                              "mean_iterations": float(va["n_iter"].mean())})
-        if k >= 4:
-            est["PnP_SQPnP"] = pnp_solve_batch(P, U, f)
-            hom = np.full((N * C, 3), np.nan)
-            planar = _coplanar_on_end_wall(P)
-            if planar.any():
-                hom[planar] = _homography_batch(P[planar], U[planar], f)
-            est["homography"] = hom
+        c0 = {name: np.repeat(c, C, axis=0) for name, c in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m),
+                                                           ("VA_truth", sim.c_m))}
+        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z)
+        conv_rows += [{"method": c.pop("method"), "k": k, **c} for c in conv]
         cond = st["cond"].reshape(N, C)
         va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
         for j, combo in enumerate(combos):
@@ -214,7 +156,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         labels = np.tile(np.array([combo_label(c) for c in combos], dtype=object), N)
         for name, c in est.items():
             rows.append(pd.DataFrame({"photo": photo, "shot": shot + 1, "k": k, "combo": labels, "method": name,
-                                      "error_cm": _horizontal_error_cm(c, ctrue)}))
+                                      "error_cm": horizontal_error_cm(c, ctrue)}))
     errors = pd.concat(rows, ignore_index=True)
     bad_rows = ~np.isfinite(errors["error_cm"]) & (errors["method"] != "homography")
     if bad_rows.any():
@@ -312,15 +254,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
 
     overall = thesis.groupby("method")["error_cm"].mean()
     k_means = per_k.set_index("k")
-    comp = []
-    for k, m in ((2, "ST"), (7, "ST"), (2, "VABIG"), (7, "VABIG")):
-        if k in ks:
-            comp.append(paper_ref(_PAPER_LABEL, "Fig 30", f"{m} mean error, {k} PoIs", PAPER[f"fig30_{m}_k{k}_cm"],
-                                  k_means.loc[k, m], "cm"))
-    if ks == [2, 3, 4, 5, 6, 7]:
-        for m in METHODS:
-            comp.append(paper_ref(_PAPER_LABEL, "Figs 29-30", f"{m} overall mean error", PAPER[f"mean_{m}_cm"],
-                                  overall[m], "cm", note="paper-style mean over 120 combinations x 7 shooting points"))
+    comp = fig30_rows(k_means, overall, ks, METHODS)
     comparison = pd.DataFrame(comp)
     inputs = pd.DataFrame({"parameter": [k for k in p if k != "layout"],
                            "value": [float(v) for k, v in p.items() if k != "layout"]})
@@ -354,7 +288,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         "comparison": comparison,
         "layout_check": photo_poi.check_layout(layout, f_px=f, width_px=int(p["width_px"]),
                                                height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
-        "readings": readings(layout=layout, va_free_z=va_free_z, good_guess_sd_m=p["good_guess_sd_m"]),
+        "readings": readings(layout, va_free_z, **{k: v for k, v in p.items() if k in photo_poi.DEFAULTS}),
         "errors": errors,
         "measures": pd.concat([pd.DataFrame(meas), _marker_measures(seed, fast)], ignore_index=True),
     }
@@ -370,51 +304,10 @@ def _marker_measures(seed: int, fast: bool) -> pd.DataFrame:
                          for r in t.itertuples() for key, name in (("homography", "homography"), ("ippe", "IPPE"))])
 
 
-def readings(layout: str = photo_poi.DEFAULT_LAYOUT, va_free_z: bool = False,
-             good_guess_sd_m: float = photo_poi.DEFAULTS["good_guess_sd_m"]) -> pd.DataFrame:
-    """One row per modelling choice of :func:`run`: what the thesis says (with its line) and what the code does.
-
-    Line numbers are lines of the thesis's text copy (i-Loc thesis, Chiu 2013). Earlier readings of
-    the toolkit appear as labelled sensitivity rows.
-    """
-    rows = [
-        ("PoI layout", "L658, L688, L696, L707; Figs 27-28",
-         "7 PoIs on the walls; 7 test points 1 m apart; distance from p4 grows t1->t7; smallest view angles "
-         "p3-t7-p4 and p4-t7-p5; {1,2}, {6,7} nearer than {3,4}, {3,5}, {4,5}, {3,4,5}; p1, p3-p6 on one "
-         "horizontal line; coordinates only in Fig 28 (missing)",
-         f"layout {getattr(layout, 'name', layout)!r}: a layout satisfying every constraint (layout_check)",
-         "assumption: both families that satisfy the text are swept in layout_sweep (spread reported): rooms "
-         "A-G (7 of the 33 satisfying room-grid members) and one-wall layouts W1-W4 (4 of the 9 satisfying "
-         "one-wall grid members); layout_sweep(layouts='all') runs all 42"),
-        ("PoI layout (earlier reading)", "L707", "as above",
-         "'row': seven PoIs 0.4 m apart in a row on one wall, test line straight away from it",
-         "sensitivity row only: violates L696 and L707 (one wall as such does not: W1-W4)"),
-        ("ST", "L664-680, eq. (29)-(30)", "similar triangles with T_E->AR from accelerometer and magnetometer; "
-         "least squares over the PoIs", "linear least squares over the PoIs with the measured orientation",
-         "thesis"),
-        ("VA cost function", "L694", "VA is a gradient algorithm that depends on its initial value; no equation",
-         "sum of squared differences between measured and predicted PoI-pair view angles, gradient descent",
-         "the toolkit's own (the thesis gives no VA equation)"),
-        ("VA search space", "L672 (output c = [c_x c_y c_z])", "the camera centre",
-         "3-D search" if va_free_z else "floor position at the known phone height (2-D)",
-         "assumption; the other search space is a sensitivity row (va_free_z)"),
-        ("VAGIG initial guess", "L652, L694", "a good initial view angle; the user first gives a rough position",
-         f"true position + N(0, {good_guess_sd_m:g} m) per axis, inside the room",
-         "i-Loc PTS + Wi-Fi fix error 2.82 m mean (thesis sec. 5.2) -> 2.25 m per axis; swept in good_guess_sweep"),
-        ("VABIG initial guess", "L694", "a bad initial view angle", "uniform over the room floor",
-         "assumption"),
-        ("VA started at the truth", "", "silent", "VA from the true centre: VA's floor of error",
-         "diagnostic"),
-        ("photos per shooting point", "L696", "not given", "10 (fast: 1)", "assumption"),
-        ("drag, tilt, heading errors, focal length", "L656-658 (Fig 25)", "the user drags PoI markers; "
-         "orientation from accelerometer and magnetometer; no error values",
-         "drag 12 px, tilt 1 deg, heading 5 deg, f 1045 px", "data/photo_poi/README.md (published measurements); "
-         "swept in sensitivity"),
-        ("error measure", "L696, L702", "mean positioning error in cm", "horizontal (floor) error, cm",
-         "thesis (the floor map is 2-D)"),
-    ]
-    return readings_table([reading(c, f"Chiu 2013, {ln}" if ln.startswith("L") else ln, t, d, src)
-                           for c, ln, t, d, src in rows])
+def readings(layout: str = photo_poi.DEFAULT_LAYOUT, va_free_z: bool = False, **sim_params) -> pd.DataFrame:
+    """One row per modelling choice of :func:`run` (declared in :mod:`ilocalg.papers.readings_iloc_photo`);
+    ``sim_params`` override :data:`ilocalg.sim.photo_poi.DEFAULTS` as in the run."""
+    return _readings(getattr(layout, "name", layout), va_free_z, {**photo_poi.DEFAULTS, **sim_params})
 
 
 def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5, 6, 7)) -> dict[str, pd.DataFrame]:
@@ -478,16 +371,6 @@ def good_guess_sweep(seed: int = 0, fast: bool = False, sds=GOOD_GUESS_SD_M, ks=
     return pd.DataFrame(rows)
 
 
-#: Input values tried by :func:`sensitivity` (one input changed at a time from the defaults).
-SENSITIVITY_GRID = (
-    ("drag_sd_px", (3.0, 6.0, 12.0, 24.0)),
-    ("yaw_sd_deg", (1.0, 2.5, 5.0, 10.0)),
-    ("tilt_sd_deg", (0.5, 1.0, 2.0)),
-    ("good_guess_sd_m", (0.5, 1.0, 2.25)),
-    ("va_free_z", (False, True)),
-)
-
-
 def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_GRID) -> pd.DataFrame:
     """How the ST / VA errors move when one simulation input changes (all others at their defaults).
 
@@ -511,23 +394,14 @@ def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_G
     return pd.DataFrame(rows)
 
 
-#: Inputs of :func:`marker_ranging` (assumptions, documented in data/photo_poi/README.md).
-MARKER_DEFAULTS = {
-    "side_m": 0.18,
-    "centre_height_m": 1.5,
-    "bearing_max_deg": 30.0,
-    "height_sd_m": 0.1,
-    "roll_sd_deg": 2.0,
-}
-
-
 def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0, 4.0, 5.0),
                    corner_sd_px=(0.5, 1.0, 2.0), f_px: float = photo_poi.DEFAULTS["f_px"],
                    **marker) -> pd.DataFrame:
     """Distance to a square planar marker (a QR code) from its four corners by ``H = K [r1 r2 t]``.
 
     The phone looks at a marker of side ``side_m`` on the wall from ``distance`` metres, at a bearing
-    uniform in ``+-bearing_max_deg`` off the wall's normal; the four detected corners get independent
+    uniform in ``+-bearing_max_deg`` off the wall's normal (:func:`ilocalg.sim.marker_views.simulate_marker_views`,
+    ``marker`` overrides its :data:`MARKER_DEFAULTS`); the four detected corners get independent
     ``N(0, corner_sd^2)`` errors per axis. The homography is estimated by the normalised DLT and
     decomposed (:func:`ilocalg.photo.homography_pose`); the range ``l = ||t||`` and the camera centre
     are scored, beside OpenCV's IPPE (:func:`ilocalg.photo.square_marker_pose`) on the same corners.
@@ -542,26 +416,13 @@ def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0
     ----------
     Ye and Huang (survey), sec. 4, eq. (3)-(5) and Fig 8 (distance from the 2-D code to the camera).
     """
-    unknown = sorted(set(marker) - set(MARKER_DEFAULTS))
-    if unknown:
-        raise ValueError(f"unknown marker parameters {unknown}; known: {sorted(MARKER_DEFAULTS)}")
-    m = {**MARKER_DEFAULTS, **marker}
     rng = as_rng(seed)
     n = 50 if fast else 500
-    h = m["side_m"] / 2
-    XY = np.array([[-h, -h], [h, -h], [h, h], [-h, h]])
-    centre = np.array([0.0, 0.0, m["centre_height_m"]])
-    world = np.c_[XY[:, 0], np.zeros(4), centre[2] + XY[:, 1]]
+    side_m = {**MARKER_DEFAULTS, **marker}["side_m"]
     rows = []
     for d in distances_m:
-        if d <= 0:
-            raise ValueError(f"distances_m must be positive, got {d}")
-        bearing = np.deg2rad(rng.uniform(-m["bearing_max_deg"], m["bearing_max_deg"], n))
-        dz = m["height_sd_m"] * rng.standard_normal(n)
-        horiz = np.sqrt(np.maximum(d * d - dz * dz, 0.0))
-        c = np.c_[horiz * np.sin(bearing), horiz * np.cos(bearing), centre[2] + dz]
-        T = look_at(c, centre, np.deg2rad(m["roll_sd_deg"]) * rng.standard_normal(n))
-        img_true = project(world, c, T, f_px)
+        v = simulate_marker_views(rng, d, n, f_px, **marker)
+        XY, centre, c, img_true = v.corners_plane_m, v.centre_m, v.c_m, v.img_true_px
         width_px = float(np.mean(np.linalg.norm(img_true[:, 1] - img_true[:, 0], axis=1)))
         for sd in corner_sd_px:
             img = img_true + sd * rng.standard_normal(img_true.shape)
@@ -573,7 +434,7 @@ def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0
                     if name == "homography":
                         pose = homography_pose(homography_dlt(XY, img[b]), f_px)
                     else:
-                        pose = square_marker_pose(img[b], m["side_m"], f_px)
+                        pose = square_marker_pose(img[b], side_m, f_px)
                     rng_err[b] = pose.distance_m - np.linalg.norm(c[b] - centre)
                     cp = pose.c_plane_m  # plane frame: e1 = x, e2 = z, e3 = -y
                     pos_err[b] = np.linalg.norm(centre + np.array([cp[0], -cp[2], cp[1]]) - c[b])

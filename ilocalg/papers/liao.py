@@ -21,7 +21,7 @@ import numpy as np
 
 from ilocalg.ins.paper_values import paper_value as pv
 from ilocalg.papers._claim_helpers import decided, gmean, gmean_ratio, max_of, mean_of, mean_spearman, rss, stat
-from ilocalg.papers.claims import Claim, M, constant, diff
+from ilocalg.papers.claims import Assumption, Claim, M, constant, diff
 
 __all__ = ["CLAIMS"]
 
@@ -44,6 +44,33 @@ _NOGCP = decided(_NB13, "Windows without a control point")
 _STUDY = decided("15_sweep_studies", "2 Online INS smoothing: error vs window size, with and without a control "
                                      "point in the window")
 _METHOD12 = decided(_NB12, "The method: Liao et al. 2016 eq. (1)-(10)")
+
+
+def _assumptions(exp: str) -> dict:
+    """The simulated phones', beacons' and walkers' values the paper does not fix (keywords of ``exp.run``),
+    with the range each is swept over and where it comes from."""
+    return {
+        "noise": Assumption(exp, "noise_factor", 1.0, 5.0, "white noise over the MPU-6500 datasheet densities: "
+                            "no value for these phones (the paper's IMU calibration, Liao et al. 2014, is not "
+                            "available here); x1 (datasheet) to x5 about the assumed x3"),
+        "bias": Assumption(exp, "bias_instability_factor", 0.0, 3.0, "Gauss-Markov bias instability (0.5 mg / "
+                           "20 deg/h, 300 s): not given (L178, L202); x0 to x3 (assumed order of consumer-MEMS "
+                           "Allan-variance studies)"),
+        "jitter": Assumption(exp, "time_jitter_sd_s", 0.0, 0.03, "time-tag error: 'about 20 Hz, unstable, poor time "
+                             "tags' (L324), no value; 0-30 ms about the assumed 10 ms"),
+        "rssi": Assumption(exp, "rssi_sd_db", 2.0, 8.0, "the control-point beacons' per-packet RSSI scatter: not "
+                           "given (L73, L202); 4-6 dB in vendor stability tests (a weak source), swept 2-8 dB"),
+        "speed": Assumption(exp, "speed_mean_mps", 1.24, 1.56, "the walkers' mean level speed: not described; "
+                            "1.40 m/s (Bohannon 1997) +- one between-walker sd (0.16 m/s)"),
+    }
+
+
+_AC, _AO = _assumptions("ins_constraints"), _assumptions("ins_online")
+#: position claims of the filter (all five), attitude claims (no control-point scatter), the time-sync claim
+_A_POS = tuple(_AC.values())
+_A_ATT = (_AC["noise"], _AC["bias"], _AC["jitter"], _AC["speed"])
+_A_SYNC = (_AC["jitter"], _AC["noise"], _AC["bias"])
+_A_ONLINE = tuple(_AO.values())
 
 
 def _c(stat_: str, axis: str, phone: str, method: str):
@@ -140,7 +167,7 @@ CLAIMS = (
         paper_value=_paper_ratio(_WVC, _NHC),
         paper_text="14.8002 5.1419 3.6398 -> 1.9790 5.4046 3.7849; 4.6846 14.5990 3.4490 -> 8.9068 3.7412 1.1919",
         statistic=_R_RMS,
-        expect="<1", decided_in=_POS12),
+        expect="<1", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-wvc-beats-nhc-max", _P, (222, 223, 277, 278, 316), "improvement",
         "WVC lowers the filter's maximum position error against NHC (42.4 -> 12.7 m, 82.7 -> 15.2 m).",
@@ -148,7 +175,7 @@ CLAIMS = (
         paper_text="42.4434 17.8689 9.1891 -> 8.2482 12.6542 8.1319; 18.0619 82.6971 6.8075 -> 15.2382 10.5535 "
                    "4.2622",
         statistic=_R_MAX,
-        expect="<1", decided_in=_POS12),
+        expect="<1", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-wvc-especially-max", _P, (222, 223, 228, 229, 277, 278, 283, 284, 316), "ordering",
         "WVC helps especially the maximum error: its ratio to NHC is lower on the maximum than on the RMS.",
@@ -156,7 +183,7 @@ CLAIMS = (
         statistic=stat(_R_MAX.refs + _R_RMS.refs,
                        lambda *v: _R_MAX(*v[:len(_R_MAX.refs)]) / _R_RMS(*v[len(_R_MAX.refs):]),
                        "(max ratio WVC/NHC) / (RMS ratio WVC/NHC)", "ratio"),
-        expect="<1", decided_in=_POS12),
+        expect="<1", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-wvc-rms-under-10m", _P, (229, 284, 316), "value",
         "With WVC and no control point the real-time filter keeps the RMS error within 10 m (default model "
@@ -165,14 +192,14 @@ CLAIMS = (
         paper_text="10; 1.9790 5.4046 3.7849; 8.9068 3.7412 1.1919",
         statistic=max_of([_c("rms", ax, ph, _WVC) for ph in _PHONES for ax in _POS],
                          "largest per-axis RMS error, WVC/ZUPT filter, both phones", "m"),
-        expect="<10", decided_in=_POS12),
+        expect="<10", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-gcp-improves", _P, (229, 230, 284, 285, 318), "improvement",
         "Indoor control points correct the drifted track and the residual WVC error.",
         paper_value=_paper_ratio(_GCP, _WVC),
         paper_text="1.9790 5.4046 3.7849 -> 1.2300 0.9918 0.8697; 8.9068 3.7412 1.1919 -> 0.9885 1.6341 0.9695",
         statistic=_ratio_pos(_c, _GCP, _WVC, label="RSS RMS error WVC/ZUPT + GCP / WVC/ZUPT, geometric mean"),
-        expect="<1", decided_in=_POS12),
+        expect="<1", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-gcp-1-2m", _P, (230, 285, 318), "value",
         "With control points the position RMSE comes down to 1-2 m.",
@@ -180,14 +207,14 @@ CLAIMS = (
         paper_text="1 2; 1.2300 0.9918 0.8697; 0.9885 1.6341 0.9695",
         statistic=max_of([_c("rms", ax, ph, _GCP) for ph in _PHONES for ax in _POS],
                          "largest per-axis RMS error, WVC/ZUPT + GCP filter, both phones", "m"),
-        expect="<2", decided_in=_POS12),
+        expect="<2", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-rts-beats-filter", _P, (230, 231, 285, 286, 320), "improvement",
         "Post-processed (RTS) smoothing lowers the error of the filter with WVC/ZUPT and control points.",
         paper_value=_paper_ratio(_SM, _GCP),
         paper_text="1.2300 0.9918 0.8697 -> 0.3470 0.3967 0.1928; 0.9885 1.6341 0.9695 -> 0.5507 0.5810 0.2295",
         statistic=_ratio_pos(_c, _SM, _GCP, label="RSS RMS error smoothing / filtering (WVC/ZUPT + GCP)"),
-        expect="<1", decided_in=_POS12),
+        expect="<1", assumptions=_A_POS, decided_in=_POS12),
     Claim(
         "liao-rts-50cm", _P, (231, 286, 320), "value",
         "The post-processed smoothed track's position error is about 50 cm.",
@@ -195,14 +222,14 @@ CLAIMS = (
         paper_text="50; 0.3470 0.3967; 0.5507 0.5810",
         statistic=mean_of([_c("rms", ax, ph, _SM) for ph in _PHONES for ax in ("N", "E")],
                           "mean horizontal per-axis RMS error, smoothing, both phones", "m"),
-        decided_in=_POS12, note="read on the horizontal axes (N, E), the 50 cm the text names"),
+        assumptions=_A_POS, decided_in=_POS12, note="read on the horizontal axes (N, E), the 50 cm the text names"),
     Claim(
         "liao-chain", _P, (316, 318, 320), "ordering",
         "The position error falls at every step NHC/ZUPT -> WVC/ZUPT -> + control points -> + smoothing, on both "
         "phones.",
         paper_value=-1.0, paper_text="",
         statistic=_chain_stat(),
-        expect="<-0.9", decided_in=_POS12,
+        expect="<-0.9", assumptions=_A_POS, decided_in=_POS12,
         note="RSS of the per-axis RMS errors per method; -1 when the error falls at every step on both phones"),
     Claim(
         "liao-pitch-max-30-to-10", _P, (244, 245, 322), "improvement",
@@ -211,7 +238,7 @@ CLAIMS = (
         paper_text="30 10; 30.9506; 10.7497",
         statistic=stat([_c("max", "Pitch", "Samsung", _WVC), _c("max", "Pitch", "Samsung", _NHC)],
                        lambda a, b: a / b, "Samsung max pitch error WVC/ZUPT / NHC/ZUPT", "ratio"),
-        expect="<1", decided_in=_ATT12),
+        expect="<1", assumptions=_A_ATT, decided_in=_ATT12),
     Claim(
         "liao-gcp-attitude-flat", _P, (251, 252, 306, 307, 322), "ratio",
         "Control points do not noticeably change the attitude error (position updates barely correct attitude).",
@@ -222,7 +249,7 @@ CLAIMS = (
                                                                              _c("rms", ax, ph, _WVC))],
                        lambda *v: float(np.mean(np.asarray(v[0::2]) / np.asarray(v[1::2]))),
                        "mean RMS roll/pitch ratio, + GCP / WVC/ZUPT, both phones", "ratio"),
-        decided_in=_ATT12),
+        assumptions=_A_ATT, decided_in=_ATT12),
     Claim(
         "liao-attitude-rms-under-2deg", _P, (251, 252, 306, 307, 322), "value",
         "WVC/ZUPT, with or without control points, keeps the roll and pitch RMSE within 2 degrees.",
@@ -230,14 +257,14 @@ CLAIMS = (
         paper_text="2; 1.6406 1.6758; 1.6132 1.6947; 1.2675 1.6899; 1.2703 1.6635",
         statistic=max_of([_c("rms", ax, ph, m) for ph in _PHONES for m in (_WVC, _GCP) for ax in _ROLL_PITCH],
                          "largest RMS roll/pitch error, WVC/ZUPT with and without GCP", "deg"),
-        expect="<2", decided_in=_ATT12),
+        expect="<2", assumptions=_A_ATT, decided_in=_ATT12),
     Claim(
         "liao-max-roll-pitch-under-10deg", _P, 322, "value",
         "WVC/ZUPT, with or without control points, keeps the maximum roll and pitch error within 10 degrees.",
         paper_value=None, paper_text="10",
         statistic=max_of([_c("max", ax, ph, m) for ph in _PHONES for m in (_WVC, _GCP) for ax in _ROLL_PITCH],
                          "largest max roll/pitch error, WVC/ZUPT with and without GCP", "deg"),
-        expect="<10", decided_in=_ATT12),
+        expect="<10", assumptions=_A_ATT, decided_in=_ATT12),
     Claim(
         "liao-max-attitude-table-vs-text", _P, (245, 246, 322), "consistency",
         "The text's 'maximum attitude error within 10 degrees' with WVC/ZUPT (+ GCP) against Table 5.",
@@ -254,7 +281,7 @@ CLAIMS = (
                           item=_SYNC_ITEM.format(ph=ph, lag=lag)) for ph in _PHONES for lag in ("0.05", "0")],
                        lambda a, b, c, d: gmean([a / b, c / d]),
                        "max heading error with the reference read 0.05 s late / on time, geometric mean", "ratio"),
-        expect=">1", decided_in=_SYNC12,
+        expect=">1", assumptions=_A_SYNC, decided_in=_SYNC12,
         note="a lag of one sample at 20 Hz (0.05 s); the paper gives no lag value"),
     Claim(
         "liao-online-beats-filter", _P, (353, 356, 421, 424, 464), "improvement",
@@ -263,14 +290,14 @@ CLAIMS = (
         paper_value=_paper_ratio(_online(20), "Filtering"),
         paper_text="1.2300 0.9918 0.8697 -> 0.6913 0.6346 0.3586; 0.9885 1.6341 0.9695 -> 0.6907 0.7679 0.4985",
         statistic=_ratio_pos(_o, _online(20), "Filtering", label="RSS RMS error online 20 s / filtering"),
-        expect="<1", decided_in=_POS13),
+        expect="<1", assumptions=_A_ONLINE, decided_in=_POS13),
     Claim(
         "liao-rts-beats-online", _P, (231, 286, 356, 424), "ordering",
         "Whole-run (post-processed) RTS smoothing stays better than online smoothing with 20 s windows.",
         paper_value=_paper_ratio("RTS", _online(20), ma=_SM),
         paper_text="0.3470 0.3967 0.1928; 0.5507 0.5810 0.2295; 0.6913 0.6346 0.3586; 0.6907 0.7679 0.4985",
         statistic=_ratio_pos(_o, "RTS (whole run)", _online(20), label="RSS RMS error whole-run RTS / online 20 s"),
-        expect="<1", decided_in=_POS13,
+        expect="<1", assumptions=_A_ONLINE, decided_in=_POS13,
         note="paper: RTS from Tables 4 and 6, online from Tables 8 and 10 (the same walks)"),
     Claim(
         "liao-window-trend", _P, (354, 355, 356, 422, 423, 424, 464, 466), "trend",
@@ -281,7 +308,7 @@ CLAIMS = (
                    "0.8574 1.2766 0.6265; 0.6907 0.7679 0.4985",
         statistic=mean_spearman([[_o("rms", ax, ph, _online(w)) for w in _WINDOWS] for ph in _PHONES for ax in _POS],
                                 _WINDOWS, "mean Spearman rho of RMS N/E/H vs window 5/10/20 s, both phones"),
-        expect="<0", decided_in=_FIG19),
+        expect="<0", assumptions=_A_ONLINE, decided_in=_FIG19),
     Claim(
         "liao-samsung-n-20s-rises", _P, (355, 356, 471, 473), "ordering",
         "The error does not fall monotonically with the window: Samsung-N's RMSE is larger with 20 s windows than "
@@ -289,12 +316,12 @@ CLAIMS = (
         paper_value=pv("Samsung", _online(20), "rms", "N") - pv("Samsung", _online(10), "rms", "N"),
         paper_text="0.6484; 0.6913; 20",
         statistic=diff(_o("rms", "N", "Samsung", _online(20)), _o("rms", "N", "Samsung", _online(10)), "m"),
-        expect=">0", decided_in=_FIG19),
+        expect=">0", assumptions=_A_ONLINE, decided_in=_FIG19),
     Claim(
         "liao-diminishing-returns", _P, (355, 356, 423, 424, 481), "ordering",
         "A 20 s window improves little on a 10 s window: the gain shrinks as the window grows.",
         paper_value=_gain_ratio_paper(), paper_text="20; 10",
-        statistic=_gain_ratio_stat(), expect="<1", decided_in=_FIG19,
+        statistic=_gain_ratio_stat(), expect="<1", assumptions=_A_ONLINE, decided_in=_FIG19,
         note="pooled over phones on the RSS of the RMS N, E, H errors"),
     Claim(
         "liao-iphone-gains-grow", _P, (422, 423, 424, 481), "consistency",
@@ -347,7 +374,7 @@ CLAIMS = (
                                                                              _o("rms", ax, ph, "Filtering"))],
                        lambda *v: gmean(np.asarray(v[0::2]) / np.asarray(v[1::2])),
                        "RMS roll/pitch online 20 s / filtering, geometric mean over phones and axes", "ratio"),
-        expect="<1", decided_in=_ATT13),
+        expect="<1", assumptions=_A_ONLINE, decided_in=_ATT13),
     Claim(
         "liao-roll-pitch-random", _P, (383, 391, 483), "consistency",
         "Comparing the STD and RMSE of pitch and roll, the attitude's systematic error is small and mostly "

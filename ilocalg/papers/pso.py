@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from ilocalg.papers._claim_helpers import decided, gmean, mean_of, stat
-from ilocalg.papers.claims import Claim, M, constant, diff, ratio, value
+from ilocalg.papers.claims import Assumption, Claim, M, constant, diff, ratio, value
 
 __all__ = ["PAPER_TABLE_5_2", "PAPER_PHASE2_A1", "PAPER_COMPASS_RMS", "K_FIXED_PAPER", "TABLE_3_2", "CLAIMS"]
 
@@ -66,6 +66,25 @@ _METHOD = decided(_NB, "The method: PSO (Chao 2008) eq. (2.5), (3.5)-(3.6), (4.1
 _PSO_IT = decided(_NB, "PSO iterations for A1 (Figs 5.11-5.12)")
 _STUDY = decided("15_sweep_studies", "4 PSO: convergence vs swarm size and inertia schedule")
 _COMPASS_ITEM = "Sec 5.1.3"
+
+# Assumptions: the simulated walks' values the thesis does not fix (keywords of pso_k_factor.run), with the
+# measured or published range each is swept over.
+_A_ACC = Assumption(_EXP, "acc_noise_mps2", 0.05, 0.20, "HAAM-325B accelerometer noise: not in the thesis (ref. "
+                    "[34]); 0.05-0.20 m/s^2 around the assumed 0.10 (the +-RMS band follows it)")
+_A_AMP = Assumption(_EXP, "step_amp_cv", 0.16, 0.27, "per-step amplitude scatter beyond the pendulum's, from the "
+                    "ILC 2020 site2/F4 walks' Amax-Amin CV, IQR 0.18-0.28 over 19 walks (pdr.k_walks.ilc_k_study), "
+                    "less the pendulum's 0.085 in quadrature")
+_A_STEP = Assumption(_EXP, "step_cv", 0.015, 0.05, "step length and duration CV of normal gait, 1.5-5 % "
+                     "(Hausdorff 2005); the thesis says only 'steps as even as possible' (L771)")
+_A_TAU = Assumption(_EXP, "gps_open_tau_s", 5.0, 300.0, "correlation time of the open-sky GPS error: not in the "
+                    "text (L750-752 give only the bound); 5-300 s (assumption)", log=True)
+_A_GPS95 = Assumption(_EXP, "gps_static_95_m", 0.75, 1.5, "the static GPS test: 'better than 1.5 m' (L750-752), "
+                      "an upper bound; read as the 95 % radius, half of it to all of it")
+_A_ROUTE = Assumption(_EXP, "route_scale", 0.95, 1.05, "true route length over the thesis's GPS distance: the walk's "
+                      "length is known only from GPS (Table 5-2); +-5 % (assumption)")
+_A_STEPS = (_A_ACC, _A_AMP, _A_STEP)
+_A_K = (_A_ACC, _A_AMP, _A_STEP, _A_TAU, _A_GPS95, _A_ROUTE)
+_A_GPS = (_A_TAU, _A_GPS95)
 
 
 def _m(quantity: str, item: str | None = None):
@@ -177,27 +196,27 @@ CLAIMS = (
         "The slope sign-change detector with the +-RMS band (Fig 3.9) counts the steps within a few: A1 216 of 217, "
         "all six walkers within 1.6 % on average.",
         paper_value=_STEP_ERR_PCT, paper_text="217 216; 217(216) 116(115) 128(123) 108(110) 118(116) 106(107)",
-        statistic=value(_m("mean |detected - true| / true steps"), "%"), decided_in=_T52,
+        statistic=value(_m("mean |detected - true| / true steps"), "%"), assumptions=_A_STEPS, decided_in=_T52,
         note="mean over walkers of |detected - true| / true; the true counts are the walk design (input), the "
              "detected ones a result"),
     Claim(
         "pso-k-mean", _P, (930, 931, 932, 933, 934, 935), "value",
         "The Weinberg k learned by PSO for the six walkers averages 0.497 (Table 5-2).",
         paper_value=float(np.mean(_K)), paper_text="0.444 0.489 0.477 0.554 0.494 0.522",
-        statistic=value(_m("mean k (PSO)")), decided_in=_T52,
+        statistic=value(_m("mean k (PSO)")), assumptions=_A_K, decided_in=_T52,
         note="k emerges from the simulated gait (leg length, step length, cadence), it is not an input"),
     Claim(
         "pso-k-range", _P, (930, 931, 932, 933, 934, 935), "value",
         "The learned k spans 0.444 to 0.554 across the six walkers (a range of 0.110).",
         paper_value=max(_K) - min(_K), paper_text="0.444 0.554",
         statistic=stat([_m("max k (PSO)"), _m("min k (PSO)")], lambda a, b: a - b, "max k - min k"),
-        decided_in=_T52),
+        assumptions=_A_K, decided_in=_T52),
     Claim(
         "pso-k-same-leg-differs", _P, (930, 931, 932, 937), "value",
         "Walkers with the same leg length have different k (A1, A2, A3 at 94 cm: 0.444, 0.489, 0.477), contrary to "
         "Lei Fang's one K per leg length.",
         paper_value=0.489 - 0.444, paper_text="A1(94) 0.444; A2(94) 0.489; A3(94) 0.477",
-        statistic=value(_m("k range among the 94 cm walkers")), decided_in=_T52,
+        statistic=value(_m("k range among the 94 cm walkers")), assumptions=_A_K, decided_in=_T52,
         note="range of k among the three 94 cm walkers; the simulated walkers share the leg length and differ in "
              "speed and heel-strike harmonic (literature spreads), not by a k given to them"),
     Claim(
@@ -206,7 +225,8 @@ CLAIMS = (
         "is the mean shortfall, 100 - accuracy).",
         paper_value=_ACC_GAP_PCT, paper_text="98.7 96.7 94.2 96.6 95.7 97.5",
         statistic=stat([_m("mean accuracy vs GPS")], lambda a: 100.0 - a, "100 - mean accuracy vs GPS", "%"),
-        decided_in=_T52, note="accuracy = 1 - |GPS - PSO| / GPS on the learning walk itself (Table 5-2 arithmetic)"),
+        assumptions=_A_K, decided_in=_T52,
+        note="accuracy = 1 - |GPS - PSO| / GPS on the learning walk itself (Table 5-2 arithmetic)"),
     Claim(
         "pso-learned-k-beats-fixed", _P, (858, 860, 874, 876, 899), "improvement",
         "On A1's phase-2 loops the learned k closes the loop better than k = 0.5: start-end 2.807 vs 3.107 m (park) "
@@ -217,7 +237,7 @@ CLAIMS = (
                         _m("closure, PSO k", "A1 hall"), _m("closure, k = 0.5", "A1 hall")],
                        lambda a, b, c, d: gmean([a / b, c / d]), "geometric mean of closure(PSO k) / closure(k=0.5)",
                        "ratio"),
-        expect="<1", decided_in=_PH2,
+        expect="<1", assumptions=_A_K, decided_in=_PH2,
         note="confounded: both tracks share steps and headings and differ only in k, so the closure scales with k "
              "and any k < 0.5 'wins'; the ratio is k_PSO / 0.5"),
     Claim(
@@ -237,7 +257,7 @@ CLAIMS = (
         paper_value=(1.6 + 1.9) / 2, paper_text="2.8 1.6% 5.79 1.9%",
         statistic=mean_of([_m("closure / PSO path length", "A1 park"), _m("closure / PSO path length", "A1 hall")],
                           "mean closure / PSO path length", "%"),
-        decided_in=_PH2),
+        assumptions=_A_STEPS, decided_in=_PH2),
     Claim(
         "pso-gps-slow", _P, (857, 861, 873, 877, 899), "ordering",
         "At walking speed GPS goes badly astray: its path is far longer than the dead-reckoned one (277.4 vs "
@@ -246,7 +266,7 @@ CLAIMS = (
         paper_text="180.518522 277.408257; 298.915925 423.554008",
         statistic=mean_of([_m("GPS / PSO path length", "A1 park"), _m("GPS / PSO path length", "A1 hall")],
                           "mean GPS / PSO path length", "ratio"),
-        expect=">1", decided_in=_PH2,
+        expect=">1", assumptions=_A_GPS, decided_in=_PH2,
         note="simulated GPS: open-sky error sd 0.61 m per axis (the thesis's 1.5 m, L747-749) and shaded "
              "segments (sd 4 m, 30 % missing: assumed)"),
     Claim(
@@ -255,7 +275,7 @@ CLAIMS = (
         paper_value=None, paper_text="",
         statistic=ratio(_m("phase 2 mean |distance error| vs true route, PSO k"),
                         _m("phase 2 mean |distance error| vs true route, k = 0.5")),
-        expect="<1", decided_in=_PH2,
+        expect="<1", assumptions=_A_K, decided_in=_PH2,
         note="scored on the true route length of every simulated phase-2 walk (the thesis has only GPS there)"),
     Claim(
         "pso-converges", _P, (820, 833), "value",

@@ -78,8 +78,8 @@ from ilocalg.ins.constraints import walking_speed_mps
 from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dcm
 from ilocalg.units import as_rng
 
-__all__ = ["PhoneProfile", "PROFILES", "ROUTES", "PHONES", "GCP_XYZ_M", "InsWalk", "simulate", "walker_gait",
-           "gauss_markov"]
+__all__ = ["PhoneProfile", "PROFILES", "PHONE_NOISE_FACTOR", "PHONE_TIME_JITTER_SD_S", "phone_profile", "ROUTES",
+           "PHONES", "GCP_XYZ_M", "InsWalk", "simulate", "walk_summary", "walker_gait", "gauss_markov"]
 
 # ---- published values: Liao et al. (2016), sec. 4 (reference rate) and Table 3 (MIDG-II) -------------------
 #: Rate of the paper's reference solution, Hz.
@@ -200,7 +200,8 @@ class PhoneProfile:
 _MG = 9.80665e-3
 #: Phone timing and bias instability (assumptions, see the module docstring): time-tag error sd (s); Gauss-Markov
 #: bias sd of the accelerometer (0.5 mg) and gyroscope (20 deg/h) with a 300 s correlation time.
-_PHONE_TIMING = {"time_jitter_sd_s": 0.01, "point_sampling": True, "acc_gm_sd_mps2": 0.5 * 9.80665e-3,
+PHONE_TIME_JITTER_SD_S = 0.01
+_PHONE_TIMING = {"time_jitter_sd_s": PHONE_TIME_JITTER_SD_S, "point_sampling": True, "acc_gm_sd_mps2": 0.5 * 9.80665e-3,
                  "gyr_gm_sd_radps": float(np.deg2rad(20.0 / 3600.0)), "gm_tau_s": 300.0}
 #: Smallest step between two phone time tags (s): tags never go backwards (a monotonic sensor clock); only a
 #: time-tag error sd above a quarter of the shortest sampling interval (12.5 ms here) ever meets this floor.
@@ -208,14 +209,31 @@ MIN_TAG_GAP_S = 1e-3
 #: Barometric height noise (m): Bosch BMP280-class pressure sensor, RMS noise about 1.2 Pa (standard
 #: resolution), about 0.1 m. The Galaxy S5 has a barometer, the iPhone 5S has none.
 _BARO_SD_M = 0.1
+#: Factor on the MPU-6500 datasheet white-noise densities (300 ug/sqrt(Hz), 0.01 deg/s/sqrt(Hz)) that the phone
+#: profiles carry: an assumption (phone output filtering and electrical noise), swept 1 (datasheet) to 5.
+PHONE_NOISE_FACTOR = 3.0
 PROFILES = {
     "samsung_s5": PhoneProfile("samsung_s5", (10, 14), 30 * _MG, np.deg2rad(0.3), 0.015, 0.015,
-                               3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01), **_PHONE_TIMING, baro_sd_m=_BARO_SD_M),
+                               PHONE_NOISE_FACTOR * 300e-6 * 9.80665, PHONE_NOISE_FACTOR * np.deg2rad(0.01),
+                               **_PHONE_TIMING, baro_sd_m=_BARO_SD_M),
     "iphone_5s": PhoneProfile("iphone_5s", (10, 14), 20 * _MG, np.deg2rad(0.2), 0.010, 0.010,
-                              3 * 300e-6 * 9.80665, 3 * np.deg2rad(0.01), **_PHONE_TIMING),
+                              PHONE_NOISE_FACTOR * 300e-6 * 9.80665, PHONE_NOISE_FACTOR * np.deg2rad(0.01),
+                              **_PHONE_TIMING),
     "midg2": PhoneProfile("midg2", _MIDG2_TICKS, _MIDG2_ACC_BIAS_MG * _MG, np.deg2rad(_MIDG2_GYR_BIAS_DPH / 3600),
                           _MIDG2_ACC_SF, _MIDG2_GYR_SF, 300e-6 * 9.80665, np.deg2rad(0.01)),
 }
+
+
+def phone_profile(name: str, noise_factor: float = PHONE_NOISE_FACTOR, bias_instability_factor: float = 1.0,
+                  time_jitter_sd_s: float | None = None) -> PhoneProfile:
+    """``PROFILES[name]`` with the values no published measurement fixes changed (:meth:`PhoneProfile.swept`):
+    the white-noise factor on the datasheet densities, the bias-instability factor and the time-tag error sd
+    (None keeps the profile's). At the defaults it equals ``PROFILES[name]``."""
+    if name not in PROFILES:
+        raise ValueError(f"profile must be one of {sorted(PROFILES)}, got {name!r}")
+    return PROFILES[name].swept(bias_instability_factor, time_jitter_sd_s,
+                                noise_scale=noise_factor / PHONE_NOISE_FACTOR)
+
 
 #: Indoor control points (ENU, m), at corners and corridor middles as in the paper: the corner at the
 #: foot of the stairs, the 2nd-floor corridor middle, the corner at the classroom door, a classroom corner.
@@ -582,6 +600,23 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         params={"route": route, "profile": prof.name, "user_c": float(user_c), "user_height_m": user_height_m,
                 "gait": gait, "gcp_mode": gcp_mode, **gait_d},
     )
+
+
+def walk_summary(walk: InsWalk) -> dict:
+    """The simulated inputs of one walk: duration and indoor part (s), IMU rate (mean, min, max, Hz), GNSS fixes,
+    control-point passages and their mean interval (s), the walker's speed, cadence and step scale, the epochs on
+    stairs and the control-point fixes' mean delay after the closest approach (s)."""
+    from ilocalg.ins.chain import gcp_fix_delay_s
+
+    gap = np.diff(walk.gcp_t_s)
+    dt = np.diff(walk.t_s)
+    return {"duration_s": walk.t_s[-1] - walk.t_s[0], "indoor_s": walk.t_s[-1] - walk.t_indoor_s,
+            "imu_rate_hz": 1.0 / np.mean(dt), "imu_rate_min_hz": 1.0 / np.max(dt), "imu_rate_max_hz": 1.0 / np.min(dt),
+            "gnss_fixes": walk.gnss_t_s.size, "gcp_passages": walk.gcp_t_s.size,
+            "gcp_interval_mean_s": float(gap.mean()) if gap.size else np.nan,
+            "walker_speed_mps": walk.params.get("speed_mps", np.nan),
+            "walker_cadence_hz": walk.params.get("cadence_hz", np.nan), "walker_step_scale_c": walk.params["user_c"],
+            "stair_epochs": int(walk.stairs_true.sum()), "gcp_delay_mean_s": gcp_fix_delay_s(walk, GCP_XYZ_M)}
 
 
 def _rssi_triggers(t_s: np.ndarray, pos_m: np.ndarray, beacon_m: np.ndarray, t_from_s: float, rssi_sd_db: float,

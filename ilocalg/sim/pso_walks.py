@@ -33,7 +33,7 @@ Gait (literature, not the thesis)
     device's own motion, foot placement): each step's amplitude is multiplied by a log-normal factor
     with coefficient of variation ``step_amp_cv`` = 0.18. Measured on the public ILC 2020 site2/F4
     walks (hand-held phone, 50 Hz): the per-step ``Amax - Amin`` of the sign-change steps has a CV of
-    0.20 (median over the 19 walks, IQR 0.18-0.28; :func:`ilocalg.experiments.pso_k_factor.ilc_k_study`
+    0.20 (median over the 19 walks, IQR 0.18-0.28; :func:`ilocalg.pdr.k_walks.ilc_k_study`
     reports it per walk as ``amp_cv``); the pendulum already gives about 0.085 from the 3 % step
     length and duration CVs (amplitude ~ s^2 / T^2), so the added part is sqrt(0.20^2 - 0.085^2) =
     0.18. Swept over 0 (the toolkit's earlier simulator) to 0.27 (the IQR's upper end) by the PSO

@@ -1,0 +1,43 @@
+"""Tests of ilocalg.ins.chain (Liao et al.'s chain on a walk: scoring and layout helpers)."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from ilocalg.ins.chain import METHODS, gcp_fix_delay_s, indoor_errors, stats_rows, trajectory_frame
+
+
+def _walk(n=50):
+    t = np.arange(n, dtype=float)
+    pos = np.c_[t, np.zeros(n), np.zeros(n)]  # 1 m/s along E
+    return SimpleNamespace(t_s=t, t_true_s=t, pos_true_n_m=pos, mat_true_nb=np.repeat(np.eye(3)[None], n, 0),
+                           t_indoor_s=10.0, gcp_t_s=np.array([27.0]), gcp_id=np.array([0]))
+
+
+def test_indoor_errors_score_the_indoor_part_only():
+    w = _walk()
+    pos = w.pos_true_n_m + np.where(w.t_s[:, None] < 10, 100.0, 1.0) * np.array([0.0, 1.0, 0.0])
+    err = indoor_errors(w, pos, w.mat_true_nb)
+    assert len(err) == 40 and np.allclose(err["N"], 1.0)
+    rows = stats_rows("p", METHODS[0], 3, err)
+    assert [r["stat"] for r in rows] == ["max", "rms", "std"] and rows[1]["N"] == pytest.approx(1.0)
+
+
+def test_gcp_fix_delay_is_the_time_since_the_closest_approach():
+    w = _walk()
+    assert gcp_fix_delay_s(w, np.array([[25.0, 0.0, 0.0]])) == pytest.approx(2.0)
+    w.gcp_t_s, w.gcp_id = np.array([]), np.array([], dtype=int)
+    assert np.isnan(gcp_fix_delay_s(w, np.array([[25.0, 0.0, 0.0]])))
+
+
+def test_trajectory_frame_layouts():
+    w = _walk(5)
+    sol = {"m": (w.pos_true_n_m + 1.0, w.mat_true_nb)}
+    h = trajectory_frame("p", w, sol, w.t_s >= 2)
+    assert list(h["method"].unique()) == ["Truth", "m"] and "heading_deg" in h and len(h) == 10
+    e = trajectory_frame("p", w, sol, w.t_s >= 2, attitude="errors")
+    assert (e[["roll_err_deg", "pitch_err_deg", "heading_err_deg"]].abs().to_numpy() < 1e-9).all()
+    assert np.allclose(e.loc[e["method"] == "m", "E"] - e.loc[e["method"] == "Truth", "E"].to_numpy(), 1.0)
+    with pytest.raises(ValueError, match="attitude"):
+        trajectory_frame("p", w, sol, w.t_s >= 2, attitude="euler")
