@@ -181,24 +181,26 @@ def _floor_files(data_dir, dataset: str) -> list[Path]:
 
 
 def leave_one_walk_out(datasets=SITE1, n_shards: int = 4, names_every: int = 1, scheduler: str | None = None,
-                       workers: int = 2, cache_dir=None, seed: int = 0, progress: bool = True, **params) -> dict:
+                       workers: int = 2, cache_dir=None, seed: int = 0, progress: bool = True, fast: bool = False,
+                       **params) -> dict:
     """Leave-one-walk-out over every walk of ``datasets`` through the sweep machinery.
 
     Each floor is split into ``n_shards`` tasks (:func:`run` with ``shard``), run by
     :func:`ilocalg.workflow.sweep.sweep` (a progress bar; a LocalCluster of ``workers`` processes, 0:
     serial in this process, or the Dask scheduler at ``scheduler``: the same call runs many floors or
     sites), each task's result cached so an interrupted sweep resumes. ``names_every`` > 1 scores every
-    so-many-th walk of each floor (a documented subset when the machine is too busy for all).
-    ``params``: further :func:`run` parameters (e.g. ``methods``). Returns :func:`sweep_summary`'s
+    so-many-th walk of each floor (a documented subset when the machine is too busy for all); ``fast``:
+    :func:`run`'s fast mode. ``params``: further :func:`run` parameters (e.g. ``methods``; None values are
+    left out). Returns :func:`sweep_summary`'s
     tables plus ``failures``.
     """
     from ilocalg.workflow import sweep as sw
 
     grid = {"dataset": list(datasets), "shard": list(range(n_shards)), "n_shards": [n_shards], **{
-        k: [v] for k, v in params.items()}}
+        k: [v] for k, v in params.items() if v is not None}}
     if names_every > 1:
         grid["names_every"] = [names_every]
-    tasks = sw.make_tasks("fusion_real_walks", [seed], grid)
+    tasks = sw.make_tasks("fusion_real_walks", [seed], grid, fast=fast)
     res = sw.sweep(tasks, scheduler=scheduler, workers=workers,
                    cache_dir=sw.DEFAULT_CACHE if cache_dir is None else cache_dir, progress=progress)
     if res.results.empty:
