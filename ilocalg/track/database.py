@@ -36,7 +36,7 @@ class WifiDatabase:
 
     @classmethod
     def from_recordings(cls, recordings, max_age_s: float | None = None,
-                        frame: LocalFrame | None = None, align_time: bool = True) -> WifiDatabase:
+                        frame: LocalFrame | None = None, align_time: bool = False) -> WifiDatabase:
         """Every scan of ``recordings`` positioned by interpolating its walk's ground truth (outside: left
         out), all in one shared frame (``frame``, default the first walk's:
         :func:`ilocalg.io.recording.common_frame`).
@@ -44,7 +44,8 @@ class WifiDatabase:
         ``align_time``: position each scan where the walk was when its readings were taken (the scan time
         minus :func:`effective_age_s` of its readings, about 1.1 s on the ILC 2.0 walks) rather than at
         the scan's own time stamp; a scan whose reading time falls before the ground truth keeps its
-        scan-time position. Walks without reading times (``last_seen_s``) are unchanged."""
+        scan-time position. Walks without reading times (``last_seen_s``) are unchanged. Off by default (see
+        :class:`ilocalg.track.RealWalkConfig` ``align_fix_time``: no measurable gain on site1)."""
         recs = [as_recording(r) for r in (recordings.values() if isinstance(recordings, dict) else recordings)]
         if not recs:
             raise ValueError("no fingerprint walks given")
