@@ -254,7 +254,8 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
                          "same sensor content")
     frame = common_frame(recs)
     recs = [r.in_frame(frame) for r in recs]
-    db = WifiDatabase.from_recordings(recs, None, frame=frame, align_time=cfg.align_fix_time)       # stale readings: masked per query
+    # stale readings: masked per query
+    db = WifiDatabase.from_recordings(recs, None, frame=frame, align_time=cfg.align_fix_time)
     label = "given"
     if len(set(db.walk)) < 2:
         var = cfg.fix_min_var_m2
