@@ -24,12 +24,14 @@
 # %% tags=["parameters"]
 # Seed of the particle filter; FAST scores every fifth walk with fewer particles; OUT_DIR (set by the
 # runner) receives tables and figures; DATA_DIR is the folder of the real data sets (None: default);
-# DATASET the floor ("folder/floor" for one floor of a two-floor archive).
+# DATASET the floor ("folder/floor" for one floor of a two-floor archive); LOWO_EVERY: the pooled
+# leave-one-walk-out over both site 1 floors scores every LOWO_EVERY-th walk of each (1: every walk).
 SEED = 0
 FAST = False
 OUT_DIR = None
 DATA_DIR = None
 DATASET = "ilc2020_site1/site1_F1"
+LOWO_EVERY = 5
 
 # %%
 from pathlib import Path
@@ -135,6 +137,27 @@ if HAVE_DATA:
 # %%
 if HAVE_DATA:
     print(fusion_real_walks.findings(tables))
+
+# %% [markdown]
+# ## Leave-one-walk-out over both site 1 floors, per floor and pooled
+#
+# The same scoring over the walks of site 1 F1 and F2, run as a sweep
+# (`fusion_real_walks.leave_one_walk_out`: each floor split into shards, each shard a task of
+# `ilocalg.workflow.sweep`, cached, with a progress bar; the command
+# `python -m ilocalg sweep fusion_real_walks --seeds 1 --param dataset=ilc2020_site1/site1_F1,ilc2020_site1/site1_F2
+# --param shard=0,1,2,3 --param n_shards=4 [--scheduler tcp://...]` runs the same tasks on a Dask cluster).
+# Every waypoint of every scored walk is pooled; the Wi-Fi-only row is checked against the plain reference
+# (an input setting: weighted KNN, K = 5, readings older than 2 s dropped, on the same database: `wifi_plain_knn`).
+# Goals: best offline mean <= 0.5 x Wi-Fi only, best online <= 0.7 x.
+
+# %%
+if HAVE_DATA and DATASET.startswith("ilc2020_site1"):
+    lowo = fusion_real_walks.leave_one_walk_out(names_every=20 if FAST else LOWO_EVERY, workers=0,
+                                                data_dir=DATA_DIR, fast=FAST)
+    report.table(lowo["summary"], "lowo_summary")
+    display(lowo["summary"].pivot(index="method", columns="floor", values="ratio_to_wifi").round(2))  # noqa: F821
+    display(lowo["summary"][lowo["summary"]["floor"] == "pooled"].round(2))  # noqa: F821
+    print(fusion_real_walks.lowo_findings(lowo["summary"]))
 
 # %% [markdown]
 # ## What the numbers say

@@ -1,6 +1,7 @@
 """Experiment fusion_real_walks on the real ILC 2.0 site2/F4 walks (notebook 09)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.experiments import fusion_real_walks as frw
@@ -37,3 +38,27 @@ def test_run_on_two_walks(shared_data, floor):
     t2 = frw.run(seed=0, floor=floor, cfg=cfg, names=SHORT, select=False)
     assert t2["waypoints"].equals(wp)
     assert "Wi-Fi only" in frw.findings(t)
+
+
+@pytest.mark.realdata
+def test_shards_pool_to_the_unsharded_run(shared_data, floor):
+    from ilocalg.papers.claims import tables_to_long
+
+    shared_data(frw.DATASET)
+    cfg = RealWalkConfig(n_particles=100, grid_cell_m=1.0)
+    kw = dict(seed=0, floor=floor, cfg=cfg, names=SHORT, select=False, methods=("wifi", "kf", "lsq", "lsq_online"))
+    whole = frw.run(**kw)
+    parts = [frw.run(shard=i, n_shards=2, **kw) for i in range(2)]
+    assert [set(p["waypoints"]["walk"]) for p in parts] == [{SHORT[0]}, {SHORT[1]}]
+    long = tables_to_long({"sweep_waypoints": pd.concat([p["sweep_waypoints"] for p in parts])})
+    s = frw.sweep_summary(long)["summary"].set_index(["floor", "method"])
+    for m in ("wifi", "kf", "lsq", "lsq_online", "wifi_plain_knn"):
+        np.testing.assert_allclose(s.loc[("pooled", m), "mean_m"], whole["waypoints"][m].mean())
+        np.testing.assert_allclose(s.loc[("pooled", m), "p75_m"], whole["waypoints"][m].quantile(0.75))
+    assert s.loc[("pooled", "wifi"), "ratio_to_wifi"] == 1.0
+    assert s.loc[(frw.DATASET, "kf"), "n_walks"] == 2
+    assert "best offline: lsq" in frw.lowo_findings(s.reset_index())
+    with pytest.raises(ValueError, match="shard"):
+        frw.run(shard=2, n_shards=2, **kw)
+    with pytest.raises(ValueError, match="sweep_waypoints"):
+        frw.sweep_summary(tables_to_long({"measures": whole["measures"]}))

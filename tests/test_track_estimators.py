@@ -163,3 +163,34 @@ def test_floor_model_leaves_the_walk_out_exactly_and_survives_save_load(tmp_path
     assert a.fix_var_m2 == pytest.approx(calibrate_fix_var(b.db)[0], rel=1e-9)
     with pytest.raises(ValueError, match="same sensor content"):
         back.for_walk("renamed", content_id=full.db.content_ids[s])
+
+
+def test_causal_lsq_uses_a_fix_from_its_scan_time_for_its_readings_time():
+    p, truth = _walk(2)
+    lag = 1.0                                 # the readings are 1 s (two states) older than the scan
+    q = TrackProblem(p.state_t_s, p.disp_m, p.step_var_m2, p.fix_t_s - lag, p.fix_xy_m, p.fix_var_m2,
+                     fix_avail_t_s=p.fix_t_s)
+    a = lsq_causal_track(q)
+    # causal in the availability time: moving the fixes known after state 60 leaves states 0..59 unchanged
+    late = q.fix_avail_t_s > p.state_t_s[60]
+    r = TrackProblem(p.state_t_s, p.disp_m, p.step_var_m2, q.fix_t_s, np.where(late[:, None], p.fix_xy_m + 50,
+                     p.fix_xy_m), p.fix_var_m2, fix_avail_t_s=q.fix_avail_t_s)
+    np.testing.assert_allclose(lsq_causal_track(r)[:60], a[:60])
+    # a fix tied to its readings' time fits a walk whose fixes describe the past better than one tied to the scan
+    fi = np.searchsorted(p.state_t_s, p.fix_t_s)
+    d = np.diff(truth, axis=0)                # exact steps: the fixes' timing is the only error
+    lagged = TrackProblem(p.state_t_s, d, 0.01 ** 2, p.fix_t_s, truth[np.maximum(fi - 2, 0)], 0.3 ** 2)
+    aligned = TrackProblem(p.state_t_s, d, 0.01 ** 2, p.fix_t_s - lag, truth[np.maximum(fi - 2, 0)], 0.3 ** 2,
+                           fix_avail_t_s=p.fix_t_s)
+    e_lag = np.hypot(*(lsq_track(lagged) - truth).T).mean()
+    e_al = np.hypot(*(lsq_track(aligned) - truth).T).mean()
+    assert e_al < 0.5 * e_lag
+    with pytest.raises(ValueError, match="fix_avail_t_s"):
+        TrackProblem(p.state_t_s, p.disp_m, 1.0, p.fix_t_s, p.fix_xy_m, 1.0, fix_avail_t_s=p.fix_t_s[:-1])
+
+
+def test_effective_age_is_the_mean_fresh_reading_age():
+    from ilocalg.track.database import effective_age_s
+
+    a = np.array([[0.5, 1.5, 9.0], [np.nan, 3.0, 4.0], [np.nan, np.nan, np.nan], [0.0, np.nan, 2.0]])
+    np.testing.assert_allclose(effective_age_s(a), [1.0, 3.0, 0.0, 1.0])

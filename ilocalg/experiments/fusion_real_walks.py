@@ -15,6 +15,7 @@ Chiu (2013) and Luo et al. (2017) for the fusion, as cited in :mod:`ilocalg.trac
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -34,12 +35,19 @@ from ilocalg.track import (
     evaluate_walk,
     walk_steps,
 )
-from ilocalg.track.fixes import select_wifi_nested
-from ilocalg.units import as_rng
+from ilocalg.track.evaluation import _latest_fix
+from ilocalg.track.fixes import select_wifi_nested, wifi_fixes
+from ilocalg.track.floor import cached_floor_model
 
 __all__ = ["DATASET", "load_floor", "run", "example", "findings", "wifi_ablation", "floor_image"]
 
 DATASET = "ilc2020_site2_F4"
+#: The two densely surveyed floors of site 1 (about 100 walks each).
+SITE1 = ("ilc2020_site1/site1_F1", "ilc2020_site1/site1_F2")
+#: Where :func:`run` keeps each floor's database and calibration rows (built once, then read).
+FLOOR_CACHE = Path.home() / ".cache" / "ilocalg" / "floors"
+#: The plain Wi-Fi reference the Wi-Fi-only row must be at least as accurate as (issue 26).
+PLAIN_WKNN = {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 2.0, "metric": "minkowski"}
 
 
 def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep"):
@@ -56,7 +64,8 @@ def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
         names=None, select: bool | None = None, dataset: str = DATASET, relisted_wifi: str = "keep",
-        methods=None) -> dict[str, pd.DataFrame]:
+        methods=None, shard: int = 0, n_shards: int = 1, names_every: int = 1,
+        cache_dir=None) -> dict[str, pd.DataFrame]:
     """Leave-one-walk-out over the floor's walks; every variant at every waypoint.
 
     ``fast`` scores every fifth walk with fewer particles, a coarser map raster and the default Wi-Fi
@@ -64,7 +73,15 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     by leave-one-walk-out inside the other walks (:func:`ilocalg.track.fixes.select_wifi_nested`).
     ``dataset`` (see :func:`load_floor`), ``relisted_wifi`` (loader policy), ``methods`` (default all of
     :data:`ilocalg.track.METHODS`). The floor's database and calibration rows are built once
-    (:func:`ilocalg.track.build_floor_model`); each scored walk is left out of all of them.
+    (:func:`ilocalg.track.build_floor_model`; saved in ``cache_dir`` by
+    :func:`ilocalg.track.cached_floor_model` when the floor is read from ``data_dir``, default
+    :data:`FLOOR_CACHE`); each scored walk is left out of all of them.
+
+    ``names_every``: score every so-many-th walk only (a documented subset). ``shard`` / ``n_shards``:
+    score only the walks ``scored[shard::n_shards]``, so that a sweep
+    (:func:`leave_one_walk_out`, or ``python -m ilocalg sweep fusion_real_walks --param shard=0,1,2,3
+    --param n_shards=4``) spreads one floor's leave-one-walk-out over Dask workers; the
+    ``sweep_waypoints`` table carries every waypoint error so :func:`sweep_summary` pools the shards.
 
     Returns
     -------
@@ -78,21 +95,34 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     cfg = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
     select = (not fast) if select is None else select
     methods = tuple(METHODS if methods is None else methods)
+    if not (n_shards >= 1 and 0 <= shard < n_shards and names_every >= 1):
+        raise ValueError(f"shard must lie in [0, n_shards), n_shards >= 1; got shard={shard}, n_shards={n_shards}, "
+                         f"names_every={names_every}")
     fl = floor or load_floor(data_dir, dataset, relisted_wifi)
     all_names = fl.names
     scored = list(names) if names is not None else (all_names[::5] if fast else all_names)
+    scored = scored[::names_every][shard::n_shards]
     grid = OccupancyGrid.from_floor_map(fl.floor_map, cfg.grid_cell_m)
-    steps = {n: walk_steps(fl.traces[n], cfg) for n in all_names}
-    model = build_floor_model(fl.traces, cfg, steps=steps)
+    steps = {n: walk_steps(fl.traces[n], cfg) for n in scored}
+    if floor is None:
+        model, _ = cached_floor_model(_floor_files(data_dir, dataset), lambda: fl.traces, cache_dir or FLOOR_CACHE,
+                                      cfg, dataset=dataset, relisted_wifi=relisted_wifi)
+    else:
+        model = build_floor_model(fl.traces, cfg, steps=steps)
     sel = select_wifi_nested(model.db, scored, cfg) if select else {}
-    rng = as_rng(seed)
+    plain = dataclasses.replace(cfg, **PLAIN_WKNN)
     wrows, prow, trk = [], [], {}
     for name in scored:
         wm = model.for_walk(name, cfg, select=False)
         label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
-        r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name], rng=rng,
+        r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name],
+                          rng=np.random.default_rng([seed, all_names.index(name)]),
                           methods=methods, step_var_m2=wm.step_var_m2)
         e = r["errors"].assign(walk=name)
+        # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database
+        pfx = wifi_fixes(fl.traces[name], wm.db, plain)
+        e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
+                                         - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
         trk[name] = r["track"]
         wrows.append(e)
         prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
@@ -112,6 +142,8 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
          "value": float(wp["oracle_shape_m"].mean())},
         {"quantity": "Wi-Fi fix error, mean over walks [m]", "value": float(pw["fix_mean_error_m"].mean())},
         {"quantity": "first Wi-Fi fix error, mean over walks [m]", "value": float(pw["first_fix_error_m"].mean())},
+        {"quantity": "plain WKNN (K = 5, readings <= 2 s) on the same database, mean error [m]",
+         "value": float(wp["wifi_plain_knn"].mean())},
         {"quantity": "waypoints scored", "value": float(len(wp))},
         {"quantity": "walks scored", "value": float(len(pw))},
     ])
@@ -130,8 +162,112 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     tracks = pd.concat([trk[w].assign(walk=w, which=k) for k, w in picks.items()], ignore_index=True)
     truth = pd.concat([fl.traces[w].waypoints[[T_S, X_M, Y_M]].assign(walk=w, which=k) for k, w in picks.items()],
                       ignore_index=True)
+    sw = wp.melt(id_vars=["walk", "waypoint"], value_vars=list(methods) + ["wifi_plain_knn"], var_name="quantity")
+    sw["item"] = dataset + "/" + sw["walk"] + "#" + sw["waypoint"].astype(str)
+    sw["unit"] = "m"
     return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag, "measures": pd.DataFrame(meas),
-            "readings": _readings(relisted_wifi), "tracks": tracks, "truth": truth}
+            "readings": _readings(relisted_wifi), "tracks": tracks, "truth": truth,
+            "sweep_waypoints": sw[["quantity", "value", "item", "unit"]]}
+
+
+def _floor_files(data_dir, dataset: str) -> list[Path]:
+    """The files a floor is read from (its archive, or its walk files): the floor model's cache key."""
+    from ilocalg.io.ilc import _resolve_root
+
+    p = Path(default_data_dir() if data_dir is None else data_dir)
+    folder = dataset.partition("/")[0]
+    root = _resolve_root(p / folder if (p / folder).exists() else p)
+    return [root] if root.is_file() else sorted((root / "path_data_files").glob("*.txt"))
+
+
+def leave_one_walk_out(datasets=SITE1, n_shards: int = 4, names_every: int = 1, scheduler: str | None = None,
+                       workers: int = 2, cache_dir=None, seed: int = 0, progress: bool = True, fast: bool = False,
+                       **params) -> dict:
+    """Leave-one-walk-out over every walk of ``datasets`` through the sweep machinery.
+
+    Each floor is split into ``n_shards`` tasks (:func:`run` with ``shard``), run by
+    :func:`ilocalg.workflow.sweep.sweep` (a progress bar; a LocalCluster of ``workers`` processes, 0:
+    serial in this process, or the Dask scheduler at ``scheduler``: the same call runs many floors or
+    sites), each task's result cached so an interrupted sweep resumes. ``names_every`` > 1 scores every
+    so-many-th walk of each floor (a documented subset when the machine is too busy for all); ``fast``:
+    :func:`run`'s fast mode. ``params``: further :func:`run` parameters (e.g. ``methods``; None values are
+    left out). Returns :func:`sweep_summary`'s
+    tables plus ``failures``.
+    """
+    from ilocalg.workflow import sweep as sw
+
+    grid = {"dataset": list(datasets), "shard": list(range(n_shards)), "n_shards": [n_shards], **{
+        k: [v] for k, v in params.items() if v is not None}}
+    if names_every > 1:
+        grid["names_every"] = [names_every]
+    tasks = sw.make_tasks("fusion_real_walks", [seed], grid, fast=fast)
+    res = sw.sweep(tasks, scheduler=scheduler, workers=workers,
+                   cache_dir=sw.DEFAULT_CACHE if cache_dir is None else cache_dir, progress=progress)
+    if res.results.empty:
+        raise ValueError(f"leave-one-walk-out: every task failed ({res.failures[:1]})")
+    out = sweep_summary(res.results)
+    out["failures"] = pd.DataFrame(res.failures)
+    return out
+
+
+def sweep_summary(results: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """Pool the ``sweep_waypoints`` rows of a sweep of :func:`run` (any shards, floors, sites).
+
+    Returns ``summary``: one row per floor and method plus the ``pooled`` rows (every waypoint of every
+    floor): ``n_waypoints, n_walks, mean_m, median_m, p75_m`` (EvAAL), ``ratio_to_wifi`` (mean over
+    Wi-Fi only's mean), ``online``, ``goal`` (0.5 offline, 0.7 online), ``meets_goal``; and ``waypoints``
+    (``floor, walk, waypoint`` and one error column per method).
+    """
+    r = results[results["table"] == "sweep_waypoints"]
+    if r.empty:
+        raise ValueError("no sweep_waypoints rows: not a sweep of fusion_real_walks.run")
+    item = r["item"].str.rsplit("#", n=1, expand=True)
+    fw = item[0].str.rsplit("/", n=1, expand=True)
+    long = pd.DataFrame({"floor": fw[0].to_numpy(), "walk": fw[1].to_numpy(),
+                         "waypoint": item[1].astype(int).to_numpy(), "method": r["quantity"].to_numpy(),
+                         "error_m": r["value"].to_numpy()})
+    wide = long.pivot_table(index=["floor", "walk", "waypoint"], columns="method", values="error_m",
+                            aggfunc="first").reset_index()
+    wide.columns.name = None
+    methods = [m for m in (*METHODS, "wifi_plain_knn") if m in wide.columns]
+    rows = []
+    for fl_name, g in [*wide.groupby("floor", sort=True), ("pooled", wide)]:
+        w = float(g["wifi"].mean())
+        for m in methods:
+            e = g[m].to_numpy(dtype=np.float64)
+            online = m in CAUSAL_METHODS or m == "wifi_plain_knn"
+            goal = 0.7 if online else 0.5
+            ratio = float(np.mean(e)) / w
+            rows.append({"floor": fl_name, "method": m, "online": online, "n_waypoints": int(e.size),
+                         "n_walks": int(g["walk"].nunique()), "mean_m": float(np.mean(e)),
+                         "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
+                         "ratio_to_wifi": ratio, "goal": goal if m not in ("wifi", "wifi_plain_knn") else np.nan,
+                         "meets_goal": bool(ratio <= goal) if m not in ("wifi", "wifi_plain_knn") else None})
+    return {"summary": pd.DataFrame(rows), "waypoints": wide}
+
+
+def lowo_findings(summary: pd.DataFrame) -> str:
+    """Sentences computed from :func:`sweep_summary`'s table: per floor and pooled, Wi-Fi only against the
+    plain reference, the best offline and online estimators and their ratios to Wi-Fi only."""
+    out = []
+    for fl_name, g in summary.groupby("floor", sort=False):
+        g = g.set_index("method")
+        w, pk = g.loc["wifi"], g.loc["wifi_plain_knn"] if "wifi_plain_knn" in g.index else None
+        s = (f"{fl_name}: {int(w['n_walks'])} walks, {int(w['n_waypoints'])} waypoints; Wi-Fi only mean "
+             f"{w['mean_m']:.2f} m (p75 {w['p75_m']:.2f} m)")
+        if pk is not None:
+            s += (f", plain WKNN K = 5 <= 2 s {pk['mean_m']:.2f} m "
+                  f"({'no worse' if w['mean_m'] <= pk['mean_m'] + 1e-9 else 'WORSE: the baseline is not fair'})")
+        out.append(s + ".")
+        for label, online in (("offline", False), ("online", True)):
+            p = g[(g["online"] == online) & ~g.index.isin(["wifi", "wifi_plain_knn"])]
+            if len(p):
+                b = p["mean_m"].idxmin()
+                r = p.loc[b]
+                out.append(f"  best {label}: {b}, mean {r['mean_m']:.2f} m, median {r['median_m']:.2f} m, p75 "
+                           f"{r['p75_m']:.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only (goal <= {r['goal']} x: "
+                           f"{'met' if r['meets_goal'] else 'missed'}).")
+    return "\n".join(out)
 
 
 def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:

@@ -68,7 +68,7 @@ def _walkable_counts(mask: np.ndarray, shifts: np.ndarray) -> np.ndarray:
 
 def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, angles_rad=None,
               sigma_angle_rad: float = 0.35, outlier_prob: float = 0.2, blocked_weight: float = 1e-3,
-              max_points: int = 200, wifi_margin: float = 1.0) -> MapAlignResult:
+              max_points: int = 200, wifi_margin: float = 1.0, map_weight: float | None = None) -> MapAlignResult:
     """Best rigid placement of a relative track on the walkable map given fixes at some of its states.
 
     Parameters
@@ -93,6 +93,8 @@ def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, 
     wifi_margin : float
         Placements whose Wi-Fi log-likelihood is more than this many nats per fix below the best
         placement's are excluded (1 nat per fix: a mean fix residual about 1.4 sd larger).
+    map_weight : float, optional
+        Weight ``w`` of the map term (default ``min(1, n_fixes / n_points)``, see the module docstring).
 
     Returns
     -------
@@ -123,7 +125,7 @@ def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, 
     # neighbouring track points are not independent map observations: the map term counts as many
     # observations as there are fixes (a track of 200 points otherwise outvotes 30 fixes and a wholly
     # walkable placement 20-30 m from every fix wins, as on the densely surveyed ILC site1 floors)
-    map_w = min(1.0, max(fi.size, 1) / sub.size)
+    map_w = min(1.0, max(fi.size, 1) / sub.size) if map_weight is None else float(map_weight)
     best = (-np.inf, 0.0, np.zeros(2), 0)
     by_angle = np.full(angles.size, -np.inf)
     wifi_terms = []

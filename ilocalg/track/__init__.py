@@ -23,7 +23,10 @@ What the other walks teach (:func:`calibrate`, :class:`WifiDatabase`, :func:`cal
 Wi-Fi fixes (:func:`wifi_fixes`)
     Each scan of the walk located by WKNN (:class:`ilocalg.wifi.KnnFingerprint`), with a covariance
     from the spread of its neighbours (:func:`ilocalg.fusion.fix_covariance_from_spread`) or the
-    calibrated isotropic variance.
+    calibrated isotropic variance. A scan's readings are older than its time stamp (their
+    ``last_seen``): each fix also carries the time its readings were taken
+    (:func:`ilocalg.track.database.effective_age_s`), where the database can position its scans and
+    the least-squares estimators can tie the fix (``align_fix_time``, off: no measurable gain on site1).
 Tracks (:func:`evaluate_walk`), the keys of :data:`METHODS`
     Causal (online) ones: ``pdr``: PDR from the first Wi-Fi fix (as Luo et al. 2017 start it).
     ``wifi``: the latest fix at or before the time. ``kf``: the step Kalman filter (Chiu 2013 eq.

@@ -63,6 +63,9 @@ class TrackProblem:
     fix_t_s, fix_xy_m : (m,), (m, 2) Wi-Fi fixes.
     fix_var_m2 : per-axis variance of a fix's error.
     grid : walkable raster (:class:`ilocalg.fusion.particle_filter.OccupancyGrid`) or None.
+    fix_avail_t_s : (m,) when each fix becomes known (the scan time; default ``fix_t_s``), in increasing
+        order; ``fix_t_s`` is the time it describes (its readings' time), at or before it. The causal
+        estimators use a fix from its availability on, for the state of its readings' time.
     """
 
     state_t_s: np.ndarray
@@ -72,6 +75,7 @@ class TrackProblem:
     fix_xy_m: np.ndarray
     fix_var_m2: float
     grid: object | None = None
+    fix_avail_t_s: np.ndarray | None = None
 
     def __post_init__(self):
         n = np.asarray(self.state_t_s).size
@@ -83,6 +87,8 @@ class TrackProblem:
             raise ValueError(f"step_var_m2 and fix_var_m2 must be > 0, got {self.step_var_m2}, {self.fix_var_m2}")
         if np.asarray(self.fix_t_s).size < 1:
             raise ValueError("a track needs at least one Wi-Fi fix")
+        if self.fix_avail_t_s is not None and np.shape(self.fix_avail_t_s) != np.shape(self.fix_t_s):
+            raise ValueError("fix_avail_t_s must have the shape of fix_t_s")
 
 
 def _interp_rows(state_t_s, t_s):
@@ -166,8 +172,9 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
     n = ts.size
     out = np.full((n, 2), np.nan)
     ft = problem.fix_t_s
-    # the state index at or after which each fix is known (a fix at t is used from the first state >= t)
-    avail = np.searchsorted(ts, ft, side="left")
+    known_t = ft if problem.fix_avail_t_s is None else problem.fix_avail_t_s
+    # the state index at or after which each fix is known (a fix known at t is used from the first state >= t)
+    avail = np.searchsorted(ts, known_t, side="left")
     cum = np.vstack([[0.0, 0.0], np.cumsum(problem.disp_m, axis=0)])
     last_i, last_xy, last_disp = 0, problem.fix_xy_m[0], problem.disp_m
     out[0] = problem.fix_xy_m[0]

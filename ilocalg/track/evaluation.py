@@ -132,8 +132,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         raise ValueError(f"{[m for m in lsq_names if ESTIMATORS[m].needs_map]} need the floor map (grid)")
     if lsq_names:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
-        prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, fx.t_s, fx.xy_m,
-                            fix_var_m2, grid)
+        # least squares: each fix constrains the walk where it was when its readings were taken
+        t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
+        prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
+                            fix_var_m2, grid, fix_avail_t_s=fx.t_s)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))
@@ -252,7 +254,8 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
                          "same sensor content")
     frame = common_frame(recs)
     recs = [r.in_frame(frame) for r in recs]
-    db = WifiDatabase.from_recordings(recs, None, frame=frame)       # stale readings: masked per query
+    # stale readings: masked per query
+    db = WifiDatabase.from_recordings(recs, None, frame=frame, align_time=cfg.align_fix_time)
     label = "given"
     if len(set(db.walk)) < 2:
         var = cfg.fix_min_var_m2

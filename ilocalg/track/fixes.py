@@ -15,10 +15,10 @@ from ilocalg.io.recording import (
     truth_at,
 )
 from ilocalg.io.scans import scan_matrix
-from ilocalg.io.schema import T_S
+from ilocalg.io.schema import RSSI_DBM, T_S
 from ilocalg.pdr.signals import moving_mean
 from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
-from ilocalg.track.database import WifiDatabase
+from ilocalg.track.database import WifiDatabase, effective_age_s
 from ilocalg.wifi import KnnFingerprint
 
 
@@ -28,7 +28,9 @@ class WifiFixes:
     interpolated ground truth, NaN outside its span: for scoring only), ``floor`` (m,; the Wi-Fi floor
     vote, NaN when the database has no floors), ``true_floor`` (m,), and the scans left out:
     ``n_outside_walk`` (outside the walk's IMU time span), ``n_no_shared_ap`` (hearing no access
-    point of the database)."""
+    point of the database). ``t_read_s`` (m,): when the scan's readings were taken (its time minus
+    :func:`ilocalg.track.database.effective_age_s`; the scan time when ages are unknown): the time a
+    fix describes, while ``t_s`` is when it becomes known."""
 
     t_s: np.ndarray
     xy_m: np.ndarray
@@ -39,6 +41,7 @@ class WifiFixes:
     n_outside_walk: int = 0
     n_no_shared_ap: int = 0
     floor_confidence: np.ndarray | None = None
+    t_read_s: np.ndarray | None = None
 
 
 
@@ -176,11 +179,16 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
     fresh = (None if cfg.max_age_s is None or "last_seen_s" not in w.columns
              else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy())
     _, t, X = scan_matrix(w, db.ap_ids, keep=fresh)
+    if "last_seen_s" in w.columns:       # when the kept readings were taken (module database)
+        aged = w.assign(**{RSSI_DBM: (w[T_S] - w["last_seen_s"]).to_numpy(dtype=np.float64)})
+        t_read = t - effective_age_s(scan_matrix(aged, db.ap_ids, keep=fresh)[2])
+    else:
+        t_read = t.copy()
     t0, t1 = rec.t_span_s
     inside = (t >= t0) & (t <= t1)
     heard = ~np.isnan(X).all(axis=1)          # scans sharing no AP with the database cannot be located
     keep = inside & heard
-    t, X = t[keep], X[keep]
+    t, X, t_read = t[keep], X[keep], t_read[keep]
     if not t.size:
         raise ValueError(f"{rec.source or rec.name}: no scan inside the walk's time span shares an access point "
                          f"with the database ({int((~inside).sum())} outside the span, "
@@ -192,7 +200,8 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
         true, tfl = truth_at(rec.truth, t, outside="nan")
     else:
         true, tfl = np.full((t.size, 2), np.nan), np.full(t.size, np.nan)
-    return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()), conf)
+    return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()), conf,
+                     np.maximum(t_read, t0))
 
 
 def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:

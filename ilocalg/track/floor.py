@@ -128,7 +128,7 @@ def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict |
             st[r.name] = walk_steps(r, cfg)
         if progress is not None:
             progress(i + 1, len(recs))
-    db = WifiDatabase.from_recordings(recs, None, frame=frame)
+    db = WifiDatabase.from_recordings(recs, None, frame=frame, align_time=cfg.align_fix_time)
     pw = calibrate(recs, st, cfg).per_walk
     iv = pd.concat([step_intervals(r, st[r.name]) for r in recs], ignore_index=True)
     return FloorModel(db, pw, iv)
