@@ -9,7 +9,8 @@ Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:
 (KNN / WKNN, 罗思奇 et al. 2017 eq. 1-2), :mod:`~ilocalg.wifi.radar` (i-Loc thesis eq. 1-3),
 :mod:`~ilocalg.wifi.horus` (i-Loc thesis eq. 5-7), :mod:`~ilocalg.wifi.hierarchical`
 (building -> floor -> position), :mod:`~ilocalg.wifi.cascade` (the toolkit's building -> floor ->
-position WKNN estimator), :mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
+position WKNN estimator), :mod:`~ilocalg.wifi.offset` (WKNN with a per-query device offset search),
+:mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
 :mod:`~ilocalg.wifi.registry` (the one registry of estimator
 factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
 (fit a registered method on one fingerprint set, locate another).
@@ -20,6 +21,7 @@ from ilocalg.wifi.evaluate import evaluate_method
 from ilocalg.wifi.hierarchical import HierarchicalLocator, locate_flat
 from ilocalg.wifi.horus import SimplifiedHorus, fit_horus, horus_predict_index, horus_scores
 from ilocalg.wifi.knn import KnnFingerprint, build_index, knn_predict, knn_search, neighbour_weights, vote
+from ilocalg.wifi.offset import OffsetFingerprint, offset_search
 from ilocalg.wifi.preprocessing import (
     REPRESENTATIONS,
     check_positions,
@@ -37,6 +39,8 @@ __all__ = [
     "SimplifiedHorus",
     "HierarchicalLocator",
     "CascadeFingerprint",
+    "OffsetFingerprint",
+    "offset_search",
     "locate_flat",
     "ESTIMATORS",
     "register_estimator",

@@ -1,0 +1,177 @@
+"""Per-query device offset search: WKNN on the RSSI shift that brings a scan closest to the database.
+
+Beyond the papers (a "toolkit" method, not a reproduction). Phones report the same signal a few dB
+apart (UJIIndoorLoc: per-phone offset sd 4.24 dB, ``data/measured_parameters.csv``), and the
+validation campaign of UJIIndoorLoc used phones the training survey never saw. A calibration that
+needs no labelled data from the new phone: shift every heard reading of a query by each ``delta``
+of a small grid (``shifts_db``), search the database at each shift, and keep the shift whose
+``n_neighbors`` nearest references lie closest on average (the query's own best fit; nothing is
+learned from the queries). This is the "offset search" form of the unsupervised device calibration
+of Tsui et al. (2009): the offset is the one that minimises the fingerprint distance.
+
+Maths in :func:`offset_search` (pure, over a fitted :class:`~ilocalg.wifi.knn.InvertedIndex`);
+:class:`OffsetFingerprint` is the scikit-learn regressor around it. Target layout as
+:class:`ilocalg.wifi.CascadeFingerprint`: ``[x_m, y_m, floor, building]`` (n, 4), floor and building
+by the neighbours' distance-weighted vote, or positions only (n, 2).
+
+References
+----------
+Tsui, A. W., Chuang, Y.-H., Chu, H.-H. (2009). Unsupervised learning for solving RSS hardware
+variance problem in WiFi localization. Mobile Networks and Applications 14, 677-691.
+Torres-Sospedra, J. et al. (2015). Comprehensive analysis of distance and similarity measures for
+Wi-Fi fingerprinting indoor positioning systems. Expert Systems with Applications 42, 9263-9278
+(powed / exponential representations, Sorensen distance).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted
+
+from ilocalg.wifi.cascade import split_target
+from ilocalg.wifi.knn import InvertedIndex, build_index, knn_predict, knn_search, neighbour_weights, vote
+from ilocalg.wifi.preprocessing import (
+    RSSI_RANGE_DBM,
+    RssiPositionTags,
+    check_rssi,
+    heard_aps,
+    predict_located,
+    to_features,
+)
+
+__all__ = ["offset_search", "OffsetFingerprint"]
+
+
+def offset_search(x_dbm: np.ndarray, index: InvertedIndex, k: int, shifts_db, not_heard_dbm: float = -104.0,
+                  representation: str = "powed", metric: str = "sorensen", p: int = 2,
+                  ceiling_dbm: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Nearest references of each query at its best RSSI shift.
+
+    Parameters
+    ----------
+    x_dbm : ndarray (n_q, n_aps)
+        Query scans, dBm, NaN = not heard (each hearing at least one AP of the database).
+    index : InvertedIndex
+        The database in ``representation`` (:func:`ilocalg.wifi.knn.build_index` of :func:`to_features`).
+    k : int
+        Neighbours per query.
+    shifts_db : sequence of float
+        Candidate offsets, dB, added to every heard reading of a query; a shifted reading is held in
+        ``[not_heard_dbm, ceiling_dbm]`` (a reading pushed to the floor counts as "not heard").
+    not_heard_dbm, representation, metric, p
+        As :class:`ilocalg.wifi.KnnFingerprint`.
+
+    Returns
+    -------
+    dist, idx : ndarray (n_q, k)
+        Distances and database rows at the chosen shift, nearest first.
+    shift_db : ndarray (n_q,)
+        The chosen shift (the one with the smallest mean distance to its ``k`` neighbours; ties to
+        the earlier entry of ``shifts_db``).
+    """
+    shifts = np.asarray(list(shifts_db), dtype=np.float64).ravel()
+    if shifts.size == 0 or not np.isfinite(shifts).all():
+        raise ValueError(f"shifts_db must be a non-empty sequence of finite dB values, got {shifts_db!r}")
+    best = None
+    for s in shifts:
+        xs = np.clip(x_dbm + s, not_heard_dbm, ceiling_dbm)
+        f = to_features(xs, not_heard_dbm, representation)
+        d, i = knn_search(f, index, k, p=p, metric=metric)
+        crit = d.mean(axis=1)
+        if best is None:
+            best = [crit, d, i, np.full(crit.size, s)]
+            continue
+        m = crit < best[0]
+        best[0][m], best[1][m], best[2][m], best[3][m] = crit[m], d[m], i[m], s
+    return best[1], best[2], best[3]
+
+
+class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
+    """Distance-weighted KNN with a per-query RSSI offset search (see :func:`offset_search`).
+
+    Parameters
+    ----------
+    n_neighbors : int
+        K of the WKNN (1/d weights) and of the floor / building votes.
+    shifts_db : tuple of float
+        Candidate offsets, dB (``(0,)``: plain WKNN).
+    representation : {"positive", "exponential", "powed"}
+    metric : {"minkowski", "sorensen"}
+    p : {1, 2}
+        Minkowski exponent (ignored for Sorensen).
+    not_heard_dbm : float
+    rssi_range_dbm : (float, float) or None
+        Range of a heard reading (``None``: any finite value, for scikit-learn's checks).
+
+    Attributes
+    ----------
+    index_ : InvertedIndex
+    y_ : ndarray, the training targets
+    heard_aps_ : ndarray of bool (n_aps,)
+    n_features_in_ : int
+    n_outputs_ : int
+
+    Notes
+    -----
+    ``score`` is R^2; tune with ``scoring=ilocalg.metrics.horizontal_error_scorer()`` for metres. A query
+    sharing no access point with the training set gets NaN everywhere.
+    """
+
+    def __init__(self, n_neighbors=8, shifts_db=(-4.0, -3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0),
+                 representation="powed", metric="sorensen", p=2, not_heard_dbm=-104.0,
+                 rssi_range_dbm=RSSI_RANGE_DBM):
+        self.n_neighbors = n_neighbors
+        self.shifts_db = shifts_db
+        self.representation = representation
+        self.metric = metric
+        self.p = p
+        self.not_heard_dbm = not_heard_dbm
+        self.rssi_range_dbm = rssi_range_dbm
+
+    def _ceiling(self):
+        return np.inf if self.rssi_range_dbm is None else float(self.rssi_range_dbm[1])
+
+    def fit(self, X, y):
+        """Fit on reference scans ``X`` (n, n_aps; dBm, NaN = not heard) and ``y`` (n, 4) or (n, 2)."""
+        owner = type(self).__name__
+        x = check_rssi(X, "X", owner=owner, valid_dbm=self.rssi_range_dbm)
+        if y is None:
+            raise ValueError("this estimator requires y to be passed, but the target y is None "
+                             "([x_m, y_m, floor, building] per row, or positions)")
+        xy, floor, building = split_target(y)
+        if xy.shape[0] != x.shape[0]:
+            raise ValueError(f"X has {x.shape[0]} rows but y has {xy.shape[0]}")
+        if not 1 <= int(self.n_neighbors) <= x.shape[0]:
+            raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={x.shape[0]}]")
+        if self.metric not in ("minkowski", "sorensen"):
+            raise ValueError(f"metric must be 'minkowski' or 'sorensen', got {self.metric!r}")
+        shifts = np.asarray(list(self.shifts_db), dtype=np.float64)
+        if shifts.size == 0 or not np.isfinite(shifts).all():
+            raise ValueError(f"shifts_db must be a non-empty sequence of finite dB values, got {self.shifts_db!r}")
+        for name, v in (("floor", floor), ("building", building)):
+            if v is not None and (v != np.round(v)).any():
+                raise ValueError(f"y column {name} must hold whole numbers, got {v[v != np.round(v)][0]}")
+        self.heard_aps_ = heard_aps(x, owner)
+        self.index_ = build_index(to_features(x, self.not_heard_dbm, self.representation))
+        self.y_ = np.asarray(y, dtype=np.float64)
+        self.n_outputs_ = 4 if floor is not None else (1 if xy.ndim == 1 else xy.shape[1])
+        self.n_features_in_ = x.shape[1]
+        return self
+
+    def predict(self, X) -> np.ndarray:
+        """``[x_m, y_m, floor, building]`` (n_q, 4), or the positions' shape when fitted on positions."""
+        check_is_fitted(self, "index_")
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+
+        def located(xq):
+            d, i, s = offset_search(xq, self.index_, int(self.n_neighbors), self.shifts_db, self.not_heard_dbm,
+                                    self.representation, self.metric, self.p, self._ceiling())
+            w = neighbour_weights(d, "distance")
+            if self.n_outputs_ != 4:
+                return np.column_stack([knn_predict(self.y_, i, w).reshape(len(xq), -1), s])
+            return np.column_stack([knn_predict(self.y_[:, :2], i, w), vote(self.y_[:, 2][i], w),
+                                    vote(self.y_[:, 3][i], w), s])
+        out = np.asarray(predict_located(x, self.heard_aps_, located, (self.y_[0].size + 1,)), dtype=np.float64)
+        pred = out[:, :-1]
+        return pred[:, 0] if self.y_.ndim == 1 else pred

@@ -1,0 +1,80 @@
+"""OffsetFingerprint: WKNN with a per-query device offset search."""
+
+import numpy as np
+import pytest
+
+from ilocalg.wifi import KnnFingerprint, OffsetFingerprint, build_index, offset_search, to_features
+
+
+def _radio_map(rng, n_side=12, n_aps=15, spacing_m=2.0):
+    """Log-distance path loss on a grid: positions (n, 2), RSSI (n, n_aps) dBm, NaN below -95 dBm."""
+    g = np.arange(n_side) * spacing_m
+    xy = np.array([(x, y) for x in g for y in g])
+    ap = rng.uniform(0, g[-1], (n_aps, 2))
+    d = np.maximum(np.hypot(xy[:, None, 0] - ap[None, :, 0], xy[:, None, 1] - ap[None, :, 1]), 1.0)
+    rssi = -35.0 - 30.0 * np.log10(d)
+    return xy, ap, rssi
+
+
+def _noisy(rssi, rng, sd_db=2.0, offset_db=0.0):
+    x = np.round(rssi + offset_db + rng.normal(0, sd_db, rssi.shape))
+    x[x < -95] = np.nan
+    return np.clip(x, -104, 0)
+
+
+def test_plain_search_equals_the_knn_estimator():
+    rng = np.random.default_rng(0)
+    xy, _, rssi = _radio_map(rng)
+    x = _noisy(rssi, rng)
+    q = _noisy(rssi[::7], rng)
+    for rep, metric in (("powed", "sorensen"), ("positive", "minkowski")):
+        a = OffsetFingerprint(n_neighbors=4, shifts_db=(0.0,), representation=rep, metric=metric).fit(x, xy)
+        b = KnnFingerprint(n_neighbors=4, p=2, weights="distance", representation=rep, metric=metric).fit(x, xy)
+        np.testing.assert_allclose(a.predict(q), b.predict(q), rtol=0, atol=1e-9)
+
+
+def test_search_recovers_a_phone_offset_and_cuts_the_error():
+    rng = np.random.default_rng(1)
+    xy, _, rssi = _radio_map(rng)
+    x = _noisy(rssi, rng, sd_db=1.0)
+    true_xy = xy[::3] + 1.0                                   # between grid points
+    _, ap, _ = _radio_map(np.random.default_rng(1))
+    d = np.maximum(np.hypot(true_xy[:, None, 0] - ap[None, :, 0], true_xy[:, None, 1] - ap[None, :, 1]), 1.0)
+    q = _noisy(-35.0 - 30.0 * np.log10(d), rng, sd_db=1.0, offset_db=-6.0)   # a phone reading 6 dB low
+    shifts = tuple(float(s) for s in range(-8, 9, 2))
+    idx = build_index(to_features(x, -104.0, "powed"))
+    _, _, s = offset_search(q, idx, 4, shifts)
+    assert np.median(s) == pytest.approx(6.0, abs=2.0)        # the search undoes most of the offset
+    plain = OffsetFingerprint(n_neighbors=4, shifts_db=(0.0,)).fit(x, xy).predict(q)
+    found = OffsetFingerprint(n_neighbors=4, shifts_db=shifts).fit(x, xy).predict(q)
+    e_plain = np.hypot(*(plain - true_xy).T).mean()
+    e_found = np.hypot(*(found - true_xy).T).mean()
+    assert e_found < 0.8 * e_plain
+
+
+def test_target_with_labels_and_no_shared_ap():
+    rng = np.random.default_rng(2)
+    xy, _, rssi = _radio_map(rng)
+    x = _noisy(rssi, rng)
+    floor = (xy[:, 0] > 10).astype(float)
+    y = np.column_stack([xy, floor, np.zeros(len(xy))])
+    est = OffsetFingerprint(n_neighbors=3).fit(x, y)
+    q = x[:5].copy()
+    q[0] = np.nan                                              # hears nothing
+    p = est.predict(q)
+    assert p.shape == (5, 4) and np.isnan(p[0]).all()
+    np.testing.assert_array_equal(p[1:, 2], floor[1:5])
+    with pytest.raises(ValueError, match="shifts_db"):
+        OffsetFingerprint(shifts_db=()).fit(x, y)
+    with pytest.raises(ValueError, match="whole numbers"):
+        OffsetFingerprint().fit(x, y + [0, 0, 0.5, 0])
+
+
+def test_check_estimator():
+    from sklearn.utils.estimator_checks import check_estimator
+
+    from tests.test_wifi_knn import EXPECTED_FAILED
+
+    for kw in (dict(representation="positive", metric="minkowski"), dict(representation="powed", metric="sorensen")):
+        check_estimator(OffsetFingerprint(n_neighbors=3, shifts_db=(-1.0, 0.0, 1.0), not_heard_dbm=-100.0,
+                                          rssi_range_dbm=None, **kw), expected_failed_checks=EXPECTED_FAILED)
