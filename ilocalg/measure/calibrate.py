@@ -18,7 +18,7 @@ Method
     limited to a fifth of the box; the best iterate is kept). The detection threshold acts on integer
     dBm, so its statistic is a staircase: the solve lands on a step inside the real interval. Each
     parameter's interval carries its own statistic's real interval (the other targets at their values)
-    through the local inverse at the solution (the inverse of the last Broyden Jacobian): a linearised
+    through the local inverse at the solution (a forward-difference Jacobian there): a linearised
     interval, which is what keeps the calibration to a few minutes of CPU.
 Targets
     Only the recordings' statistics; never a paper's result, never a fusion outcome.
@@ -202,7 +202,7 @@ def _newton(stats, x0, target, scale, lo, hi, J=None, tol: float = 0.25, max_ite
     return x, y, J
 
 
-def solve(cals, stat_fn, target, scale, x0, fixed: dict | None = None, J=None):
+def solve(cals, stat_fn, target, scale, x0, fixed: dict | None = None, J=None, max_iter: int = 10):
     """Joint solve ``stat_fn(params)[c.statistic] = target`` for the parameters of ``cals``.
 
     Returns ``(x, stats at x, Jacobian)``. ``scale`` (per statistic) sets the tolerance (a quarter of it);
@@ -217,7 +217,8 @@ def solve(cals, stat_fn, target, scale, x0, fixed: dict | None = None, J=None):
         st = stat_fn(p)
         return np.array([st[c.statistic] for c in cals])
 
-    return _newton(stats, x0, np.asarray(target, dtype=float), np.asarray(scale, dtype=float), lo, hi, J)
+    return _newton(stats, x0, np.asarray(target, dtype=float), np.asarray(scale, dtype=float), lo, hi, J,
+                   max_iter=max_iter)
 
 
 def ap_counts(params: dict, seed: int = 0, start=(16, 12), band=(4.0, 18.0)) -> tuple[int, int]:
@@ -242,7 +243,8 @@ def _group(cals, stat_fn, real, copied: dict, fixed: dict, start: dict | None = 
     scale = np.maximum((thi - tlo) / 2.0, 1e-6)
     x0 = np.array([(start or {}).get(c.parameter, copied[c.parameter]) for c in cals], dtype=float)
     at_copied = stat_fn({**fixed, **{c.parameter: copied[c.parameter] for c in cals}})
-    x, at_x, J = solve(cals, stat_fn, t, scale, x0, fixed)
+    x, at_x, _ = solve(cals, stat_fn, t, scale, x0, fixed)
+    _, _, J = solve(cals, stat_fn, t, scale, x, fixed, max_iter=0)  # a fresh forward-difference Jacobian at x
     rows = []
     Jinv = np.linalg.pinv(J)
     for i, c in enumerate(cals):
