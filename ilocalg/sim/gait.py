@@ -24,6 +24,13 @@ Worlds
     :func:`simulate_walk`): step-time CV, per-step amplitude scatter, per-walker hand gain and phone
     misalignment are rows of data/measured_parameters.csv (:data:`MEASURED_ROWS`, measured on the
     Oxford InHand walks and the ILC 2.0 site1 walks); the published models below stay the mean.
+    Where a copied value does not come back when measured on the simulated walks, the measured world
+    takes its inverse calibration (:data:`CALIBRATED`, data/calibrated_parameters.csv): step time CV,
+    a per-cycle timing jitter ``strike_jitter_rel`` (heel strikes jitter about the cadence without
+    accumulating: the phone's step-period CV is about twice its stride CV on the Oxford walks), the
+    amplitude scatter, the magnetic disturbance sd and a slow yaw wander of the hand
+    (``yaw_wander_sd_deg``, first-order low-pass at ``yaw_wander_bw_hz = 0.1`` Hz, an assumption).
+    ``world="copied"`` is the uncalibrated variant (no jitter, no wander).
     ``world="assumed"`` is the earlier world: amplitude an exact function of step length and
     cadence, step time CV 2.5 %, misalignment 5 deg (an assumption).
 Vertical acceleration vs speed: inverted pendulum (Zijlstra & Hof 2003)
