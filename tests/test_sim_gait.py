@@ -144,11 +144,14 @@ def test_training_walks_and_features():
 
 
 def test_measured_world_breaks_the_amplitude_length_link():
-    from ilocalg.sim.measured import param
+    from ilocalg.sim.measured import calibrated, param
 
+    cc = gait.gait_config("copied")  # the uncalibrated world: the measured values copied
+    assert cc.step_time_sd_rel == param("gait_stride_period_cv") and cc.amp_sd_rel == param("gait_step_amp_cv")
     cfg = gait.gait_config("measured")
     assert cfg.world == "measured"
-    assert cfg.step_time_sd_rel == param("gait_stride_period_cv") and cfg.amp_sd_rel == param("gait_step_amp_cv")
+    assert cfg.amp_sd_rel == calibrated("gait.amp_sd_rel") and cfg.strike_jitter_rel == calibrated(
+        "gait.strike_jitter_rel")
     w = gait.make_walkers(1, 5, world="measured")[0]
     sw = gait.simulate_walk(gait.straight_route(200.0), w, 5, cfg)
     st = sw.steps.iloc[1:-1]

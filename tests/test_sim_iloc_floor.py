@@ -89,7 +89,7 @@ def test_body_shadowing_and_device_offset():
     np.testing.assert_array_equal(c.train.rssi_dbm, a.train.rssi_dbm)  # survey phone unchanged
 
 
-@pytest.mark.parametrize("world", ["measured", "assumed"])
+@pytest.mark.parametrize("world", ["measured", "copied", "assumed"])
 def test_calibrated_inputs(world):
     sim = iloc_floor.simulate(0, scans_per_point=100, scans_per_test_point=2, world=world)
     s = iloc_floor.summary(sim).set_index("quantity")["value"]
@@ -157,17 +157,20 @@ def test_back_to_back_scans_start_when_the_last_one_ends():
 
 
 def test_worlds_measured_from_the_table_and_assumed_unchanged():
-    from ilocalg.sim.measured import param
+    from ilocalg.sim.measured import calibrated, param
 
-    m, a = iloc_floor.world_params("measured"), iloc_floor.world_params("assumed")
+    c, m, a = (iloc_floor.world_params(w) for w in ("copied", "measured", "assumed"))
     assert a == iloc_floor.PARAMS
     for k, row in iloc_floor.MEASURED_ROWS.items():
         expect = 1.0 - param(row) if k == "miss_p" else param(row)
-        assert m[k] == expect
-    assert m["light_wall_db"] == m["heavy_wall_db"] == 0.0
-    assert (m["n_aps_floor"], m["n_aps_other"]) == (13, 10)
-    src = iloc_floor.world_sources("measured")
-    assert all("measured_parameters.csv" in src[k] for k in iloc_floor.MEASURED_ROWS)
+        assert c[k] == expect  # the copied world: the measured values as they are
+        assert m[k] == (calibrated(f"iloc_floor.{k}") if k in iloc_floor.CALIBRATED else expect)
+    assert m["light_wall_db"] == m["heavy_wall_db"] == c["light_wall_db"] == 0.0
+    assert (c["n_aps_floor"], c["n_aps_other"]) == (13, 10)
+    src, srcc = iloc_floor.world_sources("measured"), iloc_floor.world_sources("copied")
+    assert all("measured_parameters.csv" in srcc[k] for k in iloc_floor.MEASURED_ROWS)
+    assert all(("calibrated_parameters.csv" if k in iloc_floor.CALIBRATED else "measured_parameters.csv") in src[k]
+               for k in iloc_floor.MEASURED_ROWS)
     s0 = iloc_floor.simulate(0, scans_per_point=2, scans_per_test_point=1, world="assumed")
     assert s0.params == {**iloc_floor.PARAMS}
     with pytest.raises(ValueError, match="world"):

@@ -7,14 +7,18 @@ measures it with the functions that measured data/measured_parameters.csv
 
 ``real_vs_sim``
     One row per compared statistic: the real value and interval (the committed table) and, per
-    world, the simulated value, interval and ``<world>_calibrated`` (real value inside the simulated
-    interval).
+    world (``measured``: calibrated, the default; ``copied``: measured values copied, uncalibrated;
+    ``assumed``), the simulated value, interval and ``<world>_calibrated`` (real value inside the
+    simulated interval).
 ``distributions``
     Long table ``quantity, source, value`` of raw samples for the histograms: shadowing residuals,
     scan lag (reading age), WDM misalignment per segment, relative step period and amplitude; the
     real samples only when ../shared/data is present (a subsample of the ILC walks).
 ``table``
     data/measured_parameters.csv as committed.
+``calibrated``
+    data/calibrated_parameters.csv as committed: each calibrated simulator parameter with its target
+    statistic, the value copied before, the statistic at the copied and at the calibrated value.
 ``measures``
     Named scalars: how many compared statistics each world reproduces.
 ``readings``
@@ -31,10 +35,10 @@ from ilocalg.measure import simulated
 from ilocalg.measure.stats import bootstrap
 from ilocalg.papers import reading, readings_table
 from ilocalg.sim import gait, iloc_floor
-from ilocalg.sim.measured import param, table
+from ilocalg.sim.measured import calibrated_table, param, table
 from ilocalg.units import as_rng
 
-__all__ = ["run", "real_samples", "readings"]
+__all__ = ["run", "real_samples", "readings", "findings"]
 
 
 def readings() -> pd.DataFrame:
@@ -46,6 +50,10 @@ def readings() -> pd.DataFrame:
          "and test session and on walkers walking its 28-point route", "ilocalg.measure.simulated"),
         ("calibrated", "", "not in the papers", "the real value lies inside the simulated 95 % bootstrap interval",
          "issue 24 acceptance"),
+        ("worlds", "", "not in the papers", "measured = copied values, inverse-calibrated where a copied value does "
+         "not come back (data/calibrated_parameters.csv, python -m ilocalg measure --calibrate, seeds 0-2); copied = "
+         "the measured values copied into the parameters (uncalibrated); assumed = the published-value world",
+         "ilocalg.measure.calibrate; recordings' statistics only"),
         ("scan lag, simulated", "", "silent", "walking_scans reads each AP at a uniform time within the scan and "
          "the scan is stamped at its end: age ~ U(0, latency), latency = the measured scan interval",
          "ilocalg.sim.iloc_floor.walking_scans"),
@@ -115,7 +123,7 @@ def _simulate_world(world: str, seed, fast: bool, n_walkers: int):
     cfg = gait.gait_config(world)
     walks = [gait.simulate_walk(route, w, rng, cfg) for w in gait.make_walkers(n_walkers, rng, world=world)]
     gstats, gsamp = simulated.gait_measures(walks, route)
-    latency = param("wifi_scan_interval_s") if world == "measured" else 2.0
+    latency = 2.0 if world == "assumed" else param("wifi_scan_interval_s")
     lag = simulated.scan_lag_model_s(latency, n=1000, rng=int(rng.integers(2**31)))
     e = bootstrap(lag[:1000], np.median)
     stats = {**rstats, **gstats, "wifi_reading_age_median_s": e.as_dict()}
@@ -123,7 +131,7 @@ def _simulate_world(world: str, seed, fast: bool, n_walkers: int):
     return stats, samp
 
 
-def run(seed: int = 0, fast: bool = False, worlds=("measured", "assumed"), data_dir=None,
+def run(seed: int = 0, fast: bool = False, worlds=("measured", "copied", "assumed"), data_dir=None,
         n_walkers: int = 8) -> dict[str, pd.DataFrame]:
     """Real vs simulated statistics; see the module docstring."""
     if fast:
@@ -142,4 +150,23 @@ def run(seed: int = 0, fast: bool = False, worlds=("measured", "assumed"), data_
                                                                          .astype(bool).sum()),
              "unit": "count", "item": f"of {len(comp)}"} for w in worlds]
     return {"real_vs_sim": comp, "distributions": distributions, "table": real, "measures": pd.DataFrame(meas),
-            "readings": readings()}
+            "calibrated": calibrated_table().reset_index(drop=True), "readings": readings()}
+
+
+def findings(tables: dict) -> str:
+    """Sentences computed from the tables (for the notebook's closing cell)."""
+    comp = tables["real_vs_sim"]
+    n = len(comp)
+    lines = []
+    for w in [c[4:-11] for c in comp.columns if c.startswith("sim_") and c.endswith("_calibrated")]:
+        ok = comp[f"sim_{w}_calibrated"].fillna(False).astype(bool)
+        miss = ", ".join(comp.loc[~ok, "parameter"]) or "none"
+        lines.append(f"- {w} world: {int(ok.sum())} of {n} statistics inside the simulated interval; missed: {miss}.")
+    cal = tables.get("calibrated")
+    if cal is not None and len(cal):
+        c = cal[cal["target"].notna()]
+        for r in c.itertuples():
+            lines.append(f"- {r.parameter}: copied {r.copied:.4g} gave {r.statistic} = {r.at_copied:.4g}; calibrated "
+                         f"{r.value:.4g} [{r.ci_low:.4g}, {r.ci_high:.4g}] gives {r.at_value:.4g} (real {r.target:.4g} "
+                         f"[{r.target_ci_low:.4g}, {r.target_ci_high:.4g}], mean of the calibration seeds).")
+    return "\n".join(lines)

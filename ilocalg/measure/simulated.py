@@ -27,38 +27,51 @@ COMPARED = {
 }
 
 
-def _est(groups, fn):
+def _est(groups, fn, ci: bool = True):
+    """``fn`` on the pooled groups with its bootstrap interval, or the point value alone (``ci=False``,
+    what the inverse calibration iterates on: same statistic, no resampling)."""
+    if not ci:
+        g = groups if isinstance(groups, np.ndarray) and groups.dtype != object else [np.asarray(x) for x in groups
+                                                                                        if len(x)]
+        v = fn(g if isinstance(g, np.ndarray) else np.concatenate(g))
+        return {"value": float(v), "ci_low": np.nan, "ci_high": np.nan, "n": len(g)}
     e = bootstrap(groups, fn)
     return {"value": e.value, "ci_low": e.ci_low, "ci_high": e.ci_high, "n": e.n}
 
 
-def radio_measures(sim) -> tuple[dict, dict]:
+def radio_measures(sim, ci: bool = True, only=None) -> tuple[dict, dict]:
     """Radio statistics of an :class:`ilocalg.sim.iloc_floor.IlocFloor` (survey = training, test session).
 
     Returns ``(stats, samples)``: per parameter a dict ``value, ci_low, ci_high, n``; ``samples`` holds
-    raw distributions for plots (``shadow_residual_db``).
+    raw distributions for plots (``shadow_residual_db``). ``ci=False`` gives the point values only (NaN
+    intervals); ``only`` (names) skips the other statistics' work.
     """
+    want = set(COMPARED) if only is None else set(only)
     tr, te = sim.train, sim.test
     point = tr.meta["point"].to_numpy()
     cell = point * 1000 + tr.meta["session"].to_numpy()
     pm, places = radio.place_means(tr.rssi_dbm, point)
     pxy = sim.points_xy_m[places]
     on_floor = np.flatnonzero(sim.ap_floor == 0)
-    pl = radio.path_loss_per_ap(pxy, pm[:, on_floor])
-    sd = radio.within_place_sd_db(tr.rssi_dbm, cell)
-    mm, ff, kk = radio.detection_curve(tr.rssi_dbm, cell)
-    grp = [np.column_stack([mm[kk == k], ff[kk == k]]) for k in np.unique(kk)]
-    dr = radio.drift_per_ap_db(pm, pxy, np.zeros(len(pxy)), te.rssi_dbm, te.xy_m, np.zeros(te.n_samples),
-                               radius_m=0.5)
-    stats = {
-        "shadow_sd_db": _est(pl["sigma_db"].to_numpy(), np.median),
-        "path_loss_exponent": _est(pl["n"].to_numpy(), np.median),
-        "fade_sd_db": _est(sd, lambda x: float(np.sqrt(np.mean(x**2)))),
-        "drift_sd_db": _est(dr.to_numpy(), lambda x: float(np.std(x, ddof=1))),
-        "detect_m50_dbm": _est(grp, lambda a: radio.fit_detection(a[:, 0], a[:, 1])["m50_dbm"]),
-        "aps_per_scan_median": _est(radio.aps_per_scan(tr.rssi_dbm).astype(float), np.median),
-    }
-    res = np.concatenate(list(pl.attrs["residuals"].values())) if len(pl) else np.array([])
+    stats, res = {}, np.array([])
+    if want & {"shadow_sd_db", "path_loss_exponent"}:
+        pl = radio.path_loss_per_ap(pxy, pm[:, on_floor])
+        stats["shadow_sd_db"] = _est(pl["sigma_db"].to_numpy(), np.median, ci)
+        stats["path_loss_exponent"] = _est(pl["n"].to_numpy(), np.median, ci)
+        res = np.concatenate(list(pl.attrs["residuals"].values())) if len(pl) else res
+    if "fade_sd_db" in want:
+        sd = radio.within_place_sd_db(tr.rssi_dbm, cell)
+        stats["fade_sd_db"] = _est(sd, lambda x: float(np.sqrt(np.mean(x**2))), ci)
+    if "drift_sd_db" in want:
+        dr = radio.drift_per_ap_db(pm, pxy, np.zeros(len(pxy)), te.rssi_dbm, te.xy_m, np.zeros(te.n_samples),
+                                   radius_m=0.5)
+        stats["drift_sd_db"] = _est(dr.to_numpy(), lambda x: float(np.std(x, ddof=1)), ci)
+    if "detect_m50_dbm" in want:
+        mm, ff, kk = radio.detection_curve(tr.rssi_dbm, cell)
+        grp = [np.column_stack([mm[kk == k], ff[kk == k]]) for k in np.unique(kk)]
+        stats["detect_m50_dbm"] = _est(grp, lambda a: radio.fit_detection(a[:, 0], a[:, 1])["m50_dbm"], ci)
+    if "aps_per_scan_median" in want:
+        stats["aps_per_scan_median"] = _est(radio.aps_per_scan(tr.rssi_dbm).astype(float), np.median, ci)
     return stats, {"shadow_residual_db": res}
 
 
@@ -69,13 +82,16 @@ def scan_lag_model_s(latency_s: float, n: int = 4000, rng=0) -> np.ndarray:
     return latency_s * r.uniform(0.0, 1.0, n)
 
 
-def gait_measures(walks, route_xy_m) -> tuple[dict, dict]:
+def gait_measures(walks, route_xy_m, ci: bool = True, only=None) -> tuple[dict, dict]:
     """Gait and heading statistics of simulated walks (:class:`ilocalg.sim.gait.SimWalk`) along a route.
 
     Step variability from the true steps (as the Oxford heel contacts), gait correlations over the
     route's vertex-to-vertex segments with detected steps (as the ILC waypoints), WDM misalignment per
-    segment and the field magnitude's spread. Returns ``(stats, samples)``.
+    segment and the field magnitude's spread. Returns ``(stats, samples)``; ``ci`` and ``only`` as
+    :func:`radio_measures` (without the gait correlations, the segments' step detection is skipped).
     """
+    want = set(COMPARED) if only is None else set(only)
+    corr_wanted = bool(want & {"gait_corr_A_SL", "gait_corr_T_SL", "gait_A_resid_rel"})
     from ilocalg.sim.gait import pass_times_s
 
     route = np.asarray(route_xy_m, dtype=np.float64)
@@ -89,8 +105,9 @@ def gait_measures(walks, route_xy_m) -> tuple[dict, dict]:
         steps_T.append(s["T_s"].to_numpy() / s["T_s"].median())
         steps_A.append(s["A_mps2"].to_numpy() / s["A_mps2"].median())
         tp = pass_times_s(sw, route)
-        seg = mgait.segment_gait(acc, t, tp, route)
-        segs.append(seg[["A_mps2", "SL_m", "T_s", "speed_mps"]].to_numpy())
+        if corr_wanted:
+            seg = mgait.segment_gait(acc, t, tp, route)
+            segs.append(seg[["A_mps2", "SL_m", "T_s", "speed_mps"]].to_numpy())
         wp = pd.DataFrame({"t_s": tp, "x_m": route[:, 0], "y_m": route[:, 1]})
         h = heading.segment_headings(sw.imu, None, wp)
         mis.append(heading.misalignment(h["wdm_rad"], h["dir_rad"], np.zeros(len(h))))
@@ -103,15 +120,16 @@ def gait_measures(walks, route_xy_m) -> tuple[dict, dict]:
 
     med = np.median(np.concatenate(mags))
     stats = {
-        "gait_step_period_cv": _est(V["rcv_T"].to_numpy(), np.median),
-        "gait_step_amp_cv": _est(V["rcv_A"].to_numpy(), np.median),
-        "gait_stride_period_cv": _est(V["cv_stride"].to_numpy(), np.median),
-        "gait_corr_A_SL": _est(segs, corr("corr_A_SL")),
-        "gait_corr_T_SL": _est(segs, corr("corr_T_SL")),
-        "gait_A_resid_rel": _est(segs, corr("A_resid_rel")),
-        "heading_mis_wdm_rms_deg": _est(mis, lambda x: float(np.sqrt(np.mean(np.degrees(x) ** 2)))),
-        "mag_norm_sd_ut": _est([m - med for m in mags], lambda x: float(np.std(x))),
+        "gait_step_period_cv": _est(V["rcv_T"].to_numpy(), np.median, ci),
+        "gait_step_amp_cv": _est(V["rcv_A"].to_numpy(), np.median, ci),
+        "gait_stride_period_cv": _est(V["cv_stride"].to_numpy(), np.median, ci),
+        "heading_mis_wdm_rms_deg": _est(mis, lambda x: float(np.sqrt(np.mean(np.degrees(x) ** 2))), ci),
+        "mag_norm_sd_ut": _est([m - med for m in mags], lambda x: float(np.std(x)), ci),
     }
+    if corr_wanted:
+        stats.update({"gait_corr_A_SL": _est(segs, corr("corr_A_SL"), ci),
+                      "gait_corr_T_SL": _est(segs, corr("corr_T_SL"), ci),
+                      "gait_A_resid_rel": _est(segs, corr("A_resid_rel"), ci)})
     samples = {"misalignment_deg": np.degrees(np.concatenate(mis)), "step_T_rel": np.concatenate(steps_T),
                "step_A_rel": np.concatenate(steps_A)}
     return stats, samples

@@ -24,6 +24,13 @@ Worlds
     :func:`simulate_walk`): step-time CV, per-step amplitude scatter, per-walker hand gain and phone
     misalignment are rows of data/measured_parameters.csv (:data:`MEASURED_ROWS`, measured on the
     Oxford InHand walks and the ILC 2.0 site1 walks); the published models below stay the mean.
+    Where a copied value does not come back when measured on the simulated walks, the measured world
+    takes its inverse calibration (:data:`CALIBRATED`, data/calibrated_parameters.csv): step time CV,
+    a per-cycle timing jitter ``strike_jitter_rel`` (heel strikes jitter about the cadence without
+    accumulating: the phone's step-period CV is about twice its stride CV on the Oxford walks), the
+    amplitude scatter, the magnetic disturbance sd and a slow yaw wander of the hand
+    (``yaw_wander_sd_deg``, first-order low-pass at ``yaw_wander_bw_hz = 0.1`` Hz, an assumption).
+    ``world="copied"`` is the uncalibrated variant (no jitter, no wander).
     ``world="assumed"`` is the earlier world: amplitude an exact function of step length and
     cadence, step time CV 2.5 %, misalignment 5 deg (an assumption).
 Vertical acceleration vs speed: inverted pendulum (Zijlstra & Hof 2003)
@@ -171,6 +178,9 @@ class GaitConfig:
     disturbance_width_m: tuple = (1.0, 3.0)
     stand_s: float = 1.0
     amp_sd_rel: float = 0.0
+    strike_jitter_rel: float = 0.0
+    yaw_wander_sd_deg: float = 0.0
+    yaw_wander_bw_hz: float = 0.1
     world: str = "assumed"
 
     @property
@@ -188,9 +198,15 @@ ALEXANDER_C, ALEXANDER_EXP = 2.3, 0.3  # Alexander 1976, 1984: lambda / l = 2.3 
 MISALIGN_SD_DEG = 5.0  # assumption (switched off in the WDM sensitivity table)
 HARD_IRON_SD_UT = 2.0  # assumption (switched off in the WDM sensitivity table)
 
-#: The simulated worlds: "measured" (defaults from data/measured_parameters.csv) and "assumed" (the
-#: published-value world used before the table existed, kept for comparison).
-WORLDS = ("measured", "assumed")
+#: The simulated worlds: "measured" (defaults from data/measured_parameters.csv, inverse-calibrated
+#: where a copied value does not come back: data/calibrated_parameters.csv), "copied" (the measured values
+#: copied, uncalibrated: the world of issue 24) and "assumed" (the published-value world used before the
+#: table existed, kept for comparison).
+WORLDS = ("measured", "copied", "assumed")
+
+#: Calibrated world: GaitConfig fields set by the inverse calibration (:mod:`ilocalg.measure.calibrate`);
+#: ``strike_jitter_rel`` and ``yaw_wander_sd_deg`` are 0 in the other worlds.
+CALIBRATED = ("step_time_sd_rel", "strike_jitter_rel", "amp_sd_rel", "disturbance_sd_ut", "yaw_wander_sd_deg")
 
 #: Measured world: GaitConfig field / walker spread -> row of data/measured_parameters.csv.
 MEASURED_ROWS = {
@@ -232,27 +248,41 @@ def world_reading(world: str = "measured") -> tuple[str, str]:
     if world == "assumed":
         return ("assumed world: step time CV 2.5 %, amplitude an exact function of step length and cadence, "
                 "hand gain 1, misalignment N(0, 5 deg)", "Hausdorff 2005; Zijlstra & Hof 2003; assumption")
-    from ilocalg.sim.measured import cite
+    from ilocalg.sim.measured import calibrated_cite, cite
 
     v = {k: _measured(k) for k in MEASURED_ROWS}
-    what = (f"measured world: step time CV {v['step_time_sd_rel']:.3g}, per-step amplitude CV {v['amp_sd_rel']:.3g} "
-            f"independent of length, hand gain sd {v['walker_gain_sd_rel']:.3g}, misalignment sd "
-            f"{v['misalign_sd_deg']:.3g} deg; Alexander/Zijlstra-Hof models stay the mean")
-    return what, "; ".join(cite(r) for r in MEASURED_ROWS.values())
+    if world == "copied":
+        what = (f"copied world (uncalibrated): step time CV {v['step_time_sd_rel']:.3g}, per-step amplitude CV "
+                f"{v['amp_sd_rel']:.3g} independent of length, hand gain sd {v['walker_gain_sd_rel']:.3g}, "
+                f"misalignment sd {v['misalign_sd_deg']:.3g} deg; Alexander/Zijlstra-Hof models stay the mean")
+        return what, "; ".join(cite(r) for r in MEASURED_ROWS.values())
+    c = gait_config("measured")
+    what = (f"measured world, calibrated: step time CV {c.step_time_sd_rel:.3g}, step timing jitter "
+            f"{c.strike_jitter_rel:.3g}, per-step amplitude CV {c.amp_sd_rel:.3g} independent of length, magnetic "
+            f"disturbance sd {c.disturbance_sd_ut:.3g} uT, yaw wander sd {c.yaw_wander_sd_deg:.3g} deg; hand gain sd "
+            f"{v['walker_gain_sd_rel']:.3g}, misalignment sd {v['misalign_sd_deg']:.3g} deg (measured); "
+            "Alexander/Zijlstra-Hof models stay the mean")
+    return what, "; ".join([cite(MEASURED_ROWS[k]) for k in ("walker_gain_sd_rel", "misalign_sd_deg")]
+                           + [calibrated_cite(f"gait.{k}") for k in CALIBRATED])
 
 
 def gait_config(world: str = "measured", **overrides) -> GaitConfig:
     """The simulator's configuration of a world, with ``overrides`` (any :class:`GaitConfig` field).
 
-    ``world="measured"`` takes ``step_time_sd_rel`` and ``amp_sd_rel`` from
-    data/measured_parameters.csv (:data:`MEASURED_ROWS`, :data:`MEASURED_SOURCES`); ``"assumed"``
-    is the published-value world (step time CV 2.5 %, amplitude a deterministic function of step
-    length and cadence).
+    ``world="copied"`` takes ``step_time_sd_rel`` and ``amp_sd_rel`` from
+    data/measured_parameters.csv (:data:`MEASURED_ROWS`, :data:`MEASURED_SOURCES`);
+    ``world="measured"`` (default) replaces the fields of :data:`CALIBRATED` by their inverse
+    calibration (data/calibrated_parameters.csv); ``"assumed"`` is the published-value world (step time
+    CV 2.5 %, amplitude a deterministic function of step length and cadence).
     """
     _check_world(world)
     base = {"world": world}
-    if world == "measured":
+    if world in ("measured", "copied"):
         base.update(step_time_sd_rel=_measured("step_time_sd_rel"), amp_sd_rel=_measured("amp_sd_rel"))
+    if world == "measured":
+        from ilocalg.sim.measured import calibrated
+
+        base.update({k: calibrated(f"gait.{k}") for k in CALIBRATED})
     base.update(overrides)
     return GaitConfig(**base)
 
@@ -315,8 +345,8 @@ def make_walkers(n: int, rng=None, misalign_sd_deg: float | None = None,
     """
     _check_world(world)
     if misalign_sd_deg is None:
-        misalign_sd_deg = _measured("misalign_sd_deg") if world == "measured" else MISALIGN_SD_DEG
-    gain_sd = _measured("walker_gain_sd_rel") if world == "measured" else 0.0
+        misalign_sd_deg = MISALIGN_SD_DEG if world == "assumed" else _measured("misalign_sd_deg")
+    gain_sd = 0.0 if world == "assumed" else _measured("walker_gain_sd_rel")
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     if not (misalign_sd_deg >= 0 and hard_iron_sd_ut >= 0):
@@ -488,6 +518,9 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
             raise ValueError(f"{n_steps} steps of about {np.mean(L):.2f} m exceed the route ({total:.1f} m)")
     n = L.size
     dur = (1.0 + cfg.step_time_sd_rel * r.normal(size=n)) / f_mean
+    if cfg.strike_jitter_rel > 0:  # calibrated world: each cycle's timing jitters about the cadence (not cumulative)
+        e = np.concatenate([[0.0], r.normal(size=n)]) * (cfg.strike_jitter_rel / f_mean)
+        dur = np.maximum(dur + np.diff(e), 0.3 / f_mean)
     f = 1.0 / dur
     B = cfg.hand_gain * walker.gain * pendulum_amplitude_mps2(L, f, walker.leg_m, cfg.pendulum_k)
     if cfg.amp_sd_rel > 0:  # measured world: step amplitude scatters independently of the step's length
@@ -529,6 +562,8 @@ def simulate_walk(route_xy_m, walker: Walker, rng=None, config: GaitConfig | Non
     roll = _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jr)
     pitch = walker.pitch_rad + _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jp)
     yaw = theta_body - np.pi / 2 + walker.misalign_rad + _smooth_noise(r, m, rate, cfg.jitter_bw_hz, jy)
+    if cfg.yaw_wander_sd_deg > 0:  # calibrated world: the hand's slow yaw wander within a walk
+        yaw = yaw + _smooth_noise(r, m, rate, cfg.yaw_wander_bw_hz, np.deg2rad(cfg.yaw_wander_sd_deg))
     R = _rot_z(yaw) @ _rot_x(pitch) @ _rot_y(roll)
 
     f_n = a_n + np.array([0.0, 0.0, G0_MPS2])

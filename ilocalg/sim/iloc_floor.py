@@ -58,7 +58,13 @@ Measured world (the default, ``simulate(world="measured")``)
     The path-loss P0 and exponent (fitted jointly), shadowing sd, survey-to-test drift sd, fast-fading sd, detection
     threshold and miss probability are rows of data/measured_parameters.csv measured on
     UJIIndoorLoc (:data:`MEASURED_ROWS`, :func:`world_sources`); walls count 0 dB there (the
-    measured log-distance fit carries them). Everything above is the ``"assumed"`` world.
+    measured log-distance fit carries them). Where a copied value does not come back when the same
+    statistic is measured on the simulated floor (shadowing sd, fast-fading sd, detection threshold:
+    censoring by the threshold and the unknown AP positions bias the per-AP fit), the
+    parameter takes its inverse calibration instead (:data:`CALIBRATED`,
+    data/calibrated_parameters.csv, :mod:`ilocalg.measure.calibrate`), and the AP counts follow the
+    thesis's 4-18 APs per scan (L295) for the calibrated propagation. ``world="copied"`` is the
+    uncalibrated variant (measured values copied). Everything above is the ``"assumed"`` world.
 
 Everything is deterministic from ``seed`` (same seed -> identical arrays).
 
@@ -197,9 +203,11 @@ PARAM_SOURCES = {
     "miss_p": "scans are not exhaustive (assumption)",
 }
 
-#: The radio worlds: "measured" (default; values from data/measured_parameters.csv where a row exists)
-#: and "assumed" (:data:`PARAMS`, the published-value world kept for comparison).
-WORLDS = ("measured", "assumed")
+#: The radio worlds: "measured" (default: values from data/measured_parameters.csv where a row exists,
+#: inverse-calibrated where the copied value does not come back, data/calibrated_parameters.csv),
+#: "copied" (the measured values copied into the parameters, uncalibrated: the world of issue 24) and
+#: "assumed" (:data:`PARAMS`, the published-value world kept for comparison).
+WORLDS = ("measured", "copied", "assumed")
 
 #: Measured world: parameter -> row of data/measured_parameters.csv (UJIIndoorLoc). The per-AP log-distance
 #: fit behind path_loss_exponent and shadow_sd_db has no walls, so the measured world sets the wall losses
@@ -220,26 +228,38 @@ MEASURED_ROWS = {
 MEASURED_FIXED = {"light_wall_db": 0.0, "heavy_wall_db": 0.0, "n_aps_floor": 13, "n_aps_other": 10}
 
 
+#: Calibrated world: parameters whose copied value does not come back when measured on the simulated
+#: floor, replaced by their inverse calibration (data/calibrated_parameters.csv, :mod:`ilocalg.measure.calibrate`).
+CALIBRATED = ("shadow_sd_db", "fade_sd_db", "detect_dbm", "n_aps_floor", "n_aps_other")
+
+
 def world_params(world: str = "measured") -> dict:
-    """The radio parameters of a world (a new dict; see :data:`MEASURED_ROWS`)."""
+    """The radio parameters of a world (a new dict; see :data:`MEASURED_ROWS` and :data:`CALIBRATED`)."""
     if world not in WORLDS:
         raise ValueError(f"unknown world {world!r}; known: {list(WORLDS)}")
     p = dict(PARAMS)
-    if world == "measured":
+    if world in ("measured", "copied"):
         from ilocalg.sim.measured import param
 
         for k, row in MEASURED_ROWS.items():
             p[k] = 1.0 - param(row) if k == "miss_p" else param(row)
         # thesis Fig 2: window/corner points fade more; the assumed 2 dB excess over the corridor value is kept
-        p["fade_sd_edge_db"] = p["fade_sd_db"] + (PARAMS["fade_sd_edge_db"] - PARAMS["fade_sd_db"])
         p.update(MEASURED_FIXED)
+    if world == "measured":
+        from ilocalg.sim.measured import calibrated
+
+        for k in CALIBRATED:
+            v = calibrated(f"iloc_floor.{k}")
+            p[k] = int(round(v)) if k.startswith("n_aps") else v
+    if world in ("measured", "copied"):
+        p["fade_sd_edge_db"] = p["fade_sd_db"] + (PARAMS["fade_sd_edge_db"] - PARAMS["fade_sd_db"])
     return p
 
 
 def world_sources(world: str = "measured") -> dict:
     """Where each parameter of a world comes from (one line each; measured rows cite the table)."""
     src = dict(PARAM_SOURCES)
-    if world == "measured":
+    if world in ("measured", "copied"):
         from ilocalg.sim.measured import cite
 
         for k, row in MEASURED_ROWS.items():
@@ -251,6 +271,12 @@ def world_sources(world: str = "measured") -> dict:
         for k in ("n_aps_floor", "n_aps_other"):
             src[k] = ("recalibrated for the measured propagation to the thesis's 4-18 APs per scan (L295): 13 + 10, "
                       "the largest counts below 16 + 12 whose 5th-95th percentile lies in 4-18")
+    if world == "measured":
+        from ilocalg.sim.measured import calibrated_cite
+
+        for k in CALIBRATED:
+            src[k] = calibrated_cite(f"iloc_floor.{k}")
+        src["fade_sd_edge_db"] = "fade_sd_db (calibrated) + 2 dB (the assumed world's excess at windows and corners)"
     return src
 
 

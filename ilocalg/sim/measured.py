@@ -1,8 +1,13 @@
-"""The simulators' measured defaults: read ``data/measured_parameters.csv``.
+"""The simulators' measured defaults: read ``data/measured_parameters.csv`` and ``data/calibrated_parameters.csv``.
 
-The table is written by ``python -m ilocalg measure`` (:mod:`ilocalg.measure.table`) from the public
-recordings in ``../shared/data``; every simulator default that is measured names its row here, e.g.
-``param("wifi_scan_interval_s")``.
+The measured table is written by ``python -m ilocalg measure`` (:mod:`ilocalg.measure.table`) from the
+public recordings in ``../shared/data``; every simulator default that is measured names its row here,
+e.g. ``param("wifi_scan_interval_s")``.
+
+The calibrated table is written by ``python -m ilocalg measure --calibrate``
+(:mod:`ilocalg.measure.calibrate`): for a simulator parameter whose statistic does not come back when
+measured on the simulated world, the value at which it does (``calibrated("iloc_floor.shadow_sd_db")``),
+with the target statistic and the interval carried from the target's interval.
 """
 
 from __future__ import annotations
@@ -14,19 +19,25 @@ import pandas as pd
 
 from ilocalg.io.paths import REPO_ROOT
 
-__all__ = ["TABLE_PATH", "table", "row", "param", "ci", "cite"]
+__all__ = ["TABLE_PATH", "CALIBRATED_PATH", "table", "row", "param", "ci", "cite", "calibrated_table",
+           "calibrated_row", "calibrated", "calibrated_cite"]
 
 TABLE_PATH = REPO_ROOT / "data" / "measured_parameters.csv"
+CALIBRATED_PATH = REPO_ROOT / "data" / "calibrated_parameters.csv"
 _COLUMNS = ("parameter", "value", "ci_low", "ci_high", "unit", "dataset", "method")
+#: columns of data/calibrated_parameters.csv
+CALIBRATED_COLUMNS = ("parameter", "value", "ci_low", "ci_high", "unit", "statistic", "target", "target_ci_low",
+                      "target_ci_high", "copied", "at_copied", "at_value", "method")
 
 
-@lru_cache(maxsize=4)
-def _load(path: str) -> pd.DataFrame:
+@lru_cache(maxsize=8)
+def _load(path: str, columns: tuple = _COLUMNS) -> pd.DataFrame:
     p = Path(path)
     if not p.is_file():
-        raise ValueError(f"{p}: measured-parameter table not found (run `python -m ilocalg measure`)")
+        cmd = "measure --calibrate" if columns == CALIBRATED_COLUMNS else "measure"
+        raise ValueError(f"{p}: parameter table not found (run `python -m ilocalg {cmd}`)")
     df = pd.read_csv(p)
-    missing = [c for c in _COLUMNS if c not in df.columns]
+    missing = [c for c in columns if c not in df.columns]
     if missing:
         raise ValueError(f"{p}: line 1: missing column(s) {missing}")
     dup = df["parameter"][df["parameter"].duplicated()]
@@ -65,3 +76,31 @@ def cite(name: str, path=TABLE_PATH) -> str:
     r = row(name, path)
     return (f"data/measured_parameters.csv: {name} = {r['value']:.4g} [{r['ci_low']:.4g}, {r['ci_high']:.4g}] "
             f"{r['unit']} ({r['dataset']})")
+
+
+def calibrated_table(path=CALIBRATED_PATH) -> pd.DataFrame:
+    """data/calibrated_parameters.csv (a copy), indexed by ``simulator.parameter``."""
+    return _load(str(path), CALIBRATED_COLUMNS).copy()
+
+
+def calibrated_row(name: str, path=CALIBRATED_PATH) -> dict:
+    """One calibrated parameter's row (``CALIBRATED_COLUMNS``; numbers as floats)."""
+    df = _load(str(path), CALIBRATED_COLUMNS)
+    if name not in df.index:
+        raise ValueError(f"unknown calibrated parameter {name!r} in {Path(path).name}; known: {sorted(df.index)}")
+    r = df.loc[name]
+    return {c: (str(r[c]) if c in ("parameter", "unit", "statistic", "method") else float(r[c]))
+            for c in CALIBRATED_COLUMNS}
+
+
+def calibrated(name: str, path=CALIBRATED_PATH) -> float:
+    """A calibrated simulator parameter's value, e.g. ``calibrated("gait.amp_sd_rel")``."""
+    return calibrated_row(name, path)["value"]
+
+
+def calibrated_cite(name: str, path=CALIBRATED_PATH) -> str:
+    """One line for readings tables: the value, its interval and the statistic it brings back."""
+    r = calibrated_row(name, path)
+    return (f"data/calibrated_parameters.csv: {name} = {r['value']:.4g} [{r['ci_low']:.4g}, {r['ci_high']:.4g}] "
+            f"{r['unit']}, the value at which the simulated {r['statistic']} equals the real "
+            f"{r['target']:.4g} [{r['target_ci_low']:.4g}, {r['target_ci_high']:.4g}]")

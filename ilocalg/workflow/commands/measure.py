@@ -17,10 +17,21 @@ def add_arguments(p) -> None:
                    help="use about 1/EVERY of the ILC site1 walks (deterministic subsample: trace id %% EVERY == 0; "
                         f"default {DEFAULT_EVERY}, the committed table's setting; 1: all 198 walks)")
     p.add_argument("--parts", default=None, help="comma list of scans,radio,gait,heading (default: all)")
+    p.add_argument("--calibrate", action="store_true",
+                   help="instead: solve the inverse calibration of the simulators against the committed measured "
+                        "table and write data/calibrated_parameters.csv (no shared data needed; a few minutes)")
 
 
 def run(args) -> Path:
     from ilocalg.measure import table as mt
+
+    if getattr(args, "calibrate", False):
+        from ilocalg.measure import calibrate
+
+        df = calibrate.calibrate()
+        out = calibrate.write_table(df, args.out or calibrate.CALIBRATED_PATH)
+        print(df.to_string(index=False))
+        return out
 
     parts = mt.PARTS if not args.parts else tuple(s.strip() for s in args.parts.split(",") if s.strip())
     df = mt.build_table(args.data, every=args.every, parts=parts)
