@@ -6,9 +6,10 @@ Horus queries per second. Uses the real UJIIndoorLoc copy when present, else a s
 same shape and sparsity (about 18 of 520 APs heard per scan, integer dBm).
 
 What bounds it: Euclidean distances are ``|q|^2 + |r|^2 - 2 q.r``, i.e. a dense float32 GEMM plus norms
-(:mod:`ilocalg.wifi.knn`: one product per large block of queries, then a sampled-threshold selection of the
-K smallest); ``fraction_of_gemm_bound`` is the time of that bare product (``gemm_bound``, measured
-interleaved with ours in the same test) over the time of the whole search, checks included (goal >= 0.9).
+(:mod:`ilocalg.wifi.knn`: one product per large block of queries, the minimum of each group of 32 references
+in one pass, then the K smallest among the few groups at or below the K-th smallest group minimum);
+``fraction_of_gemm_bound`` is the time of that bare product (``gemm_bound``, measured interleaved with ours
+in the same test) over the time of the whole search, checks included (goal >= 0.9).
 Manhattan has no GEMM: the sparse inverted-index kernel, against scikit-learn's brute force (goal >= 19x).
 Goals: ``benchmarks/goals.toml``.
 """

@@ -110,6 +110,8 @@ def _read_numeric_csv(data: bytes, source: str, ncols, names) -> np.ndarray:
     shift every later line number). Well-formed files are parsed by pandas' C reader on the
     bytes as they are; anything else line by line, naming the first bad line and column.
     """
+    if isinstance(data, list):  # [bytes]: handed over, so that the bytes are freed once parsed
+        data = data.pop()
     if isinstance(data, str):
         data = data.encode("utf-8")
     if data.startswith(b"\xef\xbb\xbf"):
@@ -127,13 +129,23 @@ def _read_numeric_csv(data: bytes, source: str, ncols, names) -> np.ndarray:
     ncols = first.count(b",") + 1 if first.count(b",") + 1 in accepted else accepted[0]
     if data.find(b"\n\n", 0, end) < 0 and data.find(b"\n\r\n", 0, end) < 0:
         try:
-            v = pd.read_csv(io.BytesIO(data), header=None, dtype=np.float64, engine="c",
-                            quoting=csv.QUOTE_NONE).to_numpy()
+            df = pd.read_csv(io.BytesIO(data), header=None, dtype=np.float64, engine="c", quoting=csv.QUOTE_NONE)
         except (ValueError, pd.errors.ParserError):
-            v = None
-        if v is not None and v.shape[1] == ncols and np.isfinite(v).all() and not (
-                np.any((v == 0.0) | (v == 1.0)) and any(c in data for c in (b"r", b"R", b"l", b"L"))):
-            return v  # (pandas reads True/False as 1/0; float() refuses them: such files go line by line)
+            df = None
+        # (pandas reads True/False as 1/0; float() refuses them: such files go line by line)
+        letters = any(c in data for c in (b"r", b"R", b"l", b"L"))
+        if df is not None and df.shape[1] == ncols and all(
+                np.isfinite(x.min()) and np.isfinite(x.max()) and not (letters and np.any((x == 0.0) | (x == 1.0)))
+                for x in (df[c].to_numpy() for c in df.columns)):
+            # the bytes are no longer needed (freed here unless the caller keeps them); then one column at a
+            # time into the table, each freed once copied (the frame holds one array per column: to_numpy
+            # would keep a second whole copy beside it)
+            del data
+            v = np.empty(df.shape, dtype=np.float64, order="F")
+            for j, c in enumerate(list(df.columns)):
+                v[:, j] = df.pop(c).to_numpy()
+            return v
+        del df
     return _read_numeric_lines(decode_text(data, source), source, ncols, names)
 
 
@@ -200,8 +212,12 @@ def _optimisation_recording(name: str, acc_bytes: bytes, step_bytes: bytes, sour
                             duplicate_timestamps: str = "error") -> OxfordRecording:
     acc_src = f"{source}/{ACC_FILE}"
     step_src = f"{source}/{STEP_FILE}"
-    a = _read_numeric_csv(acc_bytes, acc_src, 5, ("timestamp_ns", "accuracy", "ax_mps2", "ay_mps2", "az_mps2"))
-    s = _read_numeric_csv(step_bytes, step_src, 3, ("timestamp_ns", "left_foot", "right_foot"))
+    held = [acc_bytes]  # handed over: freed by the parser once parsed (see _read_numeric_csv)
+    del acc_bytes
+    a = _read_numeric_csv(held, acc_src, 5, ("timestamp_ns", "accuracy", "ax_mps2", "ay_mps2", "az_mps2"))
+    held = [step_bytes]
+    del step_bytes
+    s = _read_numeric_csv(held, step_src, 3, ("timestamp_ns", "left_foot", "right_foot"))
     if a.shape[0] < 2:
         raise ValueError(f"{acc_src}: needs at least 2 samples, got {a.shape[0]}")
     lines_a = np.arange(1, a.shape[0] + 1)

@@ -58,6 +58,54 @@ def ground_scale(y_m) -> np.ndarray:
     return np.cos(lat)
 
 
+def _read_integer_rssi(data: bytes, header: list, n_rows: int):
+    """``(wap, cols)``: the WAP columns as int16 (n, 520) and every other column as float64, or ``(None, None)``
+    when a WAP cell is not an integer code within int16 or another cell is not a finite number (the float64
+    path then reads the file and names the cell)."""
+    wanted = set(WAP_COLUMNS)
+    try:
+        with np.errstate(invalid="ignore", over="ignore"):  # a cell pandas cannot cast: the float64 path names it
+            df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, engine="c",
+                             keep_default_na=False, na_values=[],
+                             dtype={c: (np.int16 if c in wanted else np.float64) for c in header})
+    except (ValueError, TypeError, OverflowError, pd.errors.ParserError):
+        return None, None
+    cols = {c: df[c].to_numpy(dtype=np.float64) for c in header if c not in wanted}
+    if not all(np.isfinite(v).all() for v in cols.values()):
+        return None, None
+    wap = df[list(WAP_COLUMNS)].to_numpy(dtype=np.int16)
+    return wap, cols
+
+
+def _read_float_table(data: bytes, path, header: list, n_rows: int, letters: bool):
+    """``(wap, cols)`` as float64 (every cell parsed as a number); raises naming the first cell that is not a
+    finite number (file line, column)."""
+    arr = None
+    try:
+        df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, dtype=np.float64,
+                         keep_default_na=False, na_values=[], engine="c")
+        arr = df.to_numpy(dtype=np.float64)
+        del df
+        if not np.isfinite(arr).all() or (letters and np.any((arr == 0.0) | (arr == 1.0))):
+            arr = None  # (pandas reads True/False as 1/0: such a cell is named below)
+    except (ValueError, pd.errors.ParserError):
+        arr = None
+    if arr is None:  # locate the first cell that is not a finite number
+        df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, keep_default_na=False,
+                         na_values=[], skip_blank_lines=False, dtype=str)
+        for col in header:
+            s = df[col]
+            v = pd.to_numeric(s.str.strip(), errors="coerce").to_numpy(dtype=np.float64)
+            bad = np.flatnonzero(~np.isfinite(v))
+            if bad.size:
+                r = int(bad[0])
+                raise ValueError(f"{path}: line {r + 2}, column {col}: expected a number, got {s.iloc[r]!r}")
+        raise ValueError(f"{path}: could not parse as {len(header)} numeric columns")  # pragma: no cover
+    pos = {c: j for j, c in enumerate(header)}
+    cols = {c: arr[:, j] for c, j in pos.items() if c not in set(WAP_COLUMNS)}
+    return arr[:, [pos[c] for c in WAP_COLUMNS]], cols
+
+
 def load_ujiindoorloc(path) -> FingerprintSet:
     """Load a UJIIndoorLoc CSV (``trainingData.csv`` or ``validationData.csv``, optionally ``.gz``).
 
@@ -131,32 +179,16 @@ def load_ujiindoorloc(path) -> FingerprintSet:
         raise ValueError(f"{path}: line {i + 2}: {what}: {c} fields, expected {n_fields}")
     del body, starts, n_per_line
     n_rows = int(data.count(b"\n", nl + 1, end)) + 1
-    arr = None
-    try:
-        df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, dtype=np.float64,
-                         keep_default_na=False, na_values=[], engine="c")
-        arr = df.to_numpy(dtype=np.float64)
-        del df
-        if not np.isfinite(arr).all() or (np.any((arr == 0.0) | (arr == 1.0))
-                                          and any(data.find(c, nl) >= 0 for c in (b"r", b"R", b"l", b"L"))):
-            arr = None  # (pandas reads True/False as 1/0: such a cell is named below)
-    except (ValueError, pd.errors.ParserError):
-        arr = None
-    if arr is None:  # locate the first cell that is not a finite number
-        df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, keep_default_na=False,
-                         na_values=[], skip_blank_lines=False, dtype=str)
-        for col in header:
-            s = df[col]
-            v = pd.to_numeric(s.str.strip(), errors="coerce").to_numpy(dtype=np.float64)
-            bad = np.flatnonzero(~np.isfinite(v))
-            if bad.size:
-                r = int(bad[0])
-                raise ValueError(f"{path}: line {r + 2}, column {col}: expected a number, got {s.iloc[r]!r}")
-        raise ValueError(f"{path}: could not parse as {n_fields} numeric columns")  # pragma: no cover
+    letters = any(data.find(c, nl) >= 0 for c in (b"r", b"R", b"l", b"L"))  # (True/False: see below)
+    # RSSI codes are integers in real files: parsed as int16 (a quarter of float64's memory), then widened
+    # once; any cell that is not such an integer sends the file down the float64 path below, unchanged
+    wap, cols = (None, None) if letters else _read_integer_rssi(data, header, n_rows)
+    if wap is None:
+        wap, cols = _read_float_table(data, path, header, n_rows, letters)
     del data
-    pos = {c: j for j, c in enumerate(header)}
-    lines_no = np.arange(2, arr.shape[0] + 2)
-    rssi = arr[:, [pos[c] for c in WAP_COLUMNS]]  # a C-ordered copy, modified in place below
+    rssi = wap.astype(np.float64, order="F")  # (column-major, as pandas' blocks are; modified in place below)
+    del wap
+    lines_no = np.arange(2, rssi.shape[0] + 2)
     # 100 = not detected; every other reading must be a received power
     not_heard = rssi == NOT_DETECTED
     rssi[not_heard] = 0.0
@@ -164,12 +196,12 @@ def load_ujiindoorloc(path) -> FingerprintSet:
     rssi[not_heard] = np.nan
     del not_heard
     for c in ("LONGITUDE", "LATITUDE"):
-        check_range(arr[:, pos[c]], "xy_m", path, lines_no, c)
+        check_range(cols[c], "xy_m", path, lines_no, c)
     kinds = {"FLOOR": FLOOR, "BUILDINGID": BUILDING, "SPACEID": "id", "RELATIVEPOSITION": "id", "USERID": "id",
              "PHONEID": "id", "TIMESTAMP": "unix_time_s"}
     ints = {}
     for c in ("FLOOR", "BUILDINGID") + META_COLUMNS:
-        v = check_range(arr[:, pos[c]], kinds[c], path, lines_no, c)  # before the cast: no int64 overflow
+        v = check_range(cols[c], kinds[c], path, lines_no, c)  # before the cast: no int64 overflow
         nonint = np.flatnonzero(v != np.round(v))
         if nonint.size:
             r = int(nonint[0])
@@ -179,8 +211,8 @@ def load_ujiindoorloc(path) -> FingerprintSet:
     return FingerprintSet(
         rssi_dbm=rssi,
         ap_ids=WAP_COLUMNS,
-        x_m=arr[:, pos["LONGITUDE"]].copy(),
-        y_m=arr[:, pos["LATITUDE"]].copy(),
+        x_m=np.array(cols["LONGITUDE"]),
+        y_m=np.array(cols["LATITUDE"]),
         floor=ints["FLOOR"],
         building=ints["BUILDINGID"],
         meta=meta,

@@ -137,7 +137,9 @@ def st_solve_batch(pois_m, img_px, f_px: float, T, rank_rtol: float = RANK_RTOL)
     rank = np.sum(s > rank_rtol * s[:, :1], axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_s = np.where(s > rank_rtol * s[:, :1], 1.0 / s, 0.0)
-        c = np.einsum("bji,bj,bkj,bk->bi", Vt, inv_s, Uu, b)
+        ub = np.matmul(b[:, None, :], Uu)[:, 0, :]  # U^T b, then V diag(1/s) U^T b: two small batched products
+        ub *= inv_s
+        c = np.matmul(Vt.transpose(0, 2, 1), ub[..., None])[..., 0]
         cond = np.where(rank == 3, s[:, 0] / s[:, -1], np.inf)
     c[rank < 3] = np.nan
     return {"c_m": c, "rank": rank, "cond": cond, "singular_values": s}

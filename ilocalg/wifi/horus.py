@@ -119,6 +119,84 @@ def fit_horus(rssi_dbm, xy, bin_width_db: float = 1.0, prob_floor: float = 1e-3)
                       n_scans=np.bincount(point_of_row, minlength=n_pts))
 
 
+def _points_by_ap(model: HorusModel) -> tuple[np.ndarray, np.ndarray]:
+    """``(indptr, points)``: the points whose model holds AP ``a`` are ``points[indptr[a]:indptr[a+1]]``
+    (ascending, i.e. training order)."""
+    ap, pt = np.nonzero(model.pair.T >= 0)
+    indptr = np.zeros(model.pair.shape[1] + 1, dtype=np.int64)
+    np.cumsum(np.bincount(ap, minlength=model.pair.shape[1]), out=indptr[1:])
+    return indptr, pt
+
+
+def _candidates(model: HorusModel, q: np.ndarray, k_aps: int, by_ap=None):
+    """The candidate (query, point) pairs of eq. (7) and their log-likelihoods (eq. 5-6).
+
+    Returns ``(qi, pi, score, k_eff)``: pairs sorted by query then point (training order), the float32 sum of
+    the first ``k_eff[qi]`` log-probabilities (added in the query's order, as a cumulative sum), and the number
+    of APs compared per query. Sparse: the candidates of the strongest AP come from an inverted index (AP ->
+    points) and each further AP only filters them, so the work scales with the candidates, not with
+    queries x points.
+    """
+    if int(k_aps) < 1:
+        raise ValueError(f"k_aps must be >= 1, got {k_aps}")
+    known = ~np.isnan(q) & model.ap_known[None, :]
+    n_known = known.sum(axis=1)
+    if (n_known == 0).any():
+        i = int(np.flatnonzero(n_known == 0)[0])
+        raise ValueError(f"X row {i} hears no access point known to the training data "
+                         "(all NaN or only unknown APs)")
+    n_q = q.shape[0]
+    k = min(int(k_aps), q.shape[1])
+    # the k strongest known APs of each query, strongest first (ties: the lower column), from the heard ones
+    r, c = np.nonzero(known)
+    o = np.lexsort((c, -q[r, c], r))
+    rank = np.arange(r.size) - np.repeat(np.cumsum(n_known) - n_known, n_known)
+    top = rank < k
+    aps = np.zeros((n_q, k), dtype=np.int64)  # beyond a query's n_valid known APs: unused
+    aps[r[top], rank[top]] = c[o][top]
+    n_valid = np.minimum(n_known, k)  # the first n_valid of aps are known APs
+    indptr, points = _points_by_ap(model) if by_ap is None else by_ap
+    # candidates of the strongest AP (every known AP is held by some point)
+    a0 = aps[:, 0]
+    counts = indptr[a0 + 1] - indptr[a0]
+    qi = np.repeat(np.arange(n_q), counts)
+    offs = np.arange(qi.size) - np.repeat(np.cumsum(counts) - counts, counts)
+    pi = points[np.repeat(indptr[a0], counts) + offs]
+    # k' = the largest prefix of the query's APs that some point holds (thesis: decrease k until some do)
+    n_aps = model.pair.shape[1]
+    pair_flat = model.pair.reshape(-1)  # flat takes: much faster than 2-D fancy indexing
+    at_pt = pi * n_aps
+    k_eff = np.ones(n_q, dtype=np.int64)
+    going = np.ones(n_q, dtype=bool)
+    for j in range(1, k):
+        going &= n_valid > j
+        if not going.any():
+            break
+        hold = pair_flat.take(at_pt + aps[:, j].take(qi)) >= 0
+        hold_q = np.zeros(n_q, dtype=bool)
+        hold_q[qi[hold & going[qi]]] = True
+        going &= hold_q
+        k_eff[going] = j + 1
+        keep = hold | ~going[qi]
+        qi, pi, at_pt = qi[keep], pi[keep], at_pt[keep]
+    nb = model.log_prob.shape[1]
+    vals = np.take_along_axis(q, aps, axis=1)
+    bins = np.floor((np.nan_to_num(vals, nan=model.lo_dbm) - model.lo_dbm) / model.bin_width_db).astype(np.int64)
+    outside = (bins < 0) | (bins >= nb)
+    floor_lp = model.log_prob[-1, 0]
+    lp_flat = model.log_prob.reshape(-1)
+    np.clip(bins, 0, nb - 1, out=bins)
+    score = np.zeros(qi.size, dtype=np.float32)
+    kq = k_eff.take(qi)
+    for j in range(int(k_eff.max())):
+        use = kq > j
+        qj = qi[use]
+        lp = lp_flat.take(pair_flat.take(at_pt[use] + aps[:, j].take(qj)) * nb + bins[:, j].take(qj))
+        lp[outside[:, j].take(qj)] = floor_lp
+        score[use] += lp
+    return qi, pi, score, k_eff
+
+
 def horus_scores(model: HorusModel, q_rssi_dbm, k_aps: int = 5) -> tuple[np.ndarray, np.ndarray]:
     """Log-likelihoods ``sum log Pr(s_i | P_j)`` over the query's used APs (eq. 5-6).
 
@@ -132,35 +210,9 @@ def horus_scores(model: HorusModel, q_rssi_dbm, k_aps: int = 5) -> tuple[np.ndar
     i-Loc thesis, sec. 3.2, eq. (5)-(6).
     """
     q = np.asarray(q_rssi_dbm, dtype=np.float64)
-    if int(k_aps) < 1:
-        raise ValueError(f"k_aps must be >= 1, got {k_aps}")
-    key = np.where(np.isnan(q) | ~model.ap_known[None, :], -np.inf, q)
-    n_known = np.isfinite(key).sum(axis=1)
-    if (n_known == 0).any():
-        i = int(np.flatnonzero(n_known == 0)[0])
-        raise ValueError(f"X row {i} hears no access point known to the training data "
-                         "(all NaN or only unknown APs)")
-    k = min(int(k_aps), q.shape[1])
-    aps = np.argsort(-key, axis=1, kind="stable")[:, :k]  # (n_q, k) strongest first
-    valid = np.take_along_axis(np.isfinite(key), aps, axis=1)  # fewer known APs than k
-    vals = np.take_along_axis(q, aps, axis=1)
-    nb = model.log_prob.shape[1]
-    bins = np.floor((np.nan_to_num(vals, nan=model.lo_dbm) - model.lo_dbm) / model.bin_width_db).astype(np.int64)
-    outside = (bins < 0) | (bins >= nb)
-    pair = model.pair[:, aps]  # (n_points, n_q, k)
-    seen = pair >= 0
-    floor_row = model.log_prob.shape[0] - 1
-    lp = model.log_prob[np.where(seen, pair, floor_row), np.clip(bins, 0, nb - 1)[None, :, :]]
-    lp = np.where(outside[None, :, :], model.log_prob[floor_row, 0], lp)
-    lp = np.where(valid[None, :, :], lp, 0.0)
-    seen = seen | ~valid[None, :, :]
-    # candidates: points holding the first k' APs; k' = largest prefix some point holds
-    prefix = np.cumprod(seen, axis=2).sum(axis=2)  # (n_points, n_q)
-    k_eff = np.minimum(prefix.max(axis=0), valid.sum(axis=1))  # (n_q,)
-    cum = np.cumsum(lp, axis=2)  # (n_points, n_q, k)
-    score = cum[:, np.arange(q.shape[0]), np.maximum(k_eff - 1, 0)]  # (n_points, n_q)
-    cand = prefix >= k_eff[None, :]
-    score = np.where(cand, score, -np.inf).T.astype(np.float32)
+    qi, pi, s, k_eff = _candidates(model, q, k_aps)
+    score = np.full((q.shape[0], model.pair.shape[0]), -np.inf, dtype=np.float32)
+    score[qi, pi] = s
     return score, k_eff
 
 
@@ -168,9 +220,12 @@ def horus_predict_index(model: HorusModel, q_rssi_dbm, k_aps: int = 5, batch: in
     """Index of the maximum-likelihood reference point of each query (eq. 7)."""
     q = np.asarray(q_rssi_dbm, dtype=np.float64)
     out = np.empty(q.shape[0], dtype=np.int64)
+    by_ap = _points_by_ap(model)
     for s in range(0, q.shape[0], batch):
-        score, _ = horus_scores(model, q[s:s + batch], k_aps)
-        out[s:s + batch] = np.argmax(score, axis=1)
+        qb = q[s:s + batch]
+        qi, pi, sc, _ = _candidates(model, qb, k_aps, by_ap)
+        o = np.lexsort((pi, -sc, qi))  # per query: the largest likelihood, ties to the first point
+        out[s:s + batch] = pi[o[np.searchsorted(qi[o], np.arange(qb.shape[0]))]]
     return out
 
 
@@ -231,10 +286,14 @@ class SimplifiedHorus(RssiPositionTags, RegressorMixin, BaseEstimator):
         check_shared_aps(x, self.heard_aps_, type(self).__name__)
         return horus_predict_index(self.model_, x, self.k_aps)
 
+    def _predict_index_checked(self, x):
+        """:meth:`predict_index` on rows that :meth:`predict` has already checked and located."""
+        return horus_predict_index(self.model_, x, self.k_aps)
+
     def predict(self, X):
         """Positions of the most likely reference points (eq. 7); NaN for a query sharing no access point
         with the training set (:mod:`ilocalg.wifi.preprocessing`)."""
         check_is_fitted(self, "model_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
         pts = self.model_.points_xy
-        return predict_located(x, self.heard_aps_, lambda xq: pts[self.predict_index(xq)], pts.shape[1:])
+        return predict_located(x, self.heard_aps_, lambda xq: pts[self._predict_index_checked(xq)], pts.shape[1:])

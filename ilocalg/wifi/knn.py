@@ -19,7 +19,8 @@ kernels, both exact for integer dBm (every partial sum is an integer below 2**24
               2**24), which BLAS runs at the hardware's dense rate on every core.
 
 Selecting the K smallest of each row first bounds the K-th smallest by that of a sample of the row (every
-16th column, or the first eighth of a shuffled database), then sorts only the few values at or below it.
+16th column), or, on the GEMM route, by the K-th smallest minimum of groups of 32 references taken while the
+product, then sorts only the few values at or below it.
 
 Ties in distance are broken by training order (the earlier reference wins), for both kernels.
 
@@ -61,8 +62,8 @@ __all__ = [
 ]
 
 _BATCH = 256
-#: Distances per block of the Euclidean GEMM path (float32: 64 MB).
-_BLOCK_VALUES = 1 << 24
+#: Distances per block of the Euclidean GEMM path (float32: 128 MB; UJIIndoorLoc's 1,111 queries in one block).
+_BLOCK_VALUES = 1 << 25
 
 
 class InvertedIndex:
@@ -303,18 +304,25 @@ def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str
     return dist, idx
 
 
-def _gemm_database(index: InvertedIndex) -> tuple[np.ndarray, np.ndarray]:
-    """``(perm, db)``: the references in a fixed shuffled order ``perm`` as rows ``[-2 r, |r|^2]`` (float32), built
-    once per index, so that ``[q, 1] . row = |r|^2 - 2 q.r`` (the squared distance less ``|q|^2``) is one GEMM and
-    the first rows are a uniform sample of the database."""
+#: References per group whose minimum bounds the selection (see _euclidean_blocked).
+_GROUP = 32
+#: The distance of a padding row: above every exact distance (integers below 2**24), finite in float32.
+_PAD = np.float32(2.0**100)
+
+
+def _gemm_database(index: InvertedIndex) -> np.ndarray:
+    """The references as rows ``[-2 r, |r|^2]`` (float32, training order), padded with rows of distance
+    :data:`_PAD` to a multiple of :data:`_GROUP`; built once per index, so that ``[q, 1] . row = |r|^2 - 2 q.r``
+    (the squared distance less ``|q|^2``) is one GEMM."""
     got = getattr(index, "_gemm", None)
     if got is None:
         n, m = index.features.shape
-        perm = np.random.default_rng(0).permutation(n)
-        db = np.empty((n, m + 1), dtype=np.float32)
-        np.multiply(index.features[perm], np.float32(-2.0), out=db[:, :m])
-        db[:, m] = index.sq_norm[perm]
-        got = index._gemm = (perm, db)
+        n_pad = -(-n // _GROUP) * _GROUP
+        db = np.zeros((n_pad, m + 1), dtype=np.float32)
+        np.multiply(index.features, np.float32(-2.0), out=db[:n, :m])
+        db[:n, m] = index.sq_norm
+        db[n:, m] = _PAD
+        got = index._gemm = db
     return got
 
 
@@ -322,39 +330,55 @@ def _euclidean_blocked(q: np.ndarray, index: InvertedIndex, k: int, batch: int) 
     """Squared Euclidean distances (float64) and indices of the ``k`` nearest references, for integer features.
 
     One float32 GEMM per block of queries (at least ``batch``, about 64 MB of distances) gives
-    ``|r|^2 - 2 q.r`` for every reference (see :func:`_gemm_database`); the ``k``-th smallest over the
-    first ``n/8`` (shuffled) references bounds each row's ``k``-th smallest from above, so one comparison
-    pass keeps a few candidates per query (every tie included), sorted by (value, training order). Every
-    value is an integer below 2**24, hence exact in any summation order: the same distances, neighbours and
-    ties (training order) as the other kernels.
+    ``|r|^2 - 2 q.r`` for every reference (see :func:`_gemm_database`); one pass keeps the minimum of each
+    group of :data:`_GROUP` consecutive references. The ``k``-th smallest group minimum
+    bounds each query's ``k``-th smallest distance from above (``k`` groups hold a value at or below it), so
+    only the few groups whose minimum is at or below it can hold a neighbour: their values at or below the
+    bound (every tie included) are sorted by (value, training order). Every value is an integer below
+    2**24, hence exact in any summation order: the same distances, neighbours and ties (training order) as
+    the other kernels.
     """
     n_q, m = q.shape
-    perm, db = _gemm_database(index)
-    n_ref = db.shape[0]
-    n_s = min(max(n_ref // 8, k), n_ref)
+    n_ref = index.features.shape[0]
+    db = _gemm_database(index)
+    n_pad = db.shape[0]
+    n_grp = n_pad // _GROUP
     qn = np.einsum("ij,ij->i", q, q, dtype=np.float32).astype(np.float64)
     dist = np.empty((n_q, k), dtype=np.float64)
     idx = np.empty((n_q, k), dtype=np.int64)
-    batch = max(batch, _BLOCK_VALUES // max(n_ref, 1))  # large blocks: BLAS packs the database once per block
+    batch = max(batch, _BLOCK_VALUES // max(n_pad, 1))  # large blocks: BLAS packs the database once per block
     qa = np.empty((min(batch, n_q), m + 1), dtype=np.float32)
     qa[:, m] = 1.0
+    d_buf = np.empty(n_pad * qa.shape[0], dtype=np.float32)
+    g_buf = np.empty(n_grp * qa.shape[0], dtype=np.float32)
     for s in range(0, n_q, batch):
         e = min(s + batch, n_q)
-        qb = qa[:e - s]
+        b = e - s
+        qb = qa[:b]
         qb[:, :m] = q[s:e]
-        d = db @ qb.T  # (n_ref, b): |r|^2 - 2 q.r, references in the order perm (the database as the long side)
-        tau = np.partition(d[:n_s], k - 1, axis=0)[k - 1]
-        flat = np.flatnonzero(d <= tau[None, :])
-        if flat.size > d.size // 8:  # very many ties: whole rows, in training order
-            dq = np.ascontiguousarray(d.T[:, np.argsort(perm)])
+        qt = qb.T
+        d = d_buf[:n_pad * b].reshape(n_pad, b)  # |r|^2 - 2 q.r, references by row (the long side)
+        gmin = g_buf[:n_grp * b].reshape(n_grp, b)
+        np.matmul(db, qt, out=d)  # one product per block: split into slabs, BLAS re-packs and re-syncs per call
+        np.minimum.reduce(d.reshape(n_grp, _GROUP, b), axis=1, out=gmin)
+        few = n_grp >= k
+        if few:
+            gt = np.ascontiguousarray(gmin.T)  # (b, n_grp)
+            tau = np.partition(gt, k - 1, axis=1)[:, k - 1]
+            qi, gi = np.nonzero(gt <= tau[:, None])  # by query, then group (training order)
+            few = qi.size * _GROUP <= d.size // 8
+        if not few:  # a tiny database, or very many ties: whole rows
+            dq = np.ascontiguousarray(d[:n_ref].T)
             ii = smallest_k(dq, k)
             dv = np.take_along_axis(dq, ii, axis=1)
         else:
-            c, r = np.divmod(flat, e - s)
-            v = d.reshape(-1)[flat]
-            c = perm[c]
+            c = (gi[:, None] * _GROUP + np.arange(_GROUP)).ravel()
+            r = np.repeat(qi, _GROUP)
+            v = d.reshape(-1).take(c * b + r)
+            keep = v <= tau.take(r)
+            c, r, v = c[keep], r[keep], v[keep]
             o = np.lexsort((c, v, r))
-            pick = np.searchsorted(r[o], np.arange(e - s))[:, None] + np.arange(k)
+            pick = np.searchsorted(r[o], np.arange(b))[:, None] + np.arange(k)
             ii, dv = c[o][pick], v[o][pick]
         idx[s:e] = ii
         dist[s:e] = np.maximum(dv.astype(np.float64) + qn[s:e, None], 0.0)
@@ -415,6 +439,18 @@ def vote(labels_nbr, w=None, tie: str = "smallest") -> np.ndarray:
         key = np.where(top, lab, np.iinfo(np.int64).max if np.issubdtype(lab.dtype, np.integer) else np.inf)
         best = np.argmin(key, axis=1)
     return lab[np.arange(lab.shape[0]), best]
+
+
+def _checked_features(x: np.ndarray, not_heard_dbm, representation: str) -> np.ndarray:
+    """:func:`~ilocalg.wifi.preprocessing.to_features` of an RSSI matrix that :func:`check_rssi` has already
+    returned (float64): the plain representation without checking ``x`` a second time (the same float32
+    values); anything else, or a reading it would refuse, goes through ``to_features`` and its message."""
+    floor = float(not_heard_dbm) if isinstance(not_heard_dbm, (int, float, np.number)) else np.nan
+    if representation != "positive" or not np.isfinite(floor) or bool((x < floor).any()):
+        return to_features(x, not_heard_dbm, representation, name="X")
+    f = np.subtract(x, floor)
+    f[np.isnan(f)] = 0.0
+    return np.ascontiguousarray(f, dtype=np.float32)
 
 
 class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
@@ -498,7 +534,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False, owner=type(self).__name__,
                        valid_dbm=self.rssi_range_dbm)
         check_shared_aps(x, self.heard_aps_, type(self).__name__)
-        f = to_features(x, self.not_heard_dbm, self.representation, name="X")
+        f = _checked_features(x, self.not_heard_dbm, self.representation)
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
         return knn_search(f, self.index_, k, p=self.p, kernel=self.kernel, metric=self.metric)
 
