@@ -27,6 +27,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT
+from ilocalg.workflow.claims_step import robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
@@ -327,6 +328,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     timings = _load_timings(cache_dir)
     stage_rows: list[dict] = []
     sweep_s: dict[str, list[tuple[float, float]]] = {}
+    sample_s: dict[str, list[tuple[float, float]]] = {}
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
     print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
           f"{jobs} side by side)", flush=True)
@@ -361,11 +363,15 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
             extra = [t for e in exps for t in sw.make_tasks(e, range(seed + 1, seed + n_seeds), fast=fast)
                      if not sw._cache_path(cache_dir, t).exists()]
+        # the claims step's robustness samples (fast-mode runs at the base seed) fill the cores beside the notebooks
+        samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest)
+                   if not sw._cache_path(cache_dir, t).exists()] if manifest else []
         owner = {e: nb.stem for nb in nbs for e in swept[nb.stem]}
         jobs_list = [(timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb) for i, nb in enumerate(nbs)]
         jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
                                timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
                       for i, t in enumerate(extra)]
+        jobs_list += [(timings.get(f"sample:{t.experiment}", 10.0), 2, i, "sample", t) for i, t in enumerate(samples)]
         jobs_list.sort(key=lambda j: (-j[0], j[1], j[2]))
         # one process per core is the parallelism: single-threaded BLAS in the processes and their kernels
         # (as Dask does for its workers), unless the caller set these; the tables are the same bytes
@@ -376,7 +382,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                 if kind == "nb":
                     futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item))] = \
                         (kind, item.stem)
-                else:
+                else:  # a seed-sweep run or a robustness sample: one task into the cache
                     futs[pool.submit(_sweep_job, item, cache_dir)] = (kind, item.experiment)
             n_done = 0
             pending = set(futs)
@@ -391,6 +397,10 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                         timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"]
                         sweep_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
                         continue
+                    if kind == "sample":
+                        timings[f"sample:{name}"] = r["seconds"]
+                        sample_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
+                        continue
                     n_done += 1
                     timings[_timing_key(name, fast)] = r["seconds"]
                     stage_rows.append({"stage": "notebook", "name": name, "seconds": r["seconds"],
@@ -402,10 +412,12 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                     elif not r["error"]:
                         print(f"[{n_done}/{len(nbs)}] {name} done in {r['seconds']:.1f} s", flush=True)
     t_notebooks, c_notebooks = time.perf_counter() - t_start, cpu_seconds() - c_start
-    job_cpu = [r["cpu_seconds"] for r in stage_rows] + [c for v in sweep_s.values() for _, c in v]
+    job_cpu = [r["cpu_seconds"] for r in stage_rows] + [c for d in (sweep_s, sample_s) for v in d.values()
+                                                         for _, c in v]
     stage_rows.sort(key=lambda r: r["name"])
-    stage_rows += [{"stage": "sweep", "name": e, "seconds": sum(w for w, _ in v),
-                    "cpu_seconds": sum(c for _, c in v), "runs": len(v)} for e, v in sorted(sweep_s.items())]
+    for stage_name, runs in (("sweep", sweep_s), ("robustness", sample_s)):
+        stage_rows += [{"stage": stage_name, "name": e, "seconds": sum(w for w, _ in v),
+                        "cpu_seconds": sum(c for _, c in v), "runs": len(v)} for e, v in sorted(runs.items())]
     stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks, "cpu_seconds": c_notebooks})
 
     def stage(name: str, t0: float, c0: float) -> None:
