@@ -240,6 +240,11 @@ def run_samples(joint: Mapping[str, Sequence[cl.Assumption]], seed: int, workers
         left = budget_s - (clock() - t0)
         n_e = samples_of(e, n_samples)
         full = sample_assumptions(joint[e], n_e, seed)
+        if cache_dir is not None and all(sw._cache_path(cache_dir, t).exists() for t in _tasks(e, full, seed)):
+            res = sw.sweep(_tasks(e, full, seed), workers=0, cache_dir=cache_dir, progress=False)  # run beforehand
+            frames += [res.results] if not res.results.empty else []
+            used[e] = full
+            continue
         if left <= 0:
             notes[e] = f"robustness not sampled: the step's {budget_s:.0f} s budget was spent"
             continue
