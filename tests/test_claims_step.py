@@ -136,3 +136,28 @@ def test_reproduce_runs_the_claims_step_and_the_page_shows_the_claims(tmp_path, 
     assert led["claim_id"].tolist() == ["toy-1", "toy-2", "toy-3", "toy-4"] and (led["n_seeds"].iloc[:3] == 2).all()
     html = (tmp_path / "out" / "index.html").read_text()
     assert "The draws&#x27; sd is 1." in html and "Holds:" in html
+
+
+def test_robustness_tasks_are_the_samples_the_step_reads_so_a_prerun_fills_every_share(tmp_path, monkeypatch):
+    from ilocalg.workflow import sweep as sw
+
+    tasks = cs.robustness_tasks(["99_toy"], seed=0, manifest=MANIFEST, claims=_claims())
+    assert len(tasks) == cs.N_SAMPLES and all(t.fast and t.seed == 0 and t.experiment == TOY for t in tasks)
+    sw.sweep(tasks, workers=0, cache_dir=tmp_path, progress=False)  # as the runner's pool does, beside notebooks
+    calls = []
+    orig = sw.run_task
+    monkeypatch.setattr(sw, "run_task", lambda t: calls.append(t) or orig(t))
+    # every sample is cached: even a budget of a fraction of a second gives every claim its share, at no run
+    rob = cs.robustness(_claims()[:2], pd.DataFrame({"seed": []}), seed=0, fast=False, workers=0,
+                        cache_dir=tmp_path, budget_s=0.5).set_index("claim_id")
+    assert calls == [] and rob["n_samples"].tolist() == [cs.N_SAMPLES] * 2
+    assert rob["robust_share"].notna().all()
+
+
+def test_a_costly_experiment_gets_its_declared_smaller_hypercube(monkeypatch):
+    monkeypatch.setitem(cs.N_SAMPLES_OF, TOY, 4)
+    tasks = cs.robustness_tasks(["99_toy"], seed=0, manifest=MANIFEST, claims=_claims())
+    scales = sorted(dict(t.params)["scale"] for t in tasks)
+    assert len(scales) == 4  # one per quarter of the log range: still space-filling
+    edges = np.exp(np.linspace(np.log(0.3), np.log(3.0), 5))
+    assert all(lo <= s < hi for s, lo, hi in zip(scales, edges[:-1], edges[1:], strict=True))

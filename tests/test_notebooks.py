@@ -120,11 +120,25 @@ def test_seed_sweep_adds_n_mean_and_interval_to_every_row(tmp_path, monkeypatch)
     assert "| 3 | 1.1 |" in row and "inside CI" in row
     assert json.loads((out / "provenance.json").read_text())["n_seeds_for_intervals"] == 3
     timings = pd.read_csv(out / "timings.csv")  # where the wall time went, written by reproduce itself
-    assert list(timings.columns) == ["stage", "name", "seconds", "runs"]
+    assert list(timings.columns) == ["stage", "name", "seconds", "cpu_seconds", "runs"]
     got = set(zip(timings["stage"], timings["name"], strict=True))
     assert {("notebook", "01_fake"), ("run", "notebooks"), ("run", "sweep after notebooks"), ("run", "report build"),
-            ("run", "total")} <= got
-    assert (timings["seconds"] >= 0).all()
+            ("run", "total"), ("run", "idle wall estimate")} <= got
+    assert (timings["seconds"] >= 0).all() and (timings["cpu_seconds"] >= 0).all()
+    cpu = timings.set_index(["stage", "name"])["cpu_seconds"]
+    # the kernel (a child process) counts: starting it and importing ilocalg alone costs well over 0.2 s of CPU
+    assert cpu[("notebook", "01_fake")] > 0.2
+    assert cpu[("run", "total")] >= cpu[("notebook", "01_fake")]
+
+
+def test_idle_wall_estimate_places_jobs_longest_first_on_the_free_core():
+    from ilocalg.workflow.runner import idle_wall_estimate
+
+    assert idle_wall_estimate([3, 3, 2, 2, 2], 2) == pytest.approx(7.0)  # 3+2+2 | 3+2
+    assert idle_wall_estimate([10, 1, 1], 2, serial_cpu_s=5) == pytest.approx(15.0)
+    assert idle_wall_estimate([4, 4], 1) == pytest.approx(8.0)
+    with pytest.raises(ValueError, match="slots"):
+        idle_wall_estimate([1], 0)
 
 
 def test_rerun_replaces_a_notebooks_old_outputs(tmp_path):

@@ -195,13 +195,24 @@ def process_noise_diag(config: EskfConfig, dt_s) -> np.ndarray:
     return np.multiply.outer(dt_s, np.repeat(np.square(per), 3))
 
 
+def _add_diag(M: np.ndarray, d) -> None:
+    """``M[np.diag_indices_from(M)] += d`` in place: the same elements and the same adds, through a view of the
+    diagonal when ``M`` is C-contiguous (no index arrays built: the filter does this every epoch)."""
+    n = M.shape[0]
+    if M.flags.c_contiguous:
+        diag = M.reshape(n * n)[::n + 1]
+        diag += d
+    else:
+        M[np.diag_indices_from(M)] += d
+
+
 def eskf_predict(P, Phi, q_diag):
     """Covariance prediction ``P = Phi P Phi^T + Q`` (eq. 3) over one step, (21, 21).
 
     Not symmetrised here: :func:`run_eskf` symmetrises once, ``0.5 (P + P^T)``, before each update.
     """
     P = Phi @ P @ Phi.T
-    P[np.diag_indices_from(P)] += q_diag
+    _add_diag(P, q_diag)
     return P
 
 
@@ -218,12 +229,12 @@ def joseph_update(P, innov, H, R_diag):
     """
     PHt = P @ H.T
     S = H @ PHt
-    S[np.diag_indices_from(S)] += R_diag
+    _add_diag(S, R_diag)
     Kt = np.linalg.solve(S, PHt.T)  # S symmetric: K^T = S^-1 H P
     K = Kt.T
     dx = K @ innov
     A = -K @ H
-    A[np.diag_indices_from(A)] += 1.0
+    _add_diag(A, 1.0)
     P = A @ P @ A.T + (K * R_diag) @ Kt
     nis = float(innov @ np.linalg.solve(S, innov))
     return dx, 0.5 * (P + P.T), nis
@@ -543,8 +554,9 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             innov = np.concatenate(innov)
             if innov.size:
                 Rc = np.concatenate(Rd)
-                _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
-                                                           for i, _ in rows})), Rc)
+                if not (np.all(Rc >= MIN_MEAS_VARIANCE) and np.all(Rc <= MAX_VARIANCE)):  # NaN fails too
+                    _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
+                                                               for i, _ in rows})), Rc)
                 dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), Rc)
                 n_meas[kb] = innov.size
                 dxs[kb] = dx

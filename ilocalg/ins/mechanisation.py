@@ -69,8 +69,22 @@ def skew(v) -> np.ndarray:
 
 
 def rotvec_to_dcm(rotvec_rad) -> np.ndarray:
-    """Rotation matrix of one rotation vector (Rodrigues), shape (3, 3); see :func:`rotvecs_to_dcm`."""
-    return rotvecs_to_dcm(np.asarray(rotvec_rad, dtype=float).reshape(1, 3))[0]
+    """Rotation matrix of one rotation vector (Rodrigues), shape (3, 3); see :func:`rotvecs_to_dcm`.
+
+    The same operations in the same order as :func:`rotvecs_to_dcm` on one row (so the same bits), on scalars:
+    the filter calls this at every update, where array set-up would cost more than the arithmetic.
+    """
+    v = np.asarray(rotvec_rad, dtype=float).reshape(3)
+    x, y, z = float(v[0]), float(v[1]), float(v[2])
+    th2 = x * x + y * y + z * z
+    if th2 < 1e-16:
+        a, b = 1.0 - th2 / 6.0, 0.5 - th2 / 24.0
+    else:
+        th = np.sqrt(np.float64(th2))
+        a, b = float(np.sin(th) / th), float((1.0 - np.cos(th)) / th2)
+    return np.array([[1.0 - b * (y * y + z * z), -a * z + b * x * y, a * y + b * x * z],
+                     [a * z + b * x * y, 1.0 - b * (x * x + z * z), -a * x + b * y * z],
+                     [-a * y + b * x * z, a * x + b * y * z, 1.0 - b * (x * x + y * y)]])
 
 
 def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
@@ -174,7 +188,7 @@ def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
     mat = np.empty((dt.size + 1, 3, 3))
     mat[0] = mat0_nb
     for j in range(dt.size):
-        mat[j + 1] = mat[j] @ dC[j]
+        np.matmul(mat[j], dC[j], out=mat[j + 1])  # mat[j] @ dC[j], written in place
     dv = (0.5 * dt[:, None] * np.einsum("lij,lj->li", mat[:-1] + mat[1:], acc_b_mps2)
           + GRAVITY_N_MPS2 * dt[:, None])
     vel = vel0_n_mps + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])

@@ -17,13 +17,16 @@ the per-seed long results of the experiments the claims name (:mod:`ilocalg.pape
   agreeing with the paper (a value claim); ``most_influential`` is the assumption with the largest
   \\|Spearman rho\\| between its value and the statistic over the samples.
 
-Budget (the claims step must add about a minute at most to ``make reproduce`` on 2 cores): the samples
-are :data:`N_SAMPLES` per experiment, fast-mode runs at the base seed, within :data:`BUDGET_S` seconds of
-wall time (:func:`run_samples`): cheapest experiment first (measured run times, ``.ilocalg-cache/
-timings.json``, else :data:`ilocalg.workflow.manifest.COST_S`), one sample is timed and the budget left
-decides how many the experiment gets (all, a smaller hypercube of at least 3, or none: the claim's note
-says which). Samples are cached, so a later reproduce spends nothing on those already run and samples
-the experiments the first one had no time for.
+Schedule: the samples are :func:`samples_of` per experiment (:data:`N_SAMPLES`, or fewer where
+:data:`N_SAMPLES_OF` declares it for a costly experiment), fast-mode runs at the base seed, one
+:class:`~ilocalg.workflow.sweep.SweepTask` each. A reproduce that runs notebooks side by side runs them as jobs
+of the same process pool as the notebooks and the seed sweep (:func:`robustness_tasks`), so they fill the cores
+while the notebooks run and every claim with assumptions gets its share on a fresh clone; the claims step then
+reads them from the cache. Samples not in the cache (a reproduce one notebook at a time, a sample that failed)
+run in the step itself within :data:`BUDGET_S` seconds of wall time (:func:`run_samples`): cheapest experiment
+first (measured run times, ``.ilocalg-cache/timings.json``, else :data:`ilocalg.workflow.manifest.COST_S`), one
+sample is timed and the budget left decides how many the experiment gets (all, a smaller hypercube of at least 3,
+or none: the claim's note says which).
 
 Writes ``reports/claims.csv`` (:data:`LEDGER_COLUMNS`) and ``reports/tables/claims.md``. A claim whose
 reference does not resolve (no such experiment, quantity or item; several rows where one is meant) stops
@@ -44,13 +47,18 @@ import pandas as pd
 
 from ilocalg.papers import claims as cl
 
-__all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "BUDGET_S", "ClaimError", "claim_experiments", "gather_results",
-           "evaluate_ledger", "sample_assumptions", "run_samples", "robustness", "write_ledger", "claims_step"]
+__all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "N_SAMPLES_OF", "BUDGET_S", "ClaimError", "claim_experiments",
+           "gather_results", "evaluate_ledger", "sample_assumptions", "samples_of", "judged_claims",
+           "robustness_tasks", "run_samples", "robustness", "write_ledger", "claims_step"]
 
 #: Columns of reports/claims.csv.
 LEDGER_COLUMNS = (*cl.CLAIM_COLUMNS, "n_seeds", "statistic", "expect", "most_influential", "ci_clipped", "note")
 #: Latin-hypercube samples per experiment for robustness.
 N_SAMPLES = 8
+#: Fewer samples for an experiment whose fast-mode run is costly (a Latin hypercube of n points still covers each
+#: assumption's range in n equal strata; at least 4, so that Spearman's rho between an assumption and the
+#: statistic is defined with a spread). Fixed numbers, not a time budget, so two runs give the same ledger.
+N_SAMPLES_OF: dict[str, int] = {"ins_constraints": 4, "ins_online": 4}
 #: Seconds of wall time the robustness samples may take (the rest of the step reads the cache: a few s).
 BUDGET_S = 40.0
 #: Fast-mode run time over full-mode run time, when no fast-mode time was measured yet.
@@ -141,6 +149,11 @@ def sample_assumptions(assumptions: Sequence[cl.Assumption], n: int, seed: int) 
     return pd.DataFrame(cols)
 
 
+def samples_of(experiment: str, n_samples: int = N_SAMPLES) -> int:
+    """Latin-hypercube samples of ``experiment``'s assumptions: :data:`N_SAMPLES_OF`, else ``n_samples``."""
+    return min(int(N_SAMPLES_OF.get(experiment, n_samples)), int(n_samples))
+
+
 def _joint_assumptions(claims: Sequence[cl.Claim]) -> dict[str, list[cl.Assumption]]:
     """experiment -> its assumptions over every claim (the first declaration of a parameter wins)."""
     out: dict[str, list[cl.Assumption]] = {}
@@ -150,6 +163,31 @@ def _joint_assumptions(claims: Sequence[cl.Claim]) -> dict[str, list[cl.Assumpti
             if all(b.param != a.param for b in lst):
                 lst.append(a)
     return out
+
+
+def judged_claims(claims: Sequence[cl.Claim], stems: Sequence[str],
+                  manifest: Mapping[str, Mapping[str, bool]]) -> list[cl.Claim]:
+    """The claims a run of the notebooks ``stems`` judges: those whose experiments all run in it (or are a
+    user's own dotted module)."""
+    in_run = {e for s in stems for e in manifest.get(s, {})}
+    return [c for c in claims if all(e in in_run or "." in e for e in claim_experiments(c))]
+
+
+def robustness_tasks(stems: Sequence[str], seed: int = 0, manifest: Mapping[str, Mapping[str, bool]] | None = None,
+                     claims: Sequence[cl.Claim] | None = None, n_samples: int = N_SAMPLES) -> list:
+    """Every robustness sample the claims step of a run of ``stems`` reads, as sweep tasks (fast mode, base
+    seed), cheapest experiment first: the reproduce runner runs them in its process pool beside the notebooks,
+    so that the claims step finds them all in the cache (the same samples :func:`run_samples` draws)."""
+    from ilocalg.papers import all_claims
+    from ilocalg.workflow.manifest import MANIFEST
+
+    manifest = MANIFEST if manifest is None else manifest
+    claims = list(all_claims() if claims is None else claims)
+    judged = [c for c in judged_claims(claims, stems, manifest) if c.assumptions and c.statistic is not None]
+    joint = _joint_assumptions(judged)
+    tasks = [t for e in sorted(joint) for t in _tasks(e, sample_assumptions(joint[e], samples_of(e, n_samples),
+                                                                             seed), seed)]
+    return list({t.key: t for t in tasks}.values())  # integer assumptions may round two samples alike
 
 
 def _cost(timings: Mapping[str, float], experiment: str, fast: bool) -> float:
@@ -200,7 +238,13 @@ def run_samples(joint: Mapping[str, Sequence[cl.Assumption]], seed: int, workers
     frames, notes = [], {}
     for e in sorted(joint, key=lambda e: (_cost(timings, e, True), e)):
         left = budget_s - (clock() - t0)
-        full = sample_assumptions(joint[e], n_samples, seed)
+        n_e = samples_of(e, n_samples)
+        full = sample_assumptions(joint[e], n_e, seed)
+        if cache_dir is not None and all(sw._cache_path(cache_dir, t).exists() for t in _tasks(e, full, seed)):
+            res = sw.sweep(_tasks(e, full, seed), workers=0, cache_dir=cache_dir, progress=False)  # run beforehand
+            frames += [res.results] if not res.results.empty else []
+            used[e] = full
+            continue
         if left <= 0:
             notes[e] = f"robustness not sampled: the step's {budget_s:.0f} s budget was spent"
             continue
@@ -209,18 +253,18 @@ def run_samples(joint: Mapping[str, Sequence[cl.Assumption]], seed: int, workers
         one = max(clock() - t1, 1e-3)
         left = budget_s - (clock() - t0)
         # no parallel speed-up is assumed: on a shared machine the workers' runs slow each other down
-        fit = n_samples if not math.isfinite(left) else 1 + int(max(left, 0.0) // one)
-        n = min(n_samples, fit)
+        fit = n_e if not math.isfinite(left) else 1 + int(max(left, 0.0) // one)
+        n = min(n_e, fit)
         if n < 3:
             notes[e] = (f"robustness not sampled: one run of {e} took {one:.0f} s, beyond the step's "
                         f"{budget_s:.0f} s budget")
             continue
-        chosen = full if n == n_samples else sample_assumptions(joint[e], n, seed)
-        if n < n_samples:
-            notes[e] = f"{n} samples, not {n_samples}, within the step's {budget_s:.0f} s budget"
-        todo = _tasks(e, chosen, seed) if n < n_samples else _tasks(e, full.iloc[1:], seed)
+        chosen = full if n == n_e else sample_assumptions(joint[e], n, seed)
+        if n < n_e:
+            notes[e] = f"{n} samples, not {n_e}, within the step's {budget_s:.0f} s budget"
+        todo = _tasks(e, chosen, seed) if n < n_e else _tasks(e, full.iloc[1:], seed)
         res = sw.sweep(todo, workers=workers if len(todo) > 1 else 0, cache_dir=cache_dir, progress=progress)
-        parts = [res.results] + ([first.results] if n == n_samples else [])
+        parts = [res.results] + ([first.results] if n == n_e else [])
         frames += [f for f in parts if not f.empty]
         used[e] = chosen
     results = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
@@ -321,9 +365,10 @@ def write_ledger(ledger: pd.DataFrame, out_dir: str | Path) -> Path:
     cols = ["claim_id", "claim", "paper_value", "reproduced", "ci_low", "ci_high", "verdict", "robust_share",
             "most_influential", "note"]
     lines = ["# Claims ledger", "", "Written by the claims step of `python -m ilocalg reproduce` (columns: see "
-             "`claims.csv`). Verdicts over the seeds of the run; robustness over up to "
-             f"{N_SAMPLES} Latin-hypercube samples of each experiment's assumptions (fast-mode runs at the base "
-             f"seed, within a {BUDGET_S:.0f} s budget; a claim's note says when fewer were run).", ""]
+             "`claims.csv`). Verdicts over the seeds of the run; robustness over "
+             f"{N_SAMPLES} Latin-hypercube samples of each experiment's assumptions (fewer for a costly experiment: "
+             f"{', '.join(f'{e} {n}' for e, n in sorted(N_SAMPLES_OF.items()))}; fast-mode runs at the base seed; "
+             "a claim's note says when fewer were run).", ""]
     for key, name in PAPERS.items():
         part = ledger[ledger["paper"] == key]
         if part.empty:
@@ -368,14 +413,13 @@ def claims_step(out_dir: str | Path, stems: Sequence[str], seed: int = 0, n_seed
     # a claim must name an experiment of the project (a typo in a claims module is an error); with a manifest
     # of one's own notebooks, the project's claims whose experiments it does not run are simply not judged
     known = {e for exps in MANIFEST.values() for e in exps} | {e for exps in manifest.values() for e in exps}
-    in_run = [e for s in stems for e in manifest.get(s, {})]
     swept = {e for s in stems for e, on in manifest.get(s, {}).items() if on}
     orphans = [f"claim {c.id}: experiment {e!r} is run by no notebook of the manifest"
                for c in claims for e in claim_experiments(c) if e not in known and "." not in e]
     if orphans:
         print("FAILED claims step:\n  " + "\n  ".join(orphans), file=sys.stderr, flush=True)
         return 1
-    judged = [c for c in claims if all(e in in_run or "." in e for e in claim_experiments(c))]
+    judged = judged_claims(claims, stems, manifest)
     exps = list(dict.fromkeys(e for c in judged for e in claim_experiments(c)))
     try:
         if exps:

@@ -10,8 +10,9 @@ same process pool as the notebooks, and the run at the base seed is the notebook
 the sweep cache by its kernel, see :func:`ilocalg.workflow.sweep.record_runs`), never repeated.
 Afterwards ``reports/README.md``, ``reports/index.html`` (the landing page) and
 ``reports/provenance.json`` are built from what the notebooks wrote, and ``reports/timings.csv`` says where
-the wall time went (per notebook, per swept experiment, per stage; :func:`write_timings`). A failing notebook
-stops the run (notebooks not yet started are cancelled) with its failing cell's error and a non-zero exit code.
+the time went, as wall and CPU time (per notebook, per swept experiment, per stage; :func:`write_timings`).
+A failing notebook stops the run (notebooks not yet started are cancelled) with its failing cell's error and a
+non-zero exit code.
 """
 
 from __future__ import annotations
@@ -26,11 +27,13 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT
+from ilocalg.workflow.claims_step import robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
-           "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS"]
+           "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS", "cpu_seconds",
+           "idle_wall_estimate"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 
@@ -166,9 +169,25 @@ def _clear_outputs(out_dir: Path, stem: str) -> None:
                 f.unlink()
 
 
+def cpu_seconds() -> float:
+    """CPU time (user + system) of this process and of every child process it has waited for, in seconds.
+
+    A notebook's kernel, a Dask worker and a pool worker are child processes: their time counts once they have
+    ended (``getrusage(RUSAGE_CHILDREN)``, which also holds their own children's). On a shared machine the wall
+    time of a job grows with the load; its CPU time does not, so the CPU column of ``timings.csv`` still says
+    where the work went. Without ``resource`` (Windows): this process's time only.
+    """
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - Windows
+        return time.process_time()
+    own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, progress: bool = False) -> dict:
-    """One notebook as a pool job: never raises, returns its name, wall time and error (or None)."""
-    t0 = time.perf_counter()
+    """One notebook as a pool job: never raises, returns its name, wall and CPU time and error (or None)."""
+    t0, c0 = time.perf_counter(), cpu_seconds()
     try:
         execute_notebook(nb, out_dir, params, progress=progress, html=html, record=record)
         err = None
@@ -176,16 +195,17 @@ def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, pro
         err = str(exc)
     except Exception as exc:  # noqa: BLE001 - a kernel that dies is a failed notebook, reported by name
         err = f"{nb.name}: {type(exc).__name__}: {exc}"
-    return {"name": nb.stem, "seconds": time.perf_counter() - t0, "error": err}
+    return {"name": nb.stem, "seconds": time.perf_counter() - t0, "cpu_seconds": cpu_seconds() - c0, "error": err}
 
 
 def _sweep_job(task, cache_dir: Path) -> dict:
     """One seed-sweep run as a pool job: result into the cache; failures are reported by the sweep later."""
     from ilocalg.workflow import sweep as sw
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), cpu_seconds()
     sw.sweep([task], workers=0, cache_dir=cache_dir, progress=False)
-    return {"name": task.describe(), "seconds": time.perf_counter() - t0, "error": None}
+    return {"name": task.describe(), "seconds": time.perf_counter() - t0, "cpu_seconds": cpu_seconds() - c0,
+            "error": None}
 
 
 #: Thread-count variables of the numerical libraries, set to 1 for notebooks run side by side.
@@ -208,17 +228,40 @@ def _load_timings(cache_dir: Path) -> dict:
 
 
 #: Columns of ``reports/timings.csv`` (see :func:`write_timings`).
-TIMINGS_COLUMNS = ("stage", "name", "seconds", "runs")
+TIMINGS_COLUMNS = ("stage", "name", "seconds", "cpu_seconds", "runs")
+
+
+def idle_wall_estimate(job_cpu_s: list[float], slots: int, serial_cpu_s: float = 0.0) -> float:
+    """Wall time the run would take on an idle machine with ``slots`` cores, estimated from CPU times.
+
+    The jobs that ran side by side (notebooks and seed-sweep runs, ``job_cpu_s``) are placed longest first on
+    ``slots`` cores, each on the core that frees first (the runner's own order), taking as long as their CPU
+    time; the stages after them (``serial_cpu_s``) are added as if run on one core. A job's wall time on an idle
+    machine is at least its CPU time (less only for a job that runs processes of its own in parallel, such as
+    notebook 15's Dask workers) and more by what it waits for (kernel start, disk), so this is an estimate of
+    the order of the wall time, not a bound either way.
+    """
+    import heapq
+
+    if slots < 1:
+        raise ValueError(f"slots must be >= 1, got {slots}")
+    free = [0.0] * slots
+    for c in sorted((float(c) for c in job_cpu_s), reverse=True):
+        heapq.heapreplace(free, free[0] + c)
+    return max(free) + float(serial_cpu_s)
 
 
 def write_timings(out_dir: Path, rows: list[dict]) -> Path:
-    """Write ``out_dir/timings.csv``: where reproduce spent its wall time.
+    """Write ``out_dir/timings.csv``: where reproduce spent its wall time and its CPU time.
 
-    One row per notebook (stage ``notebook``), per swept experiment (stage ``sweep``: the summed wall time of
+    One row per notebook (stage ``notebook``), per swept experiment (stage ``sweep``: the summed times of
     its runs at the other seeds, ``runs`` of them, run beside the notebooks or after them), and per step of
     the run (stage ``run``: ``notebooks`` from the first notebook started to the last finished, ``sweep after
-    notebooks``, ``report build``, ``total``). Seconds are wall times of jobs that may have run side by side,
-    so the stages overlap and do not add up to the total.
+    notebooks``, ``claims ledger``, ``report build``, ``total``, and ``idle wall estimate``:
+    :func:`idle_wall_estimate` of the CPU times, in both columns). ``seconds`` are wall times of jobs that may
+    have run side by side, so the stages overlap and do not add up to the total; ``cpu_seconds`` are CPU times
+    (user + system) of the process and of its children (kernels, Dask workers; :func:`cpu_seconds`), which a
+    loaded machine does not inflate: the CPU of ``notebooks`` and ``total`` sums every process of the run.
     """
     import csv
 
@@ -227,7 +270,9 @@ def write_timings(out_dir: Path, rows: list[dict]) -> Path:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(TIMINGS_COLUMNS)
         for r in rows:
-            w.writerow([r["stage"], r["name"], f"{float(r['seconds']):.2f}", int(r.get("runs", 1))])
+            cpu = r.get("cpu_seconds", float("nan"))
+            w.writerow([r["stage"], r["name"], f"{float(r['seconds']):.2f}", f"{float(cpu):.2f}",
+                        int(r.get("runs", 1))])
     return path
 
 
@@ -278,11 +323,12 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     (out_dir / "figures").mkdir(exist_ok=True)
     (out_dir / "tables").mkdir(exist_ok=True)
     inputs_dir = out_dir / ".inputs"
-    t_start = time.perf_counter()
+    t_start, c_start = time.perf_counter(), cpu_seconds()
     t_wall = time.time() - 1.0  # runs cached after this are this reproduce's (file times may be coarse)
     timings = _load_timings(cache_dir)
     stage_rows: list[dict] = []
-    sweep_s: dict[str, list[float]] = {}
+    sweep_s: dict[str, list[tuple[float, float]]] = {}
+    sample_s: dict[str, list[tuple[float, float]]] = {}
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
     print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
           f"{jobs} side by side)", flush=True)
@@ -304,7 +350,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             print(f"[{i}/{len(nbs)}] {nb.stem}", flush=True)
             r = _notebook_job(nb, out_dir, params_for(nb), html, record_for(nb), progress=progress)
             timings[_timing_key(nb.stem, fast)] = r["seconds"]
-            stage_rows.append({"stage": "notebook", "name": nb.stem, "seconds": r["seconds"]})
+            stage_rows.append({"stage": "notebook", "name": nb.stem, "seconds": r["seconds"],
+                               "cpu_seconds": r["cpu_seconds"]})
             if r["error"]:
                 failed = r["error"]
                 break
@@ -316,11 +363,15 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             exps = swept_experiments([nb.stem for nb in nbs], manifest=manifest)
             extra = [t for e in exps for t in sw.make_tasks(e, range(seed + 1, seed + n_seeds), fast=fast)
                      if not sw._cache_path(cache_dir, t).exists()]
+        # the claims step's robustness samples (fast-mode runs at the base seed) fill the cores beside the notebooks
+        samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest)
+                   if not sw._cache_path(cache_dir, t).exists()] if manifest else []
         owner = {e: nb.stem for nb in nbs for e in swept[nb.stem]}
         jobs_list = [(timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb) for i, nb in enumerate(nbs)]
         jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
                                timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
                       for i, t in enumerate(extra)]
+        jobs_list += [(timings.get(f"sample:{t.experiment}", 10.0), 2, i, "sample", t) for i, t in enumerate(samples)]
         jobs_list.sort(key=lambda j: (-j[0], j[1], j[2]))
         # one process per core is the parallelism: single-threaded BLAS in the processes and their kernels
         # (as Dask does for its workers), unless the caller set these; the tables are the same bytes
@@ -331,7 +382,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                 if kind == "nb":
                     futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item))] = \
                         (kind, item.stem)
-                else:
+                else:  # a seed-sweep run or a robustness sample: one task into the cache
                     futs[pool.submit(_sweep_job, item, cache_dir)] = (kind, item.experiment)
             n_done = 0
             pending = set(futs)
@@ -344,21 +395,34 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                     kind, name = futs[f]
                     if kind == "sweep":
                         timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"]
-                        sweep_s.setdefault(name, []).append(r["seconds"])
+                        sweep_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
+                        continue
+                    if kind == "sample":
+                        timings[f"sample:{name}"] = r["seconds"]
+                        sample_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
                         continue
                     n_done += 1
                     timings[_timing_key(name, fast)] = r["seconds"]
-                    stage_rows.append({"stage": "notebook", "name": name, "seconds": r["seconds"]})
+                    stage_rows.append({"stage": "notebook", "name": name, "seconds": r["seconds"],
+                                       "cpu_seconds": r["cpu_seconds"]})
                     if r["error"] and failed is None:
                         failed = r["error"]
                         for other in pending:
                             other.cancel()  # jobs not yet started never run
                     elif not r["error"]:
                         print(f"[{n_done}/{len(nbs)}] {name} done in {r['seconds']:.1f} s", flush=True)
-    t_notebooks = time.perf_counter() - t_start
+    t_notebooks, c_notebooks = time.perf_counter() - t_start, cpu_seconds() - c_start
+    job_cpu = [r["cpu_seconds"] for r in stage_rows] + [c for d in (sweep_s, sample_s) for v in d.values()
+                                                         for _, c in v]
     stage_rows.sort(key=lambda r: r["name"])
-    stage_rows += [{"stage": "sweep", "name": e, "seconds": sum(v), "runs": len(v)} for e, v in sorted(sweep_s.items())]
-    stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks})
+    for stage_name, runs in (("sweep", sweep_s), ("robustness", sample_s)):
+        stage_rows += [{"stage": stage_name, "name": e, "seconds": sum(w for w, _ in v),
+                        "cpu_seconds": sum(c for _, c in v), "runs": len(v)} for e, v in sorted(runs.items())]
+    stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks, "cpu_seconds": c_notebooks})
+
+    def stage(name: str, t0: float, c0: float) -> None:
+        stage_rows.append({"stage": "run", "name": name, "seconds": time.perf_counter() - t0,
+                           "cpu_seconds": cpu_seconds() - c0})
     try:
         _timings_path(cache_dir).parent.mkdir(parents=True, exist_ok=True)
         _timings_path(cache_dir).write_text(json.dumps(timings, indent=1, sort_keys=True) + "\n")
@@ -374,27 +438,31 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             inputs += [line for line in f.read_text().splitlines() if line]
     summary = None
     if n_seeds > 1:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_seconds()
         code, summary = sweep_experiments(nbs, out_dir, seed, n_seeds, fast, workers, progress, cache_dir, manifest,
                                           since=t_wall)
-        stage_rows.append({"stage": "run", "name": "sweep after notebooks", "seconds": time.perf_counter() - t0})
+        stage("sweep after notebooks", t0, c0)
         if code:
             write_timings(out_dir, stage_rows)
             return code
     from ilocalg.workflow.claims_step import claims_step  # reports/claims.csv, read by the pages below
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), cpu_seconds()
     failed = claims_step(out_dir, [nb.stem for nb in nbs], seed, n_seeds, fast, workers, cache_dir, progress, manifest)
-    stage_rows.append({"stage": "run", "name": "claims ledger", "seconds": time.perf_counter() - t0})
+    stage("claims ledger", t0, c0)
     if failed:
         write_timings(out_dir, stage_rows)
         return 1
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), cpu_seconds()
     build_readme(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds)
     build_index(out_dir, seed=seed, fast=fast, sweep_summary=summary, n_seeds=n_seeds, notebook_dir=notebook_dir)
     write_provenance(out_dir, REPO_ROOT, seed=seed, fast=fast, inputs=inputs, notebooks=[p.stem for p in nbs],
                      n_seeds=n_seeds)
-    stage_rows.append({"stage": "run", "name": "report build", "seconds": time.perf_counter() - t0})
-    stage_rows.append({"stage": "run", "name": "total", "seconds": time.perf_counter() - t_start})
+    stage("report build", t0, c0)
+    stage("total", t_start, c_start)
+    serial = sum(r["cpu_seconds"] for r in stage_rows
+                 if r["stage"] == "run" and r["name"] not in ("notebooks", "total"))
+    est = idle_wall_estimate(job_cpu, jobs, serial)
+    stage_rows.append({"stage": "run", "name": "idle wall estimate", "seconds": est, "cpu_seconds": est})
     write_timings(out_dir, stage_rows)
     print(f"wrote index.html, README.md and provenance.json in {_relative(out_dir, Path.cwd())} "
           f"({time.perf_counter() - t_start:.0f} s in all)", flush=True)
