@@ -1,6 +1,7 @@
 """The Hartmann IMU + video-tracker experiment (ilocalg.experiments.ins_hartmann)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.experiments import ins_hartmann
@@ -53,3 +54,18 @@ def test_assumed_tracker_noise_sets_the_main_sequences_and_the_readings():
     assert noisy["readings"].loc[2, "code_does"].startswith("sd 9 / 9 / 24 mm")
     # the sensitivity curve stays about the default noise
     assert noisy["tracker_noise"]["mean_dev_x_m"].iloc[0] == base["tracker_noise"]["mean_dev_x_m"].iloc[0]
+
+
+def test_side_studies_skipped_leave_the_claimed_tables_unchanged():
+    """The claims' robustness samples skip the tracker-noise and outage sweeps (claims_step.SAMPLE_KWARGS): the
+    tables the claims read must be the same as in a run with the sweeps."""
+    from ilocalg.workflow.claims_step import SAMPLE_KWARGS, robustness_tasks
+
+    lite = ins_hartmann.run(seed=0, fast=True, n_sequences=1, duration_s=20.0, **SAMPLE_KWARGS["ins_hartmann"])
+    full = ins_hartmann.run(seed=0, fast=True, n_sequences=1, duration_s=20.0, noise_scales=(1.0,),
+                            outage_factors=((2.0, 1.0),))
+    for name in ("comparison", "measures", "table2", "settling"):
+        pd.testing.assert_frame_equal(lite[name], full[name])
+    assert lite["tracker_noise"].empty and lite["outage_sensitivity"].empty
+    tasks = [t for t in robustness_tasks(["14_imu_video_ekf"]) if t.experiment == "ins_hartmann"]
+    assert tasks and all(dict(t.params)["noise_scales"] == () for t in tasks)

@@ -32,7 +32,8 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
     ``vt_noise_scale`` (on the assumed tracker noise), ``outage_rate_factor`` and ``outage_excess_factor`` (on
     the outage rate and excess duration set from Table 2) are the values the survey does not fix; they set the
     sequences of ``table2``, ``settling`` and ``trace``, while ``tracker_noise`` and ``outage_sensitivity`` vary
-    them one at a time about the defaults.
+    them one at a time about the defaults; empty ``noise_scales`` or ``outage_factors`` skip those side studies
+    (the claims' robustness samples read only ``comparison`` and ``measures``).
 
     Returns
     -------
@@ -96,9 +97,10 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
                            **{f"paper_mean_dev_{a}_m": HARTMANN_TABLE2_OVERALL[f"mean_dev_{a}_m"] for a in "xyz"},
                            "source": ("assumption: survey L218 'millimetre precision'" if scale == 1.0
                                       else "sensitivity: the assumed noise scaled")})
-    tn = pd.DataFrame(noise_rows).sort_values("noise_scale")
+    tn = pd.DataFrame(noise_rows, columns=list(noise_rows[0]) if noise_rows else ["noise_scale"])
+    tn = tn.sort_values("noise_scale")
     out_rows = []
-    for fr, fe in ((1.0, 1.0), *outage_factors):
+    for fr, fe in ((1.0, 1.0), *outage_factors) if outage_factors else ():
         devs = []
         for i in range(n_noise):
             seq = sim.simulate(duration_s, seed=seed * 1000 + i, outage_rate_per_s=fr * sim.OUTAGE_RATE_PER_S,
@@ -127,7 +129,8 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
          "value": 100.0 * float((st[["gyro_bias_settle_s", "acc_bias_settle_s"]].notna().all(axis=1)).mean())},
     ])
     return {"table2": t2, "comparison": pd.DataFrame(comp), "tracker_noise": tn.reset_index(drop=True),
-            "tracker_noise_implied": implied_tracker_noise(tn, sim.VT_SD_DEFAULT),
+            "tracker_noise_implied": (implied_tracker_noise(tn, sim.VT_SD_DEFAULT) if noise_rows
+                                      else pd.DataFrame()),
             "outage_sensitivity": pd.DataFrame(out_rows),
             "settling": st, "trace": trace, "vt": vt, "readings": readings(main_kw.get("vt_sd", sim.VT_SD_DEFAULT)),
             "measures": measures}
