@@ -9,8 +9,8 @@ matplotlib.use("Agg")
 import numpy as np
 import pytest
 
-from ilocalg.experiments.pdr_real_steps import Prepared, diagnosis_window, step_diagnosis
 from ilocalg.pdr.robust import match_steps
+from ilocalg.pdr.step_evaluate import Prepared, diagnosis_window, step_diagnosis
 
 
 def test_match_steps_counts_missed_and_extra():

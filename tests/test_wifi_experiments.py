@@ -46,7 +46,6 @@ def test_ujiindoorloc_fast_run(shared_data):
     assert set(t["toolkit_cv"]["groups"]) == {"USERID", "PHONEID"}
     off = t["toolkit_cv"].query("groups == 'PHONEID'")
     assert len(off) == 2 and off["shifts_db"].notna().all()        # with and without the offset search
-    assert wifi_ujiindoorloc.offset_shifts_db() == (-4.0, -2.0, 0.0, 2.0, 4.0)   # +-1 sd of the measured offset
     assert set(t["measures"]["quantity"]) >= {"toolkit_mean_error", "toolkit_floor_hit_rate"}
     assert wifi_ujiindoorloc.run(data_dir=d.parent / "nowhere") is None
 
@@ -75,10 +74,6 @@ def test_cli_bad_input(tmp_path):
     assert out.returncode == 2 and "empty file" in out.stderr
 
 
-def test_selection_mask_is_half():
-    assert np.isclose(wifi_ujiindoorloc.selection_mask(11).sum(), 5)
-
-
 def test_ap_distribution_is_a_distribution():
     d = wifi_iloc.ap_distribution(0, scans_per_point=50)
     assert np.isclose(d["probability"].sum(), 1.0) and np.isclose(d["cdf"].iloc[-1], 1.0)
@@ -93,27 +88,3 @@ def test_test_scans_hearing_no_ap_are_counted_not_scored():
     assert c["scored"] + c["not_scored_no_ap_heard"] == c["test_scans"]
     per_method = t["errors"].groupby("method").size()
     assert (per_method == c["scored"]).all()
-
-
-def test_uji_metrics_row_counts_unlocated_scans_apart():
-    from ilocalg.experiments.wifi_ujiindoorloc import metrics_row
-    from ilocalg.io.schema import FingerprintSet
-
-    test = FingerprintSet(rssi_dbm=np.full((4, 1), -50.0), ap_ids=("a",), x_m=np.zeros(4),
-                          y_m=np.full(4, 4.86e6), floor=np.array([0, 0, 1, 1]), building=np.zeros(4))
-    res = {"error_m": np.array([1.0, 3.0, np.nan, 2.0]), "floor": np.array([0, 0, np.nan, 1]),
-           "building": np.zeros(4)}
-    row = metrics_row(res, test)
-    assert row["n"] == 4 and row["n_unlocated"] == 1
-    assert row["mean_m"] == pytest.approx(2.0) and row["floor_hit_rate"] == pytest.approx(0.75)
-
-
-def test_subsampled_group_kfold_keeps_groups_apart():
-    from ilocalg.experiments.wifi_ujiindoorloc import SubsampledGroupKFold
-
-    groups = np.repeat(np.arange(6), 50)
-    folds = list(SubsampledGroupKFold(3, max_test=40, seed=1).split(np.zeros((300, 1)), groups=groups))
-    assert len(folds) == 3
-    for tr, te in folds:
-        assert te.size == 40 and not set(groups[tr]) & set(groups[te])
-        assert tr.size == 200                                           # training parts stay whole

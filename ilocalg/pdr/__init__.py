@@ -24,6 +24,7 @@ Modules
 ``dead_reckoning`` position update (i-Loc eq. 22, Luo et al. eq. 5-6)
 ``signals``        input checks, resampling, sliding extrema, moving mean, gravity low-pass and projection
 ``filters``        the moving-average and Savitzky-Golay pre-filters of Chao (2008) eq. 3.5-3.6
+``step_evaluate``  detectors on recordings with counted steps: leave-one-recording-out tuning, diagnosis
 
 References
 ----------

@@ -63,7 +63,8 @@ Least squares (:mod:`ilocalg.track.estimators`), the floor model built once (:mo
     rows once and save them; :meth:`FloorModel.for_walk` leaves the scored walk out.
 
 Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (steps, calibration),
-``estimators`` (least squares, map step), ``floor`` (the cached floor model), ``evaluation``.
+``estimators`` (least squares, map step), ``floor`` (the cached floor model), ``evaluation``, ``lowo``
+(leave-one-walk-out pooling over floors, the Wi-Fi ablation, a floor's files).
 
 References
 ----------

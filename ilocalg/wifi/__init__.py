@@ -13,7 +13,8 @@ position WKNN estimator), :mod:`~ilocalg.wifi.offset` (WKNN with a per-query dev
 :mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
 :mod:`~ilocalg.wifi.registry` (the one registry of estimator
 factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
-(fit a registered method on one fingerprint set, locate another).
+(fit a registered method on one fingerprint set, locate another), :mod:`~ilocalg.wifi.model_selection`
+(scores, a selection-half search, GroupKFold CV on training only and the toolkit ladder).
 """
 
 from ilocalg.wifi.cascade import CascadeFingerprint

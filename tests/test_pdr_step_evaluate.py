@@ -1,7 +1,9 @@
+"""Leave-one-recording-out tuning of the step detectors (ilocalg.pdr.step_evaluate)."""
+
 import numpy as np
 import pytest
 
-from ilocalg.experiments import pdr_real_steps as prs
+from ilocalg.pdr import step_evaluate as prs
 
 
 def test_loro_cv_never_uses_the_held_out_recording():
@@ -21,3 +23,18 @@ def test_loro_cv_never_uses_the_held_out_recording():
 
 def test_accuracy():
     np.testing.assert_allclose(prs.accuracy([90, 110, 100], [100, 100, 100]), [0.9, 0.9, 1.0])
+
+
+def test_grid_detectors_only():
+    with pytest.raises(ValueError, match="unknown grid detector 'sam'"):
+        prs.count_steps(None, "sam", {})
+    assert prs.detector_params("sign_change", {"n": 5}) == {"n_left": 5, "n_right": 5, "smooth": True}
+    assert all(len(full) >= len(fast) for full, fast in prs.DETECTORS.values())
+
+
+def test_truth_artefacts_counts_double_triggers():
+    from types import SimpleNamespace
+
+    r = SimpleNamespace(name="r", true_steps=5, step_t_s=np.array([0.0, 0.5, 0.6, 1.1, 1.15]))
+    t = prs.truth_artefacts([r]).iloc[0]
+    assert t["intervals_below_0.25s"] == 2 and t["share_of_steps"] == 0.4

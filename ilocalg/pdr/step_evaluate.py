@@ -1,0 +1,247 @@
+"""Step detectors scored on recordings with counted steps: leave-one-recording-out tuning and diagnosis.
+
+A recording (:class:`ilocalg.io.oxford.OxfordRecording`: accelerometer log, true step count and
+heel-sensor step times) is resampled once to the detectors' common rates (:func:`prepare`:
+:data:`RATE_HZ`; :data:`SAM_RATE_HZ` for SAM, whose X1 feature depends on the rate). Each grid
+detector counts steps at every point of its parameter grid (:data:`DETECTORS`, :func:`count_steps`);
+:func:`loro_cv` then picks, for every recording, the grid point best on the *other* recordings
+(ties: the first). SAM learns its ranges from the other recordings' true steps
+(:func:`sam_loro_scores`). Step-count accuracy is ``1 - |counted - true| / true`` (:func:`accuracy`).
+:func:`step_diagnosis` splits a count into missed and extra steps (one-to-one matching,
+:func:`ilocalg.pdr.robust.match_steps`); :func:`truth_artefacts` finds the heel sensor's double triggers.
+
+References
+----------
+Oxford step counter data set (its README_DataSet.md: recordings, heel-sensor truth);
+Chiu, P.-J. (2013), i-Loc M.S. thesis, NCTU, sec. 4.1 (SAM, eq. 8-15);
+Luo et al. (2017), sec. 3.4.2 (peak window); Chao (2008), Fig 3.9 (slope sign change).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.io.schema import ACC_COLS
+from ilocalg.pdr.registry import DETECTOR_RATE_HZ, detect_steps
+from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges, match_waves_to_steps, sam_waves
+from ilocalg.pdr.signals import resample_uniform
+
+__all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
+           "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
+           "truth_artefacts"]
+
+RATE_HZ = DETECTOR_RATE_HZ["robust"]
+SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """One recording resampled for the detectors."""
+
+    name: str
+    meta: dict
+    true_steps: int
+    step_t_s: np.ndarray
+    t_s: np.ndarray            # 100 Hz grid
+    acc_mps2: np.ndarray       # (n, 3) on the grid
+    t50_s: np.ndarray          # 50 Hz grid (SAM)
+    acc50_mps2: np.ndarray
+
+
+def prepare(rec) -> Prepared:
+    """Resample one recording (an :class:`ilocalg.io.oxford.OxfordRecording`) to the common rates."""
+    t = rec.imu.index.to_numpy()
+    acc = rec.imu[list(ACC_COLS)].to_numpy()
+    au, tu = resample_uniform(acc, t, RATE_HZ)
+    a50, t50 = resample_uniform(acc, t, SAM_RATE_HZ)
+    return Prepared(rec.name, dict(rec.meta), rec.true_steps, rec.step_t_s, tu, au, t50, a50)
+
+
+def accuracy(counted, true) -> np.ndarray:
+    """Step-count accuracy ``1 - |counted - true| / true``."""
+    c, n = np.asarray(counted, dtype=float), np.asarray(true, dtype=float)
+    return 1.0 - np.abs(c - n) / n
+
+
+def _grid(**axes) -> list[dict]:
+    keys = list(axes)
+    return [dict(zip(keys, v, strict=True)) for v in itertools.product(*axes.values())]
+
+
+#: Parameter grids (full, fast) of the tuned detectors.
+DETECTORS = {
+    "robust": (_grid(cutoff_hz=[2.0, 2.5, 3.0], prominence_mps2=[0.3, 0.5, 0.8, 1.2], max_step_s=[1.0, 1.2],
+                     min_bout_steps=[4, 6, 8]),
+               _grid(cutoff_hz=[2.0, 2.5], prominence_mps2=[0.3, 0.8], max_step_s=[1.0], min_bout_steps=[4, 8])),
+    "find_peaks": (_grid(cutoff_hz=[3.0], prominence_mps2=[0.3, 0.5, 0.8, 1.2, 1.6, 2.0], max_step_s=[np.inf],
+                         min_bout_steps=[1]),
+                   _grid(cutoff_hz=[3.0], prominence_mps2=[0.5, 1.2], max_step_s=[np.inf], min_bout_steps=[1])),
+    "peak_window": (_grid(threshold_mps2=[0.5, 1.0, 1.5, 2.0, 3.0]), _grid(threshold_mps2=[1.0, 2.0])),
+    "sign_change": (_grid(n=[2, 5, 10, 15]), _grid(n=[5, 10])),
+    "sam": (_grid(q=[(0.05, 0.95), (0.01, 0.99), (0.0, 1.0)]), _grid(q=[(0.05, 0.95), (0.0, 1.0)])),
+}
+
+
+def detector_params(detector: str, params: dict) -> dict:
+    """A grid point as the registered detector's keyword arguments (``n`` is the sign-change MA half-width)."""
+    if detector == "sign_change":
+        return {"n_left": params["n"], "n_right": params["n"], "smooth": True}
+    if detector == "peak_window":
+        return {**params, "rule": "valley_rise"}
+    return dict(params)
+
+
+def count_steps(p: Prepared, detector: str, params: dict) -> int:
+    """Steps counted in one prepared recording by a grid detector (not SAM, which needs training)."""
+    if detector not in DETECTORS or detector == "sam":
+        raise ValueError(f"unknown grid detector {detector!r}; known: {sorted(set(DETECTORS) - {'sam'})}")
+    return len(detect_steps(detector, p.acc_mps2, p.t_s, **detector_params(detector, params)))
+
+
+def loro_cv(score: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Leave-one-recording-out choice: for each recording the grid row best on the others.
+
+    Parameters
+    ----------
+    score : ndarray, shape (n_grid, n_recordings)
+        Accuracy of every grid point on every recording.
+
+    Returns
+    -------
+    held_out : ndarray, shape (n_recordings,)
+        Accuracy of each recording under the grid point chosen without it.
+    choice : ndarray of int, shape (n_recordings,)
+    """
+    s = np.asarray(score, dtype=float)
+    if s.ndim != 2 or s.shape[1] < 2:
+        raise ValueError(f"score must have shape (n_grid, n_recordings >= 2), got {s.shape}")
+    others = (s.sum(axis=1, keepdims=True) - s) / (s.shape[1] - 1)
+    choice = np.argmax(others, axis=0)
+    return s[choice, np.arange(s.shape[1])], choice
+
+
+def sam_loro_scores(prep: list[Prepared], grid: list[dict], tol_s: float = 0.25):
+    """SAM leave-one-recording-out: for each fold, ranges learned on the other recordings' true steps.
+
+    Returns ``held`` (grid x recordings: accuracy of each recording under each grid point, ranges learned
+    without it), ``counts`` (the same as step counts) and ``choice`` (per recording, the grid point best
+    on the others).
+    """
+    waves = [sam_waves(p.acc50_mps2, p.t50_s) for p in prep]
+    train = [match_waves_to_steps(w, p.step_t_s, tol_s) for w, p in zip(waves, prep, strict=True)]
+    n = len(prep)
+    held = np.zeros((len(grid), n))
+    counts = np.zeros((len(grid), n), dtype=int)
+    choice = np.zeros(n, dtype=int)
+    truth = np.array([p.true_steps for p in prep])
+    for i in range(n):
+        tr = pd.concat([train[j] for j in range(n) if j != i], ignore_index=True)
+        fold = np.zeros((len(grid), n))
+        for g, par in enumerate(grid):
+            r = learn_feature_ranges(tr, *par["q"])
+            c = np.array([int(in_ranges(w, r, SAM_TESTED_FEATURES).sum()) for w in waves])
+            fold[g] = accuracy(c, truth)
+            counts[g, i] = c[i]
+            held[g, i] = fold[g, i]
+        others = np.delete(fold, i, axis=1).mean(axis=1)
+        choice[i] = int(np.argmax(others))
+    return held, counts, choice
+
+
+def score_detector(prep: list[Prepared], detector: str, grid: list[dict]):
+    """One detector's leave-one-recording-out result over its ``grid``.
+
+    Returns ``counted`` and ``held_out`` (per recording: steps and accuracy under the grid point chosen
+    without it), ``score`` (grid x recordings accuracy; SAM: ranges learned without the recording) and
+    ``choice`` (the chosen grid row per recording).
+    """
+    truth = np.array([p.true_steps for p in prep])
+    cols = np.arange(len(prep))
+    if detector == "sam":
+        score, counts, choice = sam_loro_scores(prep, grid)
+        return counts[choice, cols], score[choice, cols], score, choice
+    counts = np.array([[count_steps(p, detector, par) for p in prep] for par in grid])
+    score = accuracy(counts, truth[None, :])
+    held, choice = loro_cv(score)
+    return counts[choice, cols], held, score, choice
+
+
+def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = None,
+                   tol_s: float = 0.25) -> pd.DataFrame:
+    """Per recording: true, counted, *missed* and *extra* steps of the robust detector, and the phone's counter.
+
+    Detections are matched one-to-one to the heel-sensor steps within ``tol_s``
+    (:func:`ilocalg.pdr.robust.match_steps`); a count alone hides missed steps balanced by extra ones.
+    ``missed_close_to_true`` counts missed true steps closer than 0.75 median step intervals to another
+    true step (a heel-sensor double trigger is the likely cause, not the detector);
+    ``true_steps_without_close_repeats`` is the true count less the true steps that follow the previous
+    one by under 0.75 median intervals, with ``accuracy_without_close_repeats`` against it (a
+    sensitivity check, not the score).
+    ``hardware_steps`` is the phone's own step counter where the recording has one (the data set's
+    validation layout; the optimisation recordings have none: NaN), with its accuracy beside.
+
+    Parameters
+    ----------
+    prep : list of Prepared
+    recordings : list of OxfordRecording, optional
+        The same recordings, for their hardware counters.
+    params : dict, optional
+        Robust detector parameters (default :data:`ilocalg.pdr.robust.ROBUST_DEFAULTS`).
+    """
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust, match_steps
+
+    par = dict(ROBUST_DEFAULTS if params is None else params)
+    rows = []
+    for k, p in enumerate(prep):
+        d = detect_steps_robust(p.acc_mps2, p.t_s, **par)
+        tm, dm = match_steps(p.step_t_s, d["t_s"].to_numpy(), tol_s)
+        hw = None if recordings is None else recordings[k].hardware_steps
+        dt = np.diff(p.step_t_s)
+        gap = np.minimum(np.r_[np.inf, dt], np.r_[dt, np.inf])     # to the nearer neighbouring true step
+        close = gap < 0.75 * np.median(dt) if dt.size else np.zeros(tm.size, dtype=bool)
+        rows.append({"recording": p.name, "position": p.meta.get("position", ""), "phone": p.meta.get("phone", ""),
+                     "true_steps": p.true_steps, "counted": len(d), "missed": int((~tm).sum()),
+                     "extra": int((~dm).sum()), "missed_close_to_true": int((~tm & close).sum()),
+                     "true_steps_without_close_repeats": int(p.true_steps - (dt < 0.75 * np.median(dt)).sum())
+                     if dt.size else p.true_steps,
+                     "accuracy": float(accuracy(len(d), p.true_steps)),
+                     "median_step_interval_s": float(np.median(dt)) if dt.size else float("nan"),
+                     "accuracy_without_close_repeats": float("nan"),
+                     "hardware_steps": float("nan") if hw is None else float(hw),
+                     "hardware_accuracy": float("nan") if hw is None else float(accuracy(hw, p.true_steps))})
+    out = pd.DataFrame(rows)
+    out["accuracy_without_close_repeats"] = accuracy(out["counted"], out["true_steps_without_close_repeats"])
+    return out
+
+
+def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dict | None = None,
+                     tol_s: float = 0.25) -> dict:
+    """Signal, true and detected steps of one recording in ``[t0_s, t0_s + span_s]`` (for a figure)."""
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust, lowpass_magnitude, match_steps
+    from ilocalg.pdr.signals import magnitude_mps2
+
+    par = dict(ROBUST_DEFAULTS if params is None else params)
+    d = detect_steps_robust(p.acc_mps2, p.t_s, **par)
+    det = d["t_s"].to_numpy()
+    tm, dm = match_steps(p.step_t_s, det, tol_s)
+    y = lowpass_magnitude(magnitude_mps2(p.acc_mps2), par["rate_hz"], par["cutoff_hz"])
+    w = (p.t_s >= t0_s) & (p.t_s <= t0_s + span_s)
+    wt = (p.step_t_s >= t0_s) & (p.step_t_s <= t0_s + span_s)
+    wd = (det >= t0_s) & (det <= t0_s + span_s)
+    return {"t_s": p.t_s[w], "signal_mps2": y[w], "true_t_s": p.step_t_s[wt], "det_t_s": det[wd],
+            "true_matched": tm[wt], "det_matched": dm[wd]}
+
+
+def truth_artefacts(recordings, min_interval_s: float = 0.25) -> pd.DataFrame:
+    """True steps that follow the previous true step by less than ``min_interval_s`` (sensor double triggers)."""
+    rows = []
+    for r in recordings:
+        d = np.diff(np.asarray(r.step_t_s))
+        k = int((d < min_interval_s).sum())
+        rows.append({"recording": r.name, "true_steps": r.true_steps, f"intervals_below_{min_interval_s:g}s": k,
+                     "share_of_steps": k / r.true_steps if r.true_steps else float("nan")})
+    return pd.DataFrame(rows)

@@ -1,0 +1,147 @@
+"""Leave-one-walk-out over a floor's walks: pooling the scored waypoints, the Wi-Fi ablation, the floor's files.
+
+A floor's leave-one-walk-out (each walk tracked with everything learned from the *other* walks,
+:meth:`ilocalg.track.FloorModel.for_walk` and :func:`ilocalg.track.evaluate_walk`) is scored waypoint
+by waypoint; split into shards, a sweep's long ``sweep_waypoints`` rows (``quantity`` = method, ``value``
+= error in metres, ``item`` = ``"<floor>/<walk>#<waypoint>"``) are pooled per floor and over all floors
+by :func:`sweep_summary`, and :func:`lowo_findings` states the result in sentences.
+:func:`wifi_ablation` scores each Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` on the
+floor's database scans (each walk against the others). :func:`floor_files` (the floor model's cache key)
+and :func:`floor_image` find a data set's floor in the data folder: ``dataset`` is a data set folder
+(``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive.
+
+References
+----------
+Indoor Location Competition 2.0 sample data (Microsoft Research / XYZ10, 2020); the EvAAL p75 error:
+Torres-Sospedra J. et al., Sensors 18(2) (2018).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ilocalg.io.ilc import _read_members, _resolve_root
+from ilocalg.io.paths import data_dir as default_data_dir
+from ilocalg.io.scans import merge_relisted_wifi
+from ilocalg.track._config import CAUSAL_METHODS, METHODS, RealWalkConfig
+from ilocalg.track.database import WifiDatabase
+from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_errors
+
+__all__ = ["sweep_summary", "lowo_findings", "wifi_ablation", "floor_files", "floor_image"]
+
+
+def sweep_summary(results: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """Pool the ``sweep_waypoints`` rows of a sweep of the real-walk experiment's ``run``
+    (``fusion_real_walks``; any shards, floors, sites).
+
+    Returns ``summary``: one row per floor and method plus the ``pooled`` rows (every waypoint of every
+    floor): ``n_waypoints, n_walks, mean_m, median_m, p75_m`` (EvAAL), ``ratio_to_wifi`` (mean over
+    Wi-Fi only's mean), ``online``, ``goal`` (0.5 offline, 0.7 online), ``meets_goal``; and ``waypoints``
+    (``floor, walk, waypoint`` and one error column per method).
+    """
+    r = results[results["table"] == "sweep_waypoints"]
+    if r.empty:
+        raise ValueError("no sweep_waypoints rows: not a sweep of fusion_real_walks.run")
+    item = r["item"].str.rsplit("#", n=1, expand=True)
+    fw = item[0].str.rsplit("/", n=1, expand=True)
+    long = pd.DataFrame({"floor": fw[0].to_numpy(), "walk": fw[1].to_numpy(),
+                         "waypoint": item[1].astype(int).to_numpy(), "method": r["quantity"].to_numpy(),
+                         "error_m": r["value"].to_numpy()})
+    wide = long.pivot_table(index=["floor", "walk", "waypoint"], columns="method", values="error_m",
+                            aggfunc="first").reset_index()
+    wide.columns.name = None
+    methods = [m for m in (*METHODS, "wifi_plain_knn") if m in wide.columns]
+    rows = []
+    for fl_name, g in [*wide.groupby("floor", sort=True), ("pooled", wide)]:
+        w = float(g["wifi"].mean())
+        for m in methods:
+            e = g[m].to_numpy(dtype=np.float64)
+            online = m in CAUSAL_METHODS or m == "wifi_plain_knn"
+            goal = 0.7 if online else 0.5
+            ratio = float(np.mean(e)) / w
+            rows.append({"floor": fl_name, "method": m, "online": online, "n_waypoints": int(e.size),
+                         "n_walks": int(g["walk"].nunique()), "mean_m": float(np.mean(e)),
+                         "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
+                         "ratio_to_wifi": ratio, "goal": goal if m not in ("wifi", "wifi_plain_knn") else np.nan,
+                         "meets_goal": bool(ratio <= goal) if m not in ("wifi", "wifi_plain_knn") else None})
+    return {"summary": pd.DataFrame(rows), "waypoints": wide}
+
+
+def lowo_findings(summary: pd.DataFrame) -> str:
+    """Sentences computed from :func:`sweep_summary`'s table: per floor and pooled, Wi-Fi only against the
+    plain reference, the best offline and online estimators and their ratios to Wi-Fi only."""
+    out = []
+    for fl_name, g in summary.groupby("floor", sort=False):
+        g = g.set_index("method")
+        w, pk = g.loc["wifi"], g.loc["wifi_plain_knn"] if "wifi_plain_knn" in g.index else None
+        s = (f"{fl_name}: {int(w['n_walks'])} walks, {int(w['n_waypoints'])} waypoints; Wi-Fi only mean "
+             f"{w['mean_m']:.2f} m (p75 {w['p75_m']:.2f} m)")
+        if pk is not None:
+            s += (f", plain WKNN K = 5 <= 2 s {pk['mean_m']:.2f} m "
+                  f"({'no worse' if w['mean_m'] <= pk['mean_m'] + 1e-9 else 'WORSE: the baseline is not fair'})")
+        out.append(s + ".")
+        for label, online in (("offline", False), ("online", True)):
+            p = g[(g["online"] == online) & ~g.index.isin(["wifi", "wifi_plain_knn"])]
+            if len(p):
+                b = p["mean_m"].idxmin()
+                r = p.loc[b]
+                out.append(f"  best {label}: {b}, mean {r['mean_m']:.2f} m, median {r['median_m']:.2f} m, p75 "
+                           f"{r['p75_m']:.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only (goal <= {r['goal']} x: "
+                           f"{'met' if r['meets_goal'] else 'missed'}).")
+    return "\n".join(out)
+
+
+def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
+    """What each Wi-Fi piece buys: leave-one-walk-out fix error of every database scan (each walk located
+    against the others) for every Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` (the first
+    one is the plain reference: WKNN, K = 5, readings older than 2 s dropped) with the re-listed readings
+    kept and merged (:func:`ilocalg.io.scans.merge_relisted_wifi`, the loader's ``relisted_wifi`` rule).
+    ``floor`` must be loaded with ``relisted_wifi="keep"``. Columns: ``relisted_wifi, wifi_config, n,
+    mean_m, median_m, p75_m, merged_readings``.
+    """
+    cfg = cfg or RealWalkConfig()
+    rows = []
+    for policy in ("keep", "merge"):
+        n_merged = 0
+        trs = {}
+        for k, t in floor.traces.items():
+            if policy == "merge":
+                w, n = merge_relisted_wifi(t.wifi)
+                n_merged += n
+                t = dataclasses.replace(t, wifi=w)
+            trs[k] = t
+        db = WifiDatabase.from_traces(trs)
+        for label, kw in WIFI_CANDIDATES.items():
+            e = loo_fix_errors(db, dataclasses.replace(cfg, **kw))
+            e = e[np.isfinite(e)]
+            rows.append({"relisted_wifi": policy, "wifi_config": label, "n": int(e.size), "mean_m": float(e.mean()),
+                         "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
+                         "merged_readings": n_merged})
+    return pd.DataFrame(rows)
+
+
+def floor_image(data_dir, dataset: str) -> bytes | None:
+    """The floor plan image (``floor_image.png``) of a data set's floor, or None when absent (``data_dir``
+    None: the toolkit's data folder)."""
+    p = Path(default_data_dir() if data_dir is None else data_dir)
+    folder, _, floor_name = dataset.partition("/")
+    root = _resolve_root(p / folder if (p / folder).exists() else p)
+    if root.is_dir():
+        f = root / "floor_image.png"
+        return f.read_bytes() if f.is_file() else None
+    m = _read_members(root, lambda n: n.endswith("floor_image.png") and (not floor_name or f"/{floor_name}/" in
+                                                                        "/" + n))
+    return next(iter(m.values())) if len(m) == 1 else None
+
+
+def floor_files(data_dir, dataset: str) -> list[Path]:
+    """The files a floor is read from (its archive, or its walk files): the floor model's cache key
+    (:func:`ilocalg.track.cached_floor_model`); ``data_dir`` None: the toolkit's data folder."""
+    p = Path(default_data_dir() if data_dir is None else data_dir)
+    folder = dataset.partition("/")[0]
+    root = _resolve_root(p / folder if (p / folder).exists() else p)
+    return [root] if root.is_file() else sorted((root / "path_data_files").glob("*.txt"))

@@ -1,0 +1,53 @@
+"""Model selection and scoring of fingerprint estimators (ilocalg.wifi.model_selection)."""
+
+import numpy as np
+import pytest
+
+from ilocalg.io.schema import FingerprintSet
+from ilocalg.measure.stats import bootstrap
+from ilocalg.wifi import model_selection as ms
+
+
+def test_selection_mask_is_half():
+    assert np.isclose(ms.selection_mask(11).sum(), 5)
+
+
+def test_offset_shifts_are_one_measured_sd():
+    assert ms.offset_shifts_db() == (-4.0, -2.0, 0.0, 2.0, 4.0)   # +-1 sd of the measured offset
+
+
+def test_uji_metrics_row_counts_unlocated_scans_apart():
+    test = FingerprintSet(rssi_dbm=np.full((4, 1), -50.0), ap_ids=("a",), x_m=np.zeros(4),
+                          y_m=np.full(4, 4.86e6), floor=np.array([0, 0, 1, 1]), building=np.zeros(4))
+    res = {"error_m": np.array([1.0, 3.0, np.nan, 2.0]), "floor": np.array([0, 0, np.nan, 1]),
+           "building": np.zeros(4)}
+    row = ms.metrics_row(res, test)
+    assert row["n"] == 4 and row["n_unlocated"] == 1
+    assert row["mean_m"] == pytest.approx(2.0) and row["floor_hit_rate"] == pytest.approx(0.75)
+
+
+def test_subsampled_group_kfold_keeps_groups_apart():
+    groups = np.repeat(np.arange(6), 50)
+    folds = list(ms.SubsampledGroupKFold(3, max_test=40, seed=1).split(np.zeros((300, 1)), groups=groups))
+    assert len(folds) == 3
+    for tr, te in folds:
+        assert te.size == 40 and not set(groups[tr]) & set(groups[te])
+        assert tr.size == 200                                           # training parts stay whole
+
+
+def test_ladder_interval_agrees_with_the_clustered_bootstrap():
+    # the ladder's vectorised interval draws the same resamples as measure.bootstrap value by value;
+    # only the summation order differs
+    e = np.random.default_rng(3).gamma(2.0, 3.0, 255)
+    lo, hi = ms.bootstrap_mean_ci(e, 7)
+    ci = bootstrap(e, np.mean, n_boot=1000, rng=7)
+    np.testing.assert_allclose([lo, hi], [ci.ci_low, ci.ci_high], rtol=1e-12)
+    assert lo < e.mean() < hi and ms.bootstrap_mean_ci(e, 7) == (lo, hi)
+    assert ms.bootstrap_mean_ci(e, 8) != (lo, hi)
+
+
+def test_toolkit_cv_needs_a_meta_group():
+    s = FingerprintSet(rssi_dbm=np.full((4, 1), -50.0), ap_ids=("a",), x_m=np.zeros(4), y_m=np.zeros(4),
+                       floor=np.zeros(4), building=np.zeros(4))
+    with pytest.raises(ValueError, match="meta column"):
+        ms.toolkit_cv(s)
