@@ -37,6 +37,8 @@ def test_outage_inputs_are_labelled_and_swept(out):
     cmp = out["comparison"].set_index("quantity")
     for key in ("vt_rate_hz", "outage_max_s", "outages_over_1s"):
         assert cmp.loc[f"overall {key}", "note"].startswith("input, not a reproduction")
+        assert cmp.loc[f"overall {key}", "row_class"] == "set by input"  # shown apart, never counted
+    assert (cmp.loc[[q for q in cmp.index if "_dev_" in q], "row_class"] == "result").all()
     os_ = out["outage_sensitivity"]
     assert list(zip(os_["outage_rate_factor"], os_["outage_excess_factor"], strict=True)) == [(1.0, 1.0), (2.0, 1.0)]
     # twice the outage rate: at least as many outages over 1 s and a lower tracker rate

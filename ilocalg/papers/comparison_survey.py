@@ -36,7 +36,7 @@ def table2_rows(overall: pd.Series, n_sequences: int, duration_s: float) -> list
                 + ("; echoes the assumed tracker noise: see tracker_noise (sensitivity curve)"
                    if key.startswith("mean_dev") else "; see outage_sensitivity"))
         comp.append(paper_ref(HARTMANN_2010, "Table 2", f"overall {key}", pv, float(overall[key]), unit=unit,
-                              note=note))
+                              note=note, row_class="set by input" if key in _INPUT_KEYS else "result"))
     return comp
 
 
