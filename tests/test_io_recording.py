@@ -92,7 +92,8 @@ def test_geographic_frame_agrees_with_geodesic_distances():
 def test_walks_of_several_logfiles_share_one_frame(walks, tmp_path):
     """Each IPIN logfile starts x/y at its own first point; pooled, they agree with the simulator's frame."""
     recs = [load_recording(write_ipin_logfile(r, tmp_path / f"{r.name}.txt")) for r in walks]
-    assert len({r.frame for r in recs}) == 3
+    starts = {(round(float(w.truth["x_m"].iloc[0]), 6), round(float(w.truth["y_m"].iloc[0]), 6)) for w in walks}
+    assert len({r.frame for r in recs}) == len(starts) >= 2    # one frame per distinct first point
     frame = common_frame(recs)
     rf = recording_fingerprints(recs)
     assert rf.frame == frame == recs[0].frame
