@@ -467,20 +467,35 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         """The 8 bytes from each position (clamped at the end of the file), as (n, 8) uint8."""
         return win[np.minimum(pos, top)]
 
+    def words(pos, nw):
+        """``(n, nw)`` uint64: word ``j`` holds the 8 bytes from ``pos + 8 j`` (clamped at the end of the
+        file as :func:`bytes8` clamps them), from one gather of ``8 nw`` bytes per position."""
+        size = 8 * nw
+        if len(arr) < size:
+            return np.column_stack([bytes8(pos + 8 * j).view("<u8").ravel() for j in range(nw)])
+        wide = np.lib.stride_tricks.as_strided(arr, shape=(len(arr) - size + 1, size), strides=(1, 1),
+                                               writeable=False)
+        out = wide[np.minimum(pos, len(arr) - size)].view("<u8")
+        tail = np.flatnonzero(pos > len(arr) - size)  # the last few lines: word by word, clamped as bytes8
+        for j in range(nw):
+            out[tail, j] = bytes8(pos[tail] + 8 * j).view("<u8").ravel()
+        return out
+
     if type_col == 0:
         t0 = rs
     else:
         width = data.find(sep, int(rs[0])) - int(rs[0])
         if width <= 0 or np.any(re_ - rs <= width) or np.any(arr[rs + width] != sep_b):
             return None
-        for o in range(0, width, 8):
-            m = bytes8(rs + o)[:, :min(8, width - o)]
-            if np.any(m == sep_b):
-                return None
+        first_col = words(rs, -(-width // 8)).view(np.uint8)[:, :width]
+        if np.any(first_col == sep_b):
+            return None
+        del first_col
         t0 = rs + width + 1
     label = np.zeros(len(rec), dtype=np.int8)
     names = sorted(known)
-    head = np.ascontiguousarray(bytes8(t0)).view("<u8").ravel()  # each record's first 8 type bytes, one word
+    type_words = words(t0, -(-max(len(k) + 1 for k in known) // 8))  # each record's type bytes, 8 per word
+    head = type_words[:, 0]
     span = re_ - t0
     for code, name in enumerate(names, start=1):
         kb = name.encode() + sep  # the name and the separator that ends it
@@ -488,10 +503,13 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         mask = np.uint64((1 << (8 * len(first))) - 1)
         key = np.uint64(int.from_bytes(first.ljust(8, b"\0"), "little"))
         cand = np.flatnonzero(((head & mask) == key) & (span > len(kb) - 1))  # one word compare per record
-        for o in range(8, len(kb), 8):  # then eight bytes per comparison, on the candidates only
-            chunk = np.frombuffer(kb[o:o + 8], dtype=np.uint8)
-            cand = cand[np.all(bytes8(t0[cand] + o)[:, :len(chunk)] == chunk, axis=1)]
+        for o in range(8, len(kb), 8):  # then one word per comparison, on the candidates only
+            part = kb[o:o + 8]
+            mask = np.uint64((1 << (8 * len(part))) - 1)
+            key = np.uint64(int.from_bytes(part.ljust(8, b"\0"), "little"))
+            cand = cand[(type_words[cand, o // 8] & mask) == key]
         label[cand] = code
+    del type_words, head
     unknown = np.flatnonzero(label == 0)
     other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], re_[unknown])
     for t in other:
@@ -533,11 +551,11 @@ def _block_maker(data: bytes, starts, ends, rows):
         if rows.size < 20000:
             return b"".join(data[a:b] for a, b in zip(starts[rows].tolist(), (ends[rows] + 1).tolist(), strict=True))
         arr = np.frombuffer(data, dtype=np.uint8)
-        n = len(starts)
+        n = int(rows[-1]) + 1  # the lines from the first to the last of ``rows``
         on = np.zeros(n, dtype=bool)
         on[rows] = True
         parts = []
-        i = 0
+        i = int(rows[0])
         while i < n:
             j = min(max(int(np.searchsorted(starts, starts[i] + _CHUNK, side="left")), i + 1), n)
             lo, hi = int(starts[i]), int(ends[j - 1]) + 1
