@@ -31,7 +31,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import best_time_s
+from conftest import best_cpu_s, best_time_s
 from filterpy.kalman import KalmanFilter
 
 from ilocalg import ins
@@ -103,8 +103,8 @@ def test_eskf_rts_realtime_factor(benchmark, with_cov):
     best = best_time_s(lambda: _run(with_cov), repeat=2)
     ref = best_time_s(_filterpy_reference(), repeat=1)
     # CPU time as well: on a shared machine the wall-clock factor mostly measures the load
-    cpu = _best_cpu_s(lambda: _run(with_cov))
-    cpu_ref = _best_cpu_s(_filterpy_reference(), repeat=1)
+    cpu = best_cpu_s(lambda: _run(with_cov))
+    cpu_ref = best_cpu_s(_filterpy_reference(), repeat=1)
     info = {"realtime_factor": DURATION_S / best, "filterpy_kf_rts_s": ref, "speedup_vs_filterpy": ref / best,
             "realtime_factor_cpu": DURATION_S / cpu, "speedup_vs_filterpy_cpu": cpu_ref / cpu,
             "realtime_factor_goal": REALTIME_FACTOR_GOAL}
@@ -114,18 +114,6 @@ def test_eskf_rts_realtime_factor(benchmark, with_cov):
           f"time at {RATE_HZ:g} Hz; filterpy KF+RTS reference {DURATION_S / ref:.0f}x; ratio {ref / best:.1f}; "
           f"in CPU time {DURATION_S / cpu:.0f}x (filterpy {DURATION_S / cpu_ref:.0f}x, ratio {cpu_ref / cpu:.1f}); "
           f"goal {REALTIME_FACTOR_GOAL:g}x")
-
-
-def _best_cpu_s(fn, repeat: int = 3) -> float:
-    """Best process CPU time of ``repeat`` calls of ``fn()``."""
-    import time
-
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
 
 
 def memory_run(n_epochs: int, keep_covariance: bool, smooth: bool) -> dict:

@@ -21,7 +21,7 @@ import time
 
 import pandas as pd
 import pytest
-from conftest import best_time_s
+from conftest import best_cpu_s, best_time_s
 
 from ilocalg import track
 from ilocalg.io import load_ipin_logfile, load_recording, write_ipin_logfile
@@ -98,17 +98,6 @@ def test_pipeline_50_walk_database(benchmark, walks_51, select):
 #   cached_over_uncached_ratio       <= 0.125 (the cached evaluation against the rebuild-per-walk one: 80 s -> 10 s)
 
 
-def best_cpu_s(fn, repeat: int = 1) -> float:
-    """Best process CPU time (user + sys) of ``repeat`` calls of ``fn()``: immune to other jobs on a shared
-    machine (every computation here runs in this process)."""
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
-
-
 @pytest.fixture(scope="module")
 def floor_100(tmp_path_factory):
     _, recs = wr.simulate_recordings(101, seed=3, n_nodes=40)
@@ -120,7 +109,7 @@ def test_floor_model_cached(benchmark, floor_100):
 
     scored, db, cache = floor_100
     t_build = best_time_s(lambda: build_floor_model(db).save(cache / "m"), repeat=1)
-    cpu_build = best_cpu_s(lambda: build_floor_model(db).save(cache / "m"))
+    cpu_build = best_cpu_s(lambda: build_floor_model(db).save(cache / "m"), repeat=1)
 
     def one_walk():
         m = FloorModel.load(cache / "m").for_walk(scored.name)
