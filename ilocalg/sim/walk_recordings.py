@@ -196,16 +196,19 @@ def _pass_times(sw: gait.SimWalk, route_xy: np.ndarray) -> np.ndarray:
 
 
 def simulate_recording(building: SimBuilding, rng=None, n_nodes: int = 40, floor: int = 0,
-                       floor_to: int | None = None, floor_change_at: float = 0.5, name: str = "sim") -> Recording:
-    """One simulated walk through ``building`` as a :class:`Recording` (module docstring)."""
+                       floor_to: int | None = None, floor_change_at: float = 0.5, name: str = "sim",
+                       world: str = "measured") -> Recording:
+    """One simulated walk through ``building`` as a :class:`Recording` (module docstring); ``world`` is the gait
+    world (:func:`ilocalg.sim.gait.gait_config`: ``"measured"``, calibrated to the recordings, ``"copied"`` or
+    ``"assumed"``)."""
     r = as_rng(rng)
     p = building.params
     if not 0 <= floor < building.n_floors or (floor_to is not None and not 0 <= floor_to < building.n_floors):
         raise ValueError(f"floors must be in [0, {building.n_floors - 1}], got {floor}, {floor_to}")
     idx = random_route(building, n_nodes, r)
     route = building.nodes_xy_m[idx]
-    walker = gait.make_walkers(1, r)[0]
-    sw = gait.simulate_walk(route, walker, r, disturbances=building.disturbances)
+    walker = gait.make_walkers(1, r, world=world)[0]
+    sw = gait.simulate_walk(route, walker, r, config=gait.gait_config(world), disturbances=building.disturbances)
     t = sw.imu.index.to_numpy()
     t_end = float(t[-1])
     # height above floor 0 over time (a ramp while climbing)
@@ -266,7 +269,8 @@ def simulate_recording(building: SimBuilding, rng=None, n_nodes: int = 40, floor
 
 
 def simulate_recordings(n_walks: int, seed=0, n_floors: int = 1, n_nodes: int = 40, floor_changes: bool = False,
-                        building: SimBuilding | None = None) -> tuple[SimBuilding, list[Recording]]:
+                        building: SimBuilding | None = None, world: str = "measured"
+                        ) -> tuple[SimBuilding, list[Recording]]:
     """``n_walks`` walks through one building (drawn from ``seed`` unless given).
 
     Walk ``i`` is on floor ``i % n_floors``; with ``floor_changes`` every other walk climbs to the
@@ -280,5 +284,6 @@ def simulate_recordings(n_walks: int, seed=0, n_floors: int = 1, n_nodes: int = 
         to = None
         if floor_changes and b.n_floors > 1 and i % 2 == 1:
             to = f + 1 if f + 1 < b.n_floors else f - 1
-        recs.append(simulate_recording(b, r, n_nodes=n_nodes, floor=f, floor_to=to, name=f"sim{i:03d}"))
+        recs.append(simulate_recording(b, r, n_nodes=n_nodes, floor=f, floor_to=to, name=f"sim{i:03d}",
+                                       world=world))
     return b, recs
