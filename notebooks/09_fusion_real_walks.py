@@ -31,7 +31,7 @@ FAST = False
 OUT_DIR = None
 DATA_DIR = None
 DATASET = "ilc2020_site1/site1_F1"
-LOWO_EVERY = 10
+LOWO_EVERY = 25
 
 # %%
 from pathlib import Path
