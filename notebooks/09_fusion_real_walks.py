@@ -152,7 +152,7 @@ if HAVE_DATA:
 
 # %%
 if HAVE_DATA and DATASET.startswith("ilc2020_site1"):
-    lowo = fusion_real_walks.leave_one_walk_out(names_every=20 if FAST else LOWO_EVERY, workers=0,
+    lowo = fusion_real_walks.leave_one_walk_out(names_every=50 if FAST else LOWO_EVERY, workers=0,
                                                 data_dir=DATA_DIR, fast=FAST)
     report.table(lowo["summary"], "lowo_summary")
     display(lowo["summary"].pivot(index="method", columns="floor", values="ratio_to_wifi").round(2))  # noqa: F821
