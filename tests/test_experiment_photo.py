@@ -92,3 +92,17 @@ def test_good_guess_sweep_moves_vagig_only():
     g = pp.good_guess_sweep(seed=0, fast=True, sds=(0.5, 4.0), ks=(7,)).set_index(["good_guess_sd_m", "method"])
     for m in ("VA_truth", "VABIG", "ST"):
         assert g.loc[(0.5, m), "error_cm"] == pytest.approx(g.loc[(4.0, m), "error_cm"])
+
+
+def test_layout_sweep_reports_a_layout_whose_photos_cannot_frame_every_poi():
+    """W4 with 10 photos per shot puts p7 off the screen: the sweep keeps the layout as a row that says so
+    (not satisfying, errors NaN) and its spreads use the other layouts; a full `make reproduce` failed on it."""
+    from ilocalg.experiments import photo_positioning as pp
+
+    out = pp.layout_sweep(seed=0, fast=False, layouts=["W4", "A"], ks=(2,))
+    w4 = out["per_layout"][out["per_layout"]["layout"] == "W4"]
+    assert len(w4) and not w4["all_pois_framed"].any() and not w4["satisfies_text"].any()
+    assert w4["overall_mean_cm"].isna().all()
+    a = out["per_layout"][out["per_layout"]["layout"] == "A"]
+    assert a["all_pois_framed"].all() and a["overall_mean_cm"].notna().all()
+    assert (out["spread"]["n_layouts"] <= 1).all()
