@@ -22,25 +22,24 @@ RESULTS_ENV = "ILOC_BENCH_RESULTS"
 _RESULTS: dict[str, dict[str, float]] = {}
 
 
-def best_time_s(fn, repeat: int = 5) -> float:
-    """Best wall time of ``repeat`` calls of ``fn()`` (for ratio measurements in one run)."""
+def _best(fn, repeat: int, clock) -> float:
     best = float("inf")
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = clock()
         fn()
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, clock() - t0)
     return best
+
+
+def best_time_s(fn, repeat: int = 5) -> float:
+    """Best wall time of ``repeat`` calls of ``fn()`` (for ratio measurements in one run)."""
+    return _best(fn, repeat, time.perf_counter)
 
 
 def best_cpu_s(fn, repeat: int = 3) -> float:
     """Best process CPU time (user + sys) of ``repeat`` calls of ``fn()``: immune to other jobs on a shared
     machine when every computation runs in this process."""
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t0)
-    return best
+    return _best(fn, repeat, time.process_time)
 
 
 def results_path() -> Path:
