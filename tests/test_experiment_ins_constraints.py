@@ -1,6 +1,7 @@
 """The smartphone INS constraints experiment (ilocalg.experiments.ins_constraints)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.experiments import ins_constraints
@@ -99,3 +100,16 @@ def test_error_budget_changes_one_source_at_a_time(tables):
     # the paper's values ride along as labelled references (Table 4: Samsung GCP filter N 1.23 m)
     s = b[(b.phone == "Samsung") & (b.method == "Filtering + WVC/ZUPT + GCP")]
     assert (s["paper_N"] == 1.23).all()
+
+
+def test_sweep_runs_without_side_studies_give_the_same_results(tables):
+    """The seed sweep and the claims' samples run without the side studies (manifest.SWEEP_KWARGS): every table
+    they return, and so the long results the sweep keeps, must be those of the run with them."""
+    from ilocalg.papers.claims import tables_to_long
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    lite = ins_constraints.run(seed=0, fast=True, reference_grade=False, **SWEEP_KWARGS["ins_constraints"])
+    assert "gcp_grade" not in lite and "error_budget" not in lite
+    for name, df in lite.items():
+        pd.testing.assert_frame_equal(df, tables[name], check_exact=True)
+    pd.testing.assert_frame_equal(tables_to_long(lite), tables_to_long(tables), check_exact=True)

@@ -59,15 +59,15 @@ def test_assumed_tracker_noise_sets_the_main_sequences_and_the_readings():
 
 
 def test_side_studies_skipped_leave_the_claimed_tables_unchanged():
-    """The claims' robustness samples skip the tracker-noise and outage sweeps (claims_step.SAMPLE_KWARGS): the
-    tables the claims read must be the same as in a run with the sweeps."""
-    from ilocalg.workflow.claims_step import SAMPLE_KWARGS, robustness_tasks
+    """Sweep tasks (the seed sweep, the claims' robustness samples) skip the tracker-noise and outage sweeps
+    (manifest.SWEEP_KWARGS): the tables the sweep keeps must be the same as in a run with them."""
+    from ilocalg.papers.claims import tables_to_long
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
 
-    lite = ins_hartmann.run(seed=0, fast=True, n_sequences=1, duration_s=20.0, **SAMPLE_KWARGS["ins_hartmann"])
+    lite = ins_hartmann.run(seed=0, fast=True, n_sequences=1, duration_s=20.0, **SWEEP_KWARGS["ins_hartmann"])
     full = ins_hartmann.run(seed=0, fast=True, n_sequences=1, duration_s=20.0, noise_scales=(1.0,),
                             outage_factors=((2.0, 1.0),))
     for name in ("comparison", "measures", "table2", "settling"):
         pd.testing.assert_frame_equal(lite[name], full[name])
+    pd.testing.assert_frame_equal(tables_to_long(lite), tables_to_long(full), check_exact=True)
     assert lite["tracker_noise"].empty and lite["outage_sensitivity"].empty
-    tasks = [t for t in robustness_tasks(["14_imu_video_ekf"]) if t.experiment == "ins_hartmann"]
-    assert tasks and all(dict(t.params)["noise_scales"] == () for t in tasks)

@@ -37,6 +37,18 @@ def test_parse_param_and_grid():
     assert tasks[0].params == (("n", 10), ("scale", 1.0))
 
 
+def test_sweep_kwargs_apply_to_tasks_unless_the_task_sets_them(monkeypatch):
+    from ilocalg.workflow import manifest
+
+    plain = sw.run_task(sw.SweepTask(TOY, (), 3, False))
+    monkeypatch.setitem(manifest.SWEEP_KWARGS, TOY, {"scale": 10.0})
+    lite = sw.run_task(sw.SweepTask(TOY, (), 3, False))
+    own = sw.run_task(sw.SweepTask(TOY, (("scale", 1.0),), 3, False))
+    value = {n: d.loc[d["table"] == "sweep_std", "value"].iloc[0] for n, d in (("plain", plain), ("lite", lite),
+                                                                             ("own", own))}
+    assert value["lite"] == pytest.approx(10.0 * value["plain"]) and value["own"] == value["plain"]
+
+
 def test_unknown_experiment_is_a_clear_error():
     with pytest.raises(ValueError, match="unknown experiment 'nope'"):
         sw._experiment("nope")

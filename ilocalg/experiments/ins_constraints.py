@@ -165,12 +165,74 @@ def gait_sensitivity(seeds, stairs: str = "none", stair_action: str = "drop", va
     return out
 
 
+def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_action, sim_kw, fast,
+               reference_grade):
+    """One seed's rows of the side studies (stair handling, control-point grade, sensor timing, reference
+    IMUs) on the walk ``walk`` of the default run (``sol``: its four methods, ``rgcp``: its GCP filter result):
+    ``(stair_rows, grade, sens_rows, refg)``. Every other walk is simulated here from the same seed ``s``."""
+    stair_rows, grade, sens_rows, refg = [], [], [], []
+    for label, opt, action in STAIR_VARIANTS:
+        same = opt == stairs and (action == stair_action or opt == "none")
+        sol_o = sol if same else run_methods(walk, opt, action)[0]
+        for method, (pos, mat) in sol_o.items():
+            st = error_stats(indoor_errors(walk, pos, mat, ind))
+            stair_rows += [{"phone": phone, "stairs": label, "method": method, "seed": s, "stat": k,
+                            **st[k]} for k in ("max", "rms")]
+    gcp_variants = [(GCP_RSSI_LABEL, walk)]
+    for sd_db in GCP_RSSI_SD_SWEEP_DB:
+        gcp_variants.append((f"Bluetooth RSSI, packet scatter {sd_db:g} dB",
+                             ins_walk.simulate(route, profile, seed=s, **{**sim_kw, "rssi_sd_db": sd_db})))
+    gcp_variants += [("Bluetooth (surveyed point, delay, offset)",
+                      ins_walk.simulate(route, profile, seed=s, gcp_mode="ble", **sim_kw)),
+                     ("ideal (true position + 5 cm)",
+                      ins_walk.simulate(route, profile, seed=s, gcp_mode="ideal", **sim_kw))]
+    for gname, w2 in gcp_variants:
+        r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True, stairs=stairs,
+                                               stair_action=stair_action)
+        for method, sol2 in ((METHODS[2], r2), (METHODS[3], eskf_rts_smooth(r2, with_cov=False))):
+            err = indoor_errors(walk, sol2.pos_n_m, sol2.mat_nb, ind)
+            k_fix = np.minimum(np.searchsorted(w2.t_s, w2.gcp_t_s), w2.t_s.size - 1)
+            fix_err = np.linalg.norm(w2.pos_true_n_m[k_fix, :2] - w2.gcp_pos_n_m[:, :2], axis=1)
+            grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
+                          "n_fixes": int(w2.gcp_t_s.size),
+                          "fix_horizontal_error_mean_m": float(fix_err.mean()) if fix_err.size else np.nan,
+                          "method": method, "seed": s, **error_stats(err)["rms"]})
+    ideal = ins_walk.simulate(route, profile.ideal_timing(), seed=s, **sim_kw)
+    indi = ideal.t_s >= ideal.t_indoor_s
+    for label, w3 in (("realistic phone (jitter, point samples, bias instability)", walk),
+                      ("ideal sensor timing", ideal)):
+        r3 = rgcp if w3 is walk else run_walk(w3, "wvc", use_gcp=True, stairs=stairs,
+                                               stair_action=stair_action)
+        i3 = ind if w3 is walk else indi
+        for method, sol3 in ((METHODS[2], r3), (METHODS[3], eskf_rts_smooth(r3, with_cov=False))):
+            err = indoor_errors(w3, sol3.pos_n_m, sol3.mat_nb, i3)
+            sens_rows.append({"phone": phone, "sensor": label, "method": method, "seed": s,
+                              **error_stats(err)["rms"]})
+    ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
+    if not fast:
+        ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
+    for imu_label, prof in ref_imus if reference_grade else ():
+        wr = ins_walk.simulate(route, prof, seed=s, **sim_kw)
+        indr = wr.t_s >= wr.t_indoor_s
+        for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
+                                 (METHODS[3], "wvc", True)):
+            sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
+                                          stair_action=stair_action), with_cov=False)
+            err = indoor_errors(wr, sm.pos_n_m, sm.mat_nb, indr)
+            st_used = stairs if cons == "wvc" else "none"
+            refg.append({"phone route": phone, "imu": imu_label, "method": label,
+                         "barometer used": bool(st_used == "baro" and wr.baro_t_s.size > 0),
+                         "phone rows use barometer": bool(st_used == "baro" and walk.baro_t_s.size > 0),
+                         "seed": s, **error_stats(err)["rms"]})
+    return stair_rows, grade, sens_rows, refg
+
+
 def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags_s=(0.0, 0.05, 0.1, 0.2),
         reference_grade: bool = True, stairs: str = "none", stair_action: str = "drop",
         gait: str = "published", sensitivity_seeds: int | None = None,
         noise_factor: float = ins_walk.PHONE_NOISE_FACTOR, bias_instability_factor: float = 1.0,
         time_jitter_sd_s: float = ins_walk.PHONE_TIME_JITTER_SD_S, rssi_sd_db: float = ins_walk.BLE_RSSI_SD_DB,
-        speed_mean_mps: float = ins_walk.LEVEL_SPEED_MEAN_MPS) -> dict[str, pd.DataFrame]:
+        speed_mean_mps: float = ins_walk.LEVEL_SPEED_MEAN_MPS, side_studies: bool = True) -> dict[str, pd.DataFrame]:
     """Tables 4-7 reproduced on simulated walks.
 
     ``noise_factor``, ``bias_instability_factor``, ``time_jitter_sd_s`` (the phones' white noise over the
@@ -203,6 +265,12 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     ``sensitivity_seeds`` seeds: default 3; in fast mode 1 seed and one value at a time), ``gait_sensitivity``
     (:func:`gait_sensitivity`: the same filter with each published gait mean moved by one between-walker sd,
     and the earlier walker, on the same seeds).
+
+    ``side_studies=False`` leaves out the side studies (``gcp_grade``, ``reference_grade``, ``sensor_grade``,
+    ``stair_handling``, ``sensor_sensitivity``, ``gait_sensitivity``) and the ``error_budget`` built from them:
+    each re-simulates walks of its own from the same seeds, so the tables returned are the same either way.
+    The seed sweep and the claims' robustness samples read none of them
+    (:data:`ilocalg.workflow.manifest.SWEEP_KWARGS`).
     """
     if stairs not in STAIR_OPTIONS:
         raise ValueError(f"stairs must be one of {STAIR_OPTIONS}, got {stairs!r}")
@@ -230,43 +298,11 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
             for method, (pos, mat) in sol.items():
                 err = indoor_errors(walk, pos, mat, ind)
                 rows += stats_rows(phone, method, s, err)
-            for label, opt, action in STAIR_VARIANTS:
-                same = opt == stairs and (action == stair_action or opt == "none")
-                sol_o = sol if same else run_methods(walk, opt, action)[0]
-                for method, (pos, mat) in sol_o.items():
-                    st = error_stats(indoor_errors(walk, pos, mat, ind))
-                    stair_rows += [{"phone": phone, "stairs": label, "method": method, "seed": s, "stat": k,
-                                    **st[k]} for k in ("max", "rms")]
-            gcp_variants = [(GCP_RSSI_LABEL, walk)]
-            for sd_db in GCP_RSSI_SD_SWEEP_DB:
-                gcp_variants.append((f"Bluetooth RSSI, packet scatter {sd_db:g} dB",
-                                     ins_walk.simulate(route, profile, seed=s, **{**sim_kw, "rssi_sd_db": sd_db})))
-            gcp_variants += [("Bluetooth (surveyed point, delay, offset)",
-                              ins_walk.simulate(route, profile, seed=s, gcp_mode="ble", **sim_kw)),
-                             ("ideal (true position + 5 cm)",
-                              ins_walk.simulate(route, profile, seed=s, gcp_mode="ideal", **sim_kw))]
-            for gname, w2 in gcp_variants:
-                r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True, stairs=stairs,
-                                                       stair_action=stair_action)
-                for method, sol2 in ((METHODS[2], r2), (METHODS[3], eskf_rts_smooth(r2, with_cov=False))):
-                    err = indoor_errors(walk, sol2.pos_n_m, sol2.mat_nb, ind)
-                    k_fix = np.minimum(np.searchsorted(w2.t_s, w2.gcp_t_s), w2.t_s.size - 1)
-                    fix_err = np.linalg.norm(w2.pos_true_n_m[k_fix, :2] - w2.gcp_pos_n_m[:, :2], axis=1)
-                    grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
-                                  "n_fixes": int(w2.gcp_t_s.size),
-                                  "fix_horizontal_error_mean_m": float(fix_err.mean()) if fix_err.size else np.nan,
-                                  "method": method, "seed": s, **error_stats(err)["rms"]})
-            ideal = ins_walk.simulate(route, profile.ideal_timing(), seed=s, **sim_kw)
-            indi = ideal.t_s >= ideal.t_indoor_s
-            for label, w3 in (("realistic phone (jitter, point samples, bias instability)", walk),
-                              ("ideal sensor timing", ideal)):
-                r3 = rgcp if w3 is walk else run_walk(w3, "wvc", use_gcp=True, stairs=stairs,
-                                                       stair_action=stair_action)
-                i3 = ind if w3 is walk else indi
-                for method, sol3 in ((METHODS[2], r3), (METHODS[3], eskf_rts_smooth(r3, with_cov=False))):
-                    err = indoor_errors(w3, sol3.pos_n_m, sol3.mat_nb, i3)
-                    sens_rows.append({"phone": phone, "sensor": label, "method": method, "seed": s,
-                                      **error_stats(err)["rms"]})
+            if side_studies:
+                for acc, part in zip((stair_rows, grade, sens_rows, refg),
+                                     _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs,
+                                                stair_action, sim_kw, fast, reference_grade), strict=True):
+                    acc += part
             for method in METHODS[2:]:
                 pos, mat = sol[method]
                 for lag in time_lags_s:
@@ -275,22 +311,6 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
                     sync.append({"phone": phone, "method": method, "seed": s, "lag_s": lag,
                                  "heading_rms_deg": float(np.sqrt(np.mean(e**2))),
                                  "heading_max_deg": float(np.max(np.abs(e)))})
-            ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
-            if not fast:
-                ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
-            for imu_label, prof in ref_imus if reference_grade else ():
-                wr = ins_walk.simulate(route, prof, seed=s, **sim_kw)
-                indr = wr.t_s >= wr.t_indoor_s
-                for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
-                                         (METHODS[3], "wvc", True)):
-                    sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
-                                                  stair_action=stair_action), with_cov=False)
-                    err = indoor_errors(wr, sm.pos_n_m, sm.mat_nb, indr)
-                    st_used = stairs if cons == "wvc" else "none"
-                    refg.append({"phone route": phone, "imu": imu_label, "method": label,
-                                 "barometer used": bool(st_used == "baro" and wr.baro_t_s.size > 0),
-                                 "phone rows use barometer": bool(st_used == "baro" and walk.baro_t_s.size > 0),
-                                 "seed": s, **error_stats(err)["rms"]})
             stats.append({"phone": phone, "seed": s, **ins_walk.walk_summary(walk)})
             if s == seed * n_seeds:
                 traj.append(trajectory_frame(phone, walk, sol, ind))
@@ -306,25 +326,31 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         "comparison": pd.DataFrame(comp),
         "walk_stats": pd.DataFrame(stats),
         "trajectory": pd.concat(traj, ignore_index=True),
-        "gcp_grade": (pd.DataFrame(grade).groupby(["phone", "control points", "gcp_sd_m", "method"], sort=False)
-                      [["n_fixes", "fix_horizontal_error_mean_m", *AXES]].mean().reset_index()),
-        "heading_time_sync": (pd.DataFrame(sync).groupby(["phone", "method", "lag_s"], sort=False)
-                              [["heading_rms_deg", "heading_max_deg"]].mean().reset_index()),
-        "reference_grade": (pd.DataFrame(refg).groupby(["phone route", "imu", "method", "barometer used",
-                                                         "phone rows use barometer"], sort=False)[list(AXES)]
-                            .mean().reset_index() if refg else pd.DataFrame()),
-        "sensor_grade": (pd.DataFrame(sens_rows).groupby(["phone", "sensor", "method"], sort=False)[list(AXES)]
-                         .mean().reset_index()),
-        "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
-        "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
-                                                 stair_action, reuse=reuse, full_grid=not fast),
-        "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs, stair_action,
-                                             reuse=reuse if gait == "published" else None),
-        "readings": readings(stairs, stair_action, noise_factor, bias_instability_factor, time_jitter_sd_s,
-                             rssi_sd_db, speed_mean_mps),
-        "measures": _measures(errors, pd.DataFrame(sync)),
     }
-    out["error_budget"] = error_budget(out)
+    if side_studies:
+        out["gcp_grade"] = (pd.DataFrame(grade).groupby(["phone", "control points", "gcp_sd_m", "method"],
+                                                        sort=False)
+                            [["n_fixes", "fix_horizontal_error_mean_m", *AXES]].mean().reset_index())
+    out["heading_time_sync"] = (pd.DataFrame(sync).groupby(["phone", "method", "lag_s"], sort=False)
+                                [["heading_rms_deg", "heading_max_deg"]].mean().reset_index())
+    if side_studies:
+        out.update({
+            "reference_grade": (pd.DataFrame(refg).groupby(["phone route", "imu", "method", "barometer used",
+                                                             "phone rows use barometer"], sort=False)[list(AXES)]
+                                .mean().reset_index() if refg else pd.DataFrame()),
+            "sensor_grade": (pd.DataFrame(sens_rows).groupby(["phone", "sensor", "method"], sort=False)
+                             [list(AXES)].mean().reset_index()),
+            "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
+            "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
+                                                     stair_action, reuse=reuse, full_grid=not fast),
+            "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs,
+                                                 stair_action, reuse=reuse if gait == "published" else None),
+        })
+    out["readings"] = readings(stairs, stair_action, noise_factor, bias_instability_factor, time_jitter_sd_s,
+                               rssi_sd_db, speed_mean_mps)
+    out["measures"] = _measures(errors, pd.DataFrame(sync))
+    if side_studies:
+        out["error_budget"] = error_budget(out)
     return out
 
 

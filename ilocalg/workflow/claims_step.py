@@ -47,7 +47,7 @@ import pandas as pd
 
 from ilocalg.papers import claims as cl
 
-__all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "N_SAMPLES_OF", "SAMPLE_KWARGS", "BUDGET_S", "ClaimError",
+__all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "N_SAMPLES_OF", "BUDGET_S", "ClaimError",
            "claim_experiments",
            "gather_results", "evaluate_ledger", "sample_assumptions", "samples_of", "judged_claims",
            "robustness_tasks", "run_samples", "robustness", "write_ledger", "claims_step"]
@@ -60,9 +60,6 @@ N_SAMPLES = 8
 #: assumption's range in n equal strata; at least 4, so that Spearman's rho between an assumption and the
 #: statistic is defined with a spread). Fixed numbers, not a time budget, so two runs give the same ledger.
 N_SAMPLES_OF: dict[str, int] = {"ins_constraints": 4, "ins_online": 4}
-#: Fixed keywords of every robustness sample of an experiment: side studies that no claim reads are skipped
-#: (ins_hartmann's tracker-noise and outage sweeps: its claims read Table 2 and the bias settling only).
-SAMPLE_KWARGS: dict[str, dict] = {"ins_hartmann": {"noise_scales": (), "outage_factors": ()}}
 #: Seconds of wall time the robustness samples may take (the rest of the step reads the cache: a few s).
 BUDGET_S = 40.0
 #: Fast-mode run time over full-mode run time, when no fast-mode time was measured yet.
@@ -215,9 +212,9 @@ def _cost(timings: Mapping[str, float], experiment: str, fast: bool) -> float:
 def _tasks(e: str, samples: pd.DataFrame, seed: int) -> list:
     from ilocalg.workflow import sweep as sw
 
-    fixed = SAMPLE_KWARGS.get(e, {})
-    return [sw.SweepTask(e, tuple(sorted({**{k: v.item() if hasattr(v, "item") else v for k, v in rec.items()},
-                                          **fixed}.items())), int(seed), True)
+    # side studies no claim reads are left out by sweep.run_task (manifest.SWEEP_KWARGS)
+    return [sw.SweepTask(e, tuple(sorted({k: v.item() if hasattr(v, "item") else v for k, v in rec.items()}.items())),
+                         int(seed), True)
             for rec in samples.to_dict("records")]
 
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-__all__ = ["MANIFEST", "COST_S", "experiments_of", "swept_experiments", "notebook_stems"]
+__all__ = ["MANIFEST", "SWEEP_KWARGS", "COST_S", "experiments_of", "swept_experiments", "notebook_stems"]
 
 #: notebook stem -> {experiment module under ``ilocalg.experiments``: swept over seeds?}
 MANIFEST: dict[str, dict[str, bool]] = {
@@ -38,6 +38,17 @@ MANIFEST: dict[str, dict[str, bool]] = {
     "15_sweep_studies": {"study_wifi": False, "study_ins_window": False, "study_kf_noise": False,
                          "study_pso": False},  # each study sweeps its own parameters
     "16_measured_worlds": {"measured_worlds": False},  # real vs simulated statistics, no paper comparison
+}
+
+#: Keywords with which every sweep task of an experiment runs (the seed sweep's runs at the other seeds, the
+#: claims' robustness samples, ``python -m ilocalg sweep``; a task's own parameters override them): they leave out
+#: side studies whose tables the sweep does not read (only comparison rows, ``sweep_*`` and ``measures*`` tables
+#: are kept, :func:`ilocalg.papers.claims.tables_to_long`), so a task gives the same long results with or without
+#: them in a fraction of the time (tests/test_manifest.py checks it on every experiment listed here). The
+#: notebook's own run keeps every table.
+SWEEP_KWARGS: dict[str, dict] = {
+    "ins_constraints": {"side_studies": False},  # 232 -> about 20 CPU-s per full-mode seed
+    "ins_hartmann": {"noise_scales": (), "outage_factors": ()},  # tracker-noise and outage sweeps
 }
 
 

@@ -150,9 +150,14 @@ def _task_result(task: SweepTask, tables: Mapping[str, pd.DataFrame]) -> pd.Data
 
 
 def run_task(task: SweepTask) -> pd.DataFrame:
-    """Run one task and return its long-format result (importable by Dask workers)."""
+    """Run one task and return its long-format result (importable by Dask workers); the experiment's
+    :data:`ilocalg.workflow.manifest.SWEEP_KWARGS` (side studies the result does not keep) apply unless the
+    task's parameters set them."""
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
     mod = _experiment(task.experiment)
-    return _task_result(task, mod.run(seed=task.seed, fast=task.fast, **dict(task.params)))
+    kwargs = {**SWEEP_KWARGS.get(task.experiment, {}), **dict(task.params)}
+    return _task_result(task, mod.run(seed=task.seed, fast=task.fast, **kwargs))
 
 
 def _cache_path(cache_dir: Path, task: SweepTask) -> Path:
