@@ -123,3 +123,23 @@ def test_every_stored_scan_database_keeps_n_distinct_points():
     np.testing.assert_allclose(a, b)
     with pytest.raises(ValueError, match="point_distance"):
         SimplifiedRadar(point_distance="mean").fit(X, y)
+
+
+def test_neighbour_rows_are_each_points_first_nearest_scan():
+    """With points of unequal scan counts listed out of order and repeated scans (ties), each neighbour's row is
+    the first training row, in the order given, among its point's nearest stored scans."""
+    rng = np.random.default_rng(4)
+    pts = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [30.0, 0.0], [40.0, 0.0]])
+    which = rng.permutation(np.repeat(np.arange(5), [3, 9, 1, 6, 4]))
+    X = np.round(rng.normal(-60, 6, (which.size, 7)))
+    twin = np.flatnonzero(which == 1)[:2]
+    X[twin[1]] = X[twin[0]]  # the same scan twice at one point: a tie, broken by the earlier row
+    y = pts[which]
+    q = np.vstack([X[twin[0]], np.round(rng.normal(-60, 6, (6, 7)))])
+    dist, idx = SimplifiedRadar(3, 4, -100).fit(X, y).kneighbors(q)
+    d = np.sqrt(union_topk_sq_distances(q, X, 3, -100))
+    for i in range(q.shape[0]):
+        for j in range(idx.shape[1]):
+            rows = np.flatnonzero(which == which[idx[i, j]])
+            assert idx[i, j] == rows[np.argmin(d[i, rows])]
+            assert dist[i, j] == pytest.approx(d[i, rows].min())

@@ -241,19 +241,28 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             d2 = _union_sq(q, a, self._r, self._b)
             if self._starts is not None:  # one distance per training point: its nearest stored scan
                 gmin = np.minimum.reduceat(d2, self._starts, axis=1)
-                counts = np.diff(np.r_[self._starts, d2.shape[1]])
-                cols = np.arange(d2.shape[1], dtype=np.int64)
-                first = np.minimum.reduceat(np.where(d2 == np.repeat(gmin, counts, axis=1), cols, d2.shape[1]),
-                                            self._starts, axis=1)   # column of each point's nearest scan
                 gi = smallest_k(gmin, k)
-                rows = self._order[np.take_along_axis(first, gi, axis=1)]
                 dd = np.take_along_axis(gmin, gi, axis=1)
+                rows = self._order[self._nearest_scan(d2, gi)]
             else:
                 rows = smallest_k(d2, k)
                 dd = np.take_along_axis(d2, rows, axis=1)
             idx[s:s + _Q_BATCH] = rows
             dist[s:s + _Q_BATCH] = np.sqrt(dd.astype(np.float64))
         return dist, idx
+
+    def _nearest_scan(self, d2: np.ndarray, gi: np.ndarray) -> np.ndarray:
+        """Column of ``d2`` (n_q, n_ref: references ordered by point) holding the first nearest stored scan of
+        each selected training point ``gi`` (n_q, k): the point's scans are one run of columns, so only the k
+        selected runs of each query are searched (``argmin`` gives the first of equal minima)."""
+        counts = np.diff(np.r_[self._starts, d2.shape[1]])
+        width = int(counts[gi].max(initial=1))
+        offs = np.arange(width, dtype=np.int64)
+        cols = self._starts[gi][..., None] + offs                            # (n_q, k, width)
+        inside = offs < counts[gi][..., None]
+        vals = np.take_along_axis(d2, np.where(inside, cols, 0).reshape(d2.shape[0], -1), axis=1)
+        vals = np.where(inside, vals.reshape(cols.shape), np.inf)
+        return self._starts[gi] + np.argmin(vals, axis=2)
 
     def predict(self, X):
         """Positions of the query scans ``X`` (n_q, n_aps): eq. (2)-(3) over the N nearest; NaN for a query
