@@ -59,7 +59,9 @@ N_SAMPLES = 8
 #: Fewer samples for an experiment whose fast-mode run is costly (a Latin hypercube of n points still covers each
 #: assumption's range in n equal strata; at least 4, so that Spearman's rho between an assumption and the
 #: statistic is defined with a spread). Fixed numbers, not a time budget, so two runs give the same ledger.
-N_SAMPLES_OF: dict[str, int] = {"ins_constraints": 4, "ins_online": 4}
+#: None today: ins_constraints and ins_online had 4 while their samples ran their side studies (34 and 2.8 CPU-s
+#: per fast-mode sample); sweep tasks now leave those out (manifest.SWEEP_KWARGS).
+N_SAMPLES_OF: dict[str, int] = {}
 #: Seconds of wall time the robustness samples may take (the rest of the step reads the cache: a few s).
 BUDGET_S = 40.0
 #: Fast-mode run time over full-mode run time, when no fast-mode time was measured yet.
@@ -369,9 +371,10 @@ def write_ledger(ledger: pd.DataFrame, out_dir: str | Path) -> Path:
             "most_influential", "note"]
     lines = ["# Claims ledger", "", "Written by the claims step of `python -m ilocalg reproduce` (columns: see "
              "`claims.csv`). Verdicts over the seeds of the run; robustness over "
-             f"{N_SAMPLES} Latin-hypercube samples of each experiment's assumptions (fewer for a costly experiment: "
-             f"{', '.join(f'{e} {n}' for e, n in sorted(N_SAMPLES_OF.items()))}; fast-mode runs at the base seed; "
-             "a claim's note says when fewer were run).", ""]
+             f"{N_SAMPLES} Latin-hypercube samples of each experiment's assumptions"
+             + (f" (fewer for a costly experiment: {', '.join(f'{e} {n}' for e, n in sorted(N_SAMPLES_OF.items()))})"
+                if N_SAMPLES_OF else "")
+             + "; fast-mode runs at the base seed; a claim's note says when fewer were run.", ""]
     for key, name in PAPERS.items():
         part = ledger[ledger["paper"] == key]
         if part.empty:
