@@ -142,8 +142,8 @@ if HAVE_DATA:
 # ## Leave-one-walk-out over both site 1 floors, per floor and pooled
 #
 # The same scoring over the walks of site 1 F1 and F2, run as a sweep
-# (`fusion_real_walks.leave_one_walk_out`: each floor split into shards, each shard a task of
-# `ilocalg.workflow.sweep`, cached, with a progress bar; the command
+# (`fusion_real_walks.leave_one_walk_out`: each floor a task of `ilocalg.workflow.sweep`, cached, with a
+# progress bar; here in this process, one task per floor; on a cluster each floor is split into shards: the command
 # `python -m ilocalg sweep fusion_real_walks --seeds 1 --param dataset=ilc2020_site1/site1_F1,ilc2020_site1/site1_F2
 # --param shard=0,1,2,3 --param n_shards=4 [--scheduler tcp://...]` runs the same tasks on a Dask cluster).
 # Every waypoint of every scored walk is pooled; the Wi-Fi-only row is checked against the plain reference

@@ -61,6 +61,8 @@ def test_shards_pool_to_the_unsharded_run(shared_data, floor):
     assert "best offline: lsq" in lowo_findings(s.reset_index())
     with pytest.raises(ValueError, match="shard"):
         frw.run(shard=2, n_shards=2, **kw)
+    with pytest.raises(ValueError, match="shard 2 of 3 scores no walk"):  # two walks cannot fill three shards
+        frw.run(shard=2, n_shards=3, **kw)
     with pytest.raises(ValueError, match="sweep_waypoints"):
         sweep_summary(tables_to_long({"measures": whole["measures"]}))
     assert frw.sweep_summary is sweep_summary                      # the sweep command finds it on the experiment

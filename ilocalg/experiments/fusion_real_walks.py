@@ -106,6 +106,10 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     all_names = fl.names
     scored = list(names) if names is not None else (all_names[::5] if fast else all_names)
     scored = scored[::names_every][shard::n_shards]
+    if not scored:
+        raise ValueError(f"{dataset}: shard {shard} of {n_shards} scores no walk (names_every={names_every}, "
+                         f"{len(all_names)} walks on the floor{', every 5th in fast mode' if fast else ''}); "
+                         f"use fewer shards")
     grid = OccupancyGrid.from_floor_map(fl.floor_map, cfg.grid_cell_m)
     steps = {n: walk_steps(fl.traces[n], cfg) for n in scored}
     if floor is None:
@@ -174,21 +178,25 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
             "sweep_waypoints": sw[["quantity", "value", "item", "unit"]]}
 
 
-def leave_one_walk_out(datasets=SITE1, n_shards: int = 4, names_every: int = 1, scheduler: str | None = None,
-                       workers: int = 2, cache_dir=None, seed: int = 0, progress: bool = True, fast: bool = False,
-                       **params) -> dict:
+def leave_one_walk_out(datasets=SITE1, n_shards: int | None = None, names_every: int = 1,
+                       scheduler: str | None = None, workers: int = 2, cache_dir=None, seed: int = 0,
+                       progress: bool = True, fast: bool = False, **params) -> dict:
     """Leave-one-walk-out over every walk of ``datasets`` through the sweep machinery.
 
-    Each floor is split into ``n_shards`` tasks (:func:`run` with ``shard``), run by
+    Each floor is split into ``n_shards`` tasks (:func:`run` with ``shard``; default 4 on a cluster, 1 with
+    ``workers=0``: in this process shards would only load the floor again), run by
     :func:`ilocalg.workflow.sweep.sweep` (a progress bar; a LocalCluster of ``workers`` processes, 0:
     serial in this process, or the Dask scheduler at ``scheduler``: the same call runs many floors or
     sites), each task's result cached so an interrupted sweep resumes. ``names_every`` > 1 scores every
     so-many-th walk of each floor (a documented subset when the machine is too busy for all); ``fast``:
     :func:`run`'s fast mode. ``params``: further :func:`run` parameters (e.g. ``methods``; None values are
-    left out). Returns :func:`ilocalg.track.lowo.sweep_summary`'s tables plus ``failures``.
+    left out). Returns :func:`ilocalg.track.lowo.sweep_summary`'s tables; a failed task is a ValueError
+    (a pooled summary without its walks would be silently shortened).
     """
     from ilocalg.workflow import sweep as sw
 
+    if n_shards is None:
+        n_shards = 1 if workers == 0 and scheduler is None else 4
     grid = {"dataset": list(datasets), "shard": list(range(n_shards)), "n_shards": [n_shards], **{
         k: [v] for k, v in params.items() if v is not None}}
     if names_every > 1:
@@ -196,11 +204,10 @@ def leave_one_walk_out(datasets=SITE1, n_shards: int = 4, names_every: int = 1, 
     tasks = sw.make_tasks("fusion_real_walks", [seed], grid, fast=fast)
     res = sw.sweep(tasks, scheduler=scheduler, workers=workers,
                    cache_dir=sw.DEFAULT_CACHE if cache_dir is None else cache_dir, progress=progress)
-    if res.results.empty:
-        raise ValueError(f"leave-one-walk-out: every task failed ({res.failures[:1]})")
-    out = sweep_summary(res.results)
-    out["failures"] = pd.DataFrame(res.failures)
-    return out
+    if res.failures:  # a pooled summary without some walks would be a silently shortened result
+        raise ValueError(f"leave-one-walk-out: {len(res.failures)} of {len(tasks)} tasks failed; first: "
+                         f"{res.failures[0]['task']}: {res.failures[0]['error']}")
+    return sweep_summary(res.results)
 
 
 def _readings(relisted_wifi: str) -> pd.DataFrame:
