@@ -52,6 +52,7 @@ SWEEP_KWARGS: dict[str, dict] = {
     "fusion_knn_pdr": {"sweeps": False},  # survey/detector/latency sweeps; full-mode seed 12.0 -> 3.1 CPU-s
     "pso_k_factor": {"side_studies": False},  # PSO repeats, sensitivity, ILC study; 10.5 -> 2.1 CPU-s
     "fusion_iloc_kf": {"wifi_methods": (), "latencies_s": ()},  # estimator/latency sweeps; 9.5 -> 3.0 CPU-s
+    "photo_positioning": {"side_studies": False},  # the thesis's methods only; 7.5 -> 5.7 CPU-s
 }
 
 
