@@ -7,8 +7,37 @@ from ilocalg.experiments import fusion_iloc_kf
 from ilocalg.papers import comparison_table
 
 
-def test_fast_run_is_deterministic_and_reports_every_reading():
-    a = fusion_iloc_kf.run(seed=0, fast=True, wifi_methods=())
+@pytest.fixture(scope="module")
+def fast_runs():
+    """A fast run with every table, and the same run as the seed sweep runs it (manifest.SWEEP_KWARGS)."""
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    return (fusion_iloc_kf.run(seed=0, fast=True),
+            fusion_iloc_kf.run(seed=0, fast=True, **SWEEP_KWARGS["fusion_iloc_kf"]))
+
+
+def test_sweep_runs_without_the_side_sweeps_give_the_same_results(fast_runs):
+    """The seed sweep and the claims' samples run without the Wi-Fi estimator and scan-latency sweeps: those two
+    tables are empty, every other table, and so the long results the sweep keeps, must be those of the full run."""
+    from ilocalg.papers.claims import tables_to_long
+
+    a, lite = fast_runs
+    assert list(lite) == list(a)
+    skipped = {"by_wifi_method", "latency_sweep"}
+    assert all(lite[name].empty and not a[name].empty for name in skipped)
+    for name, df in lite.items():
+        if name not in skipped:
+            pd.testing.assert_frame_equal(df, a[name], check_exact=True)
+    pd.testing.assert_frame_equal(tables_to_long(lite), tables_to_long(a), check_exact=True)
+    # the run's own estimator in the estimator sweep is the run's result
+    row = a["by_wifi_method"].set_index("wifi_method").loc["Simplified-Horus"]
+    m = a["summary"].set_index("method")["mean_error_m"]
+    assert row["kf_mean_m"] == pytest.approx(m[fusion_iloc_kf.MAIN], rel=1e-12)
+    assert row["wifi_only_mean_m"] == pytest.approx(m["Wi-Fi only"], rel=1e-12)
+
+
+def test_fast_run_is_deterministic_and_reports_every_reading(fast_runs):
+    a, c = fast_runs
     b = fusion_iloc_kf.run(seed=0, fast=True, wifi_methods=(), budget=False)
     for name in ("test_points", "summary", "cdf", "r_table", "gating", "comparison", "track_example", "readings"):
         pd.testing.assert_frame_equal(a[name], b[name])
@@ -40,5 +69,4 @@ def test_fast_run_is_deterministic_and_reports_every_reading():
     assert not set(meas["quantity"]) & set(a["comparison"]["quantity"])
     assert not meas.duplicated(["quantity", "item"]).any()
     assert list(a["latency_sweep"]["scan_latency_s"]) == [0.0, 1.0, 2.0, 3.0]
-    c = fusion_iloc_kf.run(seed=0, fast=True, wifi_methods=(), latencies_s=())
-    pd.testing.assert_frame_equal(a["summary"], c["summary"])  # the sweep draws after the main tables
+    pd.testing.assert_frame_equal(a["summary"], c["summary"])  # the sweeps draw after the main tables

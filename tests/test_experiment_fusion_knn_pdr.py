@@ -8,11 +8,30 @@ from ilocalg.experiments import fusion_knn_pdr
 from ilocalg.sim import gait, iloc_floor, measured
 
 
-def test_fast_run_is_deterministic_and_structured():
-    a = fusion_knn_pdr.run(seed=0, fast=True)
-    b = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
-    for name in ("test_points", "summary", "per_point", "calibration", "comparison", "adjust_sweep"):
-        pd.testing.assert_frame_equal(a[name], b[name])
+@pytest.fixture(scope="module")
+def fast_runs():
+    """A fast run with every table, and the same run as the seed sweep runs it (manifest.SWEEP_KWARGS)."""
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    return (fusion_knn_pdr.run(seed=0, fast=True),
+            fusion_knn_pdr.run(seed=0, fast=True, **SWEEP_KWARGS["fusion_knn_pdr"]))
+
+
+def test_sweep_runs_without_the_sweeps_give_the_same_results(fast_runs):
+    """The seed sweep and the claims' samples run without the survey, detector and latency sweeps: every table
+    they return, and so the long results the sweep keeps, must be those of the run with them."""
+    from ilocalg.papers.claims import tables_to_long
+
+    a, b = fast_runs
+    assert "survey_sweep" in a and "survey_sweep" not in b
+    assert list(b) == [name for name in a if name in b]
+    for name, df in b.items():
+        pd.testing.assert_frame_equal(df, a[name], check_exact=True)
+    pd.testing.assert_frame_equal(tables_to_long(b), tables_to_long(a), check_exact=True)
+
+
+def test_fast_run_is_deterministic_and_structured(fast_runs):
+    a, _ = fast_runs
     m = a["summary"].set_index("method")["mean_error_m"]
     assert {fusion_knn_pdr.COMBINED, fusion_knn_pdr.KF_ALT, "PDR only", "Wi-Fi only (KNN)"} <= set(m.index)
     # the default combination is the adjust_sweep row of the default weight, the inverse-variance weight
@@ -38,8 +57,8 @@ def test_fast_run_is_deterministic_and_structured():
 
 
 
-def test_test_positions_are_walking_positions_off_the_reference_grid():
-    a = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
+def test_test_positions_are_walking_positions_off_the_reference_grid(fast_runs):
+    a = fast_runs[1]
     tp = a["test_points"]
     xy = tp[["x_true_m", "y_true_m"]].to_numpy()
     grid = iloc_floor.training_points()
@@ -84,8 +103,8 @@ def test_test_scans_are_walking_scans_from_their_own_sessions(monkeypatch):
     assert not np.allclose(drifts[0], drifts[1])           # each walk is its own session
 
 
-def test_fixes_enter_only_after_their_scan_ends():
-    a = fusion_knn_pdr.run(seed=0, fast=True, sweeps=False)
+def test_fixes_enter_only_after_their_scan_ends(fast_runs):
+    a = fast_runs[1]
     tp = a["test_points"]
     w = tp[tp["method"] == "Wi-Fi only (KNN)"].set_index(["walker", "point"])
     c = tp[tp["method"] == fusion_knn_pdr.COMBINED].set_index(["walker", "point"])

@@ -1,6 +1,7 @@
 """Tests of ilocalg.experiments.photo_positioning (fast mode, one shared run)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.experiments import photo_positioning as pp
@@ -28,6 +29,20 @@ def test_tables_present_and_finite(tables):
 def test_true_orientation_beats_sensor_orientation(tables):
     m = tables["modern"].set_index("k")
     assert m.loc["all k>=4", "ST_true_orientation"] < m.loc["all k>=4", "ST"]
+
+
+def test_sweep_runs_without_side_studies_give_the_same_results(tables):
+    """The seed sweep and the claims' samples locate with the thesis's methods only (manifest.SWEEP_KWARGS): every
+    table they return, and so the long results the sweep keeps, must be those of the run with every method."""
+    from ilocalg.papers.claims import tables_to_long
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    lite = pp.run(seed=0, fast=True, **SWEEP_KWARGS["photo_positioning"])
+    assert "errors" not in lite and "per_k" not in lite
+    assert list(lite) == [name for name in tables if name in lite]
+    for name, df in lite.items():
+        pd.testing.assert_frame_equal(df, tables[name], check_exact=True)
+    pd.testing.assert_frame_equal(tables_to_long(lite), tables_to_long(tables), check_exact=True)
 
 
 def test_same_seed_same_tables():

@@ -128,6 +128,20 @@ def test_run_is_deterministic(fast_run):
         pd.testing.assert_frame_equal(fast_run[k], again[k])
 
 
+def test_sweep_runs_without_side_studies_give_the_same_results(fast_run):
+    """The seed sweep and the claims' samples run without the side studies (manifest.SWEEP_KWARGS): every table
+    they return, and so the long results the sweep keeps, must be those of the run with them."""
+    from ilocalg.papers.claims import tables_to_long
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    lite = E.run(seed=0, fast=True, real=False, **SWEEP_KWARGS["pso_k_factor"])
+    assert not {"pso_repeat", "sensitivity", "fitness_variants", "ilc_status"} & set(lite)
+    assert list(lite) == [name for name in fast_run if name in lite]
+    for name, df in lite.items():
+        pd.testing.assert_frame_equal(df, fast_run[name], check_exact=True)
+    pd.testing.assert_frame_equal(tables_to_long(lite), tables_to_long(fast_run), check_exact=True)
+
+
 def test_ilc_k_study_on_real_data(shared_data):
     p = shared_data("ilc2020_site2_F4")
     res = KW.ilc_k_study(p, seed=0)

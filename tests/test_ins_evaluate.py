@@ -1,4 +1,5 @@
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg import ins
@@ -54,3 +55,10 @@ def test_window_sweep_limits_and_control_point_windows():
     tab, gw = window_sweep_tables(ws.sweep.assign(phone="a"), ws.gcp.assign(phone="a"))
     assert list(tab["window_s"][tab["stat"] == "rms"]) == [0.0, 2.0, 10 * span, np.inf]
     assert len(gw) == 2
+    # a whole-run RTS computed once (a sweep over grid offsets) gives the same tables
+    from ilocalg.ins.smoother import eskf_rts_smooth
+
+    again = window_sweep(res, [2.0, 10 * span], scored, pos_t, mat_t, res.t_s[idx[:10]],
+                         whole_run=eskf_rts_smooth(res, with_cov=False))
+    pd.testing.assert_frame_equal(again.sweep, ws.sweep, check_exact=True)
+    pd.testing.assert_frame_equal(again.gcp, ws.gcp, check_exact=True)

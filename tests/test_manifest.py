@@ -63,6 +63,18 @@ def test_cost_hints_name_only_known_notebooks_and_swept_experiments():
             assert key in manifest.MANIFEST, key
 
 
+def test_sweep_kwargs_name_swept_experiments_and_keywords_of_their_run():
+    """Each experiment's own tests check that its SWEEP_KWARGS leave the long results unchanged; here: a misspelt
+    experiment or keyword would be silently ignored or fail every sweep task."""
+    import inspect
+
+    swept = set(manifest.swept_experiments(manifest.notebook_stems()))
+    for exp, kwargs in manifest.SWEEP_KWARGS.items():
+        assert exp in swept, exp
+        params = inspect.signature(importlib.import_module(f"ilocalg.experiments.{exp}").run).parameters
+        assert set(kwargs) <= set(params), (exp, set(kwargs) - set(params))
+
+
 def test_measured_worlds_notebook_is_listed_and_not_swept():
     assert manifest.experiments_of("16_measured_worlds") == ["measured_worlds"]
     assert "measured_worlds" not in manifest.swept_experiments(["16_measured_worlds"])

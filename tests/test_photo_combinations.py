@@ -26,3 +26,8 @@ def test_noise_free_photos_are_located_exactly_by_st_and_pnp():
     for m in ("ST", "PnP_SQPnP", "VA_truth"):
         assert horizontal_error_cm(est[m], s.c_m).max() < 0.1, m
     assert conv[0]["method"] == "VA_truth" and 0 <= conv[0]["converged_share"] <= 1
+    # the thesis's methods only: the same estimates of ST and VA
+    own, _, _ = locate_methods(P, U, s.f_px, s.T_meas, s.T_true, {"VA_truth": s.c_m}, va_max_iter=50, others=False)
+    assert set(own) == {"ST", "VA_truth"}
+    for m in own:
+        np.testing.assert_array_equal(own[m], est[m])

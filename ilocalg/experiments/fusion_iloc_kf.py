@@ -144,6 +144,10 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         ``latency_sweep`` (Wi-Fi only and the main KF with each scan latency of ``latencies_s``: same
         walks, new scans), ``budget`` (the error budget of the main KF and PTS), ``budget_inputs`` (the inputs against
         their truth: fix offsets and age, step counts, distance, heading), ``measures``, ``readings``.
+
+    ``wifi_methods=()`` and ``latencies_s=()`` leave ``by_wifi_method`` and ``latency_sweep`` empty and every other
+    table as it is: the seed sweep and the claims' robustness samples read neither and run so
+    (:data:`ilocalg.workflow.manifest.SWEEP_KWARGS`).
     """
     if fast:
         n_walkers, n_train, n_cal = min(n_walkers, 2), min(n_train, 3), min(n_cal, 5)
@@ -190,9 +194,12 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
                              "unit": "-", "item": r.method})
     by_method = []
     for meth in wifi_methods or ():  # the main variants with each Wi-Fi estimator, on the same scenario
-        e2 = iloc_floor.fit_estimator(scn.floor, meth)
-        cv2 = iloc_floor.standing_fix_variance_m2(scn.floor, e2)
-        t2 = _walk_tracks(scn, e2, cv2, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag)[0]
+        if meth == method:  # the run's own estimator: its tracks are the run's
+            t2 = tp
+        else:
+            e2 = iloc_floor.fit_estimator(scn.floor, meth)
+            cv2 = iloc_floor.standing_fix_variance_m2(scn.floor, e2)
+            t2 = _walk_tracks(scn, e2, cv2, ranges, models, table4_reading, gate_prob, sigma_theta_rad, lag)[0]
         mm = t2.groupby("method", sort=False)["error_m"].mean()
         by_method.append({"wifi_method": meth, "wifi_only_mean_m": mm["Wi-Fi only"],
                           "pts_mean_m": mm["PTS (Wi-Fi start)"], "kf_mean_m": mm[MAIN],

@@ -249,7 +249,9 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         (default measured), the lag model (default the measured reading ages; ``"uniform"``: reads
         uniform within a scan of ``scan_latency_s``).
     sweeps : bool
-        Also run the survey, detector and scan-latency sweeps.
+        Also run the survey, detector and scan-latency sweeps (``survey_sweep``, ``detector_sweep``,
+        ``latency_sweep``). The seed sweep and the claims' robustness samples read none of them and run with
+        ``sweeps=False`` (:data:`ilocalg.workflow.manifest.SWEEP_KWARGS`): the other tables are the same either way.
     budget : bool
         Also compute the error budget of the combination and of PDR only.
 
@@ -357,7 +359,9 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             return t2.groupby("method", sort=False)["error_m"].mean()
         srows = []
         for spp in ((60,) if fast else SURVEY_SCANS):
-            s2 = _scenario(seed, fast, n_walkers, n_train, n_cal, spp, scan_interval_s, scan_latency_s, lag_model)
+            # the run's own survey size is the run's scenario (the same seed and settings): not built again
+            s2 = (scn if spp == scn.params["scans_per_point"] else
+                  _scenario(seed, fast, n_walkers, n_train, n_cal, spp, scan_interval_s, scan_latency_s, lag_model))
             t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
             mm = _means(t2)
             srows.append({"scans_per_point": i2["scans_per_point"], "wifi_only_mean_m": mm["Wi-Fi only (KNN)"],

@@ -93,11 +93,13 @@ __all__ = ["run", "sensitivity", "SENSITIVITY_GRID", "marker_ranging", "MARKER_D
 METHODS = ("ST", "VAGIG", "VABIG")
 #: Methods shown in the per-shot / per-k tables: the thesis's three and VA started at the truth.
 SHOWN_METHODS = METHODS + ("VA_truth",)
+#: Tables of :func:`run` that show methods other than the thesis's three (left out with ``side_studies=False``).
+_SHOW_OTHER_METHODS = ("per_shot", "per_k", "modern", "va_convergence", "errors")
 
 
 def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_z: bool = False,
         va_max_iter: int | None = None, ks=(2, 3, 4, 5, 6, 7), layout: str = photo_poi.DEFAULT_LAYOUT,
-        **sim_params) -> dict[str, pd.DataFrame]:
+        side_studies: bool = True, **sim_params) -> dict[str, pd.DataFrame]:
     """Simulate, locate and score; see the module docstring for the tables.
 
     Parameters
@@ -118,6 +120,12 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         Numbers of PoIs per combination to evaluate (2..7; tables needing a missing size leave it out).
     layout : str
         A key of :data:`ilocalg.sim.photo_poi.LAYOUTS` (default: the default layout built from the text).
+    side_studies : bool
+        False locates with the thesis's methods only (ST with the measured orientation, VAGIG, VABIG: no VA from
+        the truth, ST with the true orientation, SQPnP or homography) and leaves out the tables that show the
+        others (``per_shot``, ``per_k``, ``modern``, ``va_convergence``, ``errors``); the tables returned are the
+        same either way. The seed sweep and the claims' robustness samples read none of them
+        (:data:`ilocalg.workflow.manifest.SWEEP_KWARGS`).
     **sim_params
         Overrides of :data:`ilocalg.sim.photo_poi.DEFAULTS` (e.g. ``drag_sd_px``).
     """
@@ -142,8 +150,8 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         Tt = np.repeat(sim.T_true, C, axis=0)
         ctrue = np.repeat(sim.c_m, C, axis=0)
         c0 = {name: np.repeat(c, C, axis=0) for name, c in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m),
-                                                           ("VA_truth", sim.c_m))}
-        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z)
+                                                           ("VA_truth", sim.c_m)) if side_studies or name in METHODS}
+        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=side_studies)
         conv_rows += [{"method": c.pop("method"), "k": k, **c} for c in conv]
         cond = st["cond"].reshape(N, C)
         va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
@@ -165,8 +173,9 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     shots = photo_poi.shots_frame(layout)
 
     thesis = errors[errors["method"].isin(METHODS)]
-    shown = errors[errors["method"].isin(SHOWN_METHODS)]
-    per_shot = shown.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[list(SHOWN_METHODS)]
+    shown_methods = list(SHOWN_METHODS if side_studies else METHODS)
+    shown = errors[errors["method"].isin(shown_methods)]
+    per_shot = shown.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[shown_methods]
     per_shot = per_shot.reset_index()
     per_shot.insert(1, "dist_to_p4_m", shots["dist_to_p4_m"].to_numpy()[per_shot["shot"].to_numpy() - 1])
     per_shot.columns.name = None
@@ -181,7 +190,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                       "error_t1_cm": float(y[0]), "error_t7_cm": float(y[-1])})
     distance_trend = pd.DataFrame(trend)
 
-    per_k = shown.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[list(SHOWN_METHODS)]
+    per_k = shown.pivot_table(index="k", columns="method", values="error_cm", aggfunc="mean")[shown_methods]
     per_k.insert(0, "n_combos", errors[errors["method"] == "ST"].groupby("k")["combo"].nunique())
     per_k = per_k.reset_index()
     per_k.columns.name = None
@@ -272,7 +281,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     if all(c in cm.index for c in near_c + far_c):
         meas.append({"quantity": "ST error, combos {1,2},{6,7} / combos {3,4},{3,5},{4,5},{3,4,5}", "item": "ST",
                      "value": float(cm[near_c].mean() / cm[far_c].mean()), "unit": "-"})
-    return {
+    out = {
         "layout_pois": photo_poi.pois_frame(layout),
         "layout_shots": shots,
         "inputs": inputs,
@@ -292,6 +301,9 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         "errors": errors,
         "measures": pd.concat([pd.DataFrame(meas), _marker_measures(seed, fast)], ignore_index=True),
     }
+    if not side_studies:  # the tables that show the methods left out
+        out = {name: df for name, df in out.items() if name not in _SHOW_OTHER_METHODS}
+    return out
 
 
 def _marker_measures(seed: int, fast: bool) -> pd.DataFrame:

@@ -292,7 +292,8 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
         fitness: str = "per_step", data_dir: str | Path | None = None, real: bool = True,
         acc_noise_mps2: float = SENSORS["acc_noise_mps2"], step_amp_cv: float = SENSORS["step_amp_cv"],
         step_cv: float = SENSORS["step_cv"], gps_open_tau_s: float = SENSORS["gps_open_tau_s"],
-        gps_static_95_m: float = SENSORS["gps_static_95_m"], route_scale: float = 1.0) -> dict[str, pd.DataFrame]:
+        gps_static_95_m: float = SENSORS["gps_static_95_m"], route_scale: float = 1.0,
+        side_studies: bool = True) -> dict[str, pd.DataFrame]:
     """The two-phase experiment on the simulated walks, the compass study and the ILC k study.
 
     Parameters
@@ -317,6 +318,12 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
         duration CV, the open-sky GPS error's correlation time and its 95 % bound (the text: better than 1.5 m).
     route_scale : float
         True route length over the thesis's GPS distance.
+    side_studies : bool
+        False leaves out the side studies no comparison row or measure is computed from: the other eq. 4.4
+        reading (``fitness_variants``), the PSO repeats (``pso_repeat``), the readings' ``sensitivity`` and the
+        ILC k study (``ilc_walks``, ``ilc_summary``, ``ilc_status``); the tables returned are the same either way.
+        The seed sweep and the claims' robustness samples read none of them
+        (:data:`ilocalg.workflow.manifest.SWEEP_KWARGS`).
 
     Returns
     -------
@@ -327,7 +334,7 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
         ``fitness_variants``, ``pso_repeat``, ``stop_rule``, ``pso_a1_swarm``, ``pso_a1_history``,
         ``pso_a1_result``, ``compass``, ``sensitivity``, ``readings``, ``comparison`` (paper_ref
         rows), ``tracks_*`` (paths for the maps), and when the ILC data are present ``ilc_walks``,
-        ``ilc_summary``; ``ilc_status`` always.
+        ``ilc_summary``; ``ilc_status`` always (with ``side_studies``).
     """
     _check_choice("prefilter", prefilter, PREFILTERS)
     _check_choice("band", band, BANDS)
@@ -347,20 +354,22 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
     p1_alt, _, _ = _phase1(walks["1"], old["prefilter"], old["fitness"], seed, old["band"], sv)
     p2_alt, tracks2_alt = _phase2(walks["2"], dict(zip(p1_alt["walker"], p1_alt["k_pso"], strict=True)),
                                   old["prefilter"], seed, old["band"], sv)
-    other_fit = "total" if fitness == "per_step" else "per_step"
-    p1_fit, _, _ = _phase1(walks["1"], prefilter, other_fit, seed, band, sv)
-    cols = ["walker", "k_pso", "k_closed", "k_ls", "k_scipy", "k_stop_lo", "k_stop_hi", "pso_iters", "pso_fitness_m",
-            "fitness_closed_m", "pso_m", "gps_m", "acc_pct"]
-    variants = pd.concat([p1[cols].assign(fitness=fitness), p1_fit[cols].assign(fitness=other_fit)],
-                         ignore_index=True)
+    variants = None
+    if side_studies:
+        other_fit = "total" if fitness == "per_step" else "per_step"
+        p1_fit, _, _ = _phase1(walks["1"], prefilter, other_fit, seed, band, sv)
+        cols = ["walker", "k_pso", "k_closed", "k_ls", "k_scipy", "k_stop_lo", "k_stop_hi", "pso_iters",
+                "pso_fitness_m", "fitness_closed_m", "pso_m", "gps_m", "acc_pct"]
+        variants = pd.concat([p1[cols].assign(fitness=fitness), p1_fit[cols].assign(fitness=other_fit)],
+                             ignore_index=True)
     stop_rule = p1[["walker", "k_pso", "k_closed", "k_stop_lo", "k_stop_hi", "pso_iters", "pso_stopped_by",
                     "pso_fitness_m", "fitness_closed_m"]].copy()
     stop_rule["stop_interval_width"] = stop_rule["k_stop_hi"] - stop_rule["k_stop_lo"]
     stop_rule["k_pso_minus_closed"] = stop_rule["k_pso"] - stop_rule["k_closed"]
     n_rep = 5 if fast else 50
-    rep = pd.concat([_pso_repeat(walks["1"], pf, f, seed, n_rep, b, sv)
-                     for pf, b in ((prefilter, band), (old["prefilter"], old["band"]))
-                     for f in FITNESSES], ignore_index=True)
+    rep = (pd.concat([_pso_repeat(walks["1"], pf, f, seed, n_rep, b, sv)
+                      for pf, b in ((prefilter, band), (old["prefilter"], old["band"]))
+                      for f in FITNESSES], ignore_index=True) if side_studies else None)
     a1 = results["A1"]
     a1_block = fig_5_12_block(a1, p1.iloc[0])
     compass = compass_filter_study(seed, fast)
@@ -390,9 +399,10 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
         "compass": compass, "compass_example": out_log,
         "static_band": pd.DataFrame([{"prefilter": pf, "static_rms_mps2": static_band_mps2(seed, pf, sv)}
                                      for pf in PREFILTERS]),
-        "sensitivity": sensitivity(seed),
+        "sensitivity": sensitivity(seed) if side_studies else None,
         "readings": readings(prefilter, band, fitness, route_scale, **(sv or {})),
     }
+    out = {name: df for name, df in out.items() if df is not None}  # side studies left out (side_studies=False)
     # paths for the maps (not result tables)
     out["tracks_phase1"] = pd.concat([t.assign(walker=w) for w, t in tracks1.items()], ignore_index=True)
     for name, trs in (("tracks_phase2", tracks2), ("tracks_phase2_alt", tracks2_alt)):
@@ -413,12 +423,13 @@ def run(seed: int = 0, fast: bool = False, prefilter: str = "ma2", band: str = "
     from ilocalg.io.paths import dataset_path
     ilc = Path(data_dir) / "ilc2020_site2_F4" if data_dir is not None else dataset_path("ilc2020_site2_F4")
     status = {"dataset": "ilc2020_site2_F4", "path": str(ilc), "present": ilc.is_dir(), "ran": False}
-    if real and ilc.is_dir():
-        res = k_walks.ilc_k_study(ilc, seed, fast, k_fixed=K_FIXED_PAPER)
-        out["ilc_walks"] = res["walks"]
-        out["ilc_summary"] = res["summary"]
-        status["ran"] = True
-    out["ilc_status"] = pd.DataFrame([status])
+    if side_studies:
+        if real and ilc.is_dir():
+            res = k_walks.ilc_k_study(ilc, seed, fast, k_fixed=K_FIXED_PAPER)
+            out["ilc_walks"] = res["walks"]
+            out["ilc_summary"] = res["summary"]
+            status["ran"] = True
+        out["ilc_status"] = pd.DataFrame([status])
     out["comparison"] = pd.DataFrame(rows)
     out["measures"] = _measures(p1, p2, walks["2"], prefilter, _band(seed, prefilter, band, sv))
     return out

@@ -90,7 +90,7 @@ class WindowSweep:
 
 
 def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gains=None,
-                 offset_frac: float = 0.0) -> WindowSweep:
+                 offset_frac: float = 0.0, whole_run=None) -> WindowSweep:
     """Filter, online fixed-window smoothers and whole-run RTS of one stored filter, scored against the truth.
 
     Parameters
@@ -102,6 +102,8 @@ def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gai
     gcp_t_s : (C,) times of the control-point updates (to find the windows that hold one)
     gains : precomputed :func:`ilocalg.ins.smoother.rts_gains` (computed when None)
     offset_frac : the window grid starts ``offset_frac x window`` seconds after the first epoch, in [0, 1)
+    whole_run : precomputed whole-run RTS of ``res`` (``eskf_rts_smooth(res, with_cov=False, gains=gains)``;
+        computed when None): it does not depend on the grid, so a sweep over offsets computes it once
 
     References
     ----------
@@ -114,7 +116,7 @@ def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gai
     for w in windows_s:
         sm = online_window_smooth(res, w, gains=G, offset_s=offset_frac * w)
         sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
-    full = eskf_rts_smooth(res, with_cov=False, gains=G)
+    full = eskf_rts_smooth(res, with_cov=False, gains=G) if whole_run is None else whole_run
     sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
     gcp_epoch = np.zeros(res.t_s.size, bool)
     gcp_epoch[np.searchsorted(res.t_s, gcp_t_s)] = True

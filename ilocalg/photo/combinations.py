@@ -49,7 +49,8 @@ def on_end_wall(P) -> np.ndarray:
     return np.all(np.abs(P[..., 1]) < 1e-9, axis=-1)
 
 
-def locate_methods(P, U, f_px: float, T_meas, T_true, c0_m: dict, va_max_iter: int, va_free_z: bool = False):
+def locate_methods(P, U, f_px: float, T_meas, T_true, c0_m: dict, va_max_iter: int, va_free_z: bool = False,
+                   others: bool = True):
     """Every method on photos of PoIs ``P`` (B, k, 3) seen at screen points ``U`` (B, k, 2).
 
     Parameters
@@ -58,6 +59,8 @@ def locate_methods(P, U, f_px: float, T_meas, T_true, c0_m: dict, va_max_iter: i
         Sensor-measured and true orientation ``T_E->AR`` (ST uses each).
     c0_m : dict
         VA's initial guesses by method name, each (B, 3).
+    others : bool
+        False: ST with the measured orientation and VA only (no ST with the true orientation, SQPnP or homography).
 
     Returns
     -------
@@ -76,7 +79,8 @@ def locate_methods(P, U, f_px: float, T_meas, T_true, c0_m: dict, va_max_iter: i
     if np.any(st["rank"] < 3):
         raise ValueError("ST system rank deficient in the simulated set-up; the layout is degenerate")
     est["ST"] = st["c_m"]
-    est["ST_true_orientation"] = st_solve_batch(P, U, f_px, T_true)["c_m"]
+    if others:
+        est["ST_true_orientation"] = st_solve_batch(P, U, f_px, T_true)["c_m"]
     ang = measured_view_angles_rad(U, f_px)
     conv = []
     for name, c0 in c0_m.items():
@@ -84,7 +88,7 @@ def locate_methods(P, U, f_px: float, T_meas, T_true, c0_m: dict, va_max_iter: i
         est[name] = va["c_m"]
         conv.append({"method": name, "converged_share": float(va["converged"].mean()),
                      "mean_iterations": float(va["n_iter"].mean())})
-    if P.shape[1] >= 4:
+    if others and P.shape[1] >= 4:
         est["PnP_SQPnP"] = pnp_solve_batch(P, U, f_px)
         hom = np.full((P.shape[0], 3), np.nan)
         planar = on_end_wall(P)

@@ -44,11 +44,15 @@ MANIFEST: dict[str, dict[str, bool]] = {
 #: claims' robustness samples, ``python -m ilocalg sweep``; a task's own parameters override them): they leave out
 #: side studies whose tables the sweep does not read (only comparison rows, ``sweep_*`` and ``measures*`` tables
 #: are kept, :func:`ilocalg.papers.claims.tables_to_long`), so a task gives the same long results with or without
-#: them in a fraction of the time (tests/test_manifest.py checks it on every experiment listed here). The
-#: notebook's own run keeps every table.
+#: them in a fraction of the time (each experiment's tests check it; tests/test_manifest.py that every keyword is one
+#: of the experiment's ``run()``). The notebook's own run keeps every table.
 SWEEP_KWARGS: dict[str, dict] = {
     "ins_constraints": {"side_studies": False},  # 232 -> about 20 CPU-s per full-mode seed
     "ins_hartmann": {"noise_scales": (), "outage_factors": ()},  # tracker-noise and outage sweeps
+    "fusion_knn_pdr": {"sweeps": False},  # survey/detector/latency sweeps; full-mode seed 12.0 -> 3.1 CPU-s
+    "pso_k_factor": {"side_studies": False},  # PSO repeats, sensitivity, ILC study; 10.5 -> 2.1 CPU-s
+    "fusion_iloc_kf": {"wifi_methods": (), "latencies_s": ()},  # estimator/latency sweeps; 9.5 -> 3.0 CPU-s
+    "photo_positioning": {"side_studies": False},  # the thesis's methods only; 7.5 -> 5.7 CPU-s
 }
 
 
