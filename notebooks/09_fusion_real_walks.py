@@ -55,8 +55,8 @@ if not HAVE_DATA:
 # %%
 if HAVE_DATA:
     report.record_input(folder)
-    floor = fusion_real_walks.load_floor(DATA_DIR, DATASET)
-    tables = fusion_real_walks.run(seed=SEED, fast=FAST, floor=floor, dataset=DATASET)
+    floor = fusion_real_walks.load_floor(DATA_DIR, DATASET)  # read once: run() and the sweep below share it
+    tables = fusion_real_walks.run(seed=SEED, fast=FAST, data_dir=DATA_DIR, dataset=DATASET)
     for name in ("summary", "per_walk", "waypoints", "diagnostics", "measures", "readings"):
         report.table(tables[name], name)
     display(tables["summary"].round(2))  # noqa: F821

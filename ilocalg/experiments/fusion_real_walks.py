@@ -16,6 +16,7 @@ Chiu (2013) and Luo et al. (2017) for the fusion, as cited in :mod:`ilocalg.trac
 from __future__ import annotations
 
 import dataclasses
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -57,12 +58,26 @@ def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep
     """A floor (traces and map) from ``data_dir`` (None: the toolkit's data folder). ``dataset`` is a data
     set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive
     (``"ilc2020_site1/site1_F1"``); ``relisted_wifi``: the loader's re-listing policy
-    (:func:`ilocalg.io.scans.relisted_readings`)."""
+    (:func:`ilocalg.io.scans.relisted_readings`).
+
+    Read once per process for the same files (their paths, sizes and modification times) and policy: a
+    notebook's own run and its leave-one-walk-out share one reading (a site 1 floor takes about 10 CPU-s).
+    The floor returned is shared, so treat it as read-only (the experiment only reads it).
+    """
     p = Path(default_data_dir() if data_dir is None else data_dir)
     folder, _, floor_name = dataset.partition("/")
     if (p / folder).exists():
         p = p / folder
-    return load_ilc_floor(p, duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi, floor_name=floor_name or None)
+    files = floor_files(data_dir, dataset)
+    stamp = tuple((str(f.resolve()), f.stat().st_size, f.stat().st_mtime_ns) for f in files if f.exists())
+    return _load_floor_once(str(p), floor_name or None, relisted_wifi, stamp)
+
+
+@functools.lru_cache(maxsize=2)
+def _load_floor_once(root: str, floor_name: str | None, relisted_wifi: str, stamp: tuple):
+    del stamp  # part of the cache key only: changed files are read again
+    return load_ilc_floor(Path(root), duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi,
+                          floor_name=floor_name)
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
