@@ -32,7 +32,8 @@ PAPER_FILES = {
     "luo": "004_b095b672cff2e388.txt",
 }
 
-#: Keyword arguments of the fast runs (the same quantities as the default run, less of what no claim reads).
+#: Keyword arguments of the fast runs (the same quantities as the default run, less of what no claim reads), on
+#: top of the sweep's own (manifest.SWEEP_KWARGS: the claims read only the long results, as the sweep does).
 FAST_KWARGS = {
     "ins_constraints": {"reference_grade": False},
     "pso_k_factor": {"real": False},
@@ -62,8 +63,10 @@ def paper_lines(key: str) -> list[str]:
 @functools.cache
 def fast_tables(experiment: str) -> dict:
     """One fast run (seed 0) of an experiment, shared by every claims test of the session."""
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
     mod = importlib.import_module(f"ilocalg.experiments.{experiment}")
-    return mod.run(seed=0, fast=True, **FAST_KWARGS.get(experiment, {}))
+    return mod.run(seed=0, fast=True, **{**SWEEP_KWARGS.get(experiment, {}), **FAST_KWARGS.get(experiment, {})})
 
 
 def experiments_of(claims) -> list[str]:
