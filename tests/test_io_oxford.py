@@ -44,6 +44,15 @@ def test_archive_layout(tmp_path):
     rec = oxford.load_oxford_step_counter(arc, "Samsung_Dario_Hard_ArmBand_1")
     assert rec.meta["position"] == "Armband" and rec.true_steps == 3
     assert len(oxford.load_oxford_archive(arc)) == 2
+    held = oxford.load_oxford_archive(arc, select=lambda n: "_InHand_" in n)  # one pass, filtered by name
+    named = oxford.load_oxford_archive(arc, ["Nexus_Jamie_Hard_InHand_2"])
+    assert [r.name for r in held] == ["Nexus_Jamie_Hard_InHand_2"]
+    pd.testing.assert_frame_equal(held[0].imu, named[0].imu)
+    np.testing.assert_array_equal(held[0].step_t_s, named[0].step_t_s)
+    with pytest.raises(ValueError, match="that the selection keeps"):
+        oxford.load_oxford_archive(arc, select=lambda n: False)
+    with pytest.raises(ValueError, match="names or select"):
+        oxford.load_oxford_archive(arc, ["Nexus_Jamie_Hard_InHand_2"], select=bool)
     with pytest.raises(ValueError, match="pass member"):
         oxford.load_oxford_step_counter(arc)
     with pytest.raises(ValueError, match="no recording 'nope'"):

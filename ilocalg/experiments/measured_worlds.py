@@ -99,10 +99,10 @@ def real_samples(data_dir=None, every: int = 16) -> pd.DataFrame:
                                  "value": np.concatenate(ages)}))
         out.append(pd.DataFrame({"quantity": "misalignment_deg", "source": "real (ILC site1)", "value": mis}))
     if (root / "oxford_step_counter").is_dir():
-        from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive
+        from ilocalg.io.oxford import load_oxford_archive
 
         arch = root / "oxford_step_counter" / "optimisation_data.tar.xz"
-        for r in load_oxford_archive(arch, [n for n in list_oxford_archive(arch) if "_InHand_" in n]):
+        for r in load_oxford_archive(arch, select=lambda n: "_InHand_" in n):
             s = mgait.step_series(r.imu.to_numpy(), r.imu.index.to_numpy(), r.step_t_s)
             med = s["T_s"].median()
             s = s[(s["T_s"] > mgait.STEADY_BAND[0] * med) & (s["T_s"] < mgait.STEADY_BAND[1] * med)]

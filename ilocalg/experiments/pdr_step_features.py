@@ -77,10 +77,14 @@ def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, posi
     archive = _oxford_archive(data_dir)
     if not archive.exists():
         return pd.DataFrame([{"missing": str(archive)}])
-    names = [n for n in list_oxford_archive(archive) if parse_recording_name(n).get("position") == position]
-    if max_recordings is not None:
-        names = names[:max_recordings]
-    return sam_leave_one_out(load_oxford_archive(archive, names), q_range, rate_hz, tol_s, parse_recording_name)
+    def held(name: str) -> bool:
+        return parse_recording_name(name).get("position") == position
+
+    if max_recordings is None:  # one pass over the archive
+        recs = load_oxford_archive(archive, select=held)
+    else:
+        recs = load_oxford_archive(archive, [n for n in list_oxford_archive(archive) if held(n)][:max_recordings])
+    return sam_leave_one_out(recs, q_range, rate_hz, tol_s, parse_recording_name)
 
 
 def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_test: int = 8,

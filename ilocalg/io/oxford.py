@@ -293,19 +293,27 @@ def _is_archive(p: Path) -> bool:
     return p.is_file() and (p.name.endswith((".tar.xz", ".tar", ".tar.gz", ".tgz", ".txz")))
 
 
+def _recording_file(ar: ArchiveReader, m: tarfile.TarInfo, recs: dict) -> tuple[str | None, str | None]:
+    """(recording name, file name) of a member holding one of a recording's two CSV files, else (None, None);
+    records it in ``recs`` (recording name -> {file name -> member}): the same name in two folders is an error."""
+    if not m.isfile():
+        return None, None
+    parts = m.name.split("/")
+    if len(parts) < 2 or parts[-1] not in (ACC_FILE, STEP_FILE):
+        return None, None
+    have = recs.setdefault(parts[-2], {})
+    if parts[-1] in have:
+        raise ValueError(f"{ar.path}: recording {parts[-2]!r} appears in two folders ({have[parts[-1]].name} "
+                         f"and {m.name}); rename one so that a name picks one recording")
+    have[parts[-1]] = m
+    return parts[-2], parts[-1]
+
+
 def _archive_members(ar: ArchiveReader) -> dict[str, dict[str, tarfile.TarInfo]]:
     """Recording name -> {file name -> member}; the same name in two folders is an error."""
     recs: dict[str, dict[str, tarfile.TarInfo]] = {}
     for m in ar.tar:
-        if not m.isfile():
-            continue
-        parts = m.name.split("/")
-        if len(parts) >= 2 and parts[-1] in (ACC_FILE, STEP_FILE):
-            have = recs.setdefault(parts[-2], {})
-            if parts[-1] in have:
-                raise ValueError(f"{ar.path}: recording {parts[-2]!r} appears in two folders ({have[parts[-1]].name} "
-                                 f"and {m.name}); rename one so that a name picks one recording")
-            have[parts[-1]] = m
+        _recording_file(ar, m, recs)
     return recs
 
 
@@ -319,32 +327,47 @@ def list_oxford_archive(path) -> list[str]:
     return sorted(k for k, v in recs.items() if len(v) == 2)
 
 
-def load_oxford_archive(path, names=None, duplicate_timestamps: str = "error") -> list[OxfordRecording]:
-    """Every recording (or those named) of an optimisation archive, in one pass, sorted by name.
+def load_oxford_archive(path, names=None, duplicate_timestamps: str = "error", select=None) -> list[OxfordRecording]:
+    """Every recording (or those named, or those whose name passes ``select``) of an optimisation archive, read
+    in one pass over the archive, sorted by name.
 
-    A corrupt or truncated archive raises a ValueError naming it and the member being read; see
-    :func:`load_oxford_step_counter` for ``duplicate_timestamps``.
+    ``names``: recording names, each must be in the archive; ``select``: a predicate on a recording's name
+    (e.g. its position, :func:`parse_recording_name`), with ``names`` None. The members are read in the
+    archive's own order as the pass reaches them (an xz archive read out of order is decompressed again from
+    its start for every step back). A corrupt or truncated archive raises a ValueError naming it and the member
+    being read; see :func:`load_oxford_step_counter` for ``duplicate_timestamps``.
     """
     _check_policy(duplicate_timestamps)
     p = Path(path)
     if not _is_archive(p):
         raise ValueError(f"{p}: not a tar archive")
-    out = []
+    if names is not None and select is not None:
+        raise ValueError("give names or select, not both")
+    want = None if names is None else set(names)
+    recs: dict[str, dict[str, tarfile.TarInfo]] = {}
+    data: dict[tuple[str, str], bytes] = {}
     with ArchiveReader(p) as ar:
-        recs = _archive_members(ar)
-        wanted = sorted(k for k, v in recs.items() if len(v) == 2) if names is None else list(names)
+        for m in ar.tar:
+            rec, fname = _recording_file(ar, m, recs)
+            if rec is None or (want is not None and rec not in want) or (select is not None and not select(rec)):
+                continue
+            ar.member = m.name
+            data[rec, fname] = ar.tar.extractfile(m).read()
+            ar.member = None
+    complete = sorted(k for k, v in recs.items() if len(v) == 2)
+    if names is None:
+        wanted = [n for n in complete if select is None or select(n)]
         if not wanted:
-            raise ValueError(f"{p}: no recording folder with both {ACC_FILE} and {STEP_FILE}")
+            raise ValueError(f"{p}: no recording folder with both {ACC_FILE} and {STEP_FILE}"
+                             + (" that the selection keeps" if select is not None else ""))
+    else:
+        wanted = list(names)
         for n in wanted:
             if n not in recs or len(recs[n]) != 2:
                 raise ValueError(f"{p}: no recording {n!r} with {ACC_FILE} and {STEP_FILE}; "
                                  f"recordings: {sorted(recs)[:5]}...")
-            ar.member = recs[n][ACC_FILE].name
-            acc = ar.tar.extractfile(recs[n][ACC_FILE]).read()
-            ar.member = recs[n][STEP_FILE].name
-            st = ar.tar.extractfile(recs[n][STEP_FILE]).read()
-            ar.member = None
-            out.append(_optimisation_recording(n, acc, st, f"{p}:{n}", duplicate_timestamps))
+    out = [_optimisation_recording(n, data[n, ACC_FILE], data[n, STEP_FILE], f"{p}:{n}", duplicate_timestamps)
+           for n in wanted]
     return sorted(out, key=lambda r: r.name)
 
 

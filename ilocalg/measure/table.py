@@ -298,11 +298,10 @@ def build_table(root=None, every: int = 1, parts=PARTS) -> pd.DataFrame:
         rows += uji_radio_rows(load_ujiindoorloc(u / "trainingData.csv.gz"),
                                load_ujiindoorloc(u / "validationData.csv.gz"))
     if "gait" in parts:
-        from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive
+        from ilocalg.io.oxford import load_oxford_archive
 
         arch = droot / "oxford_step_counter" / "optimisation_data.tar.xz"
-        names = [n for n in list_oxford_archive(arch) if "_InHand_" in n]
-        rows += oxford_gait_rows(load_oxford_archive(arch, names))
+        rows += oxford_gait_rows(load_oxford_archive(arch, select=lambda n: "_InHand_" in n))
     df = pd.DataFrame(rows, columns=list(COLUMNS))
     if df["parameter"].duplicated().any():
         raise ValueError(f"duplicate parameters: {df.loc[df['parameter'].duplicated(), 'parameter'].tolist()}")
