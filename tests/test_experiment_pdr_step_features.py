@@ -33,19 +33,6 @@ def test_rate_sweep_x1_scales_with_the_rate():
 
 
 @pytest.mark.realdata
-def test_oxford_row_reaches_the_report_through_the_runner(shared_data, tmp_path):
-    """The runner passes the data root as DATA_DIR; the Oxford in-hand row must appear in the report tables."""
-    from ilocalg.workflow.reporting import comparison_rows
-    from ilocalg.workflow.runner import reproduce
-
-    shared_data("oxford_step_counter")
-    assert reproduce(tmp_path, fast=True, only="03_pdr_step_features", html=False, progress=False, jobs=1) == 0
-    rows = comparison_rows(tmp_path)
-    ox = rows[rows["quantity"].str.contains("Oxford in-hand")]
-    assert len(ox) == 1 and ox["reproduced_value"].iloc[0] >= 0
-
-
-@pytest.mark.realdata
 def test_oxford_archive_is_found_under_the_data_root_or_its_own_folder(shared_data):
     folder = shared_data("oxford_step_counter")
     assert pdr_step_features._oxford_archive(folder.parent) == folder / pdr_step_features.OXFORD_ARCHIVE

@@ -291,3 +291,16 @@ def test_no_comparison_row_appears_twice_across_the_manifests_notebooks(fast_rep
     assert code == 0
     dup = duplicate_rows(comparison_rows(out))
     assert dup.empty, f"comparison rows carried twice:\n{dup.to_string()}"
+
+
+@pytest.mark.realdata
+def test_oxford_row_reaches_the_report_through_the_runner(fast_reports, shared_data):
+    """The runner passes the data root as DATA_DIR; the Oxford in-hand row must appear in the report tables."""
+    from ilocalg.workflow.reporting import comparison_rows
+
+    shared_data("oxford_step_counter")
+    code, out = fast_reports
+    assert code == 0
+    rows = comparison_rows(out)
+    ox = rows[rows["quantity"].str.contains("Oxford in-hand")]
+    assert len(ox) == 1 and ox["reproduced_value"].iloc[0] >= 0

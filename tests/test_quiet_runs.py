@@ -15,9 +15,10 @@ _NOISE = re.compile(r"without encryption|ERROR|WARNING|Warning|KeyboardInterrupt
 
 
 def test_fast_reproduce_of_one_notebook_logs_only_progress_and_results(tmp_path):
-    """The captured log of ``reproduce --only 03 --fast``: one line per stage, no kernel or client noise."""
+    """The captured log of ``reproduce --only 04 --fast``: one line per stage, no kernel or client noise (notebook
+    04: a short one whose claims have robustness samples)."""
     out = tmp_path / "reports"
-    proc = subprocess.run([sys.executable, "-m", "ilocalg", "reproduce", "--only", "03", "--fast", "--out", str(out),
+    proc = subprocess.run([sys.executable, "-m", "ilocalg", "reproduce", "--only", "04", "--fast", "--out", str(out),
                            "--jobs", "1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=900, cwd=REPO_ROOT)
     log = proc.stdout.decode()  # stdout and stderr as one terminal shows them (bytes: keep a progress bar's \r)
     assert proc.returncode == 0, log[-2000:]
@@ -26,7 +27,7 @@ def test_fast_reproduce_of_one_notebook_logs_only_progress_and_results(tmp_path)
     assert lines[0].startswith("reproducing 1 notebook(s)") and lines[-1].startswith("wrote index.html")
     # header; notebook: [1/1], its bar, done; claims: base-run bar, robustness bar, verdict counts; wrote
     assert len(lines) <= 8, log
-    assert (out / "03_pdr_step_features.html").is_file()
+    assert (out / "04_pdr_step_length.html").is_file()
 
 
 def test_quiet_kernels_talk_over_ipc_and_are_not_interrupted_on_shutdown():
