@@ -69,3 +69,23 @@ def test_shards_pool_to_the_unsharded_run(shared_data, floor):
     with pytest.raises(ValueError, match="sweep_waypoints"):
         sweep_summary(tables_to_long({"measures": whole["measures"]}))
     assert frw.sweep_summary is sweep_summary                      # the sweep command finds it on the experiment
+
+
+def test_leave_one_walk_out_refuses_a_pooled_summary_with_failed_tasks(monkeypatch):
+    """A failed task would leave its walks out of the pooled summary: leave_one_walk_out raises instead."""
+    from ilocalg.workflow import sweep as sw
+
+    seen = {}
+
+    def fake_sweep(tasks, **kw):
+        seen["shards"] = sorted({dict(t.params)["n_shards"] for t in tasks})
+        return sw.SweepResult(pd.DataFrame({"x": [1.0]}), failures=[{"task": tasks[1].describe(), "error": "boom"}],
+                              n_tasks=len(tasks))
+
+    monkeypatch.setattr(sw, "sweep", fake_sweep)
+    with pytest.raises(ValueError, match="1 of 2 tasks failed; first: .*boom"):
+        frw.leave_one_walk_out(workers=0, progress=False)
+    assert seen["shards"] == [1]  # in this process: one task per floor
+    with pytest.raises(ValueError, match="tasks failed"):
+        frw.leave_one_walk_out(workers=2, progress=False)
+    assert seen["shards"] == [4]
