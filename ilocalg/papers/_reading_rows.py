@@ -16,7 +16,7 @@ import pandas as pd
 
 from ilocalg.papers import reading, readings_table
 
-__all__ = ["Fmt", "Pick", "Row", "render"]
+__all__ = ["Fmt", "Pick", "Row", "render", "fill"]
 
 
 @dataclass(frozen=True)
@@ -62,8 +62,17 @@ def _fill(field, choices: Mapping[str, object]) -> str:
 def render(rows: Sequence[Row], cite: str, **choices) -> pd.DataFrame:
     """The readings table of ``rows`` for one run's ``choices``; paper lines get the prefix ``cite``."""
     out = []
-    for choice, line, text, code, source in rows:
-        ln = _fill(line, choices)
-        out.append(reading(_fill(choice, choices), "" if ln in ("", "-") else cite + ln, _fill(text, choices),
-                           _fill(code, choices), _fill(source, choices)))
+    try:
+        for choice, line, text, code, source in rows:
+            ln = _fill(line, choices)
+            out.append(reading(_fill(choice, choices), "" if ln in ("", "-") else cite + ln, _fill(text, choices),
+                               _fill(code, choices), _fill(source, choices)))
+    except (KeyError, IndexError) as exc:
+        raise ValueError(f"readings template needs the value {exc} (given: {sorted(choices)})") from None
     return readings_table(out)
+
+
+def fill(rows: Sequence[Row], **values) -> pd.DataFrame:
+    """:func:`render` of rows whose every field is a template (:class:`Fmt`) and whose paper lines are cited in
+    full (the i-Loc and Luo et al. readings)."""
+    return render([tuple(Fmt(f) for f in row) for row in rows], "", **values)

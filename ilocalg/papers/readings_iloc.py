@@ -14,13 +14,12 @@ National Chiao Tung University.
 
 from __future__ import annotations
 
-import string
-
 import pandas as pd
 
-from ilocalg.papers import PAPERS, reading, readings_table
+from ilocalg.papers import PAPERS
+from ilocalg.papers._reading_rows import fill
 
-__all__ = ["READINGS", "readings", "fill"]
+__all__ = ["READINGS", "readings"]
 
 _T = PAPERS["iloc"]
 
@@ -158,17 +157,6 @@ READINGS = {
 
 #: How each reading of Table 4 (no unit printed) enters Q (fusion_iloc_kf's ``table4_reading``).
 TABLE4_READING_TEXT = {"relative": "relative variances (sigma = sqrt(var) x step)", "m2": "m^2"}
-
-_FMT = string.Formatter()
-
-
-def fill(rows, **values) -> pd.DataFrame:
-    """A readings table from rows of templates (:meth:`str.format` fields filled from ``values``)."""
-    try:
-        return readings_table([reading(*(_FMT.vformat(s, (), values) for s in row)) for row in rows])
-    except (KeyError, IndexError) as exc:
-        raise ValueError(f"readings template needs the value {exc} (given: {sorted(values)})") from None
-
 
 def readings(experiment: str, **values) -> pd.DataFrame:
     """The readings table of one of the thesis's experiments (:data:`READINGS`), filled with ``values``."""

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from ilocalg.papers.readings_iloc import fill
+from ilocalg.papers._reading_rows import fill
 
 __all__ = ["READINGS", "PRINCIPLED_WEIGHT_TEXT", "readings"]
 
