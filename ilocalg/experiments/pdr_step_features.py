@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive, parse_recording_name
+from ilocalg.io.oxford import load_oxford_archive, parse_recording_name
 from ilocalg.io.paths import dataset_path
 from ilocalg.papers import PAPERS, paper_ref, readings_iloc
 from ilocalg.papers.iloc import PUBLISHED
@@ -80,11 +80,8 @@ def oxford_loro(data_dir=None, q_range=(0.05, 0.95), rate_hz: float = 50.0, posi
     def held(name: str) -> bool:
         return parse_recording_name(name).get("position") == position
 
-    if max_recordings is None:  # one pass over the archive
-        recs = load_oxford_archive(archive, select=held)
-    else:
-        recs = load_oxford_archive(archive, [n for n in list_oxford_archive(archive) if held(n)][:max_recordings])
-    return sam_leave_one_out(recs, q_range, rate_hz, tol_s, parse_recording_name)
+    recs = load_oxford_archive(archive, select=held)  # one pass over the archive, sorted by name
+    return sam_leave_one_out(recs[:max_recordings], q_range, rate_hz, tol_s, parse_recording_name)
 
 
 def rate_sweep(seed: int = 0, rates_hz=(25.0, 50.0, 100.0), n_train: int = 8, n_test: int = 8,
