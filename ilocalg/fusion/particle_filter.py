@@ -32,7 +32,9 @@ cells (sensor resetting localisation, Lenser & Veloso 2000), with a heading corr
 scale from their initial distributions. The rates default to the values the ROS amcl
 documentation suggests (``recovery_alpha_slow`` 0.001, ``recovery_alpha_fast`` 0.1; also the
 defaults of Beluga's ``AmclParams``), not to values fitted here. An injected particle's ancestral
-path (for ``x_smooth``) is that of the particle it replaces.
+path (for ``x_smooth``) is that of the particle it replaces. ``recovery="amcl"`` is the same with
+ROS amcl's one addition (``pf_update_resample``): both averages restart after every injection "to
+avoid spiraling off into complete randomness".
 
 Smoothing: every state's particles and their resampling ancestry are kept, and the final
 particles' ancestral paths, weighted by the final weights, give a whole-walk estimate (the
@@ -61,7 +63,7 @@ from ilocalg.units import as_rng
 __all__ = ["OccupancyGrid", "PFResult", "systematic_resample", "map_particle_filter", "RECOVERIES"]
 
 #: Recovery mechanisms of :func:`map_particle_filter` (None: none).
-RECOVERIES = (None, "augmented")
+RECOVERIES = (None, "augmented", "amcl")
 
 
 @dataclass(frozen=True)
@@ -296,12 +298,13 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
         Weight factor of a particle whose move ends off the walkable area: 0 is the hard constraint;
         a small positive value (a soft constraint) keeps the filter alive when the PDR track and
         the map disagree everywhere (e.g. an error in the map or a wrong start).
-    recovery : {"augmented", None}
+    recovery : {"augmented", "amcl", None}
         ``"augmented"`` (default): Augmented MCL with sensor resetting (see the module docstring);
+        ``"amcl"``: the same, the averages restarted after each injection as ROS amcl does;
         None: no recovery (the filter before issue 26: once the particles have lost the fixes, they
         never come back).
     alpha_slow, alpha_fast : float, 0 <= alpha_slow < alpha_fast <= 1
-        Rates of the long- and short-term averages of the fix likelihood (``recovery="augmented"``;
+        Rates of the long- and short-term averages of the fix likelihood (with a recovery;
         defaults: ROS amcl's suggested ``recovery_alpha_slow`` / ``recovery_alpha_fast``).
 
     Returns
@@ -383,7 +386,7 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
             s0 = w.sum()
             if s0 > 0 and np.isfinite(s0):
                 lik_mean[k] = (w / s0) @ lik
-                if recovery == "augmented" and lik_mean[k] > 0:
+                if recovery is not None and lik_mean[k] > 0:
                     # Thrun et al. (2005), Table 8.3; started at the first average as amcl's pf.c does
                     w_slow = lik_mean[k] if w_slow == 0 else w_slow + alpha_slow * (lik_mean[k] - w_slow)
                     w_fast = lik_mean[k] if w_fast == 0 else w_fast + alpha_fast * (lik_mean[k] - w_fast)
@@ -411,6 +414,8 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
                     dth[new] = sigma_offset0_rad * r.standard_normal(m)
                     scale[new] = 1.0 + sigma_scale * r.standard_normal(m)
                     n_inj += m
+                if recovery == "amcl":
+                    w_slow = w_fast = 0.0
             pos[k] = p
             # the particles at state k are now the resampled ones; their parents at k - 1 are those
             # of the particles they copy (an injected particle: those of the particle it replaces)
