@@ -16,6 +16,26 @@ wipe out the particle set). Systematic resampling when the effective sample size
 ``resample_frac * N``. If every particle is blocked or the weights underflow, the weights are
 reset to uniform (counted in ``n_reset``): the filter never silently stops.
 
+Recovery (``recovery="augmented"``): once the cloud has left the region of the fixes, every
+particle gets about the floor ``eps / area`` and the fixes stop being informative; nothing in the
+plain filter brings the particles back. Augmented MCL (Thrun, Burgard, Fox 2005, sec. 8.3.5,
+Table 8.3) follows the average fix likelihood ``w_avg = sum_i w_i lik_i`` (normalised weights
+before the fix) with a short- and a long-term average::
+
+    w_slow <- w_slow + alpha_slow (w_avg - w_slow)
+    w_fast <- w_fast + alpha_fast (w_avg - w_fast)
+
+(both start at the first ``w_avg``, as ROS amcl's ``pf_update_sensor`` does) and, at a fix where
+``p = max(0, 1 - w_fast / w_slow) > 0``, resamples and replaces each particle with probability
+``p`` by a new one drawn from the fix's own distribution ``N(z, R)`` restricted to the walkable
+cells (sensor resetting localisation, Lenser & Veloso 2000), with a heading correction and step
+scale from their initial distributions. The rates default to the values the ROS amcl
+documentation suggests (``recovery_alpha_slow`` 0.001, ``recovery_alpha_fast`` 0.1; also the
+defaults of Beluga's ``AmclParams``), not to values fitted here. An injected particle's ancestral
+path (for ``x_smooth``) is that of the particle it replaces. ``recovery="amcl"`` is the same with
+ROS amcl's one addition (``pf_update_resample``): both averages restart after every injection "to
+avoid spiraling off into complete randomness".
+
 Smoothing: every state's particles and their resampling ancestry are kept, and the final
 particles' ancestral paths, weighted by the final weights, give a whole-walk estimate (the
 "genealogy" smoother; Kitagawa 1996), consistent with the map.
@@ -26,6 +46,10 @@ Arulampalam, Maskell, Gordon, Clapp, "A tutorial on particle filters ...", IEEE 
 (SIR filter, systematic resampling); Kitagawa G., "Monte Carlo filter and smoother ...", JCGS
 5(1), 1996 (smoothing by storing ancestral paths); map-matching particle filters for PDR, e.g.
 Woodman & Harle, "Pedestrian localisation for indoor environments", UbiComp 2008.
+Thrun, Burgard, Fox, *Probabilistic Robotics*, MIT Press 2005, sec. 8.3.5, Table 8.3
+(Augmented MCL); Lenser & Veloso, "Sensor resetting localization for poorly modelled mobile robots",
+ICRA 2000; ROS amcl, http://wiki.ros.org/amcl (parameters ``recovery_alpha_slow``,
+``recovery_alpha_fast``: "A good value might be 0.001" / "0.1") and its ``pf.c``.
 """
 
 from __future__ import annotations
@@ -36,7 +60,10 @@ import numpy as np
 
 from ilocalg.units import as_rng
 
-__all__ = ["OccupancyGrid", "PFResult", "systematic_resample", "map_particle_filter"]
+__all__ = ["OccupancyGrid", "PFResult", "systematic_resample", "map_particle_filter", "RECOVERIES"]
+
+#: Recovery mechanisms of :func:`map_particle_filter` (None: none).
+RECOVERIES = (None, "augmented", "amcl")
 
 
 @dataclass(frozen=True)
@@ -176,6 +203,13 @@ class PFResult:
         rejected by the map over the walk.
     dtheta_rad : ndarray (n+1,)
         Weighted mean heading correction of the particles.
+    lik_mean : ndarray (n+1,)
+        Average fix likelihood ``w_avg`` at each state (normalised weights before the fix; NaN
+        without a fix), m^-2; its floor is ``outlier_prob / area``.
+    p_inject : ndarray (n+1,)
+        Probability of replacing a particle at each state (0 without recovery or without a fix).
+    n_injected : int
+        Particles replaced by the recovery over the walk.
     """
 
     x: np.ndarray
@@ -185,6 +219,34 @@ class PFResult:
     n_reset: int
     n_blocked: int
     dtheta_rad: np.ndarray
+    lik_mean: np.ndarray | None = None
+    p_inject: np.ndarray | None = None
+    n_injected: int = 0
+
+
+def _fix_sampler(grid: OccupancyGrid | None):
+    """``draw(z, R, m, rng) -> (m, 2)``: ``N(z, R)`` restricted to the walkable cells of ``grid``.
+
+    The density is taken at the cell centres (the raster's resolution) and a point is uniform within
+    its cell; the weights are normalised in the log domain, so a fix far from every walkable cell
+    still gives the walkable cells nearest to it (in the metric of ``R``). Without a grid: ``N(z, R)``.
+    """
+    if grid is None:
+        def draw_free(z, R, m, r):
+            return z + r.standard_normal((m, 2)) @ np.linalg.cholesky(R).T
+        return draw_free
+    jj, ii = np.nonzero(grid.walkable_mask)
+    if ii.size == 0:
+        raise ValueError("the grid has no walkable cell")
+    c = np.column_stack([grid.x0_m + (ii + 0.5) * grid.cell_m, grid.y0_m + (jj + 0.5) * grid.cell_m])
+
+    def draw(z, R, m, r):
+        e = c - z
+        q = np.einsum("ni,ij,nj->n", e, np.linalg.inv(R), e)
+        pr = np.exp(-0.5 * (q - q.min()))
+        k = r.choice(c.shape[0], size=m, p=pr / pr.sum())
+        return c[k] + (r.random((m, 2)) - 0.5) * grid.cell_m
+    return draw
 
 
 def systematic_resample(weights, rng=None) -> np.ndarray:
@@ -204,7 +266,8 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
                         sigma_heading_rad: float = 0.1, sigma_offset0_rad: float = 0.2,
                         sigma_offset_walk_rad: float = 0.005, sigma_scale: float = 0.1,
                         outlier_prob: float = 0.1, resample_frac: float = 0.5, init: str = "gaussian",
-                        blocked_weight: float = 0.0) -> PFResult:
+                        blocked_weight: float = 0.0, recovery: str | None = "augmented", alpha_slow: float = 0.001,
+                        alpha_fast: float = 0.1) -> PFResult:
     """Run the map-constrained particle filter over one walk (see the module docstring).
 
     Parameters
@@ -235,6 +298,14 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
         Weight factor of a particle whose move ends off the walkable area: 0 is the hard constraint;
         a small positive value (a soft constraint) keeps the filter alive when the PDR track and
         the map disagree everywhere (e.g. an error in the map or a wrong start).
+    recovery : {"augmented", "amcl", None}
+        ``"augmented"`` (default): Augmented MCL with sensor resetting (see the module docstring);
+        ``"amcl"``: the same, the averages restarted after each injection as ROS amcl does;
+        None: no recovery (the filter before issue 26: once the particles have lost the fixes, they
+        never come back).
+    alpha_slow, alpha_fast : float, 0 <= alpha_slow < alpha_fast <= 1
+        Rates of the long- and short-term averages of the fix likelihood (with a recovery;
+        defaults: ROS amcl's suggested ``recovery_alpha_slow`` / ``recovery_alpha_fast``).
 
     Returns
     -------
@@ -262,6 +333,12 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
                          "0 <= blocked_weight < 1")
     if init not in ("gaussian", "map") or (init == "map" and grid is None):
         raise ValueError("init must be 'gaussian' or 'map' (the latter needs a grid)")
+    if recovery not in RECOVERIES:
+        raise ValueError(f"recovery must be one of {RECOVERIES}, got {recovery!r}")
+    if not 0 <= alpha_slow < alpha_fast <= 1:
+        raise ValueError(f"need 0 <= alpha_slow < alpha_fast <= 1, got alpha_slow={alpha_slow!r}, "
+                         f"alpha_fast={alpha_fast!r}")
+    draw_fix = _fix_sampler(grid) if recovery is not None else None
     N = int(n_particles)
     area = grid.area_m2 if grid is not None else 1e4
     if init == "map":
@@ -283,7 +360,10 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
     xf = np.empty((n + 1, 2))
     dmean = np.empty(n + 1)
     neff = np.empty(n + 1)
-    n_res = n_reset = n_blocked = 0
+    lik_mean = np.full(n + 1, np.nan)
+    p_inj = np.zeros(n + 1)
+    w_slow = w_fast = 0.0
+    n_res = n_reset = n_blocked = n_inj = 0
     ident = np.arange(N)
     for k in range(n + 1):
         anc[k] = ident
@@ -302,7 +382,16 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
             e = z[k] - p
             q = np.einsum("ni,ij,nj->n", e, Ri, e)
             g = np.exp(-0.5 * q) / (2 * np.pi * np.sqrt(np.linalg.det(Rk)))
-            w = w * ((1 - outlier_prob) * g + outlier_prob / area)
+            lik = (1 - outlier_prob) * g + outlier_prob / area
+            s0 = w.sum()
+            if s0 > 0 and np.isfinite(s0):
+                lik_mean[k] = (w / s0) @ lik
+                if recovery is not None and lik_mean[k] > 0:
+                    # Thrun et al. (2005), Table 8.3; started at the first average as amcl's pf.c does
+                    w_slow = lik_mean[k] if w_slow == 0 else w_slow + alpha_slow * (lik_mean[k] - w_slow)
+                    w_fast = lik_mean[k] if w_fast == 0 else w_fast + alpha_fast * (lik_mean[k] - w_fast)
+                    p_inj[k] = max(0.0, 1.0 - w_fast / w_slow)
+            w = w * lik
         s = w.sum()
         if not (s > 0 and np.isfinite(s)):
             n_reset += 1
@@ -313,12 +402,23 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
         xf[k] = w @ p
         dmean[k] = np.arctan2(w @ np.sin(dth), w @ np.cos(dth))
         pos[k] = p
-        if neff[k] < resample_frac * N:
+        if neff[k] < resample_frac * N or p_inj[k] > 0:
             idx = systematic_resample(w, r)
             p, dth, scale = p[idx], dth[idx], scale[idx]
+            if p_inj[k] > 0:
+                # each particle replaced with probability p_inj by a draw from the fix (sensor resetting)
+                new = np.flatnonzero(r.random(N) < p_inj[k])
+                m = new.size
+                if m:                     # p, dth, scale are fresh copies (fancy indexing)
+                    p[new] = draw_fix(z[k], R[k], m, r)
+                    dth[new] = sigma_offset0_rad * r.standard_normal(m)
+                    scale[new] = 1.0 + sigma_scale * r.standard_normal(m)
+                    n_inj += m
+                if recovery == "amcl":
+                    w_slow = w_fast = 0.0
             pos[k] = p
             # the particles at state k are now the resampled ones; their parents at k - 1 are those
-            # of the particles they copy
+            # of the particles they copy (an injected particle: those of the particle it replaces)
             anc[k] = anc[k][idx]
             w = np.full(N, 1.0 / N)
             n_res += 1
@@ -328,4 +428,4 @@ def map_particle_filter(x0_m, P0_m2, theta_rad, step_m, z_m, R_m2, grid: Occupan
     for k in range(n, -1, -1):
         xs[k] = w @ pos[k][cur]
         cur = anc[k][cur]
-    return PFResult(xf, xs, neff, n_res, n_reset, n_blocked, dmean)
+    return PFResult(xf, xs, neff, n_res, n_reset, n_blocked, dmean, lik_mean, p_inj, n_inj)

@@ -111,9 +111,9 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         pf = map_particle_filter(x0, P0, th, d, z_kf, R, grid=grid, n_particles=cfg.n_particles, rng=as_rng(rng),
                                  sigma_heading_rad=cfg.pf_sigma_heading_rad,
                                  sigma_offset0_rad=cfg.pf_sigma_offset0_rad, outlier_prob=cfg.pf_outlier_prob,
-                                 blocked_weight=cfg.pf_blocked_weight)
+                                 blocked_weight=cfg.pf_blocked_weight, recovery=cfg.pf_recovery)
         tracks["pf"], tracks["pf_smooth"] = pf.x, pf.x_smooth
-        info.update(pf_resamples=pf.n_resample, pf_resets=pf.n_reset)
+        info.update(pf_resamples=pf.n_resample, pf_resets=pf.n_reset, pf_injected=pf.n_injected)
     if "map_align" in methods or "map_align_kf_rts" in methods:
         if grid is None:
             raise ValueError("map_align needs the floor map (grid)")
