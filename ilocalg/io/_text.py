@@ -724,7 +724,8 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     """The records of ``types`` (lines with ``n_sep`` separators each), parsed by pandas, or ``None``.
 
     The lines of all ``types`` are read together, a few megabytes at a time, in file order, and
-    each type's rows are written to its own contiguous part of one array. ``num``, ``ints`` and
+    each type's rows are written to its own contiguous part of one array (or, when the types take
+    turns in a fixed order, left in file order: each type's rows are every k-th row). ``num``, ``ints`` and
     ``strings`` are field indices (0-based, over the whole line) read as float64, int64 and
     verbatim text (``ints``: a first column that :func:`split_by_type` found to be digits only).
     ``None`` (then the caller parses line by line and names the line) if a line has another number
@@ -752,6 +753,11 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     n = len(rows)
     if np.any(tl.n_sep[rows] != n_sep):
         return None
+    nt = len(types)
+    periodic = (nt > 1 and n % nt == 0 and len(set(code[:nt].tolist())) == nt
+                and bool((code.reshape(-1, nt) == code[:nt]).all()))
+    if periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
+        dest = None
     lo = tl.starts[rows]
     hi = tl.ends[rows] + 1
     cuts = np.unique(np.searchsorted(lo, np.arange(int(lo[0]) + _PIECE, int(hi[-1]), _PIECE)))  # pieces of the file
@@ -798,9 +804,9 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         del df, cols, iv
     out = {}
     o = 0
-    for t, m in zip(types, n_of, strict=True):
-        out[t] = Records(num=out_num[o:o + m], ints=[x[o:o + m] for x in out_int],
-                         strings=[x[o:o + m].tolist() for x in out_str])
+    for i, (t, m) in enumerate(zip(types, n_of, strict=True)):
+        sel = slice(code[:nt].tolist().index(i), None, nt) if periodic else slice(o, o + m)
+        out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int], strings=[x[sel].tolist() for x in out_str])
         o += m
     return out
 
