@@ -280,3 +280,22 @@ def test_every_real_trace_takes_the_fast_path_and_agrees(shared_data):
         assert len(members) == 19
         for m in members:
             _agree(tf.extractfile(m).read())
+
+
+@pytest.mark.parametrize("bad", ["1e03", "10.0", "1O20", "0x10"])
+def test_a_time_that_is_not_digits_is_refused_even_at_the_common_width(bad):
+    # pandas would read "1e03" or "10.0" in an int64 column through float; int() refuses them
+    data = GOOD.replace("1020\t", bad + "\t")
+    assert ilc._blocks_fast(data.encode()) is None
+    with pytest.raises(ValueError, match=r"x: line 7: column 1 \(Unix time, ms\) must be an integer, got '"
+                                         + bad + "'"):
+        ilc.parse_ilc_trace(data, "x")
+
+
+def test_a_column_of_only_true_false_words_is_refused_not_read_as_ones():
+    body = [("\t".join(b.split("\t")[:4] + ["true"] + b.split("\t")[5:]) if "TYPE_WAYPOINT" not in b
+             and len(b.split("\t")) == 6 else b) for b in BODY]
+    data = HEADER + "\n".join(body) + "\n"
+    assert ilc._blocks_fast(data.encode()) is None
+    with pytest.raises(ValueError, match=r"x: line 4: TYPE_ACCELEROMETER column 5 \(z\) must be numeric, got 'true'"):
+        ilc.parse_ilc_trace(data, "x")

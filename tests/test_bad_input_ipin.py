@@ -209,3 +209,34 @@ def test_odd_files_leave_the_fast_path(old, new):
 def test_ssid_true_stays_text():
     fast = ipin._blocks_fast(GOOD.replace("eduroam", "TRUE").encode())
     assert fast[0]["WIFI"].ssid[0] == "TRUE"
+
+
+def test_a_column_of_only_true_false_words_is_refused_not_read_as_ones():
+    # pandas reads a column made only of true/false words as 1/0; the fast path checks such columns,
+    # and the line parser names the first word
+    lines = [ln if not ln.startswith(("ACCE", "GYRO", "MAGN")) else
+             ";".join(ln.split(";")[:5] + [("TRUE", "False")[i % 2], ln.split(";")[6]])
+             for i, ln in enumerate(LINES)]
+    data = "\n".join(lines) + "\n"
+    assert ipin._blocks_fast(data.encode()) is None
+    with pytest.raises(ValueError, match=r"x: line 3: ACCE field 6 \(Z\) must be a finite number, got 'TRUE'"):
+        ipin.parse_ipin_logfile(data, "x")
+
+
+@pytest.mark.parametrize("n_epochs", [1, 7, 20001])
+def test_fast_path_reads_any_number_of_records_in_pieces(n_epochs):
+    # records of one layout are read by pandas a few megabytes at a time; a piece may end anywhere
+    from ilocalg.io import _text
+    text = _big(n_epochs)
+    old = _text._PIECE
+    try:
+        _text._PIECE = 997  # many small pieces, cut inside runs of lines
+        fast = ipin._blocks_fast(text.encode())
+    finally:
+        _text._PIECE = old
+    slow = ipin._blocks_slow(text.splitlines(), "x")
+    assert fast is not None and set(fast[0]) == set(slow[0])
+    for k, b in slow[0].items():
+        np.testing.assert_array_equal(fast[0][k].num, b.num)
+        np.testing.assert_array_equal(fast[0][k].lines, b.lines)
+        assert fast[0][k].ssid == b.ssid

@@ -7,6 +7,7 @@ opens in an editor, never a table row.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import NoReturn
@@ -18,7 +19,7 @@ __all__ = ["fail", "to_float", "first_not_increasing", "check_increasing", "deco
            "read_bytes", "read_text", "strip_trailing_blank_lines", "ArchiveReader", "TRUNCATED_POLICIES",
            "check_truncated_policy", "cut_last_line", "parse_record_log", "check_record_types", "TypedLines",
            "split_by_type",
-           "read_block", "count_per_line"]
+           "Records", "read_records", "count_per_line", "byte_positions"]
 
 
 def fail(source, lineno, msg: str, column: str | None = None) -> NoReturn:
@@ -277,8 +278,8 @@ def parse_record_log(text: str | bytes, source, truncated_last_line: str, fast: 
                      is_cut: Callable[[str], str | None]):
     """The text policy of a record-per-line log (ILC trace, IPIN logfile), then its parser.
 
-    A UTF-8 BOM is stripped and a non-UTF-8 byte is an error naming its line. ``fast(data)`` parses
-    well-formed bytes (returning ``None`` for anything it might read differently); otherwise the
+    A UTF-8 BOM is stripped and a non-UTF-8 byte is an error naming its line. ``fast(data, is_ascii)``
+    parses well-formed bytes (returning ``None`` for anything it might read differently); otherwise the
     text is decoded, a cut last line goes through :func:`cut_last_line` and ``slow(lines, source)``
     parses line by line, naming a bad line.
 
@@ -293,9 +294,10 @@ def parse_record_log(text: str | bytes, source, truncated_last_line: str, fast: 
     data = text.encode("utf-8") if isinstance(text, str) else text
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
-    if not data.isascii():
+    is_ascii = data.isascii()
+    if not is_ascii:
         decode_text(data, source)  # a non-UTF-8 byte is an error naming its line
-    parsed = fast(data)
+    parsed = fast(data, is_ascii)
     if parsed is not None:
         return parsed, 0
     text = decode_text(data, source)
@@ -343,67 +345,182 @@ _NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
 
 
 _CHUNK = 1 << 21
+#: Bytes of selected lines parsed per ``read_csv`` call by :func:`read_records` (bounded memory).
+_PIECE = 1 << 22
+#: Records whose first bytes are gathered at a time to find their types.
+_ROWS = 1 << 16
+#: Bytes gathered from the start of each line of an unknown record type to find its type.
+_TYPE_WINDOW = 64
 
 
-def _scan(arr: np.ndarray) -> tuple[int, int, int, int, int]:
-    """Counts of bytes < 32, LF, CR, TAB and CRLF pairs, a few megabytes at a time."""
-    n = [0, 0, 0, 0, 0]
+def _scan_lines(arr: np.ndarray, sep_b: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """One pass over text ending with ``\\n``, a few megabytes at a time: the position of every ``\\n``,
+    the number of ``sep_b`` bytes on each line, and the number of bytes below 32."""
+    dt = np.int32 if len(arr) < 2**31 - 1 else np.int64
+    ends, n_sep = [], []
+    n_low = carry = 0
+    last = -1  # position of the previous \n
     for i in range(0, len(arr), _CHUNK):
-        sub = arr[i:i + _CHUNK + 1]  # one byte of overlap for CRLF pairs across chunks
-        body = sub[:_CHUNK]
-        n[0] += int(np.count_nonzero(body < 32))
-        n[1] += int(np.count_nonzero(body == 10))
-        n[2] += int(np.count_nonzero(body == 13))
-        n[3] += int(np.count_nonzero(body == 9))
-        if n[2]:
-            n[4] += int(np.count_nonzero((sub[:-1] == 13) & (sub[1:] == 10)))
-    return n[0], n[1], n[2], n[3], n[4]
+        a = arr[i:i + _CHUNK]
+        n_low += int(np.count_nonzero(a < 32))
+        e = np.flatnonzero(a == 10)
+        hit = (a == sep_b).view(np.uint8)
+        if not len(e):
+            carry += int(np.count_nonzero(hit))
+            continue
+        seg = np.empty(len(e), dtype=np.int64)  # each line's part in this chunk: [seg[k], e[k]]
+        seg[0] = 0
+        seg[1:] = e[:-1] + 1
+        longest = max(i + int(e[0]) - last, int(np.diff(e).max()) if len(e) > 1 else 0)
+        c = np.add.reduceat(hit[:e[-1] + 1], seg, dtype=np.uint8 if longest < 256 else np.int32)  # < 256 hits
+        c = c.astype(np.int32)
+        c[0] += carry
+        carry = int(np.count_nonzero(hit[e[-1] + 1:]))
+        ends.append((e + i).astype(dt))
+        n_sep.append(c)
+        last = i + int(e[-1])
+    return np.concatenate(ends), np.concatenate(n_sep), n_low
 
 
-def _positions(arr: np.ndarray, value: int) -> np.ndarray:
-    """``np.flatnonzero(arr == value)`` without a file-sized temporary."""
-    parts = [np.flatnonzero(arr[i:i + _CHUNK] == value) + i for i in range(0, len(arr), _CHUNK)]
-    return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+def byte_positions(arr: np.ndarray, value: int) -> np.ndarray:
+    """``np.flatnonzero(arr == value)`` without a file-sized temporary (int32 below 2 GB)."""
+    dt = np.int32 if len(arr) < 2**31 - 1 else np.int64
+    parts = [(np.flatnonzero(arr[i:i + _CHUNK] == value) + i).astype(dt) for i in range(0, len(arr), _CHUNK)]
+    return np.concatenate(parts) if parts else np.zeros(0, dtype=dt)
 
 
-def count_per_line(arr: np.ndarray, value: int, starts: np.ndarray, chunk: int = _CHUNK) -> np.ndarray:
+def count_per_line(arr: np.ndarray, value: int, starts: np.ndarray, chunk: int = _CHUNK, dtype=np.int64) -> np.ndarray:
     """How often byte ``value`` occurs on each line (lines start at ``starts``), in bounded memory.
 
     Works through about ``chunk`` bytes at a time, so the temporary arrays stay a few megabytes
     whatever the file size.
     """
     bounds = np.append(starts, len(arr))
-    out = np.empty(len(starts), dtype=np.int64)
+    out = np.empty(len(starts), dtype=dtype)
     i, n = 0, len(starts)
     while i < n:
         j = min(max(int(np.searchsorted(bounds, bounds[i] + chunk, side="right")) - 1, i + 1), n)
-        seg = arr[bounds[i]:bounds[j]] == value
-        out[i:j] = np.add.reduceat(seg, starts[i:j] - bounds[i], dtype=np.int32)
+        seg = (arr[bounds[i]:bounds[j]] == value).view(np.uint8)
+        longest = int(np.diff(bounds[i:j + 1]).max())  # a line of < 2**k bytes holds < 2**k hits: k-bit sums
+        acc = np.uint8 if longest < 2**8 else np.uint16 if longest < 2**16 else np.int64
+        out[i:j] = np.add.reduceat(seg, starts[i:j] - bounds[i], dtype=acc)
         i = j
     return out
 
 
+def _gather(arr: np.ndarray, data: bytes, pos: np.ndarray, size: int) -> np.ndarray:
+    """``(len(pos), size)`` uint8: the ``size`` bytes from each position, zeros outside the data."""
+    n = len(arr)
+    if n < size:
+        out = np.zeros((len(pos), size), dtype=np.uint8)
+        edge = np.arange(len(pos))
+    else:
+        # one item of ``size`` bytes starting at every byte: a one-dimensional gather (faster than rows of a 2-D view)
+        items = np.ndarray(shape=(n - size + 1,), dtype=f"V{size}", buffer=arr, strides=(1,))
+        out = items[np.clip(pos, 0, n - size)].view(np.uint8).reshape(len(pos), size)
+        edge = np.flatnonzero((pos < 0) | (pos > n - size))
+    for i in edge.tolist():  # positions near either end of the data: padded slices
+        p = int(pos[i])
+        chunk = b"\0" * max(-p, 0) + data[max(p, 0):max(p + size, 0)]
+        out[i] = np.frombuffer(chunk[:size].ljust(size, b"\0"), dtype=np.uint8)
+    return out
+
+
+def _not_digits(words: np.ndarray, width: int) -> bool:
+    """Whether any row of ``words`` (little-endian 64-bit words) holds a byte other than ``0``-``9`` in the
+    ``width`` bytes before its last byte (eight at a time: ``y = byte ^ 0x30`` is a digit's value iff
+    neither ``y`` nor ``y + 0x76`` has its high bit set; a carry out of a byte only adds to the next)."""
+    n_bytes = 8 * words.shape[1]
+    ones = 0x0101010101010101
+    bad = np.zeros(len(words), dtype=np.uint64)
+    for w in range(words.shape[1]):
+        high = sum(0x80 << (8 * (b - 8 * w)) for b in range(n_bytes - 1 - width, n_bytes - 1) if 8 * w <= b < 8 * w + 8)
+        if high:
+            y = words[:, w] ^ np.uint64(0x30 * ones)
+            bad |= ((y + np.uint64(0x76 * ones)) | y) & np.uint64(high)
+    return bool(bad.any())
+
+
+def _words(kb: bytes, nw: int) -> tuple[list, list]:
+    """``kb`` as ``nw`` little-endian 64-bit words and the masks of their used bytes."""
+    parts = [kb[8 * w:8 * w + 8] for w in range(nw)]
+    return ([int.from_bytes(p.ljust(8, b"\0"), "little") for p in parts],
+            [(1 << (8 * len(p))) - 1 for p in parts])
+
+
+def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
+    """Code (1-based index into ``names``) of each record's type, 0 for another type.
+
+    ``type_words`` holds each record's first bytes from its type on, as 64-bit words (past its
+    line end: the next line's bytes, or zeros at the end of the data). A record is of type ``name``
+    when it starts with ``name`` and ``sep`` (which hold no line end, so a match lies within the line).
+    The first word picks one candidate type per record through a perfect hash of the known types'
+    first words (a multiply and a shift), so each further word costs one compare per record
+    whatever the number of types.
+    """
+    nw = type_words.shape[1]
+    kbs = [n.encode() + sep for n in names]
+    keys = np.zeros((len(kbs) + 1, nw), dtype=np.uint64)
+    masks = np.zeros((len(kbs) + 1, nw), dtype=np.uint64)
+    for c, kb in enumerate(kbs, start=1):
+        k, m = _words(kb, nw)
+        keys[c], masks[c] = k, m
+    first = {int(k) for k in keys[1:, 0]}
+    if len({int(m) for m in masks[1:, 0]}) == 1 and len(first) == len(kbs):
+        for bits in range(max(1, (len(kbs) - 1).bit_length()), 9):
+            for mult in (0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9, 0xD6E8FEB86659FD93):
+                slot = [((k * mult) % (1 << 64)) >> (64 - bits) for k in keys[1:, 0].tolist()]
+                if len(set(slot)) == len(kbs):
+                    break
+            else:
+                continue
+            break
+        else:
+            bits = 0
+        if bits:
+            table = np.zeros(1 << bits, dtype=np.intp)
+            table[slot] = np.arange(1, len(kbs) + 1)
+            keys, masks = keys.T.copy(), masks.T.copy()  # one small table per word
+            head = type_words[:, 0] & masks[0, 1]
+            code = table[(head * np.uint64(mult)) >> np.uint64(64 - bits)]
+            ok = keys[0][code] == head
+            for w in range(1, nw):
+                ok &= (type_words[:, w] & masks[w][code]) == keys[w][code]
+            code[~ok] = 0
+            return code.astype(np.int8)
+    label = np.zeros(len(type_words), dtype=np.int8)  # types of several first-word lengths: one type at a time
+    for c, kb in enumerate(kbs, start=1):
+        cand = np.flatnonzero((type_words[:, 0] & masks[c, 0]) == keys[c, 0])
+        for w in range(1, -(-len(kb) // 8)):
+            cand = cand[(type_words[cand, w] & masks[c, w]) == keys[c, w]]
+        label[cand] = c
+    return label
+
+
 @dataclass(frozen=True)
 class TypedLines:
-    """A record-type log split by type (see :func:`split_by_type`)."""
+    """A record-type log split by type (see :func:`split_by_type`; its records are read by :func:`read_records`)."""
 
     lines: dict        # known type -> int array, the 1-based file line of each record
-    blocks: dict       # known type -> function () -> bytes: its lines, each with its line end (built on
-    #                    demand, so that one type's bytes exist at a time)
     counts: dict       # every record type -> number of lines, in order of first occurrence
     header: list       # header lines (str, without line end), in order
+    data: bytes        # the file
+    starts: np.ndarray  # first byte of every line of the file
+    ends: np.ndarray    # its line-end byte (``\n``)
+    n_sep: np.ndarray   # its number of separators
 
 
 def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: bytes = b"", header: bytes = b"",
-                  spaces_ok: bool = False) -> TypedLines | None:
+                  spaces_ok: bool = False, is_ascii: bool | None = None) -> TypedLines | None:
     """Group the lines of a record-type log by record type, vectorised (no Python loop per known line).
 
     The fast path of the IPIN and ILC parsers. It returns ``None`` whenever the file holds
     anything it might not handle exactly like the line-by-line parser (no final line end, a lone
     ``\\r``, other line-end or space characters, a space next to a separator unless
-    ``spaces_ok``, a line starting with a space, a line of a known type with another number of
-    fields, an unknown type that looks like a mis-cased or mis-delimited known type, no known
-    type at all); the caller then parses line by line, which names the offending line.
+    ``spaces_ok``, a line starting with a space, an unknown type that looks like a mis-cased or
+    mis-delimited known type, no known type at all); the caller then parses line by line, which
+    names the offending line. The number of fields of each known line is checked when its
+    records are read (:func:`read_records`).
 
     Parameters
     ----------
@@ -412,216 +529,310 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     sep : bytes
         One-byte field separator.
     type_col : {0, 1}
-        Column of the record type (1: after a first column of equal width on every line, such as
-        a 13-digit time in milliseconds).
+        Column of the record type (1: after a first column of digits of equal width on every
+        line, such as a 13-digit time in milliseconds).
     known : dict
-        Record type -> number of separators on its lines; these types are returned as blocks,
+        Record type -> number of separators on its lines; these types' lines are returned,
         the others are only counted.
     comment, header : bytes
         First byte of lines that are skipped (not counted) / returned as header lines.
     spaces_ok : bool
         Whether a space next to a separator is kept verbatim by the line-by-line parser.
+    is_ascii : bool, optional
+        ``data.isascii()``, if the caller knows it.
     """
-    if not data.endswith(b"\n"):
+    if not data.endswith(b"\n") or len(data) < 8:
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    n_low, n_lf, n_cr, n_tab, n_crlf = _scan(arr)
-    if n_low != n_lf + n_cr + n_tab:
+    has_cr, has_tab = b"\r" in data, b"\t" in data
+    if sep_b != 9 and has_tab:
+        return None  # a tab is a space to str.strip
+    ends, n_sep, n_low = _scan_lines(arr, sep_b)
+    n_cr = 0
+    if has_cr:
+        cr = byte_positions(arr, 13)
+        if np.any(arr[cr + 1] != 10):  # data ends with \n, so cr + 1 is inside
+            return None  # a lone \r ends a line for str.splitlines
+        n_cr = len(cr)
+        del cr
+    starts = np.empty_like(ends)
+    starts[0] = 0
+    starts[1:] = ends[:-1] + 1
+    n_tab = int(n_sep.sum()) if sep_b == 9 else 0  # no tab otherwise
+    if n_low != len(ends) + n_cr + n_tab:
         return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
-    if (sep_b != 9 and n_tab) or n_cr != n_crlf:
+    if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
-    if not data.isascii() and any(b in data for b in _NON_ASCII_SPECIAL):
-        return None
-    sp = _positions(arr, 32)
-    if sp.size:
+    sp = []
+    k = data.find(b" ")
+    while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one
+        sp.append(k)
+        k = data.find(b" ", k + 1)
+    if sp:
+        sp = np.array(sp, dtype=np.int64) if k < 0 else byte_positions(arr, 32)
         nxt, prv = arr[np.minimum(sp + 1, len(arr) - 1)], arr[np.maximum(sp - 1, 0)]
         if np.any(sp == 0) or np.any(prv == 10) or np.any((nxt == 10) | (nxt == 13)):
             return None
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
-    ends = _positions(arr, 10)
-    if len(arr) < 2**31 - 1:
-        ends = ends.astype(np.int32)  # half the memory of the per-line arrays
-    starts = np.empty_like(ends)
-    starts[0] = 0
-    starts[1:] = ends[:-1] + 1
-    stop = ends - ((arr[np.maximum(ends - 1, 0)] == 13) & (ends > starts))  # content end (before \r\n)
-    nonblank = stop > starts
-    first = np.where(nonblank, arr[np.minimum(starts, len(arr) - 1)], 0)
-    is_head = nonblank & (first == header[0]) if header else np.zeros(len(starts), dtype=bool)
-    is_rec = nonblank & ~is_head
+        del sp, nxt, prv
+    first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
+    is_rec = (first != 10) & (first != 13)
+    is_head = is_rec & (first == header[0]) if header else None
+    if header:
+        is_rec &= ~is_head
     if comment:
         is_rec &= first != comment[0]
     rec = np.flatnonzero(is_rec).astype(ends.dtype)
-    del is_rec, first, nonblank
+    del is_rec, first
     if not rec.size:
         return None
-    rs, re_ = starts[rec], stop[rec]
-    if len(arr) < 8:
-        return None
-    win = np.lib.stride_tricks.as_strided(arr, shape=(len(arr) - 7, 8), strides=(1, 1), writeable=False)
-    top = len(arr) - 8
-
-    def bytes8(pos):
-        """The 8 bytes from each position (clamped at the end of the file), as (n, 8) uint8."""
-        return win[np.minimum(pos, top)]
-
-    def words(pos, nw):
-        """``(n, nw)`` uint64: word ``j`` holds the 8 bytes from ``pos + 8 j`` (clamped at the end of the
-        file as :func:`bytes8` clamps them), from one gather of ``8 nw`` bytes per position."""
-        size = 8 * nw
-        if len(arr) < size:
-            return np.column_stack([bytes8(pos + 8 * j).view("<u8").ravel() for j in range(nw)])
-        wide = np.lib.stride_tricks.as_strided(arr, shape=(len(arr) - size + 1, size), strides=(1, 1),
-                                               writeable=False)
-        out = wide[np.minimum(pos, len(arr) - size)].view("<u8")
-        tail = np.flatnonzero(pos > len(arr) - size)  # the last few lines: word by word, clamped as bytes8
-        for j in range(nw):
-            out[tail, j] = bytes8(pos[tail] + 8 * j).view("<u8").ravel()
-        return out
-
+    rs = starts[rec]
+    stop = ends[rec]  # content end (before \r\n)
+    if n_cr:
+        stop = stop - (arr[np.maximum(stop - 1, 0)] == 13)
+    nw = -(-max(len(k) + 1 for k in known) // 8)  # words holding the longest known type and its separator
+    off = 0
     if type_col == 0:
         t0 = rs
     else:
         width = data.find(sep, int(rs[0])) - int(rs[0])
-        if width <= 0 or np.any(re_ - rs <= width) or np.any(arr[rs + width] != sep_b):
+        if width <= 0 or width > 18 or np.any(stop - rs <= width):
             return None
-        first_col = words(rs, -(-width // 8)).view(np.uint8)[:, :width]
-        if np.any(first_col == sep_b):
-            return None
-        del first_col
         t0 = rs + width + 1
-    label = np.zeros(len(rec), dtype=np.int8)
+        off = 8 * -(-(width + 1) // 8)  # the first column and its separator, right-aligned in whole words
     names = sorted(known)
-    type_words = words(t0, -(-max(len(k) + 1 for k in known) // 8))  # each record's type bytes, 8 per word
-    head = type_words[:, 0]
-    span = re_ - t0
-    for code, name in enumerate(names, start=1):
-        kb = name.encode() + sep  # the name and the separator that ends it
-        first = kb[:8]
-        mask = np.uint64((1 << (8 * len(first))) - 1)
-        key = np.uint64(int.from_bytes(first.ljust(8, b"\0"), "little"))
-        cand = np.flatnonzero(((head & mask) == key) & (span > len(kb) - 1))  # one word compare per record
-        for o in range(8, len(kb), 8):  # then one word per comparison, on the candidates only
-            part = kb[o:o + 8]
-            mask = np.uint64((1 << (8 * len(part))) - 1)
-            key = np.uint64(int.from_bytes(part.ljust(8, b"\0"), "little"))
-            cand = cand[(type_words[cand, o // 8] & mask) == key]
-        label[cand] = code
-    del type_words, head
+    label = np.empty(len(rec), dtype=np.int8)
+    for i in range(0, len(rec), _ROWS):  # a few thousand records at a time: bounded memory
+        g = _gather(arr, data, t0[i:i + _ROWS] - off, off + 8 * nw).view("<u8")  # [first column, separator,] type
+        if off and (np.any((g[:, off // 8 - 1] >> np.uint64(56)) != sep_b) or _not_digits(g[:, :off // 8], width)):
+            return None  # only digits (int64, as int() reads them: no sign, point, exponent or separator)
+        label[i:i + _ROWS] = _type_labels(g[:, off // 8:], names, sep)
+    del g
     unknown = np.flatnonzero(label == 0)
-    other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], re_[unknown])
+    other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], stop[unknown])
     for t in other:
         ts = t.decode("utf-8", errors="replace")
         if ts.upper() in known or any(d in ts for d in (",", ";", "\t", " ") if d != sep.decode()):
             return None
-    present = [c for c in range(1, len(names) + 1) if np.any(label == c)]
-    if not present:
+    present = np.flatnonzero(np.bincount(label, minlength=len(names) + 1)[1:]) + 1
+    if not present.size:
         return None
-    # every line of a known type holds its number of separators
-    n_sep = count_per_line(arr, sep_b, starts)[rec]
-    for c in present:
-        if np.any(n_sep[label == c] != known[names[c - 1]]):
-            return None
-    del n_sep
-    first_of = {names[c - 1]: int(rec[np.argmax(label == c)]) for c in present}
+    rows = {names[c - 1]: rec[label == c] for c in present.tolist()}
+    first_of = {t: int(r[0]) for t, r in rows.items()}
     first_of.update({t.decode(): i for t, i in first_other.items()})
-    n_of = {names[c - 1]: int(np.count_nonzero(label == c)) for c in present}
+    n_of = {t: len(r) for t, r in rows.items()}
     n_of.update({t.decode(): n for t, n in other.items()})
     counts = {t: n_of[t] for t in sorted(first_of, key=first_of.get)}
-    lines, blocks = {}, {}
-    head = [data[a:b].decode("utf-8") for a, b in zip(starts[is_head].tolist(), stop[is_head].tolist(),
-                                                      strict=True)]
-    del stop, is_head, rs, re_
-    for c in present:
-        sel = label == c
-        lines[names[c - 1]] = rec[sel] + 1
-        blocks[names[c - 1]] = _block_maker(data, starts, ends, rec[sel])
-    return TypedLines(lines=lines, blocks=blocks, counts=counts, header=head)
-
-
-def _block_maker(data: bytes, starts, ends, rows):
-    """A function that returns the bytes of lines ``rows`` (each with its line end), joined.
-
-    Few lines are sliced out one by one; many are selected with a byte mask built a few
-    megabytes of the file at a time (bounded memory, no Python loop per line).
-    """
-    def make() -> bytes:
-        if rows.size < 20000:
-            return b"".join(data[a:b] for a, b in zip(starts[rows].tolist(), (ends[rows] + 1).tolist(), strict=True))
-        arr = np.frombuffer(data, dtype=np.uint8)
-        n = int(rows[-1]) + 1  # the lines from the first to the last of ``rows``
-        on = np.zeros(n, dtype=bool)
-        on[rows] = True
-        parts = []
-        i = int(rows[0])
-        while i < n:
-            j = min(max(int(np.searchsorted(starts, starts[i] + _CHUNK, side="left")), i + 1), n)
-            lo, hi = int(starts[i]), int(ends[j - 1]) + 1
-            mask = np.repeat(on[i:j], (ends[i:j] - starts[i:j] + 1))
-            parts.append(arr[lo:hi][mask].tobytes())
-            i = j
-        return b"".join(parts)
-    return make
+    head_lines = []
+    if header:
+        hl = np.flatnonzero(is_head)
+        head_lines = [data[a:b].decode("utf-8").rstrip("\r") for a, b in zip(starts[hl].tolist(), ends[hl].tolist(),
+                                                                             strict=True)]
+    return TypedLines(lines={t: r + 1 for t, r in rows.items()}, counts=counts, header=head_lines, data=data,
+                      starts=starts, ends=ends, n_sep=n_sep)
 
 
 def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tuple[dict, dict]:
-    """Record type -> count and -> first line index, for lines of unknown types."""
+    """Record type -> count and -> first line index, for lines of unknown types (types start at ``t0``)."""
     other: dict[bytes, int] = {}
     first_other: dict[bytes, int] = {}
-    if len(rec) > 20000:  # many: the type's end via the separators' positions, one np.unique
-        seps = np.flatnonzero(arr == sep_b)
-        k = np.searchsorted(seps, t0)
-        end = np.minimum(np.append(seps, len(arr))[k], stop)
-        del seps, k
-        width = int((end - t0).max())
-        if 0 < width <= 64:
-            j = np.arange(width)
-            idx = np.minimum(t0[:, None] + j, len(arr) - 1)
-            mat = np.where(j < (end - t0)[:, None], arr[idx], 0).astype(np.uint8)
-            keys = np.ascontiguousarray(mat).view(f"S{width}").ravel()
-            uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
-            for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
-                other[u] = c
-                first_other[u] = int(rec[f])
-            return other, first_other
-    for i, a, b in zip(rec.tolist(), t0.tolist(), stop.tolist(), strict=True):
+    if not len(rec):
+        return other, first_other
+    win = _gather(arr, data, t0, _TYPE_WINDOW)
+    is_sep = win == sep_b
+    end = np.where(is_sep.any(axis=1), np.argmax(is_sep, axis=1), _TYPE_WINDOW)
+    end = np.minimum(end, stop - t0)  # a type without separator ends with its line
+    long_ = np.flatnonzero(end >= _TYPE_WINDOW)  # types that may run past the window: sliced one by one
+    short = np.flatnonzero(end < _TYPE_WINDOW)
+    if short.size:
+        j = np.arange(_TYPE_WINDOW)
+        mat = np.where(j < end[short, None], win[short], 0).astype(np.uint8)
+        keys = np.ascontiguousarray(mat).view(f"S{_TYPE_WINDOW}").ravel()
+        uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
+        for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
+            other[u] = c
+            first_other[u] = int(rec[short[f]])
+    for i in long_.tolist():
+        a, b = int(t0[i]), int(stop[i])
         e = data.find(bytes([sep_b]), a, b)
         t = data[a:b if e < 0 else e]
         if t in other:
             other[t] += 1
+            first_other[t] = min(first_other[t], int(rec[i]))
         else:
             other[t] = 1
-            first_other[t] = i
+            first_other[t] = int(rec[i])
     return other, first_other
 
 
-def read_block(block: bytes, sep: str, names, usecols, strings=(), ints=(), type_name: str = "") -> tuple | None:
-    """One type's records (from :func:`split_by_type`) as ``(DataFrame, float64 array of the numeric
-    columns)``, or ``None`` if any is malformed.
+class _LineReader(io.RawIOBase):
+    """A file-like object that reads the byte ranges ``[lo[i], hi[i])`` of ``data`` one after the other.
 
-    ``names`` lists the fields after the type, ``usecols`` those to read (float64, except the
-    text columns ``strings``, read verbatim: no NA conversion, no quoting, and the int64 columns
-    ``ints``, digits only; ``type_name`` is the record type written on every line). An empty numeric cell
-    or a non-numeric one (pandas raises) returns ``None``: the caller then parses line by line
-    and names the line.
+    pandas reads it a few hundred kilobytes at a time, so the selected lines are never joined into
+    one more copy of the file; each read joins the whole ranges that fit.
+    """
+
+    def __init__(self, data: bytes, lo: np.ndarray, hi: np.ndarray):
+        self._data = data
+        self._lo, self._hi = lo.tolist(), hi.tolist()
+        self._cum = np.cumsum(hi - lo)  # bytes up to the end of each range
+        self._k = 0
+        self._at = self._lo[0] if self._lo else 0
+
+    def readable(self) -> bool:
+        return True
+
+    def read(self, size: int = -1) -> bytes:
+        k, lo, hi = self._k, self._lo, self._hi
+        if k >= len(lo):
+            return b""
+        if size is None or size < 0:
+            size = int(self._cum[-1])
+        if hi[k] - self._at >= size:  # within the current range
+            out = self._data[self._at:self._at + size]
+            self._at += size
+            if self._at == hi[k]:
+                self._next(k + 1)
+            return out
+        parts = [self._data[self._at:hi[k]]]
+        j = int(np.searchsorted(self._cum, self._cum[k] + size - len(parts[0]), side="right"))  # whole ranges
+        parts += [self._data[a:b] for a, b in zip(lo[k + 1:j], hi[k + 1:j], strict=True)]
+        self._next(j)
+        return b"".join(parts)
+
+    def readall(self) -> bytes:
+        return self.read(-1)
+
+    def _next(self, k: int) -> None:
+        self._k = k
+        if k < len(self._lo):
+            self._at = self._lo[k]
+
+
+@dataclass(frozen=True)
+class Records:
+    """One record type's lines read by :func:`read_records`: numeric fields, integer fields, text fields."""
+
+    num: np.ndarray    # (n, len(num)) float64
+    ints: list         # one int64 array (n,) per integer field
+    strings: list      # one list of str per text field
+
+
+def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), strings=()) -> dict | None:
+    """The records of ``types`` (lines with ``n_sep`` separators each), parsed by pandas, or ``None``.
+
+    The lines of all ``types`` are read together, a few megabytes at a time, in file order, and
+    each type's rows are written to its own contiguous part of one array (or, when the types take
+    turns in a fixed order, left in file order: each type's rows are every k-th row). ``num``, ``ints`` and
+    ``strings`` are field indices (0-based, over the whole line) read as float64, int64 and
+    verbatim text (``ints``: a first column that :func:`split_by_type` found to be digits only).
+    ``None`` (then the caller parses line by line and names the line) if a line has another number
+    of separators, a numeric cell is empty, non-numeric or not finite, or pandas read a
+    ``True``/``False`` word as 1/0.
+
+    Returns
+    -------
+    dict
+        Type -> :class:`Records`.
     """
     import csv
-    import io
 
-    num = [c for c in usecols if c not in strings and c not in ints]
-    dtype = {c: (str if c in strings else np.int64 if c in ints else np.float64) for c in usecols}
-    try:
-        df = pd.read_csv(io.BytesIO(block), sep=sep, header=None, names=list(names), usecols=list(usecols),
-                         dtype=dtype, quoting=csv.QUOTE_NONE, keep_default_na=False,
-                         na_values={c: [""] for c in num}, engine="c", skip_blank_lines=False)
-    except (ValueError, TypeError, pd.errors.ParserError):
+    types = list(types)
+    parts = [tl.lines[t] - 1 for t in types]
+    n_of = [len(p) for p in parts]
+    code = np.repeat(np.arange(len(types)), n_of)  # each row's index in ``types``
+    if len(types) == 1:
+        rows, dest = parts[0], None
+    else:
+        cat = np.concatenate(parts)
+        dest = np.argsort(cat, kind="stable")  # file order -> position in the type-ordered output
+        rows, code = cat[dest], code[dest]
+        del cat
+    n = len(rows)
+    if np.any(tl.n_sep[rows] != n_sep):
         return None
-    v = df[num].to_numpy(dtype=np.float64)
-    if not np.isfinite(v).all():
-        return None
-    if np.any((v == 0.0) | (v == 1.0)) and any(block.count(b) > len(df) * type_name.count(b.decode())
-                                                for b in (b"r", b"R", b"l", b"L")):
-        return None  # pandas reads True/False as 1.0/0.0 in a float column; float() refuses them
-    return df.drop(columns=num), v
+    nt = len(types)
+    periodic = (nt > 1 and n % nt == 0 and len(set(code[:nt].tolist())) == nt
+                and bool((code.reshape(-1, nt) == code[:nt]).all()))
+    if periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
+        dest = None
+    lo = tl.starts[rows]
+    hi = tl.ends[rows] + 1
+    cuts = np.unique(np.searchsorted(lo, np.arange(int(lo[0]) + _PIECE, int(hi[-1]), _PIECE)))  # pieces of the file
+    bounds = [0] + [int(c) for c in cuts if 0 < c < n] + [n]
+    names = [f"c{j}" for j in range(n_sep + 1)]
+    use = sorted([*num, *ints, *strings])
+    dtype = {names[j]: (str if j in strings else np.int64 if j in ints else np.float64) for j in use}
+    out_num = np.empty((n, len(num)), dtype=np.float64, order="F")  # columns contiguous
+    out_int = [np.empty(n, dtype=np.int64) for _ in ints]
+    out_str = [np.empty(n, dtype=object) for _ in strings]
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        plo, phi = lo[a:b], hi[a:b]
+        brk = np.flatnonzero(plo[1:] != phi[:-1])  # runs of adjacent lines are read as one range
+        source = _LineReader(tl.data, plo[np.append(0, brk + 1)], phi[np.append(brk, b - a - 1)])
+        # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
+        try:
+            df = pd.read_csv(source, sep=sep, header=None, names=names, usecols=[names[j] for j in use], dtype=dtype,
+                             quoting=csv.QUOTE_NONE, na_filter=False, engine="c", skip_blank_lines=False,
+                             index_col=False, low_memory=False)  # an empty numeric cell fails the parse
+        except (ValueError, TypeError, pd.errors.ParserError):
+            return None
+        if len(df) != b - a:
+            return None
+        cols = [df[names[j]].to_numpy(dtype=np.float64) for j in num]
+        iv = [df[names[j]].to_numpy(dtype=np.int64) for j in ints]
+        lims = [(x.min(), x.max()) for x in cols]  # NaN if a cell is NaN
+        if not all(np.isfinite(m) and np.isfinite(x) for m, x in lims):
+            return None
+        # pandas reads a column made only of true/false words (any case) as 1/0 (float() and int() refuse
+        # them): a column whose values are all 0 or 1 has its lines checked
+        maybe01 = [x for x, (m, mx) in zip(cols, lims, strict=True) if m >= 0 and mx <= 1]
+        maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
+        if any(np.all((x == 0) | (x == 1)) for x in maybe01):
+            au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
+            if not _no_bool_words(tl.data, plo, phi - plo, au[code[a:b]], sep.encode(), num, ints, not strings):
+                return None
+        d = slice(a, b) if dest is None else dest[a:b]
+        for k, x in enumerate(cols):
+            out_num[d, k] = x
+        for k, x in zip(out_int, iv, strict=True):
+            k[d] = x
+        for k, j in zip(out_str, strings, strict=True):
+            k[d] = df[names[j]].to_numpy(dtype=object)
+        del df, cols, iv
+    out = {}
+    o = 0
+    for i, (t, m) in enumerate(zip(types, n_of, strict=True)):
+        sel = slice(code[:nt].tolist().index(i), None, nt) if periodic else slice(o, o + m)
+        out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int], strings=[x[sel].tolist() for x in out_str])
+        o += m
+    return out
+
+
+def _no_bool_words(data: bytes, lo, ln, au_line, sep: bytes, num, ints, vectorised: bool) -> bool:
+    """Whether the cells pandas read as 0 or 1 on the lines at ``lo`` (``ln`` bytes each) are numbers, not
+    True/False words.
+
+    pandas reads a column made only of true/false words (any case) as 1/0, where ``float()``
+    refuses them. Every such word holds an ``a`` or a ``u``, which no number does: a line whose
+    count of these letters is its record type's (``au_line``) holds none (``vectorised``: no
+    text field may hold them either); the other lines are checked cell by cell.
+    """
+    rows = np.arange(len(lo))
+    if vectorised and int(ln.max()) <= 256:
+        width = int(ln.max())
+        w = _gather(np.frombuffer(data, dtype=np.uint8), data, lo, width) | 0x20
+        hit = ((w == 97) | (w == 117)) & (np.arange(width) < ln[:, None])
+        rows = rows[np.count_nonzero(hit, axis=1) != au_line]
+    for i in rows.tolist():
+        cells = data[int(lo[i]):int(lo[i] + ln[i])].rstrip(b"\r\n").split(sep)
+        try:
+            for j in num:
+                float(cells[j])
+            for j in ints:
+                int(cells[j])
+        except ValueError:
+            return False
+    return True

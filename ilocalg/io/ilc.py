@@ -90,8 +90,8 @@ from ilocalg.io._text import (
     decode_text,
     fail,
     parse_record_log,
-    read_block,
     read_bytes,
+    read_records,
     split_by_type,
     to_float,
 )
@@ -272,30 +272,24 @@ _NUMERIC = {**{k: ((0, 1, 2), ("x", "y", "z")) for k in _SENSORS}, "TYPE_WAYPOIN
             "TYPE_WIFI": ((2, 3, 4), ("rssi", "frequency", "last seen timestamp"))}
 
 
-def _blocks_fast(data: bytes) -> tuple[dict, dict, list] | None:
+def _blocks_fast(data: bytes, is_ascii: bool | None = None) -> tuple[dict, dict, list] | None:
     """Records grouped by type without a Python loop per line, or None (then :func:`_blocks_slow`)."""
-    tl = split_by_type(data, b"\t", 1, {k: n + 1 for k, n in _N_VALUES.items()}, header=b"#", spaces_ok=True)
+    tl = split_by_type(data, b"\t", 1, {k: n + 1 for k, n in _N_VALUES.items()}, header=b"#", spaces_ok=True,
+                       is_ascii=is_ascii)
     if tl is None:
         return None
     out = {}
-    for rtype, make_block in tl.blocks.items():
-        block = make_block()
-        sel, _ = _NUMERIC[rtype]
-        names = ["t_ms", "type"] + [f"v{j}" for j in range(_N_VALUES[rtype])]
-        num = [f"v{j}" for j in sel]
-        text = ["v0", "v1"] if rtype == "TYPE_WIFI" else []
-        got = read_block(block, "\t", names, ["t_ms"] + sorted(num + text), strings=text, ints=("t_ms",),
-                         type_name=rtype)
-        del block
+    sensors = [t for t in _SENSORS if t in tl.lines]  # one layout: read together
+    groups = ([sensors] if sensors else []) + [[t] for t in ("TYPE_WAYPOINT", "TYPE_WIFI") if t in tl.lines]
+    for types in groups:
+        sel, _ = _NUMERIC[types[0]]
+        wifi = types == ["TYPE_WIFI"]
+        got = read_records(tl, types, "\t", _N_VALUES[types[0]] + 1, [j + 2 for j in sel], ints=(0,),
+                           strings=(2, 3) if wifi else ())
         if got is None:
             return None
-        df, v = got
-        t = df["t_ms"].to_numpy()
-        if rtype == "TYPE_WIFI":
-            out[rtype] = _Block(tl.lines[rtype], t, v, df["v0"].tolist(), df["v1"].tolist())
-        else:
-            out[rtype] = _Block(tl.lines[rtype], t, v)
-        del df, got
+        for t, r in got.items():
+            out[t] = _Block(tl.lines[t], r.ints[0], r.num, *r.strings)
     return out, tl.counts, tl.header
 
 
@@ -362,9 +356,14 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     by_type, counts, header_lines = fast
     empty = _Block(np.zeros(0, dtype=np.int64), [], np.zeros((0, 3)), [], [])
 
-    def sensor(rtype):
+    def sensor(rtype, checked_t=None):
         blk = by_type.get(rtype, empty)
         linenos, v = blk.lines, blk.num
+        if (checked_t is not None and isinstance(blk.t_ms, np.ndarray) and blk.t_ms.dtype == np.int64
+                and np.array_equal(blk.t_ms, checked_t)):
+            t = blk.t_ms  # the times another sensor's records passed: the same checks would pass again
+            check_range(v, _RANGE[rtype], source, linenos, ("3 (x)", "4 (y)", "5 (z)"))
+            return linenos, t, v.reshape(-1, 3)
         t = _times_ms(blk.t_ms, linenos, source)
         _check_increasing(t, linenos, source, rtype)
         check_range(v, _RANGE[rtype], source, linenos, ("3 (x)", "4 (y)", "5 (z)"))
@@ -378,7 +377,7 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     for rtype in ("TYPE_ACCELEROMETER", "TYPE_GYROSCOPE", "TYPE_MAGNETIC_FIELD"):
         if rtype not in by_type:
             continue
-        linenos, t, v = sensor(rtype)
+        linenos, t, v = sensor(rtype, None if ref is None else ref[1])
         if ref is None:
             ref = (rtype, t)
         elif t.size != ref[1].size or not np.array_equal(t, ref[1]):
@@ -401,8 +400,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
         check_imu(imu, source)
 
     if "TYPE_ROTATION_VECTOR" in by_type:
-        _, t, v = sensor("TYPE_ROTATION_VECTOR")
-        rotvec = pd.DataFrame(v, columns=list(ROTVEC_COLS), index=pd.Index(t * 1e-3, name=T_S))
+        _, t, v = sensor("TYPE_ROTATION_VECTOR", None if ref is None else ref[1])
+        rotvec = pd.DataFrame(v, columns=list(ROTVEC_COLS), index=pd.Index(t * 1e-3, name=T_S), copy=False)
     else:
         rotvec = pd.DataFrame({c: np.array([], dtype=np.float64) for c in ROTVEC_COLS},
                               index=pd.Index([], dtype=np.float64, name=T_S))

@@ -52,8 +52,8 @@ from ilocalg.io._text import (
     check_record_types,
     fail,
     parse_record_log,
-    read_block,
     read_bytes,
+    read_records,
     split_by_type,
     to_float,
 )
@@ -169,27 +169,21 @@ class _Block:
 _NUMERIC = {"ACCE": (0, 1, 2, 3, 4), "GYRO": (0, 1, 2, 3, 4), "MAGN": (0, 1, 2, 3, 4), "WIFI": (0, 1, 4, 5),
             "POSI": (0, 1, 2, 3, 4, 5)}
 _FIELDS = {"ACCE": _IMU_FIELDS, "GYRO": _IMU_FIELDS, "MAGN": _IMU_FIELDS, "WIFI": _WIFI_FIELDS, "POSI": _POSI_FIELDS}
-def _blocks_fast(data: bytes) -> tuple[dict, dict] | None:
+def _blocks_fast(data: bytes, is_ascii: bool | None = None) -> tuple[dict, dict] | None:
     """Records grouped by type without a Python loop per line, or None (then :func:`_blocks_slow`)."""
-    tl = split_by_type(data, b";", 0, _N_FIELDS, comment=b"%")  # n fields after the type = n separators
+    tl = split_by_type(data, b";", 0, _N_FIELDS, comment=b"%", is_ascii=is_ascii)  # n fields after type = n seps
     if tl is None:
         return None
     out = {}
-    for rtype, make_block in tl.blocks.items():
-        block = make_block()
-        names = ["type"] + [f"f{j}" for j in range(_N_FIELDS[rtype])]
-        num = [f"f{j}" for j in _NUMERIC[rtype]]
-        text = ["f2", "f3"] if rtype == "WIFI" else []  # ssid, bssid (IMU Accuracy is not read)
-        got = read_block(block, ";", names, sorted(num + text), strings=text, type_name=rtype)
-        del block
+    imu = [t for t in _IMU if t in tl.lines]  # one layout: read together
+    groups = ([imu] if imu else []) + [[t] for t in ("WIFI", "POSI") if t in tl.lines]
+    for types in groups:
+        num = [j + 1 for j in _NUMERIC[types[0]]]  # fields after the type
+        got = read_records(tl, types, ";", 6, num, strings=(3, 4) if types == ["WIFI"] else ())
         if got is None:
             return None
-        df, v = got
-        if rtype == "WIFI":
-            out[rtype] = _Block(tl.lines[rtype], v, df["f2"].tolist(), df["f3"].tolist())
-        else:
-            out[rtype] = _Block(tl.lines[rtype], v)
-        del df, got
+        for t, r in got.items():
+            out[t] = _Block(tl.lines[t], r.num, *r.strings) if t == "WIFI" else _Block(tl.lines[t], r.num)
     return out, tl.counts
 
 
@@ -254,7 +248,7 @@ def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = 
         other = "sensor" if time == "app" else "app"
         _increasing(t_idx, linenos, source, rtype,
                     hint=f" ({'App' if time == 'app' else 'Sensor'}Timestamp; try time={other!r})")
-        df = pd.DataFrame(v[:, 2:5], columns=list(cols), index=pd.Index(t_idx, name=T_S))
+        df = pd.DataFrame(v[:, 2:5], columns=list(cols), index=pd.Index(t_idx, name=T_S), copy=False)
         imu[name] = check_imu(df, source)
         sensor_t[name] = t_sen
 

@@ -127,25 +127,29 @@ def _read_numeric_csv(data: bytes, source: str, ncols, names) -> np.ndarray:
     nl = data.find(b"\n", 0, end)
     first = data[:nl if nl >= 0 else end]
     ncols = first.count(b",") + 1 if first.count(b",") + 1 in accepted else accepted[0]
-    if data.find(b"\n\n", 0, end) < 0 and data.find(b"\n\r\n", 0, end) < 0:
-        try:
-            df = pd.read_csv(io.BytesIO(data), header=None, dtype=np.float64, engine="c", quoting=csv.QUOTE_NONE)
-        except (ValueError, pd.errors.ParserError):
-            df = None
-        # (pandas reads True/False as 1/0; float() refuses them: such files go line by line)
-        letters = any(c in data for c in (b"r", b"R", b"l", b"L"))
-        if df is not None and df.shape[1] == ncols and all(
-                np.isfinite(x.min()) and np.isfinite(x.max()) and not (letters and np.any((x == 0.0) | (x == 1.0)))
-                for x in (df[c].to_numpy() for c in df.columns)):
-            # the bytes are no longer needed (freed here unless the caller keeps them); then one column at a
-            # time into the table, each freed once copied (the frame holds one array per column: to_numpy
-            # would keep a second whole copy beside it)
-            del data
-            v = np.empty(df.shape, dtype=np.float64, order="F")
-            for j, c in enumerate(list(df.columns)):
-                v[:, j] = df.pop(c).to_numpy()
-            return v
-        del df
+    # blank lines are kept (skip_blank_lines=False): one inside the data is a row of NaN, refused below, and
+    # the line parser names it; trailing blank lines and spaces are left out of what pandas reads
+    src = data if data[end:] in (b"", b"\n", b"\r\n") else data[:end]
+    try:
+        df = pd.read_csv(io.BytesIO(src), header=None, dtype=np.float64, engine="c", quoting=csv.QUOTE_NONE,
+                         skip_blank_lines=False, na_filter=False)  # an empty or missing cell fails the parse
+    except (ValueError, pd.errors.ParserError):
+        df = None
+    del src
+    # (pandas reads True/False as 1/0; float() refuses them: such files go line by line)
+    letters = any(c in data for c in (b"r", b"R", b"l", b"L"))
+    if df is not None and df.shape[1] == ncols and all(
+            np.isfinite(x.min()) and np.isfinite(x.max()) and not (letters and np.any((x == 0.0) | (x == 1.0)))
+            for x in (df[c].to_numpy() for c in df.columns)):
+        # the bytes are no longer needed (freed here unless the caller keeps them); then one column at a
+        # time into the table, each freed once copied (the frame holds one array per column: to_numpy
+        # would keep a second whole copy beside it)
+        del data
+        v = np.empty(df.shape, dtype=np.float64, order="F")
+        for j, c in enumerate(list(df.columns)):
+            v[:, j] = df.pop(c).to_numpy()
+        return v
+    del df
     return _read_numeric_lines(decode_text(data, source), source, ncols, names)
 
 

@@ -191,12 +191,12 @@ def check_time_index(t_s, source: str | None = None, name: str = T_S) -> np.ndar
         raise ValueError(f"{_where(source)}{name} must be one-dimensional, got shape {t.shape}")
     if t.size == 0:
         raise ValueError(f"{_where(source)}{name} is empty")
-    bad = np.flatnonzero(~np.isfinite(t))
-    if bad.size:
+    if not np.isfinite(t).all():
+        bad = np.flatnonzero(~np.isfinite(t))
         raise ValueError(f"{_where(source)}{name} is not finite at row {bad[0]} ({t[bad[0]]})")
     d = np.diff(t)
-    bad = np.flatnonzero(d <= 0)
-    if bad.size:
+    if not (d > 0).all():
+        bad = np.flatnonzero(d <= 0)
         i = bad[0] + 1
         kind = "duplicate" if d[bad[0]] == 0 else "decreasing"
         raise ValueError(
@@ -221,8 +221,8 @@ def check_imu(df: pd.DataFrame, source: str | None = None, required=()) -> pd.Da
         v = df[c].to_numpy()
         if not np.issubdtype(v.dtype, np.floating):
             raise ValueError(f"{_where(source)}IMU column {c!r} must be float, got {v.dtype}")
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
+        if not np.isfinite(v).all():
+            bad = np.flatnonzero(~np.isfinite(v))
             raise ValueError(f"{_where(source)}IMU column {c!r} is not finite at row {bad[0]}")
     return df
 

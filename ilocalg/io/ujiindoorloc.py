@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io._text import count_per_line, decode_text, read_bytes
-from ilocalg.io.schema import BUILDING, FLOOR, RSSI_DBM, FingerprintSet, check_range
+from ilocalg.io._text import byte_positions, count_per_line, decode_text, read_bytes
+from ilocalg.io.schema import BUILDING, FIELD_RANGES, FLOOR, RSSI_DBM, FingerprintSet, check_range
 
 __all__ = [
     "N_WAPS",
@@ -65,8 +65,7 @@ def _read_integer_rssi(data: bytes, header: list, n_rows: int):
     wanted = set(WAP_COLUMNS)
     try:
         with np.errstate(invalid="ignore", over="ignore"):  # a cell pandas cannot cast: the float64 path names it
-            df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, engine="c",
-                             keep_default_na=False, na_values=[],
+            df = pd.read_csv(io.BytesIO(data), header=0, names=header, nrows=n_rows, engine="c", na_filter=False,
                              dtype={c: (np.int16 if c in wanted else np.float64) for c in header})
     except (ValueError, TypeError, OverflowError, pd.errors.ParserError):
         return None, None
@@ -146,7 +145,7 @@ def load_ujiindoorloc(path) -> FingerprintSet:
         end -= 1
     if end == 0:
         raise ValueError(f"{path}: empty file (expected a header and data rows)")
-    if data.count(b"\r", 0, end) != data.count(b"\r\n", 0, end):
+    if data.find(b"\r", 0, end) >= 0 and data.count(b"\r", 0, end) != data.count(b"\r\n", 0, end):
         k = data.find(b"\r", 0, end)
         while data[k + 1:k + 2] == b"\n":
             k = data.find(b"\r", k + 1, end)
@@ -170,15 +169,15 @@ def load_ujiindoorloc(path) -> FingerprintSet:
     n_fields = len(header)
     # fields per data line (commas + 1), vectorised: the first line with another count is named
     body = np.frombuffer(data, dtype=np.uint8, count=end - nl - 1, offset=nl + 1)
-    starts = np.concatenate([[0], np.flatnonzero(body == 10) + 1])
+    starts = np.concatenate([[0], byte_positions(body, 10) + 1])
     n_per_line = count_per_line(body, 44, starts) + 1
     bad = np.flatnonzero(n_per_line != n_fields)
     if bad.size:
         i, c = int(bad[0]), int(n_per_line[bad[0]])
         what = "truncated line" if c < n_fields else "too many fields"
         raise ValueError(f"{path}: line {i + 2}: {what}: {c} fields, expected {n_fields}")
+    n_rows = len(starts)  # lines of the body (it ends without a line end)
     del body, starts, n_per_line
-    n_rows = int(data.count(b"\n", nl + 1, end)) + 1
     letters = any(data.find(c, nl) >= 0 for c in (b"r", b"R", b"l", b"L"))  # (True/False: see below)
     # RSSI codes are integers in real files: parsed as int16 (a quarter of float64's memory), then widened
     # once; any cell that is not such an integer sends the file down the float64 path below, unchanged
@@ -186,14 +185,19 @@ def load_ujiindoorloc(path) -> FingerprintSet:
     if wap is None:
         wap, cols = _read_float_table(data, path, header, n_rows, letters)
     del data
-    rssi = wap.astype(np.float64, order="F")  # (column-major, as pandas' blocks are; modified in place below)
-    del wap
-    lines_no = np.arange(2, rssi.shape[0] + 2)
+    lines_no = np.arange(2, wap.shape[0] + 2)
     # 100 = not detected; every other reading must be a received power
-    not_heard = rssi == NOT_DETECTED
-    rssi[not_heard] = 0.0
-    check_range(rssi, RSSI_DBM, path, lines_no, WAP_COLUMNS)
-    rssi[not_heard] = np.nan
+    spec = FIELD_RANGES[RSSI_DBM]
+    not_heard = wap == NOT_DETECTED
+    if wap.dtype == np.int16 and np.all(not_heard | ((wap >= spec.lo) & (wap <= spec.hi))):  # whole numbers
+        rssi = wap.astype(np.float64, order="F")  # (column-major, as pandas' blocks are)
+        del wap
+    else:  # the range check on float64 names the first value outside (row-major)
+        rssi = wap.astype(np.float64, order="F")
+        del wap
+        rssi[not_heard] = 0.0
+        check_range(rssi, RSSI_DBM, path, lines_no, WAP_COLUMNS)
+    np.copyto(rssi, np.nan, where=not_heard)
     del not_heard
     for c in ("LONGITUDE", "LATITUDE"):
         check_range(cols[c], "xy_m", path, lines_no, c)
