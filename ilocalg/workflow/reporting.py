@@ -422,8 +422,9 @@ def how_to_read(seed, fast: bool, n_seeds: int, sweep: bool) -> list[str]:
         "- **cannot be tested**: the paper's data or setting are not available (the note says what is missing).",
         "",
         "**Robustness** is the share of the space of the assumptions the paper does not fix (sampled jointly, Latin "
-        f"hypercube: up to {N_SAMPLES} fast-mode runs per experiment at the base seed, within a {BUDGET_S:.0f} s "
-        "budget per reproduce; the note says when fewer were run) in which the verdict holds, and the assumption "
+        f"hypercube: {N_SAMPLES} fast-mode runs per experiment at the base seed, beside the notebooks; a run still "
+        f"missing afterwards gets a {BUDGET_S:.0f} s budget, and the note says when fewer were run) in which the "
+        "verdict holds, and the assumption "
         "that moves it most (largest |Spearman rho| with the claim's statistic). Each claim links to the notebook "
         "section that decides it.",
         "",
