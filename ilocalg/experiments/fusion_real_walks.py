@@ -189,7 +189,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
     sw["item"] = dataset + "/" + sw["walk"] + "#" + sw["waypoint"].astype(str)
     sw["unit"] = "m"
     return {"waypoints": wp, "per_walk": pw, "summary": summ, "diagnostics": diag, "measures": pd.DataFrame(meas),
-            "readings": _readings(relisted_wifi), "tracks": tracks, "truth": truth,
+            "readings": _readings(relisted_wifi, cfg.pf_recovery), "tracks": tracks, "truth": truth,
             "sweep_waypoints": sw[["quantity", "value", "item", "unit"]]}
 
 
@@ -225,7 +225,7 @@ def leave_one_walk_out(datasets=SITE1, n_shards: int | None = None, names_every:
     return sweep_summary(res.results)
 
 
-def _readings(relisted_wifi: str) -> pd.DataFrame:
+def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.DataFrame:
     return readings_table([
         reading("Wi-Fi re-listed readings", "", "silent (ILC 2.0 files: about half the TYPE_WIFI lines re-list the "
                 "previous scan's reading of the same AP, last seen within 1 ms)",
@@ -239,6 +239,13 @@ def _readings(relisted_wifi: str) -> pd.DataFrame:
                 "displacements of the other walks", "measured on the database walks"),
         reading("least-squares robustness", "", "silent", "Huber weights on the fixes, c = 1.345 sd",
                 "Huber (1981)"),
+        reading("particle filter recovery", "", "silent (no paper fuses with a particle filter)",
+                "none: a lost particle cloud never comes back" if pf_recovery is None else
+                f"recovery={pf_recovery!r}: Augmented MCL, averages of the fix likelihood at rates 0.001 / 0.1, new "
+                "particles drawn from the fix's N(z, R) on walkable cells"
+                + (" (both averages restarted after an injection)" if pf_recovery == "amcl" else ""),
+                "Thrun, Burgard, Fox 2005, Table 8.3; rates: ROS amcl recovery_alpha_slow / _fast; sensor "
+                "resetting: Lenser & Veloso 2000"),
     ])
 
 
