@@ -36,7 +36,6 @@ PAPER_FILES = {
 #: top of the sweep's own (manifest.SWEEP_KWARGS: the claims read only the long results, as the sweep does).
 FAST_KWARGS = {
     "ins_constraints": {"reference_grade": False},
-    "pso_k_factor": {"real": False},
 }
 
 _NUMBER = re.compile(r"\d+(?:\.\d+)?")
