@@ -1,8 +1,8 @@
 # %% [markdown]
 # # 15 Sweep studies: the papers' parameter studies, far beyond their few points, with 95 % CIs
 #
-# Four studies run across simulation seeds and parameter grids on a Dask `LocalCluster`
-# (`ilocalg.workflow.sweep`), each point reported as mean and 95 % confidence interval over the seeds:
+# Four studies run across simulation seeds and parameter grids (`ilocalg.workflow.sweep`: a Dask `LocalCluster`, or
+# reproduce's process pool), each point reported as mean and 95 % confidence interval over the seeds:
 #
 # 1. Wi-Fi fingerprinting (i-Loc (Chiu 2013), sec. 3, Figs 3 and 5): Simplified-RADAR, Simplified-Horus
 #    and KNN error vs the number of strongest APs k, the training-point spacing and the scans per
@@ -38,36 +38,41 @@ import ilocviz.studies as vs
 from ilocalg.experiments import study_ins_window, study_kf_noise, study_pso, study_wifi
 from ilocalg.experiments.wifi_iloc import PAPER_ILOC
 from ilocalg.workflow.reporting import Report
-from ilocalg.workflow.studies import curves, select
-from ilocalg.workflow.sweep import aggregate, sweep
+from ilocalg.workflow.studies import curves, notebook_tasks, run_notebook_tasks, select, study_seeds
+from ilocalg.workflow.sweep import aggregate
 
 report = Report(OUT_DIR, "15_sweep_studies")
 ilocviz.table_display()  # whole numbers without decimals, text cells in full
-N_SEEDS = 3 if FAST else 12
-seeds = range(SEED, SEED + N_SEEDS)
+seeds = study_seeds(SEED, FAST)
+N_SEEDS = len(seeds)
 STUDIES = {"wifi": study_wifi, "ins_window": study_ins_window, "kf_noise": study_kf_noise, "pso": study_pso}
 
 # %% [markdown]
 # ## One sweep, every study
-# All tasks of the four studies go to one `LocalCluster` of two single-threaded worker processes;
-# each task is one `run(seed, fast, **params)` of a study. Nothing is cached here (a re-run recomputes).
+# Each task is one `run(seed, fast, **params)` of a study. Run on its own, this notebook sends all tasks of the four
+# studies to one `LocalCluster` of two single-threaded worker processes, and nothing is cached (a re-run
+# recomputes). Under `make reproduce` the same tasks run as jobs of reproduce's own process pool, beside the other
+# notebooks (no second pool competing for the cores), and this cell reads their results from reproduce's sweep
+# cache (keyed by the code's fingerprint); a task not there yet runs here.
 
 # %%
 # the workers' own log lines (a failed task is reported below with its seed and parameters; the
 # workers' heartbeat complaints while the cluster shuts down are noise) stay out of the notebook
 os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")
-tasks = [t for m in STUDIES.values() for t in m.tasks(seeds, FAST)]
+tasks = notebook_tasks("15_sweep_studies", SEED, FAST)
 t0 = time.perf_counter()
-res = sweep(tasks, workers=2, cache_dir=None, progress=False)
+res, ran_on = run_notebook_tasks(tasks, workers=2)
 wall_s = time.perf_counter() - t0
 for f in res.failures:
     print("FAILED:", f["task"], f["error"])
 agg = aggregate(res.results)
 cv = {name: curves(agg, m.EXPERIMENT) for name, m in STUDIES.items()}
 report.table(agg, "summary")
-report.table(pd.DataFrame([{"tasks": res.n_tasks, "failed": len(res.failures), "seeds": N_SEEDS, "workers": 2,
-                            "wall_s": wall_s}]), "sweep_timing", deterministic=False)
-print(f"{res.n_tasks} tasks, {len(res.failures)} failed, {wall_s:.1f} s on 2 workers")
+report.table(pd.DataFrame([{"tasks": res.n_tasks, "failed": len(res.failures), "seeds": N_SEEDS, "ran on": ran_on,
+                            "read from the cache": res.n_cached, "wall_s": wall_s}]), "sweep_timing",
+             deterministic=False)
+print(f"{res.n_tasks} tasks ({res.n_cached} read from reproduce's cache), {len(res.failures)} failed, "
+      f"{wall_s:.1f} s in this cell ({ran_on})")
 
 # %% [markdown]
 # ## 1 Wi-Fi: error vs k, training-point spacing and scans per point

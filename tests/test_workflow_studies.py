@@ -8,6 +8,7 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 import pytest  # noqa: E402
 
 from ilocalg.experiments import study_kf_noise  # noqa: E402
@@ -56,3 +57,25 @@ def test_curves_expand_params_and_items_and_plots_draw_them():
     vs.ci_reference(d.iloc[0], ax=ax, label="ref")
     assert np.isclose(ax.lines[-1].get_ydata()[0], d.iloc[0]["mean"])
     plt.close(fig)
+
+
+def test_notebook_tasks_are_the_studies_tasks_in_the_notebooks_order():
+    import importlib
+
+    for stem, names in sc.NOTEBOOK_STUDIES.items():
+        seeds = sc.study_seeds(3, fast=True)
+        want = [t for n in names for t in importlib.import_module(f"ilocalg.experiments.{n}").tasks(seeds, True)]
+        assert [t.key for t in sc.notebook_tasks(stem, 3, True)] == [t.key for t in want]
+    assert list(sc.study_seeds(5, False)) == list(range(5, 17))
+    with pytest.raises(ValueError, match="not a study notebook"):
+        sc.notebook_tasks("01_wifi_radar_horus_knn", 0, True)
+
+
+def test_under_reproduce_the_tasks_come_from_the_pools_cache_and_equal_a_run_here(tmp_path, monkeypatch):
+    tasks = study_kf_noise.tasks(range(1), True)[:3]
+    here = sw.sweep(tasks, workers=0, cache_dir=None, progress=False).results
+    sw.sweep(tasks[:2], workers=0, cache_dir=tmp_path, progress=False)  # what the pool ran before the notebook
+    monkeypatch.setenv(sc.STUDY_CACHE_ENV, str(tmp_path))
+    res, how = sc.run_notebook_tasks(tasks)
+    assert how == "reproduce pool" and res.n_cached == 2 and res.n_tasks == 3 and not res.failures
+    pd.testing.assert_frame_equal(res.results, here, check_exact=True)

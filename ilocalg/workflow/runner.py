@@ -30,6 +30,7 @@ from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.claims_step import robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
+from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
            "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS", "cpu_seconds",
@@ -83,21 +84,25 @@ def _relative(path: str | Path, start: Path) -> str:
 
 
 def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool = True,
-                     html: bool = True, record: tuple[str, list[str]] | None = None) -> Path:
+                     html: bool = True, record: tuple[str, list[str]] | None = None,
+                     study_cache: str | Path | None = None) -> Path:
     """Execute one notebook with papermill into ``out_dir/<name>.ipynb`` (+ ``.html``), figures inline.
 
     ``record`` = (sweep cache folder, experiments): the kernel stores those experiments' runs in the
-    sweep cache (:func:`ilocalg.workflow.sweep.record_runs`).
+    sweep cache (:func:`ilocalg.workflow.sweep.record_runs`). ``study_cache``: the sweep cache in which the
+    runner's pool ran a study notebook's tasks (:func:`ilocalg.workflow.studies.run_notebook_tasks` reads them).
     """
     import papermill as pm  # heavy; imported only when notebooks run
 
     from ilocalg.workflow import sweep as sw
     from ilocalg.workflow.kernels import QuietKernelManager
+    from ilocalg.workflow.studies import STUDY_CACHE_ENV
 
     out_nb = out_dir / nb.name
     env = {"MPLBACKEND": KERNEL_MPLBACKEND,
            sw.RECORD_ENV: str(record[0]) if record and record[1] else None,
-           sw.RECORD_EXPERIMENTS_ENV: ",".join(record[1]) if record and record[1] else None}
+           sw.RECORD_EXPERIMENTS_ENV: ",".join(record[1]) if record and record[1] else None,
+           STUDY_CACHE_ENV: str(study_cache) if study_cache is not None else None}
     try:
         with _environ(**env):
             pm.execute_notebook(
@@ -185,11 +190,12 @@ def cpu_seconds() -> float:
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
-def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, progress: bool = False) -> dict:
+def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, progress: bool = False,
+                  study_cache: Path | None = None) -> dict:
     """One notebook as a pool job: never raises, returns its name, wall and CPU time and error (or None)."""
     t0, c0 = time.perf_counter(), cpu_seconds()
     try:
-        execute_notebook(nb, out_dir, params, progress=progress, html=html, record=record)
+        execute_notebook(nb, out_dir, params, progress=progress, html=html, record=record, study_cache=study_cache)
         err = None
     except NotebookFailed as exc:
         err = str(exc)
@@ -199,7 +205,8 @@ def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, pro
 
 
 def _sweep_job(task, cache_dir: Path) -> dict:
-    """One seed-sweep run as a pool job: result into the cache; failures are reported by the sweep later."""
+    """One seed-sweep run, robustness sample or study task as a pool job: result into the cache; failures are
+    reported by whoever reads the cache later (the sweep, the claims step, the study notebook)."""
     from ilocalg.workflow import sweep as sw
 
     t0, c0 = time.perf_counter(), cpu_seconds()
@@ -238,7 +245,7 @@ def idle_wall_estimate(job_cpu_s: list[float], slots: int, serial_cpu_s: float =
     ``slots`` cores, each on the core that frees first (the runner's own order), taking as long as their CPU
     time; the stages after them (``serial_cpu_s``) are added as if run on one core. A job's wall time on an idle
     machine is at least its CPU time (less only for a job that runs processes of its own in parallel, such as
-    notebook 15's Dask workers) and more by what it waits for (kernel start, disk), so this is an estimate of
+    a study notebook run alone on its Dask workers) and more by what it waits for (kernel start, disk), so this is an estimate of
     the order of the wall time, not a bound either way.
     """
     import heapq
@@ -255,7 +262,9 @@ def write_timings(out_dir: Path, rows: list[dict]) -> Path:
     """Write ``out_dir/timings.csv``: where reproduce spent its wall time and its CPU time.
 
     One row per notebook (stage ``notebook``), per swept experiment (stage ``sweep``: the summed times of
-    its runs at the other seeds, ``runs`` of them, run beside the notebooks or after them), and per step of
+    its runs at the other seeds, ``runs`` of them, run beside the notebooks or after them), per experiment of
+    the claims' robustness samples (stage ``robustness``) and of a study notebook's tasks run in the pool (stage
+    ``study``: notebook 15's own row is then the time it took to read and draw them), and per step of
     the run (stage ``run``: ``notebooks`` from the first notebook started to the last finished, ``sweep after
     notebooks``, ``claims ledger``, ``report build``, ``total``, and ``idle wall estimate``:
     :func:`idle_wall_estimate` of the CPU times, in both columns). ``seconds`` are wall times of jobs that may
@@ -329,6 +338,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     stage_rows: list[dict] = []
     sweep_s: dict[str, list[tuple[float, float]]] = {}
     sample_s: dict[str, list[tuple[float, float]]] = {}
+    study_s: dict[str, list[tuple[float, float]]] = {}
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
     print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
           f"{jobs} side by side)", flush=True)
@@ -366,8 +376,16 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         # the claims step's robustness samples (fast-mode runs at the base seed) fill the cores beside the notebooks
         samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest)
                    if not sw._cache_path(cache_dir, t).exists()] if manifest else []
+        # a study notebook's tasks (notebook 15: some 900 short runs) are jobs of this pool too, run before the
+        # notebook (which then reads them from the cache) instead of a second pool of its own inside one job
+        study_nbs = [nb.stem for nb in nbs if nb.stem in NOTEBOOK_STUDIES]
+        studies = [t for stem in study_nbs for t in notebook_tasks(stem, seed, fast)
+                   if not sw._cache_path(cache_dir, t).exists()]
         owner = {e: nb.stem for nb in nbs for e in swept[nb.stem]}
-        jobs_list = [(timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb) for i, nb in enumerate(nbs)]
+        first = float("inf")  # the study tasks, then their notebook, then everything else longest first
+        jobs_list = [(first if nb.stem in study_nbs else timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb)
+                     for i, nb in enumerate(nbs)]
+        jobs_list += [(first, -1, i, "study", t) for i, t in enumerate(studies)]
         jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
                                timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
                       for i, t in enumerate(extra)]
@@ -380,8 +398,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             futs = {}
             for _, _, _, kind, item in jobs_list:
                 if kind == "nb":
-                    futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item))] = \
-                        (kind, item.stem)
+                    study_cache = cache_dir if item.stem in study_nbs else None
+                    futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item),
+                                     study_cache=study_cache)] = (kind, item.stem)
                 else:  # a seed-sweep run or a robustness sample: one task into the cache
                     futs[pool.submit(_sweep_job, item, cache_dir)] = (kind, item.experiment)
             n_done = 0
@@ -401,6 +420,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                         timings[f"sample:{name}"] = r["seconds"]
                         sample_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
                         continue
+                    if kind == "study":
+                        study_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
+                        continue
                     n_done += 1
                     timings[_timing_key(name, fast)] = r["seconds"]
                     stage_rows.append({"stage": "notebook", "name": name, "seconds": r["seconds"],
@@ -412,10 +434,10 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                     elif not r["error"]:
                         print(f"[{n_done}/{len(nbs)}] {name} done in {r['seconds']:.1f} s", flush=True)
     t_notebooks, c_notebooks = time.perf_counter() - t_start, cpu_seconds() - c_start
-    job_cpu = [r["cpu_seconds"] for r in stage_rows] + [c for d in (sweep_s, sample_s) for v in d.values()
+    job_cpu = [r["cpu_seconds"] for r in stage_rows] + [c for d in (sweep_s, sample_s, study_s) for v in d.values()
                                                          for _, c in v]
     stage_rows.sort(key=lambda r: r["name"])
-    for stage_name, runs in (("sweep", sweep_s), ("robustness", sample_s)):
+    for stage_name, runs in (("sweep", sweep_s), ("robustness", sample_s), ("study", study_s)):
         stage_rows += [{"stage": stage_name, "name": e, "seconds": sum(w for w, _ in v),
                         "cpu_seconds": sum(c for _, c in v), "runs": len(v)} for e, v in sorted(runs.items())]
     stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks, "cpu_seconds": c_notebooks})

@@ -20,7 +20,17 @@ import pandas as pd
 
 from ilocalg.workflow.sweep import SweepTask, make_tasks
 
-__all__ = ["item_label", "parse_item", "study_row", "study_tasks", "curves", "select"]
+__all__ = ["item_label", "parse_item", "study_row", "study_tasks", "curves", "select", "NOTEBOOK_STUDIES",
+           "study_seeds", "notebook_tasks", "run_notebook_tasks", "STUDY_CACHE_ENV"]
+
+#: Notebook stem -> the studies it sweeps (``ilocalg.experiments.<name>``), in the notebook's order.
+NOTEBOOK_STUDIES: dict[str, tuple[str, ...]] = {
+    "15_sweep_studies": ("study_wifi", "study_ins_window", "study_kf_noise", "study_pso"),
+}
+
+#: Environment variable through which the reproduce runner tells a study notebook's kernel the sweep cache
+#: its process pool has filled with the notebook's tasks (:func:`run_notebook_tasks`).
+STUDY_CACHE_ENV = "ILOCALG_STUDY_CACHE"
 
 
 def item_label(**context) -> str:
@@ -64,6 +74,39 @@ def study_tasks(experiment: str, grids: Iterable[Mapping[str, list]], seeds: Ite
                 seen.add(t.key)
                 out.append(t)
     return out
+
+
+def study_seeds(seed: int, fast: bool) -> range:
+    """Seeds of a study notebook: ``seed .. seed + N - 1``, N = 12 (fast mode: 3)."""
+    return range(int(seed), int(seed) + (3 if fast else 12))
+
+
+def notebook_tasks(stem: str, seed: int, fast: bool) -> list[SweepTask]:
+    """Every sweep task of study notebook ``stem`` (:data:`NOTEBOOK_STUDIES`), the notebook's order."""
+    import importlib
+
+    if stem not in NOTEBOOK_STUDIES:
+        raise ValueError(f"{stem!r} is not a study notebook (have {sorted(NOTEBOOK_STUDIES)})")
+    seeds = study_seeds(seed, fast)
+    return [t for name in NOTEBOOK_STUDIES[stem]
+            for t in importlib.import_module(f"ilocalg.experiments.{name}").tasks(seeds, fast)]
+
+
+def run_notebook_tasks(tasks: list[SweepTask], workers: int = 2):
+    """Run a study notebook's tasks: on a LocalCluster of ``workers`` processes when the notebook runs alone;
+    under ``reproduce`` (:data:`STUDY_CACHE_ENV` set), read from the sweep cache its process pool filled
+    beside the other notebooks, any task not there yet running in this process.
+
+    Returns (:class:`ilocalg.workflow.sweep.SweepResult`, how it ran: ``"LocalCluster"`` or ``"reproduce pool"``).
+    """
+    import os
+
+    from ilocalg.workflow.sweep import sweep
+
+    cache = os.environ.get(STUDY_CACHE_ENV)
+    if cache:
+        return sweep(tasks, workers=0, cache_dir=cache, progress=False), "reproduce pool"
+    return sweep(tasks, workers=workers, cache_dir=None, progress=False), "LocalCluster"
 
 
 def _numeric(s: pd.Series) -> pd.Series:
