@@ -245,8 +245,8 @@ def idle_wall_estimate(job_cpu_s: list[float], slots: int, serial_cpu_s: float =
     ``slots`` cores, each on the core that frees first (the runner's own order), taking as long as their CPU
     time; the stages after them (``serial_cpu_s``) are added as if run on one core. A job's wall time on an idle
     machine is at least its CPU time (less only for a job that runs processes of its own in parallel, such as
-    a study notebook run alone on its Dask workers) and more by what it waits for (kernel start, disk), so this is an estimate of
-    the order of the wall time, not a bound either way.
+    a study notebook run alone on its Dask workers) and more by what it waits for (kernel start, disk), so this
+    is an estimate of the order of the wall time, not a bound either way.
     """
     import heapq
 
