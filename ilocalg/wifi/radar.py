@@ -53,22 +53,30 @@ _Q_BATCH = 512
 
 
 def _stack_query(q: np.ndarray, a: np.ndarray, dtype) -> np.ndarray:
-    aq = a * q
-    return np.concatenate([-2.0 * aq, a, q * q, -2.0 * q, -aq * q, 2.0 * aq, -a], axis=1).astype(dtype)
+    """Left factor of :func:`_union_sq`: five blocks of n_aps columns, then the query's constant and a 1."""
+    na = 1.0 - a
+    const_q = np.sum(a * q * q, axis=1, keepdims=True)
+    ones = np.ones_like(const_q)
+    return np.concatenate([-2.0 * a * q, a, na * q * q, -2.0 * na * q, -a, const_q, ones], axis=1).astype(dtype)
 
 
 def _stack_ref(r: np.ndarray, b: np.ndarray, dtype) -> np.ndarray:
+    """Right factor of :func:`_union_sq`: the blocks matching :func:`_stack_query`, a 1 and the reference's
+    constant."""
     br = b * r
-    return np.concatenate([r, r * r, b, br, b, br, br * r], axis=1).astype(dtype)
+    const_r = np.sum(br * r, axis=1, keepdims=True)
+    ones = np.ones_like(const_r)
+    return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1).astype(dtype)
 
 
 def _exact_dtype(q, r, k: int) -> type:
     """float32 when it is exact, else float64.
 
     Every term of the stacked product involves one of the <= k masked APs of the query or of the
-    reference, so the absolute sum of the terms is below ``7 blocks * 2k APs * 2 M^2`` for
-    features <= M. With integer features (integer dBm above the floor) and that bound below 2**24
-    every partial sum is an integer float32 represents exactly (UJIIndoorLoc: M = 104, k = 5).
+    reference (or is one of the two constants, each a sum over <= k masked APs), so the absolute sum of
+    the terms is below ``7 blocks * 2k APs * 2 M^2`` for features <= M. With integer features (integer dBm
+    above the floor) and that bound below 2**24 every partial sum is an integer float32 represents
+    exactly (UJIIndoorLoc: M = 104, k = 5), whatever the order of the additions.
     """
     m = max(float(q.max(initial=0.0)), float(r.max(initial=0.0)))
     integer = not (np.any(q != np.round(q)) or np.any(r != np.round(r)))
@@ -105,20 +113,22 @@ def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_
 
 
 def _union_sq(q, a, r, b) -> np.ndarray:
+    """Squared eq. (1) distances as one matrix product per slab of references.
+
+    With ``a``, ``b`` the strongest-AP masks of query and reference, the union's indicator is
+    ``a + b - ab``, so ``d = sum_i (a_i + b_i - a_i b_i)(q_i - r_i)^2`` expands into five products of a
+    query term and a reference term (grouped by the reference term: ``r``, ``r^2``, ``b``, ``br``,
+    ``br^2``) plus a constant of each side, all in one GEMM.
+    """
     k = int(max(a.sum(axis=1).max(initial=0), b.sum(axis=1).max(initial=0)))
     dt = _exact_dtype(q, r, k)
     left = _stack_query(q, a, dt)
-    const_q = np.sum(a * q * q, axis=1).astype(dt)
     out = np.empty((q.shape[0], r.shape[0]), dtype=dt)
     for s in range(0, r.shape[0], _REF_CHUNK):
-        rr, bb = r[s:s + _REF_CHUNK], b[s:s + _REF_CHUNK]
-        right = _stack_ref(rr, bb, dt)
-        const_r = np.sum(bb * rr * rr, axis=1).astype(dt)
-        blk = left @ right.T
-        blk += const_q[:, None]
-        blk += const_r[None, :]
-        out[:, s:s + _REF_CHUNK] = blk
-    np.maximum(out, 0.0, out=out)
+        right = _stack_ref(r[s:s + _REF_CHUNK], b[s:s + _REF_CHUNK], dt)
+        out[:, s:s + _REF_CHUNK] = left @ right.T  # (into a slice directly, matmul would not call BLAS)
+    if dt is not np.float32:  # float32 here is exact (an integer sum of integers): never below 0
+        np.maximum(out, 0.0, out=out)
     return out
 
 
