@@ -21,10 +21,10 @@ dropped or repaired: a malformed file raises ValueError naming the file, the lin
 The real-world quirks with a policy: a timestamp repeated on consecutive lines
 (``duplicate_timestamps="drop"``, counted; the error message names that option), and heel-sensor
 bounces in the optimisation recordings' ground truth (``heel_bounces="merge"``, counted): a foot
-that leaves the ground for less than :data:`MIN_SWING_S` and lands again. The heel sensors are
-read at about 11 Hz, and in 29 of the 48 recordings (170 times in all) a foot state drops to 0
-for one to three readings (0.09-0.29 s) and back; each such drop adds a second 0 -> 1 transition, i.e. a
-"step" that was not taken. Under the default ``"keep"`` the truth is the published count (the
+that lands again less than :data:`MIN_STRIDE_S` after its previous landing. The heel sensors are
+read at about 11 Hz, and in some recordings a foot state drops to 0 for one to three readings
+(0.09-0.29 s) in mid-stance and back; each such drop adds a second 0 -> 1 transition of that foot,
+i.e. a "step" that was not taken. Under the default ``"keep"`` the truth is the published count (the
 ``steps`` column of ``optimisation_stats.csv``); the bounces are counted either way
 (:attr:`OxfordRecording.n_heel_bounces`).
 
@@ -56,7 +56,7 @@ __all__ = [
     "parse_recording_name",
     "DUPLICATE_POLICIES",
     "HEEL_BOUNCE_POLICIES",
-    "MIN_SWING_S",
+    "MIN_STRIDE_S",
     "heel_bounces_mask",
 ]
 
@@ -64,13 +64,13 @@ __all__ = [
 DUPLICATE_POLICIES = ("error", "drop")
 #: Policies for heel-sensor bounces in the optimisation recordings' truth (see :func:`load_oxford_step_counter`).
 HEEL_BOUNCE_POLICIES = ("keep", "merge")
-#: Shortest time a foot is off the ground between two real heel strikes of that foot, s. The swing phase is
-#: about 40 % of the gait cycle (Perry & Burnfield 2010, Gait Analysis, ch. 1: swing 40 %, stance 60 % at
-#: normal speed), i.e. >= 0.34 s even at 140 steps/min (cycle 0.86 s), and the heel leaves the ground
-#: before the toe (heel-off ends mid-stance), so the heel sensor's off time is longer still. Measured on the
-#: 48 optimisation recordings: the off times between two contacts of one foot cluster at 0.45-1.0 s, with
-#: 170 off times of 0.05-0.30 s (one to three sensor readings) and 4 in 0.30-0.35 s, the valley between.
-MIN_SWING_S = 0.3
+#: Shortest time between two real heel strikes of one foot (a stride), s: two steps of at least 0.25 s, the
+#: step detectors' own shortest step (:data:`ilocalg.pdr.robust.ROBUST_DEFAULTS` ``min_step_s``, 240
+#: steps/min, above walking cadences: 100-130 steps/min typical, Tudor-Locke et al. 2011, Int J Behav Nutr
+#: Phys Act 8:80). Measured on the 48 optimisation recordings: the intervals between landings of one foot
+#: have a bulk at 0.6-1.8 s (per-foot medians 0.98-1.49 s) and a separate cluster of 109 at 0.15-0.50 s,
+#: with none in 0.50-0.55 s.
+MIN_STRIDE_S = 0.5
 _BLANK_LINE = re.compile(r"\n[ \t\r]*\n")
 
 ACC_FILE = "accelerometer.csv"
@@ -100,8 +100,8 @@ class OxfordRecording:
     n_duplicate_timestamps_dropped : int
         Rows dropped by ``duplicate_timestamps="drop"`` (0 under ``"error"``).
     n_heel_bounces : int
-        Heel-sensor bounces found in the truth (a foot off the ground for less than
-        :data:`MIN_SWING_S` between two contacts; optimisation layout only, else 0), whatever the policy.
+        Heel-sensor bounces found in the truth (a landing of a foot less than :data:`MIN_STRIDE_S`
+        after its last kept landing; optimisation layout only, else 0), whatever the policy.
     n_heel_bounces_merged : int
         Of those, the ones merged into the contact before under ``heel_bounces="merge"`` (0 under
         ``"keep"``); ``true_steps`` is then the published count less this number.
@@ -241,7 +241,7 @@ def _check_policy(duplicate_timestamps: str, heel_bounces: str = "keep") -> None
         raise ValueError(f"heel_bounces must be one of {HEEL_BOUNCE_POLICIES}, got {heel_bounces!r}")
 
 
-def heel_bounces_mask(t_ns: np.ndarray, feet: np.ndarray, min_swing_s: float = MIN_SWING_S) -> np.ndarray:
+def heel_bounces_mask(t_ns: np.ndarray, feet: np.ndarray, min_stride_s: float = MIN_STRIDE_S) -> np.ndarray:
     """Which 0 -> 1 transitions of the foot states are heel-sensor bounces.
 
     Parameters
@@ -250,28 +250,31 @@ def heel_bounces_mask(t_ns: np.ndarray, feet: np.ndarray, min_swing_s: float = M
         Increasing reading times, ns.
     feet : ndarray, shape (n, 2)
         Left and right foot states (1 = down).
-    min_swing_s : float
-        A foot that lands again less than this long after it left the ground bounced.
+    min_stride_s : float
+        A foot that lands less than this long after its last landing that was kept bounced; the
+        first landing of a run is kept, so a run of bounces counts one step.
 
     Returns
     -------
     ndarray of bool, shape (n - 1, 2)
-        True at row ``k`` (transition from reading ``k`` to ``k + 1``) and foot ``j`` when that
-        foot's 0 -> 1 transition follows its last 1 -> 0 transition by less than ``min_swing_s``.
+        True at row ``k`` (transition from reading ``k`` to ``k + 1``) and foot ``j`` for a bounce.
     """
-    if min_swing_s <= 0:
-        raise ValueError(f"min_swing_s must be > 0, got {min_swing_s}")
+    if not min_stride_s > 0:
+        raise ValueError(f"min_stride_s must be > 0, got {min_stride_s}")
     up = (feet[1:] == 1) & (feet[:-1] == 0)
-    down = (feet[1:] == 0) & (feet[:-1] == 1)
     out = np.zeros_like(up)
+    lim_ns = min_stride_s * 1e9
     t1 = t_ns[1:]
     for j in range(feet.shape[1]):
-        ku, kd = np.flatnonzero(up[:, j]), np.flatnonzero(down[:, j])
-        prev = np.searchsorted(kd, ku) - 1           # the foot's last lift-off before each landing
-        ok = prev >= 0
-        gap_s = np.full(ku.size, np.inf)
-        gap_s[ok] = (t1[ku[ok]] - t1[kd[prev[ok]]]) * 1e-9
-        out[ku[gap_s < min_swing_s], j] = True
+        ku = np.flatnonzero(up[:, j])
+        if ku.size < 2 or not (np.diff(t1[ku]) < lim_ns).any():
+            continue
+        last = -np.inf
+        for k in ku:                                   # few landings: a plain loop
+            if t1[k] - last < lim_ns:
+                out[k, j] = True
+            else:
+                last = t1[k]
     return out
 
 
@@ -463,8 +466,8 @@ def load_oxford_step_counter(path, member: str | None = None, duplicate_timestam
         :attr:`OxfordRecording.n_duplicate_timestamps_dropped`. True steps are counted from the
         kept lines (a cumulative count loses nothing; a step time moves to the next kept line).
     heel_bounces : {"keep", "merge"}
-        Optimisation layout: a foot that lands again less than :data:`MIN_SWING_S` after it left the
-        ground (a heel-sensor bounce, see the module docstring): keep each landing as a true step (the
+        Optimisation layout: a foot that lands again less than :data:`MIN_STRIDE_S` after its last
+        landing (a heel-sensor bounce, see the module docstring): keep each landing as a true step (the
         published count), or merge the bounce into the contact before it, counted in
         :attr:`OxfordRecording.n_heel_bounces_merged`. Bounces are counted under both
         (:attr:`OxfordRecording.n_heel_bounces`). The validation layout carries counts, not foot
