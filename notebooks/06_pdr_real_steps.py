@@ -116,9 +116,9 @@ if HAVE_DATA:
 # intervals) and, under `heel_bounces="merge"`, merges them; nothing is changed silently. The table below scores
 # the robust detector (defaults) against both truths, on the development half of the recordings (odd repeat
 # numbers, `ilocalg.pdr.step_evaluate.is_development`) and the held-out half (even repeats, every condition of
-# the set again), mean with a bootstrap interval over recordings (`ci_low`, `ci_high`). The optimisation recordings carry no
-# hardware step counter (the set records it only in its validation layout, which is not among the shared data),
-# so the `hardware_steps` column of the diagnosis table stays empty.
+# the set again), mean with a bootstrap interval over recordings (`ci_low`, `ci_high`). The optimisation
+# recordings carry no hardware step counter (the set records it only in its validation layout, which is not among
+# the shared data), so the `hardware_steps` column of the diagnosis table stays empty.
 
 # %%
 if HAVE_DATA:
