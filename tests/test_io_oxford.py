@@ -139,6 +139,16 @@ def test_heel_bounce_policy_counts_what_it_merges(tmp_path):
         oxford.heel_bounces_mask(np.arange(3.0), np.zeros((3, 2)), min_stride_s=0.0)
 
 
+def test_unpaired_landings_are_counted_not_added(tmp_path):
+    # the left foot lands at 0.8 s and again at 1.6 s with no right landing between (a stride apart: not a
+    # bounce): one right landing went unregistered; the truth keeps the 3 landings it has
+    d = tmp_path / "Pixel_Jamie_Hard_InHand_1"
+    _write_recording(d, feet=[(0, 0), (1, 0), (0, 0), (1, 0), (0, 0), (0, 1)])
+    for policy in ("keep", "merge"):
+        rec = oxford.load_oxford_step_counter(d, heel_bounces=policy)
+        assert rec.true_steps == 3 and rec.n_unpaired_landings == 1 and rec.n_heel_bounces == 0
+
+
 _CACHE = {}
 
 
@@ -166,6 +176,7 @@ def test_real_heel_bounces_counted_both_ways(real_recordings):
     p, recs = real_recordings
     assert sum(r.n_heel_bounces for r in recs) == 107 and sum(r.n_heel_bounces > 0 for r in recs) == 21
     assert all(r.n_heel_bounces_merged == 0 for r in recs)          # the default keeps the published truth
+    assert sum(r.n_unpaired_landings for r in recs) == 60 and sum(r.n_unpaired_landings > 0 for r in recs) == 20
     names = ["Pixel_Jamie_Hard_Armband_1", "Pixel_Jamie_Hard_SwingingArm_1", "Samsung_Dario_Hard_InHand_1"]
     merged = oxford.load_oxford_archive(p / "optimisation_data.tar.xz", names, heel_bounces="merge")
     kept = {r.name: r for r in recs}

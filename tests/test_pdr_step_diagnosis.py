@@ -69,11 +69,14 @@ def test_diagnosis_reports_both_truths_and_the_counter_column():
     p = _walk()
     n = p.true_steps
     # loaded under "keep": the published count holds 3 bounces; under "merge" they are already out of true_steps
-    keep = SimpleNamespace(true_steps=n, n_heel_bounces=3, n_heel_bounces_merged=0, hardware_steps=None)
-    merge = SimpleNamespace(true_steps=n - 3, n_heel_bounces=3, n_heel_bounces_merged=3, hardware_steps=n + 2)
+    keep = SimpleNamespace(true_steps=n, n_heel_bounces=3, n_heel_bounces_merged=0, hardware_steps=None,
+                           n_unpaired_landings=2)
+    merge = SimpleNamespace(true_steps=n - 3, n_heel_bounces=3, n_heel_bounces_merged=3, hardware_steps=n + 2,
+                            n_unpaired_landings=2)
     d = step_diagnosis([p], [keep]).iloc[0]
     assert d["true_steps_published"] == n and d["true_steps_bounces_merged"] == n - 3 and d["n_heel_bounces"] == 3
     assert d["accuracy_bounces_merged"] == pytest.approx(1 - abs(d["counted"] - (n - 3)) / (n - 3))
+    assert d["accuracy_unpaired_added"] == pytest.approx(1 - abs(d["counted"] - (n - 1)) / (n - 1))
     p2 = Prepared(p.name, p.meta, n - 3, p.step_t_s, p.t_s, p.acc_mps2, p.t50_s, p.acc50_mps2)
     d2 = step_diagnosis([p2], [merge]).iloc[0]
     assert d2["true_steps_published"] == n and d2["true_steps_bounces_merged"] == n - 3
@@ -92,9 +95,10 @@ def test_development_split_and_its_summary():
     rng = np.random.default_rng(1)
     names = [f"P_U_Hard_Pos{k // 2}_{k % 2 + 1}" for k in range(20)]
     acc = 1 - rng.uniform(0, 0.04, 20)
-    diag = pd.DataFrame({"recording": names, "accuracy": acc, "accuracy_bounces_merged": np.minimum(acc + 0.01, 1)})
+    diag = pd.DataFrame({"recording": names, "accuracy": acc, "accuracy_bounces_merged": np.minimum(acc + 0.01, 1),
+                         "accuracy_unpaired_added": acc})
     s = split_summary(diag, seed=3)
-    assert list(s["recordings"]) == ["development", "held out", "all"] * 2
+    assert list(s["recordings"]) == ["development", "held out", "all"] * 3
     dev = s.iloc[0]
     assert dev["n"] == 10 and dev["mean_accuracy"] == pytest.approx(acc[::2].mean())
     assert dev["ci_low"] <= dev["mean_accuracy"] <= dev["ci_high"] and dev["min_accuracy"] == acc[::2].min()

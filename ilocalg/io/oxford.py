@@ -105,6 +105,10 @@ class OxfordRecording:
     n_heel_bounces_merged : int
         Of those, the ones merged into the contact before under ``heel_bounces="merge"`` (0 under
         ``"keep"``); ``true_steps`` is then the published count less this number.
+    n_unpaired_landings : int
+        Landings (bounces left out) that follow a landing of the same foot with no landing of the other
+        foot between: walking alternates the feet, so each is most likely a landing of the other foot
+        that its sensor did not register (a step the truth lacks). Counted, never added to the truth.
     """
 
     name: str
@@ -116,6 +120,7 @@ class OxfordRecording:
     n_duplicate_timestamps_dropped: int = 0
     n_heel_bounces: int = 0
     n_heel_bounces_merged: int = 0
+    n_unpaired_landings: int = 0
 
 
 def parse_recording_name(name: str) -> dict:
@@ -310,6 +315,8 @@ def _optimisation_recording(name: str, acc_bytes: bytes, step_bytes: bytes, sour
     up = (feet[1:] == 1) & (feet[:-1] == 0)
     bounce = heel_bounces_mask(s[:, 0], feet)
     n_bounce = int(bounce.sum())
+    foot = np.nonzero(up & ~bounce)[1]              # the foot of each landing, in time order (rows, then left/right)
+    n_unpaired = int((foot[1:] == foot[:-1]).sum())
     if heel_bounces == "merge":
         up &= ~bounce
     k_step = np.flatnonzero(up.any(axis=1)) + 1
@@ -319,7 +326,8 @@ def _optimisation_recording(name: str, acc_bytes: bytes, step_bytes: bytes, sour
     return OxfordRecording(name=name, imu=_imu_frame(a[:, 0], a[:, 2:5]), step_t_s=step_t,
                            true_steps=n_steps, hardware_steps=None, meta=parse_recording_name(name),
                            n_duplicate_timestamps_dropped=n_dup, n_heel_bounces=n_bounce,
-                           n_heel_bounces_merged=n_bounce if heel_bounces == "merge" else 0)
+                           n_heel_bounces_merged=n_bounce if heel_bounces == "merge" else 0,
+                           n_unpaired_landings=n_unpaired)
 
 
 _VALIDATION_NAMES = ("timestamp_ns", "ax_mps2", "ay_mps2", "az_mps2", "app_count", "true_count", "hardware_count")

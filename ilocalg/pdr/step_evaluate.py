@@ -186,7 +186,9 @@ def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = 
     ``n_heel_bounces`` (heel-sensor bounces in the truth, :func:`ilocalg.io.oxford.heel_bounces_mask`),
     ``true_steps_published`` (the count with each bounce a step, the data set's own) and
     ``true_steps_bounces_merged`` (without them), with ``accuracy_bounces_merged`` against the latter;
-    NaN without ``recordings``. ``accuracy`` is against ``true_steps``, the recordings' as loaded.
+    ``n_unpaired_landings`` (a foot landing twice with no landing of the other foot between: most likely a
+    landing its sensor missed) and ``accuracy_unpaired_added`` against the merged truth plus those (a
+    sensitivity check); NaN without ``recordings``. ``accuracy`` is against ``true_steps``, the recordings' as loaded.
 
     Parameters
     ----------
@@ -228,11 +230,13 @@ def _bounce_counts(rec, counted: int) -> dict:
     if rec is None:
         nan = float("nan")
         return {"n_heel_bounces": nan, "true_steps_published": nan, "true_steps_bounces_merged": nan,
-                "accuracy_bounces_merged": nan}
+                "accuracy_bounces_merged": nan, "n_unpaired_landings": nan, "accuracy_unpaired_added": nan}
     published = rec.true_steps + rec.n_heel_bounces_merged
     merged = published - rec.n_heel_bounces
     return {"n_heel_bounces": rec.n_heel_bounces, "true_steps_published": published,
-            "true_steps_bounces_merged": merged, "accuracy_bounces_merged": float(accuracy(counted, merged))}
+            "true_steps_bounces_merged": merged, "accuracy_bounces_merged": float(accuracy(counted, merged)),
+            "n_unpaired_landings": rec.n_unpaired_landings,
+            "accuracy_unpaired_added": float(accuracy(counted, merged + rec.n_unpaired_landings))}
 
 
 def is_development(name: str) -> bool:
@@ -249,7 +253,8 @@ def is_development(name: str) -> bool:
 
 
 def split_summary(diag: pd.DataFrame, columns=(("published", "accuracy"),
-                                              ("heel bounces merged", "accuracy_bounces_merged")),
+                                              ("heel bounces merged", "accuracy_bounces_merged"),
+                                              ("bounces merged, unpaired landings added", "accuracy_unpaired_added")),
                   goal_min: float = 0.98, seed: int = 0) -> pd.DataFrame:
     """Per truth and recording set (development, held out, all): mean accuracy with a 95 % bootstrap interval
     over recordings (:func:`ilocalg.measure.stats.bootstrap`, seeded), median, worst, recordings below
