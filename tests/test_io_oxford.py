@@ -7,7 +7,7 @@ import pytest
 from ilocalg.io import oxford
 
 
-def _write_recording(folder, n=400, rate=100.0, feet=None):
+def _write_recording(folder, n=400, rate=100.0, feet=None, row_ns=400_000_000):
     folder.mkdir(parents=True)
     t_ns = (1_000_000_000 + np.arange(n) * 1e9 / rate).astype(np.int64)
     acc = np.column_stack([np.zeros(n), np.zeros(n), 9.8 + np.sin(np.arange(n) / 10.0)])
@@ -17,7 +17,7 @@ def _write_recording(folder, n=400, rate=100.0, feet=None):
     feet = feet if feet is not None else [(1, 1), (0, 1), (1, 1), (1, 0), (1, 1), (0, 1), (1, 1)]
     with open(folder / "stepcounter.csv", "w") as fh:
         for k, (left, right) in enumerate(feet):
-            fh.write(f"{t_ns[0] + (k + 1) * 400_000_000},{left},{right}\n")
+            fh.write(f"{t_ns[0] + (k + 1) * row_ns},{left},{right}\n")
     return t_ns
 
 
@@ -114,6 +114,41 @@ def test_bad_input_names_file_line_column(tmp_path):
         oxford.load_oxford_step_counter(empty)
 
 
+def test_heel_bounce_policy_counts_what_it_merges(tmp_path):
+    # readings every 0.1 s: the left foot lands (row 2), lifts for one reading and lands again 0.2 s after its
+    # landing (row 4: a bounce, < MIN_STRIDE_S), lifts and lands 0.8 s after (row 10: a step); the right foot
+    # lands once
+    feet = [(0, 0), (1, 0), (0, 0), (1, 0), (0, 0), (0, 1), (0, 1), (0, 0), (0, 0), (1, 0)]
+    d = tmp_path / "Pixel_Jamie_Hard_Armband_1"
+    _write_recording(d, feet=feet, row_ns=100_000_000)
+    keep = oxford.load_oxford_step_counter(d)
+    merge = oxford.load_oxford_step_counter(d, heel_bounces="merge")
+    assert keep.true_steps == 4 and keep.n_heel_bounces == 1 and keep.n_heel_bounces_merged == 0
+    assert merge.true_steps == 3 and merge.n_heel_bounces == 1 and merge.n_heel_bounces_merged == 1
+    np.testing.assert_allclose(merge.step_t_s, np.setdiff1d(keep.step_t_s, [keep.step_t_s[1]]))
+    # landings exactly min_stride_s apart are two steps; a bounce is timed from the last KEPT landing (0.7 s is 0.6 s
+    # after the kept 0.1 s landing: a step, though only 0.2 s after the bounce at 0.5 s)
+    t_ns = np.array([0.0, 0.1, 0.2, 0.6]) * 1e9
+    assert not oxford.heel_bounces_mask(t_ns, np.array([[0, 0], [1, 0], [0, 0], [1, 0]]), min_stride_s=0.5).any()
+    t_ns = np.arange(8) * 1e8
+    m = oxford.heel_bounces_mask(t_ns, np.array([[0, 0], [1, 0], [0, 0], [1, 0], [0, 0], [1, 0], [0, 0], [1, 0]]))
+    assert m[:, 0].tolist() == [False, False, True, False, True, False, False] and not m[:, 1].any()
+    with pytest.raises(ValueError, match="heel_bounces must be one of"):
+        oxford.load_oxford_step_counter(d, heel_bounces="drop")
+    with pytest.raises(ValueError, match="min_stride_s"):
+        oxford.heel_bounces_mask(np.arange(3.0), np.zeros((3, 2)), min_stride_s=0.0)
+
+
+def test_unpaired_landings_are_counted_not_added(tmp_path):
+    # the left foot lands at 0.8 s and again at 1.6 s with no right landing between (a stride apart: not a
+    # bounce): one right landing went unregistered; the truth keeps the 3 landings it has
+    d = tmp_path / "Pixel_Jamie_Hard_InHand_1"
+    _write_recording(d, feet=[(0, 0), (1, 0), (0, 0), (1, 0), (0, 0), (0, 1)])
+    for policy in ("keep", "merge"):
+        rec = oxford.load_oxford_step_counter(d, heel_bounces=policy)
+        assert rec.true_steps == 3 and rec.n_unpaired_landings == 1 and rec.n_heel_bounces == 0
+
+
 _CACHE = {}
 
 
@@ -135,6 +170,22 @@ def test_real_archive_matches_its_stats(real_recordings):
     for r in recs:
         assert r.imu.index.is_monotonic_increasing and len(r.step_t_s) == r.true_steps
         assert 0 <= r.step_t_s[0] and r.step_t_s[-1] <= r.imu.index[-1] + 1.0
+
+
+def test_real_heel_bounces_counted_both_ways(real_recordings):
+    p, recs = real_recordings
+    assert sum(r.n_heel_bounces for r in recs) == 107 and sum(r.n_heel_bounces > 0 for r in recs) == 21
+    assert all(r.n_heel_bounces_merged == 0 for r in recs)          # the default keeps the published truth
+    assert sum(r.n_unpaired_landings for r in recs) == 60 and sum(r.n_unpaired_landings > 0 for r in recs) == 20
+    names = ["Pixel_Jamie_Hard_Armband_1", "Pixel_Jamie_Hard_SwingingArm_1", "Samsung_Dario_Hard_InHand_1"]
+    merged = oxford.load_oxford_archive(p / "optimisation_data.tar.xz", names, heel_bounces="merge")
+    kept = {r.name: r for r in recs}
+    for m in merged:
+        k = kept[m.name]
+        assert m.n_heel_bounces == m.n_heel_bounces_merged == k.n_heel_bounces
+        assert m.true_steps == k.true_steps - k.n_heel_bounces == len(m.step_t_s)
+        assert set(np.round(m.step_t_s, 9)) <= set(np.round(k.step_t_s, 9))
+    assert [m.n_heel_bounces for m in merged] == [13, 20, 0]
 
 
 def test_real_robust_detector_accuracy(real_recordings):

@@ -61,3 +61,46 @@ def test_step_detections_plot():
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert "missed (1)" in labels and not any(s.startswith("extra") for s in labels)
     plt.close(ax.figure)
+
+
+def test_diagnosis_reports_both_truths_and_the_counter_column():
+    from types import SimpleNamespace
+
+    p = _walk()
+    n = p.true_steps
+    # loaded under "keep": the published count holds 3 bounces; under "merge" they are already out of true_steps
+    keep = SimpleNamespace(true_steps=n, n_heel_bounces=3, n_heel_bounces_merged=0, hardware_steps=None,
+                           n_unpaired_landings=2)
+    merge = SimpleNamespace(true_steps=n - 3, n_heel_bounces=3, n_heel_bounces_merged=3, hardware_steps=n + 2,
+                            n_unpaired_landings=2)
+    d = step_diagnosis([p], [keep]).iloc[0]
+    assert d["true_steps_published"] == n and d["true_steps_bounces_merged"] == n - 3 and d["n_heel_bounces"] == 3
+    assert d["accuracy_bounces_merged"] == pytest.approx(1 - abs(d["counted"] - (n - 3)) / (n - 3))
+    assert d["accuracy_unpaired_added"] == pytest.approx(1 - abs(d["counted"] - (n - 1)) / (n - 1))
+    p2 = Prepared(p.name, p.meta, n - 3, p.step_t_s, p.t_s, p.acc_mps2, p.t50_s, p.acc50_mps2)
+    d2 = step_diagnosis([p2], [merge]).iloc[0]
+    assert d2["true_steps_published"] == n and d2["true_steps_bounces_merged"] == n - 3
+    assert d2["hardware_steps"] == n + 2
+    assert np.isnan(step_diagnosis([p]).iloc[0]["true_steps_bounces_merged"])     # no recordings: NaN
+
+
+def test_development_split_and_its_summary():
+    import pandas as pd
+
+    from ilocalg.pdr.step_evaluate import is_development, split_summary
+
+    assert is_development("Pixel_Jamie_Hard_InHand_3") and not is_development("Pixel_Jamie_Hard_InHand_4")
+    with pytest.raises(ValueError, match="repeat number"):
+        is_development("Pixel_Jamie_Hard_InHand")
+    rng = np.random.default_rng(1)
+    names = [f"P_U_Hard_Pos{k // 2}_{k % 2 + 1}" for k in range(20)]
+    acc = 1 - rng.uniform(0, 0.04, 20)
+    diag = pd.DataFrame({"recording": names, "accuracy": acc, "accuracy_bounces_merged": np.minimum(acc + 0.01, 1),
+                         "accuracy_unpaired_added": acc})
+    s = split_summary(diag, seed=3)
+    assert list(s["recordings"]) == ["development", "held out", "all"] * 3
+    dev = s.iloc[0]
+    assert dev["n"] == 10 and dev["mean_accuracy"] == pytest.approx(acc[::2].mean())
+    assert dev["ci_low"] <= dev["mean_accuracy"] <= dev["ci_high"] and dev["min_accuracy"] == acc[::2].min()
+    assert s.iloc[1]["n_below_98%"] == int((acc[1::2] < 0.98).sum())
+    assert s.equals(split_summary(diag, seed=3))                       # same seed, same interval

@@ -19,7 +19,9 @@ archive member). Every value is checked against its valid range, declared once i
 :data:`ilocalg.io.schema.FIELD_RANGES`; errors read ``FILE: line N, column COL: value V is outside
 [a, b] unit``. Quirks that real files have are accepted only through an explicit policy argument
 that counts what it changes, and the error message names it: ``duplicate_bssid="keep_latest"``
-(ILC), ``duplicate_timestamps="drop"`` (Oxford), ``truncated_last_line="drop"`` (IPIN, ILC).
+(ILC), ``duplicate_timestamps="drop"`` (Oxford), ``truncated_last_line="drop"`` (IPIN, ILC). A quirk
+of a set's ground truth that no error can flag (the Oxford heel sensors' bounces) is counted on every
+load and changed only under its policy (``heel_bounces="merge"``, Oxford).
 """
 
 from ilocalg.io.ilc import load_ilc_floor, load_ilc_trace

@@ -32,7 +32,7 @@ from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
-           "truth_artefacts"]
+           "truth_artefacts", "is_development", "split_summary"]
 
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
@@ -183,6 +183,12 @@ def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = 
     sensitivity check, not the score).
     ``hardware_steps`` is the phone's own step counter where the recording has one (the data set's
     validation layout; the optimisation recordings have none: NaN), with its accuracy beside.
+    ``n_heel_bounces`` (heel-sensor bounces in the truth, :func:`ilocalg.io.oxford.heel_bounces_mask`),
+    ``true_steps_published`` (the count with each bounce a step, the data set's own) and
+    ``true_steps_bounces_merged`` (without them), with ``accuracy_bounces_merged`` against the latter;
+    ``n_unpaired_landings`` (a foot landing twice with no landing of the other foot between: most likely a
+    landing its sensor missed) and ``accuracy_unpaired_added`` against the merged truth plus those (a
+    sensitivity check); NaN without ``recordings``. ``accuracy`` is against ``true_steps``, the recordings' as loaded.
 
     Parameters
     ----------
@@ -212,10 +218,62 @@ def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = 
                      "median_step_interval_s": float(np.median(dt)) if dt.size else float("nan"),
                      "accuracy_without_close_repeats": float("nan"),
                      "hardware_steps": float("nan") if hw is None else float(hw),
-                     "hardware_accuracy": float("nan") if hw is None else float(accuracy(hw, p.true_steps))})
+                     "hardware_accuracy": float("nan") if hw is None else float(accuracy(hw, p.true_steps)),
+                     **_bounce_counts(None if recordings is None else recordings[k], len(d))})
     out = pd.DataFrame(rows)
     out["accuracy_without_close_repeats"] = accuracy(out["counted"], out["true_steps_without_close_repeats"])
     return out
+
+
+def _bounce_counts(rec, counted: int) -> dict:
+    """Both truths of one recording (published, heel bounces merged) and the count's accuracy against the latter."""
+    if rec is None:
+        nan = float("nan")
+        return {"n_heel_bounces": nan, "true_steps_published": nan, "true_steps_bounces_merged": nan,
+                "accuracy_bounces_merged": nan, "n_unpaired_landings": nan, "accuracy_unpaired_added": nan}
+    published = rec.true_steps + rec.n_heel_bounces_merged
+    merged = published - rec.n_heel_bounces
+    return {"n_heel_bounces": rec.n_heel_bounces, "true_steps_published": published,
+            "true_steps_bounces_merged": merged, "accuracy_bounces_merged": float(accuracy(counted, merged)),
+            "n_unpaired_landings": rec.n_unpaired_landings,
+            "accuracy_unpaired_added": float(accuracy(counted, merged + rec.n_unpaired_landings))}
+
+
+def is_development(name: str) -> bool:
+    """The development half of the Oxford optimisation recordings: odd repeat numbers (``..._1``, ``..._3``).
+
+    Every phone/user/surface/placement of the set was recorded at least twice (``_1``, ``_2``; four times for
+    two in-hand sets), so the odd repeats hold every condition once or twice and the even repeats, kept
+    apart, hold the same conditions. A rule fixed by the names, not by any result.
+    """
+    tail = name.rsplit("_", 1)[-1]
+    if not tail.isdigit():
+        raise ValueError(f"recording name {name!r} does not end in _<repeat number>")
+    return int(tail) % 2 == 1
+
+
+def split_summary(diag: pd.DataFrame, columns=(("published", "accuracy"),
+                                              ("heel bounces merged", "accuracy_bounces_merged"),
+                                              ("bounces merged, unpaired landings added", "accuracy_unpaired_added")),
+                  goal_min: float = 0.98, seed: int = 0) -> pd.DataFrame:
+    """Per truth and recording set (development, held out, all): mean accuracy with a 95 % bootstrap interval
+    over recordings (:func:`ilocalg.measure.stats.bootstrap`, seeded), median, worst, recordings below
+    ``goal_min``."""
+    from ilocalg.measure.stats import bootstrap
+
+    dev = diag["recording"].map(is_development).to_numpy(dtype=bool)
+    rows = []
+    for truth, col in columns:
+        a_all = diag[col].to_numpy(dtype=float)
+        for name, mask in (("development", dev), ("held out", ~dev), ("all", np.ones(dev.size, dtype=bool))):
+            a = a_all[mask]
+            if a.size < 2 or np.isnan(a).any():
+                continue
+            est = bootstrap(a, np.mean, rng=seed)
+            rows.append({"truth": truth, "recordings": name, "n": int(a.size), "mean_accuracy": float(a.mean()),
+                         "ci_low": est.ci_low, "ci_high": est.ci_high, "median_accuracy": float(np.median(a)),
+                         "min_accuracy": float(a.min()), f"n_below_{goal_min:.0%}": int((a < goal_min).sum())})
+    return pd.DataFrame(rows)
 
 
 def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dict | None = None,

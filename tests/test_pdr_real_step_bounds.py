@@ -1,0 +1,58 @@
+"""The robust step detector on the 48 real Oxford recordings: per-recording bounds under both truths, and
+invariance to the phone's orientation. Real data: must fail, not skip, under CI=true (``shared_data``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from ilocalg.io.oxford import load_oxford_archive
+from ilocalg.pdr.robust import detect_steps_robust
+from ilocalg.pdr.step_evaluate import is_development, prepare, step_diagnosis
+
+_CACHE: dict = {}
+
+
+@pytest.fixture
+def diag(shared_data):
+    p = shared_data("oxford_step_counter") / "optimisation_data.tar.xz"
+    if p not in _CACHE:
+        recs = load_oxford_archive(p)
+        prep = [prepare(r) for r in recs]
+        _CACHE[p] = (prep, step_diagnosis(prep, recs))
+    return _CACHE[p]
+
+
+def test_every_recording_within_its_measured_bound(diag):
+    # bounds a little below what the detector at its defaults gives today (worst 92.96 % published, 95.0 % with
+    # the heel bounces merged; means 98.79 % and 99.10 %): a regression in any one recording fails
+    _, d = diag
+    assert len(d) == 48
+    assert d["accuracy"].min() >= 0.92 and d["accuracy_bounces_merged"].min() >= 0.94
+    assert d["accuracy"].mean() >= 0.985 and d["accuracy_bounces_merged"].mean() >= 0.988
+    # the heel bounces are the swinging-arm shortfall: every such recording scores higher without them
+    arm = d[d["position"] == "SwingingArm"]
+    assert len(arm) == 2 and (arm["accuracy_bounces_merged"] > arm["accuracy"] + 0.03).all()
+    assert (d["true_steps_published"] - d["n_heel_bounces"] == d["true_steps_bounces_merged"]).all()
+    assert d["recording"].map(is_development).sum() == 24
+
+
+def test_rotating_the_phone_frame_does_not_change_the_steps(diag):
+    prep, _ = diag
+    rot = Rotation.random(3, random_state=7)
+    for p, r in zip([prep[0], prep[6], prep[20]], rot, strict=True):
+        a = detect_steps_robust(p.acc_mps2, p.t_s)
+        b = detect_steps_robust(p.acc_mps2 @ r.as_matrix().T, p.t_s)
+        assert len(a) == len(b) > 200
+        np.testing.assert_allclose(a["t_s"], b["t_s"], atol=1e-9)
+
+
+def test_bad_input_is_one_clear_error():
+    t = np.arange(100) / 100.0
+    with pytest.raises(ValueError, match=r"shape \(n, 3\) or \(n,\)"):
+        detect_steps_robust(np.zeros((100, 2)), t)
+    with pytest.raises(ValueError, match="not finite"):
+        detect_steps_robust(np.r_[np.full(50, 9.8), np.nan, np.full(49, 9.8)], t)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        detect_steps_robust(np.full(100, 9.8), t[::-1])
