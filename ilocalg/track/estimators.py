@@ -19,7 +19,8 @@ Least squares (:func:`lsq_track`)
     2.83 m to 3.23 m (the floor offset learned from the other walks is the better heading).
 Causal least squares (:func:`lsq_causal_track`)
     The same system solved at every fix with the data so far (rotation: fitted on the fixes so far
-    once there are three); between fixes the last solved state is dead-reckoned. For a linear
+    once there are three); between fixes the last solved state is dead-reckoned; before the first fix
+    is known, the PDR track passes through the first fix at that fix's time. For a linear
     Gaussian model the last state of the batch solution is the Kalman filter's estimate; the
     robust weights and the per-walk rotation are what it adds.
 Map step (:func:`snap_to_map`, ``*_map``)

@@ -17,7 +17,7 @@ from ilocalg.io.schema import FLOOR, T_S, X_M, Y_M
 from ilocalg.metrics import penalised_error_m
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.step_length import weinberg_length_m
-from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, METHODS, RealWalkConfig
+from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, GAIN_METHODS, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, TrackProblem
 from ilocalg.track.fixes import calibrate_fix_var, estimate_floors, select_wifi, wifi_fixes
@@ -282,14 +282,19 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
     steps = {r.name: walk_steps(r, cfg) for r in recs}
     cal = calibrate(recs, steps, cfg=cfg)
     step_var = calibrate_step_var(recs, steps, cal)
-    gain = None
-    if any(m.startswith("kf_gain") for m in methods):
-        gain = gain_stats(pd.concat([step_intervals(r, steps[r.name]) for r in recs], ignore_index=True), cal)
+    gain, gain_note = None, None
+    if any(m in GAIN_METHODS for m in methods):
+        try:
+            gain = gain_stats(pd.concat([step_intervals(r, steps[r.name]) for r in recs], ignore_index=True), cal)
+        except ValueError as e:               # too few walks with waypoints: the kf_gain variants are not run
+            methods, gain_note = tuple(m for m in methods if m not in GAIN_METHODS), str(e)
     if floor_map is None or isinstance(floor_map, OccupancyGrid):
         grid = floor_map
     else:
         grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
     r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var, gain=gain)
     r["info"]["wifi_config"] = label
+    if gain_note:
+        r["info"]["kf_gain_not_run"] = gain_note
     return r
 
