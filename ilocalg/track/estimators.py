@@ -235,13 +235,23 @@ def map_snapper(grid) -> Callable:
     return snap
 
 
+#: The snappers of the latest rasters (id -> (raster, snapper)): a floor's distance transform is computed once
+#: for all its walks and map steps. The raster is kept with its snapper, so its id stays its own.
+_SNAPPERS: dict = {}
+
+
 def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
     """Nearest walkable cell centre of every point off the walkable raster (points on it are unchanged).
 
     Returns ``(snapped (n, 2), moved (n,) bool)``; points outside the raster's extent are clamped to it
-    first (:func:`map_snapper`).
+    first (:func:`map_snapper`, kept for the latest few rasters).
     """
-    return map_snapper(grid)(xy_m)
+    hit = _SNAPPERS.get(id(grid))
+    if hit is None or hit[0] is not grid:
+        if len(_SNAPPERS) >= 4:
+            _SNAPPERS.pop(next(iter(_SNAPPERS)))
+        hit = _SNAPPERS[id(grid)] = (grid, map_snapper(grid))
+    return hit[1](xy_m)
 
 
 def _with_map(problem: TrackProblem, xy: np.ndarray, solve_anchored: Callable, rounds: int = 3) -> np.ndarray:
