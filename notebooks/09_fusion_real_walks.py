@@ -16,7 +16,9 @@
 # track fitted onto all the walk's fixes, a particle filter constrained by the floor map
 # (`geojson_map.json`) and its smoother, a whole-walk map matching, and the least-squares trajectory
 # (one sparse system of Wi-Fi fixes and PDR steps per walk, weighted by their measured variances; its
-# causal variant `lsq_online`; `*_map`: pulled onto the walkable map): the track pipeline of
+# causal variant `lsq_online`; `*_map`: pulled onto the walkable map), and an online Kalman filter whose
+# state carries the walk's own step scale and heading offset (`kf_gain`; `kf_gain_lag5s`: the same smoothed over
+# a fixed lag, the lag of Liao et al. 2016, not causal): the track pipeline of
 # `ilocalg.track` (the same functions a user calls on one walk, or `python -m ilocalg evaluate track`).
 # Goals (beyond the papers): best offline mean error <= 0.5 x Wi-Fi only, best online <= 0.7 x, reported
 # with the EvAAL 75th percentile.
@@ -99,7 +101,7 @@ if HAVE_DATA:
     display(tables["per_walk"].round(2))  # noqa: F821
 
 # %%
-shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align", "lsq", "lsq_online"]
+shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align", "lsq", "lsq_online", "kf_gain"]
 if HAVE_DATA:
     with ilocviz.style():
         fig, ax = plt.subplots(figsize=(8, 5))

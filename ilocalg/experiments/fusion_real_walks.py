@@ -140,7 +140,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
         label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
         r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name],
                           rng=np.random.default_rng([seed, all_names.index(name)]),
-                          methods=methods, step_var_m2=wm.step_var_m2)
+                          methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain)
         e = r["errors"].assign(walk=name)
         # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database
         pfx = wifi_fixes(fl.traces[name], wm.db, plain)
@@ -246,6 +246,23 @@ def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.D
                 + (" (both averages restarted after an injection)" if pf_recovery == "amcl" else ""),
                 "Thrun, Burgard, Fox 2005, Table 8.3; rates: ROS amcl recovery_alpha_slow / _fast; sensor "
                 "resetting: Lenser & Veloso 2000"),
+        reading("online start (lsq_online, kf_gain)", "", "silent",
+                "before the first fix is known, the PDR track placed through the first fix at that fix's time "
+                "(the fix moved back along the steps), as the Wi-Fi-only row also shows the first fix there",
+                "convention shared by the online variants; no parameter"),
+        reading("kf_gain: the walk's own step scale and heading offset", "", "silent",
+                "a complex gain g = s exp(i b) on every PDR step as two Kalman states (linear model); prior "
+                "variance of g around 1 and its random walk per step: per-walk similarity fits of the other walks' "
+                "PDR onto their waypoints (whole walk; first vs second half); step variance: their residuals",
+                "measured on the database walks (ilocalg.track.motion.gain_stats)"),
+        reading("kf_gain: fix variance and robustness", "", "silent",
+                "fix variance: leave-one-walk-out fix errors of the other walks (as the least squares); Huber "
+                "weight min(1, 1.345 / r) of the normalised innovation r, applied as R / w",
+                "measured on the database walks; Huber (1981), Karlgaard & Schaub (2007)"),
+        reading("kf_gain_lag5s: fixed-lag smoother", "Liao et al. 2016, L169, L481",
+                "online smoothing over fixed time windows; windows best larger than 5 s, not beyond 20 s",
+                "RTS recursion over the states up to 5 s after each state (a display 5 s behind the walker); "
+                "its own variant, never the causal row", "the paper's shortest advised window, 5 s; not tuned"),
     ])
 
 

@@ -59,12 +59,21 @@ Least squares (:mod:`ilocalg.track.estimators`), the floor model built once (:mo
     ``lsq`` / ``lsq_map`` (offline) and ``lsq_online`` / ``lsq_online_map`` (causal): one sparse system
     of Wi-Fi fixes and PDR steps per walk, weighted by the fix variance (leave-one-walk-out on the
     database) and the step variance (PDR vs waypoints on the database walks), then the map step.
+    The online ones start, before the first fix is known, from the PDR track placed through that fix.
+Online Kalman filter with the walk's own gain (:mod:`ilocalg.track.online_kf`)
+    ``kf_gain`` (causal): a Kalman filter whose state carries, beside the position, the walk's own step
+    scale and heading offset as one complex gain on every PDR step (a linear model: the exact filter), each
+    late fix applied at the time it describes, Huber-weighted; every noise measured on the other walks
+    (:func:`ilocalg.track.motion.gain_stats`). ``kf_gain_map``: each state then moved onto the map.
+    ``kf_gain_lag5s``: the same smoothed over a fixed 5 s lag (not causal; its own variant).
+Floor model
     :func:`build_floor_model` / :func:`cached_floor_model` build a floor's database and calibration
     rows once and save them; :meth:`FloorModel.for_walk` leaves the scored walk out.
 
 Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (steps, calibration),
-``estimators`` (least squares, map step), ``floor`` (the cached floor model), ``evaluation``, ``lowo``
-(leave-one-walk-out pooling over floors, the Wi-Fi ablation, a floor's files).
+``estimators`` (least squares, map step), ``online_kf`` (the gain-augmented Kalman filter), ``floor`` (the
+cached floor model), ``evaluation``, ``lowo`` (leave-one-walk-out pooling over floors, the Wi-Fi ablation, a
+floor's files).
 
 References
 ----------

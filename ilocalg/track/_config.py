@@ -6,11 +6,14 @@ from dataclasses import dataclass
 
 #: Keys of the scored tracks (the ``evaluate track`` command's ``errors_m`` keys).
 METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "pf", "pf_smooth", "map_align",
-           "map_align_kf_rts", "lsq", "lsq_map", "lsq_online", "lsq_online_map")
+           "map_align_kf_rts", "lsq", "lsq_map", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map",
+           "kf_gain_lag5s")
 #: The online methods (an estimate at time t uses the walk up to t only); the others use the whole walk.
-CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf", "lsq_online", "lsq_online_map")
+CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map")
+#: The methods that need the measured gain spread (:func:`ilocalg.track.motion.gain_stats`).
+GAIN_METHODS = ("kf_gain", "kf_gain_map", "kf_gain_lag5s")
 #: The methods that need the floor map.
-MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map")
+MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map", "kf_gain_map")
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,8 @@ Least squares (:func:`lsq_track`)
     2.83 m to 3.23 m (the floor offset learned from the other walks is the better heading).
 Causal least squares (:func:`lsq_causal_track`)
     The same system solved at every fix with the data so far (rotation: fitted on the fixes so far
-    once there are three); between fixes the last solved state is dead-reckoned. For a linear
+    once there are three); between fixes the last solved state is dead-reckoned; before the first fix
+    is known, the PDR track passes through the first fix at that fix's time. For a linear
     Gaussian model the last state of the batch solution is the Kalman filter's estimate; the
     robust weights and the per-walk rotation are what it adds.
 Map step (:func:`snap_to_map`, ``*_map``)
@@ -47,7 +48,7 @@ from scipy.sparse.linalg import spsolve
 from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 
 __all__ = ["TrackProblem", "Estimator", "ESTIMATORS", "lsq_solve", "lsq_track", "lsq_causal_track", "snap_to_map",
-           "HUBER_C"]
+           "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C"]
 
 #: Huber's constant (in standard deviations): 95 % efficiency under Gaussian errors (Huber 1981).
 HUBER_C = 1.345
@@ -66,6 +67,8 @@ class TrackProblem:
     fix_avail_t_s : (m,) when each fix becomes known (the scan time; default ``fix_t_s``), in increasing
         order; ``fix_t_s`` is the time it describes (its readings' time), at or before it. The causal
         estimators use a fix from its availability on, for the state of its readings' time.
+    gain : :class:`ilocalg.track.motion.GainStats` or None: the spread of a walk's own step scale and
+        heading offset, measured on the other walks; needed by the ``kf_gain*`` estimators.
     """
 
     state_t_s: np.ndarray
@@ -76,6 +79,7 @@ class TrackProblem:
     fix_var_m2: float
     grid: object | None = None
     fix_avail_t_s: np.ndarray | None = None
+    gain: object | None = None
 
     def __post_init__(self):
         n = np.asarray(self.state_t_s).size
@@ -176,8 +180,11 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
     # the state index at or after which each fix is known (a fix known at t is used from the first state >= t)
     avail = np.searchsorted(ts, known_t, side="left")
     cum = np.vstack([[0.0, 0.0], np.cumsum(problem.disp_m, axis=0)])
-    last_i, last_xy, last_disp = 0, problem.fix_xy_m[0], problem.disp_m
-    out[0] = problem.fix_xy_m[0]
+    # before the first solve: the PDR track placed so that it passes through the first fix at that fix's
+    # time (the first fix moved back along the steps), the start every online variant shares
+    last_i, last_disp = 0, problem.disp_m
+    last_xy = problem.fix_xy_m[0] - (_track_at_cum(ts, cum, ft[:1])[0] - cum[0])
+    out[0] = last_xy
     q = 0
     for i in range(n):
         while q < ft.size and avail[q] <= i:
@@ -195,31 +202,56 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
         else:                                             # dead-reckon from the last solved state
             rel = np.vstack([[0.0, 0.0], np.cumsum(last_disp, axis=0)])
             out[i] = last_xy + rel[i] - rel[last_i]
-    del cum
     return out
+
+
+def _track_at_cum(state_t_s, cum, t_s):
+    """Cumulative PDR displacement at times ``t_s`` (linear between states, held outside)."""
+    return np.column_stack([np.interp(t_s, state_t_s, cum[:, 0]), np.interp(t_s, state_t_s, cum[:, 1])])
+
+
+def map_snapper(grid) -> Callable:
+    """``snap(xy_m) -> (snapped (n, 2), moved (n,) bool)``: the nearest walkable cell centre of every point off
+    the walkable raster (points on it unchanged; points outside the raster's extent clamped to it first),
+    the raster's distance transform computed once."""
+    mask = grid.walkable_mask
+    if not mask.any():
+        raise ValueError("the walkable raster has no walkable cell")
+    _, (ii, jj) = distance_transform_edt(~mask, return_indices=True)
+    c = grid.cell_m
+
+    def snap(xy_m):
+        xy = np.asarray(xy_m, dtype=np.float64).reshape(-1, 2)
+        col = np.clip(np.floor((xy[:, 0] - grid.x0_m) / c).astype(np.int64), 0, mask.shape[1] - 1)
+        row = np.clip(np.floor((xy[:, 1] - grid.y0_m) / c).astype(np.int64), 0, mask.shape[0] - 1)
+        inside_extent = ((xy[:, 0] >= grid.x0_m) & (xy[:, 0] < grid.x0_m + c * mask.shape[1])
+                         & (xy[:, 1] >= grid.y0_m) & (xy[:, 1] < grid.y0_m + c * mask.shape[0]))
+        moved = ~(mask[row, col] & inside_extent)
+        out = xy.copy()
+        r2, c2 = ii[row[moved], col[moved]], jj[row[moved], col[moved]]
+        out[moved] = np.column_stack([grid.x0_m + (c2 + 0.5) * c, grid.y0_m + (r2 + 0.5) * c])
+        return out, moved
+
+    return snap
+
+
+#: The snappers of the latest rasters (id -> (raster, snapper)): a floor's distance transform is computed once
+#: for all its walks and map steps. The raster is kept with its snapper, so its id stays its own.
+_SNAPPERS: dict = {}
 
 
 def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
     """Nearest walkable cell centre of every point off the walkable raster (points on it are unchanged).
 
     Returns ``(snapped (n, 2), moved (n,) bool)``; points outside the raster's extent are clamped to it
-    first.
+    first (:func:`map_snapper`, kept for the latest few rasters).
     """
-    mask = grid.walkable_mask
-    if not mask.any():
-        raise ValueError("the walkable raster has no walkable cell")
-    _, (ii, jj) = distance_transform_edt(~mask, return_indices=True)
-    xy = np.asarray(xy_m, dtype=np.float64)
-    c = grid.cell_m
-    col = np.clip(np.floor((xy[:, 0] - grid.x0_m) / c).astype(np.int64), 0, mask.shape[1] - 1)
-    row = np.clip(np.floor((xy[:, 1] - grid.y0_m) / c).astype(np.int64), 0, mask.shape[0] - 1)
-    inside_extent = ((xy[:, 0] >= grid.x0_m) & (xy[:, 0] < grid.x0_m + c * mask.shape[1])
-                     & (xy[:, 1] >= grid.y0_m) & (xy[:, 1] < grid.y0_m + c * mask.shape[0]))
-    moved = ~(mask[row, col] & inside_extent)
-    out = xy.copy()
-    r2, c2 = ii[row[moved], col[moved]], jj[row[moved], col[moved]]
-    out[moved] = np.column_stack([grid.x0_m + (c2 + 0.5) * c, grid.y0_m + (r2 + 0.5) * c])
-    return out, moved
+    hit = _SNAPPERS.get(id(grid))
+    if hit is None or hit[0] is not grid:
+        if len(_SNAPPERS) >= 4:
+            _SNAPPERS.pop(next(iter(_SNAPPERS)))
+        hit = _SNAPPERS[id(grid)] = (grid, map_snapper(grid))
+    return hit[1](xy_m)
 
 
 def _with_map(problem: TrackProblem, xy: np.ndarray, solve_anchored: Callable, rounds: int = 3) -> np.ndarray:
@@ -258,6 +290,43 @@ def lsq_causal_map_track(problem: TrackProblem) -> np.ndarray:
     return snap_to_map(lsq_causal_track(problem), problem.grid)[0]
 
 
+def _gain_kf_result(problem: TrackProblem):
+    from ilocalg.track.online_kf import gain_kf
+
+    g = problem.gain
+    if g is None:
+        raise ValueError("the kf_gain estimators need the measured gain spread (TrackProblem.gain, "
+                         "ilocalg.track.motion.gain_stats on the other walks)")
+    return gain_kf(problem.state_t_s, problem.disp_m, problem.fix_t_s, problem.fix_xy_m, problem.fix_var_m2,
+                   g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s)
+
+
+def kf_gain_track(problem: TrackProblem) -> np.ndarray:
+    """The gain-augmented Kalman filter (:func:`ilocalg.track.online_kf.gain_kf`), causal."""
+    return _gain_kf_result(problem).xy_m
+
+
+def kf_gain_map_track(problem: TrackProblem) -> np.ndarray:
+    """:func:`kf_gain_track`, each state then moved onto the walkable raster (causal)."""
+    if problem.grid is None:
+        raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    return snap_to_map(kf_gain_track(problem), problem.grid)[0]
+
+
+#: The lag of the fixed-lag smoothed variant ``kf_gain_lag5s`` (seconds): a display that trails the walker by
+#: 5 s. Liao et al. (2016), L481, advise online smoothing windows "larger than 5 s but not beyond 20 s"; the
+#: shortest is taken. Not causal; reported as its own variant beside the strictly causal ``kf_gain``.
+KF_GAIN_LAG_S = 5.0
+
+
+def kf_gain_lag_track(problem: TrackProblem, lag_s: float = KF_GAIN_LAG_S) -> np.ndarray:
+    """:func:`kf_gain_track` smoothed over a fixed lag (:func:`ilocalg.track.online_kf.gain_kf_lag`): each state
+    from the data up to ``lag_s`` after it (not causal)."""
+    from ilocalg.track.online_kf import gain_kf_lag
+
+    return gain_kf_lag(_gain_kf_result(problem), problem.state_t_s, lag_s)
+
+
 @dataclass(frozen=True)
 class Estimator:
     """A registered trajectory estimator: ``fn(problem) -> (n+1, 2)``; ``causal``: online; ``needs_map``."""
@@ -275,4 +344,9 @@ ESTIMATORS = {e.name: e for e in (
     Estimator("lsq_map", lsq_map_track, False, True, "lsq, then pulled onto the walkable map"),
     Estimator("lsq_online", lsq_causal_track, True, False, "least squares on the data so far (online)"),
     Estimator("lsq_online_map", lsq_causal_map_track, True, True, "lsq_online, each state moved onto the map"),
+    Estimator("kf_gain", kf_gain_track, True, False,
+              "Kalman filter with the walk's step scale and heading offset as states (online)"),
+    Estimator("kf_gain_map", kf_gain_map_track, True, True, "kf_gain, each state moved onto the map (online)"),
+    Estimator("kf_gain_lag5s", kf_gain_lag_track, False, False,
+              "kf_gain smoothed over a fixed 5 s lag (online with 5 s delay; not causal)"),
 )}

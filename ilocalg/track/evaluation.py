@@ -17,11 +17,21 @@ from ilocalg.io.schema import FLOOR, T_S, X_M, Y_M
 from ilocalg.metrics import penalised_error_m
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.step_length import weinberg_length_m
-from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, METHODS, RealWalkConfig
+from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, GAIN_METHODS, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, TrackProblem
 from ilocalg.track.fixes import calibrate_fix_var, estimate_floors, select_wifi, wifi_fixes
-from ilocalg.track.motion import Calibration, WalkSteps, _track_at, calibrate, calibrate_step_var, walk_steps
+from ilocalg.track.motion import (
+    Calibration,
+    GainStats,
+    WalkSteps,
+    _track_at,
+    calibrate,
+    calibrate_step_var,
+    gain_stats,
+    step_intervals,
+    walk_steps,
+)
 from ilocalg.units import as_rng, wrap_angle_rad
 
 
@@ -32,7 +42,8 @@ def _latest_fix(fix_t, fix_xy, t_s):
 
 def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2: float,
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
-                  steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None) -> dict:
+                  steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
+                  gain: GainStats | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -41,6 +52,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     ``map_align`` and ``lsq*_map``; the particle filter runs unconstrained without it. ``step_var_m2``:
     the per-step PDR displacement variance of the least-squares estimators
     (:func:`ilocalg.track.motion.calibrate_step_var` on the other walks; default ``cfg.sigma_sl_m**2``).
+    ``gain``: the spread of a walk's own step scale and heading offset (:func:`ilocalg.track.motion.gain_stats`
+    on the other walks), needed by the ``kf_gain*`` methods.
 
     Returns
     -------
@@ -48,7 +61,9 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         ``errors`` (DataFrame: one row per ground-truth point, one column per method, metres),
         ``tracks`` (method -> (n+1, 2) states), ``state_t_s``, ``fixes`` (WifiFixes), ``info`` (dict),
         ``scans`` (counts of the scans left out), ``floors`` (DataFrame per ground-truth point:
-        ``floor_true`` and one column per method, or None without floor numbers), ``track`` (long
+        ``floor_true`` and one column per method, or None without floor numbers), ``problem`` (the
+        :class:`~ilocalg.track.estimators.TrackProblem` the least-squares and ``kf_gain*`` methods solved, or
+        None when none was asked for), ``track`` (long
         DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`). ``errors``
         also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints),
         never a method.
@@ -130,12 +145,13 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     lsq_names = [m for m in methods if m in ESTIMATORS]
     if grid is None and any(ESTIMATORS[m].needs_map for m in lsq_names):
         raise ValueError(f"{[m for m in lsq_names if ESTIMATORS[m].needs_map]} need the floor map (grid)")
+    prob = None
     if lsq_names:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
-                            fix_var_m2, grid, fix_avail_t_s=fx.t_s)
+                            fix_var_m2, grid, fix_avail_t_s=fx.t_s, gain=gain)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))
@@ -169,7 +185,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         floors = pd.DataFrame(floors)
     scans = {"n_scans_outside_walk": fx.n_outside_walk, "n_scans_no_shared_ap": fx.n_no_shared_ap,
              "floor_source": None if fest is None else fest.source}
-    out = {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info,
+    out = {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info, "problem": prob,
            "scans": scans, "floors": floors}
     out["track"] = track_table(out, state_floor)
     return out
@@ -266,11 +282,19 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
     steps = {r.name: walk_steps(r, cfg) for r in recs}
     cal = calibrate(recs, steps, cfg=cfg)
     step_var = calibrate_step_var(recs, steps, cal)
+    gain, gain_note = None, None
+    if any(m in GAIN_METHODS for m in methods):
+        try:
+            gain = gain_stats(pd.concat([step_intervals(r, steps[r.name]) for r in recs], ignore_index=True), cal)
+        except ValueError as e:               # too few walks with waypoints: the kf_gain variants are not run
+            methods, gain_note = tuple(m for m in methods if m not in GAIN_METHODS), str(e)
     if floor_map is None or isinstance(floor_map, OccupancyGrid):
         grid = floor_map
     else:
         grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
-    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var)
+    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var, gain=gain)
     r["info"]["wifi_config"] = label
+    if gain_note:
+        r["info"]["kf_gain_not_run"] = gain_note
     return r
 

@@ -30,8 +30,10 @@ from ilocalg.track.database import WifiDatabase
 from ilocalg.track.fixes import select_wifi_nested
 from ilocalg.track.motion import (
     Calibration,
+    GainStats,
     calibrate,
     calibration_from_rows,
+    gain_stats,
     step_intervals,
     step_var_from_intervals,
     walk_steps,
@@ -50,6 +52,7 @@ class WalkModel:
     step_var_m2: float
     cfg: RealWalkConfig
     wifi_config: str
+    gain: GainStats | None = None
 
 
 @dataclass(frozen=True)
@@ -80,7 +83,12 @@ class FloorModel:
         db = self.db.without(*out) if out else self.db
         pw = self.per_walk[~self.per_walk["walk"].isin(out)]
         cal = calibration_from_rows(pw)
-        sv = step_var_from_intervals(self.intervals[~self.intervals["walk"].isin(out)], cal)
+        iv = self.intervals[~self.intervals["walk"].isin(out)]
+        sv = step_var_from_intervals(iv, cal)
+        try:
+            gs = gain_stats(iv, cal)
+        except ValueError:                         # too few walks with waypoint intervals: no kf_gain
+            gs = None
         if select:
             key = name if out else "__none__"
             label, c, var = select_wifi_nested(self.db, [key], cfg)[key]
@@ -88,7 +96,7 @@ class FloorModel:
             from ilocalg.track.fixes import calibrate_fix_var
 
             label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
-        return WalkModel(db, cal, var, sv, c, label)
+        return WalkModel(db, cal, var, sv, c, label, gs)
 
     def save(self, folder) -> Path:
         """Write ``database.npz``, ``per_walk.csv`` and ``intervals.csv`` into ``folder``."""

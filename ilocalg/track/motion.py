@@ -194,3 +194,74 @@ def step_var_from_intervals(intervals: pd.DataFrame, calibration: Calibration) -
     pred = calibration.k_weinberg * np.exp(1j * calibration.offset_rad) * s
     e = pred - (iv["dx_m"].to_numpy(dtype=float) + 1j * iv["dy_m"].to_numpy(dtype=float))
     return float((np.abs(e) ** 2).sum() / (2.0 * iv["n"].sum()))
+
+
+@dataclass(frozen=True)
+class GainStats:
+    """How a walk's own similarity gain ``g = s exp(i b)`` (step scale ``s``, heading bias ``b``, beyond the
+    floor calibration) varies, measured on walks with waypoints (:func:`gain_stats`): ``gain_var``
+    (variance of each component of the per-walk ``g`` around 1, its fit noise removed), ``gain_walk_var``
+    (its random-walk variance per step, from the change between the two halves of each walk, their fit
+    noise removed), ``step_var_m2`` (per-axis
+    variance of one step's displacement error once the walk's own ``g`` is applied) and ``n_walks``."""
+
+    gain_var: float
+    gain_walk_var: float
+    step_var_m2: float
+    n_walks: int
+
+
+def _walk_gain(pred, true):
+    """Least-squares complex gain ``g`` of ``g pred ~ true`` (complex arrays), its residuals and the variance of
+    each component of ``g`` (``sigma^2 / sum |pred|^2``, ``sigma^2 = sum |e|^2 / (2 n - 2)``; NaN with one
+    interval)."""
+    den = float((np.abs(pred) ** 2).sum())
+    if den <= 0:
+        return np.nan, true - pred, np.nan
+    g = complex((np.conj(pred) * true).sum() / den)
+    e = true - g * pred
+    var = float((np.abs(e) ** 2).sum()) / (2.0 * pred.size - 2.0) / den if pred.size > 1 else np.nan
+    return g, e, var
+
+
+def gain_stats(intervals: pd.DataFrame, calibration: Calibration, min_intervals: int = 4) -> GainStats:
+    """Measure the per-walk similarity gain's spread from :func:`step_intervals` tables (never the scored
+    walk's). Per walk with at least ``min_intervals`` waypoint intervals spanning steps: ``g`` fitted by
+    least squares of ``g G s ~ (dx + i dy)`` (``G = k exp(i offset)``, the floor calibration), with the
+    variance ``v`` of each component of the fit. ``gain_var = mean(|g - 1|^2 / 2 - v)``: the spread of the
+    walks' gains less their fits' own noise. The walk's first and second half of intervals fitted apart
+    (``g_1``, ``g_2``, fit variances ``v_1``, ``v_2``) give the random walk per step,
+    ``gain_walk_var = mean((|g_1 - g_2|^2 / 2 - v_1 - v_2) / m)`` with ``m`` the steps between the halves'
+    centres; both clipped at 0. ``step_var_m2``: the residuals' ``sum |e|^2 / (2 sum n)``.
+
+    References
+    ----------
+    Umeyama S., IEEE PAMI 13(4) (1991) (the similarity fit, here in complex form); the variance of a
+    least-squares coefficient, e.g. Seber & Lee, Linear Regression Analysis, Wiley (2003), sec. 3.
+    """
+    iv = intervals[intervals["n"] > 0]
+    G = calibration.k_weinberg * np.exp(1j * calibration.offset_rad)
+    dev, walk_var, res2, nsum = [], [], 0.0, 0
+    for _, w in iv.groupby("walk", sort=False):
+        if len(w) < min_intervals:
+            continue
+        pred = G * (w["s_re"].to_numpy(dtype=float) + 1j * w["s_im"].to_numpy(dtype=float))
+        true = w["dx_m"].to_numpy(dtype=float) + 1j * w["dy_m"].to_numpy(dtype=float)
+        n = w["n"].to_numpy(dtype=np.int64)
+        g, e, v = _walk_gain(pred, true)
+        if not (np.isfinite(g) and np.isfinite(v)):
+            continue
+        dev.append(abs(g - 1.0) ** 2 / 2.0 - v)
+        res2 += float((np.abs(e) ** 2).sum())
+        nsum += int(n.sum())
+        h = len(w) // 2
+        g1, _, v1 = _walk_gain(pred[:h], true[:h])
+        g2, _, v2 = _walk_gain(pred[h:], true[h:])
+        m = 0.5 * (n[:h].sum() + n[h:].sum())
+        if np.isfinite(g1) and np.isfinite(g2) and np.isfinite(v1) and np.isfinite(v2) and m > 0:
+            walk_var.append((abs(g1 - g2) ** 2 / 2.0 - v1 - v2) / m)
+    if len(dev) < 2 or nsum == 0:
+        raise ValueError(f"gain_stats: need at least 2 walks with >= {min_intervals} waypoint intervals, got "
+                         f"{len(dev)}")
+    return GainStats(max(float(np.mean(dev)), 0.0), max(float(np.mean(walk_var)), 0.0) if walk_var else 0.0,
+                     res2 / (2.0 * nsum), len(dev))

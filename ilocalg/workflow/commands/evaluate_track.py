@@ -234,11 +234,15 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
                                            _cache_dir(args.cache_dir) or Path(_tmp_cache()), cfg, floor_name=fn,
                                            **POLICY)
         wm = model.for_walk(trace.name, cfg, content_id=rec.content_id)
+        if wm.gain is None:                     # too few walks with waypoints to measure the gain spread
+            from ilocalg.track._config import GAIN_METHODS
+
+            methods = tuple(m for m in methods if m not in GAIN_METHODS)
         _check_same_site(rec, wm.db, args.trace)
         st("tracking the walk")
         grid = None if fmap is None else OccupancyGrid.from_floor_map(fmap, cfg.grid_cell_m)
         r = evaluate_walk(rec, wm.db, wm.calibration, wm.fix_var_m2, wm.cfg, grid=grid, rng=args.seed,
-                          methods=methods, step_var_m2=wm.step_var_m2)
+                          methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain)
         r["info"]["wifi_config"] = wm.wifi_config
         r["info"]["database_from_cache"] = cached
         n_db = len(model.walks) - (trace.name in set(model.walks))
