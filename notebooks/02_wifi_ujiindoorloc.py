@@ -111,8 +111,10 @@ if tables is not None:
 # Minkowski it does not), then an ensemble (`ilocalg.wifi.FingerprintEnsemble`: the mean position of the offset
 # search on powed data, the cascade on powed data and the offset search on exponential data, all Sorensen; floor
 # and building by majority), both in a scikit-learn `Pipeline`; then the ensemble's members (two or three)
-# chosen by `GridSearchCV` with `GroupKFold` by PHONEID on training only, at the K the offset-search CV chose.
-# The `toolkit_readings` table names the literature behind each step.
+# chosen by `GroupKFold` CV by PHONEID on training only, at the K the offset-search CV chose
+# (`model_selection.ensemble_cv`: the folds, scores and choice of `GridSearchCV` over that pipeline, with each
+# member fitted once per fold). Grouping by phone: each fold scores phones the fit never saw, as the validation
+# campaign did. The `toolkit_readings` table names the literature behind each step.
 
 # %%
 if tables is not None and "toolkit_ladder" in tables:
