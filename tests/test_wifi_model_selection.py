@@ -1,6 +1,7 @@
 """Model selection and scoring of fingerprint estimators (ilocalg.wifi.model_selection)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.io.schema import FingerprintSet
@@ -51,3 +52,25 @@ def test_toolkit_cv_needs_a_meta_group():
                        floor=np.zeros(4), building=np.zeros(4))
     with pytest.raises(ValueError, match="meta column"):
         ms.toolkit_cv(s)
+
+
+def test_ensemble_cv_equals_grid_search_over_the_pipeline():
+    # the ladder's shared-fit CV (each member fitted once per fold) against GridSearchCV over the Pipeline
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(4)
+    x, xy = _radio(rng, n=240)
+    floor = (xy[:, 0] > 15).astype(int)
+    train = FingerprintSet(rssi_dbm=x, ap_ids=tuple(f"a{i}" for i in range(x.shape[1])), x_m=xy[:, 0],
+                           y_m=xy[:, 1], floor=floor, building=np.zeros(len(x), dtype=int),
+                           meta=pd.DataFrame({"PHONEID": np.arange(len(x)) % 4}))
+    grid = {"est__estimators": [ms.ensemble_members((-2.0, 0.0, 2.0), three=False),
+                                ms.ensemble_members((-2.0, 0.0, 2.0), three=True)]}
+    best, table = ms.ensemble_cv(train, grid, 4, seed=1, max_test=50)
+    ref_best, ref = ms.toolkit_cv(train, seed=1, group="PHONEID", max_test=50, estimator=ms.ensemble_pipeline(4),
+                                  grid=grid)
+    assert [n for n, _ in best["est__estimators"]] == [n for n, _ in ref_best["est__estimators"]]
+    np.testing.assert_array_equal(table["estimators"], ref["estimators"])
+    np.testing.assert_allclose(table["cv_mean_error_m"], ref["cv_mean_error_m"], rtol=1e-12)
+    np.testing.assert_allclose(table["cv_sd_m"], ref["cv_sd_m"], rtol=1e-9)
+    np.testing.assert_array_equal(table["rank"], ref["rank"])

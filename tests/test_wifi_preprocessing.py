@@ -19,6 +19,21 @@ def test_representations():
     np.testing.assert_array_equal(pos + (-104), fill_not_heard(x, -104))
 
 
+@pytest.mark.parametrize("representation", ["exponential", "powed"])
+def test_representations_equal_the_dense_formula(representation):
+    # computed on the heard readings only: the same bytes as the formula over the whole matrix
+    rng = np.random.default_rng(0)
+    x = np.round(rng.uniform(-104, 0, (200, 60)))
+    x[rng.random(x.shape) < 0.8] = np.nan
+    pos = np.nan_to_num(x + 104.0, nan=0.0)
+    dense = (np.where(pos == 0, 0.0, np.exp(pos / 24.0) / np.exp(104.0 / 24.0)) if representation == "exponential"
+             else (pos / 104.0) ** np.e)
+    for dtype in (np.float32, np.float64):
+        f = to_features(x, -104.0, representation, dtype=dtype)
+        assert f.dtype == dtype and f.flags.c_contiguous
+        np.testing.assert_array_equal(f, dense.astype(dtype))
+
+
 def test_bad_input_messages():
     with pytest.raises(ValueError, match="2-D"):
         check_rssi(np.zeros(3))

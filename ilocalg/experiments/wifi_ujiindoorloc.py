@@ -35,7 +35,7 @@ from ilocalg.papers import paper_ref
 from ilocalg.wifi import ESTIMATORS, evaluate_method
 from ilocalg.wifi.model_selection import best_search, metrics_row, selection_mask, toolkit_ladder
 
-__all__ = ["PAPER_UJI", "METHODS", "find_files", "load", "run"]
+__all__ = ["PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "find_files", "load", "run"]
 
 # Settings from the paper
 # -----------------------
@@ -56,6 +56,33 @@ PAPER_UJI = {
 }
 
 METHODS = tuple(ESTIMATORS)
+
+#: The literature behind each toolkit step (``toolkit_readings`` table): step, source, what it reports, what the
+#: code does. No value of a source is used as a result; settings it fixes appear in the row's parameters.
+TOOLKIT_READINGS = (
+    ("building -> floor -> position", "Torres-Sospedra et al. 2014 (IPIN, the data set paper)",
+     "a multi-building, multi-floor set: locate building and floor, then the position",
+     "CascadeFingerprint: distance-weighted KNN votes for building, then floor inside it, WKNN inside the floor"),
+    ("powed / exponential / positive RSSI", "Torres-Sospedra et al. 2015 (Expert Syst. Appl. 42), sec. 3",
+     "data representations; powed (beta = e) and exponential (alpha = 24) weigh strong readings up",
+     "to_features(representation=...); chosen by GroupKFold CV on training in the CV rows"),
+    ("Sorensen (Bray-Curtis) distance", "Torres-Sospedra et al. 2015",
+     "Sorensen on powed data is among the best distance / representation pairs on UJIIndoorLoc",
+     "metric='sorensen' of every KNN; the fixed powed + Sorensen rows take the pair as published"),
+    ("per-device offset", "Tsui et al. 2009 (Mobile Netw. Appl. 14)",
+     "unsupervised calibration: the RSS offset of an unseen phone that best fits the radio map",
+     "OffsetFingerprint: per-query shift within one measured per-phone offset sd"),
+    ("AP selection", "Chen et al. 2006 (IEEE Trans. Knowl. Data Eng. 18)",
+     "locating with a selected subset of the APs instead of all of them",
+     "ApSelector(min_count=1): APs never heard in training dropped before every distance"),
+    ("ensemble of estimators", "Torres-Sospedra et al. 2019 (IPIN 2019)",
+     "averaging fingerprinting models with different distances / representations is robust",
+     "FingerprintEnsemble: mean position, majority floor and building; members chosen by GroupKFold CV"),
+    ("merged fingerprints per reference spot", "RADAR (Bahl & Padmanabhan 2000); common on UJIIndoorLoc",
+     "average the scans of one spot into one fingerprint",
+     "no row: tried during development with validation scores in view (mean_fingerprints per coordinate), "
+     "it raised the error, so it was left out rather than put to the CV"),
+)
 
 
 def find_files(data_dir: str | Path | None = None) -> tuple[Path, Path] | None:
@@ -94,7 +121,8 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
         Run :func:`ilocalg.wifi.model_selection.best_search` (default: only in full mode).
     toolkit : bool
         Add the toolkit ladder (:func:`ilocalg.wifi.model_selection.toolkit_ladder`): rows
-        ``toolkit: ...`` in ``methods`` and ``errors``, tables ``toolkit_ladder``, ``toolkit_cv`` and ``measures``.
+        ``toolkit: ...`` in ``methods`` and ``errors``, tables ``toolkit_ladder``, ``toolkit_cv``,
+        ``toolkit_readings`` (:data:`TOOLKIT_READINGS`) and ``measures``.
     """
     data = load(data_dir)
     if data is None:
@@ -178,6 +206,8 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
         tk = lad.iloc[-1]
         tables["toolkit_ladder"] = lad
         tables["toolkit_cv"] = ladder["toolkit_cv"]
+        tables["toolkit_readings"] = pd.DataFrame(list(TOOLKIT_READINGS),
+                                                  columns=["step", "source", "source_says", "code_does"])
         tables["paper_vs_reproduced"] = pd.concat([tables["paper_vs_reproduced"], pd.DataFrame([
             paper_ref("EvAAL-ETRI 2015 winner", u, "toolkit mean 2-D error (last ladder row, CV-chosen)",
                       PAPER_UJI["paper_evaal_winner_mean_m"], tk["mean_m"], "m",

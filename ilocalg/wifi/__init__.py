@@ -10,6 +10,7 @@ Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:
 :mod:`~ilocalg.wifi.horus` (i-Loc thesis eq. 5-7), :mod:`~ilocalg.wifi.hierarchical`
 (building -> floor -> position), :mod:`~ilocalg.wifi.cascade` (the toolkit's building -> floor ->
 position WKNN estimator), :mod:`~ilocalg.wifi.offset` (WKNN with a per-query device offset search),
+:mod:`~ilocalg.wifi.ensemble` (AP selection, an averaging ensemble of estimators),
 :mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
 :mod:`~ilocalg.wifi.registry` (the one registry of estimator
 factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
@@ -18,6 +19,7 @@ factories, name -> factory, used by experiments and the command line), :mod:`~il
 """
 
 from ilocalg.wifi.cascade import CascadeFingerprint
+from ilocalg.wifi.ensemble import ApSelector, FingerprintEnsemble, combine_predictions
 from ilocalg.wifi.evaluate import evaluate_method
 from ilocalg.wifi.hierarchical import HierarchicalLocator, locate_flat
 from ilocalg.wifi.horus import SimplifiedHorus, fit_horus, horus_predict_index, horus_scores
@@ -42,6 +44,9 @@ __all__ = [
     "CascadeFingerprint",
     "OffsetFingerprint",
     "offset_search",
+    "ApSelector",
+    "FingerprintEnsemble",
+    "combine_predictions",
     "locate_flat",
     "ESTIMATORS",
     "register_estimator",

@@ -44,6 +44,10 @@ __all__ = [
     "bootstrap_mean_ci",
     "offset_shifts_db",
     "offset_grid",
+    "ensemble_members",
+    "ensemble_grid",
+    "ensemble_pipeline",
+    "ensemble_cv",
 ]
 
 
@@ -150,6 +154,82 @@ def offset_grid(fast: bool = False) -> dict:
     return {"representation": ["powed", "exponential"], "shifts_db": shifts, "n_neighbors": [5, 8]}
 
 
+def ensemble_members(shifts_db=None, three: bool = True) -> list:
+    """Members of the toolkit ensemble (:class:`ilocalg.wifi.FingerprintEnsemble`): the offset search on powed
+    data (Tsui et al. 2009), the cascade on powed data (Torres-Sospedra et al. 2015's best pair, powed and
+    Sorensen) and, with ``three``, the offset search on exponential data, each with the Sorensen distance."""
+    from ilocalg.wifi.cascade import CascadeFingerprint
+    from ilocalg.wifi.offset import OffsetFingerprint
+
+    sh = offset_shifts_db() if shifts_db is None else tuple(shifts_db)
+    members = [("offset_powed", OffsetFingerprint(shifts_db=sh, representation="powed", metric="sorensen")),
+               ("cascade_powed", CascadeFingerprint(representation="powed", metric="sorensen"))]
+    if three:
+        members.append(("offset_exponential", OffsetFingerprint(shifts_db=sh, representation="exponential",
+                                                                metric="sorensen")))
+    return members
+
+
+def ensemble_grid(fast: bool = False) -> dict:
+    """Candidates of the ensemble row (Pipeline step names ``aps``, ``est``), chosen by GroupKFold(PHONEID) CV
+    on training: two or three members (:func:`ensemble_members`). ``K`` is the offset-search CV's choice."""
+    if fast:
+        return {"est__estimators": [ensemble_members(three=False)]}
+    return {"est__estimators": [ensemble_members(three=False), ensemble_members(three=True)]}
+
+
+def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):
+    """``Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(estimators, n_neighbors))])``."""
+    from sklearn.pipeline import Pipeline
+
+    from ilocalg.wifi.ensemble import ApSelector, FingerprintEnsemble
+
+    members = ensemble_members() if estimators is None else estimators
+    return Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(members, n_neighbors))])
+
+
+def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int = 0, n_splits: int = 3,
+                max_test: int = 300, group: str = "PHONEID") -> tuple[dict, pd.DataFrame]:
+    """:func:`toolkit_cv` of :func:`ensemble_pipeline` over ``grid`` (``{"est__estimators": [members, ...]}``),
+    with each distinct member fitted once per fold: a candidate's fold score is
+    :func:`ilocalg.wifi.ensemble.combine_predictions` of its members' fold predictions, which is what the
+    pipeline's ``predict`` returns. Same folds, scorer, table and choice (first of the best rank) as
+    ``toolkit_cv(train, seed, group=group, max_test=max_test, estimator=ensemble_pipeline(n_neighbors),
+    grid=grid)`` (a test checks the equality); the members shared by the candidates are not refitted.
+    """
+    from scipy.stats import rankdata
+    from sklearn.base import clone
+
+    from ilocalg.metrics import mean_horizontal_error_m
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+
+    cands = list(grid["est__estimators"])
+    if train.meta is None or group not in train.meta:
+        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID), got {group!r}")
+    groups = train.meta[group].to_numpy()
+    cv = SubsampledGroupKFold(min(n_splits, len(np.unique(groups))), max_test, seed)
+    y = _target(train)
+    scores = np.empty((len(cands), cv.get_n_splits()))
+    for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
+        aps = ApSelector(1).fit(train.rssi_dbm[tr])
+        x_tr, x_te = aps.transform(train.rssi_dbm[tr]), aps.transform(train.rssi_dbm[te])
+        preds = {}
+        for c, members in enumerate(cands):
+            for name, est in members:
+                if name not in preds:
+                    e = clone(est)
+                    if "n_neighbors" in e.get_params():
+                        e.set_params(n_neighbors=n_neighbors)
+                    preds[name] = e.fit(x_tr, y[tr]).predict(x_te)
+            scores[c, f] = -mean_horizontal_error_m(y[te], combine_predictions([preds[n] for n, _ in members]))
+    mean = scores.mean(axis=1)
+    rank = rankdata(-mean, method="min").astype(np.int32)
+    table = pd.DataFrame({"groups": group, "estimators": [_fmt(m) for m in cands], "cv_mean_error_m": -mean,
+                          "cv_sd_m": scores.std(axis=1), "rank": rank})
+    return ({"est__estimators": cands[int(np.argmin(rank))]},
+            table.sort_values("rank", kind="stable").reset_index(drop=True))
+
+
 def _target(s: FingerprintSet) -> np.ndarray:
     return np.column_stack([s.xy_m, s.floor, s.building]).astype(np.float64)
 
@@ -204,14 +284,16 @@ def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_split
     gs = GridSearchCV(estimator, grid, scoring=horizontal_error_scorer(), cv=cv, refit=False)
     gs.fit(train.rssi_dbm, _target(train), groups=groups)
     r = gs.cv_results_
-    table = pd.DataFrame({"groups": group, **{k: [_fmt(v) for v in r[f"param_{k}"]] for k in grid},
+    table = pd.DataFrame({"groups": group, **{k.split("__")[-1]: [_fmt(v) for v in r[f"param_{k}"]] for k in grid},
                           "cv_mean_error_m": -r["mean_test_score"], "cv_sd_m": r["std_test_score"],
                           "rank": r["rank_test_score"]})
     return dict(gs.best_params_), table.sort_values("rank", kind="stable").reset_index(drop=True)
 
 
 def _fmt(v):
-    """A grid value as a table cell (a tuple of shifts as text)."""
+    """A grid value as a table cell (a tuple of shifts as text, ensemble members by name)."""
+    if isinstance(v, list) and v and all(isinstance(m, tuple) and len(m) == 2 for m in v):
+        return " + ".join(name for name, _ in v)
     return ", ".join(f"{x:g}" for x in v) if isinstance(v, tuple) else v
 
 
@@ -227,7 +309,7 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
-                   cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True) -> dict:
+                   cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -241,6 +323,14 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     device offset search over :func:`offset_shifts_db`): the Sorensen row's setting plus the search, and
     the representation, search and K chosen by GroupKFold(PHONEID) CV on training (:func:`offset_grid`;
     phones are what the search is for, and the validation campaign used phones the survey never saw).
+
+    With ``ensemble`` (and ``offset``), three more rows: the offset row with AP selection
+    (:class:`ilocalg.wifi.ApSelector`, APs never heard in training dropped); the mean of three members
+    (:func:`ensemble_members`: offset search on powed data, cascade on powed data, offset search on
+    exponential data; floor and building by majority, :class:`ilocalg.wifi.FingerprintEnsemble`), at K=5;
+    and the members chosen by GroupKFold(PHONEID) CV on training (:func:`ensemble_grid`) at the K of the
+    offset-search CV. Each member is fitted once per K and its predictions reused across rows
+    (:func:`ilocalg.wifi.ensemble.combine_predictions` is what the ensemble's ``predict`` returns).
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
     from ilocalg.wifi.offset import OffsetFingerprint
@@ -282,4 +372,45 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
         rows.append({"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi,
                      "params": "" if par is None else ", ".join(
                          f"{k}={_fmt(v)}" for k, v in {"n_neighbors": 5, **par}.items() if k != "estimator")})
+    if offset and ensemble:
+        k_cv = int(off_best.get("n_neighbors", 5))
+        ens_best, ens_table = ensemble_cv(train, ensemble_grid(fast), k_cv, seed, max_test=300)  # 300: for time
+        cv_table = pd.concat([cv_table, ens_table], ignore_index=True)
+        chosen = ens_best["est__estimators"]
+        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen):
+            res = {"error_m": np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m), "floor": pr[:, 2],
+                   "building": pr[:, 3]}
+            res_by[name] = res
+            e = res["error_m"][np.isfinite(res["error_m"])]
+            lo, hi = bootstrap_mean_ci(e, seed)
+            rows.append({"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi,
+                         "params": par})
     return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
+
+
+def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list):
+    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows; each member
+    fitted once per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`)."""
+    from sklearn.base import clone
+
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+
+    aps = ApSelector(1).fit(train.rssi_dbm)
+    x_tr, x_te, y = aps.transform(train.rssi_dbm), aps.transform(test.rssi_dbm), _target(train)
+    cache = {}
+
+    def member(name, est, k):
+        if (name, k) not in cache:
+            cache[(name, k)] = clone(est).set_params(n_neighbors=k).fit(x_tr, y).predict(x_te)
+        return cache[(name, k)]
+
+    three = ensemble_members(three=True)
+    names = " + ".join(n for n, _ in three)
+    yield ("toolkit: offset search row + AP selection (APs heard in training)", member(*three[0], 5),
+           "n_neighbors=5, min_count=1, representation=powed, metric=sorensen, "
+           f"shifts_db={_fmt(offset_shifts_db())}")
+    yield ("toolkit: + ensemble (mean position, majority floor and building)",
+           combine_predictions([member(n, e, 5) for n, e in three]), f"n_neighbors=5, min_count=1, members={names}")
+    yield ("toolkit: ensemble members by GroupKFold(PHONEID) CV, K of the offset-search CV",
+           combine_predictions([member(n, e, k_cv) for n, e in chosen]),
+           f"n_neighbors={k_cv}, min_count=1, members={_fmt(chosen)}")

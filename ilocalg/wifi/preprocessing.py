@@ -174,15 +174,15 @@ def to_features(rssi_dbm, not_heard_dbm: float = -104.0, representation: str = "
                          "lower not_heard_dbm")
     pos = np.nan_to_num(x - floor, nan=0.0)
     if representation == "positive":
-        f = pos
-    elif representation == "exponential":
-        f = np.exp(pos / alpha) / np.exp(-floor / alpha)
-        f[pos == 0] = 0.0
-    else:
-        if floor >= 0:
-            raise ValueError("the powed representation needs not_heard_dbm < 0")
-        f = (pos / -floor) ** beta
-    return np.ascontiguousarray(f, dtype=dtype)
+        return np.ascontiguousarray(pos, dtype=dtype)
+    if representation == "powed" and floor >= 0:
+        raise ValueError("the powed representation needs not_heard_dbm < 0")
+    # only the heard readings (a scan hears a few of many APs); "not heard" (pos == 0) stays exactly 0
+    heard = pos != 0
+    v = pos[heard]
+    f = np.zeros(pos.shape, dtype=dtype)
+    f[heard] = np.exp(v / alpha) / np.exp(-floor / alpha) if representation == "exponential" else (v / -floor) ** beta
+    return f
 
 
 def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
