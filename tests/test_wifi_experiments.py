@@ -90,3 +90,25 @@ def test_test_scans_hearing_no_ap_are_counted_not_scored():
     assert c["scored"] + c["not_scored_no_ap_heard"] == c["test_scans"]
     per_method = t["errors"].groupby("method").size()
     assert (per_method == c["scored"]).all()
+
+
+def test_sweep_runs_time_once_and_give_the_same_results():
+    """The seed sweep and the claims' samples time each method in one pass (manifest.SWEEP_KWARGS): every table but
+    the measured ``timing`` is that of the notebook's run, and so are the long results but the time per query."""
+    from ilocalg.papers.claims import tables_to_long
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    full = wifi_iloc.run(seed=0, fast=True, k_values=(5,))
+    lite = wifi_iloc.run(seed=0, fast=True, k_values=(5,), **SWEEP_KWARGS["wifi_iloc"])
+    assert list(lite) == list(full)
+    for name in full:
+        if name != "timing":
+            drop = (lambda df: df[df["quantity"] != "time per query"]) if name == "measures" else (lambda df: df)
+            pd.testing.assert_frame_equal(drop(lite[name]), drop(full[name]), check_exact=True)
+    pd.testing.assert_frame_equal(lite["timing"].drop(columns="ms_per_query"),
+                                  full["timing"].drop(columns="ms_per_query"), check_exact=True)
+    assert (lite["timing"]["ms_per_query"] > 0).all()
+    long_l, long_f = tables_to_long(lite), tables_to_long(full)
+    timed = long_f["quantity"].isin(["time per query", "ms_per_query"])
+    assert timed.sum() >= 4
+    pd.testing.assert_frame_equal(long_l[~timed.to_numpy()], long_f[~timed.to_numpy()], check_exact=True)

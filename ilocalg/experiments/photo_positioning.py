@@ -129,6 +129,18 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     **sim_params
         Overrides of :data:`ilocalg.sim.photo_poi.DEFAULTS` (e.g. ``drag_sd_px``).
     """
+    out = _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, SHOWN_METHODS if side_studies else METHODS,
+               side_studies, True, sim_params)
+    if not side_studies:  # the tables that show the methods left out
+        out = {name: df for name, df in out.items() if name not in _SHOW_OTHER_METHODS}
+    return out
+
+
+def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods, others, measures, sim_params):
+    """The tables of :func:`run` with VA from the starts of ``shown_methods`` only, ``others=False``: without ST with
+    the true orientation, SQPnP and the homography (``modern`` then has ST only), ``measures=False``: without the
+    ``measures`` table (and its marker ranging). The sweeps below read only ``per_k``, ``per_shot``, ``errors`` and
+    ``layout_check``, which are those of :func:`run` for the methods located."""
     ks = sorted({int(k) for k in ks})
     if not ks or ks[0] < 2 or ks[-1] > 7:
         raise ValueError(f"ks must be numbers of PoIs between 2 and 7, got {ks}")
@@ -150,8 +162,8 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
         Tt = np.repeat(sim.T_true, C, axis=0)
         ctrue = np.repeat(sim.c_m, C, axis=0)
         c0 = {name: np.repeat(c, C, axis=0) for name, c in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m),
-                                                           ("VA_truth", sim.c_m)) if side_studies or name in METHODS}
-        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=side_studies)
+                                                           ("VA_truth", sim.c_m)) if name in shown_methods}
+        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=others)
         conv_rows += [{"method": c.pop("method"), "k": k, **c} for c in conv]
         cond = st["cond"].reshape(N, C)
         va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
@@ -173,7 +185,7 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     shots = photo_poi.shots_frame(layout)
 
     thesis = errors[errors["method"].isin(METHODS)]
-    shown_methods = list(SHOWN_METHODS if side_studies else METHODS)
+    shown_methods = list(shown_methods)
     shown = errors[errors["method"].isin(shown_methods)]
     per_shot = shown.pivot_table(index="shot", columns="method", values="error_cm", aggfunc="mean")[shown_methods]
     per_shot = per_shot.reset_index()
@@ -299,10 +311,9 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
                                                height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
         "readings": readings(layout, va_free_z, **{k: v for k, v in p.items() if k in photo_poi.DEFAULTS}),
         "errors": errors,
-        "measures": pd.concat([pd.DataFrame(meas), _marker_measures(seed, fast)], ignore_index=True),
     }
-    if not side_studies:  # the tables that show the methods left out
-        out = {name: df for name, df in out.items() if name not in _SHOW_OTHER_METHODS}
+    if measures:
+        out["measures"] = pd.concat([pd.DataFrame(meas), _marker_measures(seed, fast)], ignore_index=True)
     return out
 
 
@@ -350,7 +361,7 @@ def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5
         fam = ("row (earlier)" if name == "row" else
                "one wall" if isinstance(lay, photo_poi.Layout) and lay.dims.get("family") == "one wall" else "room")
         try:
-            t = run(seed=seed, fast=fast, ks=ks, layout=lay)
+            t = _run(seed, fast, None, False, None, ks, lay, SHOWN_METHODS, False, False, {})
         except ValueError as e:  # a shot whose aim error puts a PoI off the screen: the layout cannot be photographed
             if "falls outside the screen" not in str(e):
                 raise
@@ -386,7 +397,8 @@ def good_guess_sweep(seed: int = 0, fast: bool = False, sds=GOOD_GUESS_SD_M, ks=
     """VAGIG's error against the good guess's spread (an assumption), beside VA from the truth and VABIG."""
     rows = []
     for sd in sds:
-        t = run(seed=seed, fast=fast, ks=ks, layout=layout, good_guess_sd_m=float(sd))
+        t = _run(seed, fast, None, False, None, ks, layout, SHOWN_METHODS, False, False,
+                 {"good_guess_sd_m": float(sd)})
         for _, r in t["per_k"].iterrows():
             for m in ("VA_truth", "VAGIG", "VABIG", "ST"):
                 rows.append({"good_guess_sd_m": float(sd), "k": int(r["k"]), "method": m, "error_cm": float(r[m])})
@@ -407,8 +419,8 @@ def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_G
         grid = tuple((name, (values[0], values[-1])) for name, values in grid if name in ("drag_sd_px", "yaw_sd_deg"))
     for name, values in grid:
         for v in values:
-            kw = {name: v}
-            t = run(seed=seed, fast=fast, n_photos=n, ks=ks, **kw)["per_k"]
+            free_z, sim = (v, {}) if name == "va_free_z" else (False, {name: v})
+            t = _run(seed, fast, n, free_z, None, ks, photo_poi.DEFAULT_LAYOUT, METHODS, False, False, sim)["per_k"]
             for _, r in t.iterrows():
                 for m in METHODS:
                     rows.append({"parameter": name, "value": float(v), "k": int(r["k"]), "method": m,

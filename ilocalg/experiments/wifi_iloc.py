@@ -82,6 +82,10 @@ def run(seed: int = 0, fast: bool = False, k_values=tuple(range(1, 11)), k_aps: 
         AP counts k of the RADAR k study (Fig 3).
     k_aps : int
         k used by RADAR and Horus in the method comparison (the thesis' best, 5).
+    timing_repeats : int
+        ``timing``: each method's time per query is the best of this many passes over (up to) 100 single queries.
+        Only ``timing`` and the ``time per query`` rows of ``measures`` depend on it (the seed sweep and the
+        claims' samples use 1, :data:`ilocalg.workflow.manifest.SWEEP_KWARGS`).
     world : {"measured", "assumed"}
         The floor's radio parameters: data/measured_parameters.csv (default) or the earlier
         published-value world (:func:`ilocalg.sim.iloc_floor.world_params`).

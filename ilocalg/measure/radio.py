@@ -84,11 +84,15 @@ def place_means(rssi_dbm, place, offset_db=None):
     if offset_db is not None:
         r = r - np.asarray(offset_db, dtype=np.float64)[:, None]
     places, inv = np.unique(np.asarray(place), return_inverse=True)
+    inv = inv.reshape(-1)
+    h = np.isfinite(r)
+    x = np.where(h, r, 0.0)
+    # per AP, the sums over each place's samples in sample order (as np.add.at would add them, many times faster)
     s = np.zeros((places.size, r.shape[1]))
     c = np.zeros_like(s)
-    h = np.isfinite(r)
-    np.add.at(s, inv, np.where(h, r, 0.0))
-    np.add.at(c, inv, h)
+    for j in range(r.shape[1]):
+        s[:, j] = np.bincount(inv, weights=x[:, j], minlength=places.size)
+        c[:, j] = np.bincount(inv, weights=h[:, j], minlength=places.size)
     with np.errstate(invalid="ignore"):
         return s / np.where(c > 0, c, np.nan), places
 

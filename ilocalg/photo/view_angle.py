@@ -109,7 +109,11 @@ def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
 def _cross(u, v):
     ux, uy, uz = u[..., 0], u[..., 1], u[..., 2]
     vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
-    return np.stack([uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx], axis=-1)
+    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
+    out[..., 0] = uy * vz - uz * vy
+    out[..., 1] = uz * vx - ux * vz
+    out[..., 2] = ux * vy - uy * vx
+    return out
 
 
 def _cost_grad(c, Pi, Pj, a, need_grad):
@@ -190,11 +194,13 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
     n_iter = np.zeros(B, dtype=int)
     active = gn > 0
     idx = np.flatnonzero(active)
+    # the active photos' pairs and angles, gathered again only when photos converge
+    Pi_a, Pj_a, a_a = Pi[idx], Pj[idx], a[idx]
     for _ in range(max_iter):
         if idx.size == 0:
             break
         trial = c[idx] - alpha[idx, None] * g[idx]
-        Jt, gt = _cost_grad(trial, Pi[idx], Pj[idx], a[idx], True)
+        Jt, gt = _cost_grad(trial, Pi_a, Pj_a, a_a, True)
         ok = Jt < J[idx]
         n_iter[idx] += 1
         # rejected steps: backtrack
@@ -213,8 +219,11 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
             g[acc] = gt
         gi = g[idx]
         steplen = alpha[idx] * np.sqrt(np.sum(gi * gi, axis=1))
-        active[idx] = steplen > step_tol_m
-        idx = idx[active[idx]]
+        keep = steplen > step_tol_m
+        active[idx] = keep
+        if not keep.all():
+            idx = idx[keep]
+            Pi_a, Pj_a, a_a = Pi_a[keep], Pj_a[keep], a_a[keep]
     return {"c_m": c, "cost": J, "n_iter": n_iter, "converged": ~active}
 
 
