@@ -438,13 +438,24 @@ def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=
     ``P_minus_out`` or a buffer of this call).
     """
     work = np.empty((N_STATES, N_STATES))
+    L = Ph.shape[0]
+    if P_minus_out is not None and P_minus_out.flags.c_contiguous:
+        # eskf_predict's products and adds, inlined: the diagonals of the whole stretch as one strided view
+        diag = P_minus_out.reshape(L, N_STATES * N_STATES)[:, ::N_STATES + 1]
+        mm = np.matmul
+        for j in range(L):
+            Phj = Ph[j]
+            P = mm(mm(Phj, P, out=work), Phj.T, out=P_minus_out[j])
+            diag[j] += qd[j]
+        P_plus_out[...] = P_minus_out
+        return P
     if P_minus_out is not None:
-        for j in range(Ph.shape[0]):
+        for j in range(L):
             P = eskf_predict(P, Ph[j], qd[j], out=P_minus_out[j], work=work)
         P_plus_out[...] = P_minus_out
         return P
     bufs = (np.empty((N_STATES, N_STATES)), np.empty((N_STATES, N_STATES)))
-    for j in range(Ph.shape[0]):
+    for j in range(L):
         P = eskf_predict(P, Ph[j], qd[j], out=bufs[j & 1], work=work)
         if cps is not None and (k0 + 1 + j) % CHECKPOINT_EPOCHS == 0:
             cps.append((k0 + 1 + j, P.copy()))
