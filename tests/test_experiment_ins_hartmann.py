@@ -71,3 +71,23 @@ def test_side_studies_skipped_leave_the_claimed_tables_unchanged():
         pd.testing.assert_frame_equal(lite[name], full[name])
     pd.testing.assert_frame_equal(tables_to_long(lite), tables_to_long(full), check_exact=True)
     assert lite["tracker_noise"].empty and lite["outage_sensitivity"].empty
+
+
+def test_side_studies_reuse_the_main_runs_only_where_they_simulate_the_same_sequences():
+    from ilocalg.ins.hartmann_eval import run_sequence, table2_row
+    from ilocalg.sim import hartmann as sim
+
+    kw = {"seed": 0, "fast": True, "n_sequences": 1, "duration_s": 15.0, "noise_scales": (1.0,),
+          "outage_factors": ((2.0, 1.0),)}
+
+    def fresh(**sim_kw):
+        seq = sim.simulate(15.0, seed=0, **sim_kw)
+        return table2_row("1", seq, run_sequence(seq))
+
+    default, doubled = fresh(), fresh(outage_rate_per_s=2.0 * sim.OUTAGE_RATE_PER_S)
+    for main_rate, rows in ((1.0, (default, default, doubled)), (2.0, (default, default, doubled))):
+        out = ins_hartmann.run(outage_rate_factor=main_rate, **kw)
+        got = (out["tracker_noise"].iloc[0], *(out["outage_sensitivity"].iloc[i] for i in (0, 1)))
+        for g, want in zip(got, rows, strict=True):
+            assert g["mean_dev_x_m"] == want["mean_dev_x_m"] and g["mean_dev_z_m"] == want["mean_dev_z_m"]
+    assert out["table2"].iloc[0]["mean_dev_x_m"] == doubled["mean_dev_x_m"]  # the main run at twice the rate

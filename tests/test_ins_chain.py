@@ -41,3 +41,16 @@ def test_trajectory_frame_layouts():
     assert np.allclose(e.loc[e["method"] == "m", "E"] - e.loc[e["method"] == "Truth", "E"].to_numpy(), 1.0)
     with pytest.raises(ValueError, match="attitude"):
         trajectory_frame("p", w, sol, w.t_s >= 2, attitude="euler")
+
+
+def test_run_methods_reuses_a_given_nhc_solution_exactly():
+    from ilocalg.ins.chain import run_methods
+    from ilocalg.sim import ins_walk
+
+    walk = ins_walk.simulate("iphone", "iphone_5s", seed=1)
+    ref, r_ref = run_methods(walk, "truth", "downweight")
+    got, r_got = run_methods(walk, "truth", "downweight", nhc=ref[METHODS[0]])
+    assert got[METHODS[0]] is ref[METHODS[0]]
+    for m in METHODS:
+        assert all(np.array_equal(a, b) for a, b in zip(got[m], ref[m], strict=True))
+    assert np.array_equal(r_got.pos_n_m, r_ref.pos_n_m)

@@ -245,3 +245,28 @@ def test_filter_without_history_gives_the_same_solution():
     assert set(i1.tolist()) <= set(b.cp_idx.tolist()) and np.diff(b.cp_idx).max() <= E.CHECKPOINT_EPOCHS
     for cp, P in zip(b.cp_idx, b.cp_P, strict=True):
         assert np.array_equal(P, a.P_plus[cp])
+
+
+def test_small_solve_has_the_bits_of_numpy_solve_and_its_error():
+    from ilocalg.ins._linalg import solve
+
+    rng = np.random.default_rng(3)
+    for m in (1, 3, 6, 9, 21):
+        A = rng.normal(size=(m, m))
+        S = A @ A.T + 1e-3 * np.eye(m)
+        for b in (rng.normal(size=m), rng.normal(size=(m, 21)), rng.normal(size=(m, 1))):
+            assert np.array_equal(solve(S, b), np.linalg.solve(S, b))
+    with pytest.raises(np.linalg.LinAlgError), pytest.warns(RuntimeWarning):
+        solve(np.array([[1.0, 2.0], [2.0, 4.0]]), np.ones(2))
+    assert solve(np.eye(2, dtype=np.float32), np.ones(2)).dtype == np.float64  # other dtypes: numpy's own path
+
+
+def test_eskf_predict_into_buffers_gives_the_same_bits():
+    rng = np.random.default_rng(4)
+    A = rng.normal(size=(21, 21))
+    P, Phi, q = A @ A.T, np.eye(21) + 0.01 * rng.normal(size=(21, 21)), rng.uniform(0, 1e-3, 21)
+    out, work = np.empty((21, 21)), np.empty((21, 21))
+    got = ins.eskf_predict(P, Phi, q, out=out, work=work)
+    assert got is out
+    assert np.array_equal(got, ins.eskf_predict(P, Phi, q))
+    assert np.array_equal(got, Phi @ P @ Phi.T + np.diag(q))

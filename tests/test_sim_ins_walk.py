@@ -209,3 +209,42 @@ def test_phone_profile_changes_only_the_unsourced_values():
         assert p.acc_gm_sd_mps2 == 0.0 and p.time_jitter_sd_s == 0.03 and p.acc_bias_sd_mps2 == base.acc_bias_sd_mps2
     with pytest.raises(ValueError, match="profile must be one of"):
         phone_profile("nokia")
+
+
+def _assert_same_walk(a, b):
+    import dataclasses
+
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes(), f.name
+        elif isinstance(x, dict):
+            assert x.keys() == y.keys(), f.name
+            assert all(np.asarray(x[k]).tobytes() == np.asarray(y[k]).tobytes() for k in x), f.name
+        else:
+            assert x == y or (x != x and y != y), f.name
+
+
+def test_truth_cache_gives_the_same_walks_and_keeps_walkers_apart():
+    cache = ins_walk.TruthCache(maxsize=3)
+    ideal = ins_walk.PROFILES["samsung_s5"].ideal_timing()
+    cases = [("samsung", "samsung_s5", 3, {}),                       # fills the cache
+             ("samsung", ideal, 3, {"gcp_mode": "ble"}),              # same walker: taken from the cache
+             ("samsung", "midg2", 3, {"rssi_sd_db": 2.0}),
+             ("samsung", "samsung_s5", 4, {}),                        # another seed, another walker
+             ("iphone", "samsung_s5", 3, {}),                         # another route
+             ("samsung", "samsung_s5", 3, {"gait": "legacy"}),        # another walker model
+             ("samsung", "samsung_s5", 3, {"gait_kw": {"speed_mean_mps": 1.5}})]
+    for route, prof, seed, kw in cases:
+        got = ins_walk.simulate(route, prof, seed=seed, truth_cache=cache, **kw)
+        _assert_same_walk(got, ins_walk.simulate(route, prof, seed=seed, **kw))
+        got.pos_ref_n_m[0] += 1.0  # the walk owns its arrays: the cached truth is not touched
+        assert len(cache) <= 3
+    _assert_same_walk(ins_walk.simulate("samsung", "samsung_s5", seed=3, gait="legacy", truth_cache=cache),
+                      ins_walk.simulate("samsung", "samsung_s5", seed=3, gait="legacy"))
+    # a generator seed is never cached (its stream is the caller's)
+    n = len(cache)
+    ins_walk.simulate("samsung", "samsung_s5", seed=np.random.default_rng(3), truth_cache=cache)
+    assert len(cache) == n
+    with pytest.raises(ValueError, match="maxsize"):
+        ins_walk.TruthCache(0)

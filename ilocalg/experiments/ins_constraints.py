@@ -15,7 +15,7 @@ from ilocalg.ins import error_stats, eskf_rts_smooth, heading_error_with_lag_deg
 from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, stats_rows, trajectory_frame
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import paper_value, side_by_side
-from ilocalg.ins.pipeline import run_walk
+from ilocalg.ins.pipeline import run_walk, stair_mask
 from ilocalg.papers.comparison_liao import constraints_rows
 from ilocalg.papers.readings_liao import (
     BIAS_INSTABILITY_FACTORS,
@@ -98,7 +98,8 @@ def _filter_rms(route, profile, seed, stairs, stair_action, reused=None, **sim_k
 
 def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", stair_action: str = "drop",
                        bias_instability_factors=BIAS_INSTABILITY_FACTORS, time_jitters_s=TIME_JITTERS_S,
-                       reuse=None, full_grid: bool = True, noise_factors=NOISE_FACTORS) -> pd.DataFrame:
+                       reuse=None, full_grid: bool = True, noise_factors=NOISE_FACTORS,
+                       truth_cache: ins_walk.TruthCache | None = None) -> pd.DataFrame:
     """RMS errors of Filtering + WVC/ZUPT + GCP over the grid of bias-instability factors and time-tag jitters.
 
     Every cell simulates the same walks (same seeds; the swept draws are paired, see
@@ -106,7 +107,8 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", sta
     ``(phone, seed)`` to ``(walk, filter result)`` of the default profile, reused for its own cell.
     ``full_grid=False`` sweeps one value at a time (each factor at the profile's jitter, each jitter at x1).
     ``noise_factors`` (factors on the datasheet white-noise densities; the profiles' is 3) are swept one at a
-    time, at the default bias instability and jitter.
+    time, at the default bias instability and jitter. ``truth_cache`` (:class:`ilocalg.sim.ins_walk.TruthCache`,
+    of at least ``len(seeds)`` entries to help): the cells walk the same truths, each simulated once.
 
     Returns
     -------
@@ -126,7 +128,7 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", sta
             prof = ins_walk.phone_profile(profile, c, k, jit)
             for s in seeds:
                 walk, rms = _filter_rms(route, prof, s, stairs, stair_action, reuse.get((phone, s)) if reuse
-                                        and prof == base else None, gait=gait)
+                                        and prof == base else None, gait=gait, truth_cache=truth_cache)
                 rows.append({"phone": phone, "noise_factor": float(c), "bias_instability_factor": float(k),
                              "time_jitter_sd_ms": 1e3 * float(jit),
                              "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)), **rms})
@@ -165,15 +167,29 @@ def gait_sensitivity(seeds, stairs: str = "none", stair_action: str = "drop", va
     return out
 
 
+def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action):
+    """``((METHODS[2], (pos, mat)), (METHODS[3], (pos, mat)))`` of Filtering + WVC/ZUPT + GCP and its smoothing
+    on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``."""
+    if w is walk:
+        return (METHODS[2], (rgcp.pos_n_m, rgcp.mat_nb)), (METHODS[3], sol[METHODS[3]])
+    r = run_walk(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+    sm = eskf_rts_smooth(r, with_cov=False)
+    return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], (sm.pos_n_m, sm.mat_nb))
+
+
 def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_action, sim_kw, fast,
                reference_grade):
     """One seed's rows of the side studies (stair handling, control-point grade, sensor timing, reference
     IMUs) on the walk ``walk`` of the default run (``sol``: its four methods, ``rgcp``: its GCP filter result):
     ``(stair_rows, grade, sens_rows, refg)``. Every other walk is simulated here from the same seed ``s``."""
     stair_rows, grade, sens_rows, refg = [], [], [], []
+
+    def handling(opt, action):  # what the WVC does: no stair mask (e.g. "baro" on a phone without one) = "none"
+        return "none" if stair_mask(walk, opt) is None else (opt, action)
+
     for label, opt, action in STAIR_VARIANTS:
-        same = opt == stairs and (action == stair_action or opt == "none")
-        sol_o = sol if same else run_methods(walk, opt, action)[0]
+        same = handling(opt, action) == handling(stairs, stair_action)
+        sol_o = sol if same else run_methods(walk, opt, action, nhc=sol[METHODS[0]])[0]
         for method, (pos, mat) in sol_o.items():
             st = error_stats(indoor_errors(walk, pos, mat, ind))
             stair_rows += [{"phone": phone, "stairs": label, "method": method, "seed": s, "stat": k,
@@ -187,10 +203,8 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
                      ("ideal (true position + 5 cm)",
                       ins_walk.simulate(route, profile, seed=s, gcp_mode="ideal", **sim_kw))]
     for gname, w2 in gcp_variants:
-        r2 = rgcp if w2 is walk else run_walk(w2, "wvc", use_gcp=True, stairs=stairs,
-                                               stair_action=stair_action)
-        for method, sol2 in ((METHODS[2], r2), (METHODS[3], eskf_rts_smooth(r2, with_cov=False))):
-            err = indoor_errors(walk, sol2.pos_n_m, sol2.mat_nb, ind)
+        for method, (pos2, mat2) in _filter_and_smoothing(w2, walk, sol, rgcp, stairs, stair_action):
+            err = indoor_errors(walk, pos2, mat2, ind)
             k_fix = np.minimum(np.searchsorted(w2.t_s, w2.gcp_t_s), w2.t_s.size - 1)
             fix_err = np.linalg.norm(w2.pos_true_n_m[k_fix, :2] - w2.gcp_pos_n_m[:, :2], axis=1)
             grade.append({"phone": phone, "control points": gname, "gcp_sd_m": w2.gcp_sd_m,
@@ -201,11 +215,9 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
     indi = ideal.t_s >= ideal.t_indoor_s
     for label, w3 in (("realistic phone (jitter, point samples, bias instability)", walk),
                       ("ideal sensor timing", ideal)):
-        r3 = rgcp if w3 is walk else run_walk(w3, "wvc", use_gcp=True, stairs=stairs,
-                                               stair_action=stair_action)
         i3 = ind if w3 is walk else indi
-        for method, sol3 in ((METHODS[2], r3), (METHODS[3], eskf_rts_smooth(r3, with_cov=False))):
-            err = indoor_errors(w3, sol3.pos_n_m, sol3.mat_nb, i3)
+        for method, (pos3, mat3) in _filter_and_smoothing(w3, walk, sol, rgcp, stairs, stair_action):
+            err = indoor_errors(w3, pos3, mat3, i3)
             sens_rows.append({"phone": phone, "sensor": label, "method": method, "seed": s,
                               **error_stats(err)["rms"]})
     ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
@@ -281,6 +293,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     sim_kw = {"gait": gait, "rssi_sd_db": rssi_sd_db}
     if speed_mean_mps != ins_walk.LEVEL_SPEED_MEAN_MPS:
         sim_kw["gait_kw"] = {"speed_mean_mps": speed_mean_mps}
+    # every walk of one walker (seed) shares its truth: the side studies' other phones, control points and
+    # sensor errors, and the sensitivity cells (their seeds, the first n_sens, still held after the main loop)
+    cache = ins_walk.TruthCache(maxsize=max(2, n_sens))
     # the sensitivity sweeps reuse the default walks only when the run's are the default ones
     at_default = (all(profiles[pr] == ins_walk.PROFILES[pr] for pr in profiles) and "gait_kw" not in sim_kw
                   and rssi_sd_db == ins_walk.BLE_RSSI_SD_DB)
@@ -291,7 +306,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
         for s in range(seed * n_seeds, (seed + 1) * n_seeds):
-            walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, **sim_kw)
+            walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, truth_cache=cache, **sim_kw)
             if at_default and s < seed * n_seeds + n_sens:
                 reuse[(phone, s)] = (walk, rgcp)
             ind = walk.t_s >= walk.t_indoor_s
@@ -301,7 +316,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
             if side_studies:
                 for acc, part in zip((stair_rows, grade, sens_rows, refg),
                                      _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs,
-                                                stair_action, sim_kw, fast, reference_grade), strict=True):
+                                                stair_action, {**sim_kw, "truth_cache": cache}, fast,
+                                                reference_grade), strict=True):
                     acc += part
             for method in METHODS[2:]:
                 pos, mat = sol[method]
@@ -342,7 +358,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
                              [list(AXES)].mean().reset_index()),
             "stair_handling": _stair_table(pd.DataFrame(stair_rows)),
             "sensor_sensitivity": sensor_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), gait, stairs,
-                                                     stair_action, reuse=reuse, full_grid=not fast),
+                                                     stair_action, reuse=reuse, full_grid=not fast,
+                                                     truth_cache=cache),
             "gait_sensitivity": gait_sensitivity(range(seed * n_seeds, seed * n_seeds + n_sens), stairs,
                                                  stair_action, reuse=reuse if gait == "published" else None),
         })

@@ -31,11 +31,17 @@ METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT
            "Smoothing + WVC/ZUPT + GCP")
 
 
-def run_methods(walk, stairs: str = "none", stair_action: str = "drop"):
-    """The four methods on one walk: ``({method: (pos, mat)}, gcp_filter_result)``."""
+def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None):
+    """The four methods on one walk: ``({method: (pos, mat)}, gcp_filter_result)``.
+
+    ``nhc``: the ``(pos, mat)`` of Filtering + NHC/ZUPT on this walk when already run (it does not depend on the
+    stair handling, which only the WVC uses).
+    """
     out = {}
-    r = run_walk(walk, "nhc", use_gcp=False)
-    out[METHODS[0]] = (r.pos_n_m, r.mat_nb)
+    if nhc is None:
+        r = run_walk(walk, "nhc", use_gcp=False)
+        nhc = (r.pos_n_m, r.mat_nb)
+    out[METHODS[0]] = nhc
     r = run_walk(walk, "wvc", use_gcp=False, stairs=stairs, stair_action=stair_action)
     out[METHODS[1]] = (r.pos_n_m, r.mat_nb)
     r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)

@@ -29,6 +29,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from ilocalg.ins._linalg import solve
 from ilocalg.ins.mechanisation import _check_imu, rotvec_to_dcm, skew, strapdown
 
 __all__ = [
@@ -206,12 +207,14 @@ def _add_diag(M: np.ndarray, d) -> None:
         M[np.diag_indices_from(M)] += d
 
 
-def eskf_predict(P, Phi, q_diag):
+def eskf_predict(P, Phi, q_diag, out=None, work=None):
     """Covariance prediction ``P = Phi P Phi^T + Q`` (eq. 3) over one step, (21, 21).
 
-    Not symmetrised here: :func:`run_eskf` symmetrises once, ``0.5 (P + P^T)``, before each update.
+    Not symmetrised here: :func:`run_eskf` symmetrises once, ``0.5 (P + P^T)``, before each update. ``out``
+    (21, 21), when given, receives the result and ``work`` (21, 21) the intermediate ``Phi P`` (the same
+    products, without allocating: the filter predicts every epoch); neither may be ``P``.
     """
-    P = Phi @ P @ Phi.T
+    P = np.matmul(np.matmul(Phi, P, out=work), Phi.T, out=out)
     _add_diag(P, q_diag)
     return P
 
@@ -230,13 +233,13 @@ def joseph_update(P, innov, H, R_diag):
     PHt = P @ H.T
     S = H @ PHt
     _add_diag(S, R_diag)
-    Kt = np.linalg.solve(S, PHt.T)  # S symmetric: K^T = S^-1 H P
+    Kt = solve(S, PHt.T)  # S symmetric: K^T = S^-1 H P
     K = Kt.T
     dx = K @ innov
     A = -K @ H
     _add_diag(A, 1.0)
     P = A @ P @ A.T + (K * R_diag) @ Kt
-    nis = float(innov @ np.linalg.solve(S, innov))
+    nis = float(innov @ solve(S, innov))
     return dx, 0.5 * (P + P.T), nis
 
 
@@ -428,13 +431,33 @@ def _check_measurement_noise(name: str, R_diag) -> None:
 
 
 def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=0):
-    """Covariance prediction over a stretch (eq. 3), one epoch at a time; stores histories or checkpoints."""
-    for j in range(Ph.shape[0]):
-        P = eskf_predict(P, Ph[j], qd[j])
-        if P_minus_out is not None:
-            P_minus_out[j] = P
-            P_plus_out[j] = P
-        elif cps is not None and (k0 + 1 + j) % CHECKPOINT_EPOCHS == 0:
+    """Covariance prediction over a stretch (eq. 3), one epoch at a time; stores histories or checkpoints.
+
+    With histories, each epoch's prediction is written straight into ``P_minus_out`` (then copied to
+    ``P_plus_out`` at once); without, two buffers take turns. Returns the last prediction (a view of
+    ``P_minus_out`` or a buffer of this call).
+    """
+    work = np.empty((N_STATES, N_STATES))
+    L = Ph.shape[0]
+    if P_minus_out is not None and P_minus_out.flags.c_contiguous:
+        # eskf_predict's products and adds, inlined: the diagonals of the whole stretch as one strided view
+        diag = P_minus_out.reshape(L, N_STATES * N_STATES)[:, ::N_STATES + 1]
+        mm = np.matmul
+        for j in range(L):
+            Phj = Ph[j]
+            P = mm(mm(Phj, P, out=work), Phj.T, out=P_minus_out[j])
+            diag[j] += qd[j]
+        P_plus_out[...] = P_minus_out
+        return P
+    if P_minus_out is not None:
+        for j in range(L):
+            P = eskf_predict(P, Ph[j], qd[j], out=P_minus_out[j], work=work)
+        P_plus_out[...] = P_minus_out
+        return P
+    bufs = (np.empty((N_STATES, N_STATES)), np.empty((N_STATES, N_STATES)))
+    for j in range(L):
+        P = eskf_predict(P, Ph[j], qd[j], out=bufs[j & 1], work=work)
+        if cps is not None and (k0 + 1 + j) % CHECKPOINT_EPOCHS == 0:
             cps.append((k0 + 1 + j, P.copy()))
     return P
 
@@ -515,6 +538,7 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     if not full:
         cps.append((0, P.copy()))
     dt_all = np.diff(t_s)
+    qd_all = process_noise_diag(config, dt_all)  # elementwise in dt: the same values as per segment
     # segment boundaries: every update epoch and the last epoch
     stops = sorted(set(sched) | {n - 1})
     k = 0
@@ -526,7 +550,7 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
             pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1] = strapdown(p, v, C, w_c, f_c, dt)
             sens[k + 1:kb + 1] = s
-            qd = process_noise_diag(config, dt)
+            qd = qd_all[seg]
             if full:
                 Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)
                 Phis[k + 1:kb + 1] = Ph

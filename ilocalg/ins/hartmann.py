@@ -83,15 +83,18 @@ def _model(x, u, dt_s: float):
     Written with scalar maths on the Euler angles (the DCM of eq. 6 and its partial derivatives in closed
     form) because the filter calls it at 400 Hz.
     """
-    phi, th, psi = float(x[0]), float(x[1]), float(x[2])
+    # Python floats from here on (the same IEEE operations as on numpy scalars, without their overhead)
+    xl = np.asarray(x, dtype=float).tolist()
+    ul = u if type(u) is list else np.asarray(u, dtype=float).tolist()
+    phi, th, psi = xl[0], xl[1], xl[2]
     sf, cf, st, ct, sp, cp = math.sin(phi), math.cos(phi), math.sin(th), math.cos(th), math.sin(psi), math.cos(psi)
-    w1, w2, w3 = (float(u[0] - x[9]), float(u[1] - x[10]), float(u[2] - x[11]))
-    a1, a2, a3 = (float(u[3] - x[12]), float(u[4] - x[13]), float(u[5] - x[14]))
+    w1, w2, w3 = ul[0] - xl[9], ul[1] - xl[10], ul[2] - xl[11]
+    a1, a2, a3 = ul[3] - xl[12], ul[4] - xl[13], ul[5] - xl[14]
     tt, sec = st / ct, 1.0 / ct
-    C = np.array([[cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf],
-                  [sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf],
-                  [-st, ct * sf, ct * cf]])
-    E = np.array([[1.0, sf * tt, cf * tt], [0.0, cf, -sf], [0.0, sf * sec, cf * sec]])
+    c = [[cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf],
+         [sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf],
+         [-st, ct * sf, ct * cf]]
+    e = [[1.0, sf * tt, cf * tt], [0.0, cf, -sf], [0.0, sf * sec, cf * sec]]
     # d(C a)/d(phi, theta, psi), columns
     d_phi = ((cp * st * cf + sp * sf) * a2 + (-cp * st * sf + sp * cf) * a3,
              (sp * st * cf - cp * sf) * a2 + (-sp * st * sf - cp * cf) * a3,
@@ -105,19 +108,20 @@ def _model(x, u, dt_s: float):
     # d(E w)/d(phi, theta)
     dEw_phi = ((cf * w2 - sf * w3) * tt, -sf * w2 - cf * w3, (cf * w2 - sf * w3) * sec)
     dEw_th = ((sf * w2 + cf * w3) * sec * sec, 0.0, (sf * w2 + cf * w3) * st * sec * sec)
-    acc_v = C @ np.array([a1, a2, a3]) + GRAVITY_N_MPS2
-    x = np.asarray(x, dtype=float)
-    x_new = x.copy()
-    x_new[0:3] = x[0:3] + E @ np.array([w1, w2, w3]) * dt_s
-    x_new[3:6] = x[3:6] + x[6:9] * dt_s + 0.5 * dt_s * dt_s * acc_v
-    x_new[6:9] = x[6:9] + dt_s * acc_v
+    # the two products stay numpy matmuls (BLAS: their rounding); the rest element by element, in the order
+    # of the array expressions x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (0.5 dt dt) acc_v, x[6:9] + dt acc_v
+    av = (np.array(c) @ np.array([a1, a2, a3]) + GRAVITY_N_MPS2).tolist()
+    ew = (np.array(e) @ np.array([w1, w2, w3])).tolist()
+    h = 0.5 * dt_s * dt_s
+    x_new = np.array([xl[0] + ew[0] * dt_s, xl[1] + ew[1] * dt_s, xl[2] + ew[2] * dt_s,
+                      xl[3] + xl[6] * dt_s + h * av[0], xl[4] + xl[7] * dt_s + h * av[1],
+                      xl[5] + xl[8] * dt_s + h * av[2],
+                      xl[6] + dt_s * av[0], xl[7] + dt_s * av[1], xl[8] + dt_s * av[2], *xl[9:15]])
     # Phi (eq. 21) and W (eq. 22): the identity / zeros with the entries below written in one assignment each
     # (scalar products in the order the block-wise array expressions used, so the same bits; the filter calls
     # this at 400 Hz, where one small array operation per block cost more than the arithmetic)
-    h2, mh2, mdt = 0.5 * dt_s * dt_s, -0.5 * dt_s * dt_s, -dt_s
-    e = E.tolist()
+    h2, mh2, mdt = h, -0.5 * dt_s * dt_s, -dt_s
     dca = (d_phi, d_th, d_psi)  # columns of d(C a)/d(phi, theta, psi)
-    c = C.tolist()
     vals = ([1.0 + dEw_phi[0] * dt_s, 0.0 + dEw_phi[1] * dt_s, 0.0 + dEw_phi[2] * dt_s,
              0.0 + dEw_th[0] * dt_s, 1.0 + dEw_th[1] * dt_s, 0.0 + dEw_th[2] * dt_s]
             + [-e[i][j] * dt_s for i in range(3) for j in range(3)]
@@ -281,14 +285,14 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
     sds = np.empty((n, HARTMANN_N_STATES))
     prior = np.empty((t_vt.size, HARTMANN_N_STATES))
     x, P = x0.copy(), np.asarray(P0, dtype=float).copy()
-    dt_all = np.diff(t_s)
-    u_all = np.hstack([gyr, acc])
+    dt_all = np.diff(t_s).tolist()  # Python floats: the loop reads one value at a time
+    u_all = np.hstack([gyr, acc]).tolist()
     Qw_cache: dict[float, np.ndarray] = {}
     n_rep = 0
     since_fix = 0
     for k in range(n):
         if k > 0:
-            dt = float(dt_all[k - 1])
+            dt = dt_all[k - 1]
             Qw = Qw_cache.get(dt)
             if Qw is None:
                 Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
@@ -305,8 +309,8 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
             prior[j] = x
             x, P, _ = hartmann_correct(x, P, z_vt[j], R)
         xs[k] = x
-        sds[k] = np.sqrt(np.diag(P))
-    return HartmannResult(t_s=t_s, x=xs, sd=sds, vt_idx=vt_idx, prior_at_vt=prior, n_psd_repairs=n_rep)
+        sds[k] = P.diagonal()  # variances; the square roots are taken at once below
+    return HartmannResult(t_s=t_s, x=xs, sd=np.sqrt(sds), vt_idx=vt_idx, prior_at_vt=prior, n_psd_repairs=n_rep)
 
 
 class HartmannEKF:

@@ -96,21 +96,31 @@ def rotvecs_to_dcm(rotvec_rad) -> np.ndarray:
     """
     v = np.asarray(rotvec_rad, dtype=float)
     x, y, z = v[:, 0], v[:, 1], v[:, 2]
-    th2 = x * x + y * y + z * z
+    xx, yy, zz = x * x, y * y, z * z
+    th2 = xx + yy + zz
     small = th2 < 1e-16
-    th = np.sqrt(np.where(small, 1.0, th2))
-    a = np.where(small, 1.0 - th2 / 6.0, np.sin(th) / th)
-    b = np.where(small, 0.5 - th2 / 24.0, (1.0 - np.cos(th)) / np.where(small, 1.0, th2))
+    if small.any():
+        th = np.sqrt(np.where(small, 1.0, th2))
+        a = np.where(small, 1.0 - th2 / 6.0, np.sin(th) / th)
+        b = np.where(small, 0.5 - th2 / 24.0, (1.0 - np.cos(th)) / np.where(small, 1.0, th2))
+    else:  # the same values without the selections (the filter's strapdown calls this on short stretches)
+        th = np.sqrt(th2)
+        a = np.sin(th) / th
+        b = (1.0 - np.cos(th)) / th2
+    # each product once; -a z + b x y is computed as (b x) y - a z, the same IEEE result
+    bx = b * x
+    bxy, bxz, byz = bx * y, bx * z, (b * y) * z
+    ax, ay, az = a * x, a * y, a * z
     out = np.empty((v.shape[0], 3, 3))
-    out[:, 0, 0] = 1.0 - b * (y * y + z * z)
-    out[:, 0, 1] = -a * z + b * x * y
-    out[:, 0, 2] = a * y + b * x * z
-    out[:, 1, 0] = a * z + b * x * y
-    out[:, 1, 1] = 1.0 - b * (x * x + z * z)
-    out[:, 1, 2] = -a * x + b * y * z
-    out[:, 2, 0] = -a * y + b * x * z
-    out[:, 2, 1] = a * x + b * y * z
-    out[:, 2, 2] = 1.0 - b * (x * x + y * y)
+    out[:, 0, 0] = 1.0 - b * (yy + zz)
+    out[:, 0, 1] = bxy - az
+    out[:, 0, 2] = ay + bxz
+    out[:, 1, 0] = az + bxy
+    out[:, 1, 1] = 1.0 - b * (xx + zz)
+    out[:, 1, 2] = byz - ax
+    out[:, 2, 0] = bxz - ay
+    out[:, 2, 1] = ax + byz
+    out[:, 2, 2] = 1.0 - b * (xx + yy)
     return out
 
 

@@ -123,6 +123,7 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
         cp = res.cp_idx
         chunks = list(zip(cp[:-1].tolist(), cp[1:].tolist(), strict=True)) or [(0, n - 1)]
     x = np.zeros(N_STATES)
+    tmp = np.empty(N_STATES)
     Ps = None
     for a, b in reversed(chunks):
         Pp, Pm, Ph = covariance_chunk(res, a, b)
@@ -131,18 +132,18 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
             Ps = Pp[-1].copy() if with_cov else None
             if with_cov:
                 sd[b] = np.diag(Ps)
+        end_l = ends[a:b].tolist()  # Python bools: read once per epoch
         for k in range(b - 1, a - 1, -1):
             i = k - a
-            if ends[k]:
-                x = np.zeros(N_STATES)
+            if end_l[i]:
+                x = xs[k]  # zeros
                 if with_cov:
                     Ps = Pp[i].copy()
             else:
-                # eq. (8) (and eq. (9) for the covariance)
-                x = G[i] @ (x + dx[k + 1])
+                # eq. (8), written straight into xs[k] (and eq. (9) for the covariance)
+                x = np.matmul(G[i], np.add(x, dx[k + 1], out=tmp), out=xs[k])
                 if with_cov:
                     Ps = Pp[i] + G[i] @ (Ps - Pm[i + 1]) @ G[i].T
-            xs[k] = x
             if with_cov:
                 sd[k] = np.diag(Ps)
     if with_cov:

@@ -79,7 +79,7 @@ from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, dcm_to_rotvec, euler_to_dc
 from ilocalg.units import as_rng
 
 __all__ = ["PhoneProfile", "PROFILES", "PHONE_NOISE_FACTOR", "PHONE_TIME_JITTER_SD_S", "phone_profile", "ROUTES",
-           "PHONES", "GCP_XYZ_M", "InsWalk", "simulate", "walk_summary", "walker_gait", "gauss_markov"]
+           "PHONES", "GCP_XYZ_M", "InsWalk", "TruthCache", "simulate", "walk_summary", "walker_gait", "gauss_markov"]
 
 # ---- published values: Liao et al. (2016), sec. 4 (reference rate) and Table 3 (MIDG-II) -------------------
 #: Rate of the paper's reference solution, Hz.
@@ -401,61 +401,9 @@ def _path(rng, waypoints, dt, gait, legacy):
     return pos, walking, freq_out[:pos.shape[0]], np.concatenate(stair_chunks), t_indoor_idx
 
 
-def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float | None = None,
-             gnss_sd_m=(2.5, 2.5, 4.0), user_height_m: float = 1.70, user_c_sd: float = 0.05,
-             init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "rssi",
-             ble_lag_s: float = 0.0, gait_kw: dict | None = None, rssi_sd_db: float = BLE_RSSI_SD_DB) -> InsWalk:
-    """Simulate one hand-held phone walk (see the module docstring for every parameter's source).
-
-    Parameters
-    ----------
-    route : "samsung" or "iphone" (Figs 5 and 6)
-    profile : a key of :data:`PROFILES` or a :class:`PhoneProfile` (``PROFILES[k].ideal_timing()`` for exact
-        time tags, interval means and no bias instability)
-    seed : int, Generator or None
-    gcp_sd_m : control-point fix sd handed to the filter (m); default 1.0 m for Bluetooth fixes
-        (:data:`BLE_FIX_SD_M`), 0.05 m for the ideal fix; gnss_sd_m : GNSS sd (E, N, U) in m
-    user_height_m : the walker's true height (m)
-    user_c_sd : sd of the personal step scale of the ``"legacy"`` walker
-    init_yaw_sd_deg : sd of the initial heading error handed to the filter
-    gait : "published" (level speed and cadence from :func:`walker_gait`, stairs one tread per step) or
-        "legacy" (speed from eq. 7 with a personal scale, stairs at 0.5 m/s with the level cadence)
-    gcp_mode : "rssi" (default: the surveyed coordinate when the beacon's packets, advertised every 100 ms
-        and received with a log-distance RSSI and 5 dB scatter, average over a 1 s ranging cycle to the RSSI of
-        the "immediate" distance; :data:`BLE_ADV_INTERVAL_S` ff.), "ble" (the earlier model: 0.6 m truth gate,
-        a U(0, 1 s) ranging delay and a 0.5 m proximity offset) or "ideal" (the true phone position plus
-        ``gcp_sd_m`` noise at closest approach)
-    rssi_sd_db : per-packet RSSI scatter of the "rssi" model (dB)
-    ble_lag_s : extra trigger delay of the Bluetooth fix (s), e.g. RSSI averaging (default none)
-    gait_kw : population means handed to :func:`walker_gait` for ``gait="published"`` (``speed_mean_mps``,
-        ``walk_ratio_per_height``, ``stair_up_cadence_hz``, ``stair_down_cadence_hz``); default the published
-        values. The walker's draws are the same for any means (paired sensitivity sweeps).
-    """
-    if route not in ROUTES:
-        raise ValueError(f"route must be one of {sorted(ROUTES)}, got {route!r}")
-    prof = PROFILES[profile] if isinstance(profile, str) and profile in PROFILES else profile
-    if not isinstance(prof, PhoneProfile):
-        raise ValueError(f"profile must be one of {sorted(PROFILES)} or a PhoneProfile, got {profile!r}")
-    if gait not in ("published", "legacy"):
-        raise ValueError(f"gait must be 'published' or 'legacy', got {gait!r}")
-    if gcp_mode not in ("rssi", "ble", "ideal"):
-        raise ValueError(f"gcp_mode must be 'rssi', 'ble' or 'ideal', got {gcp_mode!r}")
-    if not (np.isfinite(rssi_sd_db) and rssi_sd_db >= 0):
-        raise ValueError(f"rssi_sd_db must be >= 0 dB, got {rssi_sd_db}")
-    if gcp_sd_m is None:
-        gcp_sd_m = 0.05 if gcp_mode == "ideal" else BLE_FIX_SD_M
-    if not gcp_sd_m > 0:
-        raise ValueError(f"gcp_sd_m must be > 0, got {gcp_sd_m}")
-    if not (np.isfinite(ble_lag_s) and ble_lag_s >= 0):
-        raise ValueError(f"ble_lag_s must be >= 0 s, got {ble_lag_s}")
-    gait_kw = dict(gait_kw or {})
-    allowed = {"speed_mean_mps", "walk_ratio_per_height", "stair_up_cadence_hz", "stair_down_cadence_hz"}
-    if set(gait_kw) - allowed or not all(np.isfinite(v) and v > 0 for v in gait_kw.values()):
-        raise ValueError(f"gait_kw must map some of {sorted(allowed)} to positive values, got {gait_kw!r}")
-    if gait_kw and gait != "published":
-        raise ValueError("gait_kw applies to gait='published' only")
-    rng = as_rng(seed)
-    dt = 1.0 / TRUTH_RATE_HZ
+def _truth(rng, dt, route, gait, gait_kw, user_height_m, user_c_sd) -> dict:
+    """The walker and the 200 Hz truth of :func:`simulate` (the draws before the phone's): path, attitude,
+    kinematics and the increments the sensors sample."""
     if gait == "legacy":
         user_c = 1.0 + rng.normal(0.0, user_c_sd)
         gait_d = {}
@@ -506,6 +454,120 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
     dv_n = vel[1:] - vel[:-1] - GRAVITY_N_MPS2 * dt
     cmid = 0.5 * (mat[1:] + mat[:-1])
     dvel_b = np.linalg.solve(cmid, dv_n[..., None])[..., 0]
+    return {"user_c": user_c, "gait_d": gait_d, "walking": walking, "on_stairs": on_stairs, "i_indoor": i_indoor,
+            "t": t, "walk_w": walk_w, "roll": roll, "pitch": pitch, "yaw_b": yaw_b, "mat": mat, "vel": vel, "pos": pos,
+            "dtheta": dtheta, "dvel_b": dvel_b}
+
+
+class TruthCache:
+    """The truths of :func:`simulate` kept between its calls, the ``maxsize`` used last (least recently used
+    dropped): a caller that simulates the same walker again with another phone, another control-point model or
+    other sensor errors (same route, seed, gait and walker) passes one, e.g. for the span of one experiment run.
+
+    An entry is keyed by everything the truth depends on (route, int seed, gait, ``gait_kw``, the walker's height
+    and step-scale sd) and holds the truth's arrays (read-only) and the random generator's state after its draws,
+    so that a walk built from it has the same bits as one simulated from scratch.
+    """
+
+    def __init__(self, maxsize: int = 4):
+        if maxsize < 1:
+            raise ValueError(f"maxsize must be >= 1, got {maxsize}")
+        self.maxsize = int(maxsize)
+        self._d: dict = {}
+
+    def __len__(self) -> int:
+        return len(self._d)
+
+    def get(self, key):
+        v = self._d.pop(key, None)
+        if v is not None:
+            self._d[key] = v  # most recently used last
+        return v
+
+    def put(self, key, value) -> None:
+        self._d.pop(key, None)
+        self._d[key] = value
+        while len(self._d) > self.maxsize:
+            del self._d[next(iter(self._d))]
+
+
+def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5", seed=0, gcp_sd_m: float | None = None,
+             gnss_sd_m=(2.5, 2.5, 4.0), user_height_m: float = 1.70, user_c_sd: float = 0.05,
+             init_yaw_sd_deg: float = 5.0, gait: str = "published", gcp_mode: str = "rssi",
+             ble_lag_s: float = 0.0, gait_kw: dict | None = None, rssi_sd_db: float = BLE_RSSI_SD_DB,
+             truth_cache: TruthCache | None = None) -> InsWalk:
+    """Simulate one hand-held phone walk (see the module docstring for every parameter's source).
+
+    Parameters
+    ----------
+    route : "samsung" or "iphone" (Figs 5 and 6)
+    profile : a key of :data:`PROFILES` or a :class:`PhoneProfile` (``PROFILES[k].ideal_timing()`` for exact
+        time tags, interval means and no bias instability)
+    seed : int, Generator or None
+    gcp_sd_m : control-point fix sd handed to the filter (m); default 1.0 m for Bluetooth fixes
+        (:data:`BLE_FIX_SD_M`), 0.05 m for the ideal fix; gnss_sd_m : GNSS sd (E, N, U) in m
+    user_height_m : the walker's true height (m)
+    user_c_sd : sd of the personal step scale of the ``"legacy"`` walker
+    init_yaw_sd_deg : sd of the initial heading error handed to the filter
+    gait : "published" (level speed and cadence from :func:`walker_gait`, stairs one tread per step) or
+        "legacy" (speed from eq. 7 with a personal scale, stairs at 0.5 m/s with the level cadence)
+    gcp_mode : "rssi" (default: the surveyed coordinate when the beacon's packets, advertised every 100 ms
+        and received with a log-distance RSSI and 5 dB scatter, average over a 1 s ranging cycle to the RSSI of
+        the "immediate" distance; :data:`BLE_ADV_INTERVAL_S` ff.), "ble" (the earlier model: 0.6 m truth gate,
+        a U(0, 1 s) ranging delay and a 0.5 m proximity offset) or "ideal" (the true phone position plus
+        ``gcp_sd_m`` noise at closest approach)
+    rssi_sd_db : per-packet RSSI scatter of the "rssi" model (dB)
+    ble_lag_s : extra trigger delay of the Bluetooth fix (s), e.g. RSSI averaging (default none)
+    gait_kw : population means handed to :func:`walker_gait` for ``gait="published"`` (``speed_mean_mps``,
+        ``walk_ratio_per_height``, ``stair_up_cadence_hz``, ``stair_down_cadence_hz``); default the published
+        values. The walker's draws are the same for any means (paired sensitivity sweeps).
+    truth_cache : a :class:`TruthCache` to take the truth from when it holds this walker's (int ``seed`` only),
+        and to keep it in otherwise; the walk is the same either way
+    """
+    if route not in ROUTES:
+        raise ValueError(f"route must be one of {sorted(ROUTES)}, got {route!r}")
+    prof = PROFILES[profile] if isinstance(profile, str) and profile in PROFILES else profile
+    if not isinstance(prof, PhoneProfile):
+        raise ValueError(f"profile must be one of {sorted(PROFILES)} or a PhoneProfile, got {profile!r}")
+    if gait not in ("published", "legacy"):
+        raise ValueError(f"gait must be 'published' or 'legacy', got {gait!r}")
+    if gcp_mode not in ("rssi", "ble", "ideal"):
+        raise ValueError(f"gcp_mode must be 'rssi', 'ble' or 'ideal', got {gcp_mode!r}")
+    if not (np.isfinite(rssi_sd_db) and rssi_sd_db >= 0):
+        raise ValueError(f"rssi_sd_db must be >= 0 dB, got {rssi_sd_db}")
+    if gcp_sd_m is None:
+        gcp_sd_m = 0.05 if gcp_mode == "ideal" else BLE_FIX_SD_M
+    if not gcp_sd_m > 0:
+        raise ValueError(f"gcp_sd_m must be > 0, got {gcp_sd_m}")
+    if not (np.isfinite(ble_lag_s) and ble_lag_s >= 0):
+        raise ValueError(f"ble_lag_s must be >= 0 s, got {ble_lag_s}")
+    gait_kw = dict(gait_kw or {})
+    allowed = {"speed_mean_mps", "walk_ratio_per_height", "stair_up_cadence_hz", "stair_down_cadence_hz"}
+    if set(gait_kw) - allowed or not all(np.isfinite(v) and v > 0 for v in gait_kw.values()):
+        raise ValueError(f"gait_kw must map some of {sorted(allowed)} to positive values, got {gait_kw!r}")
+    if gait_kw and gait != "published":
+        raise ValueError("gait_kw applies to gait='published' only")
+    rng = as_rng(seed)
+    dt = 1.0 / TRUTH_RATE_HZ
+    key = None
+    if truth_cache is not None and isinstance(seed, (int, np.integer)):
+        key = (route, int(seed), gait, tuple(sorted(gait_kw.items())), float(user_height_m), float(user_c_sd))
+    hit = truth_cache.get(key) if key is not None else None
+    if hit is None:
+        tr = _truth(rng, dt, route, gait, gait_kw, user_height_m, user_c_sd)
+        if key is not None:
+            for v in tr.values():
+                if isinstance(v, np.ndarray):
+                    v.setflags(write=False)
+            truth_cache.put(key, (tr, rng.bit_generator.state))
+    else:
+        tr, state = hit
+        rng.bit_generator.state = state  # as if the truth had just been drawn
+    user_c, gait_d, walking, on_stairs, i_indoor = (tr[k] for k in ("user_c", "gait_d", "walking", "on_stairs",
+                                                                    "i_indoor"))
+    t, walk_w, roll, pitch, yaw_b, mat, vel, pos, dtheta, dvel_b = (
+        tr[k] for k in ("t", "walk_w", "roll", "pitch", "yaw_b", "mat", "vel", "pos", "dtheta", "dvel_b"))
+    m = t.size
     # irregular phone epochs on the 200 Hz grid
     lo, hi = prof.ticks
     steps = rng.integers(lo, hi + 1, size=m // lo + 2)
@@ -588,6 +650,8 @@ def simulate(route: str = "samsung", profile: str | PhoneProfile = "samsung_s5",
         baro_t, baro_h = t_ph.copy(), pos[ep, 2] + rng.normal(0.0, prof.baro_sd_m, n)
     else:
         baro_t, baro_h = np.zeros(0), np.zeros(0)
+    if key is not None:  # the walk owns its arrays; the cache keeps its own
+        t, pos, mat = t.copy(), pos.copy(), mat.copy()
     return InsWalk(
         t_ref_s=t, pos_ref_n_m=pos, mat_ref_nb=mat, t_s=t_ph, gyr_b_radps=gyr, acc_b_mps2=acc,
         pos_true_n_m=pos[ep], vel_true_n_mps=vel[ep], mat_true_nb=mat[ep], stationary_true=stationary,
