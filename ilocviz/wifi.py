@@ -69,17 +69,35 @@ def floor_map(points_xy_m, ax=None, value=None, walls=None, aps=None, test_point
     return ax
 
 
-def method_bars(df, ax=None, columns=("mean_m", "median_m", "p75_m"), label_col="method"):
-    """Grouped bars of error statistics (metres) per method."""
+def method_bars(df, ax=None, columns=("mean_m", "median_m", "p75_m"), label_col="method", horizontal=False,
+                reference=None):
+    """Grouped bars of error statistics (metres) per method.
+
+    ``horizontal``: one row per method, first on top (long method names stay readable); ``reference``: an
+    optional ``(value_m, label)`` drawn as a dashed line across the bars (e.g. a published figure).
+    """
     ax = new_axes(ax)
     n = len(columns)
     x = np.arange(len(df))
     w = 0.8 / n
     for i, c in enumerate(columns):
-        ax.bar(x + (i - (n - 1) / 2) * w, df[c], width=w, label=c.replace("_m", ""))
-    ax.set_xticks(x)
-    ax.set_xticklabels(df[label_col], rotation=20, ha="right")
-    ax.set_ylabel("2-D error [m]")
+        off = x + (i - (n - 1) / 2) * w
+        if horizontal:
+            ax.barh(off, df[c], height=w, label=c.replace("_m", ""))
+        else:
+            ax.bar(off, df[c], width=w, label=c.replace("_m", ""))
+    if horizontal:
+        ax.set_yticks(x)
+        ax.set_yticklabels(df[label_col])
+        ax.invert_yaxis()
+        ax.set_xlabel("2-D error [m]")
+    else:
+        ax.set_xticks(x)
+        ax.set_xticklabels(df[label_col], rotation=20, ha="right")
+        ax.set_ylabel("2-D error [m]")
+    if reference is not None:
+        value, label = reference
+        (ax.axvline if horizontal else ax.axhline)(float(value), color="k", ls="--", lw=1.0, label=label)
     ax.legend(loc="best")
     return ax
 

@@ -51,8 +51,10 @@ if tables is not None:
         ilocviz.wifi.error_cdfs(tables["errors"], ax=ax)
         ax.set_xlim(0, 40)
         ilocviz.savefig(fig, "02_wifi_ujiindoorloc_cdf", OUT_DIR)
-        fig, ax = plt.subplots(figsize=(7, 4))
-        ilocviz.wifi.method_bars(tables["methods"], ax=ax)
+        fig, ax = plt.subplots(figsize=(9, 0.42 * len(tables["methods"]) + 1.5))
+        ilocviz.wifi.method_bars(tables["methods"], ax=ax, horizontal=True,
+                                 reference=(wifi_ujiindoorloc.PAPER_UJI["paper_evaal_winner_mean_m"],
+                                            "EvAAL 2015 winner, mean (paper value)"))
         ilocviz.savefig(fig, "02_wifi_ujiindoorloc_bars", OUT_DIR)
 
 # %% [markdown]

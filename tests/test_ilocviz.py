@@ -176,3 +176,19 @@ def test_figure_title_prefers_suptitle_then_axes_titles_then_the_name():
     fig.suptitle("KF against Wi-Fi")
     assert figure_title(fig) == "KF against Wi-Fi"
     plt.close(fig)
+
+
+def test_method_bars_horizontal_names_every_method_and_draws_the_reference():
+    import pandas as pd
+
+    import ilocviz.wifi
+
+    df = pd.DataFrame({"method": ["a long method name", "b"], "mean_m": [3.0, 5.0], "median_m": [2.0, 4.0],
+                       "p75_m": [4.0, 6.0]})
+    fig, ax = plt.subplots()
+    ilocviz.wifi.method_bars(df, ax=ax, horizontal=True, reference=(4.5, "paper"))
+    assert [t.get_text() for t in ax.get_yticklabels()] == list(df["method"])
+    assert ax.get_xlabel() == "2-D error [m]"
+    assert [ln.get_xdata()[0] for ln in ax.get_lines()] == [4.5]
+    assert "paper" in [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(fig)
