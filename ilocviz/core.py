@@ -152,14 +152,16 @@ def error_cdf(errors: dict, ax=None, unit: str = "m", xlabel: str | None = None,
         drawn as a dashed vertical line (:func:`paper_mark`).
     """
     ax = new_axes(ax)
-    for label, e in errors.items():
+    n_colours = max(len(plt.rcParams["axes.prop_cycle"].by_key().get("color", [])), 1)
+    for i, (label, e) in enumerate(errors.items()):
         e = np.asarray(e, dtype=float).ravel()
         n_all = e.size
         e = np.sort(e[~np.isnan(e)])  # NaN: not located (counted; the curve then ends below 1)
         if e.size == 0:
             raise ValueError(f"errors for {label!r} are all NaN (nothing located)")
         missing = f", {n_all - e.size} not located" if e.size < n_all else ""
-        ax.step(e, np.arange(1, e.size + 1) / n_all, where="post",
+        # past the colour cycle, the colours repeat: the next round of curves is dashed, then dotted
+        ax.step(e, np.arange(1, e.size + 1) / n_all, where="post", ls=("-", "--", ":")[(i // n_colours) % 3],
                 label=f"{legend_name(label)} (mean {e.mean():.2f} {unit}{missing})")
     for i, (label, value) in enumerate((paper or {}).items()):
         paper_mark(ax, value, label, axis="x", color=f"{0.15 + 0.2 * (i % 3):.2f}")

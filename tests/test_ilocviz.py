@@ -192,3 +192,12 @@ def test_method_bars_horizontal_names_every_method_and_draws_the_reference():
     assert [ln.get_xdata()[0] for ln in ax.get_lines()] == [4.5]
     assert "paper" in [t.get_text() for t in ax.get_legend().get_texts()]
     plt.close(fig)
+
+
+def test_error_cdf_curves_past_the_colour_cycle_are_dashed():
+    n = len(plt.rcParams["axes.prop_cycle"].by_key()["color"])
+    fig, ax = plt.subplots()
+    ilocviz.error_cdf({f"m{i}": np.arange(1.0, 4.0) + i for i in range(n + 1)}, ax=ax)
+    styles = [ln.get_linestyle() for ln in ax.get_lines()]
+    assert styles[:n] == ["-"] * n and styles[n] == "--"
+    plt.close(fig)
