@@ -363,29 +363,31 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
             kw = {"n_neighbors": 5, **par}
             est = (OffsetFingerprint(**{k: v for k, v in kw.items() if k != "estimator"}) if
                    kw.get("estimator") == "offset" else CascadeFingerprint(p=2, **kw))
-            pr = est.fit(train.rssi_dbm, _target(train)).predict(test.rssi_dbm)
-            res = {"error_m": np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m), "floor": pr[:, 2],
-                   "building": pr[:, 3]}
+            res = _prediction_result(est.fit(train.rssi_dbm, _target(train)).predict(test.rssi_dbm), test)
         res_by[name] = res
-        e = res["error_m"][np.isfinite(res["error_m"])]
-        lo, hi = bootstrap_mean_ci(e, seed)
-        rows.append({"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi,
-                     "params": "" if par is None else ", ".join(
-                         f"{k}={_fmt(v)}" for k, v in {"n_neighbors": 5, **par}.items() if k != "estimator")})
+        rows.append(_ladder_row(name, res, test, seed, "" if par is None else ", ".join(
+            f"{k}={_fmt(v)}" for k, v in {"n_neighbors": 5, **par}.items() if k != "estimator")))
     if offset and ensemble:
         k_cv = int(off_best.get("n_neighbors", 5))
         ens_best, ens_table = ensemble_cv(train, ensemble_grid(fast), k_cv, seed, max_test=300)  # 300: for time
         cv_table = pd.concat([cv_table, ens_table], ignore_index=True)
         chosen = ens_best["est__estimators"]
         for name, pr, par in _ensemble_rows(train, test, k_cv, chosen):
-            res = {"error_m": np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m), "floor": pr[:, 2],
-                   "building": pr[:, 3]}
-            res_by[name] = res
-            e = res["error_m"][np.isfinite(res["error_m"])]
-            lo, hi = bootstrap_mean_ci(e, seed)
-            rows.append({"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi,
-                         "params": par})
+            res_by[name] = res = _prediction_result(pr, test)
+            rows.append(_ladder_row(name, res, test, seed, par))
     return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
+
+
+def _prediction_result(pr: np.ndarray, test: FingerprintSet) -> dict:
+    """2-D error, floor and building of a cascade-style prediction (n, 4: x, y, floor, building)."""
+    return {"error_m": np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m), "floor": pr[:, 2], "building": pr[:, 3]}
+
+
+def _ladder_row(name: str, res: dict, test: FingerprintSet, seed: int, params: str) -> dict:
+    """One ladder row: the metrics of ``res``, a bootstrap interval of its mean error and the row's parameters."""
+    e = res["error_m"][np.isfinite(res["error_m"])]
+    lo, hi = bootstrap_mean_ci(e, seed)
+    return {"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi, "params": params}
 
 
 def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list):
