@@ -161,3 +161,12 @@ def test_two_floor_archive_names_the_floors(tmp_path):
 
     with pytest.raises(ValueError, match=r"found 2 floors \(site_F1, site_F2\); pick one with floor_name='site_F1'"):
         load_ilc_floor_map(arch)
+
+
+def test_every_method_is_explained():
+    """The table's last column and --help name every method the track package runs (a new estimator
+    without a line of help would print an empty cell)."""
+    from ilocalg.track._config import METHODS
+
+    assert set(METHODS) <= set(cmd.METHOD_HELP), sorted(set(METHODS) - set(cmd.METHOD_HELP))
+    assert all(cmd.METHOD_HELP[m].split(":")[0].startswith(("online", "offline")) for m in METHODS)

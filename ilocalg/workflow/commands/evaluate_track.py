@@ -67,6 +67,9 @@ METHOD_HELP = {
     "lsq_map": "offline: lsq pulled onto the walkable map",
     "lsq_online": "online: lsq on the data so far",
     "lsq_online_map": "online: lsq_online moved onto the walkable map",
+    "kf_gain": "online: Kalman filter with the walk's step scale and heading offset in its state",
+    "kf_gain_map": "online: kf_gain moved onto the walkable map",
+    "kf_gain_lag5s": "offline (5 s behind): kf_gain smoothed over a fixed 5 s lag",
 }
 #: Every method's mean error above this (m) prints a warning: the walk is probably not of this floor.
 FAR_OFF_M = 20.0
