@@ -46,25 +46,31 @@ def distribution_hist(dist, quantity: str, ax=None, bins: int = 40, clip_quantil
 
 
 def real_vs_sim_intervals(comp, worlds=("sim_measured", "sim_assumed"), ax=None):
-    """Each compared statistic as simulated / real ratio with its interval, one marker per world."""
+    """Each compared statistic as simulated / real ratio with its interval, one marker per world.
+
+    The ratio keeps signs: 1 is equal for a negative statistic too (a detection floor in dBm), and a negative
+    ratio means the simulated statistic has the opposite sign (a correlation).
+    """
     ax = new_axes(ax)
     y = np.arange(len(comp))
     real = comp["real"].to_numpy(dtype=float)
-    scale = np.where(np.abs(real) > 1e-9, np.abs(real), 1.0)
+    scale = np.where(np.abs(real) > 1e-9, real, 1.0)
     ax.axvline(1.0, color="k", lw=0.8)
     for i, w in enumerate(worlds):
         if w not in comp:
             continue
         v = comp[w].to_numpy(dtype=float) / scale
-        lo = comp[f"{w}_ci_low"].to_numpy(dtype=float) / scale
-        hi = comp[f"{w}_ci_high"].to_numpy(dtype=float) / scale
+        a = comp[f"{w}_ci_low"].to_numpy(dtype=float) / scale
+        b = comp[f"{w}_ci_high"].to_numpy(dtype=float) / scale
+        lo, hi = np.minimum(a, b), np.maximum(a, b)  # dividing by a negative statistic swaps the ends
         off = (i - 0.5) * 0.25
         ax.errorbar(v, y + off, xerr=[np.abs(v - lo), np.abs(hi - v)], fmt="o", ms=4, capsize=2, label=w)
-    rl = comp["real_ci_low"].to_numpy(dtype=float) / scale
-    rh = comp["real_ci_high"].to_numpy(dtype=float) / scale
+    a = comp["real_ci_low"].to_numpy(dtype=float) / scale
+    b = comp["real_ci_high"].to_numpy(dtype=float) / scale
+    rl, rh = np.minimum(a, b), np.maximum(a, b)
     ax.barh(y, rh - rl, left=rl, height=0.6, color="0.85", zorder=0, label="real 95 % interval")
     ax.set_yticks(y)
     ax.set_yticklabels(comp["parameter"])
-    ax.set_xlabel("Simulated / |real| value [-] (negative real values: sign kept)")
-    ax.legend(fontsize="small", loc="lower right")
+    ax.set_xlabel("Simulated / real value [-] (1 = equal; below 0 = opposite sign)")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside: no row hidden
     return ax
