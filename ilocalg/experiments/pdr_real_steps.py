@@ -44,6 +44,7 @@ from ilocalg.pdr.step_evaluate import (
     split_summary,
     step_diagnosis,
     truth_artefacts,
+    walk_gate_sweep,
 )
 
 __all__ = ["run", "load", "missing_table", "headline", "truth_headline", "worst", "GOAL_MEAN", "GOAL_MIN",
@@ -97,7 +98,8 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         ``robust_diagnosis`` (per recording at the robust defaults: missed, extra, heel bounces, both truths),
         ``robust_diagnosis_by_position``, ``robust_by_truth_and_split`` (development / held-out halves,
         :func:`ilocalg.pdr.step_evaluate.is_development`, against the published truth and with heel bounces
-        merged, mean with a bootstrap interval), ``comparison``.
+        merged, mean with a bootstrap interval), ``walk_gate_sweep`` (the robust detector's walk detection
+        threshold on the development half only, with its leave-one-recording-out choices), ``comparison``.
     """
     recs = recordings if recordings is not None else load(data_dir)
     if fast:
@@ -149,6 +151,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
             "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "robust_by_truth_and_split": split_summary(diag, goal_min=GOAL_MIN, seed=seed),
+            "walk_gate_sweep": walk_gate_sweep(prep, recs),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
             "comparison": pd.DataFrame(comp)}
 
