@@ -47,7 +47,8 @@ from ilocalg.pdr.step_evaluate import (
     walk_gate_sweep,
 )
 
-__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "worst", "GOAL_MEAN", "GOAL_MIN",
+__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "worst", "GOAL_MEAN",
+           "GOAL_MIN",
            # re-exported from ilocalg.pdr.step_evaluate for the notebook
            "Prepared", "prepare", "DETECTORS", "accuracy", "loro_cv", "step_diagnosis", "diagnosis_window",
            "truth_artefacts"]
@@ -187,6 +188,21 @@ def truth_headline(tables: dict) -> str:
                    f"(95 % CI {r['ci_low']:.2%}-{r['ci_high']:.2%}), worst {r['min_accuracy']:.2%} "
                    f"(goal: {'met' if met else 'NOT met'})")
     return "; ".join(out)
+
+
+def gate_headline(tables: dict) -> str:
+    """One sentence: the walk-detection threshold the development folds choose, beside the detector's default."""
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS
+
+    g = tables["walk_gate_sweep"]
+    out = []
+    for truth in ("bounces_merged", "published"):
+        best = g.loc[g[f"loro_chosen_{truth}"].idxmax()]
+        mean, low = best[f"mean_accuracy_{truth}"], best[f"min_accuracy_{truth}"]
+        out.append(f"against the {truth.replace('_', ' ')} truth, {int(best[f'loro_chosen_{truth}'])} of "
+                   f"{int(best['n_recordings'])} development folds choose min_stride_nac = {best['min_stride_nac']} "
+                   f"(development mean {mean:.2%}, worst {low:.2%})")
+    return "; ".join(out) + f"; the detector's default: {ROBUST_DEFAULTS['min_stride_nac']}"
 
 
 def _fmt(par: dict) -> str:
