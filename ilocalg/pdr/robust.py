@@ -105,25 +105,32 @@ def stride_nac(x, i_peak, lag_min: int, lag_max: int) -> np.ndarray:
     if idx.size == 0:
         return best
     tiny = 1e-18 * float(np.max(x * x, initial=0.0))     # a window this flat (rounding only) has no shape
-    for lag in range(int(lag_min), int(lag_max) + 1):
-        start = idx - lag // 2
-        a = x[np.clip(start[:, None] + np.arange(lag), 0, n - 1)]
-        a = a - a.mean(axis=1, keepdims=True)
-        aa = (a * a).sum(axis=1)
+    lags = np.arange(int(lag_min), int(lag_max) + 1)
+    j = np.arange(lags[-1])
+    mask = j[None, :] < lags[:, None]                       # (n_lags, longest): the samples of each lag's window
+    for c in range(0, idx.size, _NAC_CHUNK):                # a few peaks at a time: (peaks, lags, samples) arrays
+        start = idx[c:c + _NAC_CHUNK, None] - lags[None, :] // 2
+        a = _centred_windows(x, start, j, mask, lags)
+        aa = (a * a).sum(axis=2)
         for sgn in (1, -1):
-            s0 = start + sgn * lag
-            ok = (start >= 0) & (start + lag <= n) & (s0 >= 0) & (s0 + lag <= n)
-            if not ok.any():
-                continue
-            b = x[np.clip(s0[:, None] + np.arange(lag), 0, n - 1)]
-            b = b - b.mean(axis=1, keepdims=True)
-            bb = (b * b).sum(axis=1)
-            flat = (aa <= tiny * lag) | (bb <= tiny * lag)
-            den = np.sqrt(aa * bb)
-            c = np.where(ok & ~flat, (a * b).sum(axis=1) / np.where(flat, 1.0, den), -1.0)
-            best = np.maximum(best, c)
+            s0 = start + sgn * lags[None, :]
+            ok = (start >= 0) & (start + lags <= n) & (s0 >= 0) & (s0 + lags <= n)
+            bw = _centred_windows(x, s0, j, mask, lags)
+            bb = (bw * bw).sum(axis=2)
+            flat = (aa <= tiny * lags) | (bb <= tiny * lags)
+            cor = np.where(ok & ~flat, (a * bw).sum(axis=2) / np.where(flat, 1.0, np.sqrt(aa * bb)), -1.0)
+            best[c:c + _NAC_CHUNK] = np.maximum(best[c:c + _NAC_CHUNK], cor.max(axis=1))
     return best
 
+
+#: Peaks per block in :func:`stride_nac` (bounds its temporary arrays to a few MB).
+_NAC_CHUNK = 8
+
+
+def _centred_windows(x, start, j, mask, lags) -> np.ndarray:
+    """Windows ``x[start:start + lag]`` less their means, zero-padded to the longest lag: (peaks, lags, samples)."""
+    w = x[np.clip(start[:, :, None] + j[None, None, :], 0, x.size - 1)] * mask[None]
+    return (w - (w.sum(axis=2) / lags)[:, :, None]) * mask[None]
 
 def trim_bout_ends(t_peak_s, score_fn, max_step_s: float, min_score: float) -> np.ndarray:
     """Mask of the peaks left once each bout's first and last peaks scoring below ``min_score`` are dropped.
