@@ -104,7 +104,7 @@ def stride_nac(x, i_peak, lag_min: int, lag_max: int) -> np.ndarray:
     best = np.full(idx.size, -1.0)
     if idx.size == 0:
         return best
-    tiny = 1e-18 * float(np.max(x * x, initial=0.0))     # a window this flat (rounding only) has no shape
+    tiny = 1e-18 * float(np.max(x[np.clip(idx, 0, n - 1)] ** 2))   # flatter than rounding (scale: the peaks)
     lags = np.arange(int(lag_min), int(lag_max) + 1)
     j = np.arange(lags[-1])
     mask = j[None, :] < lags[:, None]                       # (n_lags, longest): the samples of each lag's window
