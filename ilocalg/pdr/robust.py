@@ -24,7 +24,7 @@ Beyond the papers. Steps:
 The parameters are chosen by leave-one-recording-out cross-validation on labelled walks (the
 experiment ``pdr_real_steps``); the defaults are the values that search picks on the Oxford
 optimisation set (``min_stride_nac``: on its development half, odd repeats, against the truth with
-heel-sensor bounces merged: 0.5 in each of the 24 folds of the grid 0-0.7).
+heel-sensor bounces merged: 0.5 in each of the 24 folds over off, 0, 0.3-0.7; table ``walk_gate_sweep``).
 
 References
 ----------
@@ -131,6 +131,7 @@ def _centred_windows(x, start, j, mask, lags) -> np.ndarray:
     """Windows ``x[start:start + lag]`` less their means, zero-padded to the longest lag: (peaks, lags, samples)."""
     w = x[np.clip(start[:, :, None] + j[None, None, :], 0, x.size - 1)] * mask[None]
     return (w - (w.sum(axis=2) / lags)[:, :, None]) * mask[None]
+
 
 def trim_bout_ends(t_peak_s, score_fn, max_step_s: float, min_score: float) -> np.ndarray:
     """Mask of the peaks left once each bout's first and last peaks scoring below ``min_score`` are dropped.
