@@ -3,7 +3,7 @@ import pandas as pd
 import pytest
 from scipy import signal as ss
 
-from ilocalg.pdr.robust import RobustStepDetector, bout_gate, detect_steps_robust
+from ilocalg.pdr.robust import RobustStepDetector, bout_gate, detect_steps_robust, stride_nac, trim_bout_ends
 from ilocalg.sim import gait
 
 
@@ -48,3 +48,59 @@ def test_bad_input():
         detect_steps_robust(np.ones(5), np.arange(5) / 100.0)
     with pytest.raises(ValueError, match="min_bout_steps"):
         detect_steps_robust(np.ones(500), np.arange(500) / 100.0, min_bout_steps=0)
+
+
+def test_stride_nac_agrees_with_corrcoef_and_separates_walking_from_noise():
+    rng = np.random.default_rng(5)
+    t = np.arange(0, 20, 0.01)
+    walk = 9.8 + 2.0 * np.sin(2 * np.pi * 2.0 * t) + 0.6 * np.sin(2 * np.pi * 1.0 * t + 0.3)   # stride 1.0 s
+    noise = 9.8 + rng.normal(0.0, 1.0, t.size)
+    idx = np.array([300, 1000, 1700])
+    # one lag: the Pearson correlation of the centred stride window with the window before or after it
+    for i in idx:
+        ref = max(np.corrcoef(walk[i - 50:i + 50], walk[i - 50 + s:i + 50 + s])[0, 1] for s in (100, -100))
+        assert stride_nac(walk, [i], 100, 100)[0] == pytest.approx(ref, abs=1e-12)
+    assert (stride_nac(walk, idx, 50, 200) > 0.99).all()        # a repeating stride
+    assert (stride_nac(noise, idx, 50, 200) < 0.5).all()        # no stride repeats in white noise
+    # a window that leaves the signal does not count; with none inside, -1
+    assert stride_nac(walk, [10, t.size - 10], 100, 100).tolist() == [-1.0, -1.0]
+    assert stride_nac(np.full(500, 9.8), [250], 50, 100)[0] == -1.0     # constant: no correlation
+    assert stride_nac(walk, [], 50, 100).size == 0
+    with pytest.raises(ValueError, match="lag_min"):
+        stride_nac(walk, idx, 0, 10)
+
+
+def test_trim_bout_ends_drops_only_low_scoring_ends():
+    t = np.array([0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 5.0, 5.5, 9.0])       # bouts: 6 peaks, 2 peaks, 1 peak
+    score = np.array([0.1, 0.2, 0.9, 0.1, 0.8, 0.3, 0.1, 0.1, 0.9])
+    asked = []
+
+    def fn(k):
+        asked.extend(k.tolist())
+        return score[k]
+
+    keep = trim_bout_ends(t, fn, max_step_s=1.0, min_score=0.5)
+    # the first bout loses its two low first peaks and its low last one, never the low peak inside (index 3)
+    assert keep.tolist() == [False, False, True, True, True, False, False, False, True]
+    assert 3 not in asked                                             # only the current ends are scored
+    assert trim_bout_ends(t, fn, 1.0, -1.0).all()
+    assert trim_bout_ends([], fn, 1.0, 0.5).size == 0
+
+
+def test_walk_detection_drops_handling_before_a_walk():
+    # 3 s of handling (seeded broadband noise: irregular peaks less than max_step_s apart) before 20 s of
+    # walking at 2 steps/s
+    rate = 100.0
+    t = np.arange(0, 23, 1 / rate)
+    m = np.full(t.size, 9.8)
+    walk = t >= 3.0
+    m[walk] += 2.0 * np.sin(2 * np.pi * 2.0 * (t[walk] - 3.0) - np.pi / 2) + 0.5 * np.sin(np.pi * 2.0 * t[walk])
+    m[~walk] += np.random.default_rng(0).normal(0.0, 3.0, int((~walk).sum()))
+    true = int(round(2.0 * 20.0))
+    gated = detect_steps_robust(m, t)
+    plain = detect_steps_robust(m, t, min_stride_nac=None)
+    assert abs(len(gated) - true) <= 1
+    assert len(plain) >= len(gated) + 3                               # the bumps join the bout without the gate
+    assert (gated["t_s"] > 2.8).all()
+    with pytest.raises(ValueError, match="min_stride_nac"):
+        detect_steps_robust(m, t, min_stride_nac=1.5)

@@ -44,9 +44,11 @@ from ilocalg.pdr.step_evaluate import (
     split_summary,
     step_diagnosis,
     truth_artefacts,
+    walk_gate_sweep,
 )
 
-__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "worst", "GOAL_MEAN", "GOAL_MIN",
+__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "worst", "GOAL_MEAN",
+           "GOAL_MIN",
            # re-exported from ilocalg.pdr.step_evaluate for the notebook
            "Prepared", "prepare", "DETECTORS", "accuracy", "loro_cv", "step_diagnosis", "diagnosis_window",
            "truth_artefacts"]
@@ -97,7 +99,8 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         ``robust_diagnosis`` (per recording at the robust defaults: missed, extra, heel bounces, both truths),
         ``robust_diagnosis_by_position``, ``robust_by_truth_and_split`` (development / held-out halves,
         :func:`ilocalg.pdr.step_evaluate.is_development`, against the published truth and with heel bounces
-        merged, mean with a bootstrap interval), ``comparison``.
+        merged, mean with a bootstrap interval), ``walk_gate_sweep`` (the robust detector's walk detection
+        threshold on the development half only, with its leave-one-recording-out choices), ``comparison``.
     """
     recs = recordings if recordings is not None else load(data_dir)
     if fast:
@@ -149,6 +152,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
             "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "robust_by_truth_and_split": split_summary(diag, goal_min=GOAL_MIN, seed=seed),
+            "walk_gate_sweep": walk_gate_sweep(prep, recs),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
             "comparison": pd.DataFrame(comp)}
 
@@ -184,6 +188,21 @@ def truth_headline(tables: dict) -> str:
                    f"(95 % CI {r['ci_low']:.2%}-{r['ci_high']:.2%}), worst {r['min_accuracy']:.2%} "
                    f"(goal: {'met' if met else 'NOT met'})")
     return "; ".join(out)
+
+
+def gate_headline(tables: dict) -> str:
+    """One sentence: the walk-detection threshold the development folds choose, beside the detector's default."""
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS
+
+    g = tables["walk_gate_sweep"]
+    out = []
+    for truth in ("bounces_merged", "published"):
+        best = g.loc[g[f"loro_chosen_{truth}"].idxmax()]
+        mean, low = best[f"mean_accuracy_{truth}"], best[f"min_accuracy_{truth}"]
+        out.append(f"against the {truth.replace('_', ' ')} truth, {int(best[f'loro_chosen_{truth}'])} of "
+                   f"{int(best['n_recordings'])} development folds choose min_stride_nac = {best['min_stride_nac']} "
+                   f"(development mean {mean:.2%}, worst {low:.2%})")
+    return "; ".join(out) + f"; the detector's default: {ROBUST_DEFAULTS['min_stride_nac']}"
 
 
 def _fmt(par: dict) -> str:

@@ -15,7 +15,8 @@ Modules
 ``registry``       the step-detector registry (name -> function) and :func:`count_steps`
 ``sam``            i-Loc SAM: vertical acceleration, eight wave features, range classifier (eq. 8-15)
 ``peak_window``    Luo et al.'s |a| sliding-window peak detector with a threshold and a 0.2-2 s window
-``robust``         the toolkit's best detector for real phones (resample, low-pass, prominence, bouts)
+``robust``         the toolkit's best detector for real phones (resample, low-pass, prominence, walk detection
+                   at bout ends by stride auto-correlation, bouts)
 ``sign_change``    Chao's slope-sign-change detector with the +-RMS band (Fig 3.9)
 ``step_length``    Weinberg, Kim, Luo et al. eq. (4), i-Loc SLM regressions (eq. 16-17), k from a distance
 ``k_factor``       learning the Weinberg k of a walker by PSO against a reference distance (Chao eq. 4.4)

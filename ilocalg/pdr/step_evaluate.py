@@ -32,7 +32,7 @@ from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
-           "truth_artefacts", "is_development", "split_summary"]
+           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "walk_gate_sweep"]
 
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
@@ -274,6 +274,39 @@ def split_summary(diag: pd.DataFrame, columns=(("published", "accuracy"),
                          "ci_low": est.ci_low, "ci_high": est.ci_high, "median_accuracy": float(np.median(a)),
                          "min_accuracy": float(a.min()), f"n_below_{goal_min:.0%}": int((a < goal_min).sum())})
     return pd.DataFrame(rows)
+
+
+#: Walk-detection thresholds swept on the development half (:func:`walk_gate_sweep`; None: gate off).
+NAC_GRID = (None, 0.0, 0.3, 0.4, 0.5, 0.6, 0.7)
+
+
+def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID) -> pd.DataFrame:
+    """The robust detector's walk detection (``min_stride_nac``) swept on the development half only.
+
+    Each grid value is scored on the development recordings (:func:`is_development`; the others are not
+    read) against the published truth and the truth with heel bounces merged: mean and worst accuracy, and
+    how often leave-one-recording-out over the development recordings (:func:`loro_cv`) chooses it.
+    ``recordings`` are the :class:`ilocalg.io.oxford.OxfordRecording` of ``prep``, for the bounce counts.
+    """
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust
+
+    dev = [k for k, p in enumerate(prep) if is_development(p.name)]
+    if len(dev) < 2:
+        raise ValueError(f"need at least 2 development recordings (odd repeats), got {len(dev)}")
+    published = np.array([recordings[k].true_steps + recordings[k].n_heel_bounces_merged for k in dev])
+    merged = published - np.array([recordings[k].n_heel_bounces for k in dev])
+    counts = np.array([[len(detect_steps_robust(prep[k].acc_mps2, prep[k].t_s,
+                                                **{**ROBUST_DEFAULTS, "min_stride_nac": g})) for k in dev]
+                       for g in grid])
+    out = pd.DataFrame({"min_stride_nac": ["off" if g is None else g for g in grid]})
+    for truth, n in (("published", published), ("bounces_merged", merged)):
+        score = accuracy(counts, n[None, :])
+        _, choice = loro_cv(score)
+        out[f"mean_accuracy_{truth}"] = score.mean(axis=1)
+        out[f"min_accuracy_{truth}"] = score.min(axis=1)
+        out[f"loro_chosen_{truth}"] = np.bincount(choice, minlength=len(grid))
+    out["n_recordings"] = len(dev)
+    return out
 
 
 def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dict | None = None,
