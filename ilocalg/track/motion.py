@@ -51,7 +51,7 @@ def walk_steps(trace, cfg: RealWalkConfig = DEFAULT_CONFIG) -> WalkSteps:
     t = imu.index.to_numpy()
     acc = imu[list(ACC_COLS)].to_numpy()
     rate = 1.0 / float(np.median(np.diff(t)))
-    st = detect_steps_robust(acc, t, min_bout_steps=cfg.min_bout_steps)
+    st = detect_steps_robust(acc, t, min_bout_steps=cfg.min_bout_steps, min_stride_nac=cfg.min_stride_nac)
     g = np.column_stack([moving_mean(acc[:, j], _n_samples(0.5, rate)) for j in range(3)])
     m = np.column_stack([moving_mean(imu[list(MAG_COLS)].to_numpy()[:, j], _n_samples(0.25, rate))
                          for j in range(3)])
