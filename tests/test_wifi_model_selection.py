@@ -74,3 +74,42 @@ def test_ensemble_cv_equals_grid_search_over_the_pipeline():
     np.testing.assert_allclose(table["cv_mean_error_m"], ref["cv_mean_error_m"], rtol=1e-12)
     np.testing.assert_allclose(table["cv_sd_m"], ref["cv_sd_m"], rtol=1e-9)
     np.testing.assert_array_equal(table["rank"], ref["rank"])
+
+
+def test_offset_range_two_sd():
+    assert ms.offset_shifts_db(2) == (-8.0, -6.0, -4.0, -2.0, 0.0, 2.0, 4.0, 6.0, 8.0)   # +-2 sd, 2 dB steps
+
+
+@pytest.mark.parametrize("fast", [False, True])
+def test_offset_range_grid_names_stand_for_one_configuration(fast):
+    # ensemble_cv's cache is keyed by member name: one name, one configuration
+    from sklearn.base import clone
+
+    seen = {}
+    cands = ms.offset_range_grid(fast)["est__estimators"]
+    assert len(cands) == (2 if fast else 6)
+    for members in cands:
+        for name, est in members:
+            p = {k: v for k, v in clone(est).get_params().items()}
+            assert seen.setdefault(name, p) == p
+    assert {seen["offset_powed_2sd"]["shifts_db"], seen["offset_powed"]["shifts_db"]} == {
+        ms.offset_shifts_db(2), ms.offset_shifts_db(1)}
+
+
+def test_ensemble_cv_cache_gives_the_same_table_and_reuses_fits():
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(5)
+    x, xy = _radio(rng, n=200)
+    train = FingerprintSet(rssi_dbm=x, ap_ids=tuple(f"a{i}" for i in range(x.shape[1])), x_m=xy[:, 0],
+                           y_m=xy[:, 1], floor=(xy[:, 0] > 15).astype(int), building=np.zeros(len(x), dtype=int),
+                           meta=pd.DataFrame({"PHONEID": np.arange(len(x)) % 4}))
+    grid = ms.offset_range_grid(fast=True)
+    _, ref = ms.ensemble_cv(train, grid, 3, seed=2, max_test=40)
+    cache: dict = {}
+    ms.ensemble_cv(train, ms.ensemble_grid(fast=True), 3, seed=2, max_test=40, cache=cache)
+    n_first = len(cache)
+    _, table = ms.ensemble_cv(train, grid, 3, seed=2, max_test=40, cache=cache)
+    pd.testing.assert_frame_equal(table, ref)
+    # 3 folds x {offset_powed, cascade_powed} first, then only offset_exponential, the two 2-sd members are new
+    assert n_first == 3 * 2 and len(cache) == 3 * 5

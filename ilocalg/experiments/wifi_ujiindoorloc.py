@@ -82,6 +82,10 @@ TOOLKIT_READINGS = (
      "average the scans of one spot into one fingerprint",
      "no row: tried during development with validation scores in view (mean_fingerprints per coordinate), "
      "it raised the error, so it was left out rather than put to the CV"),
+    ("offset search range", "Tsui et al. 2009; the measured per-phone offset sd (data/measured_parameters.csv)",
+     "the offset of an unseen phone is unknown; the search must cover the spread of phones",
+     "offset search over +-1 sd or +-2 sd of the measured sd (2 dB steps), chosen with the members by "
+     "GroupKFold(PHONEID) CV on training (offset_range_grid)"),
 )
 
 

@@ -48,6 +48,7 @@ __all__ = [
     "ensemble_grid",
     "ensemble_pipeline",
     "ensemble_cv",
+    "offset_range_grid",
 ]
 
 
@@ -136,12 +137,12 @@ TOOLKIT_GRID_FAST = {"representation": ["positive", "powed"], "metric": ["minkow
                      "n_neighbors": [5]}
 
 
-def offset_shifts_db() -> tuple[float, ...]:
-    """Candidate per-query offsets of :class:`ilocalg.wifi.OffsetFingerprint`: +-1 sd of the measured
-    per-phone offset (``device_offset_sd_db``, rounded to 2 dB) in 2 dB steps."""
+def offset_shifts_db(n_sd: int = 1) -> tuple[float, ...]:
+    """Candidate per-query offsets of :class:`ilocalg.wifi.OffsetFingerprint`: +-``n_sd`` sd of the measured
+    per-phone offset (``n_sd * device_offset_sd_db``, rounded to 2 dB) in 2 dB steps."""
     from ilocalg.sim.measured import param
 
-    half = 2 * int(round(param("device_offset_sd_db") / 2))
+    half = 2 * int(round(n_sd * param("device_offset_sd_db") / 2))
     return tuple(float(v) for v in range(-half, half + 1, 2))
 
 
@@ -178,6 +179,23 @@ def ensemble_grid(fast: bool = False) -> dict:
     return {"est__estimators": [ensemble_members(three=False), ensemble_members(three=True)]}
 
 
+def offset_range_grid(fast: bool = False) -> dict:
+    """Candidates of the offset-range row (``{"est__estimators": [members, ...]}``), chosen by GroupKFold(PHONEID)
+    CV on training: the offset search over +-1 sd or +-2 sd of the measured per-phone offset
+    (:func:`offset_shifts_db`; 2 sd holds about 95 % of a normal spread of phones, 1 sd about 68 %), crossed with
+    the member sets offset_powed + cascade_powed, offset_powed + offset_exponential and all three
+    (:func:`ensemble_members`; members searching +-2 sd are named ``..._2sd``). Fast mode: the powed +
+    exponential pair at 1 and 2 sd."""
+    cands = []
+    for n_sd in (1, 2):
+        three = ensemble_members(offset_shifts_db(n_sd), three=True)
+        if n_sd == 2:
+            three = [(n if n.startswith("cascade") else f"{n}_2sd", e) for n, e in three]
+        sets = [[three[0], three[2]]] if fast else [three[:2], [three[0], three[2]], three]
+        cands += sets
+    return {"est__estimators": cands}
+
+
 def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):
     """``Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(estimators, n_neighbors))])``."""
     from sklearn.pipeline import Pipeline
@@ -189,13 +207,16 @@ def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1)
 
 
 def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int = 0, n_splits: int = 3,
-                max_test: int = 300, group: str = "PHONEID") -> tuple[dict, pd.DataFrame]:
+                max_test: int = 300, group: str = "PHONEID", cache: dict | None = None) -> tuple[dict, pd.DataFrame]:
     """:func:`toolkit_cv` of :func:`ensemble_pipeline` over ``grid`` (``{"est__estimators": [members, ...]}``),
     with each distinct member fitted once per fold: a candidate's fold score is
     :func:`ilocalg.wifi.ensemble.combine_predictions` of its members' fold predictions, which is what the
     pipeline's ``predict`` returns. Same folds, scorer, table and choice (first of the best rank) as
     ``toolkit_cv(train, seed, group=group, max_test=max_test, estimator=ensemble_pipeline(n_neighbors),
     grid=grid)`` (a test checks the equality); the members shared by the candidates are not refitted.
+    ``cache`` (a dict, filled in place): fold predictions by (fold setting, fold, member name), so that a second
+    call on the same training set reuses the members the first one fitted (a member's name must then stand for
+    one configuration).
     """
     from scipy.stats import rankdata
     from sklearn.base import clone
@@ -216,11 +237,16 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
         preds = {}
         for c, members in enumerate(cands):
             for name, est in members:
+                key = (group, n_splits, max_test, seed, n_neighbors, f, name)
+                if name not in preds and cache is not None and key in cache:
+                    preds[name] = cache[key]
                 if name not in preds:
                     e = clone(est)
                     if "n_neighbors" in e.get_params():
                         e.set_params(n_neighbors=n_neighbors)
                     preds[name] = e.fit(x_tr, y[tr]).predict(x_te)
+                    if cache is not None:
+                        cache[key] = preds[name]
             scores[c, f] = -mean_horizontal_error_m(y[te], combine_predictions([preds[n] for n, _ in members]))
     mean = scores.mean(axis=1)
     rank = rankdata(-mean, method="min").astype(np.int32)
@@ -309,7 +335,8 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
-                   cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True) -> dict:
+                   cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True,
+                   offset_range: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -331,6 +358,11 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     and the members chosen by GroupKFold(PHONEID) CV on training (:func:`ensemble_grid`) at the K of the
     offset-search CV. Each member is fitted once per K and its predictions reused across rows
     (:func:`ilocalg.wifi.ensemble.combine_predictions` is what the ensemble's ``predict`` returns).
+
+    With ``offset_range`` (and ``ensemble``), one more row, the last: the offset search's range (+-1 or +-2 sd of
+    the measured per-phone offset) and the members chosen together by the same GroupKFold(PHONEID) CV on training
+    (:func:`offset_range_grid`, at the same K; the folds' member predictions shared with the previous CV). Its
+    CV rows carry ``grid = "offset range x members"``.
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
     from ilocalg.wifi.offset import OffsetFingerprint
@@ -369,10 +401,17 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
             f"{k}={_fmt(v)}" for k, v in {"n_neighbors": 5, **par}.items() if k != "estimator")))
     if offset and ensemble:
         k_cv = int(off_best.get("n_neighbors", 5))
-        ens_best, ens_table = ensemble_cv(train, ensemble_grid(fast), k_cv, seed, max_test=300)  # 300: for time
+        cache: dict = {}
+        ens_best, ens_table = ensemble_cv(train, ensemble_grid(fast), k_cv, seed, max_test=300,  # 300: for time
+                                          cache=cache)
         cv_table = pd.concat([cv_table, ens_table], ignore_index=True)
         chosen = ens_best["est__estimators"]
-        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen):
+        ranged = None
+        if offset_range:
+            rng_best, rng_table = ensemble_cv(train, offset_range_grid(fast), k_cv, seed, max_test=300, cache=cache)
+            cv_table = pd.concat([cv_table, rng_table.assign(grid="offset range x members")], ignore_index=True)
+            ranged = rng_best["est__estimators"]
+        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged):
             res_by[name] = res = _prediction_result(pr, test)
             rows.append(_ladder_row(name, res, test, seed, par))
     return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
@@ -390,9 +429,10 @@ def _ladder_row(name: str, res: dict, test: FingerprintSet, seed: int, params: s
     return {"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi, "params": params}
 
 
-def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list):
-    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows; each member
-    fitted once per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`)."""
+def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None):
+    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, and with
+    ``ranged`` the CV-chosen offset-range row; each member fitted once per K on the selected APs (the same as the
+    rows' pipelines, :func:`ensemble_pipeline`)."""
     from sklearn.base import clone
 
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
@@ -416,3 +456,9 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     yield ("toolkit: ensemble members by GroupKFold(PHONEID) CV, K of the offset-search CV",
            combine_predictions([member(n, e, k_cv) for n, e in chosen]),
            f"n_neighbors={k_cv}, min_count=1, members={_fmt(chosen)}")
+    if ranged is not None:
+        sh = next((e.get_params()["shifts_db"] for _, e in ranged if "shifts_db" in e.get_params()), None)
+        yield ("toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV",
+               combine_predictions([member(n, e, k_cv) for n, e in ranged]),
+               f"n_neighbors={k_cv}, min_count=1, members={_fmt(ranged)}"
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
