@@ -240,3 +240,24 @@ def test_fast_path_reads_any_number_of_records_in_pieces(n_epochs):
         np.testing.assert_array_equal(fast[0][k].num, b.num)
         np.testing.assert_array_equal(fast[0][k].lines, b.lines)
         assert fast[0][k].ssid == b.ssid
+
+
+@pytest.mark.parametrize("turns", [True, False], ids=["types-take-turns", "irregular"])
+def test_fast_path_reads_interleaved_imu_types_like_the_line_parser(turns):
+    """ACCE, GYRO and MAGN read together: in turns (each type every third line, no reordering) or irregularly."""
+    out = ["% interleaved"]
+    for i in range(3000):
+        t = 0.01 * i
+        for k, rt in enumerate(("GYRO", "ACCE", "MAGN")):
+            if turns or (i + k) % 4:
+                out.append(f"{rt};{t + 0.001 * k:.3f};{t + 5:.3f};{np.sin(i + k):.5f};0.{i % 97};{9 + k}.8;3")
+        if i % 50 == 0:
+            out.append(f"AHRS;{t:.3f};{t + 5:.3f};1;2;3;0.1;0.2;0.3")
+    text = "\n".join(out) + "\n"
+    fast = ipin._blocks_fast(text.encode())
+    assert fast is not None
+    slow = ipin._blocks_slow(text.splitlines(), "x")
+    assert fast[1] == slow[1] and list(fast[1]) == list(slow[1])
+    for k, b in slow[0].items():
+        np.testing.assert_array_equal(fast[0][k].lines, b.lines)
+        np.testing.assert_array_equal(fast[0][k].num, b.num)

@@ -157,3 +157,30 @@ def test_smallest_k_matches_a_stable_sort_with_many_ties():
         d = rng.integers(0, hi, (40, 2000)).astype(np.float32)
         for k in (1, 5, 20):
             np.testing.assert_array_equal(smallest_k(d, k), np.argsort(d, axis=1, kind="stable")[:, :k])
+
+
+def test_euclidean_product_over_shared_columns_only_is_exact():
+    """The GEMM route drops the AP columns no query or no reference hears (exact zeros in q.r), while |q|^2 keeps
+    every column, including readings of APs the database never heard: same neighbours and distances as the
+    dense kernel and as a float64 stable sort."""
+    from ilocalg.wifi.knn import _shared_columns
+
+    rng = np.random.default_rng(7)
+    X, _, Xq, _ = _radio(rng, n_ref=1500, n_q=100, n_aps=40, integer=True)
+    X[:, 30:] = np.nan                      # APs 30-39 never heard in training
+    Xq[:, :12] = np.nan                     # APs 0-11 never heard by the queries
+    Xq[::3, 35] = -60.0                     # a reading of an AP the database never heard
+    X = np.vstack([X, X[:300]])             # exact ties
+    idx = build_index(to_features(X, -95))
+    fq = to_features(Xq, -95)
+    cols = _shared_columns(fq, idx)
+    assert cols is not None and set(cols.tolist()) <= set(range(12, 30))
+    d1, i1 = knn_search(fq, idx, 5, p=2, kernel="sparse")
+    d2, i2 = knn_search(fq, idx, 5, p=2, kernel="dense")
+    np.testing.assert_array_equal(i1, i2)
+    np.testing.assert_array_equal(d1, d2)
+    a, b = idx.features.astype(np.float64), fq.astype(np.float64)
+    full = ((b[:, None, :] - a[None, :, :]) ** 2).sum(axis=2)
+    ref = np.argsort(full, axis=1, kind="stable")[:, :5]
+    np.testing.assert_array_equal(i1, ref)
+    np.testing.assert_array_equal(d1, np.sqrt(np.take_along_axis(full, ref, axis=1)))

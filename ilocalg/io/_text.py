@@ -616,10 +616,13 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         ts = t.decode("utf-8", errors="replace")
         if ts.upper() in known or any(d in ts for d in (",", ";", "\t", " ") if d != sep.decode()):
             return None
-    present = np.flatnonzero(np.bincount(label, minlength=len(names) + 1)[1:]) + 1
+    n_label = np.bincount(label, minlength=len(names) + 1)
+    present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None
-    rows = {names[c - 1]: rec[label == c] for c in present.tolist()}
+    by_label = rec[np.argsort(label, kind="stable")]  # grouped by type, file order within each (a counting sort)
+    edge = np.cumsum(n_label)
+    rows = {names[c - 1]: by_label[edge[c - 1]:edge[c]] for c in present.tolist()}
     first_of = {t: int(r[0]) for t, r in rows.items()}
     first_of.update({t.decode(): i for t, i in first_other.items()})
     n_of = {t: len(r) for t, r in rows.items()}
@@ -742,10 +745,16 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     types = list(types)
     parts = [tl.lines[t] - 1 for t in types]
     n_of = [len(p) for p in parts]
-    code = np.repeat(np.arange(len(types)), n_of)  # each row's index in ``types``
-    if len(types) == 1:
-        rows, dest = parts[0], None
+    nt = len(types)
+    turn = _turns(parts) if nt > 1 else None
+    periodic = turn is not None
+    if nt == 1:
+        rows, dest, code = parts[0], None, np.zeros(n_of[0], dtype=np.intp)
+    elif periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
+        rows, dest = np.column_stack([parts[i] for i in turn]).ravel(), None
+        code = np.tile(np.asarray(turn, dtype=np.intp), n_of[0])
     else:
+        code = np.repeat(np.arange(nt), n_of)  # each row's index in ``types``
         cat = np.concatenate(parts)
         dest = np.argsort(cat, kind="stable")  # file order -> position in the type-ordered output
         rows, code = cat[dest], code[dest]
@@ -753,11 +762,6 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     n = len(rows)
     if np.any(tl.n_sep[rows] != n_sep):
         return None
-    nt = len(types)
-    periodic = (nt > 1 and n % nt == 0 and len(set(code[:nt].tolist())) == nt
-                and bool((code.reshape(-1, nt) == code[:nt]).all()))
-    if periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
-        dest = None
     lo = tl.starts[rows]
     hi = tl.ends[rows] + 1
     cuts = np.unique(np.searchsorted(lo, np.arange(int(lo[0]) + _PIECE, int(hi[-1]), _PIECE)))  # pieces of the file
@@ -809,6 +813,17 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int], strings=[x[sel].tolist() for x in out_str])
         o += m
     return out
+
+
+def _turns(parts: list) -> list | None:
+    """The order in which record types take turns line after line (indices into ``parts``, each an increasing
+    array of line indices), or ``None`` when they do not: each type once per turn, always in the same order."""
+    n = len(parts[0])
+    if n == 0 or any(len(p) != n for p in parts):
+        return None
+    turn = sorted(range(len(parts)), key=lambda i: int(parts[i][0]))
+    merged = np.column_stack([parts[i] for i in turn]).ravel()
+    return turn if bool(np.all(merged[1:] > merged[:-1])) else None
 
 
 def _no_bool_words(data: bytes, lo, ln, au_line, sep: bytes, num, ints, vectorised: bool) -> bool:

@@ -142,6 +142,8 @@ def check_range(values, field_name: str, source=None, lines=None, columns=None) 
     v = np.asarray(values, dtype=np.float64)
     if v.size == 0:
         return v
+    if not spec.integer and spec.lo <= v.min() and v.max() <= spec.hi:  # False for a NaN: then found below
+        return v
     v2 = v.reshape(v.shape[0], -1) if v.ndim else v.reshape(1, 1)
     ok = (v2 >= spec.lo) & (v2 <= spec.hi)
     whole = True

@@ -89,20 +89,26 @@ class WifiDatabase:
                             None if self.age_s is None else self.age_s[keep])
 
     def save(self, path) -> Path:
-        """Write the database to one ``.npz`` file (:meth:`load` reads it back, bit-identical)."""
+        """Write the database to one uncompressed ``.npz`` file; :meth:`load` reads it back bit-identical.
+
+        The RSSI and age matrices are mostly not heard (NaN): only their heard cells are stored (flat
+        indices and float64 values), so the file is small and loading is a scatter, with no per-row work.
+        """
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         fr = self.frame
         meta = {"ap_ids": list(self.ap_ids), "content_ids": self.content_ids, "version": _FORMAT_VERSION,
-                "frame": None if fr is None else [fr.name, fr.origin_lat_deg, fr.origin_lon_deg]}
-        arrays = {"rssi_dbm": self.rssi_dbm.astype(np.float32), "xy_m": self.xy_m,
-                  "walk": np.asarray(self.walk, dtype=str),
+                "frame": None if fr is None else [fr.name, fr.origin_lat_deg, fr.origin_lon_deg],
+                "has_floor": self.floor is not None}
+        rssi = np.asarray(self.rssi_dbm, dtype=np.float64)
+        arrays = {"shape": np.array(rssi.shape, dtype=np.int64), **_sparse("rssi", rssi),
+                  "xy_m": np.asarray(self.xy_m, dtype=np.float64), "walk": np.asarray(self.walk, dtype=str),
                   "floor": np.full(len(self.xy_m), np.nan) if self.floor is None else self.floor,
                   "meta": np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)}
         if self.age_s is not None:
-            arrays["age_s"] = self.age_s.astype(np.float32)
+            arrays.update(_sparse("age", np.asarray(self.age_s, dtype=np.float64)))
         with open(path, "wb") as f:
-            np.savez_compressed(f, **arrays)
+            np.savez(f, **arrays)
         return path
 
     @classmethod
@@ -110,22 +116,44 @@ class WifiDatabase:
         """Read a database written by :meth:`save`; a file of another format version raises naming it."""
         path = Path(path)
         try:
-            z = np.load(path, allow_pickle=False)
-            meta = json.loads(bytes(z["meta"]).decode())
+            with np.load(path, allow_pickle=False) as z:
+                meta = json.loads(bytes(z["meta"]).decode())
+                if meta.get("version") != _FORMAT_VERSION:
+                    raise _VersionError(meta.get("version"))
+                shape = tuple(int(n) for n in z["shape"])
+                rssi = _dense("rssi", z, shape)
+                age = _dense("age", z, shape) if "age_at" in z.files else None
+                xy, walk, floor = z["xy_m"], z["walk"].astype(object), z["floor"]
+        except _VersionError as e:
+            raise ValueError(f"{path}: database format version {e.args[0]!r}, expected {_FORMAT_VERSION}; "
+                             "delete the file to rebuild it") from None
         except (OSError, ValueError, KeyError) as e:
             raise ValueError(f"{path}: not a fingerprint database file ({type(e).__name__}: {e})") from None
-        if meta.get("version") != _FORMAT_VERSION:
-            raise ValueError(f"{path}: database format version {meta.get('version')!r}, expected {_FORMAT_VERSION}; "
-                             "delete the file to rebuild it")
         fr = meta["frame"]
-        return cls(z["rssi_dbm"].astype(np.float64), z["xy_m"], z["walk"].astype(object), tuple(meta["ap_ids"]),
-                   z["floor"], None if fr is None else LocalFrame(*fr), dict(meta["content_ids"]),
-                   z["age_s"].astype(np.float64) if "age_s" in z.files else None)
+        return cls(rssi, xy, walk, tuple(meta["ap_ids"]), floor if meta["has_floor"] else None,
+                   None if fr is None else LocalFrame(*fr), dict(meta["content_ids"]), age)
+
+
+class _VersionError(Exception):
+    """A database file of another format version (turned into a ValueError naming the file)."""
+
+
+def _sparse(name: str, a: np.ndarray) -> dict:
+    """The non-NaN cells of ``a``: ``{name}_at`` (flat indices) and ``{name}_val`` (float64, exact)."""
+    at = np.flatnonzero(~np.isnan(a))
+    return {f"{name}_at": at.astype(np.int32 if a.size < 2**31 else np.int64), f"{name}_val": a.ravel()[at]}
+
+
+def _dense(name: str, z, shape: tuple) -> np.ndarray:
+    """The matrix :func:`_sparse` stored: NaN except at the stored cells."""
+    out = np.full(shape, np.nan)
+    out.ravel()[z[f"{name}_at"]] = z[f"{name}_val"]
+    return out
 
 
 #: Version of the ``.npz`` layout written by :meth:`WifiDatabase.save` (3: scans positioned at their
-#: readings' time, :func:`effective_age_s`).
-_FORMAT_VERSION = 3
+#: readings' time, :func:`effective_age_s`; 4: heard cells only, float64, lossless).
+_FORMAT_VERSION = 4
 
 #: Readings at most this old (s) date a scan (:func:`effective_age_s`): the plain reference's staleness limit.
 READING_AGE_S = 2.0
