@@ -65,13 +65,23 @@ def _stack_query(q: np.ndarray, a: np.ndarray, dtype) -> np.ndarray:
     return np.concatenate([-2.0 * a * q, a, na * q * q, -2.0 * na * q, -a, const_q, ones], axis=1).astype(dtype)
 
 
-def _stack_ref(r: np.ndarray, b: np.ndarray, dtype) -> np.ndarray:
+def _stack_ref(r: np.ndarray, b: np.ndarray, dtype, out: np.ndarray | None = None) -> np.ndarray:
     """Right factor of :func:`_union_sq`: the blocks matching :func:`_stack_query`, a 1 and the reference's
-    constant."""
+    constant (written into ``out``, float64, when given)."""
     br = b * r
     const_r = np.sum(br * r, axis=1, keepdims=True)
     ones = np.ones_like(const_r)
-    return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1).astype(dtype)
+    if out is not None:
+        return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1, out=out)
+    return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1).astype(dtype, copy=False)
+
+
+def _stack_ref_all(r: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`_stack_ref` of every reference in float64, built in slabs of 1 024 rows (they stay in cache)."""
+    out = np.empty((r.shape[0], 5 * r.shape[1] + 2))
+    for s in range(0, r.shape[0], 1024):
+        _stack_ref(r[s:s + 1024], b[s:s + 1024], np.float64, out=out[s:s + 1024])
+    return out
 
 
 def _exact_dtype(q, ref: _References, k: int) -> type:
@@ -105,7 +115,7 @@ class _References:
         self.max = float(r.max(initial=0.0))
         self.integer = not np.any(r != np.round(r))
         self.cached = r.shape[0] * (5 * r.shape[1] + 2) * 8 <= cache_bytes
-        self._stacks = {np.float64: _stack_ref(r, b, np.float64)} if self.cached else {}
+        self._stacks = {np.float64: _stack_ref_all(r, b)} if self.cached else {}
 
     def right(self, start: int, stop: int, dtype) -> np.ndarray:
         """Rows ``start:stop`` of the right factor, in ``dtype``."""
@@ -231,7 +241,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
         x = check_rssi(X, "X", valid_dbm=self.rssi_range_dbm)
-        to_features(x, self.not_heard_dbm, name="X")  # validates readings against not_heard_dbm
+        r = to_features(x, self.not_heard_dbm, dtype=np.float64, name="X")  # validates readings against the floor
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         heard = heard_aps(x, type(self).__name__)
@@ -239,17 +249,18 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             raise ValueError(f"point_distance must be 'min' or None, got {self.point_distance!r}")
         yy = check_positions(y, x.shape[0])
         if self.point_distance == "min":
+            # the rows grouped by position, positions in lexicographic order (np.unique(axis=0)'s), each group's
+            # rows in their original order: one stable lexsort (column 0 first)
             pos = yy.reshape(yy.shape[0], -1)
-            self.points_, inv = np.unique(pos, axis=0, return_inverse=True)
-            inv = inv.reshape(-1)
-            order = np.argsort(inv, kind="stable")
-            self._starts = np.flatnonzero(np.r_[True, np.diff(inv[order]) != 0])
+            order = np.lexsort(pos.T[::-1])
+            srt = pos[order]
+            self._starts = np.flatnonzero(np.r_[True, np.any(srt[1:] != srt[:-1], axis=1)])
             self._order = order
-            x_ord = x[order]
+            self.points_ = srt[self._starts]
             if yy.ndim == 1:
                 self.points_ = self.points_[:, 0]
         else:
-            x_ord, self._order = x, np.arange(x.shape[0])
+            order = self._order = np.arange(x.shape[0])
             self.points_ = yy
             self._starts = None
         n_nb = len(self.points_)
@@ -259,8 +270,8 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.y_ = yy
         self.heard_aps_ = heard
         self.ref_rssi_dbm_ = x
-        self._refs = _References(to_features(x_ord, self.not_heard_dbm, dtype=np.float64),
-                                 strongest_ap_mask(x_ord, self.k_aps).astype(np.float64), _STACK_CACHE_BYTES)
+        self._refs = _References(r[order], strongest_ap_mask(x[order], self.k_aps).astype(np.float64),
+                                 _STACK_CACHE_BYTES)
         self.n_features_in_ = x.shape[1]
         return self
 
