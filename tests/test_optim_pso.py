@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ilocalg.optim import ParticleSwarm, inertia_schedule, pso_minimize
+from ilocalg.optim import ParticleSwarm, inertia_schedule, pso_minimize, pso_minimize_many
 
 
 def sphere(x):
@@ -86,6 +86,56 @@ def test_same_seed_same_swarm_and_class_agrees():
     assert not np.array_equal(a.positions[0], c.positions[0])
 
 
+def _reference_swarm(fitness, low, high, rng, n_particles, max_iters, min_fitness, w_init, w_final,
+                     max_speed=0.1, c1=2.0, c2=2.0):
+    """Eq. 4.1-4.3 and Fig. 4.2 written out for one swarm, one generation at a time (the pre-batch code)."""
+    w = inertia_schedule(max_iters, w_init, w_final)
+    S = low + (high - low) * rng.random((n_particles, 1))
+    v = max_speed * (2.0 * rng.random((n_particles, 1)) - 1.0)
+    pbest, pbest_f, k, hist = S.copy(), np.full(n_particles, np.inf), 0, []
+    while True:
+        f = np.array([fitness(s) for s in S])
+        hist.append(S.copy())
+        better = f < pbest_f
+        pbest[better], pbest_f[better] = S[better], f[better]
+        g = int(np.argmin(pbest_f))
+        if pbest_f[g] < min_fitness or k >= max_iters:
+            return np.stack(hist), pbest[g], pbest_f[g], k, bool(pbest_f[g] < min_fitness)
+        r1, r2 = rng.random((n_particles, 1)), rng.random((n_particles, 1))
+        v = np.clip(w[k] * v + c1 * r1 * (pbest - S) + c2 * r2 * (pbest[g] - S), -max_speed, max_speed)
+        S = S + v
+        k += 1
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_many_swarms_equal_single_runs_bit_for_bit(vectorized):
+    # 1-D distance fitness whose stop rule ends the swarms at different iterations, some at maxIters
+    q = np.random.default_rng(4).uniform(1.2, 1.8, 57)
+    d = 0.52 * q.sum()
+
+    def fit(K):
+        return np.mean(np.abs(d / q.size - np.atleast_2d(K)[:, :1] * q[None, :]), axis=1)
+
+    def fit1(k):
+        return float(fit(k)[0])
+
+    kw = {"n_particles": 2, "max_iters": 3, "min_fitness": 0.1, "w_init": 0.7, "w_final": 0.7}
+    seeds = [[9, r] for r in range(12)]
+    many = pso_minimize_many(fit if vectorized else fit1, (0.0, 1.0), [np.random.default_rng(s) for s in seeds],
+                             vectorized=vectorized, **kw)
+    assert len({r.n_iters for r in many}) > 2 and any(r.converged for r in many) and not all(r.converged for r in many)
+    for s, m in zip(seeds, many, strict=True):
+        one = pso_minimize(fit if vectorized else fit1, (0.0, 1.0), rng=np.random.default_rng(s),
+                           vectorized=vectorized, **kw)
+        for name in ("x_best", "positions", "fitness", "gbest_x", "gbest_f", "inertia"):
+            assert getattr(m, name).tobytes() == getattr(one, name).tobytes(), name
+        assert (m.f_best, m.n_iters, m.converged, m.best_particle) == (
+            one.f_best, one.n_iters, one.converged, one.best_particle)
+        pos, x, f, k, conv = _reference_swarm(fit1, 0.0, 1.0, np.random.default_rng(s), **kw)
+        assert (pos.tobytes(), x.tobytes(), f, k, conv) == (m.positions.tobytes(), m.x_best.tobytes(), m.f_best,
+                                                            m.n_iters, m.converged)
+
+
 def test_bad_input():
     with pytest.raises(ValueError, match="bounds"):
         pso_minimize(sphere, [(1, 0)])
@@ -99,3 +149,5 @@ def test_bad_input():
         pso_minimize(lambda x: np.nan, [(0, 1)])
     with pytest.raises(ValueError, match="vectorized"):
         pso_minimize(lambda X: np.zeros(3), [(0, 1)], vectorized=True)
+    with pytest.raises(ValueError, match="rngs"):
+        pso_minimize_many(sphere, [(0, 1)], [])

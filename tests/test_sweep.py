@@ -75,6 +75,25 @@ def test_failed_task_is_reported_and_others_are_kept_and_cached(tmp_path):
     pd.testing.assert_frame_equal(_sorted(res.results), _sorted(again.results), check_exact=True)
 
 
+def test_batches_shrink_to_single_tasks_and_cover_every_task():
+    for n, w in ((100, 2), (100, 1), (7, 2), (1, 3), (900, 2)):
+        b = sw.batch_sizes(n, w)
+        assert sum(b) == n and all(x >= y for x, y in zip(b, b[1:], strict=False)) and max(b) <= 16
+        assert b[-1] == 1 and (len(b) < n / 3 if n >= 100 else len(b) == n)
+    assert sw.batch_sizes(0, 2) == []
+
+
+def test_on_dask_a_failed_task_of_a_batch_is_reported_alone_and_the_rest_cached(tmp_path):
+    tasks = sw.make_tasks(TOY, range(12), {"fail_seed": [3]})
+    assert max(sw.batch_sizes(len(tasks), 2)) > 1  # some batches hold several tasks
+    res = sw.sweep(tasks, workers=2, cache_dir=tmp_path, progress=False)
+    assert [f["seed"] for f in res.failures] == [3] and "toy failure at seed 3" in res.failures[0]["error"]
+    assert sorted(res.results["seed"].unique()) == [s for s in range(12) if s != 3]
+    serial = sw.sweep(tasks, workers=0, cache_dir=None, progress=False)
+    pd.testing.assert_frame_equal(res.results, serial.results, check_exact=True)  # same rows, task order
+    assert sw.sweep(tasks, workers=0, cache_dir=tmp_path, progress=False).n_cached == 11
+
+
 def test_aggregate_mean_sd_and_t_interval():
     tasks = sw.make_tasks(TOY, range(8))
     res = sw.sweep(tasks, workers=0, cache_dir=None, progress=False)

@@ -143,3 +143,25 @@ def test_neighbour_rows_are_each_points_first_nearest_scan():
             rows = np.flatnonzero(which == which[idx[i, j]])
             assert idx[i, j] == rows[np.argmin(d[i, rows])]
             assert dist[i, j] == pytest.approx(d[i, rows].min())
+
+
+@pytest.mark.parametrize("not_heard_dbm", [-100.0, -93.76])  # integer features (float32 path) / float64 path
+def test_reference_factor_stacked_once_gives_the_same_bits(monkeypatch, not_heard_dbm):
+    from ilocalg.wifi import radar
+
+    rng = np.random.default_rng(11)
+    n_ref = radar._REF_CHUNK + 700  # two slabs of references
+    X = np.round(rng.uniform(-93, -40, (n_ref, 9)))
+    X[rng.random(X.shape) < 0.3] = np.nan
+    X[np.all(np.isnan(X), axis=1), 0] = -60.0
+    y = np.repeat(rng.uniform(0, 40, (n_ref // 5 + 1, 2)), 5, axis=0)[:n_ref]  # 5 scans per point
+    Q = X[rng.choice(n_ref, 40, replace=False)] + np.round(rng.normal(0, 3, (40, 9)))
+    Q = np.clip(Q, -93, -30)
+    cached = SimplifiedRadar(5, 3, not_heard_dbm).fit(X, y)
+    monkeypatch.setattr(radar, "_STACK_CACHE_BYTES", 0)
+    stacked = SimplifiedRadar(5, 3, not_heard_dbm).fit(X, y)
+    assert cached._refs.cached and not stacked._refs.cached
+    for q in (Q, Q[:1], Q[17:18]):
+        for a, b in zip(cached.kneighbors(q), stacked.kneighbors(q), strict=True):
+            assert a.tobytes() == b.tobytes()
+        assert cached.predict(q).tobytes() == stacked.predict(q).tobytes()

@@ -10,7 +10,8 @@ the PSO experiment's default (thesis L692, L718); GPS distance by
 fitness's closed-form minimiser. In this 1-D problem the PSO stops as soon as one particle's fitness
 is below minFitness, often already in the initial swarm, so "iterations" here measure the stop
 rule and the initial box (k in [0, 1], not in the thesis) as much as the swarm dynamics. The
-optimiser is :func:`ilocalg.optim.pso_minimize` with the thesis' settings (maxIters 100, maxSpeed
+optimiser is :func:`ilocalg.optim.pso_minimize` (the runs of a walk in one pass,
+:func:`ilocalg.optim.pso_minimize_many`) with the thesis' settings (maxIters 100, maxSpeed
 0.1, minFitness 0.1 m, c1 = c2 = 2; swarm seeded in k in [0, 1]) except the two studied: the
 number of particles and the inertia schedule.
 
@@ -37,11 +38,13 @@ Shi, Y. and Eberhart, R. (1998). A modified particle swarm optimizer. IEEE ICEC.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pandas as pd
 
 from ilocalg.gnss import gps_track_length_m
-from ilocalg.optim import pso_minimize
+from ilocalg.optim import pso_minimize_many
 from ilocalg.pdr.k_factor import K_BOUNDS, PSO_SETTINGS_PAPER, closed_form_k, per_step_fitness, step_factors
 from ilocalg.pdr.registry import detect_steps
 from ilocalg.pdr.sign_change import static_rms_mps2
@@ -63,6 +66,22 @@ GRIDS = {
     False: {"n_particles": [2, 3, 5, 10, 20, 40], "schedule": list(SCHEDULES)},
     True: {"n_particles": [3, 10], "schedule": ["paper", "const0.7"]},
 }
+
+
+@functools.lru_cache(maxsize=16)
+def _walk_factors(seed: int) -> tuple[tuple[np.ndarray, float, float], ...]:
+    """``(q, D, k*)`` of each phase-1 walk of ``seed`` (``q`` read-only): every task of a seed shares them, so a
+    worker process that runs several (swarm size, schedule) points of one seed simulates its walks once."""
+    band = static_rms_mps2(simulate_static_acc(np.random.default_rng([int(seed), 54]))["acc_z_mps2"].to_numpy(),
+                           2, 2, smooth=True)
+    out = []
+    for walk in simulate_pso_walks(seed)["1"]:
+        q = step_factors(detect_steps("sign_change", walk.imu["acc_z_mps2"].to_numpy(), walk.imu["t_s"].to_numpy(),
+                                      n_left=2, n_right=2, smooth=True, rms_mps2=band))
+        q.flags.writeable = False
+        d = gps_track_length_m(walk.gps)
+        out.append((q, d, closed_form_k(q, d, "per_step")["k_min"]))
+    return tuple(out)
 
 
 def run(seed: int = 0, fast: bool = False, n_particles: int = 10, schedule: str = "paper",
@@ -90,20 +109,15 @@ def run(seed: int = 0, fast: bool = False, n_particles: int = 10, schedule: str 
     settings = {k: PSO_SETTINGS_PAPER[k] for k in ("max_iters", "max_speed", "min_fitness", "c1", "c2")}
     max_iters = settings["max_iters"]
     iters, ok, dk = [], [], []
-    band = static_rms_mps2(simulate_static_acc(np.random.default_rng([int(seed), 54]))["acc_z_mps2"].to_numpy(),
-                           2, 2, smooth=True)
-    for i, walk in enumerate(simulate_pso_walks(seed)["1"]):
-        q = step_factors(detect_steps("sign_change", walk.imu["acc_z_mps2"].to_numpy(), walk.imu["t_s"].to_numpy(),
-                                      n_left=2, n_right=2, smooth=True, rms_mps2=band))
-        d = gps_track_length_m(walk.gps)
-        k_star = closed_form_k(q, d, "per_step")["k_min"]
-
+    for i, (q, d, k_star) in enumerate(_walk_factors(int(seed))):
         def fit(K, q=q, d=d):
             return per_step_fitness(K[:, 0], q, d)
 
-        for r in range(n_runs):
-            res = pso_minimize(fit, K_BOUNDS, n_particles=int(n_particles), w_init=w_init, w_final=w_final,
-                               rng=np.random.default_rng([int(seed), 71, i, r]), vectorized=True, **settings)
+        # the walk's n_runs swarms in one lockstep pass: each is the run pso_minimize gives on its own seed
+        for res in pso_minimize_many(fit, K_BOUNDS, [np.random.default_rng([int(seed), 71, i, r])
+                                                     for r in range(n_runs)],
+                                     n_particles=int(n_particles), w_init=w_init, w_final=w_final,
+                                     vectorized=True, **settings):
             iters.append(res.n_iters)
             ok.append(res.converged)
             dk.append(abs(float(res.x_best[0]) - k_star))

@@ -31,6 +31,8 @@ Sec. 3, Figs 3 and 5.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pandas as pd
 
@@ -103,6 +105,14 @@ def thin_points(points_xy_m, spacing_m: float) -> np.ndarray:
     return np.asarray(kept, dtype=np.int64)
 
 
+@functools.lru_cache(maxsize=12)
+def _floor(seed: int, spp: int, spt: int, radio: tuple) -> iloc_floor.IlocFloor:
+    """The simulated floor of a task (read only here): the AP-count and spacing points of a seed share it, so a
+    worker process that runs several of them (the seeds interleave in the task list) simulates it once; 12
+    floors of 3.7 MB at most."""
+    return iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, **dict(radio))
+
+
 def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.0,
         scans_per_point: int | None = None, scans_per_test_point: int | None = None,
         **radio) -> dict[str, pd.DataFrame]:
@@ -131,7 +141,7 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
         raise ValueError(f"k_aps must be an integer >= 1, got {k_aps!r}")
     spp = int(scans_per_point or (60 if fast else iloc_floor.SCANS_PER_POINT))
     spt = int(scans_per_test_point or (5 if fast else 20))
-    sim = iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, **radio)
+    sim = _floor(int(seed), spp, spt, tuple(sorted(radio.items())))
     keep = thin_points(sim.points_xy_m, spacing_m)
     rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
     X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]

@@ -42,7 +42,7 @@ import pandas as pd
 
 from ilocalg.units import as_rng
 
-__all__ = ["PSOResult", "inertia_schedule", "pso_minimize", "ParticleSwarm"]
+__all__ = ["PSOResult", "inertia_schedule", "pso_minimize", "pso_minimize_many", "ParticleSwarm"]
 
 
 def inertia_schedule(max_iters: int, w_init: float = 1.0, w_final: float = 0.1) -> np.ndarray:
@@ -145,6 +145,21 @@ def _check_bounds(bounds) -> tuple[np.ndarray, np.ndarray]:
     return b[:, 0], b[:, 1]
 
 
+def _check_settings(bounds, n_particles, max_iters, max_speed, min_fitness, w_init, w_final, c1, c2):
+    low, high = _check_bounds(bounds)
+    if not isinstance(n_particles, (int, np.integer)) or isinstance(n_particles, bool) or n_particles < 1:
+        raise ValueError(f"n_particles must be an int >= 1, got {n_particles!r}")
+    w = inertia_schedule(max_iters, w_init, w_final)
+    vmax = np.broadcast_to(np.asarray(max_speed, dtype=float), (low.size,)).copy()
+    if not np.all(np.isfinite(vmax)) or np.any(vmax <= 0):
+        raise ValueError(f"max_speed must be positive and finite, got {max_speed!r}")
+    if not np.isfinite(c1) or not np.isfinite(c2) or c1 < 0 or c2 < 0:
+        raise ValueError(f"c1 and c2 must be finite and >= 0, got {c1!r}, {c2!r}")
+    if np.isnan(min_fitness):
+        raise ValueError("min_fitness must not be NaN (use -inf to disable the early stop)")
+    return low, high, w, vmax
+
+
 def pso_minimize(fitness: Callable, bounds, n_particles: int = 10, max_iters: int = 100,
                  max_speed: float | np.ndarray = 0.1, min_fitness: float = 0.1, w_init: float = 1.0,
                  w_final: float = 0.1, c1: float = 2.0, c2: float = 2.0,
@@ -177,23 +192,58 @@ def pso_minimize(fitness: Callable, bounds, n_particles: int = 10, max_iters: in
     -------
     PSOResult
 
+    See Also
+    --------
+    pso_minimize_many : several independent swarms in one pass (the same swarms, bit for bit).
+
     References
     ----------
     PSO thesis, eq. 4.1-4.3, Figs. 4.1-4.2, settings of sec. 5.3.
     """
-    low, high = _check_bounds(bounds)
-    dim = low.size
-    if not isinstance(n_particles, (int, np.integer)) or isinstance(n_particles, bool) or n_particles < 1:
-        raise ValueError(f"n_particles must be an int >= 1, got {n_particles!r}")
-    w = inertia_schedule(max_iters, w_init, w_final)
-    vmax = np.broadcast_to(np.asarray(max_speed, dtype=float), (dim,)).copy()
-    if not np.all(np.isfinite(vmax)) or np.any(vmax <= 0):
-        raise ValueError(f"max_speed must be positive and finite, got {max_speed!r}")
-    if not np.isfinite(c1) or not np.isfinite(c2) or c1 < 0 or c2 < 0:
-        raise ValueError(f"c1 and c2 must be finite and >= 0, got {c1!r}, {c2!r}")
-    if np.isnan(min_fitness):
-        raise ValueError("min_fitness must not be NaN (use -inf to disable the early stop)")
-    gen = as_rng(rng)
+    return pso_minimize_many(fitness, bounds, [rng], n_particles=n_particles, max_iters=max_iters,
+                             max_speed=max_speed, min_fitness=min_fitness, w_init=w_init, w_final=w_final,
+                             c1=c1, c2=c2, vectorized=vectorized)[0]
+
+
+def pso_minimize_many(fitness: Callable, bounds, rngs, n_particles: int = 10, max_iters: int = 100,
+                      max_speed: float | np.ndarray = 0.1, min_fitness: float = 0.1, w_init: float = 1.0,
+                      w_final: float = 0.1, c1: float = 2.0, c2: float = 2.0,
+                      vectorized: bool = False) -> list[PSOResult]:
+    """Independent runs of :func:`pso_minimize` on one fitness, one swarm per random source, moved in lockstep.
+
+    Swarm ``r`` draws from ``rngs[r]`` alone and in the order :func:`pso_minimize` draws (initial positions,
+    initial velocities, then ``rand1`` and ``rand2`` per update), and every update is element-wise, so each
+    result equals ``pso_minimize(..., rng=rngs[r])`` bit for bit (with a vectorised fitness whose value for
+    a particle does not depend on the other rows of the call). A swarm that stops (``min_fitness`` reached
+    or ``max_iters`` done) is no longer evaluated nor moved; the others go on. The whole batch is one array
+    per quantity, so the per-update cost of numpy's calls is paid once for all swarms.
+
+    Parameters
+    ----------
+    fitness : callable
+        As in :func:`pso_minimize`; with ``vectorized=True`` it is called on the particles of every
+        running swarm at once, ``X`` of shape (n_running * n_particles, dim), swarm after swarm.
+    bounds
+        As in :func:`pso_minimize`.
+    rngs : sequence of (Generator, int or None)
+        One random source per swarm.
+    n_particles, max_iters, max_speed, min_fitness, w_init, w_final, c1, c2, vectorized
+        As in :func:`pso_minimize` (the same for every swarm).
+
+    Returns
+    -------
+    list of PSOResult, one per entry of ``rngs``, in that order.
+
+    References
+    ----------
+    PSO thesis, eq. 4.1-4.3, Figs. 4.1-4.2, settings of sec. 5.3.
+    """
+    low, high, w, vmax = _check_settings(bounds, n_particles, max_iters, max_speed, min_fitness, w_init, w_final,
+                                         c1, c2)
+    gens = [as_rng(r) for r in rngs]
+    n_swarms, n_p, dim = len(gens), int(n_particles), low.size
+    if n_swarms < 1:
+        raise ValueError("rngs must hold at least one random source")
 
     def evaluate(S):
         if vectorized:
@@ -206,40 +256,66 @@ def pso_minimize(fitness: Callable, bounds, n_particles: int = 10, max_iters: in
             raise ValueError(f"fitness returned NaN at {S[np.isnan(f)][0].tolist()}")
         return f
 
-    S = low + (high - low) * gen.random((n_particles, dim))
-    v = vmax * (2.0 * gen.random((n_particles, dim)) - 1.0)
-    positions, fits, gx, gf = [], [], [], []
+    u = np.empty((n_swarms, 2, n_p, dim))
+    for j, g in enumerate(gens):  # per swarm: positions, then velocities (the draws of pso_minimize)
+        g.random(out=u[j])
+    S = low + (high - low) * u[:, 0]
+    v = vmax * (2.0 * u[:, 1] - 1.0)
+    n_gen = max_iters + 1
+    pos = np.empty((n_gen, n_swarms, n_p, dim))
+    fit = np.empty((n_gen, n_swarms, n_p))
+    gx = np.empty((n_gen, n_swarms, dim))
+    gf = np.empty((n_gen, n_swarms))
+    n_iters = np.zeros(n_swarms, dtype=int)
+    converged = np.zeros(n_swarms, dtype=bool)
+    g_best = np.zeros(n_swarms, dtype=int)
+    x_best = np.empty((n_swarms, dim))
+    f_best = np.empty(n_swarms)
+    active = np.arange(n_swarms)  # the swarms still running, in order; S, v, pbest hold their rows only
+    sel = slice(None)  # their rows in the history arrays (a slice while all run)
+    rows = np.arange(n_swarms)
     pbest = S.copy()
-    pbest_f = np.full(n_particles, np.inf)
-    g_idx = 0
+    pbest_f = np.full((n_swarms, n_p), np.inf)
     k = 0
-    converged = False
     while True:
-        f = evaluate(S)
-        positions.append(S.copy())
-        fits.append(f)
+        f = evaluate(S.reshape(-1, dim)).reshape(-1, n_p)
+        pos[k, sel] = S
+        fit[k, sel] = f
         better = f < pbest_f
-        pbest[better] = S[better]
-        pbest_f[better] = f[better]
-        g_idx = int(np.argmin(pbest_f))
-        gx.append(pbest[g_idx].copy())
-        gf.append(float(pbest_f[g_idx]))
-        if pbest_f[g_idx] < min_fitness:
-            converged = True
-            break
-        if k >= max_iters:
-            break
-        r1 = gen.random((n_particles, dim))
-        r2 = gen.random((n_particles, dim))
-        v = w[k] * v + c1 * r1 * (pbest - S) + c2 * r2 * (pbest[g_idx] - S)  # eq. 4.1
-        v = np.clip(v, -vmax, vmax)
+        np.copyto(pbest, S, where=better[:, :, None])
+        np.copyto(pbest_f, f, where=better)
+        g_idx = pbest_f.argmin(axis=1)
+        gbx = pbest[rows, g_idx]
+        gbf = pbest_f[rows, g_idx]
+        gx[k, sel] = gbx
+        gf[k, sel] = gbf
+        conv = gbf < min_fitness
+        stop = conv if k < max_iters else np.ones_like(conv)
+        if stop.any():
+            done = active[stop]
+            n_iters[done] = k
+            converged[done] = conv[stop]
+            g_best[done] = g_idx[stop]
+            x_best[done] = gbx[stop]
+            f_best[done] = gbf[stop]
+            keep = ~stop
+            if not keep.any():
+                break
+            active, S, v, pbest, pbest_f, gbx = active[keep], S[keep], v[keep], pbest[keep], pbest_f[keep], gbx[keep]
+            sel, rows = active, np.arange(active.size)
+        r = np.empty((active.size, 2, n_p, dim))
+        for i, j in enumerate(active.tolist()):  # rand1 then rand2, from the swarm's own source
+            gens[j].random(out=r[i])
+        v = w[k] * v + c1 * r[:, 0] * (pbest - S) + c2 * r[:, 1] * (gbx[:, None, :] - S)  # eq. 4.1
+        np.clip(v, -vmax, vmax, out=v)
         S = S + v  # eq. 4.2
         k += 1
-    return PSOResult(
-        x_best=pbest[g_idx].copy(), f_best=float(pbest_f[g_idx]), n_iters=k, converged=converged,
-        best_particle=g_idx, positions=np.stack(positions), fitness=np.stack(fits),
-        gbest_x=np.stack(gx), gbest_f=np.asarray(gf), inertia=w[:k + 1].copy(),
-    )
+    return [PSOResult(x_best=x_best[j].copy(), f_best=float(f_best[j]), n_iters=int(n_iters[j]),
+                      converged=bool(converged[j]), best_particle=int(g_best[j]),
+                      positions=pos[:n_iters[j] + 1, j].copy(), fitness=fit[:n_iters[j] + 1, j].copy(),
+                      gbest_x=gx[:n_iters[j] + 1, j].copy(), gbest_f=gf[:n_iters[j] + 1, j].copy(),
+                      inertia=w[:n_iters[j] + 1].copy())
+            for j in range(n_swarms)]
 
 
 class ParticleSwarm:

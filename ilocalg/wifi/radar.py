@@ -17,7 +17,8 @@ labelled alternative to the text's database.
 Vectorisation: with masks ``A`` (query's top-k) and ``B`` (reference's top-k), the union mask is
 ``A + B - AB`` and eq. (1) squared expands into one matrix product of stacked features, computed in
 chunks of references: float32 for integer dBm (every partial sum is an integer below 2**24, so it is
-exact), float64 for anything else.
+exact), float64 for anything else. A fitted estimator stacks the reference factor once when it is small
+(:data:`_STACK_CACHE_BYTES`), so a predict call costs the product, not the stacking of the database.
 
 References
 ----------
@@ -50,6 +51,10 @@ __all__ = ["union_topk_sq_distances", "radar_predict", "SimplifiedRadar"]
 
 _REF_CHUNK = 4096
 _Q_BATCH = 512
+#: A fitted SimplifiedRadar keeps eq. (1)'s stacked reference factor (float64: n_ref x (5 n_aps + 2) x 8 bytes) when
+#: it is at most this large (the i-Loc floor: 18 900 scans x 19 APs, 15 MB), so a predict call, down to one query,
+#: does not stack the whole database again; a larger database (UJIIndoorLoc: 415 MB) is stacked per call, slab by slab.
+_STACK_CACHE_BYTES = 64 * 2**20
 
 
 def _stack_query(q: np.ndarray, a: np.ndarray, dtype) -> np.ndarray:
@@ -60,16 +65,26 @@ def _stack_query(q: np.ndarray, a: np.ndarray, dtype) -> np.ndarray:
     return np.concatenate([-2.0 * a * q, a, na * q * q, -2.0 * na * q, -a, const_q, ones], axis=1).astype(dtype)
 
 
-def _stack_ref(r: np.ndarray, b: np.ndarray, dtype) -> np.ndarray:
+def _stack_ref(r: np.ndarray, b: np.ndarray, dtype, out: np.ndarray | None = None) -> np.ndarray:
     """Right factor of :func:`_union_sq`: the blocks matching :func:`_stack_query`, a 1 and the reference's
-    constant."""
+    constant (written into ``out``, float64, when given)."""
     br = b * r
     const_r = np.sum(br * r, axis=1, keepdims=True)
     ones = np.ones_like(const_r)
-    return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1).astype(dtype)
+    if out is not None:
+        return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1, out=out)
+    return np.concatenate([r, r * r, b, br, br * r, ones, const_r], axis=1).astype(dtype, copy=False)
 
 
-def _exact_dtype(q, r, k: int) -> type:
+def _stack_ref_all(r: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`_stack_ref` of every reference in float64, built in slabs of 1 024 rows (they stay in cache)."""
+    out = np.empty((r.shape[0], 5 * r.shape[1] + 2))
+    for s in range(0, r.shape[0], 1024):
+        _stack_ref(r[s:s + 1024], b[s:s + 1024], np.float64, out=out[s:s + 1024])
+    return out
+
+
+def _exact_dtype(q, ref: _References, k: int) -> type:
     """float32 when it is exact, else float64.
 
     Every term of the stacked product involves one of the <= k masked APs of the query or of the
@@ -78,10 +93,38 @@ def _exact_dtype(q, r, k: int) -> type:
     above the floor) and that bound below 2**24 every partial sum is an integer float32 represents
     exactly (UJIIndoorLoc: M = 104, k = 5), whatever the order of the additions.
     """
-    m = max(float(q.max(initial=0.0)), float(r.max(initial=0.0)))
-    integer = not (np.any(q != np.round(q)) or np.any(r != np.round(r)))
+    m = max(float(q.max(initial=0.0)), ref.max)
+    integer = ref.integer and not np.any(q != np.round(q))
     bound = 7.0 * (2.0 * max(k, 1)) * (2.0 * m * m)
     return np.float32 if integer and bound < 2.0**24 else np.float64
+
+
+class _References:
+    """The reference side of eq. (1): features ``r``, strongest-AP masks ``b``, what :func:`_exact_dtype` needs of
+    them, and the right factor of :func:`_union_sq`.
+
+    With ``cache_bytes`` at least the float64 right factor's size, the factor is stacked once, here (its
+    float32 cast on first use), and every call slices it; otherwise each call stacks its slab of references
+    anew. Both give the same bits: the factor is built row by row (element-wise products and per-row sums),
+    and the float32 factor is the float64 one cast, as :func:`_stack_ref` casts it.
+    """
+
+    def __init__(self, r: np.ndarray, b: np.ndarray, cache_bytes: int = 0):
+        self.r, self.b = r, b
+        self.k = int(b.sum(axis=1).max(initial=0))
+        self.max = float(r.max(initial=0.0))
+        self.integer = not np.any(r != np.round(r))
+        self.cached = r.shape[0] * (5 * r.shape[1] + 2) * 8 <= cache_bytes
+        self._stacks = {np.float64: _stack_ref_all(r, b)} if self.cached else {}
+
+    def right(self, start: int, stop: int, dtype) -> np.ndarray:
+        """Rows ``start:stop`` of the right factor, in ``dtype``."""
+        if not self.cached:
+            return _stack_ref(self.r[start:stop], self.b[start:stop], dtype)
+        st = self._stacks.get(dtype)
+        if st is None:
+            st = self._stacks[dtype] = self._stacks[np.float64].astype(dtype)
+        return st[start:stop]
 
 
 def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_dbm: float = -100.0) -> np.ndarray:
@@ -109,10 +152,10 @@ def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_
     r = to_features(ref_rssi_dbm, not_heard_dbm, "positive", dtype=np.float64, name="reference X")
     a = strongest_ap_mask(q_rssi_dbm, k_aps).astype(np.float64)
     b = strongest_ap_mask(ref_rssi_dbm, k_aps).astype(np.float64)
-    return _union_sq(q, a, r, b)
+    return _union_sq(q, a, _References(r, b))
 
 
-def _union_sq(q, a, r, b) -> np.ndarray:
+def _union_sq(q, a, ref: _References) -> np.ndarray:
     """Squared eq. (1) distances as one matrix product per slab of references.
 
     With ``a``, ``b`` the strongest-AP masks of query and reference, the union's indicator is
@@ -120,12 +163,13 @@ def _union_sq(q, a, r, b) -> np.ndarray:
     query term and a reference term (grouped by the reference term: ``r``, ``r^2``, ``b``, ``br``,
     ``br^2``) plus a constant of each side, all in one GEMM.
     """
-    k = int(max(a.sum(axis=1).max(initial=0), b.sum(axis=1).max(initial=0)))
-    dt = _exact_dtype(q, r, k)
+    k = int(max(a.sum(axis=1).max(initial=0), ref.k))
+    dt = _exact_dtype(q, ref, k)
     left = _stack_query(q, a, dt)
-    out = np.empty((q.shape[0], r.shape[0]), dtype=dt)
-    for s in range(0, r.shape[0], _REF_CHUNK):
-        right = _stack_ref(r[s:s + _REF_CHUNK], b[s:s + _REF_CHUNK], dt)
+    n_ref = ref.r.shape[0]
+    out = np.empty((q.shape[0], n_ref), dtype=dt)
+    for s in range(0, n_ref, _REF_CHUNK):
+        right = ref.right(s, s + _REF_CHUNK, dt)
         out[:, s:s + _REF_CHUNK] = left @ right.T  # (into a slice directly, matmul would not call BLAS)
     if dt is not np.float32:  # float32 here is exact (an integer sum of integers): never below 0
         np.maximum(out, 0.0, out=out)
@@ -197,7 +241,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
         x = check_rssi(X, "X", valid_dbm=self.rssi_range_dbm)
-        to_features(x, self.not_heard_dbm, name="X")  # validates readings against not_heard_dbm
+        r = to_features(x, self.not_heard_dbm, dtype=np.float64, name="X")  # validates readings against the floor
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         heard = heard_aps(x, type(self).__name__)
@@ -205,17 +249,18 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             raise ValueError(f"point_distance must be 'min' or None, got {self.point_distance!r}")
         yy = check_positions(y, x.shape[0])
         if self.point_distance == "min":
+            # the rows grouped by position, positions in lexicographic order (np.unique(axis=0)'s), each group's
+            # rows in their original order: one stable lexsort (column 0 first)
             pos = yy.reshape(yy.shape[0], -1)
-            self.points_, inv = np.unique(pos, axis=0, return_inverse=True)
-            inv = inv.reshape(-1)
-            order = np.argsort(inv, kind="stable")
-            self._starts = np.flatnonzero(np.r_[True, np.diff(inv[order]) != 0])
+            order = np.lexsort(pos.T[::-1])
+            srt = pos[order]
+            self._starts = np.flatnonzero(np.r_[True, np.any(srt[1:] != srt[:-1], axis=1)])
             self._order = order
-            x_ord = x[order]
+            self.points_ = srt[self._starts]
             if yy.ndim == 1:
                 self.points_ = self.points_[:, 0]
         else:
-            x_ord, self._order = x, np.arange(x.shape[0])
+            order = self._order = np.arange(x.shape[0])
             self.points_ = yy
             self._starts = None
         n_nb = len(self.points_)
@@ -225,8 +270,8 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.y_ = yy
         self.heard_aps_ = heard
         self.ref_rssi_dbm_ = x
-        self._r = to_features(x_ord, self.not_heard_dbm, dtype=np.float64)
-        self._b = strongest_ap_mask(x_ord, self.k_aps).astype(np.float64)
+        self._refs = _References(r[order], strongest_ap_mask(x[order], self.k_aps).astype(np.float64),
+                                 _STACK_CACHE_BYTES)
         self.n_features_in_ = x.shape[1]
         return self
 
@@ -248,7 +293,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             xb = x[s:s + _Q_BATCH]
             q = to_features(xb, self.not_heard_dbm, dtype=np.float64)
             a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
-            d2 = _union_sq(q, a, self._r, self._b)
+            d2 = _union_sq(q, a, self._refs)
             if self._starts is not None:  # one distance per training point: its nearest stored scan
                 gmin = np.minimum.reduceat(d2, self._starts, axis=1)
                 gi = smallest_k(gmin, k)

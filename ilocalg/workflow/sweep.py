@@ -44,6 +44,8 @@ __all__ = [
     "SweepResult",
     "make_tasks",
     "run_task",
+    "run_tasks",
+    "batch_sizes",
     "sweep",
     "aggregate",
     "ci_agreement",
@@ -160,6 +162,35 @@ def run_task(task: SweepTask) -> pd.DataFrame:
     return _task_result(task, mod.run(seed=task.seed, fast=task.fast, **kwargs))
 
 
+def run_tasks(tasks: list[SweepTask]) -> list[tuple[bool, object]]:
+    """Run several tasks in one call (one Dask task): per task ``(True, long result)`` or ``(False, "Type:
+    message")`` for a task that raised, so one failure never loses the others."""
+    out = []
+    for t in tasks:
+        try:
+            out.append((True, run_task(t)))
+        except Exception as exc:  # noqa: BLE001 - reported per task by sweep()
+            out.append((False, f"{type(exc).__name__}: {exc}"))
+    return out
+
+
+def batch_sizes(n_tasks: int, n_workers: int, per_worker: int = 4, max_batch: int = 16) -> list[int]:
+    """Tasks per Dask task when ``n_tasks`` run on ``n_workers`` (guided self-scheduling).
+
+    Each batch takes ``ceil(left / (per_worker * n_workers))`` of the tasks left, at most ``max_batch``, so
+    batches shrink to single tasks at the end: the scheduler and the client (in the driver process, where
+    their cost per Dask task competes with the workers for the cores) handle a few dozen Dask tasks for a
+    hundred sweep tasks, while no worker is left alone with a long last batch, and an interrupted sweep
+    loses at most ``max_batch`` uncached results per worker.
+    """
+    out, left, div = [], int(n_tasks), max(1, int(per_worker) * max(1, int(n_workers)))
+    while left > 0:
+        b = min(-(-left // div), int(max_batch))
+        out.append(b)
+        left -= b
+    return out
+
+
 def _cache_path(cache_dir: Path, task: SweepTask) -> Path:
     return Path(cache_dir) / task.experiment / f"{task.key}.parquet"
 
@@ -252,7 +283,9 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
         with ``workers`` single-threaded worker processes.
     workers : int
         Worker processes of the LocalCluster (ignored with ``scheduler``); 0 runs serially
-        in this process without Dask (the reference the cluster must match bit for bit).
+        in this process without Dask (the reference the cluster must match bit for bit). On Dask the
+        tasks travel in batches (:func:`batch_sizes`, :func:`run_tasks`); each task's result is still
+        cached and each failure reported on its own.
     cache_dir : path or None
         Where each task's parquet result is cached (None: no cache).
     """
@@ -299,15 +332,26 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
                     own_client = client = Client(own_cluster)
                 else:
                     own_client = client = Client(scheduler)
-            futs = {client.submit(run_task, t, key=f"ilocalg-{t.experiment}-{t.key}", pure=False): t for t in todo}
+            n_workers = len(client.nthreads()) or workers  # a remote scheduler: the workers it has now
+            futs, i = {}, 0
+            for b in batch_sizes(len(todo), n_workers):
+                batch = todo[i:i + b]
+                i += b
+                key = hashlib.sha256("".join(t.key for t in batch).encode()).hexdigest()[:20]
+                futs[client.submit(run_tasks, batch, key=f"ilocalg-{batch[0].experiment}-{key}", pure=False)] = batch
             for fut in as_completed(futs):
-                t = futs[fut]
+                batch = futs[fut]
                 try:
-                    _store(t, fut.result())
-                except Exception as exc:  # noqa: BLE001
-                    failures.append({"task": t.describe(), "seed": t.seed, "params": dict(t.params),
-                                     "error": f"{type(exc).__name__}: {exc}"})
-                bar.update(1)
+                    outcome = fut.result()
+                except Exception as exc:  # noqa: BLE001 - the whole batch is lost (e.g. its worker died)
+                    outcome = [(False, f"{type(exc).__name__}: {exc}")] * len(batch)
+                for t, (ok, value) in zip(batch, outcome, strict=True):
+                    if ok:
+                        _store(t, value)
+                    else:
+                        failures.append({"task": t.describe(), "seed": t.seed, "params": dict(t.params),
+                                         "error": value})
+                bar.update(len(batch))
         finally:
             if own_client is not None:
                 own_client.close()
