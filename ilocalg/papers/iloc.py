@@ -232,8 +232,8 @@ CLAIMS = (
           decided_in=_S_TIME,
           note="measured wall-clock time per single query on the machine that runs the sweep (a ratio of two "
                "timings in one process, so load affects both). Both estimators prepare their reference data at "
-               "fit, so a query times the search only (until this wave RADAR restacked its 18 900 reference "
-               "scans on every query, which put the ratio at 0.03-0.04 instead of 0.15-0.28)."),
+               "fit, so a query times the search only (restacking RADAR's 18 900 reference scans per query, as the "
+               "toolkit did before, put the ratio at 0.03-0.04 instead of 0.15-0.28)."),
     Claim("iloc-horus-vs-original", KEY, 333, "value",
           "Simplified-Horus (4.5 m) falls short of the original Horus's 1.38 m median because it has fewer and "
           "sparser training points.",
