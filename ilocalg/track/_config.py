@@ -16,6 +16,10 @@ GAIN_METHODS = ("kf_gain", "kf_gain_map", "kf_gain_lag5s")
 MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map", "kf_gain_map")
 
 
+#: The fix-variance models of :attr:`RealWalkConfig.fix_var`.
+FIX_VARS = ("isotropic", "per_fix")
+
+
 @dataclass(frozen=True)
 class RealWalkConfig:
     """Parameters of the track pipeline (defaults: chosen a priori, documented here).
@@ -42,6 +46,14 @@ class RealWalkConfig:
         ``baro_change_m`` (half a typical 3-4 m storey; smoothed over ``baro_smooth_s``).
     floor_votes : Wi-Fi floor votes in the majority without a barometer (latest ones for causal
         methods, centred for whole-walk ones).
+    fix_var : the Wi-Fi fix variance every method weights a fix by: ``"isotropic"``, one variance for all
+        fixes (leave-one-walk-out on the database, :func:`ilocalg.track.calibrate_fix_var`), or ``"per_fix"``,
+        each fix's own, predicted from what the fix knows about itself (its neighbours' spread, the access
+        points heard, its readings' age) by a model fitted leave-one-walk-out on the database walks
+        (:func:`ilocalg.track.fixes.fit_fix_var_model`).
+    map_start : the online map variants (``lsq_online_map``, ``kf_gain_map``) start from the first fix's
+        walkable posterior (the fix's Gaussian times a uniform prior over the walkable cells,
+        :func:`ilocalg.track.estimators.map_first_fix`) instead of the fix itself.
     align_fix_time : the least-squares estimators tie each Wi-Fi fix to the time its readings were taken
         (:attr:`ilocalg.track.WifiFixes.t_read_s`) rather than the scan's time stamp. Off: with the
         database positioned likewise (the floor model and evaluate_track pass it as ``align_time``) it changed nothing
@@ -72,6 +84,12 @@ class RealWalkConfig:
     baro_smooth_s: float = 2.0
     floor_votes: int = 5
     align_fix_time: bool = False
+    fix_var: str = "isotropic"
+    map_start: bool = False
+
+    def __post_init__(self):
+        if self.fix_var not in FIX_VARS:
+            raise ValueError(f"RealWalkConfig.fix_var must be one of {FIX_VARS}, got {self.fix_var!r}")
 
 
 

@@ -72,7 +72,7 @@ def _jmat(v):
     return np.array([[v[0], -v[1]], [v[1], v[0]]])
 
 
-def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2: float, gain_var: float,
+def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, step_var_m2: float, gain_var: float,
             gain_walk_var: float, fix_avail_t_s=None, huber_c: float | None = HUBER_C,
             snap=None) -> GainKFResult:
     """Run the gain-augmented Kalman filter over one walk (module docstring).
@@ -81,7 +81,8 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
     ----------
     state_t_s : (n+1,) state times; disp_m : (n, 2) PDR steps (map frame, floor calibration applied).
     fix_t_s, fix_xy_m : (m,), (m, 2) the fixes and the times they describe.
-    fix_var_m2, step_var_m2 : per-axis variance of a fix and of one step's residual error.
+    fix_var_m2, step_var_m2 : per-axis variance of a fix (scalar, or (m,) one per fix) and of one step's
+        residual error.
     gain_var, gain_walk_var : prior variance of each component of ``g`` around ``1 + 0i`` and its
         random-walk variance per step.
     fix_avail_t_s : (m,) when each fix becomes known (default ``fix_t_s``); a fix is applied at the
@@ -100,7 +101,8 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
     n = ts.size
     if d.shape[0] != n - 1 or ft.size < 1 or fz.shape[0] != ft.size or known.shape != ft.shape:
         raise ValueError("need disp_m of shape (n, 2) for n+1 states and at least one fix with matching shapes")
-    if not (fix_var_m2 > 0 and step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0):
+    fv = np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), ft.shape)
+    if not (np.all(fv > 0) and step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0):
         raise ValueError("fix_var_m2, step_var_m2 must be > 0 and gain_var, gain_walk_var >= 0")
     # cumulative PDR displacement, to interpolate the displacement between a fix's time and its state
     cum = np.vstack([[0.0, 0.0], np.cumsum(d, axis=0)])
@@ -113,12 +115,11 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
     Pg = np.eye(2) * gain_var
     x = np.concatenate([fz[0] - D0 @ [1.0, 0.0], [1.0, 0.0]])
     P = np.zeros((4, 4))
-    P[:2, :2] = np.eye(2) * fix_var_m2 + D0 @ Pg @ D0.T
+    P[:2, :2] = np.eye(2) * fv[0] + D0 @ Pg @ D0.T
     P[:2, 2:] = -D0 @ Pg
     P[2:, :2] = P[:2, 2:].T
     P[2:, 2:] = Pg + np.eye(2) * 1e-12
     Q = np.diag([step_var_m2, step_var_m2, gain_walk_var, gain_walk_var])
-    R0 = np.eye(2) * fix_var_m2
     xs, Ps = np.empty((n, 4)), np.empty((n, 4, 4))
     xp, Pp = np.empty((n, 4)), np.empty((n, 4, 4))
     Fs = np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
@@ -141,6 +142,7 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
             H[:, :2] = np.eye(2)
             H[:, 2:] = -_jmat(cum[k] - cum_at[i])           # p(t_fix) = p_k - D(t_fix, t_k) g
             nu = fz[i] - H @ x
+            R0 = np.eye(2) * fv[i]
             S = H @ P @ H.T + R0
             R = R0
             if huber_c is not None:
