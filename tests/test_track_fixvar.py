@@ -16,9 +16,9 @@ from ilocalg.track.estimators import (
     map_first_fix,
     walkable_posterior,
 )
-from ilocalg.track.fixes import log_variance_fit
+from ilocalg.track.fixes import fix_error_correlation, log_variance_fit
 from ilocalg.track.motion import GainStats
-from ilocalg.track.online_kf import gain_kf
+from ilocalg.track.online_kf import gain_kf, gain_kf_lag
 
 
 def test_log_variance_fit_recovers_a_known_heteroscedastic_variance():
@@ -128,3 +128,75 @@ def test_map_start_is_causal_and_starts_in_the_corridor():
 def test_config_rejects_an_unknown_fix_variance_model():
     with pytest.raises(ValueError, match="fix_var"):
         RealWalkConfig(fix_var="robust")
+
+
+def _ar_walk(seed, c0=0.6, rho=0.9, sd=4.0, n=200, every=4):
+    """A winding walk whose fix errors are a Gauss-Markov bias (share c0, correlation rho) plus white noise."""
+    rng = np.random.default_rng(seed)
+    th = np.cumsum(rng.normal(0, 0.08, n))
+    d = 0.7 * np.column_stack([np.cos(th), np.sin(th)])
+    truth = np.vstack([[0.0, 0.0], np.cumsum(d, 0)])
+    ts = np.arange(n + 1) * 0.5
+    fi = np.arange(1, n + 1, every)
+    b = np.zeros((fi.size, 2))
+    b[0] = rng.normal(0, sd * np.sqrt(c0), 2)
+    for i in range(1, fi.size):
+        b[i] = rho * b[i - 1] + rng.normal(0, sd * np.sqrt(c0 * (1 - rho ** 2)), 2)
+    z = truth[fi] + b + rng.normal(0, sd * np.sqrt(1 - c0), (fi.size, 2))
+    gs = GainStats(gain_var=1e-3, gain_walk_var=1e-6, step_var_m2=0.01, n_walks=10)
+    p = TrackProblem(ts, d + rng.normal(0, 0.1, d.shape), 0.01, ts[fi], z, sd ** 2, gain=gs)
+    return p, truth, z - truth[fi]
+
+
+def test_fix_error_correlation_recovers_a_gauss_markov_share_and_correlation():
+    errs, walks = [], []
+    for s in range(40):
+        _, _, e = _ar_walk(s)
+        errs.append(e), walks.extend([f"w{s}"] * len(e))
+    c0, rho, var_b = fix_error_correlation(np.vstack(errs), np.array(walks))
+    assert c0 == pytest.approx(0.6, abs=0.08) and rho == pytest.approx(0.9, abs=0.04)
+    assert var_b == pytest.approx(0.6 * 16.0, rel=0.2)
+    white = np.random.default_rng(0).normal(0, 3, (400, 2))
+    assert fix_error_correlation(white, np.repeat(["a", "b"], 200))[0] < 0.15
+
+
+def test_correlated_fix_errors_as_states_help_when_fix_errors_persist():
+    """Fix errors that persist from fix to fix: the filter that carries them beats the one that takes every fix
+    as independent. With no correlated share (c0 = 0) the filter and the least squares are the plain ones; with
+    an uncorrelated bias (rho = 0) they are the plain ones with the bias's variance added to every fix's."""
+    e = {k: [] for k in ("kf", "kf_corr")}
+    for s in range(12):
+        p, truth, _ = _ar_walk(s)
+        q = dataclasses.replace(p, fix_corr=(0.6, 0.9, 0.6 * 16.0))
+        e["kf"].append(np.hypot(*(kf_gain_track(p) - truth).T).mean())
+        e["kf_corr"].append(np.hypot(*(kf_gain_track(q) - truth).T).mean())
+    assert np.mean(e["kf_corr"]) < 0.95 * np.mean(e["kf"]), e
+    p, _, _ = _ar_walk(0, n=60)
+    none = dataclasses.replace(p, fix_corr=(0.0, 0.5, 0.0))
+    np.testing.assert_allclose(kf_gain_track(none), kf_gain_track(p), atol=1e-9)
+    np.testing.assert_allclose(lsq_track(none), lsq_track(p), atol=1e-6)
+    white_bias = dataclasses.replace(p, fix_corr=(0.5, 0.0, 3.0))            # 0.5 * 16 + 3 = 11 per fix
+    plain = dataclasses.replace(p, fix_var_m2=11.0)
+    g = p.gain
+    kw = dict(huber_c=None)                                   # Huber scales only the white part: plain updates
+
+    def kf(prob):
+        return gain_kf(prob.state_t_s, prob.disp_m, prob.fix_t_s, prob.fix_xy_m, prob.fix_var_m2, g.step_var_m2,
+                       g.gain_var, g.gain_walk_var, fix_corr=prob.fix_corr, **kw).xy_m
+
+    np.testing.assert_allclose(kf(white_bias), kf(plain), atol=1e-6)
+    np.testing.assert_allclose(lsq_track(white_bias, n_iter=1), lsq_track(plain, n_iter=1), atol=1e-6)
+
+
+def test_the_correlated_filter_stays_causal_and_its_lag_smoother_runs():
+    p, _, _ = _ar_walk(3, n=120)
+    q = dataclasses.replace(p, fix_corr=(0.6, 0.9, 9.6))
+    full = kf_gain_track(q)
+    for c in (30, 90):
+        keep = q.fix_t_s <= q.state_t_s[c]
+        cut = dataclasses.replace(q, state_t_s=q.state_t_s[:c + 1], disp_m=q.disp_m[:c], fix_t_s=q.fix_t_s[keep],
+                                  fix_xy_m=q.fix_xy_m[keep])
+        np.testing.assert_allclose(kf_gain_track(cut), full[:c + 1], atol=1e-9)
+    r = gain_kf(q.state_t_s, q.disp_m, q.fix_t_s, q.fix_xy_m, q.fix_var_m2, 0.01, 1e-3, 1e-6, fix_corr=q.fix_corr)
+    np.testing.assert_allclose(gain_kf_lag(r, q.state_t_s, 0.0), r.xy_m)
+    assert not np.allclose(gain_kf_lag(r, q.state_t_s, 5.0), r.xy_m)

@@ -54,6 +54,10 @@ class RealWalkConfig:
     map_start : the online map variants (``lsq_online_map``, ``kf_gain_map``) start from the first fix's
         walkable posterior (the fix's Gaussian times a uniform prior over the walkable cells,
         :func:`ilocalg.track.estimators.map_first_fix`) instead of the fix itself.
+    fix_corr : the ``kf_gain*`` filters carry the part of the Wi-Fi fix error that persists from fix to fix
+        (a first-order Gauss-Markov state; share and correlation measured on the database walks'
+        leave-one-walk-out fixes, :func:`ilocalg.track.fixes.fix_error_correlation`) instead of taking every
+        fix's error as independent.
     align_fix_time : the least-squares estimators tie each Wi-Fi fix to the time its readings were taken
         (:attr:`ilocalg.track.WifiFixes.t_read_s`) rather than the scan's time stamp. Off: with the
         database positioned likewise (the floor model and evaluate_track pass it as ``align_time``) it changed nothing
@@ -86,6 +90,7 @@ class RealWalkConfig:
     align_fix_time: bool = False
     fix_var: str = "isotropic"
     map_start: bool = False
+    fix_corr: bool = False
 
     def __post_init__(self):
         if self.fix_var not in FIX_VARS:

@@ -73,6 +73,10 @@ class TrackProblem:
         heading offset, measured on the other walks; needed by the ``kf_gain*`` estimators.
     map_start : the online map variants (``lsq_online_map``, ``kf_gain_map``) start from the first fix's
         walkable posterior (:func:`map_first_fix`) rather than the fix itself.
+    fix_corr : ``(c0, rho, var_b_m2)``: the share of a fix's error correlated from fix to fix, its correlation
+        and its per-axis variance
+        (:func:`ilocalg.track.fixes.fix_error_correlation`, measured on the database walks); the ``kf_gain*``
+        estimators carry it as a state, the least-squares ones as unknowns. None: fix errors independent.
     """
 
     state_t_s: np.ndarray
@@ -85,6 +89,7 @@ class TrackProblem:
     fix_avail_t_s: np.ndarray | None = None
     gain: object | None = None
     map_start: bool = False
+    fix_corr: tuple | None = None
 
     def fix_var_at(self, sel=slice(None)) -> np.ndarray:
         """Per-axis variance of the fixes ``sel`` (an index, slice or mask of the fixes), one per fix."""
@@ -120,12 +125,20 @@ def _interp_rows(state_t_s, t_s):
 
 
 def lsq_solve(n_states: int, disp_m, step_var_m2: float, fix_j, fix_a, fix_xy_m, fix_var_m2,
-              anchor_idx=(), anchor_xy_m=None, anchor_var_m2: float = 1.0, n_iter: int = 5) -> np.ndarray:
+              anchor_idx=(), anchor_xy_m=None, anchor_var_m2: float = 1.0, n_iter: int = 5,
+              fix_corr=None) -> np.ndarray:
     """Solve the walk's sparse least-squares system (see the module docstring); returns (n_states, 2).
 
     ``fix_var_m2`` may be a scalar or one value per fix; ``anchor_*``: extra absolute constraints on
     states (the map step). Huber re-weighting of the fixes over ``n_iter`` rounds (1: plain weighted LS).
+    ``fix_corr`` ``(c0, rho, var_b_m2)``: the fixes' correlated error as unknowns ``b_i`` (fix rows
+    ``... + b_i = z_i`` with the white variance ``(1 - c0) fix_var``; ``b_0 = 0`` with ``var_b_m2``,
+    ``b_i - rho b_{i-1} = 0`` with ``var_b_m2 (1 - rho^2)``; Bryson & Henrikson 1968), as the ``kf_gain``
+    filter carries them.
     """
+    if fix_corr is not None and len(fix_j):
+        return _lsq_solve_corr(n_states, disp_m, step_var_m2, fix_j, fix_a, fix_xy_m, fix_var_m2, anchor_idx,
+                               anchor_xy_m, anchor_var_m2, n_iter, fix_corr)
     n = n_states
     m = len(fix_j)
     d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
@@ -164,6 +177,48 @@ def lsq_solve(n_states: int, disp_m, step_var_m2: float, fix_j, fix_a, fix_xy_m,
     return x
 
 
+def _lsq_solve_corr(n_states, disp_m, step_var_m2, fix_j, fix_a, fix_xy_m, fix_var_m2, anchor_idx, anchor_xy_m,
+                    anchor_var_m2, n_iter, fix_corr):
+    """:func:`lsq_solve` with the correlated fix errors as unknowns (appended after the states)."""
+    c0, rho, var_b = (float(v) for v in fix_corr)
+    n, m = n_states, len(fix_j)
+    d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
+    k = d.shape[0]
+    anchor_idx = np.asarray(anchor_idx, dtype=np.int64)
+    na = anchor_idx.size
+    fj = np.asarray(fix_j)
+    fa = np.asarray(fix_a, dtype=np.float64)
+    rows = [np.repeat(np.arange(k), 2), k + np.repeat(np.arange(m), 3), k + m + np.arange(na),
+            k + m + na + np.array([0]), k + m + na + np.repeat(np.arange(1, m), 2)]
+    cols = [np.column_stack([np.arange(k), np.arange(k) + 1]).ravel(),
+            np.column_stack([fj, np.minimum(fj + 1, n - 1), n + np.arange(m)]).ravel(), anchor_idx,
+            np.array([n]), np.column_stack([n + np.arange(m - 1), n + np.arange(1, m)]).ravel()]
+    vals = [np.tile([-1.0, 1.0], k), np.column_stack([1.0 - fa, fa, np.ones(m)]).ravel(), np.ones(na), np.ones(1),
+            np.tile([-rho, 1.0], m - 1)]
+    nr = k + m + na + m
+    A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nr, n + m))
+    b = np.concatenate([d, np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2),
+                        np.zeros((0, 2)) if na == 0 else np.asarray(anchor_xy_m, dtype=np.float64).reshape(-1, 2),
+                        np.zeros((m, 2))])
+    white = (1.0 - c0) * np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), (m,))
+    var_b = max(var_b, 1e-9)
+    w_chain = np.concatenate([[1.0 / var_b], np.full(m - 1, 1.0 / (var_b * max(1.0 - rho ** 2, 1e-9)))])
+    hub = np.ones(m)
+    x = None
+    for _ in range(max(n_iter, 1)):
+        w = np.concatenate([np.full(k, 1.0 / step_var_m2), hub / white, np.full(na, 1.0 / anchor_var_m2), w_chain])
+        AtW = A.T.multiply(w).tocsr()
+        N = (AtW @ A).tocsc() + sp.identity(n + m, format="csc") * 1e-9
+        x = np.column_stack([spsolve(N, AtW @ b[:, 0]), spsolve(N, AtW @ b[:, 1])])
+        # Huber on each fix's whole error (the state's and the bias's residual), in its whole sd
+        res = np.hypot(*((A[k:k + m, :n] @ x[:n]) - b[k:k + m]).T) / np.sqrt(white + var_b)
+        new = np.minimum(1.0, HUBER_C / np.maximum(res, 1e-12))
+        if np.allclose(new, hub, atol=1e-3):
+            break
+        hub = new
+    return x[:n]
+
+
 def _rotation(problem: TrackProblem, upto: int | None = None) -> float:
     """Angle (rad) rotating the PDR track onto the fixes (Huber-robust, translation free); 0 with < 3 fixes."""
     ft, fxy = problem.fix_t_s[:upto], problem.fix_xy_m[:upto]
@@ -181,7 +236,7 @@ def lsq_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> n
     disp = rotate_xy(problem.disp_m, _rotation(problem)) if rotate else problem.disp_m
     j, a = _interp_rows(problem.state_t_s, problem.fix_t_s)
     return lsq_solve(problem.state_t_s.size, disp, problem.step_var_m2, j, a, problem.fix_xy_m, problem.fix_var_m2,
-                     n_iter=n_iter)
+                     n_iter=n_iter, fix_corr=problem.fix_corr)
 
 
 def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> np.ndarray:
@@ -211,7 +266,7 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
                 x = (wq[:, None] * problem.fix_xy_m[:q]).sum(axis=0, keepdims=True) / wq.sum()
             else:
                 x = lsq_solve(i + 1, disp[:i], problem.step_var_m2, j, a, problem.fix_xy_m[:q],
-                              problem.fix_var_at(slice(q)), n_iter=n_iter)
+                              problem.fix_var_at(slice(q)), n_iter=n_iter, fix_corr=problem.fix_corr)
             last_i, last_xy, last_disp = i, x[-1], disp
             out[i] = last_xy
         else:                                             # dead-reckon from the last solved state
@@ -327,7 +382,7 @@ def lsq_map_track(problem: TrackProblem) -> np.ndarray:
     def solve(idx, anc):
         return lsq_solve(problem.state_t_s.size, disp, problem.step_var_m2, j, a, problem.fix_xy_m,
                          problem.fix_var_m2, anchor_idx=idx, anchor_xy_m=anc,
-                         anchor_var_m2=problem.grid.cell_m ** 2)
+                         anchor_var_m2=problem.grid.cell_m ** 2, fix_corr=problem.fix_corr)
 
     return _with_map(problem, solve(np.zeros(0, dtype=np.int64), None), solve)
 
@@ -365,7 +420,8 @@ def _gain_kf_result(problem: TrackProblem):
         raise ValueError("the kf_gain estimators need the measured gain spread (TrackProblem.gain, "
                          "ilocalg.track.motion.gain_stats on the other walks)")
     return gain_kf(problem.state_t_s, problem.disp_m, problem.fix_t_s, problem.fix_xy_m, problem.fix_var_m2,
-                   g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s)
+                   g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s,
+                   fix_corr=problem.fix_corr)
 
 
 def kf_gain_track(problem: TrackProblem) -> np.ndarray:

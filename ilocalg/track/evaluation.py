@@ -24,7 +24,9 @@ from ilocalg.track.fixes import (
     FixVarModel,
     calibrate_fix_var,
     estimate_floors,
-    fit_fix_var_model,
+    fix_error_correlation,
+    log_variance_fit,
+    loo_fix_features,
     select_wifi,
     wifi_fixes,
 )
@@ -92,10 +94,14 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     if len(rec.truth) < 1:
         raise ValueError(f"{rec.source or rec.name}: no ground-truth point to score")
     cal = calibration
-    fv_note = "isotropic"
-    if fix_var_model is None and cfg.fix_var == "per_fix":
+    fv_note, fix_corr = "isotropic", None
+    if (fix_var_model is None and cfg.fix_var == "per_fix") or cfg.fix_corr:
         try:
-            fix_var_model = fit_fix_var_model(db, cfg)
+            err, feats = loo_fix_features(db, cfg)        # the database walks' own leave-one-walk-out fixes
+            if fix_var_model is None and cfg.fix_var == "per_fix":
+                fix_var_model = log_variance_fit((err ** 2).sum(axis=1), feats)
+            if cfg.fix_corr:
+                fix_corr = fix_error_correlation(err, db.walk)
         except ValueError as e:       # too few database scans (or a non-Euclidean WKNN): one variance for all
             fv_note = f"isotropic ({e})"
     if fix_var_model is not None:
@@ -134,7 +140,9 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     tracks["aligned_kf_rts"] = rts_smooth(ra).x
     info = {"n_steps": int(d.size), "n_fixes": int(fx.t_s.size), "k_weinberg": cal.k_weinberg,
             "floor_offset_deg": float(np.degrees(cal.offset_rad)), "fix_sd_m": float(np.sqrt(np.mean(fvar))),
-            "fix_var": fv_note}
+            "fix_var": fv_note, "fix_corr_c0": np.nan if fix_corr is None else fix_corr[0],
+            "fix_corr_rho": np.nan if fix_corr is None else fix_corr[1],
+            "fix_corr_sd_m": np.nan if fix_corr is None else float(np.sqrt(fix_corr[2]))}
     if fx.t_s.size >= 3:
         fit = fit_track_to_fixes(at_fix, fx.xy_m, huber_m=cfg.huber_m)
         tracks["aligned_rot"] = rotate_xy(rel, fit.angle_rad) + fit.t_m
@@ -171,7 +179,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
-                            fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start)
+                            fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start,
+                            fix_corr=fix_corr)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))

@@ -185,16 +185,53 @@ class FixVarModel:
 
 
 def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[np.ndarray, np.ndarray]:
-    """Leave-one-walk-out squared fix error (m^2) and :func:`fix_features` (n, 3) of every database row, each
-    row located against the rows of the other walks (Euclidean WKNN, :func:`dense_wknn`); NaN error for rows
-    that cannot be located."""
+    """Leave-one-walk-out fix error vectors (n, 2; m, fix minus truth) and :func:`fix_features` (n, 3) of every
+    database row, each row located against the rows of the other walks (Euclidean WKNN, :func:`dense_wknn`);
+    NaN errors for rows that cannot be located."""
     if not (cfg.p == 2 and cfg.metric == "minkowski"):
         raise ValueError("loo_fix_features: the per-fix variance is measured with the Euclidean WKNN (p=2)")
     D = db_matrix(db, cfg)
     xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :])
-    e2 = ((xy - db.xy_m) ** 2).sum(axis=1)
     age = np.zeros(D.shape[0]) if db.age_s is None else effective_age_s(np.where(np.isnan(D), np.nan, db.age_s))
-    return e2, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
+    return xy - db.xy_m, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
+
+
+def fix_error_correlation(err_m, walk, max_lag: int = 8) -> tuple[float, float, float]:
+    """How a walk's Wi-Fi fix errors persist from scan to scan: ``(c0, rho, var_b_m2)`` of the model
+    ``corr(lag) = c0 rho^lag`` (a correlated share ``c0`` of the error variance, first-order Gauss-Markov
+    from scan to scan with ``rho``, the rest white; ``var_b_m2 = c0 mean(|e|^2) / 2`` the correlated part's
+    per-axis variance), fitted to the pooled correlation of the error vectors ``err_m`` (n, 2)
+    of consecutive rows of the same ``walk`` (rows in time order) at lags 1..``max_lag`` (least squares in
+    logs, weighted by the pairs per lag; lags with a correlation <= 0 left out). Both clipped to [0, 0.95]
+    (0, 0, 0: fewer than two lags with a positive correlation).
+
+    References
+    ----------
+    Bryson A. E., Henrikson L. J., "Estimation using sampled data containing sequentially correlated noise",
+    J. Spacecraft 5(6) (1968): coloured measurement noise as a Gauss-Markov state.
+    """
+    e = np.asarray(err_m, dtype=np.float64).reshape(-1, 2)
+    walk = np.asarray(walk)
+    lags, r, n = [], [], []
+    groups = [e[walk == w] for w in dict.fromkeys(walk)]
+    groups = [g[np.isfinite(g).all(axis=1)] for g in groups]
+    for lag in range(1, max_lag + 1):
+        a = [g[:-lag] for g in groups if len(g) > lag]
+        if not a:
+            break
+        b = np.vstack([g[lag:] for g in groups if len(g) > lag])
+        a = np.vstack(a)
+        den = np.sqrt((a * a).sum() * (b * b).sum())
+        if den > 0 and (a * b).sum() > 0:
+            lags.append(lag), r.append((a * b).sum() / den), n.append(len(a))
+    if len(lags) < 2:                   # c0 and rho cannot be told apart: no correlation modelled
+        return 0.0, 0.0, 0.0
+    W = np.sqrt(np.asarray(n, dtype=np.float64))
+    X = np.column_stack([np.ones(len(lags)), lags])
+    coef = np.linalg.lstsq(X * W[:, None], np.log(r) * W, rcond=None)[0]
+    c0 = float(np.clip(np.exp(coef[0]), 0.0, 0.95))
+    e2 = (np.vstack(groups) ** 2).sum(axis=1)
+    return c0, float(np.clip(np.exp(coef[1]), 0.0, 0.95)), c0 * float(e2.mean()) / 2.0
 
 
 def fit_fix_var_model(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> FixVarModel:
@@ -210,7 +247,8 @@ def fit_fix_var_model(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) ->
     Harvey A. C., "Estimating regression models with multiplicative heteroscedasticity", Econometrica 44(3)
     (1976); Duan N., "Smearing estimate: a nonparametric retransformation method", JASA 78(383) (1983).
     """
-    return log_variance_fit(*loo_fix_features(db, cfg))
+    err, F = loo_fix_features(db, cfg)
+    return log_variance_fit((err ** 2).sum(axis=1), F)
 
 
 def log_variance_fit(e2_m2, features) -> FixVarModel:
