@@ -20,6 +20,9 @@
 # state carries the walk's own step scale and heading offset (`kf_gain`; `kf_gain_lag5s`: the same smoothed over
 # a fixed lag, the lag of Liao et al. 2016, not causal): the track pipeline of
 # `ilocalg.track` (the same functions a user calls on one walk, or `python -m ilocalg evaluate track`).
+# Every variant weights the Wi-Fi fixes by a fix model measured on the other walks: each fix's own variance, the
+# part of the fix error that persists from fix to fix, and (online map variants) the map at start-up; the
+# ablation below shows what each piece buys.
 # Goals (beyond the papers): best offline mean error <= 0.5 x Wi-Fi only, best online <= 0.7 x, reported
 # with the EvAAL 75th percentile.
 
