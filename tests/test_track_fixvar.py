@@ -200,3 +200,20 @@ def test_the_correlated_filter_stays_causal_and_its_lag_smoother_runs():
     r = gain_kf(q.state_t_s, q.disp_m, q.fix_t_s, q.fix_xy_m, q.fix_var_m2, 0.01, 1e-3, 1e-6, fix_corr=q.fix_corr)
     np.testing.assert_allclose(gain_kf_lag(r, q.state_t_s, 0.0), r.xy_m)
     assert not np.allclose(gain_kf_lag(r, q.state_t_s, 5.0), r.xy_m)
+
+
+def test_the_fix_model_fields_do_not_change_a_floors_cache_key(tmp_path):
+    """A saved floor model does not depend on how a scored walk's fixes are weighted: changing the fix model
+    keeps the key (old caches stay valid), changing the database's WKNN does not."""
+    from ilocalg.track.floor import _model_cfg, floor_cache_key
+
+    f = tmp_path / "walk.txt"
+    f.write_text("x")
+    base = RealWalkConfig()
+
+    def key(c):
+        return floor_cache_key([f], cfg=_model_cfg(c), dataset="d")
+
+    fix_model = RealWalkConfig(fix_var="isotropic", fix_corr=False, map_start=False)
+    assert key(fix_model) == key(base)
+    assert key(dataclasses.replace(base, max_age_s=5.0)) != key(base)
