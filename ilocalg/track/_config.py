@@ -53,6 +53,8 @@ class RealWalkConfig:
         (:func:`ilocalg.track.fixes.fit_fix_var_model`). Default ``"per_fix"``: on the development walks of site1
         F1 (the even ones, leave-one-walk-out) it lowered every least-squares and ``kf_gain`` error a little
         (``lsq_map`` 0.615 -> 0.603 x Wi-Fi only, ``lsq_online_map`` 0.776 -> 0.772; notebook 09's ablation).
+        With ``fix_corr`` and ``map_start`` too, on the held-out walks (scored once): F2 better (``lsq_map``
+        0.659 -> 0.618, ``lsq_online_map`` 0.775 -> 0.737), F1 odd slightly worse (0.625 -> 0.635, 0.764 -> 0.774).
     map_start : the online map variants (``lsq_online_map``, ``kf_gain_map``) start from the first fix's
         walkable posterior (the fix's Gaussian times a uniform prior over the walkable cells,
         :func:`ilocalg.track.estimators.map_first_fix`) instead of the fix itself (on by default; on the
