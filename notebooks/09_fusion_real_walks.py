@@ -20,6 +20,9 @@
 # state carries the walk's own step scale and heading offset (`kf_gain`; `kf_gain_lag5s`: the same smoothed over
 # a fixed lag, the lag of Liao et al. 2016, not causal): the track pipeline of
 # `ilocalg.track` (the same functions a user calls on one walk, or `python -m ilocalg evaluate track`).
+# Every variant weights the Wi-Fi fixes by a fix model measured on the other walks: each fix's own variance, the
+# part of the fix error that persists from fix to fix, and (online map variants) the map at start-up; the
+# ablation below shows what each piece buys.
 # Goals (beyond the papers): best offline mean error <= 0.5 x Wi-Fi only, best online <= 0.7 x, reported
 # with the EvAAL 75th percentile.
 
@@ -27,13 +30,15 @@
 # Seed of the particle filter; FAST scores every fifth walk with fewer particles; OUT_DIR (set by the
 # runner) receives tables and figures; DATA_DIR is the folder of the real data sets (None: default);
 # DATASET the floor ("folder/floor" for one floor of a two-floor archive); LOWO_EVERY: the pooled
-# leave-one-walk-out over both site 1 floors scores every LOWO_EVERY-th walk of each (1: every walk).
+# leave-one-walk-out over both site 1 floors scores every LOWO_EVERY-th walk of each (1: every walk);
+# the fix-model ablation scores every ABLATION_EVERY-th development walk (even walks) of site 1 F1.
 SEED = 0
 FAST = False
 OUT_DIR = None
 DATA_DIR = None
 DATASET = "ilc2020_site1/site1_F1"
 LOWO_EVERY = 25
+ABLATION_EVERY = 10
 
 # %%
 from pathlib import Path
@@ -160,6 +165,25 @@ if HAVE_DATA and DATASET.startswith("ilc2020_site1"):
     display(lowo["summary"].pivot(index="method", columns="floor", values="ratio_to_wifi").round(2))  # noqa: F821
     display(lowo["summary"][lowo["summary"]["floor"] == "pooled"].round(2))  # noqa: F821
     print(fusion_real_walks.lowo_findings(lowo["summary"]))
+
+# %% [markdown]
+# ## What the Wi-Fi fix model buys (development walks of site 1 F1)
+#
+# Each row adds one piece to the fix model every estimator weights the Wi-Fi fixes by, all measured on the
+# database walks, never on the scored walk: each fix's own variance (from its neighbours' spread, the access
+# points heard and its readings' age), the part of the fix error that persists from fix to fix (a Gauss-Markov
+# bias carried by the filter and the least squares), and the map at start-up (the online map variants start from
+# the first fix's walkable posterior). Development walks only: the even walks of F1, every ABLATION_EVERY-th.
+# `start_mean_m` is the error at each walk's first waypoint (the log start, before the first fix arrives).
+
+# %%
+if HAVE_DATA and DATASET == "ilc2020_site1/site1_F1":
+    dev = floor.names[::2][::50 if FAST else ABLATION_EVERY]
+    abl = fusion_real_walks.fix_ablation(names=dev, data_dir=DATA_DIR, dataset=DATASET, fast=FAST)
+    report.table(abl["table"], "fix_ablation")
+    display(abl["table"].pivot(index="method", columns="config", values="ratio_to_wifi")  # noqa: F821
+            [list(fusion_real_walks.FIX_ABLATION)].round(3))
+    print(fusion_real_walks.ablation_findings(abl["table"]))
 
 # %% [markdown]
 # ## What the numbers say

@@ -89,7 +89,7 @@ def _cut(p: TrackProblem, c: int) -> TrackProblem:
     avail = p.fix_t_s if p.fix_avail_t_s is None else p.fix_avail_t_s
     keep = avail <= p.state_t_s[c]
     return dataclasses.replace(p, state_t_s=p.state_t_s[:c + 1], disp_m=p.disp_m[:c],
-                               fix_t_s=p.fix_t_s[keep], fix_xy_m=p.fix_xy_m[keep],
+                               fix_t_s=p.fix_t_s[keep], fix_xy_m=p.fix_xy_m[keep], fix_var_m2=p.fix_var_at(keep),
                                fix_avail_t_s=None if p.fix_avail_t_s is None else p.fix_avail_t_s[keep])
 
 

@@ -41,7 +41,8 @@ from ilocalg.track.fixes import select_wifi_nested, wifi_fixes
 from ilocalg.track.floor import cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 
-__all__ = ["DATASET", "load_floor", "run", "example", "findings", "leave_one_walk_out",
+__all__ = ["DATASET", "load_floor", "run", "example", "findings", "leave_one_walk_out", "fix_ablation",
+           "ablation_findings",
            # from ilocalg.track.lowo (the CLI's sweep command calls an experiment's own sweep_summary)
            "sweep_summary", "lowo_findings", "wifi_ablation", "floor_image"]
 
@@ -225,6 +226,61 @@ def leave_one_walk_out(datasets=SITE1, n_shards: int | None = None, names_every:
     return sweep_summary(res.results)
 
 
+#: The fix-model ablation of issue 26 (label -> RealWalkConfig fields), each row adding one piece to the last.
+FIX_ABLATION = {
+    "one fix variance, independent fixes": {"fix_var": "isotropic", "fix_corr": False, "map_start": False},
+    "+ per-fix variance": {"fix_var": "per_fix", "fix_corr": False, "map_start": False},
+    "+ correlated fix errors": {"fix_var": "per_fix", "fix_corr": True, "map_start": False},
+    "+ map at start-up": {"fix_var": "per_fix", "fix_corr": True, "map_start": True},
+}
+#: The estimators the fix model changes (the ablation's columns).
+ABLATION_METHODS = ("wifi", "lsq", "lsq_map", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map",
+                    "kf_gain_lag5s")
+
+
+def fix_ablation(configs=None, methods=ABLATION_METHODS, cfg: RealWalkConfig | None = None, **run_kwargs) -> dict:
+    """What each piece of the Wi-Fi fix model buys: :func:`run` once per configuration of ``configs`` (default
+    :data:`FIX_ABLATION`, fields replaced in ``cfg``), on the same walks (``run_kwargs``: ``names``,
+    ``names_every``, ``dataset``, ``fast`` ...).
+
+    Returns ``table`` (one row per configuration and method: ``config, method, online, mean_m, p75_m,
+    ratio_to_wifi, start_mean_m`` (the error at each walk's first waypoint, the start-up), ``n_waypoints``) and
+    ``waypoints`` (every configuration's per-waypoint errors, ``config`` column added).
+    """
+    configs = FIX_ABLATION if configs is None else configs
+    fast = run_kwargs.get("fast", False)
+    base = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
+    rows, wps = [], []
+    for label, kw in configs.items():
+        t = run(cfg=dataclasses.replace(base, **kw), methods=methods, **run_kwargs)
+        wp = t["waypoints"]
+        w = float(wp["wifi"].mean())
+        first = wp["waypoint"] == 0
+        for m in methods:
+            rows.append({"config": label, "method": m, "online": m in CAUSAL_METHODS, "mean_m": float(wp[m].mean()),
+                         "p75_m": float(wp[m].quantile(0.75)), "ratio_to_wifi": float(wp[m].mean()) / w,
+                         "start_mean_m": float(wp.loc[first, m].mean()), "n_waypoints": int(len(wp))})
+        wps.append(wp.assign(config=label))
+    return {"table": pd.DataFrame(rows), "waypoints": pd.concat(wps, ignore_index=True)}
+
+
+def ablation_findings(table: pd.DataFrame) -> str:
+    """Sentences computed from :func:`fix_ablation`'s table: per configuration, the best online and offline
+    estimator and its ratio to Wi-Fi only, and the start-up error of the best online one."""
+    out = []
+    for label, g in table.groupby("config", sort=False):
+        g = g[g["method"] != "wifi"].set_index("method")
+        parts = []
+        for name, online, goal in (("online", True, 0.7), ("offline", False, 0.5)):
+            p = g[g["online"] == online]
+            if len(p):
+                b = p["ratio_to_wifi"].idxmin()
+                parts.append(f"best {name} {b} {p.loc[b, 'ratio_to_wifi']:.3f} x Wi-Fi only (goal <= {goal}; "
+                             f"start-up {p.loc[b, 'start_mean_m']:.2f} m)")
+        out.append(f"{label}: " + "; ".join(parts) + ".")
+    return "\n".join(out)
+
+
 def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.DataFrame:
     return readings_table([
         reading("Wi-Fi re-listed readings", "", "silent (ILC 2.0 files: about half the TYPE_WIFI lines re-list the "
@@ -259,6 +315,20 @@ def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.D
                 "fix variance: leave-one-walk-out fix errors of the other walks (as the least squares); Huber "
                 "weight min(1, 1.345 / r) of the normalised innovation r, applied as R / w",
                 "measured on the database walks; Huber (1981), Karlgaard & Schaub (2007)"),
+        reading("Wi-Fi fix variance per fix", "", "silent",
+                "log-linear in what the fix knows about itself (log neighbour spread, log APs heard, reading age), "
+                "OLS on the database walks' leave-one-walk-out log squared errors, Duan's smearing for the "
+                "retransformation (RealWalkConfig.fix_var='per_fix')",
+                "measured on the database walks; Harvey (1976), Duan (1983); features named in issue 26"),
+        reading("correlated Wi-Fi fix errors", "", "silent",
+                "a share c0 of the fix error persists from fix to fix, corr(lag) = c0 rho^lag, fitted to the database "
+                "walks' leave-one-walk-out errors at lags 1-8; a Gauss-Markov bias state (kf_gain) / unknowns "
+                "(least squares) (RealWalkConfig.fix_corr)",
+                "measured on the database walks; Bryson & Henrikson (1968)"),
+        reading("map at start-up", "", "silent",
+                "the online map variants start from the first fix's walkable posterior: its Gaussian on the walkable "
+                "cells within 3 sd, uniform prior (RealWalkConfig.map_start)",
+                "Thrun, Burgard, Fox 2005, sec. 8.3.3 (map as a pose prior); 3 sd: no parameter tuned"),
         reading("kf_gain_lag5s: fixed-lag smoother", "Liao et al. 2016, L169, L481",
                 "online smoothing over fixed time windows; windows best larger than 5 s, not beyond 20 s",
                 "RTS recursion over the states up to 5 s after each state (a display 5 s behind the walker); "

@@ -66,6 +66,13 @@ Online Kalman filter with the walk's own gain (:mod:`ilocalg.track.online_kf`)
     late fix applied at the time it describes, Huber-weighted; every noise measured on the other walks
     (:func:`ilocalg.track.motion.gain_stats`). ``kf_gain_map``: each state then moved onto the map.
     ``kf_gain_lag5s``: the same smoothed over a fixed 5 s lag (not causal; its own variant).
+The Wi-Fi fix model (:mod:`ilocalg.track.fixes`, :class:`RealWalkConfig` ``fix_var``, ``fix_corr``, ``map_start``)
+    Each fix's own variance (``fix_var="per_fix"``, :class:`~ilocalg.track.fixes.FixVarModel`): log-linear in what
+    the fix knows about itself (its neighbours' spread, the access points heard, its readings' age), fitted on the
+    database walks' leave-one-walk-out errors. Fix errors that persist from fix to fix (``fix_corr``,
+    :func:`~ilocalg.track.fixes.fix_error_correlation`): a Gauss-Markov bias carried by the ``kf_gain*`` filters as
+    two states and by the least squares as unknowns. The map at start-up (``map_start``): the online map variants
+    start from the first fix's walkable posterior (:func:`~ilocalg.track.estimators.walkable_posterior`).
 Floor model
     :func:`build_floor_model` / :func:`cached_floor_model` build a floor's database and calibration
     rows once and save them; :meth:`FloorModel.for_walk` leaves the scored walk out.

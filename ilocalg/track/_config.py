@@ -16,6 +16,10 @@ GAIN_METHODS = ("kf_gain", "kf_gain_map", "kf_gain_lag5s")
 MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map", "kf_gain_map")
 
 
+#: The fix-variance models of :attr:`RealWalkConfig.fix_var`.
+FIX_VARS = ("isotropic", "per_fix")
+
+
 @dataclass(frozen=True)
 class RealWalkConfig:
     """Parameters of the track pipeline (defaults: chosen a priori, documented here).
@@ -45,6 +49,24 @@ class RealWalkConfig:
         ``baro_change_m`` (half a typical 3-4 m storey; smoothed over ``baro_smooth_s``).
     floor_votes : Wi-Fi floor votes in the majority without a barometer (latest ones for causal
         methods, centred for whole-walk ones).
+    fix_var : the Wi-Fi fix variance every method weights a fix by: ``"isotropic"``, one variance for all
+        fixes (leave-one-walk-out on the database, :func:`ilocalg.track.calibrate_fix_var`), or ``"per_fix"``,
+        each fix's own, predicted from what the fix knows about itself (its neighbours' spread, the access
+        points heard, its readings' age) by a model fitted leave-one-walk-out on the database walks
+        (:func:`ilocalg.track.fixes.fit_fix_var_model`). Default ``"per_fix"``: on the development walks of site1
+        F1 (the even ones, leave-one-walk-out) it lowered every least-squares and ``kf_gain`` error a little
+        (``lsq_map`` 0.615 -> 0.603 x Wi-Fi only, ``lsq_online_map`` 0.776 -> 0.772; notebook 09's ablation).
+        With ``fix_corr`` and ``map_start`` too, on the held-out walks (scored once): F2 better (``lsq_map``
+        0.659 -> 0.618, ``lsq_online_map`` 0.775 -> 0.737), F1 odd slightly worse (0.625 -> 0.635, 0.764 -> 0.774).
+    map_start : the online map variants (``lsq_online_map``, ``kf_gain_map``) start from the first fix's
+        walkable posterior (the fix's Gaussian times a uniform prior over the walkable cells,
+        :func:`ilocalg.track.estimators.map_first_fix`) instead of the fix itself (on by default; on the
+        development walks the start-up error of the online map variants fell from 5.42 to 5.30 m).
+    fix_corr : the ``kf_gain*`` filters carry the part of the Wi-Fi fix error that persists from fix to fix
+        (a first-order Gauss-Markov state; share and correlation measured on the database walks'
+        leave-one-walk-out fixes, :func:`ilocalg.track.fixes.fix_error_correlation`) instead of taking every
+        fix's error as independent; the least-squares estimators as unknowns. On by default: on site1 F1 about
+        56 % of the fix error variance persists, with a fix-to-fix correlation of 0.87.
     align_fix_time : the least-squares estimators tie each Wi-Fi fix to the time its readings were taken
         (:attr:`ilocalg.track.WifiFixes.t_read_s`) rather than the scan's time stamp. Off: with the
         database positioned likewise (the floor model and evaluate_track pass it as ``align_time``) it changed nothing
@@ -76,6 +98,13 @@ class RealWalkConfig:
     baro_smooth_s: float = 2.0
     floor_votes: int = 5
     align_fix_time: bool = False
+    fix_var: str = "per_fix"
+    map_start: bool = True
+    fix_corr: bool = True
+
+    def __post_init__(self):
+        if self.fix_var not in FIX_VARS:
+            raise ValueError(f"RealWalkConfig.fix_var must be one of {FIX_VARS}, got {self.fix_var!r}")
 
 
 

@@ -37,6 +37,7 @@ Rauch, Tung, Striebel, AIAA J. 3(8) (1965), batch least squares and smoothing.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -62,13 +63,20 @@ class TrackProblem:
     disp_m : (n, 2) PDR displacement of each step (floor heading offset applied).
     step_var_m2 : per-axis variance of one step's displacement error.
     fix_t_s, fix_xy_m : (m,), (m, 2) Wi-Fi fixes.
-    fix_var_m2 : per-axis variance of a fix's error.
+    fix_var_m2 : per-axis variance of a fix's error: one for all fixes, or (m,) one per fix (its own
+        measured quality, :class:`ilocalg.track.fixes.FixVarModel`).
     grid : walkable raster (:class:`ilocalg.fusion.particle_filter.OccupancyGrid`) or None.
     fix_avail_t_s : (m,) when each fix becomes known (the scan time; default ``fix_t_s``), in increasing
         order; ``fix_t_s`` is the time it describes (its readings' time), at or before it. The causal
         estimators use a fix from its availability on, for the state of its readings' time.
     gain : :class:`ilocalg.track.motion.GainStats` or None: the spread of a walk's own step scale and
         heading offset, measured on the other walks; needed by the ``kf_gain*`` estimators.
+    map_start : the online map variants (``lsq_online_map``, ``kf_gain_map``) start from the first fix's
+        walkable posterior (:func:`map_first_fix`) rather than the fix itself.
+    fix_corr : ``(c0, rho, var_b_m2)``: the share of a fix's error correlated from fix to fix, its correlation
+        and its per-axis variance
+        (:func:`ilocalg.track.fixes.fix_error_correlation`, measured on the database walks); the ``kf_gain*``
+        estimators carry it as a state, the least-squares ones as unknowns. None: fix errors independent.
     """
 
     state_t_s: np.ndarray
@@ -76,10 +84,17 @@ class TrackProblem:
     step_var_m2: float
     fix_t_s: np.ndarray
     fix_xy_m: np.ndarray
-    fix_var_m2: float
+    fix_var_m2: float | np.ndarray
     grid: object | None = None
     fix_avail_t_s: np.ndarray | None = None
     gain: object | None = None
+    map_start: bool = False
+    fix_corr: tuple | None = None
+
+    def fix_var_at(self, sel=slice(None)) -> np.ndarray:
+        """Per-axis variance of the fixes ``sel`` (an index, slice or mask of the fixes), one per fix."""
+        fv = np.asarray(self.fix_var_m2, dtype=np.float64)
+        return np.broadcast_to(fv, np.asarray(self.fix_t_s).shape)[sel]
 
     def __post_init__(self):
         n = np.asarray(self.state_t_s).size
@@ -87,7 +102,10 @@ class TrackProblem:
             raise ValueError(f"disp_m must have shape ({n - 1}, 2) for {n} states, got {np.shape(self.disp_m)}")
         if np.asarray(self.fix_xy_m).shape != (np.asarray(self.fix_t_s).size, 2):
             raise ValueError("fix_xy_m must have shape (len(fix_t_s), 2)")
-        if not (self.step_var_m2 > 0 and self.fix_var_m2 > 0):
+        fv = np.asarray(self.fix_var_m2, dtype=np.float64)
+        if fv.ndim > 1 or (fv.ndim == 1 and fv.size != np.asarray(self.fix_t_s).size):
+            raise ValueError(f"fix_var_m2 must be a scalar or have shape (len(fix_t_s),), got {fv.shape}")
+        if not (self.step_var_m2 > 0 and np.all(fv > 0)):
             raise ValueError(f"step_var_m2 and fix_var_m2 must be > 0, got {self.step_var_m2}, {self.fix_var_m2}")
         if np.asarray(self.fix_t_s).size < 1:
             raise ValueError("a track needs at least one Wi-Fi fix")
@@ -107,12 +125,20 @@ def _interp_rows(state_t_s, t_s):
 
 
 def lsq_solve(n_states: int, disp_m, step_var_m2: float, fix_j, fix_a, fix_xy_m, fix_var_m2,
-              anchor_idx=(), anchor_xy_m=None, anchor_var_m2: float = 1.0, n_iter: int = 5) -> np.ndarray:
+              anchor_idx=(), anchor_xy_m=None, anchor_var_m2: float = 1.0, n_iter: int = 5,
+              fix_corr=None) -> np.ndarray:
     """Solve the walk's sparse least-squares system (see the module docstring); returns (n_states, 2).
 
     ``fix_var_m2`` may be a scalar or one value per fix; ``anchor_*``: extra absolute constraints on
     states (the map step). Huber re-weighting of the fixes over ``n_iter`` rounds (1: plain weighted LS).
+    ``fix_corr`` ``(c0, rho, var_b_m2)``: the fixes' correlated error as unknowns ``b_i`` (fix rows
+    ``... + b_i = z_i`` with the white variance ``(1 - c0) fix_var``; ``b_0 = 0`` with ``var_b_m2``,
+    ``b_i - rho b_{i-1} = 0`` with ``var_b_m2 (1 - rho^2)``; Bryson & Henrikson 1968), as the ``kf_gain``
+    filter carries them.
     """
+    if fix_corr is not None and len(fix_j):
+        return _lsq_solve_corr(n_states, disp_m, step_var_m2, fix_j, fix_a, fix_xy_m, fix_var_m2, anchor_idx,
+                               anchor_xy_m, anchor_var_m2, n_iter, fix_corr)
     n = n_states
     m = len(fix_j)
     d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
@@ -151,6 +177,48 @@ def lsq_solve(n_states: int, disp_m, step_var_m2: float, fix_j, fix_a, fix_xy_m,
     return x
 
 
+def _lsq_solve_corr(n_states, disp_m, step_var_m2, fix_j, fix_a, fix_xy_m, fix_var_m2, anchor_idx, anchor_xy_m,
+                    anchor_var_m2, n_iter, fix_corr):
+    """:func:`lsq_solve` with the correlated fix errors as unknowns (appended after the states)."""
+    c0, rho, var_b = (float(v) for v in fix_corr)
+    n, m = n_states, len(fix_j)
+    d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
+    k = d.shape[0]
+    anchor_idx = np.asarray(anchor_idx, dtype=np.int64)
+    na = anchor_idx.size
+    fj = np.asarray(fix_j)
+    fa = np.asarray(fix_a, dtype=np.float64)
+    rows = [np.repeat(np.arange(k), 2), k + np.repeat(np.arange(m), 3), k + m + np.arange(na),
+            k + m + na + np.array([0]), k + m + na + np.repeat(np.arange(1, m), 2)]
+    cols = [np.column_stack([np.arange(k), np.arange(k) + 1]).ravel(),
+            np.column_stack([fj, np.minimum(fj + 1, n - 1), n + np.arange(m)]).ravel(), anchor_idx,
+            np.array([n]), np.column_stack([n + np.arange(m - 1), n + np.arange(1, m)]).ravel()]
+    vals = [np.tile([-1.0, 1.0], k), np.column_stack([1.0 - fa, fa, np.ones(m)]).ravel(), np.ones(na), np.ones(1),
+            np.tile([-rho, 1.0], m - 1)]
+    nr = k + m + na + m
+    A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nr, n + m))
+    b = np.concatenate([d, np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2),
+                        np.zeros((0, 2)) if na == 0 else np.asarray(anchor_xy_m, dtype=np.float64).reshape(-1, 2),
+                        np.zeros((m, 2))])
+    white = (1.0 - c0) * np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), (m,))
+    var_b = max(var_b, 1e-9)
+    w_chain = np.concatenate([[1.0 / var_b], np.full(m - 1, 1.0 / (var_b * max(1.0 - rho ** 2, 1e-9)))])
+    hub = np.ones(m)
+    x = None
+    for _ in range(max(n_iter, 1)):
+        w = np.concatenate([np.full(k, 1.0 / step_var_m2), hub / white, np.full(na, 1.0 / anchor_var_m2), w_chain])
+        AtW = A.T.multiply(w).tocsr()
+        N = (AtW @ A).tocsc() + sp.identity(n + m, format="csc") * 1e-9
+        x = np.column_stack([spsolve(N, AtW @ b[:, 0]), spsolve(N, AtW @ b[:, 1])])
+        # Huber on each fix's whole error (the state's and the bias's residual), in its whole sd
+        res = np.hypot(*((A[k:k + m, :n] @ x[:n]) - b[k:k + m]).T) / np.sqrt(white + var_b)
+        new = np.minimum(1.0, HUBER_C / np.maximum(res, 1e-12))
+        if np.allclose(new, hub, atol=1e-3):
+            break
+        hub = new
+    return x[:n]
+
+
 def _rotation(problem: TrackProblem, upto: int | None = None) -> float:
     """Angle (rad) rotating the PDR track onto the fixes (Huber-robust, translation free); 0 with < 3 fixes."""
     ft, fxy = problem.fix_t_s[:upto], problem.fix_xy_m[:upto]
@@ -159,7 +227,8 @@ def _rotation(problem: TrackProblem, upto: int | None = None) -> float:
     rel = np.vstack([[0.0, 0.0], np.cumsum(problem.disp_m, axis=0)])
     j, a = _interp_rows(problem.state_t_s, ft)
     at = rel[j] * (1 - a)[:, None] + rel[np.minimum(j + 1, rel.shape[0] - 1)] * a[:, None]
-    return float(fit_track_to_fixes(at, fxy, huber_m=2.0 * np.sqrt(problem.fix_var_m2)).angle_rad)
+    return float(fit_track_to_fixes(at, fxy, huber_m=2.0 * np.sqrt(np.median(problem.fix_var_at(slice(upto)))))
+                 .angle_rad)
 
 
 def lsq_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> np.ndarray:
@@ -167,7 +236,7 @@ def lsq_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> n
     disp = rotate_xy(problem.disp_m, _rotation(problem)) if rotate else problem.disp_m
     j, a = _interp_rows(problem.state_t_s, problem.fix_t_s)
     return lsq_solve(problem.state_t_s.size, disp, problem.step_var_m2, j, a, problem.fix_xy_m, problem.fix_var_m2,
-                     n_iter=n_iter)
+                     n_iter=n_iter, fix_corr=problem.fix_corr)
 
 
 def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> np.ndarray:
@@ -193,10 +262,11 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
             disp = rotate_xy(problem.disp_m, _rotation(problem, q)) if rotate else problem.disp_m
             j, a = _interp_rows(ts[:i + 1], ft[:q])
             if i == 0:
-                x = problem.fix_xy_m[:q].mean(axis=0, keepdims=True)
+                wq = 1.0 / problem.fix_var_at(slice(q))          # the fixes' weighted mean (plain mean: one var)
+                x = (wq[:, None] * problem.fix_xy_m[:q]).sum(axis=0, keepdims=True) / wq.sum()
             else:
                 x = lsq_solve(i + 1, disp[:i], problem.step_var_m2, j, a, problem.fix_xy_m[:q],
-                              problem.fix_var_m2, n_iter=n_iter)
+                              problem.fix_var_at(slice(q)), n_iter=n_iter, fix_corr=problem.fix_corr)
             last_i, last_xy, last_disp = i, x[-1], disp
             out[i] = last_xy
         else:                                             # dead-reckon from the last solved state
@@ -254,6 +324,41 @@ def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
     return hit[1](xy_m)
 
 
+def walkable_posterior(mean_m, cov_m2, grid, n_sd: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
+    """Mean (2,) and covariance (2, 2) of a position known as ``N(mean_m, cov_m2)`` and known to lie on the
+    walkable raster (a uniform prior over its walkable cells): the Gaussian's weights on the walkable cell
+    centres within ``n_sd`` standard deviations, normalised (Bayes' rule on the cells; the covariance gets
+    a cell's own ``cell_m^2 / 12`` per axis). Without a walkable cell there: the nearest walkable cell
+    (:func:`snap_to_map`) with ``cov_m2``.
+
+    References
+    ----------
+    Thrun S., Burgard W., Fox D., Probabilistic Robotics, MIT Press (2005), sec. 8.3.3 (a map as a prior on
+    the pose: poses off free space have zero probability).
+    """
+    m = np.asarray(mean_m, dtype=np.float64).reshape(2)
+    C = np.asarray(cov_m2, dtype=np.float64).reshape(2, 2)
+    mask, c = grid.walkable_mask, grid.cell_m
+    half = n_sd * np.sqrt(np.diag(C))
+    i0 = max(int(np.floor((m[0] - half[0] - grid.x0_m) / c)), 0)
+    i1 = min(int(np.ceil((m[0] + half[0] - grid.x0_m) / c)) + 1, mask.shape[1])
+    j0 = max(int(np.floor((m[1] - half[1] - grid.y0_m) / c)), 0)
+    j1 = min(int(np.ceil((m[1] + half[1] - grid.y0_m) / c)) + 1, mask.shape[0])
+    if i1 > i0 and j1 > j0:
+        jj, ii = np.nonzero(mask[j0:j1, i0:i1])
+        xy = np.column_stack([grid.x0_m + (ii + i0 + 0.5) * c, grid.y0_m + (jj + j0 + 0.5) * c])
+        r = xy - m
+        d2 = np.einsum("ni,ij,nj->n", r, np.linalg.inv(C), r)
+        inside = d2 <= n_sd ** 2
+        if inside.any():
+            w = np.exp(-0.5 * d2[inside])
+            w /= w.sum()
+            mu = w @ xy[inside]
+            dv = xy[inside] - mu
+            return mu, (w[:, None] * dv).T @ dv + np.eye(2) * c ** 2 / 12.0
+    return snap_to_map(m, grid)[0][0], C
+
+
 def _with_map(problem: TrackProblem, xy: np.ndarray, solve_anchored: Callable, rounds: int = 3) -> np.ndarray:
     if problem.grid is None:
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
@@ -277,16 +382,33 @@ def lsq_map_track(problem: TrackProblem) -> np.ndarray:
     def solve(idx, anc):
         return lsq_solve(problem.state_t_s.size, disp, problem.step_var_m2, j, a, problem.fix_xy_m,
                          problem.fix_var_m2, anchor_idx=idx, anchor_xy_m=anc,
-                         anchor_var_m2=problem.grid.cell_m ** 2)
+                         anchor_var_m2=problem.grid.cell_m ** 2, fix_corr=problem.fix_corr)
 
     return _with_map(problem, solve(np.zeros(0, dtype=np.int64), None), solve)
 
 
-def lsq_causal_map_track(problem: TrackProblem) -> np.ndarray:
-    """:func:`lsq_causal_track`, each state then moved onto the walkable raster (causal: a state's snap uses
-    only that state)."""
+def map_first_fix(problem: TrackProblem) -> TrackProblem:
+    """The problem with its first fix replaced by that fix's walkable posterior (:func:`walkable_posterior`:
+    the fix and its variance, the walkable raster as the prior), its variance the posterior's mean per-axis
+    variance: the map at start-up, when the track rests on that one fix (causal: it uses that fix only)."""
     if problem.grid is None:
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    fv = np.array(problem.fix_var_at(), dtype=np.float64)
+    mu, S = walkable_posterior(problem.fix_xy_m[0], np.eye(2) * fv[0], problem.grid)
+    xy = np.array(problem.fix_xy_m, dtype=np.float64)
+    xy[0] = mu
+    fv[0] = max(float(np.trace(S)) / 2.0, problem.grid.cell_m ** 2 / 12.0)
+    return dataclasses.replace(problem, fix_xy_m=xy, fix_var_m2=fv)
+
+
+def lsq_causal_map_track(problem: TrackProblem, map_start: bool | None = None) -> np.ndarray:
+    """:func:`lsq_causal_track`, each state then moved onto the walkable raster (causal: a state's snap uses
+    only that state); with ``map_start`` (default ``problem.map_start``) the first fix first replaced by its
+    walkable posterior (:func:`map_first_fix`)."""
+    if problem.grid is None:
+        raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    if problem.map_start if map_start is None else map_start:
+        problem = map_first_fix(problem)
     return snap_to_map(lsq_causal_track(problem), problem.grid)[0]
 
 
@@ -298,7 +420,8 @@ def _gain_kf_result(problem: TrackProblem):
         raise ValueError("the kf_gain estimators need the measured gain spread (TrackProblem.gain, "
                          "ilocalg.track.motion.gain_stats on the other walks)")
     return gain_kf(problem.state_t_s, problem.disp_m, problem.fix_t_s, problem.fix_xy_m, problem.fix_var_m2,
-                   g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s)
+                   g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s,
+                   fix_corr=problem.fix_corr)
 
 
 def kf_gain_track(problem: TrackProblem) -> np.ndarray:
@@ -306,10 +429,14 @@ def kf_gain_track(problem: TrackProblem) -> np.ndarray:
     return _gain_kf_result(problem).xy_m
 
 
-def kf_gain_map_track(problem: TrackProblem) -> np.ndarray:
-    """:func:`kf_gain_track`, each state then moved onto the walkable raster (causal)."""
+def kf_gain_map_track(problem: TrackProblem, map_start: bool | None = None) -> np.ndarray:
+    """:func:`kf_gain_track`, each state then moved onto the walkable raster (causal); with ``map_start``
+    (default ``problem.map_start``) the filter started from the first fix's walkable posterior
+    (:func:`map_first_fix`)."""
     if problem.grid is None:
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    if problem.map_start if map_start is None else map_start:
+        problem = map_first_fix(problem)
     return snap_to_map(kf_gain_track(problem), problem.grid)[0]
 
 

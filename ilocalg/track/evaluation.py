@@ -20,7 +20,16 @@ from ilocalg.pdr.step_length import weinberg_length_m
 from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, GAIN_METHODS, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, TrackProblem
-from ilocalg.track.fixes import calibrate_fix_var, estimate_floors, select_wifi, wifi_fixes
+from ilocalg.track.fixes import (
+    FixVarModel,
+    calibrate_fix_var,
+    estimate_floors,
+    fix_error_correlation,
+    log_variance_fit,
+    loo_fix_features,
+    select_wifi,
+    wifi_fixes,
+)
 from ilocalg.track.motion import (
     Calibration,
     GainStats,
@@ -43,7 +52,7 @@ def _latest_fix(fix_t, fix_xy, t_s):
 def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2: float,
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
-                  gain: GainStats | None = None) -> dict:
+                  gain: GainStats | None = None, fix_var_model: FixVarModel | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -53,7 +62,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     the per-step PDR displacement variance of the least-squares estimators
     (:func:`ilocalg.track.motion.calibrate_step_var` on the other walks; default ``cfg.sigma_sl_m**2``).
     ``gain``: the spread of a walk's own step scale and heading offset (:func:`ilocalg.track.motion.gain_stats`
-    on the other walks), needed by the ``kf_gain*`` methods.
+    on the other walks), needed by the ``kf_gain*`` methods. ``fix_var_model``: each fix's own variance
+    (:class:`~ilocalg.track.fixes.FixVarModel`); when None and ``cfg.fix_var == "per_fix"`` it is fitted on
+    ``db`` (:func:`~ilocalg.track.fixes.fit_fix_var_model`), every method then weighting each fix by it;
+    ``fix_var_m2`` is the one variance of ``cfg.fix_var == "isotropic"``.
 
     Returns
     -------
@@ -82,7 +94,20 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     if len(rec.truth) < 1:
         raise ValueError(f"{rec.source or rec.name}: no ground-truth point to score")
     cal = calibration
-    fx = wifi_fixes(rec, db, cfg, fix_var_m2=fix_var_m2)
+    fv_note, fix_corr = "isotropic", None
+    if (fix_var_model is None and cfg.fix_var == "per_fix") or cfg.fix_corr:
+        try:
+            err, feats = loo_fix_features(db, cfg)        # the database walks' own leave-one-walk-out fixes
+            if fix_var_model is None and cfg.fix_var == "per_fix":
+                fix_var_model = log_variance_fit((err ** 2).sum(axis=1), feats)
+            if cfg.fix_corr:
+                fix_corr = fix_error_correlation(err, db.walk)
+        except ValueError as e:       # too few database scans (or a non-Euclidean WKNN): one variance for all
+            fv_note = f"isotropic ({e})"
+    if fix_var_model is not None:
+        fv_note = "per_fix"
+    fx = wifi_fixes(rec, db, cfg, fix_var_m2=fix_var_m2, fix_var_model=fix_var_model)
+    fvar = fix_var_m2 if fx.var_m2 is None else fx.var_m2
     ws = steps or walk_steps(rec, cfg)
     if ws.a_range_mps2.size < 1:
         raise ValueError(f"{rec.name}: no step detected")
@@ -114,7 +139,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     ra = filter_walk(t0, P0, th, d, cfg.sigma_sl_m, z, R_m2=R, sigma_theta_rad=cfg.sigma_heading_rad)
     tracks["aligned_kf_rts"] = rts_smooth(ra).x
     info = {"n_steps": int(d.size), "n_fixes": int(fx.t_s.size), "k_weinberg": cal.k_weinberg,
-            "floor_offset_deg": float(np.degrees(cal.offset_rad)), "fix_sd_m": float(np.sqrt(fix_var_m2))}
+            "floor_offset_deg": float(np.degrees(cal.offset_rad)), "fix_sd_m": float(np.sqrt(np.mean(fvar))),
+            "fix_var": fv_note, "fix_corr_c0": np.nan if fix_corr is None else fix_corr[0],
+            "fix_corr_rho": np.nan if fix_corr is None else fix_corr[1],
+            "fix_corr_sd_m": np.nan if fix_corr is None else float(np.sqrt(fix_corr[2]))}
     if fx.t_s.size >= 3:
         fit = fit_track_to_fixes(at_fix, fx.xy_m, huber_m=cfg.huber_m)
         tracks["aligned_rot"] = rotate_xy(rel, fit.angle_rad) + fit.t_m
@@ -134,7 +162,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
             raise ValueError("map_align needs the floor map (grid)")
         g1 = grid.coarsen(1.0)
         used = al.used
-        ma = map_align(rel, al.state_index[used], fx.xy_m[used], fix_var_m2, g1,
+        ma = map_align(rel, al.state_index[used], fx.xy_m[used], np.broadcast_to(fvar, fx.t_s.shape)[used], g1,
                        sigma_angle_rad=cfg.pf_sigma_offset0_rad, outlier_prob=cfg.pf_outlier_prob,
                        blocked_weight=cfg.pf_blocked_weight)
         tracks["map_align"] = ma.track_m
@@ -151,7 +179,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
-                            fix_var_m2, grid, fix_avail_t_s=fx.t_s, gain=gain)
+                            fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start,
+                            fix_corr=fix_corr)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))

@@ -30,7 +30,8 @@ class WifiFixes:
     ``n_outside_walk`` (outside the walk's IMU time span), ``n_no_shared_ap`` (hearing no access
     point of the database). ``t_read_s`` (m,): when the scan's readings were taken (its time minus
     :func:`ilocalg.track.database.effective_age_s`; the scan time when ages are unknown): the time a
-    fix describes, while ``t_s`` is when it becomes known."""
+    fix describes, while ``t_s`` is when it becomes known. ``var_m2`` (m,): each fix's own per-axis
+    variance (:class:`FixVarModel`), None when the fixes share one variance."""
 
     t_s: np.ndarray
     xy_m: np.ndarray
@@ -42,6 +43,7 @@ class WifiFixes:
     n_no_shared_ap: int = 0
     floor_confidence: np.ndarray | None = None
     t_read_s: np.ndarray | None = None
+    var_m2: np.ndarray | None = None
 
 
 
@@ -153,12 +155,127 @@ def loo_fix_errors(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, witho
     return e
 
 
+#: The fix-quality features of :class:`FixVarModel`, in the order of its coefficients (after the intercept).
+FIX_FEATURES = ("log_spread_m2", "log_n_aps", "age_s")
+
+
+def fix_features(spread_R_m2, n_aps, age_s) -> np.ndarray:
+    """The quantities a fix knows about itself, as :class:`FixVarModel`'s regressors (m, 3): the log of the
+    trace of its neighbours' weighted spread covariance (m^2, :func:`ilocalg.fusion.fix_covariance_from_spread`
+    with 1 m^2 added), the log of the number of access points its scan heard (of the database's, fresh
+    readings only) and the mean age of those readings (s, :func:`ilocalg.track.database.effective_age_s`)."""
+    tr = np.trace(np.asarray(spread_R_m2, dtype=np.float64), axis1=-2, axis2=-1)
+    return np.column_stack([np.log(np.maximum(tr, 1e-6)), np.log(np.maximum(np.asarray(n_aps, dtype=np.float64), 1.0)),
+                            np.asarray(age_s, dtype=np.float64)])
+
+
+@dataclass(frozen=True)
+class FixVarModel:
+    """A per-fix (heteroscedastic) Wi-Fi fix variance: ``E[|e|^2] = exp([1, f] beta) * smear`` for the
+    features ``f`` of :func:`fix_features`, fitted by :func:`fit_fix_var_model`. :meth:`predict` gives the
+    per-axis variance ``E[|e|^2] / 2`` (m^2) of each fix. ``n``: fixes it was fitted on."""
+
+    beta: np.ndarray
+    smear: float
+    n: int
+
+    def predict(self, features) -> np.ndarray:
+        f = np.atleast_2d(np.asarray(features, dtype=np.float64))
+        return np.exp(self.beta[0] + f @ self.beta[1:]) * self.smear / 2.0
+
+
+def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[np.ndarray, np.ndarray]:
+    """Leave-one-walk-out fix error vectors (n, 2; m, fix minus truth) and :func:`fix_features` (n, 3) of every
+    database row, each row located against the rows of the other walks (Euclidean WKNN, :func:`dense_wknn`);
+    NaN errors for rows that cannot be located."""
+    if not (cfg.p == 2 and cfg.metric == "minkowski"):
+        raise ValueError("loo_fix_features: the per-fix variance is measured with the Euclidean WKNN (p=2)")
+    D = db_matrix(db, cfg)
+    xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :])
+    age = np.zeros(D.shape[0]) if db.age_s is None else effective_age_s(np.where(np.isnan(D), np.nan, db.age_s))
+    return xy - db.xy_m, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
+
+
+def fix_error_correlation(err_m, walk, max_lag: int = 8) -> tuple[float, float, float]:
+    """How a walk's Wi-Fi fix errors persist from scan to scan: ``(c0, rho, var_b_m2)`` of the model
+    ``corr(lag) = c0 rho^lag`` (a correlated share ``c0`` of the error variance, first-order Gauss-Markov
+    from scan to scan with ``rho``, the rest white; ``var_b_m2 = c0 mean(|e|^2) / 2`` the correlated part's
+    per-axis variance), fitted to the pooled correlation of the error vectors ``err_m`` (n, 2)
+    of consecutive rows of the same ``walk`` (rows in time order) at lags 1..``max_lag`` (least squares in
+    logs, weighted by the pairs per lag; lags with a correlation <= 0 left out). Both clipped to [0, 0.95]
+    (0, 0, 0: fewer than two lags with a positive correlation).
+
+    References
+    ----------
+    Bryson A. E., Henrikson L. J., "Estimation using sampled data containing sequentially correlated noise",
+    J. Spacecraft 5(6) (1968): coloured measurement noise as a Gauss-Markov state.
+    """
+    e = np.asarray(err_m, dtype=np.float64).reshape(-1, 2)
+    walk = np.asarray(walk)
+    lags, r, n = [], [], []
+    groups = [e[walk == w] for w in dict.fromkeys(walk)]
+    groups = [g[np.isfinite(g).all(axis=1)] for g in groups]
+    for lag in range(1, max_lag + 1):
+        a = [g[:-lag] for g in groups if len(g) > lag]
+        if not a:
+            break
+        b = np.vstack([g[lag:] for g in groups if len(g) > lag])
+        a = np.vstack(a)
+        den = np.sqrt((a * a).sum() * (b * b).sum())
+        if den > 0 and (a * b).sum() > 0:
+            lags.append(lag), r.append((a * b).sum() / den), n.append(len(a))
+    if len(lags) < 2:                   # c0 and rho cannot be told apart: no correlation modelled
+        return 0.0, 0.0, 0.0
+    W = np.sqrt(np.asarray(n, dtype=np.float64))
+    X = np.column_stack([np.ones(len(lags)), lags])
+    coef = np.linalg.lstsq(X * W[:, None], np.log(r) * W, rcond=None)[0]
+    c0 = float(np.clip(np.exp(coef[0]), 0.0, 0.95))
+    e2 = (np.vstack(groups) ** 2).sum(axis=1)
+    return c0, float(np.clip(np.exp(coef[1]), 0.0, 0.95)), c0 * float(e2.mean()) / 2.0
+
+
+def fit_fix_var_model(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> FixVarModel:
+    """Fit :class:`FixVarModel` on the database walks (never the scored walk: it must not be in ``db``).
+
+    Every row's leave-one-walk-out squared error (:func:`loo_fix_features`) is regressed in logs on its
+    features by ordinary least squares (a log-linear variance model, Harvey 1976); the retransformation
+    bias of the log is removed with Duan's (1983) smearing factor ``mean(exp(residual))``, so the model's
+    mean squared error equals the data's on average without assuming Gaussian residuals.
+
+    References
+    ----------
+    Harvey A. C., "Estimating regression models with multiplicative heteroscedasticity", Econometrica 44(3)
+    (1976); Duan N., "Smearing estimate: a nonparametric retransformation method", JASA 78(383) (1983).
+    """
+    err, F = loo_fix_features(db, cfg)
+    return log_variance_fit((err ** 2).sum(axis=1), F)
+
+
+def log_variance_fit(e2_m2, features) -> FixVarModel:
+    """:class:`FixVarModel` of squared 2-D errors ``e2_m2`` (n,) on ``features`` (n, p): OLS of ``log e2`` on
+    ``[1, features]``, Duan's smearing factor for the retransformation (see :func:`fit_fix_var_model`).
+    Rows with a non-finite error or feature are left out; fewer than ``10 (p + 1)`` left raises."""
+    e2 = np.asarray(e2_m2, dtype=np.float64)
+    F = np.atleast_2d(np.asarray(features, dtype=np.float64))
+    ok = np.isfinite(e2) & np.isfinite(F).all(axis=1)
+    if ok.sum() < 10 * (F.shape[1] + 1):
+        raise ValueError(f"fit_fix_var_model: {int(ok.sum())} located fixes with known errors; need at least "
+                         f"{10 * (F.shape[1] + 1)} to fit the per-fix variance")
+    # a fix exactly on its truth has log error -inf: floor at (1 cm)^2, far below any fix's error
+    y = np.log(np.maximum(e2[ok], 1e-4))
+    X = np.column_stack([np.ones(ok.sum()), F[ok]])
+    beta = np.linalg.lstsq(X, y, rcond=None)[0]
+    smear = float(np.mean(np.exp(y - X @ beta)))
+    return FixVarModel(beta, smear, int(ok.sum()))
+
+
 def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
-               fix_var_m2: float | None = None) -> WifiFixes:
+               fix_var_m2: float | None = None, fix_var_model: FixVarModel | None = None) -> WifiFixes:
     """WKNN fixes of every scan of ``trace`` against ``db``, which must not contain the walk.
 
-    ``R`` of each fix: ``fix_var_m2 I`` (isotropic, e.g. calibrated on other walks by
-    :func:`calibrate_fix_var`) or, when None, the neighbour spread plus ``cfg.fix_min_var_m2``.
+    ``R`` of each fix: with ``fix_var_model`` (:func:`fit_fix_var_model` on other walks) its own
+    predicted variance times I (``var_m2``); else ``fix_var_m2 I`` (isotropic, e.g. calibrated on other
+    walks by :func:`calibrate_fix_var`) or, when None, the neighbour spread plus ``cfg.fix_min_var_m2``.
     Scans outside the walk's IMU time span and scans hearing no access point of the database are left
     out and counted (``n_outside_walk``, ``n_no_shared_ap``). The walk's ground truth (for
     ``true_xy_m``) is moved into the database's frame.
@@ -194,14 +311,21 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
                          f"with the database ({int((~inside).sum())} outside the span, "
                          f"{int((inside & ~heard).sum())} hearing none of its {len(db.ap_ids)} APs)")
     xy, C, fl, conf = locate_wknn(db, X, cfg, return_floor="confidence")
-    R = (fix_var_m2 * np.broadcast_to(np.eye(2), C.shape).copy() if fix_var_m2 is not None
-         else C + (cfg.fix_min_var_m2 - 1.0) * np.eye(2))
+    var = None
+    if fix_var_model is not None:
+        heard_db = ~np.isnan(db_matrix(db, cfg)).all(axis=0)
+        var = fix_var_model.predict(fix_features(C, (~np.isnan(X[:, heard_db])).sum(axis=1), t - t_read))
+        R = var[:, None, None] * np.eye(2)
+    elif fix_var_m2 is not None:
+        R = fix_var_m2 * np.broadcast_to(np.eye(2), C.shape).copy()
+    else:
+        R = C + (cfg.fix_min_var_m2 - 1.0) * np.eye(2)
     if len(rec.truth) >= 2:
         true, tfl = truth_at(rec.truth, t, outside="nan")
     else:
         true, tfl = np.full((t.size, 2), np.nan), np.full(t.size, np.nan)
     return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()), conf,
-                     np.maximum(t_read, t0))
+                     np.maximum(t_read, t0), var)
 
 
 def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:

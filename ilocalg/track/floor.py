@@ -152,6 +152,16 @@ def floor_cache_key(files, **settings) -> str:
     return h.hexdigest()[:16]
 
 
+#: :class:`RealWalkConfig` fields the floor model does not depend on (how a scored walk's fixes are weighted and
+#: started): left out of the cache key, so changing them reuses a floor's saved model.
+NOT_IN_FLOOR_MODEL = ("fix_var", "fix_corr", "map_start")
+
+
+def _model_cfg(cfg: RealWalkConfig) -> dict:
+    """The configuration fields a floor model depends on (its cache key's ``cfg``)."""
+    return {k: v for k, v in dataclasses.asdict(cfg).items() if k not in NOT_IN_FLOOR_MODEL}
+
+
 def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAULT_CONFIG, progress=None,
                        **settings) -> tuple[FloorModel, bool]:
     """The floor model of the walks in ``files`` from ``cache_dir`` or, the first time, built and saved.
@@ -159,7 +169,7 @@ def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAU
     ``load_walks()`` returns the walks (called only when building); ``settings`` (e.g. the loader
     policies) join the files and ``cfg`` in the cache key. Returns ``(model, from_cache)``.
     """
-    key = floor_cache_key(files, cfg=dataclasses.asdict(cfg), **settings)
+    key = floor_cache_key(files, cfg=_model_cfg(cfg), **settings)
     folder = Path(cache_dir) / key
     if folder.is_dir():
         try:

@@ -72,21 +72,26 @@ def _jmat(v):
     return np.array([[v[0], -v[1]], [v[1], v[0]]])
 
 
-def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2: float, gain_var: float,
+def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, step_var_m2: float, gain_var: float,
             gain_walk_var: float, fix_avail_t_s=None, huber_c: float | None = HUBER_C,
-            snap=None) -> GainKFResult:
+            snap=None, fix_corr: tuple[float, float, float] | None = None) -> GainKFResult:
     """Run the gain-augmented Kalman filter over one walk (module docstring).
 
     Parameters
     ----------
     state_t_s : (n+1,) state times; disp_m : (n, 2) PDR steps (map frame, floor calibration applied).
     fix_t_s, fix_xy_m : (m,), (m, 2) the fixes and the times they describe.
-    fix_var_m2, step_var_m2 : per-axis variance of a fix and of one step's residual error.
+    fix_var_m2, step_var_m2 : per-axis variance of a fix (scalar, or (m,) one per fix) and of one step's
+        residual error.
     gain_var, gain_walk_var : prior variance of each component of ``g`` around ``1 + 0i`` and its
         random-walk variance per step.
     fix_avail_t_s : (m,) when each fix becomes known (default ``fix_t_s``); a fix is applied at the
         first state at or after it.
     huber_c : Huber's constant, None for the plain Kalman update.
+    fix_corr : ``(c0, rho, var_b_m2)`` (:func:`ilocalg.track.fixes.fix_error_correlation`): a share ``c0``
+        of the fix error is correlated from fix to fix, a first-order Gauss-Markov bias ``b_i = rho b_{i-1} +
+        w_i`` (stationary per-axis variance ``var_b_m2``) carried as two more states, the rest (``(1 - c0)``
+        times each fix's variance) white (Bryson & Henrikson 1968). None: all white.
 
     The filter starts at state 0 from the first fix moved back along the PDR steps to the log start
     (covariance from the fix's and the gain's), as the other online variants start; that fix is then
@@ -100,7 +105,8 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
     n = ts.size
     if d.shape[0] != n - 1 or ft.size < 1 or fz.shape[0] != ft.size or known.shape != ft.shape:
         raise ValueError("need disp_m of shape (n, 2) for n+1 states and at least one fix with matching shapes")
-    if not (fix_var_m2 > 0 and step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0):
+    fv = np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), ft.shape)
+    if not (np.all(fv > 0) and step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0):
         raise ValueError("fix_var_m2, step_var_m2 must be > 0 and gain_var, gain_walk_var >= 0")
     # cumulative PDR displacement, to interpolate the displacement between a fix's time and its state
     cum = np.vstack([[0.0, 0.0], np.cumsum(d, axis=0)])
@@ -111,36 +117,56 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
     # covariance that follows from the fix's and the gain's (the fix is then not used again)
     D0 = _jmat(cum_at[0] - cum[0])
     Pg = np.eye(2) * gain_var
-    x = np.concatenate([fz[0] - D0 @ [1.0, 0.0], [1.0, 0.0]])
-    P = np.zeros((4, 4))
-    P[:2, :2] = np.eye(2) * fix_var_m2 + D0 @ Pg @ D0.T
-    P[:2, 2:] = -D0 @ Pg
-    P[2:, :2] = P[:2, 2:].T
-    P[2:, 2:] = Pg + np.eye(2) * 1e-12
-    Q = np.diag([step_var_m2, step_var_m2, gain_walk_var, gain_walk_var])
-    R0 = np.eye(2) * fix_var_m2
-    xs, Ps = np.empty((n, 4)), np.empty((n, 4, 4))
-    xp, Pp = np.empty((n, 4)), np.empty((n, 4, 4))
-    Fs = np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
+    c0, rho, var_b = (0.0, 0.0, 0.0) if fix_corr is None else tuple(float(v) for v in fix_corr)
+    if not (0.0 <= c0 < 1.0 and 0.0 <= rho < 1.0 and var_b >= 0.0):
+        raise ValueError(f"fix_corr must be (c0, rho, var_b_m2) in [0, 1) x [0, 1) x [0, inf), got {fix_corr!r}")
+    nb = 0 if fix_corr is None else 2                      # the correlated fix error's two states
+    ns = 4 + nb
+    white = (1.0 - c0) * fv
+    x = np.concatenate([fz[0] - D0 @ [1.0, 0.0], [1.0, 0.0], np.zeros(nb)])
+    P = np.zeros((ns, ns))
+    P[:2, :2] = np.eye(2) * (white[0] + var_b) + D0 @ Pg @ D0.T
+    P[:2, 2:4] = -D0 @ Pg
+    P[2:4, :2] = P[:2, 2:4].T
+    P[2:4, 2:4] = Pg + np.eye(2) * 1e-12
+    if nb:                                                 # p_0 = z_0 - D0 g - b_0 - v_0
+        P[:2, 4:] = P[4:, :2] = -np.eye(2) * var_b
+        P[4:, 4:] = np.eye(2) * (var_b + 1e-12)
+    Q = np.zeros((ns, ns))
+    Q[:4, :4] = np.diag([step_var_m2, step_var_m2, gain_walk_var, gain_walk_var])
+    xs, Ps = np.empty((n, ns)), np.empty((n, ns, ns))
+    xp, Pp = np.empty((n, ns)), np.empty((n, ns, ns))
+    Fs = np.broadcast_to(np.eye(ns), (n, ns, ns)).copy()
     q = 1                                                   # fix 0 started the filter
     while q < ft.size and at_state[order[q]] < 0:
         q += 1
     used = 0
+    # fixes applied at each state (the bias moves on once per fix, in the state's prediction)
+    n_at = np.bincount(np.clip(at_state[order[q:]], 0, None), minlength=n)[:n] if nb else np.zeros(n, dtype=int)
     for k in range(n):
+        F = np.eye(ns)
+        Qk = Q.copy()
         if k > 0:
-            F = np.eye(4)
-            F[:2, 2:] = _jmat(d[k - 1])
+            F[:2, 2:4] = _jmat(d[k - 1])
+        if n_at[k]:
+            a = rho ** int(n_at[k])
+            F[4:, 4:] *= a
+            Qk[4:, 4:] = np.eye(2) * var_b * (1.0 - a * a)
+        if k > 0 or n_at[k]:
             x = F @ x
-            P = F @ P @ F.T + Q
+            P = F @ P @ F.T + (Qk if k > 0 else Qk * np.pad(np.ones(nb), (4, 0)))
             Fs[k] = F
         xp[k], Pp[k] = x, P
         while q < ft.size and at_state[order[q]] <= k:
             i = order[q]
             q += 1
-            H = np.zeros((2, 4))
+            H = np.zeros((2, ns))
             H[:, :2] = np.eye(2)
-            H[:, 2:] = -_jmat(cum[k] - cum_at[i])           # p(t_fix) = p_k - D(t_fix, t_k) g
+            H[:, 2:4] = -_jmat(cum[k] - cum_at[i])          # p(t_fix) = p_k - D(t_fix, t_k) g
+            if nb:
+                H[:, 4:] = np.eye(2)
             nu = fz[i] - H @ x
+            R0 = np.eye(2) * white[i]
             S = H @ P @ H.T + R0
             R = R0
             if huber_c is not None:
@@ -151,7 +177,7 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2: float, step_var_m2
                     S = H @ P @ H.T + R
             K = np.linalg.solve(S, H @ P).T
             x = x + K @ nu
-            IKH = np.eye(4) - K @ H
+            IKH = np.eye(ns) - K @ H
             P = IKH @ P @ IKH.T + K @ R @ K.T                # Joseph form
             used += 1
         if snap is not None:                                # estimate projection onto the walkable map
