@@ -131,13 +131,16 @@ if HAVE_DATA:
     png = fusion_real_walks.floor_image(DATA_DIR, DATASET)
     img = None if png is None else plt.imread(io.BytesIO(png), format="png")
     size = (floor.floor_map.width_m, floor.floor_map.height_m)
+    summ = tables["summary"][tables["summary"]["method"] != "wifi"]
+    # Wi-Fi only, the best online and the best offline variant of this run, and the papers' smoothed KF
+    best = [summ[summ["online"] == on].sort_values("mean_error_m")["method"].iloc[0] for on in (True, False)]
+    shown = tuple(dict.fromkeys(["wifi", *best, "kf_rts"]))
     with ilocviz.style():
         fig, axes = plt.subplots(1, 2, figsize=(14, 6))
         for ax, which in zip(axes, ("best", "worst"), strict=True):
             tr = tables["tracks"][tables["tracks"]["which"] == which]
             truth = tables["truth"][tables["truth"]["which"] == which]
-            ilocviz.track.tracks_on_plan(tr, truth[["x_m", "y_m"]].to_numpy(), img, size,
-                                         methods=("wifi", "kf_rts", "pf_smooth", "lsq"), ax=ax)
+            ilocviz.track.tracks_on_plan(tr, truth[["x_m", "y_m"]].to_numpy(), img, size, methods=shown, ax=ax)
             ax.set_title(f"{which} walk: {truth['walk'].iloc[0]}")
         ilocviz.savefig(fig, "09_fusion_real_walks_tracks", OUT_DIR)
 
