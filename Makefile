@@ -20,8 +20,12 @@ $(STAMP): environment.txt pyproject.toml
 reproduce: $(STAMP)
 	$(BIN)/python -m ilocalg reproduce --seed $(SEED) --seeds $(SEEDS)
 
+# The suite in TEST_WORKERS processes (pytest-xdist; one per core of the 2-core CI machine). Each test file runs
+# whole in one worker (its module fixtures are built once; tests/conftest.py keeps the claims files together and
+# hands the longest files out first). TEST_WORKERS=0 runs it in this process, in name order.
+TEST_WORKERS ?= 2
 test: $(STAMP) lint browser
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile --no-loadscope-reorder
 
 # Headless Chromium renders reports/index.html in a test (every figure loads). Installed from the system
 # packages only when missing; without it that test skips on a developer machine and fails under CI=true.
