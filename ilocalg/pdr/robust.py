@@ -68,10 +68,14 @@ def bout_gate(t_peak_s, max_step_s: float, min_bout_steps: int) -> np.ndarray:
     t = np.asarray(t_peak_s, dtype=np.float64)
     if t.size == 0:
         return np.zeros(0, dtype=bool)
-    brk = np.concatenate([[True], np.diff(t) > max_step_s])
-    bout = np.cumsum(brk) - 1
+    bout = np.cumsum(_bout_breaks(t, max_step_s)) - 1
     size = np.bincount(bout)
     return size[bout] >= min_bout_steps
+
+
+def _bout_breaks(t: np.ndarray, max_step_s: float) -> np.ndarray:
+    """True at each peak that starts a bout (the first, and each more than ``max_step_s`` after the one before)."""
+    return np.concatenate([[True], np.diff(t) > max_step_s])
 
 
 def stride_nac(x, i_peak, lag_min: int, lag_max: int, lag_step: int = 1) -> np.ndarray:
@@ -153,7 +157,7 @@ def trim_bout_ends(t_peak_s, score_fn, max_step_s: float, min_score: float) -> n
     keep = np.ones(t.size, dtype=bool)
     if t.size == 0:
         return keep
-    starts = np.flatnonzero(np.concatenate([[True], np.diff(t) > max_step_s]))
+    starts = np.flatnonzero(_bout_breaks(t, max_step_s))
     lo, hi = starts.copy(), np.append(starts[1:], t.size) - 1
     active_lo = np.ones(lo.size, dtype=bool)
     active_hi = np.ones(hi.size, dtype=bool)
