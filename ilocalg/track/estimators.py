@@ -23,6 +23,14 @@ Causal least squares (:func:`lsq_causal_track`)
     is known, the PDR track passes through the first fix at that fix's time. For a linear
     Gaussian model the last state of the batch solution is the Kalman filter's estimate; the
     robust weights and the per-walk rotation are what it adds.
+Start-up with a declared latency (not causal; each its own variant)
+    Every online variant (and the Wi-Fi-only track) reports a time before the first fix is known only
+    once it is (the PDR track placed through that fix: backward PDR). Beyond that, two variants wait on
+    purpose: a delayed start (``kf_gain_map_start5s``, ``lsq_online_map_start5s``: the states until
+    :data:`STARTUP_DELAY_S` after the first fix is known are re-estimated from the data known then, the
+    Kalman filter's by a fixed-interval RTS pass, the least squares by one solve; every later state is the
+    causal variant's) and a fixed lag (``kf_gain_map_lag5s``: every state from the data up to 5 s after it,
+    then moved onto the map). Their latencies are in :data:`ilocalg.track.LATENCY_METHODS`.
 Map step (:func:`snap_to_map`, ``*_map``)
     States off the walkable raster are pulled to the nearest walkable cell: those cells become
     extra absolute constraints (variance ``cell_m^2``) and the system is solved again (three
@@ -49,7 +57,9 @@ from scipy.sparse.linalg import spsolve
 from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 
 __all__ = ["TrackProblem", "Estimator", "ESTIMATORS", "lsq_solve", "lsq_track", "lsq_causal_track", "snap_to_map",
-           "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C"]
+           "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C",
+           "kf_gain_map_lag_track", "kf_gain_map_start_track", "lsq_online_map_start_track", "startup_until_s",
+           "STARTUP_DELAY_S"]
 
 #: Huber's constant (in standard deviations): 95 % efficiency under Gaussian errors (Huber 1981).
 HUBER_C = 1.345
@@ -424,6 +434,64 @@ def kf_gain_lag_track(problem: TrackProblem, lag_s: float = KF_GAIN_LAG_S) -> np
     return gain_kf_lag(_gain_kf_result(problem), problem.state_t_s, lag_s)
 
 
+def kf_gain_map_lag_track(problem: TrackProblem, lag_s: float = KF_GAIN_LAG_S) -> np.ndarray:
+    """:func:`kf_gain_lag_track` (started as :func:`kf_gain_map_track`), each state then moved onto the walkable
+    raster: each state from the data up to ``lag_s`` after it (online with that declared latency; not causal)."""
+    from ilocalg.track.online_kf import gain_kf_lag
+
+    problem = _map_started(problem)
+    return snap_to_map(gain_kf_lag(_gain_kf_result(problem), problem.state_t_s, lag_s), problem.grid)[0]
+
+
+#: The delayed start of the ``*_start5s`` variants (seconds after the first fix is known): the start-up is
+#: reported once this much data follows the first fix, every later state as the causal variant has it. The same
+#: 5 s as :data:`KF_GAIN_LAG_S` (Liao et al. 2016, L481), not chosen on any result.
+STARTUP_DELAY_S = 5.0
+
+
+def startup_until_s(problem: TrackProblem, delay_s: float = STARTUP_DELAY_S) -> float:
+    """When a delayed start reports the start-up: ``delay_s`` after the first fix is known (its availability)."""
+    known = problem.fix_t_s if problem.fix_avail_t_s is None else problem.fix_avail_t_s
+    return float(np.min(known)) + delay_s
+
+
+def kf_gain_map_start_track(problem: TrackProblem, delay_s: float = STARTUP_DELAY_S) -> np.ndarray:
+    """:func:`kf_gain_map_track` with a delayed start (:func:`ilocalg.track.online_kf.gain_kf_delayed_start`): the
+    states up to :func:`startup_until_s` smoothed on the data up to then, each later state the causal filter's.
+    Online with a declared latency at the start-up only (a state at ``t`` before then waits until then)."""
+    from ilocalg.track.online_kf import gain_kf_delayed_start
+
+    problem = _map_started(problem)
+    xy = gain_kf_delayed_start(_gain_kf_result(problem), problem.state_t_s, startup_until_s(problem, delay_s))
+    return snap_to_map(xy, problem.grid)[0]
+
+
+def lsq_online_map_start_track(problem: TrackProblem, delay_s: float = STARTUP_DELAY_S) -> np.ndarray:
+    """:func:`lsq_causal_map_track` with a delayed start: the states up to :func:`startup_until_s` from the least
+    squares on the data known by then (:func:`lsq_solve`), each later state the causal variant's; then each
+    state moved onto the walkable raster. Online with a declared latency at the start-up only."""
+    problem = _map_started(problem)
+    out = lsq_causal_track(problem)
+    ts = problem.state_t_s
+    until = startup_until_s(problem, delay_s)
+    j = int(np.searchsorted(ts, until, side="right")) - 1
+    known = problem.fix_t_s if problem.fix_avail_t_s is None else problem.fix_avail_t_s
+    # the fixes known by state j (a fix is used from the first state at or after it is known)
+    q = np.searchsorted(ts, known, side="left") <= j
+    if j >= 1 and q.any():
+        jj, a = _interp_rows(ts[:j + 1], problem.fix_t_s[q])
+        out[:j + 1] = lsq_solve(j + 1, problem.disp_m[:j], problem.step_var_m2, jj, a, problem.fix_xy_m[q],
+                                problem.fix_var_at(q), fix_corr=problem.fix_corr)
+    return snap_to_map(out, problem.grid)[0]
+
+
+def _map_started(problem: TrackProblem) -> TrackProblem:
+    """``problem`` with the map at start-up (:func:`map_first_fix`) when ``problem.map_start``; the raster needed."""
+    if problem.grid is None:
+        raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    return map_first_fix(problem) if problem.map_start else problem
+
+
 @dataclass(frozen=True)
 class Estimator:
     """A registered trajectory estimator: ``fn(problem) -> (n+1, 2)``; ``causal``: online; ``needs_map``."""
@@ -446,4 +514,12 @@ ESTIMATORS = {e.name: e for e in (
     Estimator("kf_gain_map", kf_gain_map_track, True, True, "kf_gain, each state moved onto the map (online)"),
     Estimator("kf_gain_lag5s", kf_gain_lag_track, False, False,
               "kf_gain smoothed over a fixed 5 s lag (online with 5 s delay; not causal)"),
+    Estimator("kf_gain_map_lag5s", kf_gain_map_lag_track, False, True,
+              "kf_gain_lag5s, each state moved onto the map (online with 5 s delay; not causal)"),
+    Estimator("kf_gain_map_start5s", kf_gain_map_start_track, False, True,
+              "kf_gain_map, the states until 5 s after the first fix smoothed on the data until then "
+              "(online with a delayed start; not causal)"),
+    Estimator("lsq_online_map_start5s", lsq_online_map_start_track, False, True,
+              "lsq_online_map, the states until 5 s after the first fix solved on the data until then "
+              "(online with a delayed start; not causal)"),
 )}
