@@ -217,3 +217,35 @@ def test_the_fix_model_fields_do_not_change_a_floors_cache_key(tmp_path):
     fix_model = RealWalkConfig(fix_var="isotropic", fix_corr=False, map_start=False)
     assert key(fix_model) == key(base)
     assert key(dataclasses.replace(base, max_age_s=5.0)) != key(base)
+
+
+def test_a_fix_age_is_one_definition_for_the_database_and_the_scored_walk(shared_data):
+    """A site1 F1 walk against 5 others: each fix's age (what FixVarModel predicts on) is the mean age of the
+    fresh readings of database access points its scan heard (a pandas reference), t_read_s is its time minus
+    that age, and the database rows' ages (what the model is fitted on) follow the same definition."""
+    from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
+    from ilocalg.io.recording import as_recording
+    from ilocalg.track.database import READING_AGE_S, WifiDatabase
+    from ilocalg.track.fixes import db_matrix, fit_fix_var_model, fix_age_s, loo_fix_features, wifi_fixes
+
+    root = shared_data("ilc2020_site1")
+    names = list_ilc_traces(root, floor_name="site1_F1")[:12:2]
+    fl = load_ilc_floor(root, names=names, duplicate_bssid="keep_latest", relisted_wifi="keep", floor_name="site1_F1")
+    scored, others = names[0], {n: fl.traces[n] for n in names[1:]}
+    cfg = RealWalkConfig()
+    db = WifiDatabase.from_recordings(others, max_age_s=cfg.max_age_s)
+    model = fit_fix_var_model(db, cfg)
+    fx = wifi_fixes(fl.traces[scored], db, cfg, fix_var_model=model)
+    w = fl.traces[scored].wifi
+    w = w.assign(age=w["t_s"] - w["last_seen_s"])
+    w = w[w["bssid"].isin(db.ap_ids) & (w["age"] <= cfg.max_age_s)]
+    assert cfg.max_age_s <= READING_AGE_S                   # every kept reading counts in the mean
+    ref = w.groupby("t_s")["age"].mean()
+    np.testing.assert_allclose(fx.age_s, ref.reindex(fx.t_s).to_numpy(), atol=1e-9)
+    assert 0.5 < np.median(fx.age_s) < 2.0                  # about 1.1 s on the ILC walks
+    np.testing.assert_allclose(fx.t_read_s, np.maximum(fx.t_s - fx.age_s, as_recording(fl.traces[scored]).t_span_s[0]))
+    assert fx.var_m2.shape == fx.t_s.shape and np.all(fx.var_m2 > 0)
+    # the database side: the same function of each row's ages and kept readings
+    _, F = loo_fix_features(db, cfg)
+    np.testing.assert_array_equal(F[:, 2], fix_age_s(db.age_s, db_matrix(db, cfg)))
+    assert abs(np.median(F[:, 2]) - np.median(fx.age_s)) < 0.3

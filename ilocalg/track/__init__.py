@@ -66,6 +66,9 @@ Online Kalman filter with the walk's own gain (:mod:`ilocalg.track.online_kf`)
     late fix applied at the time it describes, Huber-weighted; every noise measured on the other walks
     (:func:`ilocalg.track.motion.gain_stats`). ``kf_gain_map``: each state then moved onto the map.
     ``kf_gain_lag5s``: the same smoothed over a fixed 5 s lag (not causal; its own variant).
+    Start-up with a declared latency (:data:`LATENCY_METHODS`, not causal): ``kf_gain_map_lag5s`` (the lag
+    smoother moved onto the map), ``kf_gain_map_start5s`` / ``lsq_online_map_start5s`` (a delayed start: the
+    states until 5 s after the first fix is known re-estimated from the data known then, later ones causal).
 The Wi-Fi fix model (:mod:`ilocalg.track.fixes`, :class:`RealWalkConfig` ``fix_var``, ``fix_corr``, ``map_start``)
     Each fix's own variance (``fix_var="per_fix"``, :class:`~ilocalg.track.fixes.FixVarModel`): log-linear in what
     the fix knows about itself (its neighbours' spread, the access points heard, its readings' age), fitted on the
@@ -94,7 +97,7 @@ the Manhattan distance and K = 5, PDR + Wi-Fi fusion; Weinberg H., Analog Device
 length; Rauch, Tung, Striebel, AIAA J. 3(8) (1965), smoothing; Woodman & Harle, UbiComp (2008),
 map-constrained particle filters.
 """
-from ilocalg.track._config import CAUSAL_METHODS, MAP_METHODS, METHODS, RealWalkConfig
+from ilocalg.track._config import CAUSAL_METHODS, LATENCY_METHODS, MAP_METHODS, METHODS, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, Estimator, TrackProblem
 from ilocalg.track.evaluation import error_table, evaluate_track, evaluate_walk, summary_table, track_table
@@ -116,7 +119,7 @@ from ilocalg.track.motion import Calibration, WalkSteps, calibrate, calibrate_st
 __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_steps", "Calibration", "calibrate",
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
            "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
-           "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "MAP_METHODS", "ESTIMATORS",
-           "Estimator", "TrackProblem",
+           "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "LATENCY_METHODS", "MAP_METHODS",
+           "ESTIMATORS", "Estimator", "TrackProblem",
            "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var",
            "classify_floor"]

@@ -23,6 +23,14 @@ Causal least squares (:func:`lsq_causal_track`)
     is known, the PDR track passes through the first fix at that fix's time. For a linear
     Gaussian model the last state of the batch solution is the Kalman filter's estimate; the
     robust weights and the per-walk rotation are what it adds.
+Start-up with a declared latency (not causal; each its own variant)
+    Every online variant (and the Wi-Fi-only track) reports a time before the first fix is known only
+    once it is (the PDR track placed through that fix: backward PDR). Beyond that, two variants wait on
+    purpose: a delayed start (``kf_gain_map_start5s``, ``lsq_online_map_start5s``: the states until
+    :data:`STARTUP_DELAY_S` after the first fix is known are re-estimated from the data known then, the
+    Kalman filter's by a fixed-interval RTS pass, the least squares by one solve; every later state is the
+    causal variant's) and a fixed lag (``kf_gain_map_lag5s``: every state from the data up to 5 s after it,
+    then moved onto the map). Their latencies are in :data:`ilocalg.track.LATENCY_METHODS`.
 Map step (:func:`snap_to_map`, ``*_map``)
     States off the walkable raster are pulled to the nearest walkable cell: those cells become
     extra absolute constraints (variance ``cell_m^2``) and the system is solved again (three
@@ -49,7 +57,9 @@ from scipy.sparse.linalg import spsolve
 from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 
 __all__ = ["TrackProblem", "Estimator", "ESTIMATORS", "lsq_solve", "lsq_track", "lsq_causal_track", "snap_to_map",
-           "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C"]
+           "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C",
+           "kf_gain_map_lag_track", "kf_gain_map_start_track", "lsq_online_map_start_track", "startup_until_s",
+           "STARTUP_DELAY_S"]
 
 #: Huber's constant (in standard deviations): 95 % efficiency under Gaussian errors (Huber 1981).
 HUBER_C = 1.345
@@ -130,88 +140,58 @@ def lsq_solve(n_states: int, disp_m, step_var_m2: float, fix_j, fix_a, fix_xy_m,
     """Solve the walk's sparse least-squares system (see the module docstring); returns (n_states, 2).
 
     ``fix_var_m2`` may be a scalar or one value per fix; ``anchor_*``: extra absolute constraints on
-    states (the map step). Huber re-weighting of the fixes over ``n_iter`` rounds (1: plain weighted LS).
-    ``fix_corr`` ``(c0, rho, var_b_m2)``: the fixes' correlated error as unknowns ``b_i`` (fix rows
-    ``... + b_i = z_i`` with the white variance ``(1 - c0) fix_var``; ``b_0 = 0`` with ``var_b_m2``,
-    ``b_i - rho b_{i-1} = 0`` with ``var_b_m2 (1 - rho^2)``; Bryson & Henrikson 1968), as the ``kf_gain``
-    filter carries them.
+    states (the map step). Huber re-weighting of the fixes over ``n_iter`` rounds (1: plain weighted LS),
+    on each fix's whole error in its whole sd.
+    ``fix_corr`` ``(c0, rho, var_b_m2)``: the fixes' correlated error as unknowns ``b_i`` appended after the
+    states (fix rows ``... + b_i = z_i`` with the white variance ``(1 - c0) fix_var``; ``b_0 = 0`` with
+    ``var_b_m2``, ``b_i - rho b_{i-1} = 0`` with ``var_b_m2 (1 - rho^2)``; Bryson & Henrikson 1968), as the
+    ``kf_gain`` filter carries them. None (or no fix): no such unknowns, every fix error white.
     """
-    if fix_corr is not None and len(fix_j):
-        return _lsq_solve_corr(n_states, disp_m, step_var_m2, fix_j, fix_a, fix_xy_m, fix_var_m2, anchor_idx,
-                               anchor_xy_m, anchor_var_m2, n_iter, fix_corr)
-    n = n_states
-    m = len(fix_j)
-    d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
-    k = d.shape[0]
-    anchor_idx = np.asarray(anchor_idx, dtype=np.int64)
-    na = anchor_idx.size
-    # rows: steps, fixes, anchors
-    r_step = np.repeat(np.arange(k), 2)
-    c_step = np.column_stack([np.arange(k), np.arange(k) + 1]).ravel()
-    v_step = np.tile([-1.0, 1.0], k)
-    r_fix = k + np.repeat(np.arange(m), 2)
-    c_fix = np.column_stack([fix_j, np.minimum(np.asarray(fix_j) + 1, n - 1)]).ravel()
-    v_fix = np.column_stack([1.0 - np.asarray(fix_a), np.asarray(fix_a)]).ravel()
-    r_an = k + m + np.arange(na)
-    A = sp.csr_matrix((np.concatenate([v_step, v_fix, np.ones(na)]),
-                       (np.concatenate([r_step, r_fix, r_an]), np.concatenate([c_step, c_fix, anchor_idx]))),
-                      shape=(k + m + na, n))
-    b = np.concatenate([d, np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2),
-                        np.zeros((0, 2)) if na == 0 else np.asarray(anchor_xy_m, dtype=np.float64).reshape(-1, 2)])
-    w_fix0 = 1.0 / np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), (m,))
-    sd_fix = np.sqrt(1.0 / w_fix0)
-    hub = np.ones(m)
-    x = None
-    for _ in range(max(n_iter, 1)):
-        w = np.concatenate([np.full(k, 1.0 / step_var_m2), w_fix0 * hub, np.full(na, 1.0 / anchor_var_m2)])
-        AtW = A.T.multiply(w).tocsr()
-        N = (AtW @ A).tocsc() + sp.identity(n, format="csc") * 1e-9
-        x = np.column_stack([spsolve(N, AtW @ b[:, 0]), spsolve(N, AtW @ b[:, 1])])
-        if m == 0:
-            break
-        res = np.hypot(*((A[k:k + m] @ x) - b[k:k + m]).T) / sd_fix
-        new = np.minimum(1.0, HUBER_C / np.maximum(res, 1e-12))
-        if np.allclose(new, hub, atol=1e-3):
-            break
-        hub = new
-    return x
-
-
-def _lsq_solve_corr(n_states, disp_m, step_var_m2, fix_j, fix_a, fix_xy_m, fix_var_m2, anchor_idx, anchor_xy_m,
-                    anchor_var_m2, n_iter, fix_corr):
-    """:func:`lsq_solve` with the correlated fix errors as unknowns (appended after the states)."""
-    c0, rho, var_b = (float(v) for v in fix_corr)
     n, m = n_states, len(fix_j)
+    corr = fix_corr is not None and m > 0
+    c0, rho, var_b = (float(v) for v in fix_corr) if corr else (0.0, 0.0, 0.0)
+    nb = m if corr else 0                                   # the bias unknowns, after the states
     d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
     k = d.shape[0]
     anchor_idx = np.asarray(anchor_idx, dtype=np.int64)
     na = anchor_idx.size
     fj = np.asarray(fix_j)
     fa = np.asarray(fix_a, dtype=np.float64)
-    rows = [np.repeat(np.arange(k), 2), k + np.repeat(np.arange(m), 3), k + m + np.arange(na),
-            k + m + na + np.array([0]), k + m + na + np.repeat(np.arange(1, m), 2)]
-    cols = [np.column_stack([np.arange(k), np.arange(k) + 1]).ravel(),
-            np.column_stack([fj, np.minimum(fj + 1, n - 1), n + np.arange(m)]).ravel(), anchor_idx,
-            np.array([n]), np.column_stack([n + np.arange(m - 1), n + np.arange(1, m)]).ravel()]
-    vals = [np.tile([-1.0, 1.0], k), np.column_stack([1.0 - fa, fa, np.ones(m)]).ravel(), np.ones(na), np.ones(1),
-            np.tile([-rho, 1.0], m - 1)]
-    nr = k + m + na + m
-    A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nr, n + m))
+    # rows: steps, fixes, anchors, then (correlated errors) the bias chain
+    fix_cols = [fj, np.minimum(fj + 1, n - 1)] + ([n + np.arange(m)] if corr else [])
+    fix_vals = [1.0 - fa, fa] + ([np.ones(m)] if corr else [])
+    rows = [np.repeat(np.arange(k), 2), k + np.repeat(np.arange(m), len(fix_cols)), k + m + np.arange(na)]
+    cols = [np.column_stack([np.arange(k), np.arange(k) + 1]).ravel(), np.column_stack(fix_cols).ravel(), anchor_idx]
+    vals = [np.tile([-1.0, 1.0], k), np.column_stack(fix_vals).ravel(), np.ones(na)]
+    if corr:
+        rows += [k + m + na + np.array([0]), k + m + na + np.repeat(np.arange(1, m), 2)]
+        cols += [np.array([n]), np.column_stack([n + np.arange(m - 1), n + np.arange(1, m)]).ravel()]
+        vals += [np.ones(1), np.tile([-rho, 1.0], m - 1)]
+    A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(k + m + na + nb, n + nb))
     b = np.concatenate([d, np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2),
                         np.zeros((0, 2)) if na == 0 else np.asarray(anchor_xy_m, dtype=np.float64).reshape(-1, 2),
-                        np.zeros((m, 2))])
+                        np.zeros((nb, 2))])
     white = (1.0 - c0) * np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), (m,))
-    var_b = max(var_b, 1e-9)
-    w_chain = np.concatenate([[1.0 / var_b], np.full(m - 1, 1.0 / (var_b * max(1.0 - rho ** 2, 1e-9)))])
+    if corr:
+        var_b = max(var_b, 1e-9)
+        w_chain = np.concatenate([[1.0 / var_b], np.full(m - 1, 1.0 / (var_b * max(1.0 - rho ** 2, 1e-9)))])
+    else:
+        w_chain = np.zeros(0)
+    # the fix weights and sds rounded as the two former solvers did, so both cases stay bit-identical to them
+    w0 = 1.0 / white
+    sd_fix = np.sqrt(white + var_b) if corr else np.sqrt(1.0 / w0)
     hub = np.ones(m)
     x = None
     for _ in range(max(n_iter, 1)):
-        w = np.concatenate([np.full(k, 1.0 / step_var_m2), hub / white, np.full(na, 1.0 / anchor_var_m2), w_chain])
+        w_fix = hub / white if corr else w0 * hub
+        w = np.concatenate([np.full(k, 1.0 / step_var_m2), w_fix, np.full(na, 1.0 / anchor_var_m2), w_chain])
         AtW = A.T.multiply(w).tocsr()
-        N = (AtW @ A).tocsc() + sp.identity(n + m, format="csc") * 1e-9
+        N = (AtW @ A).tocsc() + sp.identity(n + nb, format="csc") * 1e-9
         x = np.column_stack([spsolve(N, AtW @ b[:, 0]), spsolve(N, AtW @ b[:, 1])])
-        # Huber on each fix's whole error (the state's and the bias's residual), in its whole sd
-        res = np.hypot(*((A[k:k + m, :n] @ x[:n]) - b[k:k + m]).T) / np.sqrt(white + var_b)
+        if m == 0:
+            break
+        res = np.hypot(*((A[k:k + m, :n] @ x[:n]) - b[k:k + m]).T) / sd_fix
         new = np.minimum(1.0, HUBER_C / np.maximum(res, 1e-12))
         if np.allclose(new, hub, atol=1e-3):
             break
@@ -454,6 +434,64 @@ def kf_gain_lag_track(problem: TrackProblem, lag_s: float = KF_GAIN_LAG_S) -> np
     return gain_kf_lag(_gain_kf_result(problem), problem.state_t_s, lag_s)
 
 
+def kf_gain_map_lag_track(problem: TrackProblem, lag_s: float = KF_GAIN_LAG_S) -> np.ndarray:
+    """:func:`kf_gain_lag_track` (started as :func:`kf_gain_map_track`), each state then moved onto the walkable
+    raster: each state from the data up to ``lag_s`` after it (online with that declared latency; not causal)."""
+    from ilocalg.track.online_kf import gain_kf_lag
+
+    problem = _map_started(problem)
+    return snap_to_map(gain_kf_lag(_gain_kf_result(problem), problem.state_t_s, lag_s), problem.grid)[0]
+
+
+#: The delayed start of the ``*_start5s`` variants (seconds after the first fix is known): the start-up is
+#: reported once this much data follows the first fix, every later state as the causal variant has it. The same
+#: 5 s as :data:`KF_GAIN_LAG_S` (Liao et al. 2016, L481), not chosen on any result.
+STARTUP_DELAY_S = 5.0
+
+
+def startup_until_s(problem: TrackProblem, delay_s: float = STARTUP_DELAY_S) -> float:
+    """When a delayed start reports the start-up: ``delay_s`` after the first fix is known (its availability)."""
+    known = problem.fix_t_s if problem.fix_avail_t_s is None else problem.fix_avail_t_s
+    return float(np.min(known)) + delay_s
+
+
+def kf_gain_map_start_track(problem: TrackProblem, delay_s: float = STARTUP_DELAY_S) -> np.ndarray:
+    """:func:`kf_gain_map_track` with a delayed start (:func:`ilocalg.track.online_kf.gain_kf_delayed_start`): the
+    states up to :func:`startup_until_s` smoothed on the data up to then, each later state the causal filter's.
+    Online with a declared latency at the start-up only (a state at ``t`` before then waits until then)."""
+    from ilocalg.track.online_kf import gain_kf_delayed_start
+
+    problem = _map_started(problem)
+    xy = gain_kf_delayed_start(_gain_kf_result(problem), problem.state_t_s, startup_until_s(problem, delay_s))
+    return snap_to_map(xy, problem.grid)[0]
+
+
+def lsq_online_map_start_track(problem: TrackProblem, delay_s: float = STARTUP_DELAY_S) -> np.ndarray:
+    """:func:`lsq_causal_map_track` with a delayed start: the states up to :func:`startup_until_s` from the least
+    squares on the data known by then (:func:`lsq_solve`), each later state the causal variant's; then each
+    state moved onto the walkable raster. Online with a declared latency at the start-up only."""
+    problem = _map_started(problem)
+    out = lsq_causal_track(problem)
+    ts = problem.state_t_s
+    until = startup_until_s(problem, delay_s)
+    j = int(np.searchsorted(ts, until, side="right")) - 1
+    known = problem.fix_t_s if problem.fix_avail_t_s is None else problem.fix_avail_t_s
+    # the fixes known by state j (a fix is used from the first state at or after it is known)
+    q = np.searchsorted(ts, known, side="left") <= j
+    if j >= 1 and q.any():
+        jj, a = _interp_rows(ts[:j + 1], problem.fix_t_s[q])
+        out[:j + 1] = lsq_solve(j + 1, problem.disp_m[:j], problem.step_var_m2, jj, a, problem.fix_xy_m[q],
+                                problem.fix_var_at(q), fix_corr=problem.fix_corr)
+    return snap_to_map(out, problem.grid)[0]
+
+
+def _map_started(problem: TrackProblem) -> TrackProblem:
+    """``problem`` with the map at start-up (:func:`map_first_fix`) when ``problem.map_start``; the raster needed."""
+    if problem.grid is None:
+        raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    return map_first_fix(problem) if problem.map_start else problem
+
+
 @dataclass(frozen=True)
 class Estimator:
     """A registered trajectory estimator: ``fn(problem) -> (n+1, 2)``; ``causal``: online; ``needs_map``."""
@@ -476,4 +514,12 @@ ESTIMATORS = {e.name: e for e in (
     Estimator("kf_gain_map", kf_gain_map_track, True, True, "kf_gain, each state moved onto the map (online)"),
     Estimator("kf_gain_lag5s", kf_gain_lag_track, False, False,
               "kf_gain smoothed over a fixed 5 s lag (online with 5 s delay; not causal)"),
+    Estimator("kf_gain_map_lag5s", kf_gain_map_lag_track, False, True,
+              "kf_gain_lag5s, each state moved onto the map (online with 5 s delay; not causal)"),
+    Estimator("kf_gain_map_start5s", kf_gain_map_start_track, False, True,
+              "kf_gain_map, the states until 5 s after the first fix smoothed on the data until then "
+              "(online with a delayed start; not causal)"),
+    Estimator("lsq_online_map_start5s", lsq_online_map_start_track, False, True,
+              "lsq_online_map, the states until 5 s after the first fix solved on the data until then "
+              "(online with a delayed start; not causal)"),
 )}

@@ -31,7 +31,9 @@ class WifiFixes:
     point of the database). ``t_read_s`` (m,): when the scan's readings were taken (its time minus
     :func:`ilocalg.track.database.effective_age_s`; the scan time when ages are unknown): the time a
     fix describes, while ``t_s`` is when it becomes known. ``var_m2`` (m,): each fix's own per-axis
-    variance (:class:`FixVarModel`), None when the fixes share one variance."""
+    variance (:class:`FixVarModel`), None when the fixes share one variance. ``age_s`` (m,): each fix's age
+    (:func:`fix_age_s`; 0 when the readings' ages are unknown), the one :class:`FixVarModel` is fitted and
+    predicts on; ``t_read_s`` is ``t_s - age_s`` (not before the walk's start)."""
 
     t_s: np.ndarray
     xy_m: np.ndarray
@@ -44,6 +46,7 @@ class WifiFixes:
     floor_confidence: np.ndarray | None = None
     t_read_s: np.ndarray | None = None
     var_m2: np.ndarray | None = None
+    age_s: np.ndarray | None = None
 
 
 
@@ -159,11 +162,20 @@ def loo_fix_errors(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, witho
 FIX_FEATURES = ("log_spread_m2", "log_n_aps", "age_s")
 
 
+def fix_age_s(age_s, rssi_dbm) -> np.ndarray:
+    """The age of a fix (s): how long before its scan's time stamp the readings it is located with were taken,
+    :func:`ilocalg.track.database.effective_age_s` of the ages ``age_s`` (m, n_aps) of the readings heard (kept)
+    in its RSSI vector ``rssi_dbm`` (m, n_aps; NaN: not heard or not kept). The one definition both the
+    database's leave-one-walk-out fixes (:func:`loo_fix_features`, what :class:`FixVarModel` is fitted on) and a
+    scored walk's fixes (:func:`wifi_fixes`, what it predicts on) use."""
+    return effective_age_s(np.where(np.isnan(np.asarray(rssi_dbm, dtype=np.float64)), np.nan, age_s))
+
+
 def fix_features(spread_R_m2, n_aps, age_s) -> np.ndarray:
     """The quantities a fix knows about itself, as :class:`FixVarModel`'s regressors (m, 3): the log of the
     trace of its neighbours' weighted spread covariance (m^2, :func:`ilocalg.fusion.fix_covariance_from_spread`
     with 1 m^2 added), the log of the number of access points its scan heard (of the database's, fresh
-    readings only) and the mean age of those readings (s, :func:`ilocalg.track.database.effective_age_s`)."""
+    readings only) and the fix's age (s, :func:`fix_age_s`)."""
     tr = np.trace(np.asarray(spread_R_m2, dtype=np.float64), axis1=-2, axis2=-1)
     return np.column_stack([np.log(np.maximum(tr, 1e-6)), np.log(np.maximum(np.asarray(n_aps, dtype=np.float64), 1.0)),
                             np.asarray(age_s, dtype=np.float64)])
@@ -192,7 +204,7 @@ def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> 
         raise ValueError("loo_fix_features: the per-fix variance is measured with the Euclidean WKNN (p=2)")
     D = db_matrix(db, cfg)
     xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :])
-    age = np.zeros(D.shape[0]) if db.age_s is None else effective_age_s(np.where(np.isnan(D), np.nan, db.age_s))
+    age = np.zeros(D.shape[0]) if db.age_s is None else fix_age_s(db.age_s, D)
     return xy - db.xy_m, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
 
 
@@ -296,16 +308,16 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
     fresh = (None if cfg.max_age_s is None or "last_seen_s" not in w.columns
              else ((w[T_S] - w["last_seen_s"]) <= cfg.max_age_s).to_numpy())
     _, t, X = scan_matrix(w, db.ap_ids, keep=fresh)
-    if "last_seen_s" in w.columns:       # when the kept readings were taken (module database)
+    if "last_seen_s" in w.columns:       # how old the kept readings were (module database)
         aged = w.assign(**{RSSI_DBM: (w[T_S] - w["last_seen_s"]).to_numpy(dtype=np.float64)})
-        t_read = t - effective_age_s(scan_matrix(aged, db.ap_ids, keep=fresh)[2])
+        age = fix_age_s(scan_matrix(aged, db.ap_ids, keep=fresh)[2], X)
     else:
-        t_read = t.copy()
+        age = np.zeros(t.size)
     t0, t1 = rec.t_span_s
     inside = (t >= t0) & (t <= t1)
     heard = ~np.isnan(X).all(axis=1)          # scans sharing no AP with the database cannot be located
     keep = inside & heard
-    t, X, t_read = t[keep], X[keep], t_read[keep]
+    t, X, age = t[keep], X[keep], age[keep]
     if not t.size:
         raise ValueError(f"{rec.source or rec.name}: no scan inside the walk's time span shares an access point "
                          f"with the database ({int((~inside).sum())} outside the span, "
@@ -314,7 +326,7 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
     var = None
     if fix_var_model is not None:
         heard_db = ~np.isnan(db_matrix(db, cfg)).all(axis=0)
-        var = fix_var_model.predict(fix_features(C, (~np.isnan(X[:, heard_db])).sum(axis=1), t - t_read))
+        var = fix_var_model.predict(fix_features(C, (~np.isnan(X[:, heard_db])).sum(axis=1), age))
         R = var[:, None, None] * np.eye(2)
     elif fix_var_m2 is not None:
         R = fix_var_m2 * np.broadcast_to(np.eye(2), C.shape).copy()
@@ -325,7 +337,7 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
     else:
         true, tfl = np.full((t.size, 2), np.nan), np.full(t.size, np.nan)
     return WifiFixes(t, xy, R, true, fl, tfl, int((~inside).sum()), int((inside & ~heard).sum()), conf,
-                     np.maximum(t_read, t0), var)
+                     np.maximum(t - age, t0), var, age)
 
 
 def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["GainKFResult", "gain_kf", "gain_kf_lag", "HUBER_C"]
+__all__ = ["GainKFResult", "gain_kf", "gain_kf_lag", "gain_kf_delayed_start", "gain_kf_smooth_to", "HUBER_C"]
 
 #: Huber's constant (in standard deviations of the normalised innovation), as the least squares use.
 HUBER_C = 1.345
@@ -193,10 +193,28 @@ def gain_kf_lag(res: GainKFResult, state_t_s, lag_s: float) -> np.ndarray:
     data up to ``lag_s`` seconds after it (the RTS recursion run back from the last state within the
     lag); (n+1, 2). Not causal: the estimate at ``t`` waits until ``t + lag_s``."""
     ts = np.asarray(state_t_s, dtype=np.float64)
-    n = ts.size
     if not lag_s >= 0:
         raise ValueError(f"lag_s must be >= 0, got {lag_s!r}")
-    end = np.searchsorted(ts, ts + lag_s, side="right") - 1
+    return gain_kf_smooth_to(res, np.searchsorted(ts, ts + lag_s, side="right") - 1)
+
+
+def gain_kf_delayed_start(res: GainKFResult, state_t_s, until_t_s: float) -> np.ndarray:
+    """The filter's positions, those of the states up to ``until_t_s`` replaced by their RTS-smoothed values
+    given the data up to ``until_t_s`` (a delayed start: the start-up is reported at ``until_t_s``, every later
+    state as the filter has it); (n+1, 2)."""
+    ts = np.asarray(state_t_s, dtype=np.float64)
+    k = np.arange(ts.size)
+    j = int(np.searchsorted(ts, until_t_s, side="right")) - 1
+    return gain_kf_smooth_to(res, np.where(k <= j, max(j, 0), k))
+
+
+def gain_kf_smooth_to(res: GainKFResult, end) -> np.ndarray:
+    """Each state ``k``'s position given the data up to state ``end[k]`` (>= k): the RTS recursion run back from
+    ``end[k]``; ``end[k] == k`` is the filter's own estimate. (n+1, 2)."""
+    end = np.asarray(end, dtype=np.int64)
+    n = res.x.shape[0]
+    if end.shape != (n,) or np.any(end < np.arange(n)) or np.any(end >= n):
+        raise ValueError(f"end must have shape ({n},) with k <= end[k] < {n}")
     out = res.x[:, :2].copy()
     for k in range(n):
         j = int(end[k])

@@ -70,6 +70,11 @@ METHOD_HELP = {
     "kf_gain": "online: Kalman filter with the walk's step scale and heading offset in its state",
     "kf_gain_map": "online: kf_gain moved onto the walkable map",
     "kf_gain_lag5s": "offline (5 s behind): kf_gain smoothed over a fixed 5 s lag",
+    "kf_gain_map_lag5s": "offline (5 s behind): kf_gain_lag5s moved onto the walkable map",
+    "kf_gain_map_start5s": "online after a delayed start: kf_gain_map, the states until 5 s after the first "
+                           "fix smoothed then",
+    "lsq_online_map_start5s": "online after a delayed start: lsq_online_map, the states until 5 s after the "
+                              "first fix solved then",
 }
 #: Every method's mean error above this (m) prints a warning: the walk is probably not of this floor.
 FAR_OFF_M = 20.0
