@@ -764,8 +764,10 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         return None
     lo = tl.starts[rows]
     hi = tl.ends[rows] + 1
-    cuts = np.unique(np.searchsorted(lo, np.arange(int(lo[0]) + _PIECE, int(hi[-1]), _PIECE)))  # pieces of the file
+    cum = np.cumsum(hi - lo)  # selected bytes up to the end of each line: pieces of about _PIECE of them
+    cuts = np.unique(np.searchsorted(cum, np.arange(_PIECE, int(cum[-1]), _PIECE), side="right"))
     bounds = [0] + [int(c) for c in cuts if 0 < c < n] + [n]
+    del cum
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
     dtype = {names[j]: (str if j in strings else np.int64 if j in ints else np.float64) for j in use}
