@@ -545,23 +545,23 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    has_cr, has_tab = b"\r" in data, b"\t" in data
-    if sep_b != 9 and has_tab:
-        return None  # a tab is a space to str.strip
     ends, n_sep, n_low = _scan_lines(arr, sep_b)
+    n_tab = int(n_sep.sum()) if sep_b == 9 else 0
     n_cr = 0
-    if has_cr:
-        cr = byte_positions(arr, 13)
-        if np.any(arr[cr + 1] != 10):  # data ends with \n, so cr + 1 is inside
-            return None  # a lone \r ends a line for str.splitlines
-        n_cr = len(cr)
-        del cr
+    if n_low != len(ends) + n_tab:  # bytes below 32 other than line ends and separating tabs: looked at
+        if sep_b != 9 and b"\t" in data:
+            return None  # a tab is a space to str.strip
+        if b"\r" in data:
+            cr = byte_positions(arr, 13)
+            if np.any(arr[cr + 1] != 10):  # data ends with \n, so cr + 1 is inside
+                return None  # a lone \r ends a line for str.splitlines
+            n_cr = len(cr)
+            del cr
+        if n_low != len(ends) + n_cr + n_tab:
+            return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
     starts = np.empty_like(ends)
     starts[0] = 0
     starts[1:] = ends[:-1] + 1
-    n_tab = int(n_sep.sum()) if sep_b == 9 else 0  # no tab otherwise
-    if n_low != len(ends) + n_cr + n_tab:
-        return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
     if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
     sp = []
