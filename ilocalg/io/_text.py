@@ -620,9 +620,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None
-    by_label = rec[np.argsort(label, kind="stable")]  # grouped by type, file order within each (a counting sort)
-    edge = np.cumsum(n_label)
-    rows = {names[c - 1]: by_label[edge[c - 1]:edge[c]] for c in present.tolist()}
+    rows = {names[c - 1]: rec[label == c] for c in present.tolist()}  # file order within each type
     first_of = {t: int(r[0]) for t, r in rows.items()}
     first_of.update({t.decode(): i for t, i in first_other.items()})
     n_of = {t: len(r) for t, r in rows.items()}
@@ -643,20 +641,24 @@ def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tup
     first_other: dict[bytes, int] = {}
     if not len(rec):
         return other, first_other
-    win = _gather(arr, data, t0, _TYPE_WINDOW)
-    is_sep = win == sep_b
-    end = np.where(is_sep.any(axis=1), np.argmax(is_sep, axis=1), _TYPE_WINDOW)
-    end = np.minimum(end, stop - t0)  # a type without separator ends with its line
-    long_ = np.flatnonzero(end >= _TYPE_WINDOW)  # types that may run past the window: sliced one by one
-    short = np.flatnonzero(end < _TYPE_WINDOW)
-    if short.size:
-        j = np.arange(_TYPE_WINDOW)
-        mat = np.where(j < end[short, None], win[short], 0).astype(np.uint8)
-        keys = np.ascontiguousarray(mat).view(f"S{_TYPE_WINDOW}").ravel()
-        uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
-        for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
-            other[u] = c
-            first_other[u] = int(rec[short[f]])
+    long_ = np.arange(len(rec))
+    for width in (16, _TYPE_WINDOW):  # most types are short: a narrow window first, the others in a wide one
+        win = _gather(arr, data, t0[long_], width)
+        is_sep = win == sep_b
+        end = np.where(is_sep.any(axis=1), np.argmax(is_sep, axis=1), width)
+        end = np.minimum(end, stop[long_] - t0[long_])  # a type without separator ends with its line
+        short = long_[end < width]  # (types of different lengths: no type is found in both windows)
+        if short.size:
+            j = np.arange(width)
+            mat = np.where(j < end[end < width, None], win[end < width], 0).astype(np.uint8)
+            keys = np.ascontiguousarray(mat).view(f"S{width}").ravel()
+            uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
+            for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
+                other[u] = c
+                first_other[u] = int(rec[short[f]])
+        long_ = long_[end >= width]  # types that may run past the window
+        if not long_.size:
+            break
     for i in long_.tolist():
         a, b = int(t0[i]), int(stop[i])
         e = data.find(bytes([sep_b]), a, b)
