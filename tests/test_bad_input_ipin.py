@@ -200,6 +200,22 @@ def test_fast_path_and_line_by_line_parser_agree(text):
         assert a.ssid == b.ssid and a.bssid == b.bssid
 
 
+def test_unknown_record_types_of_every_length_are_counted_like_the_line_parser():
+    # the fast path reads unknown types through a 16-byte window, then a 64-byte one, then line by line
+    names = ["XYZ", "A" * 15, "B" * 16, "C" * 17, "D" * 63, "E" * 64, "F" * 70]
+    lines = GOOD.splitlines()
+    out = lines[:4]
+    for i, name in enumerate(names * 3):
+        out.append(f"{name};{i};1;2" if i % 2 else name)  # with fields, and a type alone on its line
+        out.append(lines[3 + i % 8])
+    text = "\n".join(out + lines[4:]) + "\n"
+    fast = ipin._blocks_fast(text.encode())
+    assert fast is not None
+    slow = ipin._blocks_slow(text.splitlines(), "x")
+    assert fast[1] == slow[1] and list(fast[1]) == list(slow[1])  # counts, in order of first occurrence
+    assert all(fast[1][n] == 3 for n in names)
+
+
 @pytest.mark.parametrize("old, new", [(";3\n", "; 3\n"), ("0.2;9.8;3", "0.2;TRUE;3"), ("\n", "\n\x0c"),
                                       (";-65", ";-65;"), ("%", " %")])
 def test_odd_files_leave_the_fast_path(old, new):

@@ -545,23 +545,23 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    has_cr, has_tab = b"\r" in data, b"\t" in data
-    if sep_b != 9 and has_tab:
-        return None  # a tab is a space to str.strip
     ends, n_sep, n_low = _scan_lines(arr, sep_b)
+    n_tab = int(n_sep.sum()) if sep_b == 9 else 0
     n_cr = 0
-    if has_cr:
-        cr = byte_positions(arr, 13)
-        if np.any(arr[cr + 1] != 10):  # data ends with \n, so cr + 1 is inside
-            return None  # a lone \r ends a line for str.splitlines
-        n_cr = len(cr)
-        del cr
+    if n_low != len(ends) + n_tab:  # bytes below 32 other than line ends and separating tabs: looked at
+        if sep_b != 9 and b"\t" in data:
+            return None  # a tab is a space to str.strip
+        if b"\r" in data:
+            cr = byte_positions(arr, 13)
+            if np.any(arr[cr + 1] != 10):  # data ends with \n, so cr + 1 is inside
+                return None  # a lone \r ends a line for str.splitlines
+            n_cr = len(cr)
+            del cr
+        if n_low != len(ends) + n_cr + n_tab:
+            return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
     starts = np.empty_like(ends)
     starts[0] = 0
     starts[1:] = ends[:-1] + 1
-    n_tab = int(n_sep.sum()) if sep_b == 9 else 0  # no tab otherwise
-    if n_low != len(ends) + n_cr + n_tab:
-        return None  # other control bytes (line ends or spaces for str.splitlines / str.strip)
     if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
     sp = []
@@ -620,9 +620,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None
-    by_label = rec[np.argsort(label, kind="stable")]  # grouped by type, file order within each (a counting sort)
-    edge = np.cumsum(n_label)
-    rows = {names[c - 1]: by_label[edge[c - 1]:edge[c]] for c in present.tolist()}
+    rows = {names[c - 1]: rec[label == c] for c in present.tolist()}  # file order within each type
     first_of = {t: int(r[0]) for t, r in rows.items()}
     first_of.update({t.decode(): i for t, i in first_other.items()})
     n_of = {t: len(r) for t, r in rows.items()}
@@ -643,20 +641,24 @@ def _count_types(data: bytes, arr: np.ndarray, sep_b: int, rec, t0, stop) -> tup
     first_other: dict[bytes, int] = {}
     if not len(rec):
         return other, first_other
-    win = _gather(arr, data, t0, _TYPE_WINDOW)
-    is_sep = win == sep_b
-    end = np.where(is_sep.any(axis=1), np.argmax(is_sep, axis=1), _TYPE_WINDOW)
-    end = np.minimum(end, stop - t0)  # a type without separator ends with its line
-    long_ = np.flatnonzero(end >= _TYPE_WINDOW)  # types that may run past the window: sliced one by one
-    short = np.flatnonzero(end < _TYPE_WINDOW)
-    if short.size:
-        j = np.arange(_TYPE_WINDOW)
-        mat = np.where(j < end[short, None], win[short], 0).astype(np.uint8)
-        keys = np.ascontiguousarray(mat).view(f"S{_TYPE_WINDOW}").ravel()
-        uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
-        for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
-            other[u] = c
-            first_other[u] = int(rec[short[f]])
+    long_ = np.arange(len(rec))
+    for width in (16, _TYPE_WINDOW):  # most types are short: a narrow window first, the others in a wide one
+        win = _gather(arr, data, t0[long_], width)
+        is_sep = win == sep_b
+        end = np.where(is_sep.any(axis=1), np.argmax(is_sep, axis=1), width)
+        end = np.minimum(end, stop[long_] - t0[long_])  # a type without separator ends with its line
+        short = long_[end < width]  # (types of different lengths: no type is found in both windows)
+        if short.size:
+            j = np.arange(width)
+            mat = np.where(j < end[end < width, None], win[end < width], 0).astype(np.uint8)
+            keys = np.ascontiguousarray(mat).view(f"S{width}").ravel()
+            uniq, first, n = np.unique(keys, return_index=True, return_counts=True)
+            for u, f, c in zip(uniq.tolist(), first.tolist(), n.tolist(), strict=True):
+                other[u] = c
+                first_other[u] = int(rec[short[f]])
+        long_ = long_[end >= width]  # types that may run past the window
+        if not long_.size:
+            break
     for i in long_.tolist():
         a, b = int(t0[i]), int(stop[i])
         e = data.find(bytes([sep_b]), a, b)
@@ -764,8 +766,10 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         return None
     lo = tl.starts[rows]
     hi = tl.ends[rows] + 1
-    cuts = np.unique(np.searchsorted(lo, np.arange(int(lo[0]) + _PIECE, int(hi[-1]), _PIECE)))  # pieces of the file
+    cum = np.cumsum(hi - lo)  # selected bytes up to the end of each line: pieces of about _PIECE of them
+    cuts = np.unique(np.searchsorted(cum, np.arange(_PIECE, int(cum[-1]), _PIECE), side="right"))
     bounds = [0] + [int(c) for c in cuts if 0 < c < n] + [n]
+    del cum
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
     dtype = {names[j]: (str if j in strings else np.int64 if j in ints else np.float64) for j in use}
