@@ -62,3 +62,23 @@ def test_window_sweep_limits_and_control_point_windows():
                          whole_run=eskf_rts_smooth(res, with_cov=False))
     pd.testing.assert_frame_equal(again.sweep, ws.sweep, check_exact=True)
     pd.testing.assert_frame_equal(again.gcp, ws.gcp, check_exact=True)
+
+
+def test_window_sweeps_over_offsets_equal_one_offset_at_a_time():
+    from ilocalg.ins.evaluate import window_sweep, window_sweeps
+    from tests.test_ins_eskf import circle_run
+
+    res, pos_t, _, mat_t, idx = circle_run(7, n=600)
+    scored = np.arange(res.t_s.size) >= 100
+    offs = (0.0, 0.25, 0.5)
+    many = window_sweeps(res, [1.0, 2.0, 5.0], scored, pos_t[scored], mat_t[scored], res.t_s[idx[:10]],
+                         offset_fracs=offs)
+    assert len(many) == len(offs)
+    for off, ws in zip(offs, many, strict=True):
+        one = window_sweep(res, [1.0, 2.0, 5.0], scored, pos_t[scored], mat_t[scored], res.t_s[idx[:10]],
+                           offset_frac=off)
+        pd.testing.assert_frame_equal(ws.sweep, one.sweep, check_exact=True)
+        pd.testing.assert_frame_equal(ws.gcp, one.gcp, check_exact=True)
+        assert list(ws.solutions) == list(one.solutions)
+    # the grid offset moves the windows: the 2 s rows differ between offsets
+    assert not many[0].gcp.equals(many[1].gcp) or not many[0].sweep.equals(many[1].sweep)

@@ -100,3 +100,31 @@ def test_window_grid_offset_shifts_the_window_ends():
     assert t[e3].tolist() == [2.5, 12.5, 22.5, 29.5]
     with pytest.raises(ValueError, match="offset_s"):
         window_ends(t, 10.0, offset_s=10.0)
+
+
+def _rts_mean_one_grid(res, ends):
+    """Eq. (8) on one window grid, written out epoch by epoch (the reference of the stacked smoother)."""
+    G = ins.rts_gains(res)
+    xs = np.zeros((res.t_s.size, 21))
+    x = np.zeros(21)
+    for k in range(res.t_s.size - 2, -1, -1):
+        x = np.zeros(21) if ends[k] else G[k] @ (x + res.dx[k + 1])
+        xs[k] = x
+    return xs
+
+
+def test_grids_smoothed_together_equal_each_grid_alone_bit_for_bit(runs):
+    from ilocalg.ins.smoother import eskf_rts_smooth_grids
+
+    res = runs[1][0]
+    span = res.t_s[-1] - res.t_s[0]
+    grids = [(w, f * w) for f in (0.0, 0.25, 0.5) for w in (0.5, 2.0, 3.0, 2 * span)] + [(None, 0.0)]
+    together = eskf_rts_smooth_grids(res, grids, gains=ins.rts_gains(res))
+    assert len(together) == len(grids) and eskf_rts_smooth_grids(res, []) == []
+    for (w, off), sm in zip(grids, together, strict=True):
+        ends = ins.window_ends(res.t_s, w, off)
+        assert np.array_equal(sm.xs, _rts_mean_one_grid(res, ends))
+        alone = ins.eskf_rts_smooth(res, window_s=w, with_cov=False, offset_s=off)
+        for f in ("pos_n_m", "vel_n_mps", "mat_nb", "sensor", "xs", "latency_s"):
+            assert np.array_equal(getattr(sm, f), getattr(alone, f)), (w, off, f)
+        assert np.isnan(sm.sd).all()

@@ -20,9 +20,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.ins.evaluate import window_sweep, window_sweep_tables
+from ilocalg.ins.evaluate import window_sweep_tables, window_sweeps
 from ilocalg.ins.pipeline import run_walk
-from ilocalg.ins.smoother import eskf_rts_smooth, rts_gains
+from ilocalg.ins.smoother import rts_gains
 from ilocalg.sim import ins_walk
 from ilocalg.workflow.studies import select, study_row, study_tasks
 
@@ -65,10 +65,9 @@ def run(seed: int = 0, fast: bool = False, windows_s=None, offset_fracs=OFFSET_F
         ind = walk.t_s >= walk.t_indoor_s
         filt = run_walk(walk, "wvc", use_gcp=True, stairs="none")  # both phones alike (Liao 2016, L202)
         G = rts_gains(filt)
-        whole = eskf_rts_smooth(filt, with_cov=False, gains=G)  # the same at every grid offset
-        for off in offsets:  # averaged over where the window grid falls
-            res = window_sweep(filt, sorted(set(ws)), ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],
-                               walk.gcp_t_s, gains=G, offset_frac=off, whole_run=whole)
+        # averaged over where the window grid falls; every offset's windows smoothed in one pass
+        for res in window_sweeps(filt, sorted(set(ws)), ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],
+                                 walk.gcp_t_s, gains=G, offset_fracs=offsets):
             sweep.append(res.sweep.assign(phone=phone))
             gcp.append(res.gcp.assign(phone=phone))
     sw, gw = window_sweep_tables(pd.concat(sweep, ignore_index=True), pd.concat(gcp, ignore_index=True))

@@ -69,6 +69,7 @@ from ilocalg.ins.evaluate import (
     nav_errors,
     window_sweep,
     window_sweep_tables,
+    window_sweeps,
 )
 from ilocalg.ins.hartmann import (
     HartmannEKF,
@@ -98,6 +99,7 @@ from ilocalg.ins.smoother import (
     ErrorStateINS,
     EskfSmoothResult,
     eskf_rts_smooth,
+    eskf_rts_smooth_grids,
     online_window_smooth,
     rts_gains,
     window_ends,
@@ -108,6 +110,7 @@ __all__ = [
     "WindowSweep",
     "window_sweep",
     "window_sweep_tables",
+    "window_sweeps",
     "GRAVITY_N_MPS2",
     "MAT_PHONE_TO_BODY",
     "phone_to_body",
@@ -162,6 +165,7 @@ __all__ = [
     "rotvec_to_dcm",
     "rts_gains",
     "eskf_rts_smooth",
+    "eskf_rts_smooth_grids",
     "run_eskf",
     "skew",
     "step_frequency_hz",

@@ -153,6 +153,17 @@ def correct_sensors(gyr_raw_radps, acc_raw_mps2, sensor):
     return gyr, acc
 
 
+#: What every transition matrix holds before its epoch's terms are written: the identity.
+_PHI_CONSTANT = np.eye(N_STATES)
+#: Flat (row * 21 + column) positions of dt (``dr' = dv``) and of the terms of ``-[cf x]`` (``dv' = ... dphi``):
+#: ``+cf[_CF_COMPONENTS]`` at ``_DV_DPHI``, ``-cf[_CF_COMPONENTS_NEG]`` at ``_DV_DPHI_NEG``.
+_DR_DV = np.array([0 * N_STATES + 3, 1 * N_STATES + 4, 2 * N_STATES + 5])
+_DV_DPHI = np.array([3 * N_STATES + 7, 4 * N_STATES + 8, 5 * N_STATES + 6])
+_CF_COMPONENTS = np.array([2, 0, 1])
+_DV_DPHI_NEG = np.array([3 * N_STATES + 8, 4 * N_STATES + 6, 5 * N_STATES + 7])
+_CF_COMPONENTS_NEG = np.array([1, 2, 0])
+
+
 def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
     """Batched first-order transition matrices ``Phi = I + F dt`` (L, 21, 21) of the error model (eq. 2).
 
@@ -167,18 +178,19 @@ def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
     L = C.shape[0]
     dt = np.asarray(dt_s, dtype=float).reshape(L, 1, 1)
     cdt = C * dt
+    ncdt = -cdt
     cf = np.einsum("lij,lj->li", cdt, f_b_mps2)
-    out = np.zeros((L, N_STATES, N_STATES))
-    out[:, np.arange(N_STATES), np.arange(N_STATES)] = 1.0
-    out[:, [0, 1, 2], [3, 4, 5]] = dt[:, :, 0]
+    out = np.empty((L, N_STATES, N_STATES))
+    out[:] = _PHI_CONSTANT  # identity; zeros where the error model has no term
+    flat = out.reshape(L, N_STATES * N_STATES)
+    flat[:, _DR_DV] = dt[:, :, 0]
     # -[cf x]
-    out[:, 3, 7], out[:, 3, 8] = cf[:, 2], -cf[:, 1]
-    out[:, 4, 6], out[:, 4, 8] = -cf[:, 2], cf[:, 0]
-    out[:, 5, 6], out[:, 5, 7] = cf[:, 1], -cf[:, 0]
-    out[:, 3:6, 9:12] = -cdt
-    out[:, 3:6, 15:18] = -cdt * np.asarray(f_b_mps2)[:, None, :]
-    out[:, 6:9, 12:15] = -cdt
-    out[:, 6:9, 18:21] = -cdt * np.asarray(omega_b_radps)[:, None, :]
+    flat[:, _DV_DPHI] = cf[:, _CF_COMPONENTS]
+    flat[:, _DV_DPHI_NEG] = -cf[:, _CF_COMPONENTS_NEG]
+    out[:, 3:6, 9:12] = ncdt
+    np.multiply(ncdt, np.asarray(f_b_mps2)[:, None, :], out=out[:, 3:6, 15:18])
+    out[:, 6:9, 12:15] = ncdt
+    np.multiply(ncdt, np.asarray(omega_b_radps)[:, None, :], out=out[:, 6:9, 18:21])
     return out
 
 

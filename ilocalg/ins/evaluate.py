@@ -16,7 +16,7 @@ from ilocalg.ins.mechanisation import dcm_to_euler
 from ilocalg.units import wrap_angle_rad
 
 __all__ = ["nav_errors", "error_stats", "heading_error_with_lag_deg", "POS_AXES", "ATT_AXES", "AXES", "WindowSweep",
-           "window_sweep", "window_sweep_tables"]
+           "window_sweep", "window_sweeps", "window_sweep_tables"]
 
 POS_AXES = ("N", "E", "H")
 ATT_AXES = ("Roll", "Pitch", "Heading")
@@ -27,10 +27,14 @@ def nav_errors(pos_n_m, mat_nb, pos_true_n_m, mat_true_nb) -> pd.DataFrame:
     pos, pt = np.asarray(pos_n_m, dtype=float), np.asarray(pos_true_n_m, dtype=float)
     if pos.shape != pt.shape or pos.ndim != 2 or pos.shape[1] != 3:
         raise ValueError(f"pos_n_m and pos_true_n_m must both be (N, 3), got {pos.shape} and {pt.shape}")
-    d = pos - pt
-    e = dcm_to_euler(mat_nb)
-    et = dcm_to_euler(mat_true_nb)
-    da = np.rad2deg(wrap_angle_rad(e - et))
+    return _errors(pos, mat_nb, pt, dcm_to_euler(mat_true_nb))
+
+
+def _errors(pos, mat_nb, pos_true, euler_true) -> pd.DataFrame:
+    """:func:`nav_errors` with the truth's Euler angles (``dcm_to_euler(mat_true_nb)``) given (shared by the
+    solutions of a sweep)."""
+    d = pos - pos_true
+    da = np.rad2deg(wrap_angle_rad(dcm_to_euler(mat_nb) - euler_true))
     return pd.DataFrame({"N": d[:, 1], "E": d[:, 0], "H": d[:, 2],
                          "Roll": da[:, 0], "Pitch": da[:, 1], "Heading": da[:, 2]})
 
@@ -109,43 +113,74 @@ def window_sweep(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gai
     ----------
     Liao et al. (2016), sec. 3.3 and 4.2 (Tables 8-11, Fig 19; windows without a control point, Figs 20-21).
     """
-    from ilocalg.ins.smoother import eskf_rts_smooth, online_window_smooth, rts_gains, window_ends
+    return window_sweeps(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gains, (offset_frac,),
+                         whole_run)[0]
+
+
+def window_sweeps(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, gains=None, offset_fracs=(0.0,),
+                  whole_run=None) -> list[WindowSweep]:
+    """:func:`window_sweep` for several grid offsets at once: one :class:`WindowSweep` per ``offset_fracs`` entry.
+
+    Every window of every offset is smoothed in one backward pass
+    (:func:`ilocalg.ins.smoother.eskf_rts_smooth_grids`); the filter and the whole-run RTS, which do not depend
+    on the grid, are scored once. The same tables as :func:`window_sweep` offset by offset.
+    """
+    from ilocalg.ins.smoother import eskf_rts_smooth_grids, rts_gains, window_ends
 
     G = rts_gains(res) if gains is None else gains
-    sols = {"Filtering": (res.pos_n_m, res.mat_nb, np.zeros(res.t_s.size)), }
-    for w in windows_s:
-        sm = online_window_smooth(res, w, gains=G, offset_s=offset_frac * w)
-        sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
-    full = eskf_rts_smooth(res, with_cov=False, gains=G) if whole_run is None else whole_run
-    sols["RTS (whole run)"] = (full.pos_n_m, full.mat_nb, full.latency_s)
+    offsets = [float(f) for f in offset_fracs]
+    grids = [(w, f * w) for f in offsets for w in windows_s]
+    if whole_run is None:
+        grids.append((None, 0.0))
+    smoothed = eskf_rts_smooth_grids(res, grids, gains=G)
+    full = whole_run if whole_run is not None else smoothed[-1]
+    euler_true = dcm_to_euler(mat_true_nb)
+    pos_true = np.asarray(pos_true_n_m, dtype=float)
     gcp_epoch = np.zeros(res.t_s.size, bool)
     gcp_epoch[np.searchsorted(res.t_s, gcp_t_s)] = True
-    stats, sweep, gcp_rows = {}, [], []
-    for key, (pos, mat, lat) in sols.items():
-        err = nav_errors(pos[scored], mat[scored], pos_true_n_m, mat_true_nb)
-        st = stats[key] = error_stats(err)
+
+    def score(key, pos, mat, lat):
+        err = _errors(np.asarray(pos[scored], dtype=float), mat[scored], pos_true, euler_true)
+        st = error_stats(err)
         wsec = key if isinstance(key, float) else (0.0 if key == "Filtering" else np.inf)
-        for k in ("max", "rms", "std"):
-            sweep.append({"window_s": wsec, "stat": k, **{a: st[k][a] for a in POS_AXES},
-                          "horizontal": float(np.hypot(st[k]["N"], st[k]["E"])) if k == "rms" else np.nan,
-                          "latency_mean_s": float(np.mean(lat[scored]))})
-        if isinstance(key, float):
-            ends = window_ends(res.t_s, key, offset_frac * key)
-            win = np.concatenate([[0], np.cumsum(ends[:-1])])
-            has = np.zeros(win.max() + 1, bool)
-            has[win[gcp_epoch]] = True
-            hz = np.hypot(err["N"], err["E"]).to_numpy()
-            wi = win[scored]
-            in_gcp = has[wi]
-            scored_windows = np.unique(wi)
-            gcp_rows.append({
-                "window_s": key,
-                "windows_indoor": scored_windows.size,
-                "share_without_gcp": float(np.mean(~has[scored_windows])),
-                "rms_h_with_gcp_m": float(np.sqrt(np.mean(hz[in_gcp] ** 2))) if in_gcp.any() else np.nan,
-                "rms_h_without_gcp_m": (float(np.sqrt(np.mean(hz[~in_gcp] ** 2))) if (~in_gcp).any()
-                                        else np.nan)})
-    return WindowSweep(solutions=sols, stats=stats, sweep=pd.DataFrame(sweep), gcp=pd.DataFrame(gcp_rows))
+        rows = [{"window_s": wsec, "stat": k, **{a: st[k][a] for a in POS_AXES},
+                 "horizontal": float(np.hypot(st[k]["N"], st[k]["E"])) if k == "rms" else np.nan,
+                 "latency_mean_s": float(np.mean(lat[scored]))} for k in ("max", "rms", "std")]
+        return err, st, rows
+
+    fixed = {"Filtering": (res.pos_n_m, res.mat_nb, np.zeros(res.t_s.size)),
+             "RTS (whole run)": (full.pos_n_m, full.mat_nb, full.latency_s)}
+    fixed_scores = {key: score(key, *sol) for key, sol in fixed.items()}
+    out = []
+    for j, off in enumerate(offsets):
+        sols = {"Filtering": fixed["Filtering"]}
+        for i, w in enumerate(windows_s):
+            sm = smoothed[j * len(windows_s) + i]
+            sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
+        sols["RTS (whole run)"] = fixed["RTS (whole run)"]
+        stats, sweep, gcp_rows = {}, [], []
+        for key, (pos, mat, lat) in sols.items():
+            err, st, rows = fixed_scores[key] if key in fixed_scores else score(key, pos, mat, lat)
+            stats[key] = st
+            sweep += rows
+            if isinstance(key, float):
+                ends = window_ends(res.t_s, key, off * key)
+                win = np.concatenate([[0], np.cumsum(ends[:-1])])
+                has = np.zeros(win.max() + 1, bool)
+                has[win[gcp_epoch]] = True
+                hz = np.hypot(err["N"], err["E"]).to_numpy()
+                wi = win[scored]
+                in_gcp = has[wi]
+                scored_windows = np.unique(wi)
+                gcp_rows.append({
+                    "window_s": key,
+                    "windows_indoor": scored_windows.size,
+                    "share_without_gcp": float(np.mean(~has[scored_windows])),
+                    "rms_h_with_gcp_m": float(np.sqrt(np.mean(hz[in_gcp] ** 2))) if in_gcp.any() else np.nan,
+                    "rms_h_without_gcp_m": (float(np.sqrt(np.mean(hz[~in_gcp] ** 2))) if (~in_gcp).any()
+                                            else np.nan)})
+        out.append(WindowSweep(solutions=sols, stats=stats, sweep=pd.DataFrame(sweep), gcp=pd.DataFrame(gcp_rows)))
+    return out
 
 
 def window_sweep_tables(sweep: pd.DataFrame, gcp: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:

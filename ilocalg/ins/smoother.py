@@ -31,7 +31,8 @@ import numpy as np
 from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult, covariance_chunk
 from ilocalg.ins.mechanisation import rotvecs_to_dcm
 
-__all__ = ["EskfSmoothResult", "ErrorStateINS", "rts_gains", "eskf_rts_smooth", "window_ends", "online_window_smooth"]
+__all__ = ["EskfSmoothResult", "ErrorStateINS", "rts_gains", "eskf_rts_smooth", "eskf_rts_smooth_grids", "window_ends",
+           "online_window_smooth"]
 
 
 @dataclass(frozen=True)
@@ -95,6 +96,81 @@ def window_ends(t_s, window_s: float | None, offset_s: float = 0.0) -> np.ndarra
     return ends
 
 
+def _chunks(res: EskfResult) -> list[tuple[int, int]]:
+    """Stretches ``(a, b)`` whose covariances :func:`~ilocalg.ins.eskf.covariance_chunk` gives: the whole run when
+    the filter kept its history, else the stretches between consecutive checkpoints."""
+    n = res.t_s.size
+    if res.P_plus is not None:
+        return [(0, n - 1)]
+    cp = res.cp_idx
+    return list(zip(cp[:-1].tolist(), cp[1:].tolist(), strict=True)) or [(0, n - 1)]
+
+
+def _backward(res: EskfResult, ends: np.ndarray, gains: np.ndarray | None = None, with_cov: bool = False):
+    """Eq. (8) about the corrected solution for M window grids in one backward pass, and eq. (9) on the first.
+
+    ``ends`` (M, N) bool: the window ends of each grid (:func:`window_ends`); at an end a grid's error restarts
+    from zero (and its covariance from the filtered one). Each grid's ``xs_k = G_k (xs_{k+1} + dx_{k+1})`` is one
+    matrix-vector product per epoch, done for all grids by one stacked ``matmul`` (the same product per grid as
+    for one grid alone, so the same bits); the per-epoch Python work is shared by the grids.
+
+    Returns ``xs`` (N, M, 21) and, with ``with_cov``, the smoothed variances (N, 21) of the first grid (else None).
+    """
+    n = res.t_s.size
+    m = ends.shape[0]
+    xs = np.zeros((n, m, N_STATES))
+    var = np.full((n, N_STATES), np.nan) if with_cov else None
+    dx = res.dx
+    tmp = np.empty((m, N_STATES))
+    tmp3 = tmp[:, :, None]
+    # epochs where some grid's window ends -> those grids (xs stays zero there)
+    end_k = np.flatnonzero(ends.any(axis=0)).tolist()
+    resets = dict(zip(end_k, [np.flatnonzero(ends[:, k]) for k in end_k], strict=True))
+    mm, add = np.matmul, np.add
+    Ps = None
+    for a, b in reversed(_chunks(res)):
+        stored = gains is not None and res.P_plus is not None
+        if with_cov or not stored:
+            Pp, Pm, Ph = covariance_chunk(res, a, b)
+        G = gains[a:b + 1] if stored else _gains(Pp, Pm, Ph)
+        for k in range(b - 1, a - 1, -1):
+            r = resets.get(k)
+            if r is not None and r.size == m:
+                continue  # every grid's window ends here: xs[k] stays zero
+            add(xs[k + 1], dx[k + 1], out=tmp)
+            mm(G[k - a], tmp3, out=xs[k][:, :, None])
+            if r is not None:
+                xs[k][r] = 0.0
+        if with_cov:
+            if Ps is None:
+                Ps = Pp[-1].copy()
+                var[b] = np.diag(Ps)
+            end_l = ends[0, a:b].tolist()  # Python bools: read once per epoch
+            for k in range(b - 1, a - 1, -1):
+                i = k - a
+                if end_l[i]:
+                    Ps = Pp[i].copy()
+                else:
+                    Ps = Pp[i] + G[i] @ (Ps - Pm[i + 1]) @ G[i].T
+                var[k] = np.diag(Ps)
+    return xs, var
+
+
+def _smooth_result(res: EskfResult, xs: np.ndarray, sd: np.ndarray, ends: np.ndarray) -> EskfSmoothResult:
+    """The smoothed solution (corrected one plus ``xs`` (N, 21)) and each epoch's latency to its window end."""
+    n = res.t_s.size
+    pos = res.pos_n_m + xs[:, POS]
+    vel = res.vel_n_mps + xs[:, VEL]
+    mat = np.matmul(rotvecs_to_dcm(xs[:, ATT]), res.mat_nb)
+    sensor = res.sensor + xs[:, 9:21]
+    # latency: time from each epoch to the end of its window
+    end_idx = np.flatnonzero(ends)
+    which = np.searchsorted(end_idx, np.arange(n), side="left")
+    latency = res.t_s[end_idx[which]] - res.t_s
+    return EskfSmoothResult(t_s=res.t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sensor, xs=xs, sd=sd,
+                            latency_s=latency)
+
+
 def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bool = True,
                     gains: np.ndarray | None = None, offset_s: float = 0.0) -> EskfSmoothResult:
     """RTS smoother over the whole run (``window_s=None``) or over consecutive fixed windows.
@@ -111,53 +187,32 @@ def eskf_rts_smooth(res: EskfResult, window_s: float | None = None, with_cov: bo
     ----------
     Liao et al. (2016), eq. (8)-(10), sec. 3.3.
     """
-    n = res.t_s.size
     ends = window_ends(res.t_s, window_s, offset_s)
-    xs = np.zeros((n, N_STATES))
-    sd = np.full((n, N_STATES), np.nan)
-    dx = res.dx
-    if res.P_plus is not None:
-        chunks = [(0, n - 1)]
-    else:
-        # no history kept: recompute the covariances between consecutive checkpoints, last stretch first
-        cp = res.cp_idx
-        chunks = list(zip(cp[:-1].tolist(), cp[1:].tolist(), strict=True)) or [(0, n - 1)]
-    x = np.zeros(N_STATES)
-    tmp = np.empty(N_STATES)
-    Ps = None
-    for a, b in reversed(chunks):
-        Pp, Pm, Ph = covariance_chunk(res, a, b)
-        G = gains[a:b + 1] if (gains is not None and res.P_plus is not None) else _gains(Pp, Pm, Ph)
-        if Ps is None:
-            Ps = Pp[-1].copy() if with_cov else None
-            if with_cov:
-                sd[b] = np.diag(Ps)
-        end_l = ends[a:b].tolist()  # Python bools: read once per epoch
-        for k in range(b - 1, a - 1, -1):
-            i = k - a
-            if end_l[i]:
-                x = xs[k]  # zeros
-                if with_cov:
-                    Ps = Pp[i].copy()
-            else:
-                # eq. (8), written straight into xs[k] (and eq. (9) for the covariance)
-                x = np.matmul(G[i], np.add(x, dx[k + 1], out=tmp), out=xs[k])
-                if with_cov:
-                    Ps = Pp[i] + G[i] @ (Ps - Pm[i + 1]) @ G[i].T
-            if with_cov:
-                sd[k] = np.diag(Ps)
-    if with_cov:
-        sd = np.sqrt(np.clip(sd, 0.0, None))  # variances -> standard deviations
-    pos = res.pos_n_m + xs[:, POS]
-    vel = res.vel_n_mps + xs[:, VEL]
-    mat = np.matmul(rotvecs_to_dcm(xs[:, ATT]), res.mat_nb)
-    sensor = res.sensor + xs[:, 9:21]
-    # latency: time from each epoch to the end of its window
-    end_idx = np.flatnonzero(ends)
-    which = np.searchsorted(end_idx, np.arange(n), side="left")
-    latency = res.t_s[end_idx[which]] - res.t_s
-    return EskfSmoothResult(t_s=res.t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sensor, xs=xs, sd=sd,
-                        latency_s=latency)
+    xs, var = _backward(res, ends[None], gains, with_cov)
+    # variances -> standard deviations
+    sd = np.sqrt(np.clip(var, 0.0, None)) if with_cov else np.full((res.t_s.size, N_STATES), np.nan)
+    return _smooth_result(res, xs[:, 0], sd, ends)
+
+
+def eskf_rts_smooth_grids(res: EskfResult, grids, gains: np.ndarray | None = None) -> list[EskfSmoothResult]:
+    """:func:`eskf_rts_smooth` (state only, ``with_cov=False``) on several window grids in one backward pass.
+
+    ``grids``: a sequence of ``(window_s, offset_s)`` (``window_s=None``: the whole run). Returns one
+    :class:`EskfSmoothResult` per grid, the same bits as ``eskf_rts_smooth(res, window_s, False, gains,
+    offset_s)`` each (``xs`` of each is a view into one (N, M, 21) array); the per-epoch Python work is shared by
+    all grids.
+
+    References
+    ----------
+    Liao et al. (2016), eq. (8) and (10), sec. 3.3.
+    """
+    grids = list(grids)
+    if not grids:
+        return []
+    ends = np.array([window_ends(res.t_s, w, o) for w, o in grids])
+    xs, _ = _backward(res, ends, gains)
+    return [_smooth_result(res, xs[:, j], np.full((res.t_s.size, N_STATES), np.nan), ends[j])
+            for j in range(len(grids))]
 
 
 def online_window_smooth(res: EskfResult, window_s: float, with_cov: bool = False,
