@@ -22,7 +22,8 @@ NOTEBOOKS = discover_notebooks()
 @pytest.fixture(scope="module")
 def fast_reports(tmp_path_factory):
     out = tmp_path_factory.mktemp("reports_a")
-    code = reproduce(out, fast=True, seed=0, html=False, progress=False)
+    # with the HTML pages (0.5 CPU-s a notebook): test_every_saved_figure_is_an_image_output_and_in_the_html reads them
+    code = reproduce(out, fast=True, seed=0, html=True, progress=False)
     return code, out
 
 
@@ -48,6 +49,26 @@ def test_every_notebook_has_parameters_cell_and_writes_a_table(fast_reports):
         cells = nbformat.read(nb, as_version=4).cells
         assert any("parameters" in c.metadata.get("tags", []) for c in cells), f"{nb.name}: no parameters cell"
         assert list((out / "tables").glob(f"{nb.stem}__*.csv")), f"{nb.name} wrote no table"
+
+
+def _png_outputs(path) -> list[int]:
+    """Cell index of every image/png output of an executed notebook (a cell with two figures counts twice)."""
+    cells = nbformat.read(path, as_version=4).cells
+    return [i for i, c in enumerate(cells) if c.cell_type == "code"
+            for o in c.get("outputs", []) if "image/png" in o.get("data", {})]
+
+
+def test_every_saved_figure_is_an_image_output_and_in_the_html(fast_reports):
+    """Each notebook through the runner: every figure it saved is also an image output of the executed notebook and
+    an image of its HTML page (was checked on notebook 07 alone, in its own fast run, in tests/test_runner.py)."""
+    code, out = fast_reports
+    assert code == 0
+    for nb in NOTEBOOKS:
+        n_saved = len(list((out / "figures").glob(f"{nb.stem}_*.png")))
+        assert len(_png_outputs(out / nb.name)) >= n_saved, f"{nb.name}: a saved figure is not shown"
+        assert (out / f"{nb.stem}.html").read_text().count("<img") >= n_saved, f"{nb.stem}.html misses a figure"
+    n_saved = len(list((out / "figures").glob("07_*.png")))  # notebook 07: one figure per cell, two or more
+    assert n_saved >= 2 and len(set(_png_outputs(out / "07_fusion_iloc_kf.ipynb"))) >= n_saved
 
 
 def test_same_seed_gives_byte_identical_tables(fast_reports, tmp_path):
