@@ -22,7 +22,8 @@ NOTEBOOKS = discover_notebooks()
 @pytest.fixture(scope="module")
 def fast_reports(tmp_path_factory):
     out = tmp_path_factory.mktemp("reports_a")
-    code = reproduce(out, fast=True, seed=0, html=False, progress=False)
+    # with the HTML pages (0.5 CPU-s a notebook): test_every_saved_figure_is_an_image_output_and_in_the_html reads them
+    code = reproduce(out, fast=True, seed=0, html=True, progress=False)
     return code, out
 
 
@@ -50,11 +51,34 @@ def test_every_notebook_has_parameters_cell_and_writes_a_table(fast_reports):
         assert list((out / "tables").glob(f"{nb.stem}__*.csv")), f"{nb.name} wrote no table"
 
 
+def _png_outputs(path) -> list[int]:
+    """Cell index of every image/png output of an executed notebook (a cell with two figures counts twice)."""
+    cells = nbformat.read(path, as_version=4).cells
+    return [i for i, c in enumerate(cells) if c.cell_type == "code"
+            for o in c.get("outputs", []) if "image/png" in o.get("data", {})]
+
+
+def test_every_saved_figure_is_an_image_output_and_in_the_html(fast_reports):
+    """Each notebook through the runner: every figure it saved is also an image output of the executed notebook and
+    an image of its HTML page (was checked on notebook 07 alone, in its own fast run, in tests/test_runner.py)."""
+    code, out = fast_reports
+    assert code == 0
+    for nb in NOTEBOOKS:
+        n_saved = len(list((out / "figures").glob(f"{nb.stem}_*.png")))
+        assert len(_png_outputs(out / nb.name)) >= n_saved, f"{nb.name}: a saved figure is not shown"
+        assert (out / f"{nb.stem}.html").read_text().count("<img") >= n_saved, f"{nb.stem}.html misses a figure"
+    n_saved = len(list((out / "figures").glob("07_*.png")))  # notebook 07: one figure per cell, two or more
+    assert n_saved >= 2 and len(set(_png_outputs(out / "07_fusion_iloc_kf.ipynb"))) >= n_saved
+
+
 def test_same_seed_gives_byte_identical_tables(fast_reports, tmp_path):
+    """Every notebook again, in fresh kernels: the same tables, byte for byte. The second run skips what writes no
+    table (``manifest={}``: no claims ledger, which fast_reports has made, no runs recorded for it; the notebooks and
+    the tables they write are the same, and that recording never changes a table is checked on the way)."""
     code, out_a = fast_reports
     assert code == 0
     out_b = tmp_path / "reports_b"
-    assert reproduce(out_b, fast=True, seed=0, html=False, progress=False) == 0
+    assert reproduce(out_b, fast=True, seed=0, html=False, progress=False, manifest={}) == 0
     a = sorted(p.name for p in (out_a / "tables").glob("*.csv"))
     b = sorted(p.name for p in (out_b / "tables").glob("*.csv"))
     assert a == b and a

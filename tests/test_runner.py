@@ -1,5 +1,5 @@
-"""The reproduce runner on small notebooks (and notebook 07 alone): failures, seed sweeps, reruns, figures, side by
-side runs. Separate from tests/test_notebooks.py, whose module fixture runs every notebook, so that a parallel run
+"""The reproduce runner on small notebooks: failures, seed sweeps, reruns, figures, side by side runs. Separate from
+tests/test_notebooks.py, whose module fixture runs every notebook (and checks their figures), so that a parallel run
 (``make test``, one file per worker) can run these beside it.
 """
 
@@ -149,17 +149,6 @@ def test_figures_are_inline_after_a_styled_one_and_saved_and_paths_are_relative(
     injected = next(c.source for c in cells if "injected-parameters" in c.metadata.get("tags", []))
     assert 'OUT_DIR = "../out"' in injected
     assert str(tmp_path) not in (out / "01_plots.html").read_text()
-
-
-def test_a_real_notebook_holds_its_figures(tmp_path):
-    """notebooks/07 (fast mode) through the runner: every saved figure is also an image output."""
-    out = tmp_path / "out"
-    assert reproduce(out, fast=True, only="07_", html=True, progress=False, jobs=1,
-                     cache_dir=tmp_path / "cache") == 0
-    n_saved = len(list((out / "figures").glob("07_*.png")))
-    assert n_saved >= 2
-    assert len(_png_cells(out / "07_fusion_iloc_kf.ipynb")) >= n_saved
-    assert (out / "07_fusion_iloc_kf.html").read_text().count("<img") >= n_saved
 
 
 def test_side_by_side_run_reuses_the_notebooks_own_base_seed_runs(tmp_path, monkeypatch):
