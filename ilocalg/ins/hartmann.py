@@ -66,23 +66,20 @@ def _block(rows, cols):
 
 
 _N = HARTMANN_N_STATES
-#: Where :func:`_model_many` writes the state-dependent entries of Phi (row-major within each block, in its order).
+#: The state-dependent entries of Phi (row-major within each block, in this order): the attitude block's first
+#: two columns, the attitude-gyro-bias block, position-attitude, position-acc-bias, velocity-attitude,
+#: velocity-acc-bias, the position-velocity diagonal.
 _PHI_IDX = _flat(_N, [(0, 0), (1, 0), (2, 0), (0, 1), (1, 1), (2, 1)] + _block(range(3), range(9, 12))
                  + _block(range(3, 6), range(3)) + _block(range(3, 6), range(12, 15)) + _block(range(6, 9), range(3))
                  + _block(range(6, 9), range(12, 15)) + [(3, 6), (4, 7), (5, 8)])
-#: W's blocks taken from Phi: W[0:3, 0:3] = Phi[0:3, 9:12], W[3:9, 3:6] = Phi[3:9, 12:15]; W[9:15, 6:12] = I.
-_W_IDX = _flat(12, _block(range(3), range(3)) + _block(range(3, 9), range(3, 6)))
-_W_FROM_PHI = _flat(_N, _block(range(3), range(9, 12)) + _block(range(3, 9), range(12, 15)))
-#: ... as positions in the order of _PHI_IDX
-_W_FROM_VALS = np.array([_PHI_IDX.tolist().index(v) for v in _W_FROM_PHI.tolist()], dtype=np.intp)
 
 
 def _terms(sf, cf, st, ct, sp, cp, w1, w2, w3, a1, a2, a3) -> tuple:
     """The state-dependent entries of :func:`_model_many`'s table for one state, from the sines and cosines of
     (phi, theta, psi) and the bias-corrected rates ``w`` and specific force ``a`` (Python floats).
 
-    Returns 40 floats: ``E`` (eq. 7-9, row-major), ``D = d(C a)/d(phi, theta, psi)`` (row-major), ``C`` (the DCM
-    of eq. 6, row-major), d(E w)/d(phi), d(E w)/d(theta), ``w``, ``a`` and 1.0.
+    Returns 40 floats: ``E`` (eq. 7-9), ``C`` (the DCM of eq. 6), ``D = d(C a)/d(phi, theta, psi)`` (each
+    row-major), d(E w)/d(phi), d(E w)/d(theta), ``w``, ``a`` and 1.0.
 
     Common products are taken once; where an entry reuses one with a sign, a negation is exact
     (``-(a b) == (-a) b``, ``p + (-q) == p - q``, ``-(p + q) == (-p) - q`` bit for bit), so each value is the one
@@ -96,46 +93,37 @@ def _terms(sf, cf, st, ct, sp, cp, w1, w2, w3, a1, a2, a3) -> tuple:
     tt, sec = st / ct, 1.0 / ct
     q, r = cf * w2 - sf * w3, sf * w2 + cf * w3
     return (1.0, sf * tt, cf * tt, 0.0, cf, -sf, 0.0, sf * sec, cf * sec,
+            c00, c01, c02, c10, c11, c12, -st, c21, c22,
             # D: columns d/d(phi), d/d(theta), d/d(psi)
             c02 * a2 - c01 * a3, -cpst * a1 + c00 * sf * a2 + c00 * cf * a3, -(c10 * a1 + c11 * a2 + c12 * a3),
             c12 * a2 - c11 * a3, -spst * a1 + c10 * sf * a2 + c10 * cf * a3, c00 * a1 + c01 * a2 + c02 * a3,
             c22 * a2 - c21 * a3, -ct * a1 - st * sf * a2 - st * cf * a3, 0.0,
-            c00, c01, c02, c10, c11, c12, -st, c21, c22,
             q * tt, -r, q * sec, r * sec * sec, 0.0, r * st * sec * sec,
             w1, w2, w3, a1, a2, a3, 1.0)
 
 
-#: _model_many's Phi entries (order of _PHI_IDX) as columns of its table: the attitude block's first two
-#: columns (d(E w)/d(phi), d(E w)/d(theta)), -dt E, h D, -h C, dt D, -dt C (h = dt^2 / 2), dt on the
-#: diagonal of the position-velocity block
-_TABLE_COLS = np.array([27, 28, 29, 30, 31, 32, *range(0, 9), *range(9, 18), *range(18, 27), *range(9, 18),
-                        *range(18, 27), 39, 39, 39], dtype=np.intp)
+_E, _C, _D, _DEW = range(0, 9), range(9, 18), range(18, 27), range(27, 33)
+#: The columns of :func:`_terms`' table behind Phi's entries (order of _PHI_IDX): d(E w)/d(phi, theta) (times dt,
+#: plus the identity's 1), -dt E, h D, -h C, dt D, -dt C (h = dt^2 / 2); then dt on the diagonal (a column of 1).
+_PHI_COLS = np.array([*_DEW, *_E, *_D, *_C, *_D, *_C, 39, 39, 39], dtype=np.intp)
 _BASE6 = np.array([1.0, 0.0, 0.0, 0.0, 1.0, 0.0])
 
 
 def _coefficients(dt_s: float) -> np.ndarray:
-    """The factors of :data:`_TABLE_COLS`' entries after the first six, for a step of ``dt_s``."""
+    """The factors of :data:`_PHI_COLS`' entries for a step of ``dt_s``."""
     h, mh = 0.5 * dt_s * dt_s, -0.5 * dt_s * dt_s
-    return np.repeat([-dt_s, h, mh, dt_s, -dt_s, dt_s], [9, 9, 9, 9, 9, 3])
+    return np.repeat([dt_s, -dt_s, h, mh, dt_s, -dt_s, dt_s], [6, 9, 9, 9, 9, 9, 3])
 
 
-def _model_buffers(n_seq: int) -> dict:
-    """Work arrays of :func:`_model_many`: Phi (the identity) and W (its lower block the identity) for
-    ``n_seq`` states, and a cache of :func:`_coefficients` per step length."""
-    W = np.zeros((n_seq, _N, 12))
-    W[:, 9:15, 6:12] = np.eye(6)
-    return {"Phi": np.repeat(np.eye(_N)[None], n_seq, axis=0), "W": W, "coef": {}}
-
-
-def _model_many(x, u, dt_s: float, buf: dict):
-    """``f(x, u, 0)`` (eq. 18-19) for the rows of ``x`` (S, 15) with inputs ``u`` (S, 6), returned, and its
-    Jacobians ``Phi`` (eq. 21) and ``W`` (eq. 22), written into ``buf["Phi"]`` (S, 15, 15) and ``buf["W"]``
-    (S, 15, 12) (:func:`_model_buffers`; only the state-dependent entries are written).
+def _model_many(x, u, dt_s: float, cache: dict):
+    """``f(x, u, 0)`` (eq. 18-19) for the rows of ``x`` (S, 15) with inputs ``u`` (S, 6) and its Jacobians ``Phi``
+    (eq. 21, (S, 15, 15)) and ``W`` (eq. 22, (S, 15, 12)); ``cache`` keeps work arrays between calls (Phi and W
+    among them: they hold until the next call with the same ``cache``).
 
     The Euler-angle maths (the DCM of eq. 6 and its partial derivatives in closed form, :func:`_terms`) runs on
-    Python floats, one state after the other: at the few states the filter moves together that is cheaper
-    than numpy calls on arrays of that length. Their table then goes through a fixed number of numpy calls
-    whatever the number of states: the products ``C a`` and ``E w`` as stacked matmuls (BLAS gemv on each
+    Python floats, one state after the other: for the few states the filter moves together that is cheaper
+    than numpy calls on arrays that short. Their table then goes through a fixed number of numpy calls
+    whatever the number of states: the products ``E w`` and ``C a`` as one stacked matmul (BLAS gemv on each
     (3, 3) slice, as for a single state), the state update and Phi's entries element by element.
     """
     n_seq = x.shape[0]
@@ -145,32 +133,36 @@ def _model_many(x, u, dt_s: float, buf: dict):
         phi, th, psi = xl[0], xl[1], xl[2]
         tab += _terms(sin(phi), cos(phi), sin(th), cos(th), sin(psi), cos(psi), ul[0] - xl[9], ul[1] - xl[10],
                       ul[2] - xl[11], ul[3] - xl[12], ul[4] - xl[13], ul[5] - xl[14])
-    m = np.array(tab).reshape(n_seq, 40)
-    av = (m[:, 18:27].reshape(n_seq, 3, 3) @ m[:, 36:39, None])[:, :, 0] + GRAVITY_N_MPS2
-    ew = (m[:, 0:9].reshape(n_seq, 3, 3) @ m[:, 33:36, None])[:, :, 0]
+    m = np.fromiter(tab, float, 40 * n_seq).reshape(n_seq, 40)
+    # (E w, C a): E and C, w and a are adjacent in the table
+    ew_ca = (m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1))[..., 0]
+    av = ew_ca[:, 1] + GRAVITY_N_MPS2
     # x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (dt^2 / 2) acc_v, x[6:9] + dt acc_v
-    h = 0.5 * dt_s * dt_s
     x_new = x.copy()
-    x_new[:, 0:3] += ew * dt_s
-    np.add(x[:, 3:6] + x[:, 6:9] * dt_s, h * av, out=x_new[:, 3:6])
+    x_new[:, 0:3] += ew_ca[:, 0] * dt_s
+    np.add(x[:, 3:6] + x[:, 6:9] * dt_s, (0.5 * dt_s * dt_s) * av, out=x_new[:, 3:6])
     x_new[:, 6:9] += dt_s * av
-    coef = buf["coef"].get(dt_s)
+    coef = cache.setdefault("coef", {}).get(dt_s)
     if coef is None:
-        coef = buf["coef"][dt_s] = _coefficients(dt_s)
-    vals = np.take(m, _TABLE_COLS, axis=1)
-    vals[:, 0:6] *= dt_s
+        coef = cache["coef"][dt_s] = _coefficients(dt_s)
+    Phi, W = cache.get("Phi"), cache.get("W")
+    if Phi is None or Phi.shape[0] != n_seq:
+        Phi = cache["Phi"] = np.repeat(np.eye(_N)[None], n_seq, axis=0)
+        W = cache["W"] = np.zeros((n_seq, _N, 12))
+        W[:, 9:15, 6:12] = np.eye(6)
+    vals = m[:, _PHI_COLS]
+    vals *= coef
     vals[:, 0:6] += _BASE6  # 1 or 0 + d(E w) dt
-    vals[:, 6:] *= coef
-    buf["Phi"].reshape(n_seq, -1)[:, _PHI_IDX] = vals
-    buf["W"].reshape(n_seq, -1)[:, _W_IDX] = vals[:, _W_FROM_VALS]
-    return x_new
+    Phi.reshape(n_seq, -1)[:, _PHI_IDX] = vals
+    # W (eq. 22) is Phi's last six columns in rows 0-8 (the identity below them set once)
+    W[:, 0:9, 0:6] = Phi[:, 0:9, 9:15]
+    return x_new, Phi, W
 
 
 def _model(x, u, dt_s: float):
     """:func:`_model_many` on one state: ``x_new`` (15,), ``Phi`` (15, 15), ``W`` (15, 12)."""
-    buf = _model_buffers(1)
-    x_new = _model_many(np.asarray(x, dtype=float)[None], np.asarray(u, dtype=float)[None], dt_s, buf)
-    return x_new[0], buf["Phi"][0], buf["W"][0]
+    x_new, Phi, W = _model_many(np.asarray(x, dtype=float)[None], np.asarray(u, dtype=float)[None], dt_s, {})
+    return x_new[0], Phi[0], W[0]
 
 
 def hartmann_f(x, u, dt_s: float) -> np.ndarray:
@@ -428,9 +420,7 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     P = np.stack([q[6] for q in seqs])
     dt_all = np.diff(t_s).tolist()
     Qw_cache: dict[float, np.ndarray] = {}
-    buf = _model_buffers(n_seq)
-    Phi, W = buf["Phi"], buf["W"]
-    PhiT, WT = Phi.transpose(0, 2, 1), W.transpose(0, 2, 1)
+    cache: dict = {}
     n_rep = [0] * n_seq
     for k in range(n):
         if k > 0:
@@ -439,8 +429,8 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
             if Qw is None:
                 Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
                                                acc_bias_rw_mps2_rsqrt_s, dt)
-            x = _model_many(x, u_all[k - 1], dt, buf)
-            P = Phi @ P @ PhiT + W @ Qw @ WT
+            x, Phi, W = _model_many(x, u_all[k - 1], dt, cache)
+            P = Phi @ P @ Phi.transpose(0, 2, 1) + W @ Qw @ W.transpose(0, 2, 1)
             P = 0.5 * (P + P.transpose(0, 2, 1))
             for s in check_at.get(k, ()):
                 P[s], rep = repair_psd(P[s])
