@@ -107,6 +107,7 @@ _E, _C, _D, _DEW = range(0, 9), range(9, 18), range(18, 27), range(27, 33)
 #: plus the identity's 1), -dt E, h D, -h C, dt D, -dt C (h = dt^2 / 2); then dt on the diagonal (a column of 1).
 _PHI_COLS = np.array([*_DEW, *_E, *_D, *_C, *_D, *_C, 39, 39, 39], dtype=np.intp)
 _BASE6 = np.array([1.0, 0.0, 0.0, 0.0, 1.0, 0.0])
+_GRAVITY = tuple(GRAVITY_N_MPS2.tolist())
 
 
 def _coefficients(dt_s: float) -> np.ndarray:
@@ -120,28 +121,34 @@ def _model_many(x, u, dt_s: float, cache: dict):
     (eq. 21, (S, 15, 15)) and ``W`` (eq. 22, (S, 15, 12)); ``cache`` keeps work arrays between calls (Phi and W
     among them: they hold until the next call with the same ``cache``).
 
-    The Euler-angle maths (the DCM of eq. 6 and its partial derivatives in closed form, :func:`_terms`) runs on
-    Python floats, one state after the other: for the few states the filter moves together that is cheaper
-    than numpy calls on arrays that short. Their table then goes through a fixed number of numpy calls
-    whatever the number of states: the products ``E w`` and ``C a`` as one stacked matmul (BLAS gemv on each
-    (3, 3) slice, as for a single state), the state update and Phi's entries element by element.
+    The Euler-angle maths (the DCM of eq. 6 and its partial derivatives in closed form, :func:`_terms`) and the
+    state update run on Python floats, one state after the other: for the few states the filter moves together
+    that is cheaper than numpy calls on arrays that short. The rest is a fixed number of numpy calls whatever
+    the number of states: the products ``E w`` and ``C a`` as one stacked matmul (BLAS gemv on each (3, 3)
+    slice, as for a single state), Phi's entries element by element from the table.
     """
     n_seq = x.shape[0]
     sin, cos = math.sin, math.cos
+    xls = x.tolist()
     tab: list[float] = []
-    for xl, ul in zip(x.tolist(), u.tolist(), strict=True):
+    for xl, ul in zip(xls, u.tolist(), strict=True):
         phi, th, psi = xl[0], xl[1], xl[2]
         tab += _terms(sin(phi), cos(phi), sin(th), cos(th), sin(psi), cos(psi), ul[0] - xl[9], ul[1] - xl[10],
                       ul[2] - xl[11], ul[3] - xl[12], ul[4] - xl[13], ul[5] - xl[14])
     m = np.fromiter(tab, float, 40 * n_seq).reshape(n_seq, 40)
     # (E w, C a): E and C, w and a are adjacent in the table
-    ew_ca = (m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1))[..., 0]
-    av = ew_ca[:, 1] + GRAVITY_N_MPS2
-    # x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (dt^2 / 2) acc_v, x[6:9] + dt acc_v
-    x_new = x.copy()
-    x_new[:, 0:3] += ew_ca[:, 0] * dt_s
-    np.add(x[:, 3:6] + x[:, 6:9] * dt_s, (0.5 * dt_s * dt_s) * av, out=x_new[:, 3:6])
-    x_new[:, 6:9] += dt_s * av
+    ew_ca = (m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1)).tolist()
+    # x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (dt^2 / 2) acc_v, x[6:9] + dt acc_v with acc_v = C a + g
+    h = 0.5 * dt_s * dt_s
+    g1, g2, g3 = _GRAVITY
+    new: list[float] = []
+    for xl, ((ew1, ew2, ew3), (ca1, ca2, ca3)) in zip(xls, ew_ca, strict=True):
+        av1, av2, av3 = ca1[0] + g1, ca2[0] + g2, ca3[0] + g3
+        new += (xl[0] + ew1[0] * dt_s, xl[1] + ew2[0] * dt_s, xl[2] + ew3[0] * dt_s,
+                xl[3] + xl[6] * dt_s + h * av1, xl[4] + xl[7] * dt_s + h * av2, xl[5] + xl[8] * dt_s + h * av3,
+                xl[6] + dt_s * av1, xl[7] + dt_s * av2, xl[8] + dt_s * av3)
+        new += xl[9:15]
+    x_new = np.fromiter(new, float, 15 * n_seq).reshape(n_seq, 15)
     coef = cache.setdefault("coef", {}).get(dt_s)
     if coef is None:
         coef = cache["coef"][dt_s] = _coefficients(dt_s)
