@@ -122,3 +122,101 @@ def test_repair_psd_only_when_needed():
     assert hm.repair_psd(P)[1] is False
     Q, rep = hm.repair_psd(np.array([[1.0, 1.0 + 1e-9], [1.0 + 1e-9, 1.0]]))
     assert rep and np.linalg.eigvalsh(Q).min() > 0
+
+
+def _textbook_run(t, gyr, acc, t_vt, z_vt, x0, P0, noise, R):
+    """The filter written step by step with the public functions (the loop run_hartmann had before the lockstep
+    version): predict at every IMU epoch, a PSD test every 400 predictions without a fix, the fixes in order."""
+    vt_idx = np.searchsorted(t, t_vt, side="left")
+    xs, sds, prior = np.empty((t.size, 15)), np.empty((t.size, 15)), np.empty((t_vt.size, 15))
+    x, P, since, n_rep = x0.copy(), P0.copy(), 0, 0
+    u = np.hstack([gyr, acc])
+    for k in range(t.size):
+        if k > 0:
+            dt = float(t[k] - t[k - 1])
+            x, P = hm.hartmann_predict(x, P, u[k - 1], dt, hm._noise_cov(*noise, dt))
+            since += 1
+            if since % 400 == 0:
+                P, rep = hm.repair_psd(P)
+                n_rep += rep
+        if (vt_idx == k).any():
+            since = 0
+        for j in np.flatnonzero(vt_idx == k):
+            prior[j] = x
+            x, P, _ = hm.hartmann_correct(x, P, z_vt[j], R)
+        xs[k], sds[k] = x, np.sqrt(P.diagonal())
+    return xs, sds, vt_idx, prior, n_rep
+
+
+def _assert_same_bits(res, ref):
+    for got, want in zip((res.x, res.sd, res.vt_idx, res.prior_at_vt), ref[:4], strict=True):
+        assert got.shape == want.shape
+        assert np.array_equal(got, want) and np.array_equal(np.signbit(got), np.signbit(want))
+    assert res.n_psd_repairs == ref[4]
+
+
+def test_lockstep_run_equals_the_step_by_step_filter_on_each_sequence():
+    """run_hartmann_many moves the sequences together (stacked matmul and solve, one Python pass per epoch);
+    each result must be the step-by-step filter's on that sequence alone, bit for bit: sequences with their own
+    tracker noise, one losing the tracker early (PSD tests in the outage), one with two fixes at one epoch."""
+    from ilocalg.ins.hartmann_eval import _start
+    from ilocalg.sim import hartmann as sh
+
+    seqs = [sh.simulate(6.0, seed=s, vt_sd=tuple(f * np.asarray(sh.VT_SD_DEFAULT))) for s, f in ((0, 1.0), (1, 3.0))]
+    s2 = sh.simulate(6.0, seed=2)
+    keep = s2.t_vt_s < 1.5
+    seqs.append(sh.HartmannSequence(**{**s2.__dict__, "t_vt_s": s2.t_vt_s[keep], "z_vt": s2.z_vt[keep]}))
+    s3 = sh.simulate(6.0, seed=3)
+    dup = np.insert(np.arange(s3.t_vt_s.size), 5, 4)  # fix 4 twice (the second one a little off)
+    z3 = s3.z_vt[dup].copy()
+    z3[5, 1] += 0.01
+    seqs.append(sh.HartmannSequence(**{**s3.__dict__, "t_vt_s": s3.t_vt_s[dup], "z_vt": z3}))
+    starts = [_start(q, 1.0) for q in seqs]
+    vt_sd = [q.params["vt_sd"] for q in seqs]
+    args = (seqs[0].t_s, [q.gyr_b_radps for q in seqs], [q.acc_b_mps2 for q in seqs], [q.t_vt_s for q in seqs],
+            [q.z_vt for q in seqs], [x0 for x0, _ in starts], [P0 for _, P0 in starts])
+    many = hm.run_hartmann_many(*args, vt_sd=vt_sd)
+    noise = (hm.GYR_SD_DEFAULT_RADPS, hm.ACC_SD_DEFAULT_MPS2, 1e-4, 1e-3)
+    for i, q in enumerate(seqs):
+        ref = _textbook_run(q.t_s, q.gyr_b_radps, q.acc_b_mps2, q.t_vt_s, q.z_vt, *starts[i], noise,
+                            np.diag(np.square(vt_sd[i])))
+        _assert_same_bits(many[i], ref)
+        _assert_same_bits(hm.run_hartmann(args[0], *(a[i] for a in args[1:]), vt_sd=vt_sd[i]), ref)
+    assert many[3].prior_at_vt.shape == (seqs[3].t_vt_s.size, 15)
+
+
+def test_lockstep_run_repairs_each_sequence_as_the_step_by_step_filter_does():
+    """Without process noise a P0 with a tiny negative eigenvalue (within check_covariance's tolerance) stays
+    indefinite, so the PSD test after 400 predictions repairs it - in that sequence only."""
+    from ilocalg.sim import hartmann as sh
+
+    q = sh.simulate(5.0, seed=4)
+    P_ok = np.diag(np.full(15, 1e-4))
+    P_bad = P_ok.copy()
+    P_bad[3, 4] = P_bad[4, 3] = 1e-4 * (1 + 1e-10)  # eigenvalue -1e-14 in (p_x - p_y)
+    x0 = np.zeros(15)
+    x0[3:6] = q.z_vt[0, 1:4]
+    t_vt = q.t_vt_s[:1]
+    z = q.z_vt[:1]
+    many = hm.run_hartmann_many(q.t_s, [q.gyr_b_radps] * 2, [q.acc_b_mps2] * 2, [t_vt] * 2, [z] * 2, [x0] * 2,
+                                [P_ok, P_bad], 0.0, 0.0, 0.0, 0.0)
+    for res, P0 in zip(many, (P_ok, P_bad), strict=True):
+        ref = _textbook_run(q.t_s, q.gyr_b_radps, q.acc_b_mps2, t_vt, z, x0, P0, (0.0, 0.0, 0.0, 0.0),
+                            np.diag(np.square(hm.VT_SD_DEFAULT)))
+        _assert_same_bits(res, ref)
+    assert many[0].n_psd_repairs == 0 and many[1].n_psd_repairs >= 1
+
+
+def test_lockstep_run_checks_its_batch():
+    t = np.arange(10) * 0.01
+    one = (np.zeros((10, 3)), np.zeros((10, 3)), [0.05], np.zeros((1, 4)), np.zeros(15), np.eye(15))
+    with pytest.raises(ValueError, match="no sequences"):
+        hm.run_hartmann_many(t, [], [], [], [], [], [])
+    with pytest.raises(ValueError, match="acc_b_mps2 holds 1 sequences, gyr_b_radps 2"):
+        hm.run_hartmann_many(t, [one[0]] * 2, [one[1]], [one[2]] * 2, [one[3]] * 2, [one[4]] * 2, [one[5]] * 2)
+    bad = np.eye(15)
+    bad[3, 3] = -1.0
+    with pytest.raises(ValueError, match=r"sequence 1: P0: variance \[3, 3\] is negative"):
+        hm.run_hartmann_many(t, *([a, a] for a in one[:5]), [np.eye(15), bad])
+    with pytest.raises(ValueError, match="vt_sd holds 3 rows for 2 sequences"):
+        hm.run_hartmann_many(t, *([a, a] for a in one), vt_sd=[hm.VT_SD_DEFAULT] * 3)

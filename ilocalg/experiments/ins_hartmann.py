@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ilocalg.ins.hartmann_eval import run_sequence, settling_time_s, table2_row
+from ilocalg.ins.hartmann_eval import run_sequence, run_sequences, settling_time_s, table2_row
 from ilocalg.ins.paper_values import HARTMANN_TABLE2_OVERALL
 from ilocalg.papers.comparison_survey import implied_tracker_noise, table2_rows
 from ilocalg.papers.readings_survey import readings as _readings
@@ -60,12 +60,26 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
         main_kw["outage_rate_per_s"] = outage_rate_factor * sim.OUTAGE_RATE_PER_S
     if outage_excess_factor != 1.0:
         main_kw["outage_excess_mean_s"] = outage_excess_factor * sim.OUTAGE_EXCESS_MEAN_S
-    # the side studies' default cells simulate the same sequences as the main run: their rows are reused
+    # every sequence of the run, keyed by (simulator keywords, index): the side studies' cells that simulate
+    # the main run's sequences (or each other's) reuse them; the filter always assumes the simulated tracker
+    # noise, so the key fixes the result. All are simulated first and filtered together (in lockstep).
+    n_noise = 1 if fast else min(2, n_sequences)
+    noise_kw = [{"vt_sd": tuple(scale * np.asarray(sim.VT_SD_DEFAULT))} for scale in noise_scales]
+    outage_cells = ((1.0, 1.0), *outage_factors) if outage_factors else ()
+    outage_kw = [{"outage_rate_per_s": fr * sim.OUTAGE_RATE_PER_S,
+                  "outage_excess_mean_s": fe * sim.OUTAGE_EXCESS_MEAN_S} for fr, fe in outage_cells]
+    jobs: dict[tuple, dict] = {}
+    for kw, count in ((main_kw, n_sequences), *((kw, n_noise) for kw in noise_kw + outage_kw)):
+        for i in range(count):
+            jobs.setdefault((_sim_key(kw), i), kw)
+    keys = list(jobs)
+    seqs = [sim.simulate(duration_s, seed=seed * 1000 + key[1], **jobs[key]) for key in keys]
+    results = dict(zip(keys, zip(seqs, run_sequences(seqs), strict=True), strict=True))
+    table_rows = {key: table2_row(str(key[1] + 1), seq, res) for key, (seq, res) in results.items()}
     main_key = _sim_key(main_kw)
     for i in range(n_sequences):
-        seq = sim.simulate(duration_s, seed=seed * 1000 + i, **main_kw)
-        res = run_hartmann_result = run_sequence(seq)
-        rows.append(table2_row(str(i + 1), seq, res))
+        seq, res = results[(main_key, i)]
+        rows.append(table_rows[(main_key, i)])
         bg, ba = res.x[:, 9:12], res.x[:, 12:15]
         settle.append({"sequence": str(i + 1),
                        "gyro_bias_settle_s": settling_time_s(seq.t_s, bg, seq.bias_true[:3], np.deg2rad(0.05)),
@@ -75,7 +89,7 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
         if i == 0:
             k = np.arange(0, seq.t_s.size, 20)
             trace = pd.DataFrame({"t_s": seq.t_s[k],
-                                  **{f"ekf_{a}_m": run_hartmann_result.x[k, 3 + j] for j, a in enumerate("xyz")},
+                                  **{f"ekf_{a}_m": res.x[k, 3 + j] for j, a in enumerate("xyz")},
                                   **{f"true_{a}_m": seq.pos_v_m[k, j] for j, a in enumerate("xyz")},
                                   **{f"bg_{a}_dps": np.rad2deg(bg[k, j]) for j, a in enumerate("xyz")},
                                   **{f"bg_true_{a}_dps": np.rad2deg(seq.bias_true[j]) for j, a in enumerate("xyz")},
@@ -83,17 +97,9 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
                                   **{f"ba_true_{a}_mps2": seq.bias_true[3 + j] for j, a in enumerate("xyz")}})
             vt = pd.DataFrame({"t_s": seq.t_vt_s, "yaw_rad": seq.z_vt[:, 0],
                                **{f"{a}_m": seq.z_vt[:, 1 + j] for j, a in enumerate("xyz")}})
-    n_noise = 1 if fast else min(2, n_sequences)
-    for scale in noise_scales:
-        sd = tuple(scale * np.asarray(sim.VT_SD_DEFAULT))
-        devs = []
-        for i in range(n_noise):
-            if _sim_key({"vt_sd": sd}) == main_key:  # the filter assumes the sequence's noise either way
-                devs.append(rows[i])
-                continue
-            seq = sim.simulate(duration_s, seed=seed * 1000 + i, vt_sd=sd)
-            devs.append(table2_row(str(i + 1), seq, run_sequence(seq, vt_sd=sd)))
-        d = pd.DataFrame(devs)
+    for scale, kw in zip(noise_scales, noise_kw, strict=True):
+        sd = kw["vt_sd"]
+        d = pd.DataFrame([table_rows[(_sim_key(kw), i)] for i in range(n_noise)])
         noise_rows.append({"noise_scale": scale, "vt_sd_x_mm": 1e3 * sd[1], "vt_sd_y_mm": 1e3 * sd[2],
                            "vt_sd_z_mm": 1e3 * sd[3], "vt_sd_yaw_deg": float(np.rad2deg(sd[0])),
                            "n_sequences": n_noise,
@@ -105,16 +111,8 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
     tn = pd.DataFrame(noise_rows, columns=list(noise_rows[0]) if noise_rows else ["noise_scale"])
     tn = tn.sort_values("noise_scale")
     out_rows = []
-    for fr, fe in ((1.0, 1.0), *outage_factors) if outage_factors else ():
-        devs = []
-        kw = {"outage_rate_per_s": fr * sim.OUTAGE_RATE_PER_S, "outage_excess_mean_s": fe * sim.OUTAGE_EXCESS_MEAN_S}
-        for i in range(n_noise):
-            if _sim_key(kw) == main_key:
-                devs.append(rows[i])
-                continue
-            seq = sim.simulate(duration_s, seed=seed * 1000 + i, **kw)
-            devs.append(table2_row(str(i + 1), seq, run_sequence(seq)))
-        d = pd.DataFrame(devs)
+    for (fr, fe), kw in zip(outage_cells, outage_kw, strict=True):
+        d = pd.DataFrame([table_rows[(_sim_key(kw), i)] for i in range(n_noise)])
         out_rows.append({"outage_rate_factor": fr, "outage_excess_factor": fe,
                          "outage_rate_per_120s": 120.0 * fr * sim.OUTAGE_RATE_PER_S,
                          "outage_excess_mean_s": fe * sim.OUTAGE_EXCESS_MEAN_S, "n_sequences": n_noise,

@@ -39,6 +39,7 @@ __all__ = [
     "repair_psd",
     "HartmannResult",
     "run_hartmann",
+    "run_hartmann_many",
     "HartmannEKF",
 ]
 
@@ -65,76 +66,110 @@ def _block(rows, cols):
 
 
 _N = HARTMANN_N_STATES
-#: Where :func:`_model` writes the state-dependent entries of Phi (row-major within each block, in its order).
+#: The state-dependent entries of Phi (row-major within each block, in this order): the attitude block's first
+#: two columns, the attitude-gyro-bias block, position-attitude, position-acc-bias, velocity-attitude,
+#: velocity-acc-bias, the position-velocity diagonal.
 _PHI_IDX = _flat(_N, [(0, 0), (1, 0), (2, 0), (0, 1), (1, 1), (2, 1)] + _block(range(3), range(9, 12))
                  + _block(range(3, 6), range(3)) + _block(range(3, 6), range(12, 15)) + _block(range(6, 9), range(3))
                  + _block(range(6, 9), range(12, 15)) + [(3, 6), (4, 7), (5, 8)])
-_PHI_ONES = np.eye(_N)
-#: W's blocks taken from Phi: W[0:3, 0:3] = Phi[0:3, 9:12], W[3:9, 3:6] = Phi[3:9, 12:15]; W[9:15, 6:12] = I.
-_W_IDX = _flat(12, _block(range(3), range(3)) + _block(range(3, 9), range(3, 6)))
-_W_FROM_PHI = _flat(_N, _block(range(3), range(9, 12)) + _block(range(3, 9), range(12, 15)))
-_W_ONES = np.zeros((_N, 12))
-_W_ONES[9:15, 6:12] = np.eye(6)
+
+
+def _terms(sf, cf, st, ct, sp, cp, w1, w2, w3, a1, a2, a3) -> tuple:
+    """The state-dependent entries of :func:`_model_many`'s table for one state, from the sines and cosines of
+    (phi, theta, psi) and the bias-corrected rates ``w`` and specific force ``a`` (Python floats).
+
+    Returns 40 floats: ``E`` (eq. 7-9), ``C`` (the DCM of eq. 6), ``D = d(C a)/d(phi, theta, psi)`` (each
+    row-major), d(E w)/d(phi), d(E w)/d(theta), ``w``, ``a`` and 1.0.
+
+    Common products are taken once; where an entry reuses one with a sign, a negation is exact
+    (``-(a b) == (-a) b``, ``p + (-q) == p - q``, ``-(p + q) == (-p) - q`` bit for bit), so each value is the one
+    its own expression (e.g. d_psi[0] = ``-sp ct a1 + (-sp st sf - cp cf) a2 + (-sp st cf + cp sf) a3``) gives.
+    """
+    cpst, spst = cp * st, sp * st
+    c00, c10 = cp * ct, sp * ct
+    c01, c02 = cpst * sf - sp * cf, cpst * cf + sp * sf
+    c11, c12 = spst * sf + cp * cf, spst * cf - cp * sf
+    c21, c22 = ct * sf, ct * cf
+    tt, sec = st / ct, 1.0 / ct
+    q, r = cf * w2 - sf * w3, sf * w2 + cf * w3
+    return (1.0, sf * tt, cf * tt, 0.0, cf, -sf, 0.0, sf * sec, cf * sec,
+            c00, c01, c02, c10, c11, c12, -st, c21, c22,
+            # D: columns d/d(phi), d/d(theta), d/d(psi)
+            c02 * a2 - c01 * a3, -cpst * a1 + c00 * sf * a2 + c00 * cf * a3, -(c10 * a1 + c11 * a2 + c12 * a3),
+            c12 * a2 - c11 * a3, -spst * a1 + c10 * sf * a2 + c10 * cf * a3, c00 * a1 + c01 * a2 + c02 * a3,
+            c22 * a2 - c21 * a3, -ct * a1 - st * sf * a2 - st * cf * a3, 0.0,
+            q * tt, -r, q * sec, r * sec * sec, 0.0, r * st * sec * sec,
+            w1, w2, w3, a1, a2, a3, 1.0)
+
+
+_E, _C, _D, _DEW = range(0, 9), range(9, 18), range(18, 27), range(27, 33)
+#: The columns of :func:`_terms`' table behind Phi's entries (order of _PHI_IDX): d(E w)/d(phi, theta) (times dt,
+#: plus the identity's 1), -dt E, h D, -h C, dt D, -dt C (h = dt^2 / 2); then dt on the diagonal (a column of 1).
+_PHI_COLS = np.array([*_DEW, *_E, *_D, *_C, *_D, *_C, 39, 39, 39], dtype=np.intp)
+_BASE6 = np.array([1.0, 0.0, 0.0, 0.0, 1.0, 0.0])
+_GRAVITY = tuple(GRAVITY_N_MPS2.tolist())
+
+
+def _coefficients(dt_s: float) -> np.ndarray:
+    """The factors of :data:`_PHI_COLS`' entries for a step of ``dt_s``."""
+    h, mh = 0.5 * dt_s * dt_s, -0.5 * dt_s * dt_s
+    return np.repeat([dt_s, -dt_s, h, mh, dt_s, -dt_s, dt_s], [6, 9, 9, 9, 9, 9, 3])
+
+
+def _model_many(x, u, dt_s: float, cache: dict):
+    """``f(x, u, 0)`` (eq. 18-19) for the rows of ``x`` (S, 15) with inputs ``u`` (S, 6) and its Jacobians ``Phi``
+    (eq. 21, (S, 15, 15)) and ``W`` (eq. 22, (S, 15, 12)); ``cache`` keeps work arrays between calls (Phi and W
+    among them: they hold until the next call with the same ``cache``).
+
+    The Euler-angle maths (the DCM of eq. 6 and its partial derivatives in closed form, :func:`_terms`) and the
+    state update run on Python floats, one state after the other: for the few states the filter moves together
+    that is cheaper than numpy calls on arrays that short. The rest is a fixed number of numpy calls whatever
+    the number of states: the products ``E w`` and ``C a`` as one stacked matmul (BLAS gemv on each (3, 3)
+    slice, as for a single state), Phi's entries element by element from the table.
+    """
+    n_seq = x.shape[0]
+    sin, cos = math.sin, math.cos
+    xls = x.tolist()
+    tab: list[float] = []
+    for xl, ul in zip(xls, u.tolist(), strict=True):
+        phi, th, psi = xl[0], xl[1], xl[2]
+        tab += _terms(sin(phi), cos(phi), sin(th), cos(th), sin(psi), cos(psi), ul[0] - xl[9], ul[1] - xl[10],
+                      ul[2] - xl[11], ul[3] - xl[12], ul[4] - xl[13], ul[5] - xl[14])
+    m = np.fromiter(tab, float, 40 * n_seq).reshape(n_seq, 40)
+    # (E w, C a): E and C, w and a are adjacent in the table
+    ew_ca = (m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1)).tolist()
+    # x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (dt^2 / 2) acc_v, x[6:9] + dt acc_v with acc_v = C a + g
+    h = 0.5 * dt_s * dt_s
+    g1, g2, g3 = _GRAVITY
+    new: list[float] = []
+    for xl, ((ew1, ew2, ew3), (ca1, ca2, ca3)) in zip(xls, ew_ca, strict=True):
+        av1, av2, av3 = ca1[0] + g1, ca2[0] + g2, ca3[0] + g3
+        new += (xl[0] + ew1[0] * dt_s, xl[1] + ew2[0] * dt_s, xl[2] + ew3[0] * dt_s,
+                xl[3] + xl[6] * dt_s + h * av1, xl[4] + xl[7] * dt_s + h * av2, xl[5] + xl[8] * dt_s + h * av3,
+                xl[6] + dt_s * av1, xl[7] + dt_s * av2, xl[8] + dt_s * av3)
+        new += xl[9:15]
+    x_new = np.fromiter(new, float, 15 * n_seq).reshape(n_seq, 15)
+    coef = cache.setdefault("coef", {}).get(dt_s)
+    if coef is None:
+        coef = cache["coef"][dt_s] = _coefficients(dt_s)
+    Phi, W = cache.get("Phi"), cache.get("W")
+    if Phi is None or Phi.shape[0] != n_seq:
+        Phi = cache["Phi"] = np.repeat(np.eye(_N)[None], n_seq, axis=0)
+        W = cache["W"] = np.zeros((n_seq, _N, 12))
+        W[:, 9:15, 6:12] = np.eye(6)
+    vals = m[:, _PHI_COLS]
+    vals *= coef
+    vals[:, 0:6] += _BASE6  # 1 or 0 + d(E w) dt
+    Phi.reshape(n_seq, -1)[:, _PHI_IDX] = vals
+    # W (eq. 22) is Phi's last six columns in rows 0-8 (the identity below them set once)
+    W[:, 0:9, 0:6] = Phi[:, 0:9, 9:15]
+    return x_new, Phi, W
 
 
 def _model(x, u, dt_s: float):
-    """``f(x, u, 0)`` (eq. 18-19) and its Jacobians ``Phi`` (eq. 21) and ``W`` (eq. 22) in one pass.
-
-    Written with scalar maths on the Euler angles (the DCM of eq. 6 and its partial derivatives in closed
-    form) because the filter calls it at 400 Hz.
-    """
-    # Python floats from here on (the same IEEE operations as on numpy scalars, without their overhead)
-    xl = np.asarray(x, dtype=float).tolist()
-    ul = u if type(u) is list else np.asarray(u, dtype=float).tolist()
-    phi, th, psi = xl[0], xl[1], xl[2]
-    sf, cf, st, ct, sp, cp = math.sin(phi), math.cos(phi), math.sin(th), math.cos(th), math.sin(psi), math.cos(psi)
-    w1, w2, w3 = ul[0] - xl[9], ul[1] - xl[10], ul[2] - xl[11]
-    a1, a2, a3 = ul[3] - xl[12], ul[4] - xl[13], ul[5] - xl[14]
-    tt, sec = st / ct, 1.0 / ct
-    c = [[cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf],
-         [sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf],
-         [-st, ct * sf, ct * cf]]
-    e = [[1.0, sf * tt, cf * tt], [0.0, cf, -sf], [0.0, sf * sec, cf * sec]]
-    # d(C a)/d(phi, theta, psi), columns
-    d_phi = ((cp * st * cf + sp * sf) * a2 + (-cp * st * sf + sp * cf) * a3,
-             (sp * st * cf - cp * sf) * a2 + (-sp * st * sf - cp * cf) * a3,
-             ct * cf * a2 - ct * sf * a3)
-    d_th = (-cp * st * a1 + cp * ct * sf * a2 + cp * ct * cf * a3,
-            -sp * st * a1 + sp * ct * sf * a2 + sp * ct * cf * a3,
-            -ct * a1 - st * sf * a2 - st * cf * a3)
-    d_psi = (-sp * ct * a1 + (-sp * st * sf - cp * cf) * a2 + (-sp * st * cf + cp * sf) * a3,
-             cp * ct * a1 + (cp * st * sf - sp * cf) * a2 + (cp * st * cf + sp * sf) * a3,
-             0.0)
-    # d(E w)/d(phi, theta)
-    dEw_phi = ((cf * w2 - sf * w3) * tt, -sf * w2 - cf * w3, (cf * w2 - sf * w3) * sec)
-    dEw_th = ((sf * w2 + cf * w3) * sec * sec, 0.0, (sf * w2 + cf * w3) * st * sec * sec)
-    # the two products stay numpy matmuls (BLAS: their rounding); the rest element by element, in the order
-    # of the array expressions x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (0.5 dt dt) acc_v, x[6:9] + dt acc_v
-    av = (np.array(c) @ np.array([a1, a2, a3]) + GRAVITY_N_MPS2).tolist()
-    ew = (np.array(e) @ np.array([w1, w2, w3])).tolist()
-    h = 0.5 * dt_s * dt_s
-    x_new = np.array([xl[0] + ew[0] * dt_s, xl[1] + ew[1] * dt_s, xl[2] + ew[2] * dt_s,
-                      xl[3] + xl[6] * dt_s + h * av[0], xl[4] + xl[7] * dt_s + h * av[1],
-                      xl[5] + xl[8] * dt_s + h * av[2],
-                      xl[6] + dt_s * av[0], xl[7] + dt_s * av[1], xl[8] + dt_s * av[2], *xl[9:15]])
-    # Phi (eq. 21) and W (eq. 22): the identity / zeros with the entries below written in one assignment each
-    # (scalar products in the order the block-wise array expressions used, so the same bits; the filter calls
-    # this at 400 Hz, where one small array operation per block cost more than the arithmetic)
-    h2, mh2, mdt = h, -0.5 * dt_s * dt_s, -dt_s
-    dca = (d_phi, d_th, d_psi)  # columns of d(C a)/d(phi, theta, psi)
-    vals = ([1.0 + dEw_phi[0] * dt_s, 0.0 + dEw_phi[1] * dt_s, 0.0 + dEw_phi[2] * dt_s,
-             0.0 + dEw_th[0] * dt_s, 1.0 + dEw_th[1] * dt_s, 0.0 + dEw_th[2] * dt_s]
-            + [-e[i][j] * dt_s for i in range(3) for j in range(3)]
-            + [h2 * dca[j][i] for i in range(3) for j in range(3)]
-            + [mh2 * c[i][j] for i in range(3) for j in range(3)]
-            + [dt_s * dca[j][i] for i in range(3) for j in range(3)]
-            + [mdt * c[i][j] for i in range(3) for j in range(3)]
-            + [dt_s, dt_s, dt_s])
-    Phi = _PHI_ONES.copy()
-    Phi.reshape(-1)[_PHI_IDX] = vals
-    W = _W_ONES.copy()
-    W.reshape(-1)[_W_IDX] = Phi.reshape(-1)[_W_FROM_PHI]
-    return x_new, Phi, W
+    """:func:`_model_many` on one state: ``x_new`` (15,), ``Phi`` (15, 15), ``W`` (15, 12)."""
+    x_new, Phi, W = _model_many(np.asarray(x, dtype=float)[None], np.asarray(u, dtype=float)[None], dt_s, {})
+    return x_new[0], Phi[0], W[0]
 
 
 def hartmann_f(x, u, dt_s: float) -> np.ndarray:
@@ -234,24 +269,9 @@ GYR_SD_DEFAULT_RADPS = float(np.deg2rad(GYR_SD_DEFAULT_DPS))
 _PSD_CHECK_EPOCHS = 400
 
 
-def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
-                 acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,
-                 vt_sd=VT_SD_DEFAULT) -> HartmannResult:
-    """Run the 15-state EKF over an IMU log (input u) with video-tracker measurements (yaw, x, y, z).
-
-    Parameters
-    ----------
-    t_s : (N,) IMU times; gyr_b_radps, acc_b_mps2 : (N, 3); sample k drives the step k -> k+1
-    t_vt_s : (M,) video-tracker times (each applied at the first IMU epoch at or after it)
-    z_vt : (M, 4) yaw (rad) and position (m)
-    x0 : (15,) initial state; P0 : (15, 15)
-    gyr_sd_radps, acc_sd_mps2 : white noise sd per IMU sample (the paper: 0.4 deg/s, 0.05 m/s^2)
-    vt_sd : sd of the video measurement (yaw rad, x, y, z m)
-
-    References
-    ----------
-    Yeh & Huang (survey), sec. 5.2, eq. (12)-(29), citing Hartmann et al. (2010).
-    """
+def _checked_run(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps, acc_sd_mps2,
+                 gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s, vt_sd):
+    """:func:`run_hartmann`'s inputs checked and as float arrays: ``t_s, gyr, acc, t_vt, z_vt, x0, P0, R``."""
     t_s = np.asarray(t_s, dtype=float)
     gyr = np.asarray(gyr_b_radps, dtype=float)
     acc = np.asarray(acc_b_mps2, dtype=float)
@@ -277,19 +297,138 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
     if vt.shape != (4,) or not np.all(np.isfinite(vt)) or np.any(vt < 1e-6) or np.any(vt > 1e6):
         raise ValueError(f"vt_sd (measurement noise R) must be 4 finite sds in [1e-6, 1e6], got {vt_sd!r}")
     R = np.diag(np.square(vt))
-    vt_idx = np.searchsorted(t_s, t_vt, side="left")
-    vt_at = {}
-    for j, k in enumerate(vt_idx.tolist()):
-        vt_at.setdefault(k, []).append(j)
-    xs = np.empty((n, HARTMANN_N_STATES))
-    sds = np.empty((n, HARTMANN_N_STATES))
-    prior = np.empty((t_vt.size, HARTMANN_N_STATES))
-    x, P = x0.copy(), np.asarray(P0, dtype=float).copy()
-    dt_all = np.diff(t_s).tolist()  # Python floats: the loop reads one value at a time
-    u_all = np.hstack([gyr, acc]).tolist()
+    return t_s, gyr, acc, t_vt, z_vt, x0, P0, R
+
+
+def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
+                 acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4, acc_bias_rw_mps2_rsqrt_s=1e-3,
+                 vt_sd=VT_SD_DEFAULT) -> HartmannResult:
+    """Run the 15-state EKF over an IMU log (input u) with video-tracker measurements (yaw, x, y, z).
+
+    Parameters
+    ----------
+    t_s : (N,) IMU times; gyr_b_radps, acc_b_mps2 : (N, 3); sample k drives the step k -> k+1
+    t_vt_s : (M,) video-tracker times (each applied at the first IMU epoch at or after it)
+    z_vt : (M, 4) yaw (rad) and position (m)
+    x0 : (15,) initial state; P0 : (15, 15)
+    gyr_sd_radps, acc_sd_mps2 : white noise sd per IMU sample (the paper: 0.4 deg/s, 0.05 m/s^2)
+    vt_sd : sd of the video measurement (yaw rad, x, y, z m)
+
+    References
+    ----------
+    Yeh & Huang (survey), sec. 5.2, eq. (12)-(29), citing Hartmann et al. (2010).
+    """
+    return run_hartmann_many(t_s, [gyr_b_radps], [acc_b_mps2], [t_vt_s], [z_vt], [x0], [P0], gyr_sd_radps, acc_sd_mps2,
+                             gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s, vt_sd)[0]
+
+
+def _correct_many(x, P, z, R):
+    """:func:`hartmann_correct` on each row of ``x`` (m, 15), ``P`` (m, 15, 15), ``z`` (m, 4), ``R`` (m, 4, 4)."""
+    H = HARTMANN_H
+    innov = z - x[:, 2:6]
+    innov[:, 0] = wrap_angle_rad(innov[:, 0])
+    HP = H @ P
+    S = HP @ H.T + R
+    K = np.linalg.solve(S, HP).transpose(0, 2, 1)
+    x = x + (K @ innov[:, :, None])[:, :, 0]
+    x[:, 0:3] = wrap_angle_rad(x[:, 0:3])
+    A = np.eye(HARTMANN_N_STATES) - K @ H
+    P = A @ P @ A.transpose(0, 2, 1) + K @ R @ K.transpose(0, 2, 1)
+    return x, 0.5 * (P + P.transpose(0, 2, 1))
+
+
+def _psd_check_epochs(fix_epochs, n: int) -> list[int]:
+    """The epochs at which :func:`run_hartmann` tests P (:data:`_PSD_CHECK_EPOCHS` predictions after the last
+    fix, or after the start, and every as many after that) for a sequence with fixes at ``fix_epochs``."""
+    out = []
+    last = 0
+    for f in [*sorted(set(fix_epochs) - {0}), n - 1]:
+        out.extend(range(last + _PSD_CHECK_EPOCHS, min(f, n - 1) + 1, _PSD_CHECK_EPOCHS))
+        last = f
+    return out
+
+
+def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
+                      acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4,
+                      acc_bias_rw_mps2_rsqrt_s=1e-3, vt_sd=VT_SD_DEFAULT) -> list[HartmannResult]:
+    """:func:`run_hartmann` on several sequences that share one IMU clock, moved in lockstep.
+
+    One Python pass over the epochs moves every sequence: the states are an (S, 15) array, the covariances
+    (S, 15, 15). Each result equals the step-by-step filter (:func:`hartmann_predict`, :func:`hartmann_correct`,
+    :func:`repair_psd` every :data:`_PSD_CHECK_EPOCHS` predictions without a fix) on that sequence alone, bit
+    for bit: the element-wise arithmetic is the same, and the stacked ``np.matmul`` / ``np.linalg.solve`` calls
+    hand each slice to the BLAS / LAPACK routine the two-dimensional call uses, with the same layout (the
+    tests compare the two). The per-epoch cost of the numpy calls, which dominates a run on one sequence, is
+    then paid once per epoch for all of them.
+
+    Parameters
+    ----------
+    t_s : (N,) IMU times shared by every sequence
+    gyr_b_radps, acc_b_mps2 : one (N, 3) array per sequence (S of them)
+    t_vt_s, z_vt : per sequence, its tracker times (M_s,) and fixes (M_s, 4)
+    x0, P0 : per sequence, (15,) and (15, 15)
+    gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s : as in :func:`run_hartmann`,
+        the same for every sequence
+    vt_sd : four sds (yaw rad, x, y, z m) for every sequence, or one such row per sequence
+
+    Returns
+    -------
+    list of S :class:`HartmannResult`, in the order of the inputs.
+    """
+    n_seq = len(gyr_b_radps)
+    if n_seq < 1:
+        raise ValueError("run_hartmann_many: no sequences given")
+    for name, v in (("acc_b_mps2", acc_b_mps2), ("t_vt_s", t_vt_s), ("z_vt", z_vt), ("x0", x0), ("P0", P0)):
+        if len(v) != n_seq:
+            raise ValueError(f"run_hartmann_many: {name} holds {len(v)} sequences, gyr_b_radps {n_seq}")
+    per_seq = np.ndim(vt_sd) == 2
+    if per_seq and len(vt_sd) != n_seq:
+        raise ValueError(f"run_hartmann_many: vt_sd holds {len(vt_sd)} rows for {n_seq} sequences")
+    seqs = []
+    for s in range(n_seq):
+        try:
+            seqs.append(_checked_run(t_s, gyr_b_radps[s], acc_b_mps2[s], t_vt_s[s], z_vt[s], x0[s], P0[s],
+                                     gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s,
+                                     vt_sd[s] if per_seq else vt_sd))
+        except ValueError as err:
+            raise ValueError(f"sequence {s}: {err}" if n_seq > 1 else str(err)) from None
+    t_s = seqs[0][0]
+    n = t_s.size
+    u_all = np.empty((n, n_seq, 6))
+    for s, (_, gyr, acc, *_rest) in enumerate(seqs):
+        u_all[:, s, 0:3], u_all[:, s, 3:6] = gyr, acc
+    R_all = np.stack([q[7] for q in seqs])
+    vt_idx = [np.searchsorted(t_s, q[3], side="left") for q in seqs]
+    # the fixes of epoch k in rounds: round r holds the r-th fix of that epoch of each sequence that has one
+    events: dict[int, list] = {}
+    for s, idx in enumerate(vt_idx):
+        for j, k in enumerate(idx.tolist()):
+            events.setdefault(k, []).append((s, j))
+    rounds_at = {}
+    for k, ev in events.items():
+        rounds: list[tuple[list, list]] = []
+        count: dict[int, int] = {}
+        for s, j in ev:
+            r = count[s] = count.get(s, -1) + 1
+            if r == len(rounds):
+                rounds.append(([], []))
+            rounds[r][0].append(s)
+            rounds[r][1].append(j)
+        rounds_at[k] = [(np.array(ss), ss, jj) for ss, jj in rounds]
+    check_at: dict[int, list] = {}
+    for s, idx in enumerate(vt_idx):
+        for k in _psd_check_epochs(idx.tolist(), n):
+            check_at.setdefault(k, []).append(s)
+    xs = np.empty((n_seq, n, HARTMANN_N_STATES))
+    sds = np.empty((n_seq, n, HARTMANN_N_STATES))
+    priors = [np.empty((q[3].size, HARTMANN_N_STATES)) for q in seqs]
+    z_all = [q[4] for q in seqs]
+    x = np.stack([q[5] for q in seqs])
+    P = np.stack([q[6] for q in seqs])
+    dt_all = np.diff(t_s).tolist()
     Qw_cache: dict[float, np.ndarray] = {}
-    n_rep = 0
-    since_fix = 0
+    cache: dict = {}
+    n_rep = [0] * n_seq
     for k in range(n):
         if k > 0:
             dt = dt_all[k - 1]
@@ -297,20 +436,22 @@ def run_hartmann(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radp
             if Qw is None:
                 Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
                                                acc_bias_rw_mps2_rsqrt_s, dt)
-            x, P = hartmann_predict(x, P, u_all[k - 1], dt, Qw)
-            since_fix += 1
-            if since_fix % _PSD_CHECK_EPOCHS == 0:
-                # long prediction without a fix: keep P positive definite at rounding level
-                P, rep = repair_psd(P)
-                n_rep += rep
-        if k in vt_at:
-            since_fix = 0
-        for j in vt_at.get(k, ()):
-            prior[j] = x
-            x, P, _ = hartmann_correct(x, P, z_vt[j], R)
-        xs[k] = x
-        sds[k] = P.diagonal()  # variances; the square roots are taken at once below
-    return HartmannResult(t_s=t_s, x=xs, sd=np.sqrt(sds), vt_idx=vt_idx, prior_at_vt=prior, n_psd_repairs=n_rep)
+            x, Phi, W = _model_many(x, u_all[k - 1], dt, cache)
+            P = Phi @ P @ Phi.transpose(0, 2, 1) + W @ Qw @ W.transpose(0, 2, 1)
+            P = 0.5 * (P + P.transpose(0, 2, 1))
+            for s in check_at.get(k, ()):
+                P[s], rep = repair_psd(P[s])
+                n_rep[s] += rep
+        for J, ss, jj in rounds_at.get(k, ()):
+            for s, j in zip(ss, jj, strict=True):
+                priors[s][j] = x[s]
+            z = np.stack([z_all[s][j] for s, j in zip(ss, jj, strict=True)])
+            x[J], P[J] = _correct_many(x[J], P[J], z, R_all[J])
+        xs[:, k] = x
+        sds[:, k] = P.diagonal(axis1=1, axis2=2)
+    np.sqrt(sds, out=sds)
+    return [HartmannResult(t_s=t_s, x=xs[s], sd=sds[s], vt_idx=vt_idx[s], prior_at_vt=priors[s],
+                           n_psd_repairs=n_rep[s]) for s in range(n_seq)]
 
 
 class HartmannEKF:

@@ -21,15 +21,45 @@ from __future__ import annotations
 
 import numpy as np
 
-from ilocalg.ins.hartmann import run_hartmann
+from ilocalg.ins.hartmann import run_hartmann_many
 from ilocalg.ins.mechanisation import coarse_level
 
-__all__ = ["run_sequence", "settling_time_s", "table2_row"]
+__all__ = ["run_sequence", "run_sequences", "settling_time_s", "table2_row"]
 
 
 def run_sequence(seq, level_s: float = 1.0, vt_sd=None):
     """Level during the initial rest, take yaw and position from the first tracker fix and run the EKF
     (``vt_sd``: the tracker noise the filter assumes; default the sequence's)."""
+    return run_sequences([seq], level_s, [vt_sd])[0]
+
+
+def run_sequences(seqs, level_s: float = 1.0, vt_sd=None, max_batch: int = 32):
+    """:func:`run_sequence` on each sequence of ``seqs`` (``vt_sd``: None, or one entry per sequence, None for the
+    sequence's own noise). Sequences on the same IMU clock run in lockstep, at most ``max_batch`` at a time
+    (:func:`ilocalg.ins.hartmann.run_hartmann_many`); each result is the one :func:`run_sequence` gives."""
+    seqs = list(seqs)
+    vt_sd = [None] * len(seqs) if vt_sd is None else list(vt_sd)
+    if len(vt_sd) != len(seqs):
+        raise ValueError(f"vt_sd holds {len(vt_sd)} entries for {len(seqs)} sequences")
+    groups: dict[bytes, list[int]] = {}
+    for i, seq in enumerate(seqs):
+        groups.setdefault(np.asarray(seq.t_s, dtype=float).tobytes(), []).append(i)
+    out = [None] * len(seqs)
+    for idx in groups.values():
+        for lo in range(0, len(idx), max_batch):
+            part = idx[lo:lo + max_batch]
+            starts = [_start(seqs[i], level_s) for i in part]
+            res = run_hartmann_many(seqs[part[0]].t_s, [seqs[i].gyr_b_radps for i in part],
+                                    [seqs[i].acc_b_mps2 for i in part], [seqs[i].t_vt_s for i in part],
+                                    [seqs[i].z_vt for i in part], [x0 for x0, _ in starts], [P0 for _, P0 in starts],
+                                    vt_sd=[seqs[i].params["vt_sd"] if vt_sd[i] is None else vt_sd[i] for i in part])
+            for i, r in zip(part, res, strict=True):
+                out[i] = r
+    return out
+
+
+def _start(seq, level_s: float):
+    """``x0, P0``: roll and pitch levelled over the first ``level_s``, yaw and position from the first fix."""
     first = seq.t_s < seq.t_s[0] + level_s
     roll, pitch = coarse_level(seq.acc_b_mps2[first])
     x0 = np.zeros(15)
@@ -37,8 +67,7 @@ def run_sequence(seq, level_s: float = 1.0, vt_sd=None):
     x0[3:6] = seq.z_vt[0, 1:4]
     P0 = np.diag(np.square(np.concatenate([np.deg2rad([3.0, 3.0, 2.0]), np.full(3, 0.01), np.full(3, 0.05),
                                            np.full(3, np.deg2rad(0.5)), np.full(3, 0.2)])))
-    vt_sd = seq.params["vt_sd"] if vt_sd is None else vt_sd
-    return run_hartmann(seq.t_s, seq.gyr_b_radps, seq.acc_b_mps2, seq.t_vt_s, seq.z_vt, x0, P0, vt_sd=vt_sd)
+    return x0, P0
 
 
 def settling_time_s(t, est, true, tol) -> float:
