@@ -37,7 +37,7 @@ from ilocalg.track import (
     walk_steps,
 )
 from ilocalg.track.evaluation import _latest_fix
-from ilocalg.track.fixes import select_wifi_nested, wifi_fixes
+from ilocalg.track.fixes import wifi_fixes
 from ilocalg.track.floor import cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 
@@ -89,7 +89,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
 
     ``fast`` scores every fifth walk with fewer particles, a coarser map raster and the default Wi-Fi
     configuration. ``select`` (default: not ``fast``): choose the Wi-Fi configuration per held-out walk
-    by leave-one-walk-out inside the other walks (:func:`ilocalg.track.fixes.select_wifi_nested`).
+    by leave-one-walk-out inside the other walks (:meth:`ilocalg.track.FloorModel.select_wifi`).
     ``dataset`` (see :func:`load_floor`), ``relisted_wifi`` (loader policy), ``methods`` (default all of
     :data:`ilocalg.track.METHODS`). The floor's database and calibration rows are built once
     (:func:`ilocalg.track.build_floor_model`; saved in ``cache_dir`` by
@@ -132,13 +132,14 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
         model, _ = cached_floor_model(floor_files(data_dir, dataset), lambda: fl.traces, cache_dir or FLOOR_CACHE,
                                       cfg, dataset=dataset, relisted_wifi=relisted_wifi)
     else:
-        model = build_floor_model(fl.traces, cfg, steps=steps)
-    sel = select_wifi_nested(model.db, scored, cfg) if select else {}
+        model = build_floor_model(fl.traces, cfg, steps=steps, select=False)     # in memory only: no floor-level choice
+    if select:       # every scored walk's nested choice at once (one distance matrix per candidate), kept
+        model.select_wifi(scored, cfg)
     plain = dataclasses.replace(cfg, **PLAIN_WKNN)
     wrows, prow, trk = [], [], {}
     for name in scored:
-        wm = model.for_walk(name, cfg, select=False)
-        label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
+        wm = model.for_walk(name, cfg, select=select)
+        label, wcfg, var = wm.wifi_config, wm.cfg, wm.fix_var_m2
         r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name],
                           rng=np.random.default_rng([seed, all_names.index(name)]),
                           methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain)
