@@ -100,3 +100,16 @@ def test_an_old_or_partial_cache_folder_is_rebuilt_never_read(recs, model, tmp_p
     assert cached and read.selection == model.selection
     floor_mod._LAST_MODEL.clear()
 
+
+
+def test_nested_selection_is_select_wifi_without_the_walk_for_every_walk(model):
+    """Candidates sharing a distance matrix (same reading-age limit) or neighbours (same K) give what each
+    candidate alone gives: select_wifi on the database without the walk, for every walk and for none."""
+    got = select_wifi_nested(model.db, [*model.walks, "__none__"])
+    for s in [*model.walks, "__none__"]:
+        label, c, var, table = select_wifi(model.db.without(s) if s != "__none__" else model.db)
+        assert got[s][0] == label and got[s][1] == c
+        assert got[s][2] == pytest.approx(var, rel=1e-9)
+    # K = 10 and the uniform weights really differ from the shared K = 5 neighbours here (the simulated readings
+    # are all fresh, so the reading-age limits give one matrix; the real-floor check is in the report)
+    assert table["mean_error_m"].nunique() >= 3
