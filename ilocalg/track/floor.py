@@ -16,8 +16,8 @@ floor reads one ``.npz``, two small tables and one small JSON file instead of pa
 The Wi-Fi configuration a walk from *outside* the floor gets depends on the floor only: it is chosen once,
 when the model is built, and saved with it (``selection.json``, :attr:`FloorModel.selection`). The nested
 selections of the floor's own walks (each chosen without the walk) are computed on demand, one distance
-matrix per candidate for all the walks asked at once (:meth:`FloorModel.select_wifi`), and kept in memory
-with the model so that later calls for the same walks only look them up.
+matrix per reading-age limit for all the walks asked at once (:meth:`FloorModel.select_wifi`), and kept in
+memory with the model so that later calls for the same walks only look them up.
 """
 
 from __future__ import annotations
@@ -116,8 +116,8 @@ class FloorModel:
         None, gets the floor-level choice over every walk). Returns ``{name: (label, cfg_with_it, fix_var_m2)}``.
 
         The floor-level choice is :attr:`selection` when it was made with the same candidates and WKNN settings
-        (:func:`selection_key`); the others are computed together (one distance matrix per candidate) the first
-        time they are asked, then kept with the model (in memory): the same numbers are never computed twice.
+        (:func:`selection_key`); the others are computed together (one distance matrix per reading-age limit) the
+        first time they are asked, then kept with the model (in memory): the same numbers are never computed twice.
         """
         key = selection_key(cfg)
         memo = self._selected.setdefault(json.dumps(key), {})
