@@ -71,6 +71,27 @@ def test_shards_pool_to_the_unsharded_run(shared_data, floor):
     assert frw.sweep_summary is sweep_summary                      # the sweep command finds it on the experiment
 
 
+@pytest.mark.realdata
+def test_fix_ablation_in_one_pass_gives_one_run_per_configuration(shared_data, floor):
+    """The ablation scores its fix-model configurations in one pass over the walks (each walk's model, steps,
+    nested Wi-Fi choice and plain fixes once): the same tables, bit for bit, as one run per configuration."""
+    import dataclasses
+
+    shared_data(frw.DATASET)
+    base = RealWalkConfig(n_particles=100, grid_cell_m=1.0)
+    methods = ("wifi", "lsq", "lsq_online", "kf_gain")
+    configs = dict(list(frw.FIX_ABLATION.items())[::3])          # isotropic + independent, and everything on
+    abl = frw.fix_ablation(configs, methods=methods, cfg=base, floor=floor, names=SHORT, select=True)
+    for label, kw in configs.items():
+        t = frw.run(cfg=dataclasses.replace(base, **kw), methods=methods, floor=floor, names=SHORT, select=True)
+        got = abl["waypoints"][abl["waypoints"]["config"] == label].drop(columns="config").reset_index(drop=True)
+        pd.testing.assert_frame_equal(got, t["waypoints"], check_exact=True)
+    a, b = (abl["table"][abl["table"]["config"] == c].set_index("method")["mean_m"] for c in configs)
+    assert (a != b).any()                                        # the configurations do differ
+    with pytest.raises(ValueError, match="changes more than the fix model"):
+        frw._run({"other K": {"k_neighbors": 7}}, floor=floor, names=SHORT)
+
+
 def test_leave_one_walk_out_refuses_a_pooled_summary_with_failed_tasks(monkeypatch):
     """A failed task would leave its walks out of the pooled summary: leave_one_walk_out raises instead."""
     from ilocalg.workflow import sweep as sw

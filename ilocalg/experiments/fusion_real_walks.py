@@ -37,8 +37,8 @@ from ilocalg.track import (
     walk_steps,
 )
 from ilocalg.track.evaluation import _latest_fix
-from ilocalg.track.fixes import select_wifi_nested, wifi_fixes
-from ilocalg.track.floor import cached_floor_model
+from ilocalg.track.fixes import wifi_fixes
+from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 
 __all__ = ["DATASET", "load_floor", "run", "example", "findings", "leave_one_walk_out", "fix_ablation",
@@ -89,7 +89,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
 
     ``fast`` scores every fifth walk with fewer particles, a coarser map raster and the default Wi-Fi
     configuration. ``select`` (default: not ``fast``): choose the Wi-Fi configuration per held-out walk
-    by leave-one-walk-out inside the other walks (:func:`ilocalg.track.fixes.select_wifi_nested`).
+    by leave-one-walk-out inside the other walks (:meth:`ilocalg.track.FloorModel.select_wifi`).
     ``dataset`` (see :func:`load_floor`), ``relisted_wifi`` (loader policy), ``methods`` (default all of
     :data:`ilocalg.track.METHODS`). The floor's database and calibration rows are built once
     (:func:`ilocalg.track.build_floor_model`; saved in ``cache_dir`` by
@@ -112,6 +112,21 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
         ``measures`` (named scalars per method: mean, p75, ratio to Wi-Fi; item = the data set) and
         ``readings``.
     """
+    return _run({None: {}}, seed=seed, fast=fast, data_dir=data_dir, floor=floor, cfg=cfg, names=names,
+                select=select, dataset=dataset, relisted_wifi=relisted_wifi, methods=methods, shard=shard,
+                n_shards=n_shards, names_every=names_every, cache_dir=cache_dir)[None]
+
+
+def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg=None, names=None,
+         select=None, dataset: str = DATASET, relisted_wifi: str = "keep", methods=None, shard: int = 0,
+         n_shards: int = 1, names_every: int = 1, cache_dir=None) -> dict:
+    """:func:`run` for each of ``variants`` (key -> fields of :data:`ilocalg.track.floor.NOT_IN_FLOOR_MODEL`, the
+    fix model, replaced in ``cfg``): they change only how a scored walk's fixes are weighted, so the floor model,
+    the steps, the Wi-Fi selection, each walk's model and its plain-reference fixes are computed once for all.
+    Returns ``{key: run's tables}``, each the same as :func:`run` with that configuration."""
+    bad = [k for k, kw in variants.items() if set(kw) - set(NOT_IN_FLOOR_MODEL)]
+    if bad:
+        raise ValueError(f"variant {bad[0]!r} changes more than the fix model {NOT_IN_FLOOR_MODEL}")
     cfg = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
     select = (not fast) if select is None else select
     methods = tuple(METHODS if methods is None else methods)
@@ -132,25 +147,33 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealW
         model, _ = cached_floor_model(floor_files(data_dir, dataset), lambda: fl.traces, cache_dir or FLOOR_CACHE,
                                       cfg, dataset=dataset, relisted_wifi=relisted_wifi)
     else:
-        model = build_floor_model(fl.traces, cfg, steps=steps)
-    sel = select_wifi_nested(model.db, scored, cfg) if select else {}
+        model = build_floor_model(fl.traces, cfg, steps=steps, select=False)     # in memory only: no floor-level choice
+    if select:       # every scored walk's nested choice at once (one distance matrix per candidate), kept
+        model.select_wifi(scored, cfg)
     plain = dataclasses.replace(cfg, **PLAIN_WKNN)
-    wrows, prow, trk = [], [], {}
+    acc = {v: ([], [], {}) for v in variants}
     for name in scored:
-        wm = model.for_walk(name, cfg, select=False)
-        label, wcfg, var = sel.get(name, ("given", cfg, wm.fix_var_m2))
-        r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, var, wcfg, grid=grid, steps=steps[name],
-                          rng=np.random.default_rng([seed, all_names.index(name)]),
-                          methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain)
-        e = r["errors"].assign(walk=name)
+        wm = model.for_walk(name, cfg, select=select)      # the fix-model fields do not enter it
         # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database
         pfx = wifi_fixes(fl.traces[name], wm.db, plain)
-        e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
-                                         - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
-        trk[name] = r["track"]
-        wrows.append(e)
-        prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
-                     "wifi_config": label, **r["info"]})
+        for v, kw in variants.items():
+            wrows, prow, trk = acc[v]
+            wcfg = dataclasses.replace(wm.cfg, **kw)
+            r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, wm.fix_var_m2, wcfg, grid=grid,
+                              steps=steps[name], rng=np.random.default_rng([seed, all_names.index(name)]),
+                              methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain)
+            e = r["errors"].assign(walk=name)
+            e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
+                                             - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
+            trk[name] = r["track"]
+            wrows.append(e)
+            prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
+                         "wifi_config": wm.wifi_config, **r["info"]})
+    return {v: _tables(*acc[v], methods, fl, dataset, relisted_wifi, cfg) for v in variants}
+
+
+def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
+    """:func:`run`'s tables from the scored walks' error rows, per-walk rows and tracks."""
     wp = pd.concat(wrows, ignore_index=True)
     wp = wp[["walk"] + [c for c in wp.columns if c != "walk"]]
     pw = pd.DataFrame(prow)
@@ -241,7 +264,9 @@ ABLATION_METHODS = ("wifi", "lsq", "lsq_map", "lsq_online", "lsq_online_map", "k
 def fix_ablation(configs=None, methods=ABLATION_METHODS, cfg: RealWalkConfig | None = None, **run_kwargs) -> dict:
     """What each piece of the Wi-Fi fix model buys: :func:`run` once per configuration of ``configs`` (default
     :data:`FIX_ABLATION`, fields replaced in ``cfg``), on the same walks (``run_kwargs``: ``names``,
-    ``names_every``, ``dataset``, ``fast`` ...).
+    ``names_every``, ``dataset``, ``fast`` ...). Configurations that change only the fix model (the default ones)
+    are scored in one pass over the walks: each walk's model, steps, Wi-Fi choice and plain-reference fixes are
+    computed once for all of them (the same tables as one :func:`run` per configuration).
 
     Returns ``table`` (one row per configuration and method: ``config, method, online, mean_m, p75_m,
     ratio_to_wifi, start_mean_m`` (the error at each walk's first waypoint, the start-up), ``n_waypoints``) and
@@ -250,10 +275,15 @@ def fix_ablation(configs=None, methods=ABLATION_METHODS, cfg: RealWalkConfig | N
     configs = FIX_ABLATION if configs is None else configs
     fast = run_kwargs.get("fast", False)
     base = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
+    if all(set(kw) <= set(NOT_IN_FLOOR_MODEL) for kw in configs.values()):
+        # one pass over the walks: everything but the fix weighting computed once for all configurations
+        res = _run(configs, cfg=base, methods=methods, **run_kwargs)
+    else:
+        res = {label: run(cfg=dataclasses.replace(base, **kw), methods=methods, **run_kwargs)
+               for label, kw in configs.items()}
     rows, wps = [], []
-    for label, kw in configs.items():
-        t = run(cfg=dataclasses.replace(base, **kw), methods=methods, **run_kwargs)
-        wp = t["waypoints"]
+    for label in configs:
+        wp = res[label]["waypoints"]
         w = float(wp["wifi"].mean())
         first = wp["waypoint"] == 0
         for m in methods:

@@ -78,7 +78,9 @@ The Wi-Fi fix model (:mod:`ilocalg.track.fixes`, :class:`RealWalkConfig` ``fix_v
     start from the first fix's walkable posterior (:func:`~ilocalg.track.estimators.walkable_posterior`).
 Floor model
     :func:`build_floor_model` / :func:`cached_floor_model` build a floor's database and calibration
-    rows once and save them; :meth:`FloorModel.for_walk` leaves the scored walk out.
+    rows once and save them, with the floor-level Wi-Fi configuration (what a walk from outside the floor
+    gets); :meth:`FloorModel.for_walk` leaves the scored walk out, and :meth:`FloorModel.select_wifi` makes
+    and keeps the nested Wi-Fi choices of the floor's own walks.
 
 Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (steps, calibration),
 ``estimators`` (least squares, map step), ``online_kf`` (the gain-augmented Kalman filter), ``floor`` (the

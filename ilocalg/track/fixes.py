@@ -536,35 +536,45 @@ def select_wifi_nested(db: WifiDatabase, scored_walks, cfg: RealWalkConfig = DEF
     For each walk ``s`` of ``scored_walks``: the candidate with the lowest leave-one-walk-out mean error
     over the *other* walks of ``db`` (never using ``s``'s rows, neither as queries nor as neighbours),
     and its fix variance; the same numbers as ``select_wifi(db.without(s))``, from one distance matrix per
-    candidate. Returns ``{s: (label, cfg, fix_var_m2)}``.
+    reading-age limit (candidates differing only in K or weights share it, and those with the same K share
+    each walk's neighbours). Returns ``{s: (label, cfg, fix_var_m2)}``.
     """
     cands = WIFI_CANDIDATES if candidates is None else candidates
     walk = db.walk
     same = walk[:, None] == walk[None, :]
-    per = {}
-    for label, kw in cands.items():
+    groups: dict = {}                 # the candidates seeing the same database matrix: (max_age_s, not heard)
+    for i, (label, kw) in enumerate(cands.items()):
         c = dataclasses.replace(cfg, **kw)
         if not (c.p == 2 and c.metric == "minkowski"):
             raise ValueError(f"select_wifi_nested: candidate {label!r} is not Euclidean (p=2)")
-        D = db_matrix(db, c)
-        A = np.nan_to_num(D, nan=c.not_heard_dbm) - c.not_heard_dbm
+        groups.setdefault((c.max_age_s, c.not_heard_dbm), []).append((i, label, c))
+    per = {}
+    for members in groups.values():
+        c0 = members[0][2]
+        A = np.nan_to_num(db_matrix(db, c0), nan=c0.not_heard_dbm) - c0.not_heard_dbm
         sq = (A * A).sum(1)
         D2 = np.maximum(sq[:, None] + sq[None, :] - 2.0 * (A @ A.T), 0.0)
         D2[:, ~(A > 0).any(axis=1)] = np.inf
         D2[same] = np.inf
         for s in scored_walks:
             ms = walk == s
-            Ds = D2[~ms][:, ~ms]
-            k = min(c.k_neighbors, Ds.shape[1])
-            idx = np.argpartition(Ds, k - 1, axis=1)[:, :k]
-            dist = np.sqrt(np.take_along_axis(Ds, idx, 1))
-            w = _weights(dist, c.weights)
-            ok = w.sum(1) > 0
+            keep = np.flatnonzero(~ms)
+            Ds = D2.take(keep, axis=0).take(keep, axis=1)        # = D2[~ms][:, ~ms], one pass fewer
             xy = db.xy_m[~ms]
-            est = (w[ok, :, None] * xy[idx[ok]]).sum(1) / w[ok].sum(1)[:, None]
-            e = np.hypot(*(est - xy[ok]).T)
-            per.setdefault(s, []).append((float(e.mean()), label, c, float(np.mean(e ** 2) / 2.0)))
-    return {s: min(v, key=lambda r: r[0])[1:] for s, v in per.items()}
+            near = {}
+            for i, label, c in members:
+                k = min(c.k_neighbors, Ds.shape[1])
+                if k not in near:
+                    idx = np.argpartition(Ds, k - 1, axis=1)[:, :k]
+                    near[k] = idx, np.sqrt(np.take_along_axis(Ds, idx, 1))
+                idx, dist = near[k]
+                w = _weights(dist, c.weights)
+                ok = w.sum(1) > 0
+                est = (w[ok, :, None] * xy[idx[ok]]).sum(1) / w[ok].sum(1)[:, None]
+                e = np.hypot(*(est - xy[ok]).T)
+                per.setdefault(s, []).append((i, float(e.mean()), label, c, float(np.mean(e ** 2) / 2.0)))
+    # the first candidate (in the given order) with the lowest error
+    return {s: min(sorted(v, key=lambda r: r[0]), key=lambda r: r[1])[2:] for s, v in per.items()}
 
 
 def classify_floor(floor_dbs: dict, trace, cfg: RealWalkConfig = DEFAULT_CONFIG, without=None) -> tuple:

@@ -10,8 +10,14 @@ floor heading offset, the step displacement variance, the Wi-Fi configuration an
 without the walk would give, in well under a second.
 
 :func:`cached_floor_model` keys the saved model by the input files (path, size, modification time), the
-loader policies and the configuration, so a second evaluation against the same floor reads one
-``.npz`` and two small tables instead of parsing the walk files again.
+loader policies, the configuration and :data:`FLOOR_MODEL_VERSION`, so a second evaluation against the same
+floor reads one ``.npz``, two small tables and one small JSON file instead of parsing the walk files again.
+
+The Wi-Fi configuration a walk from *outside* the floor gets depends on the floor only: it is chosen once,
+when the model is built, and saved with it (``selection.json``, :attr:`FloorModel.selection`). The nested
+selections of the floor's own walks (each chosen without the walk) are computed on demand, one distance
+matrix per reading-age limit for all the walks asked at once (:meth:`FloorModel.select_wifi`), and kept in
+memory with the model so that later calls for the same walks only look them up.
 """
 
 from __future__ import annotations
@@ -19,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,7 +34,7 @@ import pandas as pd
 from ilocalg.io.recording import as_recording, common_frame
 from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
-from ilocalg.track.fixes import select_wifi_nested
+from ilocalg.track.fixes import WIFI_CANDIDATES, select_wifi_nested
 from ilocalg.track.motion import (
     Calibration,
     GainStats,
@@ -39,7 +46,8 @@ from ilocalg.track.motion import (
     walk_steps,
 )
 
-__all__ = ["FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "floor_cache_key"]
+__all__ = ["FLOOR_MODEL_VERSION", "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model",
+           "floor_cache_key", "floor_selection", "selection_key"]
 
 
 @dataclass(frozen=True)
@@ -62,6 +70,11 @@ class FloorModel:
     db: WifiDatabase
     per_walk: pd.DataFrame
     intervals: pd.DataFrame
+    #: The floor-level Wi-Fi selection (every walk of the floor; what a walk from outside it gets), made at
+    #: build: ``{"key": ..., "label": ..., "fix_var_m2": ...}`` (:func:`floor_selection`); None: not made
+    #: (fewer than two walks), then chosen when asked.
+    selection: dict | None = None
+    _selected: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     @property
     def walks(self) -> list[str]:
@@ -90,39 +103,102 @@ class FloorModel:
         except ValueError:                         # too few walks with waypoint intervals: no kf_gain
             gs = None
         if select:
-            key = name if out else "__none__"
-            label, c, var = select_wifi_nested(self.db, [key], cfg)[key]
+            label, c, var = self.select_wifi([name], cfg)[name]
         else:
             from ilocalg.track.fixes import calibrate_fix_var
 
             label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
         return WalkModel(db, cal, var, sv, c, label, gs)
 
+    def select_wifi(self, names, cfg: RealWalkConfig = DEFAULT_CONFIG) -> dict:
+        """The nested Wi-Fi configuration of each walk of ``names`` (:func:`ilocalg.track.fixes.select_wifi_nested`:
+        chosen by leave-one-walk-out over the floor's *other* walks; a name that is not a walk of the floor, or
+        None, gets the floor-level choice over every walk). Returns ``{name: (label, cfg_with_it, fix_var_m2)}``.
+
+        The floor-level choice is :attr:`selection` when it was made with the same candidates and WKNN settings
+        (:func:`selection_key`); the others are computed together (one distance matrix per reading-age limit) the
+        first time they are asked, then kept with the model (in memory): the same numbers are never computed twice.
+        """
+        key = selection_key(cfg)
+        memo = self._selected.setdefault(json.dumps(key), {})
+        sel = self.selection
+        if sel is not None and sel["key"] == key:
+            memo.setdefault("__none__", (sel["label"], sel["fix_var_m2"]))
+        own = set(self.per_walk["walk"])
+        keys = {n: n if n in own else "__none__" for n in names}
+        todo = [k for k in dict.fromkeys(keys.values()) if k not in memo]
+        if todo:
+            for k, (label, _, var) in select_wifi_nested(self.db, todo, cfg).items():
+                memo[k] = (label, var)
+        return {n: (memo[k][0], dataclasses.replace(cfg, **WIFI_CANDIDATES[memo[k][0]]), memo[k][1])
+                for n, k in keys.items()}
+
     def save(self, folder) -> Path:
-        """Write ``database.npz``, ``per_walk.csv`` and ``intervals.csv`` into ``folder``."""
+        """Write ``database.npz``, ``per_walk.csv``, ``intervals.csv`` and ``selection.json`` into ``folder``."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         self.db.save(folder / "database.npz")
         self.per_walk.to_csv(folder / "per_walk.csv", index=False, float_format="%.17g")
         self.intervals.to_csv(folder / "intervals.csv", index=False, float_format="%.17g")
+        tmp = folder / "selection.json.tmp"
+        tmp.write_text(json.dumps({"version": FLOOR_MODEL_VERSION, "selection": self.selection}))
+        os.replace(tmp, folder / "selection.json")      # JSON floats are repr: read back bit-identical
         return folder
 
     @classmethod
     def load(cls, folder) -> FloorModel:
+        """Read a model written by :meth:`save`; an incomplete folder or one of another
+        :data:`FLOOR_MODEL_VERSION` raises naming it."""
         folder = Path(folder)
-        for f in ("database.npz", "per_walk.csv", "intervals.csv"):
+        for f in ("database.npz", "per_walk.csv", "intervals.csv", "selection.json"):
             if not (folder / f).is_file():
                 raise ValueError(f"{folder}: no floor model here ({f} missing)")
+        try:
+            meta = json.loads((folder / "selection.json").read_text())
+        except ValueError as e:
+            raise ValueError(f"{folder / 'selection.json'}: not a floor model's selection file ({e})") from None
+        got = meta.get("version") if isinstance(meta, dict) else None
+        if got != FLOOR_MODEL_VERSION:
+            raise ValueError(f"{folder / 'selection.json'}: floor model version {got!r}, expected "
+                             f"{FLOOR_MODEL_VERSION}; delete the folder to rebuild it")
         pw = pd.read_csv(folder / "per_walk.csv", dtype={"walk": str})
         iv = pd.read_csv(folder / "intervals.csv", dtype={"walk": str})
-        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv)
+        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"])
+
+
+#: Version of a saved floor model (1: database, calibration rows, step intervals; 2: + the floor-level Wi-Fi
+#: selection, ``selection.json``). Part of :func:`cached_floor_model`'s key, so an older cache is never read.
+FLOOR_MODEL_VERSION = 2
+
+
+def selection_key(cfg: RealWalkConfig = DEFAULT_CONFIG, candidates=None) -> list:
+    """What a Wi-Fi selection depends on besides the database: each candidate's label and its effective WKNN
+    settings in ``cfg`` (``k_neighbors, p, weights, metric, max_age_s, not_heard_dbm``), as JSON-ready lists."""
+    cands = WIFI_CANDIDATES if candidates is None else candidates
+    out = []
+    for label, kw in cands.items():
+        c = dataclasses.replace(cfg, **kw)
+        out.append([label, c.k_neighbors, c.p, c.weights, c.metric, c.max_age_s, c.not_heard_dbm])
+    return out
+
+
+def floor_selection(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> dict | None:
+    """The floor-level Wi-Fi selection of a :class:`FloorModel`: :func:`~ilocalg.track.fixes.select_wifi_nested`
+    over every walk of ``db``, as ``{"key": selection_key(cfg), "label", "fix_var_m2"}``; None for fewer than
+    two walks (no walk to leave out)."""
+    if len(set(db.walk)) < 2:
+        return None
+    label, _, var = select_wifi_nested(db, ["__none__"], cfg)["__none__"]
+    return {"key": selection_key(cfg), "label": label, "fix_var_m2": var}
 
 
 def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict | None = None,
-                      progress=None) -> FloorModel:
+                      progress=None, select: bool = True) -> FloorModel:
     """Build the :class:`FloorModel` of walks with ground truth (dict name -> walk, or a sequence).
 
-    ``progress``: optional callable ``progress(n_done, n_total)`` after each walk's steps.
+    ``progress``: optional callable ``progress(n_done, n_total)`` after each walk's steps. ``select``: make the
+    floor-level Wi-Fi selection (:func:`floor_selection`) now, as a saved model must; False leaves it to the
+    first walk from outside the floor (:meth:`FloorModel.select_wifi`).
     """
     items = list(walks.values() if isinstance(walks, dict) else walks)
     recs = [as_recording(w) for w in items]
@@ -139,7 +215,7 @@ def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict |
     db = WifiDatabase.from_recordings(recs, None, frame=frame, align_time=cfg.align_fix_time)
     pw = calibrate(recs, st, cfg).per_walk
     iv = pd.concat([step_intervals(r, st[r.name]) for r in recs], ignore_index=True)
-    return FloorModel(db, pw, iv)
+    return FloorModel(db, pw, iv, floor_selection(db, cfg) if select else None)
 
 
 def floor_cache_key(files, **settings) -> str:
@@ -168,14 +244,29 @@ def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAU
 
     ``load_walks()`` returns the walks (called only when building); ``settings`` (e.g. the loader
     policies) join the files and ``cfg`` in the cache key. Returns ``(model, from_cache)``.
+
+    The last model returned is kept in this process: asked again with the same key (e.g. a notebook's run, its
+    leave-one-walk-out and each configuration of an ablation), the same object comes back, with the Wi-Fi
+    selections it has made (:meth:`FloorModel.select_wifi`), and ``from_cache`` is True.
     """
-    key = floor_cache_key(files, cfg=_model_cfg(cfg), **settings)
+    key = floor_cache_key(files, cfg=_model_cfg(cfg), floor_model_version=FLOOR_MODEL_VERSION, **settings)
     folder = Path(cache_dir) / key
+    kept = _LAST_MODEL.get(str(folder.resolve()))
+    if kept is not None:
+        return kept, True
+    model, cached = None, False
     if folder.is_dir():
         try:
-            return FloorModel.load(folder), True
+            model, cached = FloorModel.load(folder), True
         except ValueError:
             pass                                    # a stale or partial cache entry: rebuild it
-    model = build_floor_model(load_walks(), cfg, progress=progress)
-    model.save(folder)
-    return model, False
+    if model is None:
+        model = build_floor_model(load_walks(), cfg, progress=progress)
+        model.save(folder)
+    _LAST_MODEL.clear()                             # one floor kept (a site 1 floor is about 60 MB in memory)
+    _LAST_MODEL[str(folder.resolve())] = model
+    return model, cached
+
+
+#: The floor model :func:`cached_floor_model` returned last in this process (resolved folder -> model).
+_LAST_MODEL: dict = {}

@@ -1,0 +1,115 @@
+"""The floor model's Wi-Fi selection (ilocalg.track.floor): the floor-level choice made once at build and saved,
+the nested choices of the floor's own walks unchanged and computed once per model, old caches rebuilt."""
+
+import dataclasses
+import json
+
+import pytest
+
+from ilocalg.sim import walk_recordings as wr
+from ilocalg.track import RealWalkConfig
+from ilocalg.track import floor as floor_mod
+from ilocalg.track.fixes import select_wifi, select_wifi_nested
+
+
+@pytest.fixture(scope="module")
+def recs():
+    return wr.simulate_recordings(7, seed=6, n_nodes=20)[1]
+
+
+@pytest.fixture(scope="module")
+def model(recs):
+    return floor_mod.build_floor_model(recs[1:])
+
+
+def _no_selection(monkeypatch):
+    def boom(*a, **k):
+        raise AssertionError("select_wifi_nested called again")
+    monkeypatch.setattr(floor_mod, "select_wifi_nested", boom)
+
+
+def test_floor_level_choice_is_made_at_build_saved_and_used_for_an_outside_walk(recs, model, tmp_path, monkeypatch):
+    label, c, var = select_wifi_nested(model.db, ["__none__"], RealWalkConfig())["__none__"]
+    assert model.selection["label"] == label and model.selection["fix_var_m2"] == var
+    back = type(model).load(model.save(tmp_path / "m"))
+    assert back.selection == model.selection                     # JSON floats read back bit for bit
+    _no_selection(monkeypatch)                                   # an outside walk is now a look-up
+    for m in (model, back):
+        for name in (recs[0].name, None):
+            wm = m.for_walk(name)
+            assert (wm.wifi_config, wm.fix_var_m2, wm.cfg) == (label, var, c)
+
+
+def test_nested_choices_of_the_floor_walks_are_unchanged_and_made_once(recs, monkeypatch):
+    m = floor_mod.build_floor_model(recs[1:])
+    walks = m.walks[:3]
+    want = select_wifi_nested(m.db, walks, RealWalkConfig())
+    got = m.select_wifi(walks)
+    assert got == want
+    s = walks[1]
+    assert got[s][0] == select_wifi(m.db.without(s))[0]          # nested: never the scored walk's rows
+    _no_selection(monkeypatch)
+    for s in walks:                                              # later calls, one walk each: look-ups
+        wm = m.for_walk(s)
+        assert (wm.wifi_config, wm.cfg, wm.fix_var_m2) == want[s]
+
+
+def test_a_selection_made_with_other_wknn_settings_is_not_reused(recs, model, monkeypatch):
+    cfg = RealWalkConfig(not_heard_dbm=-110.0)
+    calls = []
+    real = floor_mod.select_wifi_nested
+
+    def counted(db, names, c, *a, **k):
+        calls.append(list(names))
+        return real(db, names, c, *a, **k)
+
+    monkeypatch.setattr(floor_mod, "select_wifi_nested", counted)
+    got = model.for_walk(None, cfg)
+    assert calls == [["__none__"]]
+    assert (got.wifi_config, got.fix_var_m2) == real(model.db, ["__none__"], cfg)["__none__"][::2]
+    assert floor_mod.selection_key(cfg) != model.selection["key"]
+    # the fix-model fields do not enter the selection: the stored one serves them
+    calls.clear()
+    model.for_walk(None, dataclasses.replace(RealWalkConfig(), fix_var="isotropic", fix_corr=False))
+    assert calls == []
+
+
+def test_an_old_or_partial_cache_folder_is_rebuilt_never_read(recs, model, tmp_path, monkeypatch):
+    folder = model.save(tmp_path / "m")
+    (folder / "selection.json").write_text(json.dumps({"version": 1, "selection": model.selection}))
+    with pytest.raises(ValueError, match=r"selection\.json: floor model version 1, expected 2"):
+        type(model).load(folder)
+    (folder / "selection.json").unlink()                         # a version-1 folder has no selection file
+    with pytest.raises(ValueError, match="selection.json missing"):
+        type(model).load(folder)
+    # cached_floor_model: the version is part of the key, and a broken folder under the key is rebuilt
+    f = tmp_path / "walk.txt"
+    f.write_text("x")
+    key = floor_mod.floor_cache_key([f], cfg=floor_mod._model_cfg(RealWalkConfig()),
+                                    floor_model_version=floor_mod.FLOOR_MODEL_VERSION)
+    assert key != floor_mod.floor_cache_key([f], cfg=floor_mod._model_cfg(RealWalkConfig()))
+    (tmp_path / "cache" / key).mkdir(parents=True)
+    (tmp_path / "cache" / key / "selection.json").write_text("{}")
+    floor_mod._LAST_MODEL.clear()
+    built, cached = floor_mod.cached_floor_model([f], lambda: recs[1:], tmp_path / "cache")
+    assert not cached and built.selection == model.selection
+    again, cached = floor_mod.cached_floor_model([f], lambda: 1 / 0, tmp_path / "cache")
+    assert cached and again is built                             # kept in this process
+    floor_mod._LAST_MODEL.clear()
+    read, cached = floor_mod.cached_floor_model([f], lambda: 1 / 0, tmp_path / "cache")
+    assert cached and read.selection == model.selection
+    floor_mod._LAST_MODEL.clear()
+
+
+
+def test_nested_selection_is_select_wifi_without_the_walk_for_every_walk(model):
+    """Candidates sharing a distance matrix (same reading-age limit) or neighbours (same K) give what each
+    candidate alone gives: select_wifi on the database without the walk, for every walk and for none."""
+    got = select_wifi_nested(model.db, [*model.walks, "__none__"])
+    for s in [*model.walks, "__none__"]:
+        label, c, var, table = select_wifi(model.db.without(s) if s != "__none__" else model.db)
+        assert got[s][0] == label and got[s][1] == c
+        assert got[s][2] == pytest.approx(var, rel=1e-9)
+    # K = 10 and the uniform weights really differ from the shared K = 5 neighbours here (the simulated readings
+    # are all fresh, so the reading-age limits give one matrix; the real-floor check is in the report)
+    assert table["mean_error_m"].nunique() >= 3
