@@ -94,7 +94,7 @@ if HAVE_DATA:
 
 # %%
 if HAVE_DATA:
-    display(tables["summary"][["method", "online", "mean_error_m", "median_error_m", "p75_error_m",  # noqa: F821
+    display(tables["summary"][["method", "online", "latency", "mean_error_m", "median_error_m", "p75_error_m",  # noqa: F821
                                "ratio_to_wifi"]].sort_values("mean_error_m").round(2))
     display(tables["diagnostics"].round(2))  # noqa: F821
 
@@ -133,7 +133,8 @@ if HAVE_DATA:
     size = (floor.floor_map.width_m, floor.floor_map.height_m)
     summ = tables["summary"][tables["summary"]["method"] != "wifi"]
     # Wi-Fi only, the best online and the best offline variant of this run, and the papers' smoothed KF
-    best = [summ[summ["online"] == on].sort_values("mean_error_m")["method"].iloc[0] for on in (True, False)]
+    best = [summ[summ["latency"] == lat].sort_values("mean_error_m")["method"].iloc[0]
+            for lat in ("none", "whole walk")]
     shown = tuple(dict.fromkeys(["wifi", *best, "kf_rts"]))
     with ilocviz.style():
         fig, axes = plt.subplots(1, 2, figsize=(14, 6))

@@ -67,3 +67,16 @@ def test_wifi_ablation_plain_reference_first(shared_data):
     assert (a.query("relisted_wifi == 'merge'")["merged_readings"] > 0).all()
     assert a["n"].iloc[0] > 0 and (a["n"] == a["n"].iloc[0]).all()           # every configuration scores every scan
     assert np.isfinite(a[["mean_m", "median_m", "p75_m"]].to_numpy()).all() and (a["mean_m"] > 0).all()
+
+
+def test_sweep_summary_judges_a_declared_latency_as_online_and_never_as_offline():
+    # the lag variant beats the offline lsq here: it must not become the "best offline", and its goal is 0.7
+    errs = {("site/F1", "a"): {"wifi": [10.0, 10.0], "lsq": [6.0, 6.0], "kf": [8.0, 8.0],
+                               "kf_gain_map_lag5s": [5.0, 5.0]}}
+    s = lowo.sweep_summary(_sweep_rows(errs))["summary"].set_index(["floor", "method"])
+    lag = s.loc[("pooled", "kf_gain_map_lag5s")]
+    assert lag["goal"] == 0.7 and lag["meets_goal"] and not lag["online"] and lag["latency"] == "every state 5 s"
+    assert s.loc[("pooled", "lsq"), "latency"] == "whole walk" and s.loc[("pooled", "kf"), "latency"] == "none"
+    text = lowo.lowo_findings(s.reset_index())
+    assert "best offline: lsq" in text and "best online: kf," in text
+    assert "best online with a declared latency (not causal): kf_gain_map_lag5s" in text
