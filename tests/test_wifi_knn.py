@@ -184,3 +184,31 @@ def test_euclidean_product_over_shared_columns_only_is_exact():
     ref = np.argsort(full, axis=1, kind="stable")[:, :5]
     np.testing.assert_array_equal(i1, ref)
     np.testing.assert_array_equal(d1, np.sqrt(np.take_along_axis(full, ref, axis=1)))
+
+
+@pytest.mark.parametrize("representation", ["positive", "powed"])
+@pytest.mark.parametrize("n_ref,k", [(1700, 5), (40, 5), (1700, 1)])
+def test_manhattan_blocks_match_the_unpadded_partial_sums(monkeypatch, representation, n_ref, k):
+    """The Manhattan search (query blocks padded to groups of 32 references, the neighbours picked from strided
+    group minima; a tiny database falls back to whole rows) gives the bits of the unpadded float32 partial sums
+    ranked by (value, training order), the query's own sum added after, for integer and non-integer features,
+    with exact ties (duplicated references) and with the queries split over several blocks."""
+    from ilocalg.wifi import knn
+
+    rng = np.random.default_rng(8)
+    X, _, Xq, _ = _radio(rng, n_ref=n_ref - n_ref // 3, n_q=90, integer=True)
+    X = np.vstack([X, X[:n_ref // 3]])
+    idx = build_index(to_features(X, -95, representation))
+    fq = to_features(np.vstack([Xq, X[:20]]), -95, representation)
+    monkeypatch.setattr(knn, "_BLOCK_VALUES", 37 * n_ref)  # blocks of about 37 queries
+    d1, i1 = knn_search(fq, idx, k, p=1, kernel="sparse", batch=8)
+    part = knn._sparse_partial(fq, idx, 1)
+    ref = np.lexsort((np.broadcast_to(np.arange(n_ref), part.shape), part), axis=1)[:, :k]
+    np.testing.assert_array_equal(i1, ref)
+    own = np.array([row.sum() for row in fq], dtype=np.float32).astype(np.float64)
+    want = np.maximum(np.take_along_axis(part, ref, axis=1).astype(np.float64) + own[:, None], 0.0)
+    np.testing.assert_array_equal(d1, want)
+    if representation == "positive":  # integers: exact, so also the dense kernel's distances
+        d2, i2 = knn_search(fq, idx, k, p=1, kernel="dense")
+        np.testing.assert_array_equal(i1, i2)
+        np.testing.assert_array_equal(d1, d2)

@@ -168,9 +168,13 @@ def _union_sq(q, a, ref: _References) -> np.ndarray:
     left = _stack_query(q, a, dt)
     n_ref = ref.r.shape[0]
     out = np.empty((q.shape[0], n_ref), dtype=dt)
-    for s in range(0, n_ref, _REF_CHUNK):
-        right = ref.right(s, s + _REF_CHUNK, dt)
-        out[:, s:s + _REF_CHUNK] = left @ right.T  # (into a slice directly, matmul would not call BLAS)
+    if ref.cached and q.shape[0] > 1:  # the whole factor at hand: one product straight into out (no slab copies;
+        np.matmul(left, ref.right(0, n_ref, dt).T, out=out)  # one query keeps the slabs: BLAS's threaded gemv
+        # over all references would round differently from the slabs' with 2 threads; the same bits otherwise)
+    else:
+        for s in range(0, n_ref, _REF_CHUNK):
+            right = ref.right(s, s + _REF_CHUNK, dt)
+            out[:, s:s + _REF_CHUNK] = left @ right.T  # (into a slice directly, matmul would not call BLAS)
     if dt is not np.float32:  # float32 here is exact (an integer sum of integers): never below 0
         np.maximum(out, 0.0, out=out)
     return out
