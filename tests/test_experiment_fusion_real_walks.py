@@ -110,3 +110,12 @@ def test_leave_one_walk_out_refuses_a_pooled_summary_with_failed_tasks(monkeypat
     with pytest.raises(ValueError, match="tasks failed"):
         frw.leave_one_walk_out(workers=2, progress=False)
     assert seen["shards"] == [4]
+
+
+def test_ablation_findings_never_count_a_declared_latency_as_offline():
+    t = pd.DataFrame([{"config": "default", "method": m, "online": on, "ratio_to_wifi": r, "start_mean_m": 3.0}
+                      for m, on, r in (("wifi", True, 1.0), ("kf_gain", True, 0.8), ("lsq_map", False, 0.6),
+                                       ("kf_gain_lag5s", False, 0.5))])
+    text = frw.ablation_findings(t)
+    assert "best online kf_gain 0.800" in text and "best offline lsq_map 0.600" in text
+    assert "kf_gain_lag5s" not in text
