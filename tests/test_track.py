@@ -109,7 +109,8 @@ def test_evaluate_track_scores_every_method_and_smoothing_helps(shared_data, flo
 # format-neutral: simulated walks (no real data needed)
 # ---------------------------------------------------------------------------------------------------
 
-NO_MAP = tuple(m for m in track.METHODS if not m.startswith("map_align") and not m.endswith("_map"))
+# every method that runs without the floor map (the particle filter then runs unconstrained)
+NO_MAP = tuple(m for m in track.METHODS if m not in track.MAP_METHODS or m.startswith("pf"))
 
 
 @pytest.fixture(scope="module")
