@@ -40,7 +40,8 @@ def sweep_summary(results: pd.DataFrame) -> dict[str, pd.DataFrame]:
 
     Returns ``summary``: one row per floor and method plus the ``pooled`` rows (every waypoint of every
     floor): ``n_waypoints, n_walks, mean_m, median_m, p75_m`` (EvAAL), ``ratio_to_wifi`` (mean over
-    Wi-Fi only's mean), ``online``, ``goal`` (0.5 offline, 0.7 online), ``meets_goal``; and ``waypoints``
+    Wi-Fi only's mean), ``online``, ``latency`` (``none``, a :data:`LATENCY_METHODS` text, or ``whole walk``),
+    ``goal`` (0.5 offline, 0.7 online, with or without a declared latency), ``meets_goal``; and ``waypoints``
     (``floor, walk, waypoint`` and one error column per method).
     """
     r = results[results["table"] == "sweep_waypoints"]
