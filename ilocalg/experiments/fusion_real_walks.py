@@ -37,6 +37,7 @@ from ilocalg.track import (
     evaluate_walk,
     walk_steps,
 )
+from ilocalg.track._config import latency_of
 from ilocalg.track.evaluation import _latest_fix
 from ilocalg.track.fixes import wifi_fixes
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
@@ -184,7 +185,7 @@ def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
                           "p90_error_m": float(wp[m].quantile(0.9)), "mean_of_walk_means_m": float(pw[m].mean()),
                           "ratio_to_wifi": float(wp[m].mean()) / wifi_mean, "meets_goal_half_wifi":
                           bool(float(wp[m].mean()) <= 0.5 * wifi_mean), "online": m in CAUSAL_METHODS,
-                          "latency": _latency(m)}
+                          "latency": latency_of(m)}
                          for m in methods])
     diag = pd.DataFrame([
         {"quantity": "PDR track fitted onto the walk's own waypoints (oracle, diagnostic only), mean error [m]",
@@ -391,11 +392,6 @@ def example(floor, name: str | None = None, cfg: RealWalkConfig | None = None, s
     return pd.concat(out, ignore_index=True).assign(walk=name)
 
 
-def _latency(method: str) -> str:
-    """What a method waits for: ``none`` (causal), :data:`LATENCY_METHODS`' text, or ``whole walk`` (offline)."""
-    return "none" if method in CAUSAL_METHODS else LATENCY_METHODS.get(method, "whole walk")
-
-
 def findings(tables: dict) -> str:
     """Sentences computed from the tables (for the notebook's closing cell)."""
     s = tables["summary"].set_index("method")
@@ -411,7 +407,7 @@ def findings(tables: dict) -> str:
         f"Best variant: {best}, {s.loc[best, 'mean_error_m']:.2f} m ({s.loc[best, 'ratio_to_wifi']:.2f} x Wi-Fi only).",
         f"Goal (at most half the Wi-Fi-only error, {0.5 * w:.2f} m) met by: {', '.join(met) if met else 'none'}.",
     ]
-    lat = rest[rest["latency"].isin(set(LATENCY_METHODS.values()))] if "latency" in rest.columns else rest.iloc[:0]
+    lat = rest[rest.index.isin(list(LATENCY_METHODS))]
     for label, part, goal in (("offline", off, 0.5), ("online", on, 0.7),
                               ("online with a declared latency (not causal)", lat, 0.7)):
         if len(part):

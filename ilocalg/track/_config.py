@@ -23,6 +23,12 @@ LATENCY_METHODS = {"kf_gain_lag5s": "every state 5 s", "kf_gain_map_lag5s": "eve
                    "lsq_online_map_start5s": "the start-up, until 5 s after the first fix is known"}
 
 
+def latency_of(method: str) -> str:
+    """What a method waits for before it reports: ``none`` (:data:`CAUSAL_METHODS`), its
+    :data:`LATENCY_METHODS` text, or ``whole walk`` (offline)."""
+    return "none" if method in CAUSAL_METHODS else LATENCY_METHODS.get(method, "whole walk")
+
+
 #: The fix-variance models of :attr:`RealWalkConfig.fix_var`.
 FIX_VARS = ("isotropic", "per_fix")
 

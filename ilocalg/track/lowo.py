@@ -27,7 +27,7 @@ import pandas as pd
 from ilocalg.io.ilc import _read_members, _resolve_root
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.scans import merge_relisted_wifi
-from ilocalg.track._config import CAUSAL_METHODS, LATENCY_METHODS, METHODS, RealWalkConfig
+from ilocalg.track._config import CAUSAL_METHODS, LATENCY_METHODS, METHODS, RealWalkConfig, latency_of
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_errors
 
@@ -65,7 +65,7 @@ def sweep_summary(results: pd.DataFrame) -> dict[str, pd.DataFrame]:
             goal = 0.7 if online or m in LATENCY_METHODS else 0.5     # a declared latency: judged as online
             ratio = float(np.mean(e)) / w
             rows.append({"floor": fl_name, "method": m, "online": online,
-                         "latency": "none" if online else LATENCY_METHODS.get(m, "whole walk"),
+                         "latency": "none" if online else latency_of(m),
                          "n_waypoints": int(e.size),
                          "n_walks": int(g["walk"].nunique()), "mean_m": float(np.mean(e)),
                          "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
