@@ -161,3 +161,14 @@ def test_a_costly_experiment_gets_its_declared_smaller_hypercube(monkeypatch):
     assert len(scales) == 4  # one per quarter of the log range: still space-filling
     edges = np.exp(np.linspace(np.log(0.3), np.log(3.0), 5))
     assert all(lo <= s < hi for s, lo, hi in zip(scales, edges[:-1], edges[1:], strict=True))
+
+
+def test_a_fast_run_judges_robustness_on_the_smallest_hypercube_a_full_run_on_the_whole(tmp_path):
+    assert cs.n_samples_for(True) == cs.N_SAMPLES_FAST == 4 < cs.n_samples_for(False) == cs.N_SAMPLES
+    for fast in (True, False):
+        out = tmp_path / str(fast)
+        code = cs.claims_step(out, ["99_toy"], seed=0, n_seeds=1, fast=fast, workers=0, cache_dir=out / "cache",
+                              manifest=MANIFEST, claims=_claims()[:2], budget_s=math.inf)
+        assert code == 0
+        led = pd.read_csv(out / "claims.csv", keep_default_na=False, na_values=[""]).set_index("claim_id")
+        assert f"{cs.n_samples_for(fast)} Latin-hypercube samples" in led.loc["toy-1", "note"]

@@ -47,7 +47,7 @@ import pandas as pd
 
 from ilocalg.papers import claims as cl
 
-__all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "N_SAMPLES_OF", "BUDGET_S", "ClaimError",
+__all__ = ["LEDGER_COLUMNS", "N_SAMPLES", "N_SAMPLES_OF", "N_SAMPLES_FAST", "n_samples_for", "BUDGET_S", "ClaimError",
            "claim_experiments",
            "gather_results", "evaluate_ledger", "sample_assumptions", "samples_of", "judged_claims",
            "robustness_tasks", "run_samples", "robustness", "write_ledger", "claims_step"]
@@ -62,6 +62,9 @@ N_SAMPLES = 8
 #: None today: ins_constraints and ins_online had 4 while their samples ran their side studies (34 and 2.8 CPU-s
 #: per fast-mode sample); sweep tasks now leave those out (manifest.SWEEP_KWARGS).
 N_SAMPLES_OF: dict[str, int] = {}
+#: Samples per experiment when the run itself is a fast-mode one (``reproduce --fast``, the test suite: a check
+#: that every piece runs, not a result): the fewest that still give Spearman's rho a spread (see above).
+N_SAMPLES_FAST = 4
 #: Seconds of wall time the robustness samples may take (the rest of the step reads the cache: a few s).
 BUDGET_S = 40.0
 #: Fast-mode run time over full-mode run time, when no fast-mode time was measured yet.
@@ -150,6 +153,12 @@ def sample_assumptions(assumptions: Sequence[cl.Assumption], n: int, seed: int) 
             x = a.low + u[:, j] * (a.high - a.low)
         cols[a.param] = np.round(x).astype(int) if a.integer else x
     return pd.DataFrame(cols)
+
+
+def n_samples_for(fast: bool) -> int:
+    """Latin-hypercube samples per experiment of a run: :data:`N_SAMPLES_FAST` in fast mode, else
+    :data:`N_SAMPLES` (the samples themselves are fast-mode runs either way)."""
+    return N_SAMPLES_FAST if fast else N_SAMPLES
 
 
 def samples_of(experiment: str, n_samples: int = N_SAMPLES) -> int:
@@ -399,19 +408,21 @@ def _load_timings(cache_dir: Path) -> dict:
 def claims_step(out_dir: str | Path, stems: Sequence[str], seed: int = 0, n_seeds: int = 1, fast: bool = False,
                 workers: int = 2, cache_dir: str | Path | None = None, progress: bool = False,
                 manifest: Mapping[str, Mapping[str, bool]] | None = None, claims: Sequence[cl.Claim] | None = None,
-                n_samples: int = N_SAMPLES, budget_s: float = BUDGET_S) -> int:
+                n_samples: int | None = None, budget_s: float = BUDGET_S) -> int:
     """Evaluate the claims on this run and write the ledger; returns a process exit code (0 on success).
 
     Only claims whose experiments all belong to the notebooks ``stems`` are judged (a run of a few
     notebooks judges their claims; the rest wait for a full run); claims without references always are.
     A claim naming an experiment that no notebook of the manifest runs is an error, as is one whose
-    reference does not resolve (the message names the claim).
+    reference does not resolve (the message names the claim). ``n_samples``: robustness samples per experiment
+    (default :func:`n_samples_for` ``fast``).
     """
     from ilocalg.papers import all_claims
     from ilocalg.workflow import sweep as sw
     from ilocalg.workflow.manifest import MANIFEST
 
     manifest = MANIFEST if manifest is None else manifest
+    n_samples = n_samples_for(fast) if n_samples is None else n_samples
     if not manifest:  # notebooks outside the project (no manifest): no experiment is known to have run
         return 0
     claims = list(all_claims() if claims is None else claims)

@@ -27,7 +27,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ilocalg.io.paths import REPO_ROOT
-from ilocalg.workflow.claims_step import robustness_tasks
+from ilocalg.workflow.claims_step import n_samples_for, robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
 from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
@@ -374,7 +374,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
             extra = [t for e in exps for t in sw.make_tasks(e, range(seed + 1, seed + n_seeds), fast=fast)
                      if not sw._cache_path(cache_dir, t).exists()]
         # the claims step's robustness samples (fast-mode runs at the base seed) fill the cores beside the notebooks
-        samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest)
+        samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest, n_samples=n_samples_for(fast))
                    if not sw._cache_path(cache_dir, t).exists()] if manifest else []
         # a study notebook's tasks (notebook 15: some 900 short runs) are jobs of this pool too, run before the
         # notebook (which then reads them from the cache) instead of a second pool of its own inside one job
