@@ -56,8 +56,7 @@ def test_extra_detections_in_the_truths_gaps_are_the_landings_the_heel_sensors_m
     # unpaired landings (from the foot states alone): two independent counts of the same missing landings
     prep, _ = diag
     recs = _CACHE["recordings"]
-    for p, r in zip(prep, recs, strict=True):
-        assert r.step_is_heel_bounce.sum() == r.n_heel_bounces
+    assert all(r.step_is_heel_bounce.sum() == r.n_heel_bounces for r in recs)
     _, c = error_causes(prep, recs)
     extra = c[[f"extra_{k}" for k in ("timing", "truth_gap", "pause", "before_walk", "after_walk", "inside_walk")]]
     missed = c[[f"missed_{k}" for k in ("timing", "walk_end", "inside_walk")]]
