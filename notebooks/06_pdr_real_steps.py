@@ -145,21 +145,6 @@ if HAVE_DATA:
     print(pdr_real_steps.gate_headline(tables))
 
 # %% [markdown]
-# ## Filling a step the peaks missed, from the walk's own period, swept on the development half
-# A weak step between two strong ones (a hand steadying the phone, a soft landing) leaves no prominent peak, and
-# the gap between the peaks around it is two step periods. `gap_fill_tol` (`ilocalg.pdr.robust.period_gaps`) adds
-# one step in each gap of two local step periods, within that many periods, where the period is the median of the
-# neighbouring step intervals (the walk's own, so one rule serves every cadence and placement); "off" adds nothing.
-# Swept and chosen as the walk detection above, on the development recordings only. The detector's default stays
-# off (the track's motion and the gait statistics call the same detector and were not measured with it).
-
-# %%
-if HAVE_DATA:
-    report.table(tables["gap_fill_sweep"], "gap_fill_sweep")
-    display(tables["gap_fill_sweep"])  # noqa: F821
-    print(pdr_real_steps.fill_headline(tables))
-
-# %% [markdown]
 # ## Every missed and extra step given a cause
 # Against the truth with the heel bounces merged, each missed true step and extra detection of the robust detector
 # (defaults) gets one cause from the step times alone (`ilocalg.pdr.step_errors.classify_step_errors`; no

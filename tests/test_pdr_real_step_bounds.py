@@ -9,14 +9,7 @@ from scipy.spatial.transform import Rotation
 
 from ilocalg.io.oxford import load_oxford_archive
 from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust
-from ilocalg.pdr.step_evaluate import (
-    error_causes,
-    gap_fill_sweep,
-    is_development,
-    prepare,
-    step_diagnosis,
-    walk_gate_sweep,
-)
+from ilocalg.pdr.step_evaluate import error_causes, is_development, prepare, step_diagnosis, walk_gate_sweep
 
 _CACHE: dict = {}
 
@@ -56,19 +49,6 @@ def test_walk_detection_default_is_the_development_folds_choice(diag):
     on = g.loc[ROBUST_DEFAULTS["min_stride_nac"]]
     for truth in ("published", "bounces_merged"):
         assert on[f"mean_accuracy_{truth}"] > g.loc["off", f"mean_accuracy_{truth}"]
-
-
-def test_gap_filling_swept_on_the_development_half(diag):
-    # the development folds choose a tolerance (not off), and it counts better there against both truths; the
-    # detector's default stays off (the track's motion and the gait statistics use the defaults)
-    prep, _ = diag
-    g = gap_fill_sweep(prep, _CACHE["recordings"]).set_index("gap_fill_tol")
-    assert (g["n_recordings"] == 24).all()
-    chosen = g["loro_chosen_bounces_merged"].idxmax()
-    assert chosen != "off"
-    for truth in ("published", "bounces_merged"):
-        assert g.loc[chosen, f"mean_accuracy_{truth}"] > g.loc["off", f"mean_accuracy_{truth}"]
-    assert ROBUST_DEFAULTS["gap_fill_tol"] is None
 
 
 def test_extra_detections_in_the_truths_gaps_are_the_landings_the_heel_sensors_missed(diag):

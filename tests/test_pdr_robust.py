@@ -104,33 +104,3 @@ def test_walk_detection_drops_handling_before_a_walk():
     assert (gated["t_s"] > 2.8).all()
     with pytest.raises(ValueError, match="min_stride_nac"):
         detect_steps_robust(m, t, min_stride_nac=1.5)
-
-
-def test_period_gaps_finds_one_missing_step_by_the_walks_period():
-    from ilocalg.pdr.robust import period_gaps
-
-    t = np.r_[0.55 * np.arange(20), 0.55 * 19 + 3.0 + 0.5 * np.arange(20)]     # a 3 s stop between two walks
-    t = np.delete(t, [8, 30])                                                 # one weak step missed in each
-    np.testing.assert_array_equal(period_gaps(t, 1.0, 0.2), [7, 28])
-    assert period_gaps(0.55 * np.arange(30), 1.0, 0.2).size == 0              # a regular walk: nothing to fill
-    for bad in (0.0, 0.5):
-        with pytest.raises(ValueError):
-            period_gaps(t, 1.0, bad)
-
-
-def test_gap_filling_restores_a_weak_step_and_is_off_by_default():
-    rate = 100.0
-    t = np.arange(0.0, 30.0, 1 / rate)
-    f = 1.8
-    amp = np.full(t.size, 2.0)
-    weak = np.abs(t - 10.25 / f) < 0.5 / f                                   # one cycle with almost no peak
-    amp[weak] = 0.05
-    m = 9.8 + amp * np.cos(2 * np.pi * f * t)
-    n_inside = int(np.floor(f * t[-1]))                                      # peaks at k / f, k >= 1
-    off = detect_steps_robust(m, t)
-    assert len(off) == n_inside - 1 and np.abs(off["t_s"].to_numpy() - 10 / f).min() > 0.3
-    on = detect_steps_robust(m, t, gap_fill_tol=0.2)
-    assert len(on) == n_inside and np.all(np.diff(on["t_s"]) > 0)
-    k = np.argmin(np.abs(on["t_s"].to_numpy() - 10 / f))
-    assert abs(on["t_s"].iloc[k] - 10 / f) < 0.1                              # well inside a 0.25 s match
-    pd.testing.assert_frame_equal(detect_steps_robust(m, t, gap_fill_tol=None), off)

@@ -39,7 +39,6 @@ from ilocalg.pdr.step_evaluate import (
     accuracy,
     diagnosis_window,
     error_causes,
-    gap_fill_sweep,
     loro_cv,
     prepare,
     score_detector,
@@ -49,8 +48,8 @@ from ilocalg.pdr.step_evaluate import (
     walk_gate_sweep,
 )
 
-__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "fill_headline",
-           "cause_headline", "causes_by_split", "worst", "GOAL_MEAN", "GOAL_MIN",
+__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "cause_headline",
+           "causes_by_split", "worst", "GOAL_MEAN", "GOAL_MIN",
            # re-exported from ilocalg.pdr.step_evaluate for the notebook
            "Prepared", "prepare", "DETECTORS", "accuracy", "loro_cv", "step_diagnosis", "diagnosis_window",
            "truth_artefacts"]
@@ -102,8 +101,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         ``robust_diagnosis_by_position``, ``robust_by_truth_and_split`` (development / held-out halves,
         :func:`ilocalg.pdr.step_evaluate.is_development`, against the published truth and with heel bounces
         merged, mean with a bootstrap interval), ``walk_gate_sweep`` (the robust detector's walk detection
-        threshold on the development half only, with its leave-one-recording-out choices), ``gap_fill_sweep``
-        (the same for the gap filling, ``gap_fill_tol``), ``robust_errors``
+        threshold on the development half only, with its leave-one-recording-out choices), ``robust_errors``
         (every missed and extra step of the robust detector against the bounce-merged truth, with its cause,
         :func:`ilocalg.pdr.step_evaluate.error_causes`), ``robust_error_causes`` (their counts per recording),
         ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``comparison``.
@@ -161,7 +159,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
             "robust_error_causes_by_split": causes_by_split(causes),
             "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "robust_by_truth_and_split": split_summary(diag, goal_min=GOAL_MIN, seed=seed),
-            "walk_gate_sweep": walk_gate_sweep(prep, recs), "gap_fill_sweep": gap_fill_sweep(prep, recs),
+            "walk_gate_sweep": walk_gate_sweep(prep, recs),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
             "comparison": pd.DataFrame(comp)}
 
@@ -201,27 +199,17 @@ def truth_headline(tables: dict) -> str:
 
 def gate_headline(tables: dict) -> str:
     """One sentence: the walk-detection threshold the development folds choose, beside the detector's default."""
-    return _sweep_headline(tables["walk_gate_sweep"], "min_stride_nac")
-
-
-def fill_headline(tables: dict) -> str:
-    """One sentence: the gap-filling tolerance the development folds choose, beside the detector's default."""
-    return _sweep_headline(tables["gap_fill_sweep"], "gap_fill_tol")
-
-
-def _sweep_headline(g: pd.DataFrame, key: str) -> str:
     from ilocalg.pdr.robust import ROBUST_DEFAULTS
 
+    g = tables["walk_gate_sweep"]
     out = []
     for truth in ("bounces_merged", "published"):
         best = g.loc[g[f"loro_chosen_{truth}"].idxmax()]
         mean, low = best[f"mean_accuracy_{truth}"], best[f"min_accuracy_{truth}"]
         out.append(f"against the {truth.replace('_', ' ')} truth, {int(best[f'loro_chosen_{truth}'])} of "
-                   f"{int(best['n_recordings'])} development folds choose {key} = {best[key]} "
-                   f"(development mean {mean:.2%}, worst {low:.2%}; leave-one-recording-out mean "
-                   f"{best[f'loro_mean_accuracy_{truth}']:.2%})")
-    default = ROBUST_DEFAULTS.get(key)
-    return "; ".join(out) + f"; the detector's default: {'off' if default is None else default}"
+                   f"{int(best['n_recordings'])} development folds choose min_stride_nac = {best['min_stride_nac']} "
+                   f"(development mean {mean:.2%}, worst {low:.2%})")
+    return "; ".join(out) + f"; the detector's default: {ROBUST_DEFAULTS['min_stride_nac']}"
 
 
 def causes_by_split(causes: pd.DataFrame) -> pd.DataFrame:

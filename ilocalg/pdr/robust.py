@@ -20,13 +20,6 @@ Beyond the papers. Steps:
    peaks inside a bout are never dropped (a weak step between strong ones is still a step);
 5. walking-bout gate: bouts of fewer than ``min_bout_steps`` peaks (handling the phone, standing)
    are dropped.
-6. optional, off by default (``gap_fill_tol = None``): one step is added in each gap of two local step
-   periods between kept peaks (:func:`period_gaps`: the period is the median of the neighbouring step
-   intervals, so the window is the walk's own), at the highest sample of the gap's middle half. A weak step
-   between two strong ones leaves no prominent peak; the gap around it measures it. On the Oxford development
-   half the leave-one-recording-out search chooses a tolerance (table ``gap_fill_sweep``), but the default
-   stays off: the track's motion and the gait statistics call this detector with its defaults, and nothing
-   measured the filling on their walks.
 
 The parameters are chosen by leave-one-recording-out cross-validation on labelled walks (the
 experiment ``pdr_real_steps``); the defaults are the values that search picks on the Oxford
@@ -49,15 +42,14 @@ from scipy import signal as ss
 from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, resample_uniform
 
-__all__ = ["match_steps", "lowpass_magnitude", "bout_gate", "stride_nac", "trim_bout_ends", "period_gaps",
-           "detect_steps_robust",
+__all__ = ["match_steps", "lowpass_magnitude", "bout_gate", "stride_nac", "trim_bout_ends", "detect_steps_robust",
            "detect_steps_find_peaks",
            "RobustStepDetector",
            "ROBUST_DEFAULTS"]
 
 #: Default parameters (selected by leave-one-recording-out search on the Oxford set).
 ROBUST_DEFAULTS = {"rate_hz": 100.0, "cutoff_hz": 2.0, "prominence_mps2": 0.3, "min_step_s": 0.25,
-                   "max_step_s": 1.0, "min_bout_steps": 8, "min_stride_nac": 0.5, "gap_fill_tol": None}
+                   "max_step_s": 1.0, "min_bout_steps": 8, "min_stride_nac": 0.5}
 
 
 def lowpass_magnitude(mag_mps2, rate_hz: float, cutoff_hz: float) -> np.ndarray:
@@ -192,64 +184,6 @@ def trim_bout_ends(t_peak_s, score_fn, max_step_s: float, min_score: float) -> n
     return keep
 
 
-def period_gaps(t_peak_s, max_step_s: float, tol: float, n_local: int = 4, min_local: int = 4) -> np.ndarray:
-    """Positions ``i`` where one step is missing between peaks ``i`` and ``i + 1``, judged by the walk's own period.
-
-    The local step period at a gap is the median of the step intervals (those <= ``max_step_s``) among the
-    ``n_local`` intervals on each side of it; at least ``min_local`` of them must be there. A gap of
-    ``2 +- tol`` local periods holds one step the peaks missed (a weak step between two strong ones): the window
-    is the walk's measured period, not a fixed time, so one rule serves every cadence and placement.
-
-    Parameters
-    ----------
-    t_peak_s : array_like, increasing, s
-    max_step_s : float
-        Longest step interval, s (as the bout gate's).
-    tol : float
-        Half-width of the accepted band around two periods, in periods (0 < tol < 0.5).
-    n_local, min_local : int
-        Intervals looked at on each side, and the fewest step intervals among them that give a period.
-
-    Returns
-    -------
-    ndarray of int
-        The ``i`` (into ``t_peak_s``) that start such a gap.
-    """
-    t = np.asarray(t_peak_s, dtype=np.float64)
-    if not 0 < tol < 0.5:
-        raise ValueError(f"tol must lie in (0, 0.5) periods, got {tol}")
-    if n_local < 1 or not 1 <= min_local <= 2 * n_local:
-        raise ValueError(f"need n_local >= 1 and 1 <= min_local <= 2 n_local, got {n_local}, {min_local}")
-    dt = np.diff(t)
-    out = []
-    for i in range(dt.size):
-        nb = np.r_[dt[max(0, i - n_local):i], dt[i + 1:i + 1 + n_local]]
-        nb = nb[nb <= max_step_s]
-        if nb.size < min_local:
-            continue
-        if abs(dt[i] / np.median(nb) - 2.0) <= tol:
-            out.append(i)
-    return np.asarray(out, dtype=np.int64)
-
-
-def _fill_gaps(y: np.ndarray, p: np.ndarray, base: np.ndarray, prom: np.ndarray, gaps: np.ndarray):
-    """One peak in each gap ``p[i] .. p[i + 1]``: the highest sample of the gap's middle half, its lower base
-    and prominence measured inside the gap (as :func:`scipy.signal.find_peaks` would, within it)."""
-    if gaps.size == 0:
-        return p, base, prom
-    q, qb, qp = [], [], []
-    for i in gaps:
-        a, b = int(p[i]), int(p[i + 1])
-        lo, hi = a + (b - a) // 4, b - (b - a) // 4
-        k = lo + int(np.argmax(y[lo:hi + 1]))
-        left, right = float(y[a:k + 1].min()), float(y[k:b + 1].min())
-        q.append(k)
-        qb.append(min(left, right))
-        qp.append(float(y[k]) - max(left, right))
-    order = np.argsort(np.r_[p, q], kind="stable")
-    return np.r_[p, q][order], np.r_[base, qb][order], np.r_[prom, qp][order]
-
-
 def match_steps(true_t_s, det_t_s, tol_s: float = 0.2) -> tuple[np.ndarray, np.ndarray]:
     """One-to-one matching of detected to true step times (greedy by time order).
 
@@ -292,8 +226,7 @@ def match_steps(true_t_s, det_t_s, tol_s: float = 0.2) -> tuple[np.ndarray, np.n
 @register_step_detector("robust")
 def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float = 2.0,
                         prominence_mps2: float = 0.3, min_step_s: float = 0.25, max_step_s: float = 1.0,
-                        min_bout_steps: int = 8, min_stride_nac: float | None = 0.5,
-                        gap_fill_tol: float | None = None) -> pd.DataFrame:
+                        min_bout_steps: int = 8, min_stride_nac: float | None = 0.5) -> pd.DataFrame:
     """Detect steps in an accelerometer log of any (even irregular) sampling.
 
     Parameters
@@ -304,10 +237,6 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
         Strictly increasing times, s (irregular sampling is fine: the log is resampled).
     rate_hz, cutoff_hz, prominence_mps2, min_step_s, max_step_s, min_bout_steps, min_stride_nac
         See the module docstring; ``min_stride_nac=None`` switches the walk detection at bout ends off.
-    gap_fill_tol : float or None
-        Off (None, the default): nothing is added. Otherwise, after the bout gate, one step is added in each
-        gap of two local step periods (``+- gap_fill_tol`` periods, :func:`period_gaps`) between kept peaks,
-        at the highest sample of the gap's middle half.
 
     Returns
     -------
@@ -339,15 +268,12 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
     keep[keep] = bout_gate(tu[p[keep]], max_step_s, min_bout_steps)
     p = p[keep]
     base = np.minimum(y[props["left_bases"][keep]], y[props["right_bases"][keep]])
-    prom = props["prominences"][keep]
-    if gap_fill_tol is not None:
-        p, base, prom = _fill_gaps(y, p, base, prom, period_gaps(tu[p], max_step_s, gap_fill_tol))
     ts = tu[p]
     i_in = np.clip(np.searchsorted(t, ts), 0, t.size - 1)
     prev = np.clip(i_in - 1, 0, t.size - 1)
     i_in = np.where(np.abs(t[prev] - ts) <= np.abs(t[i_in] - ts), prev, i_in)
     return pd.DataFrame({"i_peak": i_in.astype(np.int64), "t_s": ts, "a_max_mps2": y[p], "a_min_mps2": base,
-                         "prominence_mps2": prom})
+                         "prominence_mps2": props["prominences"][keep]})
 
 
 @register_step_detector("find_peaks")
@@ -370,7 +296,7 @@ class RobustStepDetector:
 
     def __init__(self, rate_hz: float = 100.0, cutoff_hz: float = 2.0, prominence_mps2: float = 0.3,
                  min_step_s: float = 0.25, max_step_s: float = 1.0, min_bout_steps: int = 8,
-                 min_stride_nac: float | None = 0.5, gap_fill_tol: float | None = None):
+                 min_stride_nac: float | None = 0.5):
         self.rate_hz = rate_hz
         self.cutoff_hz = cutoff_hz
         self.prominence_mps2 = prominence_mps2
@@ -378,7 +304,6 @@ class RobustStepDetector:
         self.max_step_s = max_step_s
         self.min_bout_steps = min_bout_steps
         self.min_stride_nac = min_stride_nac
-        self.gap_fill_tol = gap_fill_tol
 
     def get_params(self) -> dict:
         return {k: getattr(self, k) for k in ROBUST_DEFAULTS}

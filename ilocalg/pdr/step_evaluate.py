@@ -32,8 +32,7 @@ from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
-           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "walk_gate_sweep", "GAP_FILL_GRID",
-           "gap_fill_sweep", "error_causes"]
+           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "walk_gate_sweep", "error_causes"]
 
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
@@ -289,21 +288,6 @@ def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID) -> pd.DataF
     how often leave-one-recording-out over the development recordings (:func:`loro_cv`) chooses it.
     ``recordings`` are the :class:`ilocalg.io.oxford.OxfordRecording` of ``prep``, for the bounce counts.
     """
-    return _development_sweep(prep, recordings, "min_stride_nac", grid)
-
-
-#: Gap-filling tolerances swept on the development half (:func:`gap_fill_sweep`; None: off), in step periods.
-GAP_FILL_GRID = (None, 0.1, 0.2, 0.3)
-
-
-def gap_fill_sweep(prep: list[Prepared], recordings, grid=GAP_FILL_GRID) -> pd.DataFrame:
-    """The robust detector's gap filling (``gap_fill_tol``, :func:`ilocalg.pdr.robust.period_gaps`) swept on the
-    development half only, as :func:`walk_gate_sweep` (the other parameters at their defaults)."""
-    return _development_sweep(prep, recordings, "gap_fill_tol", grid)
-
-
-def _development_sweep(prep: list[Prepared], recordings, key: str, grid) -> pd.DataFrame:
-    """One robust-detector parameter over ``grid`` on the development recordings, against both truths."""
     from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust
 
     dev = [k for k, p in enumerate(prep) if is_development(p.name)]
@@ -311,16 +295,16 @@ def _development_sweep(prep: list[Prepared], recordings, key: str, grid) -> pd.D
         raise ValueError(f"need at least 2 development recordings (odd repeats), got {len(dev)}")
     published = np.array([recordings[k].true_steps + recordings[k].n_heel_bounces_merged for k in dev])
     merged = published - np.array([recordings[k].n_heel_bounces for k in dev])
-    counts = np.array([[len(detect_steps_robust(prep[k].acc_mps2, prep[k].t_s, **{**ROBUST_DEFAULTS, key: g}))
-                        for k in dev] for g in grid])
-    out = pd.DataFrame({key: ["off" if g is None else g for g in grid]})
+    counts = np.array([[len(detect_steps_robust(prep[k].acc_mps2, prep[k].t_s,
+                                                **{**ROBUST_DEFAULTS, "min_stride_nac": g})) for k in dev]
+                       for g in grid])
+    out = pd.DataFrame({"min_stride_nac": ["off" if g is None else g for g in grid]})
     for truth, n in (("published", published), ("bounces_merged", merged)):
         score = accuracy(counts, n[None, :])
-        held, choice = loro_cv(score)
+        _, choice = loro_cv(score)
         out[f"mean_accuracy_{truth}"] = score.mean(axis=1)
         out[f"min_accuracy_{truth}"] = score.min(axis=1)
         out[f"loro_chosen_{truth}"] = np.bincount(choice, minlength=len(grid))
-        out[f"loro_mean_accuracy_{truth}"] = float(held.mean())
     out["n_recordings"] = len(dev)
     return out
 
