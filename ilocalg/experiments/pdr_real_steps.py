@@ -38,6 +38,7 @@ from ilocalg.pdr.step_evaluate import (
     Prepared,
     accuracy,
     diagnosis_window,
+    error_causes,
     loro_cv,
     prepare,
     score_detector,
@@ -47,8 +48,8 @@ from ilocalg.pdr.step_evaluate import (
     walk_gate_sweep,
 )
 
-__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "worst", "GOAL_MEAN",
-           "GOAL_MIN",
+__all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "cause_headline",
+           "causes_by_split", "worst", "GOAL_MEAN", "GOAL_MIN",
            # re-exported from ilocalg.pdr.step_evaluate for the notebook
            "Prepared", "prepare", "DETECTORS", "accuracy", "loro_cv", "step_diagnosis", "diagnosis_window",
            "truth_artefacts"]
@@ -100,7 +101,10 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         ``robust_diagnosis_by_position``, ``robust_by_truth_and_split`` (development / held-out halves,
         :func:`ilocalg.pdr.step_evaluate.is_development`, against the published truth and with heel bounces
         merged, mean with a bootstrap interval), ``walk_gate_sweep`` (the robust detector's walk detection
-        threshold on the development half only, with its leave-one-recording-out choices), ``comparison``.
+        threshold on the development half only, with its leave-one-recording-out choices), ``robust_errors``
+        (every missed and extra step of the robust detector against the bounce-merged truth, with its cause,
+        :func:`ilocalg.pdr.step_evaluate.error_causes`), ``robust_error_causes`` (their counts per recording),
+        ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``comparison``.
     """
     recs = recordings if recordings is not None else load(data_dir)
     if fast:
@@ -149,7 +153,10 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
                                             "extra", "n_heel_bounces"]]
     by_pos_diag = by_pos_diag.agg(["mean", "min", "max"])
     by_pos_diag.columns = [f"{a}_{b}" for a, b in by_pos_diag.columns]
+    errors, causes = error_causes(prep, recs)
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
+            "robust_errors": errors, "robust_error_causes": causes,
+            "robust_error_causes_by_split": causes_by_split(causes),
             "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "robust_by_truth_and_split": split_summary(diag, goal_min=GOAL_MIN, seed=seed),
             "walk_gate_sweep": walk_gate_sweep(prep, recs),
@@ -203,6 +210,44 @@ def gate_headline(tables: dict) -> str:
                    f"{int(best['n_recordings'])} development folds choose min_stride_nac = {best['min_stride_nac']} "
                    f"(development mean {mean:.2%}, worst {low:.2%})")
     return "; ".join(out) + f"; the detector's default: {ROBUST_DEFAULTS['min_stride_nac']}"
+
+
+def causes_by_split(causes: pd.DataFrame) -> pd.DataFrame:
+    """Per half (development, held out) and placement: the causes of the robust detector's errors, summed.
+
+    ``n_below_goal`` counts the recordings below :data:`GOAL_MIN` against the bounce-merged truth,
+    ``n_below_goal_truth_gaps_added`` those still below it once the detections in the truth's gaps are added to
+    the truth (the recordings whose shortfall is the detector's own).
+    """
+    num = [c for c in causes.columns if c.startswith(("missed_", "extra_"))] + ["detector_net", "truth_gap",
+                                                                                 "n_unpaired_landings"]
+    c = causes.assign(half=np.where(causes["development"], "development", "held out"),
+                      n_below_goal=causes["accuracy_bounces_merged"] < GOAL_MIN,
+                      n_below_goal_truth_gaps_added=causes["accuracy_truth_gaps_added"] < GOAL_MIN)
+    extra = ["n_below_goal", "n_below_goal_truth_gaps_added"]
+    return c.groupby(["half", "position"])[num + extra].sum().astype(int).reset_index()
+
+
+def cause_headline(tables: dict) -> str:
+    """Per half: the recordings below the goal against the bounce-merged truth, and what their errors are."""
+    c = tables["robust_error_causes"]
+    out = []
+    for half, mask in (("development", c["development"]), ("held out", ~c["development"])):
+        h = c[mask]
+        if h.empty:
+            continue
+        low = h[h["accuracy_bounces_merged"] < GOAL_MIN]
+        if low.empty:
+            out.append(f"{half}: no recording below {GOAL_MIN:.0%} against the bounce-merged truth")
+            continue
+        parts = [f"{r.recording} {r.accuracy_bounces_merged:.2%} ({r.truth_gap} extra detections in the truth's "
+                 f"gaps, {r.n_unpaired_landings} unpaired landings; detector's own net {r.detector_net:+d}; "
+                 f"{r.accuracy_truth_gaps_added:.2%} with the gaps added)" for r in low.itertuples()]
+        out.append(f"{half}: {len(low)} below {GOAL_MIN:.0%}: " + ", ".join(parts)
+                   + f"; over the half, {int(h['truth_gap'].sum())} detections in the truth's gaps beside "
+                     f"{int(h['n_unpaired_landings'].sum())} unpaired landings, worst with the gaps added "
+                     f"{h['accuracy_truth_gaps_added'].min():.2%}")
+    return "; ".join(out)
 
 
 def _fmt(par: dict) -> str:

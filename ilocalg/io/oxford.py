@@ -109,6 +109,10 @@ class OxfordRecording:
         Landings (bounces left out) that follow a landing of the same foot with no landing of the other
         foot between: walking alternates the feet, so each is most likely a landing of the other foot
         that its sensor did not register (a step the truth lacks). Counted, never added to the truth.
+    step_is_heel_bounce : ndarray of bool or None
+        Beside ``step_t_s``: True at the steps that are heel-sensor bounces (optimisation layout; all False
+        under ``heel_bounces="merge"``, which leaves them out); None for the validation layout.
+        ``step_t_s[~step_is_heel_bounce]`` are the step times with the bounces merged, whatever the policy.
     """
 
     name: str
@@ -121,6 +125,7 @@ class OxfordRecording:
     n_heel_bounces: int = 0
     n_heel_bounces_merged: int = 0
     n_unpaired_landings: int = 0
+    step_is_heel_bounce: np.ndarray | None = None
 
 
 def parse_recording_name(name: str) -> dict:
@@ -323,11 +328,12 @@ def _optimisation_recording(name: str, acc_bytes: bytes, step_bytes: bytes, sour
     n_steps = int(up.sum())
     # a row where both feet land at once counts twice (it never happens in the set)
     step_t = np.repeat((s[k_step, 0] - a[0, 0]) * 1e-9, up[k_step - 1].sum(axis=1))
+    step_bounce = bounce[np.nonzero(up)]           # the same (row, foot) order as step_t
     return OxfordRecording(name=name, imu=_imu_frame(a[:, 0], a[:, 2:5]), step_t_s=step_t,
                            true_steps=n_steps, hardware_steps=None, meta=parse_recording_name(name),
                            n_duplicate_timestamps_dropped=n_dup, n_heel_bounces=n_bounce,
                            n_heel_bounces_merged=n_bounce if heel_bounces == "merge" else 0,
-                           n_unpaired_landings=n_unpaired)
+                           n_unpaired_landings=n_unpaired, step_is_heel_bounce=step_bounce)
 
 
 _VALIDATION_NAMES = ("timestamp_ns", "ax_mps2", "ay_mps2", "az_mps2", "app_count", "true_count", "hardware_count")

@@ -32,7 +32,7 @@ from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
-           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "walk_gate_sweep"]
+           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "walk_gate_sweep", "error_causes"]
 
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
@@ -307,6 +307,51 @@ def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID) -> pd.DataF
         out[f"loro_chosen_{truth}"] = np.bincount(choice, minlength=len(grid))
     out["n_recordings"] = len(dev)
     return out
+
+
+def error_causes(prep: list[Prepared], recordings, params: dict | None = None,
+                 tol_s: float = 0.25) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Every missed and extra step of the robust detector against the truth with heel bounces merged, with its cause.
+
+    The detections (``params``, default :data:`ilocalg.pdr.robust.ROBUST_DEFAULTS`) are classified by
+    :func:`ilocalg.pdr.step_errors.classify_step_errors` against the heel-sensor step times less the bounces
+    (:attr:`ilocalg.io.oxford.OxfordRecording.step_is_heel_bounce`).
+
+    Returns
+    -------
+    errors : DataFrame
+        One row per missed or extra step: ``recording``, ``position``, ``development``
+        (:func:`is_development`), ``kind``, ``t_s``, ``cause``, ``gap_intervals``.
+    per_recording : DataFrame
+        ``recording``, ``position``, ``phone``, ``development``, ``counted``, ``true_steps_bounces_merged``,
+        ``accuracy_bounces_merged``, one column per cause (:data:`ilocalg.pdr.step_errors.CAUSES`),
+        ``detector_net`` (the detector's own extra less missed steps), ``truth_gap`` (detections in the truth's
+        gaps) beside ``n_unpaired_landings`` (the loader's count of landings the heel sensors missed, from the
+        foot states alone), and ``accuracy_truth_gaps_added`` (against the merged truth plus ``truth_gap``: the
+        count's accuracy were the truth complete where it evidently is not; a sensitivity check, not the score).
+    """
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust
+    from ilocalg.pdr.step_errors import classify_step_errors, count_causes
+
+    par = dict(ROBUST_DEFAULTS if params is None else params)
+    events, rows = [], []
+    for p, rec in zip(prep, recordings, strict=True):
+        if rec.step_is_heel_bounce is None:
+            raise ValueError(f"{rec.name}: no heel-bounce marks (not an optimisation recording)")
+        truth = p.step_t_s[~rec.step_is_heel_bounce]
+        det = detect_steps_robust(p.acc_mps2, p.t_s, **par)["t_s"].to_numpy()
+        e = classify_step_errors(truth, det, tol_s)
+        dev = is_development(p.name)
+        pos = p.meta.get("position", "")
+        events.append(e.assign(recording=p.name, position=pos, development=dev))
+        n = count_causes(e)
+        rows.append({"recording": p.name, "position": pos, "phone": p.meta.get("phone", ""), "development": dev,
+                     "counted": det.size, "true_steps_bounces_merged": truth.size,
+                     "accuracy_bounces_merged": float(accuracy(det.size, truth.size)), **n,
+                     "n_unpaired_landings": rec.n_unpaired_landings,
+                     "accuracy_truth_gaps_added": float(accuracy(det.size, truth.size + n["truth_gap"]))})
+    cols = ["recording", "position", "development", "kind", "t_s", "cause", "gap_intervals"]
+    return pd.concat(events, ignore_index=True)[cols], pd.DataFrame(rows)
 
 
 def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dict | None = None,
