@@ -137,5 +137,7 @@ def step_detections(t_s, signal_mps2, true_t_s, det_t_s, true_matched=None, det_
         ax.plot(td[~dmk], yd[~dmk], "o", mfc="none", color="C1", ms=10, mew=1.5, label=f"extra ({int((~dmk).sum())})")
     ax.set_xlabel("Time [s]")
     ax.set_ylabel("Acceleration magnitude [m/s^2]")
-    ax.legend(loc="upper right", fontsize="small", ncol=2)
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + 0.35 * (hi - lo))  # headroom: the legend sits above the signal, not on it
+    ax.legend(loc="upper right", fontsize="small", ncol=3)
     return ax
