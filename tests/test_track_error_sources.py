@@ -1,6 +1,9 @@
 """Oracle ablations of an online track's error (ilocalg.track.error_sources): each removes its planted error."""
 
+from types import SimpleNamespace
+
 import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.track import error_sources as es
@@ -84,3 +87,15 @@ def test_error_by_time_since_first_fix_bins_and_shares():
     t = es.error_by_time_since_first_fix(e, {"w": w}, edges_s=(-np.inf, 0.0, 20.0, np.inf))
     assert t["n"].sum() == w["truth_t_s"].size and t["share"].sum() == pytest.approx(1.0)
     assert t["n"].iloc[0] == 1        # the first waypoint (t = 0) is before the first fix (t = 0.5)
+
+
+def test_walk_record_from_an_evaluate_walk_result():
+    p, w, _, _ = _walk(4)
+    res = {"problem": p, "errors": pd.DataFrame({"t_s": w["truth_t_s"], "wifi": np.ones(w["truth_t_s"].size)}),
+           "fixes": SimpleNamespace(true_xy_m=w["fix_true_xy_m"])}
+    rec = es.walk_record(res, w["truth_xy_m"])
+    assert rec["problem"] is p and np.array_equal(rec["truth_xy_m"], w["truth_xy_m"])
+    with pytest.raises(ValueError, match="waypoint positions"):
+        es.walk_record(res, w["truth_xy_m"][:-1])
+    with pytest.raises(ValueError, match="problem"):
+        es.walk_record({**res, "problem": None}, w["truth_xy_m"])

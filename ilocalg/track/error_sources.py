@@ -20,6 +20,8 @@ persistent fix error (:func:`without_fix_bias`)
 :func:`nees` checks the filter's own consistency (its normalised estimation error squared, 2 on average for a
 consistent 2-D position; Bar-Shalom, Li, Kirubarajan, Estimation with Applications to Tracking and Navigation,
 Wiley (2001), sec. 5.4), :func:`error_by_time_since_first_fix` splits the error over the walk's time.
+:func:`walk_record` turns an :func:`ilocalg.track.evaluate_walk` result (asked for a least-squares or ``kf_gain*``
+method, so that it carries its ``problem``) into the walk record these functions take.
 """
 
 from __future__ import annotations
@@ -32,11 +34,29 @@ import pandas as pd
 from ilocalg.track.estimators import TrackProblem
 from ilocalg.track.motion import GainStats, _track_at
 
-__all__ = ["with_true_start", "without_outlier_fixes", "with_own_gain", "without_fix_bias", "own_gain",
+__all__ = ["walk_record", "with_true_start", "without_outlier_fixes", "with_own_gain", "without_fix_bias", "own_gain",
            "truth_at", "nees", "error_by_time_since_first_fix", "oracle_table", "ORACLES", "CHI2_2_99"]
 
 #: The 99 % quantile of the chi-square distribution with 2 degrees of freedom (``-2 ln 0.01``).
 CHI2_2_99 = float(-2.0 * np.log(0.01))
+
+
+def walk_record(result: dict, truth_xy_m, grid=None) -> dict:
+    """The record of one scored walk from :func:`ilocalg.track.evaluate_walk`'s ``result`` and its waypoints'
+    positions ``truth_xy_m`` (in the database's frame, the rows of ``result["errors"]``): ``problem`` (its
+    :class:`TrackProblem`, with ``grid`` when given), ``truth_t_s``, ``truth_xy_m``, ``fix_true_xy_m`` and
+    ``wifi_m`` (the Wi-Fi-only errors at the waypoints, None when not scored)."""
+    p = result.get("problem")
+    if p is None:
+        raise ValueError("walk_record needs a result with a problem (ask evaluate_walk for a lsq* or kf_gain* method)")
+    if grid is not None:
+        p = dataclasses.replace(p, grid=grid)
+    e = result["errors"]
+    xy = np.asarray(truth_xy_m, dtype=np.float64).reshape(-1, 2)
+    if xy.shape[0] != len(e):
+        raise ValueError(f"walk_record: {xy.shape[0]} waypoint positions for {len(e)} scored waypoints")
+    return {"problem": p, "truth_t_s": e["t_s"].to_numpy(), "truth_xy_m": xy,
+            "fix_true_xy_m": result["fixes"].true_xy_m, "wifi_m": e["wifi"].to_numpy() if "wifi" in e else None}
 
 
 def truth_at(truth_t_s, truth_xy_m, t_s) -> np.ndarray:
