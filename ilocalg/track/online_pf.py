@@ -35,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from ilocalg.fusion.particle_filter import systematic_resample
+from ilocalg.track.online_kf import fix_corr_parts, walk_inputs
 from ilocalg.units import as_rng
 
 __all__ = ["gain_pf"]
@@ -59,22 +60,13 @@ def gain_pf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, step_var_m2: float
     ``grid`` (walkable :class:`~ilocalg.fusion.particle_filter.OccupancyGrid`, None: no map), ``n_particles``,
     ``blocked_weight`` (weight factor of a particle whose step ends off the walkable area) and ``rng``.
     """
-    ts = np.asarray(state_t_s, dtype=np.float64)
-    d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
-    ft = np.asarray(fix_t_s, dtype=np.float64)
-    fz = np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2)
-    known = ft if fix_avail_t_s is None else np.asarray(fix_avail_t_s, dtype=np.float64)
+    ts, d, ft, fz, known, fv = walk_inputs(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, fix_avail_t_s)
     n = ts.size
-    if d.shape[0] != n - 1 or ft.size < 1 or fz.shape[0] != ft.size or known.shape != ft.shape:
-        raise ValueError("need disp_m of shape (n, 2) for n+1 states and at least one fix with matching shapes")
-    fv = np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), ft.shape)
-    if not (np.all(fv > 0) and step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0 and n_particles >= 1
+    if not (step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0 and n_particles >= 1
             and 0.0 <= blocked_weight <= 1.0):
-        raise ValueError("fix_var_m2, step_var_m2 > 0, gain_var, gain_walk_var >= 0, n_particles >= 1 and "
+        raise ValueError("step_var_m2 > 0, gain_var, gain_walk_var >= 0, n_particles >= 1 and "
                          "blocked_weight in [0, 1] needed")
-    c0, rho, var_b = (0.0, 0.0, 0.0) if fix_corr is None else tuple(float(v) for v in fix_corr)
-    if not (0.0 <= c0 < 1.0 and 0.0 <= rho < 1.0 and var_b >= 0.0):
-        raise ValueError(f"fix_corr must be (c0, rho, var_b_m2) in [0, 1) x [0, 1) x [0, inf), got {fix_corr!r}")
+    c0, rho, var_b = fix_corr_parts(fix_corr)
     r = as_rng(rng)
     N = int(n_particles)
     white = (1.0 - c0) * fv
