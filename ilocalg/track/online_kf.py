@@ -72,6 +72,30 @@ def _jmat(v):
     return np.array([[v[0], -v[1]], [v[1], v[0]]])
 
 
+def walk_inputs(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, fix_avail_t_s=None):
+    """The filters' walk arrays checked: ``(ts, d, ft, fz, known, fv)`` (state times, (n, 2) steps, fix times,
+    (m, 2) fixes, when each fix is known, (m,) per-axis fix variances)."""
+    ts = np.asarray(state_t_s, dtype=np.float64)
+    d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
+    ft = np.asarray(fix_t_s, dtype=np.float64)
+    fz = np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2)
+    known = ft if fix_avail_t_s is None else np.asarray(fix_avail_t_s, dtype=np.float64)
+    if d.shape[0] != ts.size - 1 or ft.size < 1 or fz.shape[0] != ft.size or known.shape != ft.shape:
+        raise ValueError("need disp_m of shape (n, 2) for n+1 states and at least one fix with matching shapes")
+    fv = np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), ft.shape)
+    if not np.all(fv > 0):
+        raise ValueError("fix_var_m2, step_var_m2 must be > 0 and gain_var, gain_walk_var >= 0")
+    return ts, d, ft, fz, known, fv
+
+
+def fix_corr_parts(fix_corr) -> tuple[float, float, float]:
+    """``(c0, rho, var_b_m2)`` of a ``fix_corr`` (None: ``(0, 0, 0)``, all white), checked."""
+    c0, rho, var_b = (0.0, 0.0, 0.0) if fix_corr is None else tuple(float(v) for v in fix_corr)
+    if not (0.0 <= c0 < 1.0 and 0.0 <= rho < 1.0 and var_b >= 0.0):
+        raise ValueError(f"fix_corr must be (c0, rho, var_b_m2) in [0, 1) x [0, 1) x [0, inf), got {fix_corr!r}")
+    return c0, rho, var_b
+
+
 def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, step_var_m2: float, gain_var: float,
             gain_walk_var: float, fix_avail_t_s=None, huber_c: float | None = HUBER_C,
             snap=None, fix_corr: tuple[float, float, float] | None = None) -> GainKFResult:
@@ -97,16 +121,9 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, step_var_m2: float
     (covariance from the fix's and the gain's), as the other online variants start; that fix is then
     not used again.
     """
-    ts = np.asarray(state_t_s, dtype=np.float64)
-    d = np.asarray(disp_m, dtype=np.float64).reshape(-1, 2)
-    ft = np.asarray(fix_t_s, dtype=np.float64)
-    fz = np.asarray(fix_xy_m, dtype=np.float64).reshape(-1, 2)
-    known = ft if fix_avail_t_s is None else np.asarray(fix_avail_t_s, dtype=np.float64)
+    ts, d, ft, fz, known, fv = walk_inputs(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, fix_avail_t_s)
     n = ts.size
-    if d.shape[0] != n - 1 or ft.size < 1 or fz.shape[0] != ft.size or known.shape != ft.shape:
-        raise ValueError("need disp_m of shape (n, 2) for n+1 states and at least one fix with matching shapes")
-    fv = np.broadcast_to(np.asarray(fix_var_m2, dtype=np.float64), ft.shape)
-    if not (np.all(fv > 0) and step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0):
+    if not (step_var_m2 > 0 and gain_var >= 0 and gain_walk_var >= 0):
         raise ValueError("fix_var_m2, step_var_m2 must be > 0 and gain_var, gain_walk_var >= 0")
     # cumulative PDR displacement, to interpolate the displacement between a fix's time and its state
     cum = np.vstack([[0.0, 0.0], np.cumsum(d, axis=0)])
@@ -117,9 +134,7 @@ def gain_kf(state_t_s, disp_m, fix_t_s, fix_xy_m, fix_var_m2, step_var_m2: float
     # covariance that follows from the fix's and the gain's (the fix is then not used again)
     D0 = _jmat(cum_at[0] - cum[0])
     Pg = np.eye(2) * gain_var
-    c0, rho, var_b = (0.0, 0.0, 0.0) if fix_corr is None else tuple(float(v) for v in fix_corr)
-    if not (0.0 <= c0 < 1.0 and 0.0 <= rho < 1.0 and var_b >= 0.0):
-        raise ValueError(f"fix_corr must be (c0, rho, var_b_m2) in [0, 1) x [0, 1) x [0, inf), got {fix_corr!r}")
+    c0, rho, var_b = fix_corr_parts(fix_corr)
     nb = 0 if fix_corr is None else 2                      # the correlated fix error's two states
     ns = 4 + nb
     white = (1.0 - c0) * fv
