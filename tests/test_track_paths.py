@@ -98,3 +98,25 @@ def test_lsq_paths_beats_lsq_on_a_simulated_corridor_walk():
     assert p.paths.project(snapped)[1].max() < 1e-9
     with pytest.raises(ValueError, match="walked-path graph"):
         lsq_paths_track(TrackProblem(p.state_t_s, p.disp_m, p.step_var_m2, p.fix_t_s, p.fix_xy_m, p.fix_var_m2))
+
+
+def test_gain_solve_reduces_to_lsq_and_finds_the_walks_gain():
+    from dataclasses import replace
+
+    from ilocalg.track.estimators import _interp_rows, lsq_solve
+    from ilocalg.track.paths import lsq_gain_solve
+
+    p, truth = _l_walk(3, heading_bias=0.1)
+    j, a = _interp_rows(p.state_t_s, p.fix_t_s)
+    for corr in (None, (0.5, 0.8, 4.0)):
+        q = replace(p, fix_corr=corr)
+        ref = lsq_solve(p.state_t_s.size, p.disp_m, p.step_var_m2, j, a, p.fix_xy_m, p.fix_var_m2, fix_corr=corr)
+        x, g = lsq_gain_solve(q, gain_var=1e-12)            # the gain held at 1: the plain least squares
+        np.testing.assert_allclose(x, ref, atol=1e-3)
+        assert abs(g - 1) < 1e-6
+    # free gain, the states held on the truth: the gain undoes the PDR's +0.1 rad heading bias (small step
+    # noise: noise on the PDR side of the regression would shrink |g|, errors in variables)
+    p, truth = _l_walk(3, heading_bias=0.1, step_sd=0.02)
+    _, g = lsq_gain_solve(p, gain_var=1.0, anchor_idx=np.arange(truth.shape[0]), anchor_xy_m=truth,
+                          anchor_var_m2=1e-4)
+    assert abs(np.angle(g) + 0.1) < 0.01 and abs(abs(g) - 1) < 0.01

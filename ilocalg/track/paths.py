@@ -159,7 +159,7 @@ PATH_TOL_M = 0.05
 
 
 def lsq_paths_track(problem, rounds: int = PATH_ROUNDS, var_scale: float = 1.0, robust: bool = True,
-                    snap: bool = False) -> np.ndarray:
+                    snap: bool = False, gain: bool = False) -> np.ndarray:
     """Offline least squares with the walked-path graph as a soft constraint (``lsq_paths``).
 
     The whole-walk least squares of :func:`ilocalg.track.estimators.lsq_track` (Wi-Fi fixes, PDR steps,
@@ -170,6 +170,8 @@ def lsq_paths_track(problem, rounds: int = PATH_ROUNDS, var_scale: float = 1.0, 
     across the path only, so the observation pulls it onto the path without holding it along it.
     ``robust``: a state far from every path (an area one walk crossed) gets Huber's weight
     (c = 1.345 sd, Huber 1981) on its distance. ``snap``: the states finally moved onto the graph (hard).
+    ``gain``: the walk's own step scale and heading bias solved with the track (:func:`lsq_gain_solve`, needs
+    ``problem.gain``: its spread measured on the other walks).
     """
     from ilocalg.track.estimators import HUBER_C, _interp_rows, lsq_solve
 
@@ -180,7 +182,13 @@ def lsq_paths_track(problem, rounds: int = PATH_ROUNDS, var_scale: float = 1.0, 
     n = problem.state_t_s.size
     j, a = _interp_rows(problem.state_t_s, problem.fix_t_s)
 
+    if gain and problem.gain is None:
+        raise ValueError("lsq_paths with gain needs the measured gain spread (TrackProblem.gain)")
+
     def solve(idx=None, anc=None, anc_var=1.0):
+        if gain:
+            return lsq_gain_solve(problem, problem.gain.gain_var, anchor_idx=() if idx is None else idx,
+                                  anchor_xy_m=anc, anchor_var_m2=anc_var)[0]
         return lsq_solve(n, problem.disp_m, problem.step_var_m2, j, a, problem.fix_xy_m, problem.fix_var_m2,
                          anchor_idx=() if idx is None else idx, anchor_xy_m=anc, anchor_var_m2=anc_var,
                          fix_corr=problem.fix_corr)
@@ -196,3 +204,99 @@ def lsq_paths_track(problem, rounds: int = PATH_ROUNDS, var_scale: float = 1.0, 
         if done:
             break
     return paths.project(x)[0] if snap else x
+
+
+def lsq_gain_solve(problem, gain_var: float, anchor_idx=(), anchor_xy_m=None, anchor_var_m2=1.0,
+                   n_iter: int = 5) -> tuple[np.ndarray, complex]:
+    """The whole-walk least squares with the walk's own PDR gain as an unknown: every step's displacement is
+    ``g d_i`` with one complex ``g = s exp(i b)`` per walk (step scale ``s``, heading bias ``b`` beyond the
+    floor calibration; linear in ``g``, so the system stays linear), ``g`` observed as 1 with per-component
+    variance ``gain_var`` (:attr:`ilocalg.track.motion.GainStats.gain_var`, measured on the other walks).
+    Fixes (with ``problem.fix_corr``'s correlated errors as unknowns), anchors and Huber re-weighting as in
+    :func:`ilocalg.track.estimators.lsq_solve`. Returns ``((n, 2) states, g)``.
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import spsolve
+
+    from ilocalg.track.estimators import HUBER_C, _interp_rows
+
+    n = problem.state_t_s.size
+    d = np.asarray(problem.disp_m, dtype=np.float64)
+    k = d.shape[0]
+    fj, fa = _interp_rows(problem.state_t_s, problem.fix_t_s)
+    m = fj.size
+    corr = problem.fix_corr is not None and m > 0
+    c0, rho, var_b = (float(v) for v in problem.fix_corr) if corr else (0.0, 0.0, 0.0)
+    ai = np.asarray(anchor_idx, dtype=np.int64)
+    na = ai.size
+    # unknowns: X (n), Y (n), ga, gb, then (correlated errors) Bx (m), By (m)
+    G = 2 * n
+    nu = 2 * n + 2 + (2 * m if corr else 0)
+    r, c, v, rhs, wt = [], [], [], [], []
+    row = 0
+    ii = np.arange(k)
+    for axis, (ca, cb) in enumerate(((-d[:, 0], d[:, 1]), (-d[:, 1], -d[:, 0]))):
+        base = axis * n
+        r += [row + ii] * 4
+        c += [base + ii + 1, base + ii, np.full(k, G), np.full(k, G + 1)]
+        v += [np.ones(k), -np.ones(k), ca, cb]
+        rhs.append(np.zeros(k))
+        wt.append(np.full(k, 1.0 / problem.step_var_m2))
+        row += k
+    r += [np.array([row]), np.array([row + 1])]
+    c += [np.array([G]), np.array([G + 1])]
+    v += [np.ones(1), np.ones(1)]
+    rhs.append(np.array([1.0, 0.0]))
+    wt.append(np.full(2, 1.0 / gain_var))
+    row += 2
+    fix_rows = []
+    fi = np.arange(m)
+    for axis in range(2):
+        base = axis * n
+        fix_rows.append(row + fi)
+        r += [row + fi, row + fi]
+        c += [base + fj, base + np.minimum(fj + 1, n - 1)]
+        v += [1.0 - fa, fa]
+        if corr:
+            r.append(row + fi)
+            c.append(G + 2 + axis * m + fi)
+            v.append(np.ones(m))
+        rhs.append(problem.fix_xy_m[:, axis])
+        wt.append(np.zeros(m))                       # set per Huber round
+        row += m
+    for axis in range(2):
+        r.append(row + np.arange(na))
+        c.append(axis * n + ai)
+        v.append(np.ones(na))
+        rhs.append(np.zeros(na) if na == 0 else np.asarray(anchor_xy_m, dtype=np.float64)[:, axis])
+        wt.append(np.broadcast_to(1.0 / np.asarray(anchor_var_m2, dtype=np.float64), (na,)).copy())
+        row += na
+    if corr:
+        var_b = max(var_b, 1e-9)
+        for axis in range(2):
+            b0 = G + 2 + axis * m
+            r += [np.array([row]), row + np.repeat(np.arange(1, m), 2)]
+            c += [np.array([b0]), np.column_stack([b0 + np.arange(m - 1), b0 + np.arange(1, m)]).ravel()]
+            v += [np.ones(1), np.tile([-rho, 1.0], m - 1)]
+            rhs.append(np.zeros(m))
+            wt.append(np.concatenate([[1.0 / var_b], np.full(m - 1, 1.0 / (var_b * max(1.0 - rho ** 2, 1e-9)))]))
+            row += m
+    A = sp.csr_matrix((np.concatenate(v), (np.concatenate(r), np.concatenate(c))), shape=(row, nu))
+    b = np.concatenate(rhs)
+    w = np.concatenate(wt)
+    white = (1.0 - c0) * problem.fix_var_at()
+    sd_fix = np.sqrt(white + var_b)
+    hub = np.ones(m)
+    u = None
+    for _ in range(max(n_iter, 1)):
+        w[fix_rows[0]] = w[fix_rows[1]] = hub / white
+        AtW = A.T.multiply(w).tocsr()
+        u = spsolve((AtW @ A).tocsc() + sp.identity(nu, format="csc") * 1e-9, AtW @ b)
+        xy = np.column_stack([u[:n], u[n:G]])
+        at = xy[fj] * (1 - fa)[:, None] + xy[np.minimum(fj + 1, n - 1)] * fa[:, None]
+        res = np.hypot(*(at - problem.fix_xy_m).T) / sd_fix
+        new = np.minimum(1.0, HUBER_C / np.maximum(res, 1e-12))
+        if np.allclose(new, hub, atol=1e-3):
+            break
+        hub = new
+    return np.column_stack([u[:n], u[n:G]]), complex(u[G], u[G + 1])
