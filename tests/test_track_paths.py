@@ -120,3 +120,21 @@ def test_gain_solve_reduces_to_lsq_and_finds_the_walks_gain():
     _, g = lsq_gain_solve(p, gain_var=1.0, anchor_idx=np.arange(truth.shape[0]), anchor_xy_m=truth,
                           anchor_var_m2=1e-4)
     assert abs(np.angle(g) + 0.1) < 0.01 and abs(abs(g) - 1) < 0.01
+
+
+def test_evaluate_uses_the_graph_of_the_other_walks_only():
+    from ilocalg import track
+    from ilocalg.sim import walk_recordings as wr
+
+    walks = wr.simulate_recordings(5, seed=11, n_nodes=35)[1]
+    r = track.evaluate_track(walks[0], walks[1:], methods=("wifi", "lsq", "lsq_paths"), select=False)
+    assert set(r["problem"].paths.walk) == {w.name for w in walks[1:]}
+    assert np.isfinite(r["errors"]["lsq_paths"]).all()
+    db = track.WifiDatabase.from_recordings(walks[1:])
+    cal = track.calibrate(walks[1:], {w.name: track.walk_steps(w) for w in walks[1:]})
+    with pytest.raises(ValueError, match="must not include the scored walk"):
+        track.evaluate_walk(walks[0], db, cal, 25.0, methods=("lsq_paths",),
+                            paths=WalkedPaths.from_recordings(walks, db.frame))
+    # without a graph: the database scans' positions (the other walks' only)
+    r2 = track.evaluate_walk(walks[0], db, cal, 25.0, methods=("lsq_paths",))
+    assert set(r2["problem"].paths.walk) == {w.name for w in walks[1:]}

@@ -368,6 +368,14 @@ def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.D
                 "the online map variants start from the first fix's walkable posterior: its Gaussian on the walkable "
                 "cells within 3 sd, uniform prior (RealWalkConfig.map_start)",
                 "Thrun, Burgard, Fox 2005, sec. 8.3.3 (map as a pose prior); 3 sd: no parameter tuned"),
+        reading("lsq_paths: the walked-path graph and its weight", "", "silent (issue 26: 'snapping to the graph of "
+                "training waypoints')",
+                "segments between consecutive waypoints of every database walk (the scored walk left out); each "
+                "state projected once onto the nearest segment, the projection an observation of the state with "
+                "the per-axis variance of a walk's distance to the other walks' paths (sampled every metre), Huber "
+                "weight on that distance; one projection round",
+                "variance measured leave-one-walk-out on the database walks' waypoints; rounds 1 / 2 / 5 and "
+                "variance x0.5-4 swept on the development walks (CHANGELOG)"),
         reading("kf_gain_lag5s: fixed-lag smoother", "Liao et al. 2016, L169, L481",
                 "online smoothing over fixed time windows; windows best larger than 5 s, not beyond 20 s",
                 "RTS recursion over the states up to 5 s after each state (a display 5 s behind the walker); "
