@@ -37,11 +37,12 @@ from ilocalg.track import (
     evaluate_walk,
     walk_steps,
 )
-from ilocalg.track._config import latency_of
+from ilocalg.track._config import PATH_METHODS, latency_of
 from ilocalg.track.evaluation import _latest_fix
 from ilocalg.track.fixes import wifi_fixes
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
+from ilocalg.track.paths import WalkedPaths
 
 __all__ = ["DATASET", "load_floor", "run", "example", "findings", "leave_one_walk_out", "fix_ablation",
            "ablation_findings",
@@ -153,6 +154,9 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     if select:       # every scored walk's nested choice at once (one distance matrix per candidate), kept
         model.select_wifi(scored, cfg)
     plain = dataclasses.replace(cfg, **PLAIN_WKNN)
+    # the walked-path graph of the floor's waypoints, built once; each scored walk's graph leaves it out
+    paths = (WalkedPaths.from_recordings(fl.traces, model.db.frame) if any(m in PATH_METHODS for m in methods)
+             else None)
     acc = {v: ([], [], {}) for v in variants}
     for name in scored:
         wm = model.for_walk(name, cfg, select=select)      # the fix-model fields do not enter it
@@ -163,7 +167,8 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
             wcfg = dataclasses.replace(wm.cfg, **kw)
             r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, wm.fix_var_m2, wcfg, grid=grid,
                               steps=steps[name], rng=np.random.default_rng([seed, all_names.index(name)]),
-                              methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain)
+                              methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain,
+                              paths=None if paths is None else paths.without(name))
             e = r["errors"].assign(walk=name)
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
@@ -363,6 +368,14 @@ def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.D
                 "the online map variants start from the first fix's walkable posterior: its Gaussian on the walkable "
                 "cells within 3 sd, uniform prior (RealWalkConfig.map_start)",
                 "Thrun, Burgard, Fox 2005, sec. 8.3.3 (map as a pose prior); 3 sd: no parameter tuned"),
+        reading("lsq_paths: the walked-path graph and its weight", "", "silent (issue 26: 'snapping to the graph of "
+                "training waypoints')",
+                "segments between consecutive waypoints of every database walk (the scored walk left out); each "
+                "state projected once onto the nearest segment, the projection an observation of the state with "
+                "the per-axis variance of a walk's distance to the other walks' paths (sampled every metre), Huber "
+                "weight on that distance; one projection round",
+                "variance measured leave-one-walk-out on the database walks' waypoints; rounds 1 / 2 / 5 and "
+                "variance x0.5-4 swept on the development walks (CHANGELOG)"),
         reading("kf_gain_lag5s: fixed-lag smoother", "Liao et al. 2016, L169, L481",
                 "online smoothing over fixed time windows; windows best larger than 5 s, not beyond 20 s",
                 "RTS recursion over the states up to 5 s after each state (a display 5 s behind the walker); "

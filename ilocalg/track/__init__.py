@@ -84,8 +84,9 @@ Floor model
 
 Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (steps, calibration),
 ``estimators`` (least squares, map step), ``online_kf`` (the gain-augmented Kalman filter), ``floor`` (the
-cached floor model), ``evaluation``, ``lowo`` (leave-one-walk-out pooling over floors, the Wi-Fi ablation, a
-floor's files).
+cached floor model), ``paths`` (the walked-path graph of the database walks' waypoints and ``lsq_paths``, the
+least squares pulled towards it), ``evaluation``, ``lowo`` (leave-one-walk-out pooling over floors, the Wi-Fi
+ablation, a floor's files).
 
 References
 ----------
@@ -99,7 +100,14 @@ the Manhattan distance and K = 5, PDR + Wi-Fi fusion; Weinberg H., Analog Device
 length; Rauch, Tung, Striebel, AIAA J. 3(8) (1965), smoothing; Woodman & Harle, UbiComp (2008),
 map-constrained particle filters.
 """
-from ilocalg.track._config import CAUSAL_METHODS, LATENCY_METHODS, MAP_METHODS, METHODS, RealWalkConfig
+from ilocalg.track._config import (
+    CAUSAL_METHODS,
+    LATENCY_METHODS,
+    MAP_METHODS,
+    METHODS,
+    PATH_METHODS,
+    RealWalkConfig,
+)
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, Estimator, TrackProblem
 from ilocalg.track.evaluation import error_table, evaluate_track, evaluate_walk, summary_table, track_table
@@ -122,6 +130,6 @@ __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_st
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
            "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
            "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "LATENCY_METHODS", "MAP_METHODS",
-           "ESTIMATORS", "Estimator", "TrackProblem",
+           "PATH_METHODS", "ESTIMATORS", "Estimator", "TrackProblem",
            "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var",
            "classify_floor"]

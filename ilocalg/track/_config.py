@@ -7,13 +7,15 @@ from dataclasses import dataclass
 #: Keys of the scored tracks (the ``evaluate track`` command's ``errors_m`` keys).
 METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "pf", "pf_smooth", "map_align",
            "map_align_kf_rts", "lsq", "lsq_map", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map",
-           "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s")
+           "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s", "lsq_paths")
 #: The online methods (an estimate at time t uses the walk up to t only); the others use the whole walk. One
 #: exception, shared by all of them and by the Wi-Fi-only track: a time before the walk's first Wi-Fi fix is
 #: known has its estimate once that fix is (the first fix, or the PDR track placed through it).
 CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map")
 #: The methods that need the measured gain spread (:func:`ilocalg.track.motion.gain_stats`).
 GAIN_METHODS = ("kf_gain", "kf_gain_map", "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s")
+#: The methods that need the walked-path graph of the database walks (:class:`ilocalg.track.paths.WalkedPaths`).
+PATH_METHODS = ("lsq_paths",)
 #: The methods that need the floor map.
 MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map", "kf_gain_map",
                "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s")

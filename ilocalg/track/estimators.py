@@ -59,7 +59,7 @@ from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 __all__ = ["TrackProblem", "Estimator", "ESTIMATORS", "lsq_solve", "lsq_track", "lsq_causal_track", "snap_to_map",
            "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C",
            "kf_gain_map_lag_track", "kf_gain_map_start_track", "lsq_online_map_start_track", "startup_until_s",
-           "STARTUP_DELAY_S"]
+           "STARTUP_DELAY_S", "lsq_paths_track"]
 
 #: Huber's constant (in standard deviations): 95 % efficiency under Gaussian errors (Huber 1981).
 HUBER_C = 1.345
@@ -87,6 +87,10 @@ class TrackProblem:
         and its per-axis variance
         (:func:`ilocalg.track.fixes.fix_error_correlation`, measured on the database walks); the ``kf_gain*``
         estimators carry it as a state, the least-squares ones as unknowns. None: fix errors independent.
+    paths : the walked-path graph of the database walks (:class:`ilocalg.track.paths.WalkedPaths`, never
+        holding the scored walk) or None; needed by the ``lsq_paths*`` estimators.
+    path_var_m2 : per-axis variance of a position constrained to ``paths`` (default:
+        :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2`, measured leave-one-walk-out on its walks).
     """
 
     state_t_s: np.ndarray
@@ -100,6 +104,8 @@ class TrackProblem:
     gain: object | None = None
     map_start: bool = False
     fix_corr: tuple | None = None
+    paths: object | None = None
+    path_var_m2: float | None = None
 
     def fix_var_at(self, sel=slice(None)) -> np.ndarray:
         """Per-axis variance of the fixes ``sel`` (an index, slice or mask of the fixes), one per fix."""
@@ -492,6 +498,14 @@ def _map_started(problem: TrackProblem) -> TrackProblem:
     return map_first_fix(problem) if problem.map_start else problem
 
 
+def lsq_paths_track(problem: TrackProblem) -> np.ndarray:
+    """Whole-walk least squares with the walked-path graph as a soft constraint
+    (:func:`ilocalg.track.paths.lsq_paths_track`), offline."""
+    from ilocalg.track.paths import lsq_paths_track as fn
+
+    return fn(problem)
+
+
 @dataclass(frozen=True)
 class Estimator:
     """A registered trajectory estimator: ``fn(problem) -> (n+1, 2)``; ``causal``: online; ``needs_map``."""
@@ -522,4 +536,6 @@ ESTIMATORS = {e.name: e for e in (
     Estimator("lsq_online_map_start5s", lsq_online_map_start_track, False, True,
               "lsq_online_map, the states until 5 s after the first fix solved on the data until then "
               "(online with a delayed start; not causal)"),
+    Estimator("lsq_paths", lsq_paths_track, False, False,
+              "lsq, iterated with each state pulled towards the database walks' paths (offline)"),
 )}

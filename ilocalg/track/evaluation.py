@@ -17,7 +17,14 @@ from ilocalg.io.schema import FLOOR, T_S, X_M, Y_M
 from ilocalg.metrics import penalised_error_m
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.step_length import weinberg_length_m
-from ilocalg.track._config import CAUSAL_METHODS, DEFAULT_CONFIG, GAIN_METHODS, METHODS, RealWalkConfig
+from ilocalg.track._config import (
+    CAUSAL_METHODS,
+    DEFAULT_CONFIG,
+    GAIN_METHODS,
+    METHODS,
+    PATH_METHODS,
+    RealWalkConfig,
+)
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, TrackProblem
 from ilocalg.track.fixes import (
@@ -41,6 +48,7 @@ from ilocalg.track.motion import (
     step_intervals,
     walk_steps,
 )
+from ilocalg.track.paths import WalkedPaths
 from ilocalg.units import as_rng, wrap_angle_rad
 
 
@@ -52,7 +60,8 @@ def _latest_fix(fix_t, fix_xy, t_s):
 def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2: float,
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
-                  gain: GainStats | None = None, fix_var_model: FixVarModel | None = None) -> dict:
+                  gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
+                  paths: WalkedPaths | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -65,7 +74,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     on the other walks), needed by the ``kf_gain*`` methods. ``fix_var_model``: each fix's own variance
     (:class:`~ilocalg.track.fixes.FixVarModel`); when None and ``cfg.fix_var == "per_fix"`` it is fitted on
     ``db`` (:func:`~ilocalg.track.fixes.fit_fix_var_model`), every method then weighting each fix by it;
-    ``fix_var_m2`` is the one variance of ``cfg.fix_var == "isotropic"``.
+    ``fix_var_m2`` is the one variance of ``cfg.fix_var == "isotropic"``. ``paths``: the walked-path graph of
+    the database walks' waypoints (:class:`~ilocalg.track.paths.WalkedPaths`, without the scored walk: one
+    that holds it raises), needed by :data:`~ilocalg.track.PATH_METHODS`; when None they use the graph of
+    ``db``'s scan positions (:meth:`~ilocalg.track.paths.WalkedPaths.from_database`).
 
     Returns
     -------
@@ -174,13 +186,20 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     if grid is None and any(ESTIMATORS[m].needs_map for m in lsq_names):
         raise ValueError(f"{[m for m in lsq_names if ESTIMATORS[m].needs_map]} need the floor map (grid)")
     prob = None
+    if any(m in PATH_METHODS for m in lsq_names):
+        if paths is None:
+            paths = WalkedPaths.from_database(db)
+        elif rec.name in set(paths.walk):
+            raise ValueError(f"the walked-path graph must not include the scored walk {rec.name!r}")
+    else:
+        paths = None
     if lsq_names:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
                             fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start,
-                            fix_corr=fix_corr)
+                            fix_corr=fix_corr, paths=paths)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))
@@ -283,8 +302,9 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
     ``db_traces`` only; ``floor_map`` (an :class:`~ilocalg.io.ilc.IlcFloorMap` or a walkable
     :class:`~ilocalg.fusion.particle_filter.OccupancyGrid`, optional, in the walks' shared frame)
     constrains the particle filter and enables map matching (without it the particle filter runs
-    unconstrained). A fingerprint walk that is the scored walk (same name, or same sensor content
-    under another name) raises.
+    unconstrained). The walked-path graph of :data:`~ilocalg.track.PATH_METHODS` is built from ``db_traces``'
+    waypoints (:meth:`~ilocalg.track.paths.WalkedPaths.from_recordings`). A fingerprint walk that is the
+    scored walk (same name, or same sensor content under another name) raises.
     """
     items = list(db_traces.values() if isinstance(db_traces, dict) else db_traces)
     if not items:
@@ -321,7 +341,9 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
         grid = floor_map
     else:
         grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
-    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var, gain=gain)
+    paths = WalkedPaths.from_recordings(recs, frame) if any(m in PATH_METHODS for m in methods) else None
+    r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var, gain=gain,
+                      paths=paths)
     r["info"]["wifi_config"] = label
     if gain_note:
         r["info"]["kf_gain_not_run"] = gain_note

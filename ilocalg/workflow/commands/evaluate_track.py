@@ -75,6 +75,7 @@ METHOD_HELP = {
                            "fix smoothed then",
     "lsq_online_map_start5s": "online after a delayed start: lsq_online_map, the states until 5 s after the "
                               "first fix solved then",
+    "lsq_paths": "offline: lsq pulled towards the database walks' paths (their waypoint segments)",
 }
 #: Every method's mean error above this (m) prints a warning: the walk is probably not of this floor.
 FAR_OFF_M = 20.0
