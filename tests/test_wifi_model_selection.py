@@ -113,3 +113,27 @@ def test_ensemble_cv_cache_gives_the_same_table_and_reuses_fits():
     pd.testing.assert_frame_equal(table, ref)
     # 3 folds x {offset_powed, cascade_powed} first, then only offset_exponential, the two 2-sd members are new
     assert n_first == 3 * 2 and len(cache) == 3 * 5
+
+
+@pytest.mark.parametrize("fast", [False, True])
+def test_spot_grid_crosses_exponents_and_spot_k(fast):
+    from sklearn.base import clone
+
+    from ilocalg.wifi.spots import SpotAveragedFingerprint
+
+    base = ms.ensemble_members(ms.offset_shifts_db(2), three=True)          # offset powed, cascade, offset exponential
+    cands = ms.spot_grid(base, fast)["est__estimators"]
+    n_a, n_k = (1, 2) if fast else (len(ms.SPOT_WEIGHT_POWERS), len(ms.SPOT_NEIGHBORS))
+    assert len(cands) == n_a * (1 + n_k)
+    assert [n for n, _ in cands[0]] == [n for n, _ in base]                  # exponent 1, no spots: the base itself
+    seen = {}
+    for members in cands:
+        powers = {e.get_params()["weight_power"] for _, e in members if "weight_power" in e.get_params()}
+        powers |= {e.estimator.weight_power for _, e in members if isinstance(e, SpotAveragedFingerprint)}
+        assert len(powers) == 1                                             # one exponent per candidate
+        spots = [e for _, e in members if isinstance(e, SpotAveragedFingerprint)]
+        assert len(spots) in (0, 2) and len({e.estimator.n_neighbors for e in spots}) <= 1
+        assert "n_neighbors" not in (spots[0].get_params() if spots else {})   # the ensemble's K leaves them alone
+        for name, est in members:                                           # one name, one configuration
+            p = {k: v for k, v in clone(est).get_params(deep=True).items() if k != "estimator"}
+            assert seen.setdefault(name, p) == p

@@ -49,6 +49,9 @@ __all__ = [
     "ensemble_pipeline",
     "ensemble_cv",
     "offset_range_grid",
+    "SPOT_WEIGHT_POWERS",
+    "SPOT_NEIGHBORS",
+    "spot_grid",
 ]
 
 
@@ -196,6 +199,39 @@ def offset_range_grid(fast: bool = False) -> dict:
     return {"est__estimators": cands}
 
 
+#: Exponents ``a`` of the neighbour weights 1/d**a the spot row's CV chooses among: 1 (scikit-learn's "distance"
+#: weights, every earlier offset row), 2 (the i-Loc thesis eq. (2)) and 4 (a steeper weighting towards the nearest
+#: reference). Fixed before any validation score of the row was seen.
+SPOT_WEIGHT_POWERS = (1.0, 2.0, 4.0)
+#: K of the spot-averaged members (a spot stands for about 20 scans of the training set, so K = 1-3 spots).
+SPOT_NEIGHBORS = (1, 2, 3)
+
+
+def spot_grid(base: list, fast: bool = False) -> dict:
+    """Candidates of the spot row (``{"est__estimators": [members, ...]}``), chosen by GroupKFold(PHONEID) CV on
+    training: for each weight exponent of :data:`SPOT_WEIGHT_POWERS`, the members ``base`` (the offset-range row's
+    choice) alone, and ``base`` plus, for each :class:`ilocalg.wifi.OffsetFingerprint` member, the same search
+    fitted on the spot-averaged fingerprints (:class:`ilocalg.wifi.SpotAveragedFingerprint`) at each K of
+    :data:`SPOT_NEIGHBORS` ("raw + averaged"). The exponent is set on every member that has ``weight_power``;
+    member names carry it (``_w2``) where it is not 1, so a member's name stands for one configuration (the
+    :func:`ensemble_cv` cache). Fast mode: exponent 1, spot K = 1 or 2.
+    """
+    from sklearn.base import clone
+
+    from ilocalg.wifi.spots import SpotAveragedFingerprint
+
+    cands = []
+    for a in ((1.0,) if fast else SPOT_WEIGHT_POWERS):
+        raw = [(n if a == 1 or "weight_power" not in e.get_params() else f"{n}_w{a:g}",
+                clone(e).set_params(weight_power=a) if "weight_power" in e.get_params() else e) for n, e in base]
+        cands.append(raw)
+        for k in ((1, 2) if fast else SPOT_NEIGHBORS):
+            cands.append(raw + [(f"spots_{n}_k{k}" + ("" if a == 1 else f"_w{a:g}"),
+                                 SpotAveragedFingerprint(clone(e).set_params(n_neighbors=k, weight_power=a)))
+                                for n, e in base if "weight_power" in e.get_params()])
+    return {"est__estimators": cands}
+
+
 def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):
     """``Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(estimators, n_neighbors))])``."""
     from sklearn.pipeline import Pipeline
@@ -336,7 +372,7 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
                    cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True,
-                   offset_range: bool = True) -> dict:
+                   offset_range: bool = True, spots: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -363,6 +399,12 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     the measured per-phone offset) and the members chosen together by the same GroupKFold(PHONEID) CV on training
     (:func:`offset_range_grid`, at the same K; the folds' member predictions shared with the previous CV). Its
     CV rows carry ``grid = "offset range x members"``.
+
+    With ``spots`` (and ``offset_range``), one more row, the last: the offset-range row's members plus the same
+    searches fitted on the per-spot mean fingerprints (:class:`ilocalg.wifi.SpotAveragedFingerprint`, "raw +
+    averaged"), the spot members' K and the neighbour-weight exponent chosen by the same GroupKFold(PHONEID) CV
+    on training (:func:`spot_grid`; candidates without spot members included; fold predictions shared with the
+    earlier CVs). Its CV rows carry ``grid = "spots x weight exponent"``.
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
     from ilocalg.wifi.offset import OffsetFingerprint
@@ -406,12 +448,16 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
                                           cache=cache)
         cv_table = pd.concat([cv_table, ens_table], ignore_index=True)
         chosen = ens_best["est__estimators"]
-        ranged = None
+        ranged = spotted = None
         if offset_range:
             rng_best, rng_table = ensemble_cv(train, offset_range_grid(fast), k_cv, seed, max_test=300, cache=cache)
             cv_table = pd.concat([cv_table, rng_table.assign(grid="offset range x members")], ignore_index=True)
             ranged = rng_best["est__estimators"]
-        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged):
+            if spots:
+                sp_best, sp_table = ensemble_cv(train, spot_grid(ranged, fast), k_cv, seed, max_test=300, cache=cache)
+                cv_table = pd.concat([cv_table, sp_table.assign(grid="spots x weight exponent")], ignore_index=True)
+                spotted = sp_best["est__estimators"]
+        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged, spotted):
             res_by[name] = res = _prediction_result(pr, test)
             rows.append(_ladder_row(name, res, test, seed, par))
     return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
@@ -429,10 +475,12 @@ def _ladder_row(name: str, res: dict, test: FingerprintSet, seed: int, params: s
     return {"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi, "params": params}
 
 
-def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None):
-    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, and with
-    ``ranged`` the CV-chosen offset-range row; each member fitted once per K on the selected APs (the same as the
-    rows' pipelines, :func:`ensemble_pipeline`)."""
+def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None,
+                   spotted: list | None = None):
+    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, with
+    ``ranged`` the CV-chosen offset-range row, and with ``spotted`` the CV-chosen spot row; each member fitted once
+    per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`; a member without an
+    ``n_neighbors`` parameter, such as a spot-averaged one, keeps its own K, as in the pipeline)."""
     from sklearn.base import clone
 
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
@@ -442,8 +490,11 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     cache = {}
 
     def member(name, est, k):
+        if "n_neighbors" not in est.get_params():
+            k = None
         if (name, k) not in cache:
-            cache[(name, k)] = clone(est).set_params(n_neighbors=k).fit(x_tr, y).predict(x_te)
+            e = clone(est) if k is None else clone(est).set_params(n_neighbors=k)
+            cache[(name, k)] = e.fit(x_tr, y).predict(x_te)
         return cache[(name, k)]
 
     three = ensemble_members(three=True)
@@ -461,4 +512,11 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
         yield ("toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV",
                combine_predictions([member(n, e, k_cv) for n, e in ranged]),
                f"n_neighbors={k_cv}, min_count=1, members={_fmt(ranged)}"
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
+    if ranged is not None and spotted is not None:
+        wp = next((e.get_params()["weight_power"] for _, e in spotted if "weight_power" in e.get_params()), 1.0)
+        yield ("toolkit: + spot-averaged fingerprints (raw + averaged members), spot K and weight exponent by "
+               "GroupKFold(PHONEID) CV",
+               combine_predictions([member(n, e, k_cv) for n, e in spotted]),
+               f"n_neighbors={k_cv}, min_count=1, members={_fmt(spotted)}, weight_power={wp:g}"
                + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
