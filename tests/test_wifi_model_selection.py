@@ -137,3 +137,32 @@ def test_spot_grid_crosses_exponents_and_spot_k(fast):
         for name, est in members:                                           # one name, one configuration
             p = {k: v for k, v in clone(est).get_params(deep=True).items() if k != "estimator"}
             assert seen.setdefault(name, p) == p
+
+
+def test_fit_members_shares_one_search_across_weight_exponents(monkeypatch):
+    from ilocalg.wifi import CascadeFingerprint, OffsetFingerprint, SpotAveragedFingerprint
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(6)
+    x, xy = _radio(rng, n=200)
+    y = np.column_stack([xy, (xy[:, 0] > 15).astype(float), np.zeros(len(xy))])
+    q = _radio(rng, n=30)[0]
+    off = OffsetFingerprint(shifts_db=(-2.0, 0.0, 2.0))
+    members = [("o1", off), ("o4", OffsetFingerprint(shifts_db=(-2.0, 0.0, 2.0), weight_power=4.0)),
+               ("cas", CascadeFingerprint(metric="sorensen")),
+               ("s2", SpotAveragedFingerprint(OffsetFingerprint(n_neighbors=1, weight_power=2.0)))]
+    got = ms.fit_members(members, x, y, q, 4)
+    calls = []
+    real = OffsetFingerprint.predict_weight_powers
+
+    def counting(self, X, powers):
+        calls.append(tuple(powers))
+        return real(self, X, powers)
+
+    monkeypatch.setattr(OffsetFingerprint, "predict_weight_powers", counting)
+    ms.fit_members(members, x, y, q, 4)
+    monkeypatch.undo()
+    assert sorted(calls) == [(1.0, 4.0), (2.0,)]                        # o1 and o4 share one search
+    for name, est in members:
+        alone = est.set_params(n_neighbors=4) if "n_neighbors" in est.get_params() else est
+        np.testing.assert_array_equal(got[name], alone.fit(x, y).predict(q))

@@ -86,6 +86,10 @@ def test_weight_power_is_the_exponent_of_the_inverse_distance_weights():
     by_hand = np.column_stack([knn_predict(y[:, :2], i, w), vote(y[:, 2][i], w), vote(y[:, 3][i], w)])
     np.testing.assert_allclose(OffsetFingerprint(n_neighbors=6, shifts_db=shifts, weight_power=3.0).fit(x, y)
                                .predict(q), by_hand, rtol=0, atol=1e-12)
+    # several exponents from one search: the same values as one estimator per exponent
+    many = OffsetFingerprint(n_neighbors=6, shifts_db=shifts).fit(x, y).predict_weight_powers(q, (1.0, 3.0))
+    np.testing.assert_array_equal(many[0], base.predict(q))
+    np.testing.assert_allclose(many[1], by_hand, rtol=0, atol=1e-12)
     for bad in (0.0, -1.0, np.inf, "2"):
         with pytest.raises(ValueError, match="weight_power must be a finite number > 0"):
             OffsetFingerprint(weight_power=bad).fit(x, y)

@@ -52,6 +52,7 @@ __all__ = [
     "SPOT_WEIGHT_POWERS",
     "SPOT_NEIGHBORS",
     "spot_grid",
+    "fit_members",
 ]
 
 
@@ -255,7 +256,6 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     one configuration).
     """
     from scipy.stats import rankdata
-    from sklearn.base import clone
 
     from ilocalg.metrics import mean_horizontal_error_m
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
@@ -270,19 +270,21 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
         aps = ApSelector(1).fit(train.rssi_dbm[tr])
         x_tr, x_te = aps.transform(train.rssi_dbm[tr]), aps.transform(train.rssi_dbm[te])
-        preds = {}
-        for c, members in enumerate(cands):
+        preds, need = {}, {}
+        for members in cands:
             for name, est in members:
                 key = (group, n_splits, max_test, seed, n_neighbors, f, name)
-                if name not in preds and cache is not None and key in cache:
+                if name in preds or name in need:
+                    continue
+                if cache is not None and key in cache:
                     preds[name] = cache[key]
-                if name not in preds:
-                    e = clone(est)
-                    if "n_neighbors" in e.get_params():
-                        e.set_params(n_neighbors=n_neighbors)
-                    preds[name] = e.fit(x_tr, y[tr]).predict(x_te)
-                    if cache is not None:
-                        cache[key] = preds[name]
+                else:
+                    need[name] = est
+        new = fit_members(list(need.items()), x_tr, y[tr], x_te, n_neighbors)
+        preds.update(new)
+        if cache is not None:
+            cache.update({(group, n_splits, max_test, seed, n_neighbors, f, n): v for n, v in new.items()})
+        for c, members in enumerate(cands):
             scores[c, f] = -mean_horizontal_error_m(y[te], combine_predictions([preds[n] for n, _ in members]))
     mean = scores.mean(axis=1)
     rank = rankdata(-mean, method="min").astype(np.int32)
@@ -290,6 +292,44 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
                           "cv_sd_m": scores.std(axis=1), "rank": rank})
     return ({"est__estimators": cands[int(np.argmin(rank))]},
             table.sort_values("rank", kind="stable").reset_index(drop=True))
+
+
+def _weight_power_param(est) -> str | None:
+    """The parameter holding ``est``'s neighbour-weight exponent (``weight_power``, or ``estimator__weight_power``
+    of a wrapper) when ``est`` can predict several exponents from one search (``predict_weight_powers``)."""
+    keys = [k for k in est.get_params(deep=True) if k == "weight_power" or k.endswith("__weight_power")]
+    return keys[0] if len(keys) == 1 and hasattr(est, "predict_weight_powers") else None
+
+
+def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n_neighbors: int | None) -> dict:
+    """``{name: prediction on x_te}`` of each ``(name, estimator)`` (cloned, ``n_neighbors`` set where it has such a
+    parameter, as :class:`ilocalg.wifi.FingerprintEnsemble` does) fitted on ``(x_tr, y_tr)``.
+
+    Members that differ only in their neighbour-weight exponent (:class:`ilocalg.wifi.OffsetFingerprint`'s
+    ``weight_power``, also inside :class:`ilocalg.wifi.SpotAveragedFingerprint`) share one fit and one neighbour
+    search (``predict_weight_powers``): the same values as fitting each alone. Names must be distinct.
+    """
+    from sklearn.base import clone
+
+    groups: dict = {}
+    for name, est in members:
+        e = clone(est)
+        if n_neighbors is not None and "n_neighbors" in e.get_params():
+            e.set_params(n_neighbors=n_neighbors)
+        wk = _weight_power_param(e)
+        key = ("alone", name) if wk is None else (type(e).__name__, tuple(sorted(
+            (k, repr(v)) for k, v in e.get_params(deep=True).items() if k != wk and not hasattr(v, "get_params"))))
+        groups.setdefault(key, []).append((name, e, wk))
+    out = {}
+    for items in groups.values():
+        name0, e0, wk = items[0]
+        e0.fit(x_tr, y_tr)
+        if wk is None:
+            out[name0] = e0.predict(x_te)
+            continue
+        powers = [e.get_params(deep=True)[wk] for _, e, _ in items]
+        out.update({n: pr for (n, _, _), pr in zip(items, e0.predict_weight_powers(x_te, powers), strict=True)})
+    return out
 
 
 def _target(s: FingerprintSet) -> np.ndarray:
@@ -481,23 +521,19 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     ``ranged`` the CV-chosen offset-range row, and with ``spotted`` the CV-chosen spot row; each member fitted once
     per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`; a member without an
     ``n_neighbors`` parameter, such as a spot-averaged one, keeps its own K, as in the pipeline)."""
-    from sklearn.base import clone
-
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
 
     aps = ApSelector(1).fit(train.rssi_dbm)
     x_tr, x_te, y = aps.transform(train.rssi_dbm), aps.transform(test.rssi_dbm), _target(train)
-    cache = {}
+    three = ensemble_members(three=True)
+    need: dict = {}
+    for k, members in ((5, three), (k_cv, chosen), (k_cv, ranged or []), (k_cv, spotted or [])):
+        need.setdefault(k, {}).update(dict(members))
+    cache = {(n, k): pr for k, m in need.items() for n, pr in fit_members(list(m.items()), x_tr, y, x_te, k).items()}
 
     def member(name, est, k):
-        if "n_neighbors" not in est.get_params():
-            k = None
-        if (name, k) not in cache:
-            e = clone(est) if k is None else clone(est).set_params(n_neighbors=k)
-            cache[(name, k)] = e.fit(x_tr, y).predict(x_te)
         return cache[(name, k)]
 
-    three = ensemble_members(three=True)
     names = " + ".join(n for n, _ in three)
     yield ("toolkit: offset search row + AP selection (APs heard in training)", member(*three[0], 5),
            "n_neighbors=5, min_count=1, representation=powed, metric=sorensen, "

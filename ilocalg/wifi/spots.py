@@ -108,3 +108,12 @@ class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "estimator_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None)
         return self.estimator_.predict(x)
+
+    def predict_weight_powers(self, X, powers) -> list[np.ndarray]:
+        """The inner estimator's ``predict_weight_powers`` (one neighbour search for several exponents); a
+        ValueError when the inner estimator has none."""
+        check_is_fitted(self, "estimator_")
+        if not hasattr(self.estimator_, "predict_weight_powers"):
+            raise ValueError(f"{type(self.estimator_).__name__} has no predict_weight_powers")
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None)
+        return self.estimator_.predict_weight_powers(x, powers)
