@@ -40,14 +40,17 @@ def test_ujiindoorloc_fast_run(shared_data):
     assert (m["n"] == 256).all()
     assert m.loc["best (union top-5 APs, N=12)", "mean_m"] < m.loc["KNN K=5 (Euclidean)", "mean_m"]
     lad = t["toolkit_ladder"]
-    assert len(lad) == 11 and lad["method"].str.startswith("toolkit: ").all()
+    assert len(lad) == 12 and lad["method"].str.startswith("toolkit: ").all()
     assert set(lad["method"]) <= set(m.index)                          # the literal rows stay, toolkit rows added
     assert ((lad["mean_ci95_lo_m"] <= lad["mean_m"]) & (lad["mean_m"] <= lad["mean_ci95_hi_m"])).all()
     assert set(t["toolkit_cv"]["groups"]) == {"USERID", "PHONEID"}
     off = t["toolkit_cv"].query("groups == 'PHONEID'")
     assert off["shifts_db"].notna().sum() == 2                     # with and without the offset search
-    assert off["estimators"].notna().sum() == 1 + 2                # the ensemble's members (fast: one candidate),
+    assert off["estimators"].notna().sum() == 1 + 2 + 3            # the ensemble's members (fast: one candidate),
     assert (off["grid"] == "offset range x members").sum() == 2     # then offset range x members (fast: two)
+    assert (off["grid"] == "spots x weight exponent").sum() == 3    # then spots (fast: none, K = 1, K = 2)
+    sp = off[off["grid"] == "spots x weight exponent"]
+    assert f"members={sp['estimators'].iloc[0]}," in lad["params"].iloc[-1]   # the last row: the spot CV's first rank
     assert lad["method"].iloc[-1] == t["measures"]["item"].iloc[0]   # the headline is the CV-chosen last row
     assert set(t["measures"]["quantity"]) >= {"toolkit_mean_error", "toolkit_floor_hit_rate"}
     assert wifi_ujiindoorloc.run(data_dir=d.parent / "nowhere") is None

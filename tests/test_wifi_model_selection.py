@@ -113,3 +113,56 @@ def test_ensemble_cv_cache_gives_the_same_table_and_reuses_fits():
     pd.testing.assert_frame_equal(table, ref)
     # 3 folds x {offset_powed, cascade_powed} first, then only offset_exponential, the two 2-sd members are new
     assert n_first == 3 * 2 and len(cache) == 3 * 5
+
+
+@pytest.mark.parametrize("fast", [False, True])
+def test_spot_grid_crosses_exponents_and_spot_k(fast):
+    from sklearn.base import clone
+
+    from ilocalg.wifi.spots import SpotAveragedFingerprint
+
+    base = ms.ensemble_members(ms.offset_shifts_db(2), three=True)          # offset powed, cascade, offset exponential
+    cands = ms.spot_grid(base, fast)["est__estimators"]
+    n_a, n_k = (1, 2) if fast else (len(ms.SPOT_WEIGHT_POWERS), len(ms.SPOT_NEIGHBORS))
+    assert len(cands) == n_a * (1 + n_k)
+    assert [n for n, _ in cands[0]] == [n for n, _ in base]                  # exponent 1, no spots: the base itself
+    seen = {}
+    for members in cands:
+        powers = {e.get_params()["weight_power"] for _, e in members if "weight_power" in e.get_params()}
+        powers |= {e.estimator.weight_power for _, e in members if isinstance(e, SpotAveragedFingerprint)}
+        assert len(powers) == 1                                             # one exponent per candidate
+        spots = [e for _, e in members if isinstance(e, SpotAveragedFingerprint)]
+        assert len(spots) in (0, 2) and len({e.estimator.n_neighbors for e in spots}) <= 1
+        assert "n_neighbors" not in (spots[0].get_params() if spots else {})   # the ensemble's K leaves them alone
+        for name, est in members:                                           # one name, one configuration
+            p = {k: v for k, v in clone(est).get_params(deep=True).items() if k != "estimator"}
+            assert seen.setdefault(name, p) == p
+
+
+def test_fit_members_shares_one_search_across_weight_exponents(monkeypatch):
+    from ilocalg.wifi import CascadeFingerprint, OffsetFingerprint, SpotAveragedFingerprint
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(6)
+    x, xy = _radio(rng, n=200)
+    y = np.column_stack([xy, (xy[:, 0] > 15).astype(float), np.zeros(len(xy))])
+    q = _radio(rng, n=30)[0]
+    off = OffsetFingerprint(shifts_db=(-2.0, 0.0, 2.0))
+    members = [("o1", off), ("o4", OffsetFingerprint(shifts_db=(-2.0, 0.0, 2.0), weight_power=4.0)),
+               ("cas", CascadeFingerprint(metric="sorensen")),
+               ("s2", SpotAveragedFingerprint(OffsetFingerprint(n_neighbors=1, weight_power=2.0)))]
+    got = ms.fit_members(members, x, y, q, 4)
+    calls = []
+    real = OffsetFingerprint.predict_weight_powers
+
+    def counting(self, X, powers):
+        calls.append(tuple(powers))
+        return real(self, X, powers)
+
+    monkeypatch.setattr(OffsetFingerprint, "predict_weight_powers", counting)
+    ms.fit_members(members, x, y, q, 4)
+    monkeypatch.undo()
+    assert sorted(calls) == [(1.0, 4.0), (2.0,)]                        # o1 and o4 share one search
+    for name, est in members:
+        alone = est.set_params(n_neighbors=4) if "n_neighbors" in est.get_params() else est
+        np.testing.assert_array_equal(got[name], alone.fit(x, y).predict(q))

@@ -70,6 +70,31 @@ def test_target_with_labels_and_no_shared_ap():
         OffsetFingerprint().fit(x, y + [0, 0, 0.5, 0])
 
 
+def test_weight_power_is_the_exponent_of_the_inverse_distance_weights():
+    from ilocalg.wifi import knn_predict, neighbour_weights, vote
+
+    rng = np.random.default_rng(3)
+    xy, _, rssi = _radio_map(rng)
+    x = _noisy(rssi, rng)
+    y = np.column_stack([xy, (xy[:, 0] > 10).astype(float), np.zeros(len(xy))])
+    q = _noisy(rssi[::5], rng, offset_db=-3.0)
+    shifts = (-4.0, -2.0, 0.0, 2.0, 4.0)
+    base = OffsetFingerprint(n_neighbors=6, shifts_db=shifts)
+    np.testing.assert_array_equal(base.fit(x, y).predict(q), base.set_params(weight_power=1.0).fit(x, y).predict(q))
+    d, i, _ = offset_search(q, build_index(to_features(x, -104.0, "powed")), 6, shifts)
+    w = neighbour_weights(d, "distance", 3.0)
+    by_hand = np.column_stack([knn_predict(y[:, :2], i, w), vote(y[:, 2][i], w), vote(y[:, 3][i], w)])
+    np.testing.assert_allclose(OffsetFingerprint(n_neighbors=6, shifts_db=shifts, weight_power=3.0).fit(x, y)
+                               .predict(q), by_hand, rtol=0, atol=1e-12)
+    # several exponents from one search: the same values as one estimator per exponent
+    many = OffsetFingerprint(n_neighbors=6, shifts_db=shifts).fit(x, y).predict_weight_powers(q, (1.0, 3.0))
+    np.testing.assert_array_equal(many[0], base.predict(q))
+    np.testing.assert_allclose(many[1], by_hand, rtol=0, atol=1e-12)
+    for bad in (0.0, -1.0, np.inf, "2"):
+        with pytest.raises(ValueError, match="weight_power must be a finite number > 0"):
+            OffsetFingerprint(weight_power=bad).fit(x, y)
+
+
 def test_check_estimator():
     from sklearn.utils.estimator_checks import check_estimator
 

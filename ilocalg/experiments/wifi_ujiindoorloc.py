@@ -80,8 +80,12 @@ TOOLKIT_READINGS = (
      "FingerprintEnsemble: mean position, majority floor and building; members chosen by GroupKFold CV"),
     ("merged fingerprints per reference spot", "RADAR (Bahl & Padmanabhan 2000); common on UJIIndoorLoc",
      "average the scans of one spot into one fingerprint",
-     "no row: tried during development with validation scores in view (mean_fingerprints per coordinate), "
-     "it raised the error, so it was left out rather than put to the CV"),
+     "SpotAveragedFingerprint: the offset search fitted on each spot's mean fingerprint, as members beside the "
+     "raw ones (raw + averaged), spot K by GroupKFold(PHONEID) CV (spot_grid). Averaged alone (an earlier "
+     "session, validation in view; this one, CV only) it raised the error, so it has no row of its own"),
+    ("neighbour-weight exponent", "i-Loc thesis eq. (2) (1/d^2); scikit-learn's distance weights (1/d)",
+     "weighted KNN with the weights 1/d^a",
+     "OffsetFingerprint(weight_power=a), a in SPOT_WEIGHT_POWERS chosen with the spot K by GroupKFold(PHONEID) CV"),
     ("offset search range", "Tsui et al. 2009; the measured per-phone offset sd (data/measured_parameters.csv)",
      "the offset of an unseen phone is unknown; the search must cover the spread of phones",
      "offset search over +-1 sd or +-2 sd of the measured sd (2 dB steps), chosen with the members by "

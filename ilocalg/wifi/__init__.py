@@ -11,6 +11,7 @@ Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:
 (building -> floor -> position), :mod:`~ilocalg.wifi.cascade` (the toolkit's building -> floor ->
 position WKNN estimator), :mod:`~ilocalg.wifi.offset` (WKNN with a per-query device offset search),
 :mod:`~ilocalg.wifi.ensemble` (AP selection, an averaging ensemble of estimators),
+:mod:`~ilocalg.wifi.spots` (an estimator fitted on the per-spot mean fingerprints),
 :mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
 :mod:`~ilocalg.wifi.registry` (the one registry of estimator
 factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
@@ -35,6 +36,7 @@ from ilocalg.wifi.preprocessing import (
 )
 from ilocalg.wifi.radar import SimplifiedRadar, radar_predict, union_topk_sq_distances
 from ilocalg.wifi.registry import ESTIMATORS, make_estimator, paper_estimators, register_estimator
+from ilocalg.wifi.spots import SpotAveragedFingerprint, spot_fingerprints
 
 __all__ = [
     "KnnFingerprint",
@@ -47,6 +49,8 @@ __all__ = [
     "ApSelector",
     "FingerprintEnsemble",
     "combine_predictions",
+    "SpotAveragedFingerprint",
+    "spot_fingerprints",
     "locate_flat",
     "ESTIMATORS",
     "register_estimator",

@@ -49,6 +49,10 @@ __all__ = [
     "ensemble_pipeline",
     "ensemble_cv",
     "offset_range_grid",
+    "SPOT_WEIGHT_POWERS",
+    "SPOT_NEIGHBORS",
+    "spot_grid",
+    "fit_members",
 ]
 
 
@@ -196,6 +200,39 @@ def offset_range_grid(fast: bool = False) -> dict:
     return {"est__estimators": cands}
 
 
+#: Exponents ``a`` of the neighbour weights 1/d**a the spot row's CV chooses among: 1 (scikit-learn's "distance"
+#: weights, every earlier offset row), 2 (the i-Loc thesis eq. (2)) and 4 (a steeper weighting towards the nearest
+#: reference). Fixed before any validation score of the row was seen.
+SPOT_WEIGHT_POWERS = (1.0, 2.0, 4.0)
+#: K of the spot-averaged members (a spot stands for about 20 scans of the training set, so K = 1-3 spots).
+SPOT_NEIGHBORS = (1, 2, 3)
+
+
+def spot_grid(base: list, fast: bool = False) -> dict:
+    """Candidates of the spot row (``{"est__estimators": [members, ...]}``), chosen by GroupKFold(PHONEID) CV on
+    training: for each weight exponent of :data:`SPOT_WEIGHT_POWERS`, the members ``base`` (the offset-range row's
+    choice) alone, and ``base`` plus, for each :class:`ilocalg.wifi.OffsetFingerprint` member, the same search
+    fitted on the spot-averaged fingerprints (:class:`ilocalg.wifi.SpotAveragedFingerprint`) at each K of
+    :data:`SPOT_NEIGHBORS` ("raw + averaged"). The exponent is set on every member that has ``weight_power``;
+    member names carry it (``_w2``) where it is not 1, so a member's name stands for one configuration (the
+    :func:`ensemble_cv` cache). Fast mode: exponent 1, spot K = 1 or 2.
+    """
+    from sklearn.base import clone
+
+    from ilocalg.wifi.spots import SpotAveragedFingerprint
+
+    cands = []
+    for a in ((1.0,) if fast else SPOT_WEIGHT_POWERS):
+        raw = [(n if a == 1 or "weight_power" not in e.get_params() else f"{n}_w{a:g}",
+                clone(e).set_params(weight_power=a) if "weight_power" in e.get_params() else e) for n, e in base]
+        cands.append(raw)
+        for k in ((1, 2) if fast else SPOT_NEIGHBORS):
+            cands.append(raw + [(f"spots_{n}_k{k}" + ("" if a == 1 else f"_w{a:g}"),
+                                 SpotAveragedFingerprint(clone(e).set_params(n_neighbors=k, weight_power=a)))
+                                for n, e in base if "weight_power" in e.get_params()])
+    return {"est__estimators": cands}
+
+
 def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):
     """``Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(estimators, n_neighbors))])``."""
     from sklearn.pipeline import Pipeline
@@ -219,7 +256,6 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     one configuration).
     """
     from scipy.stats import rankdata
-    from sklearn.base import clone
 
     from ilocalg.metrics import mean_horizontal_error_m
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
@@ -234,19 +270,21 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
         aps = ApSelector(1).fit(train.rssi_dbm[tr])
         x_tr, x_te = aps.transform(train.rssi_dbm[tr]), aps.transform(train.rssi_dbm[te])
-        preds = {}
-        for c, members in enumerate(cands):
+        preds, need = {}, {}
+        for members in cands:
             for name, est in members:
                 key = (group, n_splits, max_test, seed, n_neighbors, f, name)
-                if name not in preds and cache is not None and key in cache:
+                if name in preds or name in need:
+                    continue
+                if cache is not None and key in cache:
                     preds[name] = cache[key]
-                if name not in preds:
-                    e = clone(est)
-                    if "n_neighbors" in e.get_params():
-                        e.set_params(n_neighbors=n_neighbors)
-                    preds[name] = e.fit(x_tr, y[tr]).predict(x_te)
-                    if cache is not None:
-                        cache[key] = preds[name]
+                else:
+                    need[name] = est
+        new = fit_members(list(need.items()), x_tr, y[tr], x_te, n_neighbors)
+        preds.update(new)
+        if cache is not None:
+            cache.update({(group, n_splits, max_test, seed, n_neighbors, f, n): v for n, v in new.items()})
+        for c, members in enumerate(cands):
             scores[c, f] = -mean_horizontal_error_m(y[te], combine_predictions([preds[n] for n, _ in members]))
     mean = scores.mean(axis=1)
     rank = rankdata(-mean, method="min").astype(np.int32)
@@ -254,6 +292,44 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
                           "cv_sd_m": scores.std(axis=1), "rank": rank})
     return ({"est__estimators": cands[int(np.argmin(rank))]},
             table.sort_values("rank", kind="stable").reset_index(drop=True))
+
+
+def _weight_power_param(est) -> str | None:
+    """The parameter holding ``est``'s neighbour-weight exponent (``weight_power``, or ``estimator__weight_power``
+    of a wrapper) when ``est`` can predict several exponents from one search (``predict_weight_powers``)."""
+    keys = [k for k in est.get_params(deep=True) if k == "weight_power" or k.endswith("__weight_power")]
+    return keys[0] if len(keys) == 1 and hasattr(est, "predict_weight_powers") else None
+
+
+def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n_neighbors: int | None) -> dict:
+    """``{name: prediction on x_te}`` of each ``(name, estimator)`` (cloned, ``n_neighbors`` set where it has such a
+    parameter, as :class:`ilocalg.wifi.FingerprintEnsemble` does) fitted on ``(x_tr, y_tr)``.
+
+    Members that differ only in their neighbour-weight exponent (:class:`ilocalg.wifi.OffsetFingerprint`'s
+    ``weight_power``, also inside :class:`ilocalg.wifi.SpotAveragedFingerprint`) share one fit and one neighbour
+    search (``predict_weight_powers``): the same values as fitting each alone. Names must be distinct.
+    """
+    from sklearn.base import clone
+
+    groups: dict = {}
+    for name, est in members:
+        e = clone(est)
+        if n_neighbors is not None and "n_neighbors" in e.get_params():
+            e.set_params(n_neighbors=n_neighbors)
+        wk = _weight_power_param(e)
+        key = ("alone", name) if wk is None else (type(e).__name__, tuple(sorted(
+            (k, repr(v)) for k, v in e.get_params(deep=True).items() if k != wk and not hasattr(v, "get_params"))))
+        groups.setdefault(key, []).append((name, e, wk))
+    out = {}
+    for items in groups.values():
+        name0, e0, wk = items[0]
+        e0.fit(x_tr, y_tr)
+        if wk is None:
+            out[name0] = e0.predict(x_te)
+            continue
+        powers = [e.get_params(deep=True)[wk] for _, e, _ in items]
+        out.update({n: pr for (n, _, _), pr in zip(items, e0.predict_weight_powers(x_te, powers), strict=True)})
+    return out
 
 
 def _target(s: FingerprintSet) -> np.ndarray:
@@ -336,7 +412,7 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
                    cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True,
-                   offset_range: bool = True) -> dict:
+                   offset_range: bool = True, spots: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -363,6 +439,12 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     the measured per-phone offset) and the members chosen together by the same GroupKFold(PHONEID) CV on training
     (:func:`offset_range_grid`, at the same K; the folds' member predictions shared with the previous CV). Its
     CV rows carry ``grid = "offset range x members"``.
+
+    With ``spots`` (and ``offset_range``), one more row, the last: the offset-range row's members plus the same
+    searches fitted on the per-spot mean fingerprints (:class:`ilocalg.wifi.SpotAveragedFingerprint`, "raw +
+    averaged"), the spot members' K and the neighbour-weight exponent chosen by the same GroupKFold(PHONEID) CV
+    on training (:func:`spot_grid`; candidates without spot members included; fold predictions shared with the
+    earlier CVs). Its CV rows carry ``grid = "spots x weight exponent"``.
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
     from ilocalg.wifi.offset import OffsetFingerprint
@@ -406,12 +488,16 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
                                           cache=cache)
         cv_table = pd.concat([cv_table, ens_table], ignore_index=True)
         chosen = ens_best["est__estimators"]
-        ranged = None
+        ranged = spotted = None
         if offset_range:
             rng_best, rng_table = ensemble_cv(train, offset_range_grid(fast), k_cv, seed, max_test=300, cache=cache)
             cv_table = pd.concat([cv_table, rng_table.assign(grid="offset range x members")], ignore_index=True)
             ranged = rng_best["est__estimators"]
-        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged):
+            if spots:
+                sp_best, sp_table = ensemble_cv(train, spot_grid(ranged, fast), k_cv, seed, max_test=300, cache=cache)
+                cv_table = pd.concat([cv_table, sp_table.assign(grid="spots x weight exponent")], ignore_index=True)
+                spotted = sp_best["est__estimators"]
+        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged, spotted):
             res_by[name] = res = _prediction_result(pr, test)
             rows.append(_ladder_row(name, res, test, seed, par))
     return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
@@ -429,24 +515,25 @@ def _ladder_row(name: str, res: dict, test: FingerprintSet, seed: int, params: s
     return {"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi, "params": params}
 
 
-def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None):
-    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, and with
-    ``ranged`` the CV-chosen offset-range row; each member fitted once per K on the selected APs (the same as the
-    rows' pipelines, :func:`ensemble_pipeline`)."""
-    from sklearn.base import clone
-
+def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None,
+                   spotted: list | None = None):
+    """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, with
+    ``ranged`` the CV-chosen offset-range row, and with ``spotted`` the CV-chosen spot row; each member fitted once
+    per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`; a member without an
+    ``n_neighbors`` parameter, such as a spot-averaged one, keeps its own K, as in the pipeline)."""
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
 
     aps = ApSelector(1).fit(train.rssi_dbm)
     x_tr, x_te, y = aps.transform(train.rssi_dbm), aps.transform(test.rssi_dbm), _target(train)
-    cache = {}
+    three = ensemble_members(three=True)
+    need: dict = {}
+    for k, members in ((5, three), (k_cv, chosen), (k_cv, ranged or []), (k_cv, spotted or [])):
+        need.setdefault(k, {}).update(dict(members))
+    cache = {(n, k): pr for k, m in need.items() for n, pr in fit_members(list(m.items()), x_tr, y, x_te, k).items()}
 
     def member(name, est, k):
-        if (name, k) not in cache:
-            cache[(name, k)] = clone(est).set_params(n_neighbors=k).fit(x_tr, y).predict(x_te)
         return cache[(name, k)]
 
-    three = ensemble_members(three=True)
     names = " + ".join(n for n, _ in three)
     yield ("toolkit: offset search row + AP selection (APs heard in training)", member(*three[0], 5),
            "n_neighbors=5, min_count=1, representation=powed, metric=sorensen, "
@@ -461,4 +548,11 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
         yield ("toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV",
                combine_predictions([member(n, e, k_cv) for n, e in ranged]),
                f"n_neighbors={k_cv}, min_count=1, members={_fmt(ranged)}"
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
+    if ranged is not None and spotted is not None:
+        wp = next((e.get_params()["weight_power"] for _, e in spotted if "weight_power" in e.get_params()), 1.0)
+        yield ("toolkit: + spot-averaged fingerprints (raw + averaged members), spot K and weight exponent by "
+               "GroupKFold(PHONEID) CV",
+               combine_predictions([member(n, e, k_cv) for n, e in spotted]),
+               f"n_neighbors={k_cv}, min_count=1, members={_fmt(spotted)}, weight_power={wp:g}"
                + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))

@@ -103,6 +103,9 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     not_heard_dbm : float
     rssi_range_dbm : (float, float) or None
         Range of a heard reading (``None``: any finite value, for scikit-learn's checks).
+    weight_power : float
+        Exponent of the neighbour weights 1/d**weight_power (1: scikit-learn's "distance"; 2: the i-Loc
+        thesis eq. (2)); the floor and building votes use the same weights.
 
     Attributes
     ----------
@@ -120,7 +123,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def __init__(self, n_neighbors=8, shifts_db=(-4.0, -3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0),
                  representation="powed", metric="sorensen", p=2, not_heard_dbm=-104.0,
-                 rssi_range_dbm=RSSI_RANGE_DBM):
+                 rssi_range_dbm=RSSI_RANGE_DBM, weight_power=1.0):
         self.n_neighbors = n_neighbors
         self.shifts_db = shifts_db
         self.representation = representation
@@ -128,6 +131,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.p = p
         self.not_heard_dbm = not_heard_dbm
         self.rssi_range_dbm = rssi_range_dbm
+        self.weight_power = weight_power
 
     def _ceiling(self):
         return np.inf if self.rssi_range_dbm is None else float(self.rssi_range_dbm[1])
@@ -146,6 +150,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
             raise ValueError(f"n_neighbors={self.n_neighbors} must be in [1, n_samples={x.shape[0]}]")
         if self.metric not in ("minkowski", "sorensen"):
             raise ValueError(f"metric must be 'minkowski' or 'sorensen', got {self.metric!r}")
+        _check_power(self.weight_power)
         shifts = np.asarray(list(self.shifts_db), dtype=np.float64)
         if shifts.size == 0 or not np.isfinite(shifts).all():
             raise ValueError(f"shifts_db must be a non-empty sequence of finite dB values, got {self.shifts_db!r}")
@@ -161,17 +166,34 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def predict(self, X) -> np.ndarray:
         """``[x_m, y_m, floor, building]`` (n_q, 4), or the positions' shape when fitted on positions."""
+        return self.predict_weight_powers(X, (self.weight_power,))[0]
+
+    def predict_weight_powers(self, X, powers) -> list[np.ndarray]:
+        """:meth:`predict` at each neighbour-weight exponent of ``powers``, from one offset search: the same values
+        as ``set_params(weight_power=a).predict(X)`` for each ``a`` (a CV over the exponent shares the search)."""
         check_is_fitted(self, "index_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        pw = [_check_power(a) for a in powers]
+        width = self.y_[0].size
 
         def located(xq):
             d, i, s = offset_search(xq, self.index_, int(self.n_neighbors), self.shifts_db, self.not_heard_dbm,
                                     self.representation, self.metric, self.p, self._ceiling())
-            w = neighbour_weights(d, "distance")
-            if self.n_outputs_ != 4:
-                return np.column_stack([knn_predict(self.y_, i, w).reshape(len(xq), -1), s])
-            return np.column_stack([knn_predict(self.y_[:, :2], i, w), vote(self.y_[:, 2][i], w),
-                                    vote(self.y_[:, 3][i], w), s])
-        out = np.asarray(predict_located(x, self.heard_aps_, located, (self.y_[0].size + 1,)), dtype=np.float64)
-        pred = out[:, :-1]
-        return pred[:, 0] if self.y_.ndim == 1 else pred
+            cols = []
+            for a in pw:
+                w = neighbour_weights(d, "distance", a)
+                if self.n_outputs_ != 4:
+                    cols.append(knn_predict(self.y_, i, w).reshape(len(xq), -1))
+                else:
+                    cols += [knn_predict(self.y_[:, :2], i, w), vote(self.y_[:, 2][i], w), vote(self.y_[:, 3][i], w)]
+            return np.column_stack([*cols, s])
+        out = np.asarray(predict_located(x, self.heard_aps_, located, (width * len(pw) + 1,)), dtype=np.float64)
+        preds = [out[:, j * width:(j + 1) * width] for j in range(len(pw))]
+        return [p[:, 0] if self.y_.ndim == 1 else p for p in preds]
+
+
+def _check_power(a) -> float:
+    """``a`` as a float exponent of the neighbour weights, or a ValueError."""
+    if isinstance(a, (str, bytes, bool)) or not (np.isscalar(a) and np.isfinite(a) and a > 0):
+        raise ValueError(f"weight_power must be a finite number > 0, got {a!r}")
+    return float(a)
