@@ -113,11 +113,12 @@ def _floor(seed: int, spp: int, spt: int, radio: tuple) -> iloc_floor.IlocFloor:
     return iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, **dict(radio))
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=12)
 def _survey(seed: int, spp: int, spt: int, radio: tuple, spacing_m: float) -> tuple:
     """What a task scores on (read only): the floor, the kept points, the training scans and positions kept,
     their per-point mean fingerprints, and the test scans hearing some AP with their true positions. The AP-count
-    points of a survey share it."""
+    points of a survey share it (12 entries, as :func:`_floor`: the seeds interleave in the task list; the scans
+    kept are at most 3 MB per survey)."""
     sim = _floor(seed, spp, spt, radio)
     keep = thin_points(sim.points_xy_m, spacing_m)
     rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
@@ -131,7 +132,7 @@ def _paper_estimator(name: str, sim) -> object:
     return paper_estimators(sim.detect_dbm, BASE["k_aps"])[name]
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=12)
 def _horus_fit(*survey) -> object:
     """Simplified-Horus fitted on every stored scan of a survey (Fig 4): its per-point histograms do not read
     ``k_aps`` (read only; :func:`_use_fit` copies what ``predict`` needs)."""
@@ -148,7 +149,7 @@ def _use_fit(est, fitted) -> None:
         setattr(est, attr, getattr(fitted, attr))
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=12)
 def _knn_summary(*survey) -> dict:
     """Error summary of the KNN (Manhattan, K=5) on a survey's per-point mean fingerprints: it uses every AP,
     so the AP-count points of a survey share it."""
