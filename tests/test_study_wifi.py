@@ -19,6 +19,27 @@ def _mean_error(seed, method, **params):
     return float(sel["value"].iloc[0])
 
 
+def _clear_caches():
+    for f in (study_wifi._floor, study_wifi._survey, study_wifi._horus_fit, study_wifi._knn_summary):
+        f.cache_clear()
+
+
+def test_ap_count_points_sharing_a_survey_give_the_tables_of_fresh_runs():
+    kw = dict(seed=4, fast=True, scans_per_point=8, scans_per_test_point=3)
+    fresh = {}
+    for k in (3, 6):
+        _clear_caches()
+        fresh[k] = study_wifi.run(k_aps=k, **kw)["sweep_wifi"]
+    _clear_caches()
+    study_wifi.run(k_aps=6, **kw)  # fills the survey's caches with k = 6
+    pd.testing.assert_frame_equal(study_wifi.run(k_aps=3, **kw)["sweep_wifi"], fresh[3], check_exact=True)
+    assert study_wifi._horus_fit.cache_info().hits == 1 and study_wifi._knn_summary.cache_info().hits == 1
+    assert not fresh[3].equals(fresh[6])  # k changes RADAR's and Horus's rows: the shared fit is not the answer
+    h = fresh[3]
+    knn = h["item"] == "method=KNN (Manhattan, K=5)"
+    pd.testing.assert_frame_equal(h[knn], fresh[6][knn], check_exact=True)  # KNN does not read k
+
+
 def test_same_seed_same_table_and_sweep_shape():
     a = study_wifi.run(seed=3, fast=True, scans_per_point=10, spacing_m=4.0)["sweep_wifi"]
     b = study_wifi.run(seed=3, fast=True, scans_per_point=10, spacing_m=4.0)["sweep_wifi"]

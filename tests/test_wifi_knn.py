@@ -212,3 +212,29 @@ def test_manhattan_blocks_match_the_unpadded_partial_sums(monkeypatch, represent
         d2, i2 = knn_search(fq, idx, k, p=1, kernel="dense")
         np.testing.assert_array_equal(i1, i2)
         np.testing.assert_array_equal(d1, d2)
+
+
+@pytest.mark.parametrize("metric,p,rep,integer", [("sorensen", 1, "powed", False), ("minkowski", 1, "positive", True),
+                                                  ("minkowski", 2, "positive", True), ("minkowski", 2, "exponential",
+                                                                                       False)])
+def test_shared_searches_return_the_same_bits(metric, p, rep, integer):
+    from ilocalg.wifi.knn import shared_searches
+
+    rng = np.random.default_rng(11)
+    X, _, Xq, _ = _radio(rng, n_ref=400, n_q=70, integer=integer)
+    fx, fq = to_features(X, -95, rep), to_features(Xq, -95, rep)
+    plain = {k: knn_search(fq, build_index(fx), k, p=p, metric=metric) for k in (3, 5, 12, 20)}
+    with shared_searches() as counts:
+        shared = {}
+        for k in (5, 3, 12, 20, 5, 3):  # a smaller k after a larger one: the stored search's first k
+            idx = build_index(fx.copy())  # a new database of the same features: the stored one
+            shared[k] = knn_search(fq.copy(), idx, k, p=p, metric=metric)
+            for a, b in zip(shared[k], plain[k], strict=True):
+                assert a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b)
+        d, i = shared[5]
+        d[:] = -1.0  # a caller's result is its own copy: the store is not changed
+        again = knn_search(fq, idx, 5, p=p, metric=metric)
+        assert np.array_equal(again[0], plain[5][0])
+        other = knn_search(fq + np.float32(1.0), idx, 5, p=p, metric=metric)  # other queries: searched
+    assert counts == {"hits": 5, "misses": 3}  # k = 5 (holds 12), k = 20, the shifted queries
+    assert np.array_equal(other[1], knn_search(fq + np.float32(1.0), build_index(fx), 5, p=p, metric=metric)[1])

@@ -113,6 +113,50 @@ def _floor(seed: int, spp: int, spt: int, radio: tuple) -> iloc_floor.IlocFloor:
     return iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, **dict(radio))
 
 
+@functools.lru_cache(maxsize=12)
+def _survey(seed: int, spp: int, spt: int, radio: tuple, spacing_m: float) -> tuple:
+    """What a task scores on (read only): the floor, the kept points, the training scans and positions kept,
+    their per-point mean fingerprints, and the test scans hearing some AP with their true positions. The AP-count
+    points of a survey share it (12 entries, as :func:`_floor`: the seeds interleave in the task list; the scans
+    kept are at most 3 MB per survey)."""
+    sim = _floor(seed, spp, spt, radio)
+    keep = thin_points(sim.points_xy_m, spacing_m)
+    rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
+    X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
+    fp, pts, _ = mean_fingerprints(X, xy, min_heard_fraction=0.5)
+    heard = ~np.all(np.isnan(sim.test.rssi_dbm), axis=1)  # a scan hearing no AP cannot be positioned
+    return sim, keep, X, xy, fp, pts, heard, sim.test.xy_m[heard], sim.test.rssi_dbm[heard]
+
+
+def _paper_estimator(name: str, sim) -> object:
+    return paper_estimators(sim.detect_dbm, BASE["k_aps"])[name]
+
+
+@functools.lru_cache(maxsize=12)
+def _horus_fit(*survey) -> object:
+    """Simplified-Horus fitted on every stored scan of a survey (Fig 4): its per-point histograms do not read
+    ``k_aps`` (read only; :func:`_use_fit` copies what ``predict`` needs)."""
+    sim, _, X, xy, *_ = _survey(*survey)
+    return _paper_estimator("Simplified-Horus", sim).fit(X, xy)
+
+
+def _use_fit(est, fitted) -> None:
+    """Give ``est`` the fitted attributes of ``fitted``, an estimator of the same parameters but ``k_aps``."""
+    a, b = est.get_params(), fitted.get_params()
+    if {k: v for k, v in a.items() if k != "k_aps"} != {k: v for k, v in b.items() if k != "k_aps"}:
+        raise ValueError(f"fitted estimator has other parameters: {b} vs {a}")
+    for attr in ("model_", "heard_aps_", "n_features_in_"):
+        setattr(est, attr, getattr(fitted, attr))
+
+
+@functools.lru_cache(maxsize=12)
+def _knn_summary(*survey) -> dict:
+    """Error summary of the KNN (Manhattan, K=5) on a survey's per-point mean fingerprints: it uses every AP,
+    so the AP-count points of a survey share it."""
+    sim, _, _, _, fp, pts, _, true, Xq = _survey(*survey)
+    return summary(horizontal_error_m(_paper_estimator("KNN (Manhattan, K=5)", sim).fit(fp, pts).predict(Xq), true))
+
+
 def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.0,
         scans_per_point: int | None = None, scans_per_test_point: int | None = None,
         **radio) -> dict[str, pd.DataFrame]:
@@ -141,21 +185,19 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
         raise ValueError(f"k_aps must be an integer >= 1, got {k_aps!r}")
     spp = int(scans_per_point or (60 if fast else iloc_floor.SCANS_PER_POINT))
     spt = int(scans_per_test_point or (5 if fast else 20))
-    sim = _floor(int(seed), spp, spt, tuple(sorted(radio.items())))
-    keep = thin_points(sim.points_xy_m, spacing_m)
-    rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
-    X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
-    fp, pts, _ = mean_fingerprints(X, xy, min_heard_fraction=0.5)
-    heard = ~np.all(np.isnan(sim.test.rssi_dbm), axis=1)  # a scan hearing no AP cannot be positioned
-    true, Xq = sim.test.xy_m[heard], sim.test.rssi_dbm[heard]
+    survey = (int(seed), spp, spt, tuple(sorted(radio.items())), float(spacing_m))
+    sim, keep, X, xy, fp, pts, heard, true, Xq = _survey(*survey)
     rows = [study_row("training points", len(keep), "points"),
             study_row("test scans hearing no AP (not scored)", np.sum(~heard), "scans")]
     for name, est in paper_estimators(sim.detect_dbm, int(k_aps)).items():
-        if name in ("Simplified-Horus", "Simplified-RADAR"):
-            est.fit(X, xy)  # every stored scan: Horus's per-point histograms, RADAR's database (L283, L287)
+        if name == "KNN (Manhattan, K=5)":  # every AP, whatever k: the same errors at every k of a survey
+            s = _knn_summary(*survey)
         else:
-            est.fit(fp, pts)
-        s = summary(horizontal_error_m(est.predict(Xq), true))
+            if name == "Simplified-Horus":  # the histograms do not depend on k (only the query's APs do)
+                _use_fit(est, _horus_fit(*survey))
+            else:  # every stored scan: RADAR's database (L283, L287)
+                est.fit(X, xy)
+            s = summary(horizontal_error_m(est.predict(Xq), true))
         rows += [study_row(q, s[col], "m", method=name) for q, col in STATS]
     return {"sweep_wifi": pd.DataFrame(rows)}
 

@@ -33,6 +33,7 @@ from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import load_ujiindoorloc
 from ilocalg.papers import paper_ref
 from ilocalg.wifi import ESTIMATORS, evaluate_method
+from ilocalg.wifi.knn import shared_searches
 from ilocalg.wifi.model_selection import best_search, metrics_row, selection_mask, toolkit_ladder
 
 __all__ = ["PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "find_files", "load", "run"]
@@ -135,6 +136,12 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
     data = load(data_dir)
     if data is None:
         return None
+    with shared_searches():  # the CVs refit the same folds for several K and overlapping offset grids
+        return _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit)
+
+
+def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit) -> dict[str, pd.DataFrame]:
+    """:func:`run` on the loaded split."""
     train, test = data
     if fast:
         rng = np.random.default_rng(seed)

@@ -106,9 +106,16 @@ def fit_horus(rssi_dbm, xy, bin_width_db: float = 1.0, prob_floor: float = 1e-3)
     b = np.floor((x[r, c] - lo) / bin_width_db).astype(np.int64)
     p = point_of_row[r]
     key = p * n_aps + c
-    pair_keys, pair_id = np.unique(key, return_inverse=True)
-    counts = np.zeros((pair_keys.size, n_bins))
-    np.add.at(counts, (pair_id, b), 1.0)
+    # the (point, AP) pairs heard, ascending (np.unique's order), by a table over all pairs instead of a sort
+    seen = np.zeros(n_pts * n_aps, dtype=bool)
+    seen[key] = True
+    pair_keys = np.flatnonzero(seen)
+    pair_of_key = np.zeros(n_pts * n_aps, dtype=np.int64)
+    pair_of_key[pair_keys] = np.arange(pair_keys.size)
+    pair_id = pair_of_key[key]
+    # scans per (pair, bin): whole numbers, the same float64 values as adding 1.0 per scan
+    counts = np.bincount(pair_id * n_bins + b, minlength=pair_keys.size * n_bins).reshape(pair_keys.size, n_bins)
+    counts = counts.astype(np.float64)
     prob = counts / counts.sum(axis=1, keepdims=True)
     log_prob = np.log(np.maximum(prob, prob_floor)).astype(np.float32)
     log_prob = np.vstack([log_prob, np.full((1, n_bins), np.log(prob_floor), dtype=np.float32)])

@@ -24,6 +24,10 @@ product, then sorts only the few values at or below it.
 
 Ties in distance are broken by training order (the earlier reference wins), for both kernels.
 
+Inside :func:`shared_searches` a search is done once: a cross-validation that fits the same fold for several
+K, or an offset search whose shift grids overlap, gets the stored neighbours of the same database and queries
+(compared by content) instead of searching again (see :func:`shared_searches` for why that is exact).
+
 References
 ----------
 Luo, S. et al. (2017). Indoor positioning technology based on location fingerprint and pedestrian
@@ -33,6 +37,10 @@ Euclidean) and eq. (2) (mean of the K nearest positions; K=5, a=1 in the paper).
 """
 
 from __future__ import annotations
+
+import contextlib
+import contextvars
+import hashlib
 
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
@@ -55,6 +63,7 @@ __all__ = [
     "pairwise_distances_batch",
     "smallest_k",
     "knn_search",
+    "shared_searches",
     "neighbour_weights",
     "knn_predict",
     "vote",
@@ -76,23 +85,24 @@ class InvertedIndex:
     sq_norm, l1_norm : ndarray (n_refs,) float32
     """
 
-    __slots__ = ("features", "indptr", "rows", "values", "sq_norm", "l1_norm", "int_top", "_gemm")
+    __slots__ = ("features", "indptr", "rows", "values", "sq_norm", "l1_norm", "int_top", "_gemm", "_digest")
 
     def __init__(self, features: np.ndarray):
         f = np.ascontiguousarray(features, dtype=np.float32)
         self.features = f
-        fc = np.asfortranarray(f)
-        nz = fc != 0
-        counts = nz.sum(axis=0)
+        r, c = np.nonzero(f)  # by reference row, then AP
+        by_ap = np.argsort(c, kind="stable")  # by AP, then reference row
+        counts = np.bincount(c, minlength=f.shape[1])
         self.indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-        r, c = np.nonzero(nz.T)  # ordered by AP, then reference row
-        self.rows = c.astype(np.int32)
-        self.values = f[c, r]
+        self.rows = r[by_ap].astype(np.int32)
+        self.values = f[r, c][by_ap]
         self.sq_norm = np.einsum("ij,ij->i", f, f, dtype=np.float32)
         self.l1_norm = f.sum(axis=1, dtype=np.float32)
-        #: the largest feature if all are integers, else None (see :func:`_exact_pair`)
-        self.int_top = float(f.max(initial=0.0)) if bool(np.all(f == np.rint(f))) else None
+        #: the largest feature if all are integers, else None (see :func:`_exact_pair`); every other feature is 0
+        v = self.values
+        self.int_top = float(v.max(initial=0.0)) if bool(np.all(v == np.rint(v))) else None
         self._gemm = None  # built on the first Euclidean search (see _gemm_database)
+        self._digest = None  # content hash of the features, taken on the first search in shared_searches()
 
 
 #: Largest integer a float32 holds exactly (every partial sum of an exact distance stays below it).
@@ -115,7 +125,10 @@ def build_index(features) -> InvertedIndex:
         raise ValueError(f"features must be 2-D, got shape {f.shape}")
     if (f < 0).any():
         raise ValueError("features must be >= 0 (use ilocalg.wifi.preprocessing.to_features)")
-    return InvertedIndex(f)
+    memo = _MEMO.get()
+    if memo is None:
+        return InvertedIndex(f)
+    return memo.index(f)
 
 
 def _check_p(p) -> int:
@@ -283,6 +296,115 @@ def knn_search(q_features, index: InvertedIndex, k: int, p: int = 1, kernel: str
     n_ref = index.features.shape[0]
     if not 1 <= int(k) <= n_ref:
         raise ValueError(f"n_neighbors must be in [1, {n_ref}] (the number of references), got {k}")
+    if kernel not in ("sparse", "dense"):
+        raise ValueError(f"kernel must be 'sparse' or 'dense', got {kernel!r}")
+    memo = _MEMO.get()
+    if memo is None:
+        return _knn_search(q, index, int(k), p, kernel, batch, metric)
+    return memo.search(q, index, int(k), p, kernel, batch, metric)
+
+
+#: Neighbours a search inside :func:`shared_searches` keeps at least (the largest K of the toolkit grids), so
+#: that the same search at a smaller K is a prefix of it.
+_SHARED_K = 12
+
+
+class _SearchMemo:
+    """The neighbours of the searches done inside one :func:`shared_searches` block, by content key."""
+
+    def __init__(self, max_entries: int, max_index_bytes: int):
+        self.max_entries = int(max_entries)
+        self.max_index_bytes = int(max_index_bytes)
+        self.indexes: dict = {}
+        self.store: dict = {}
+        self.hits = 0
+        self.misses = 0
+
+    def index(self, f: np.ndarray) -> InvertedIndex:
+        """The database of features ``f``: the one built before for the same features, else a new one."""
+        f = np.ascontiguousarray(f, dtype=np.float32)
+        key = _digest(f)
+        got = self.indexes.get(key)
+        if got is None:
+            got = InvertedIndex(f)
+            got._digest = key
+            self.indexes[key] = got
+            while sum(i.features.nbytes for i in self.indexes.values()) > self.max_index_bytes:
+                self.indexes.pop(next(iter(self.indexes)))  # least recently used first
+        else:
+            self.indexes[key] = self.indexes.pop(key)
+        return got
+
+    def search(self, q, index, k, p, kernel, batch, metric):
+        if index._digest is None:
+            index._digest = _digest(index.features)
+        key = (index._digest, _digest(q), p, kernel, metric, int(batch))
+        got = self.store.get(key)
+        if got is not None and got[0].shape[1] >= k:
+            self.hits += 1
+            self.store[key] = self.store.pop(key)  # most recently used last
+            return np.ascontiguousarray(got[0][:, :k]), np.ascontiguousarray(got[1][:, :k])
+        self.misses += 1
+        kk = min(max(k, _SHARED_K), index.features.shape[0])
+        dist, idx = _knn_search(q, index, kk, p, kernel, batch, metric)
+        self.store.pop(key, None)
+        self.store[key] = (dist, idx)
+        while len(self.store) > self.max_entries:
+            self.store.pop(next(iter(self.store)))
+        return np.ascontiguousarray(dist[:, :k]), np.ascontiguousarray(idx[:, :k])
+
+
+def _digest(a: np.ndarray) -> tuple:
+    """Content key of a C-contiguous array: dtype, shape and a BLAKE2b hash of its bytes."""
+    a = np.ascontiguousarray(a)
+    return a.dtype.str, a.shape, hashlib.blake2b(a.data, digest_size=20).digest()
+
+
+_MEMO: contextvars.ContextVar = contextvars.ContextVar("ilocalg_knn_search_memo", default=None)
+
+
+@contextlib.contextmanager
+def shared_searches(max_entries: int = 1024, max_index_bytes: int = 256 * 2**20):
+    """Inside the block, :func:`knn_search` does each search once and returns the stored result when asked again,
+    and :func:`build_index` builds each database once.
+
+    Two searches are the same when the database features, the query features (compared by a BLAKE2b hash of
+    their bytes), ``p``, ``metric``, ``kernel`` and ``batch`` are: a cross-validation that fits the same fold for
+    several K (a fresh :class:`KnnFingerprint` per candidate builds the same database again), or an offset search
+    whose shift grids overlap (:func:`ilocalg.wifi.offset.offset_search`). Each search keeps at least
+    :data:`_SHARED_K` neighbours and a smaller ``k`` gets their first ``k``: the neighbours are ordered by
+    (distance, training order), a total order, so the ``k`` nearest are the first ``k`` of any larger set, with
+    the same distances (each is computed per query and reference, whatever ``k``). The results are the bits
+    :func:`knn_search` returns outside the block (a test checks it); only the time changes.
+
+    Parameters
+    ----------
+    max_entries : int
+        Searches kept (least recently used dropped first); each holds ``n_q x max(k, 12)`` distances and
+        indices (UJIIndoorLoc's 1,111 validation scans: 213 kB).
+    max_index_bytes : int
+        Feature bytes of the databases kept (least recently used dropped first; UJIIndoorLoc's training set is
+        41 MB). Nested blocks share the outer block's store.
+
+    Yields
+    ------
+    dict
+        ``{"hits": ..., "misses": ...}`` of the searches, filled at exit.
+    """
+    outer = _MEMO.get()
+    memo = outer if outer is not None else _SearchMemo(max_entries, max_index_bytes)
+    token = _MEMO.set(memo)
+    counts: dict = {}
+    try:
+        yield counts
+    finally:
+        _MEMO.reset(token)
+        counts.update(hits=memo.hits, misses=memo.misses)
+
+
+def _knn_search(q: np.ndarray, index: InvertedIndex, k: int, p: int, kernel: str, batch: int,
+                metric: str) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`knn_search` on checked arguments (``q`` float32, C-contiguous)."""
     dist = np.empty((q.shape[0], k), dtype=np.float64)
     idx = np.empty((q.shape[0], k), dtype=np.int64)
     if kernel == "sparse" and metric == "minkowski" and p == 2 and q.shape[1] == index.features.shape[1] \
