@@ -169,7 +169,7 @@ _DV_DPHI_NEG = np.array([3 * N_STATES + 8, 4 * N_STATES + 6, 5 * N_STATES + 7])
 _CF_COMPONENTS_NEG = np.array([1, 2, 0])
 
 
-def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
+def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s, out=None) -> np.ndarray:
     """Batched first-order transition matrices ``Phi = I + F dt`` (L, 21, 21) of the error model (eq. 2).
 
     ``dr' = dv``; ``dv' = -[(C f) x] dphi - C db_a - C diag(f) ds_a``;
@@ -178,6 +178,7 @@ def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
     Parameters
     ----------
     mat_nb : (L, 3, 3); f_b_mps2, omega_b_radps : (L, 3) corrected sensors; dt_s : (L,)
+    out : optional C-contiguous (L, 21, 21) array to write into (the filter's history)
     """
     C = np.asarray(mat_nb, dtype=float)
     L = C.shape[0]
@@ -185,7 +186,8 @@ def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
     cdt = C * dt
     ncdt = -cdt
     cf = np.einsum("lij,lj->li", cdt, f_b_mps2)
-    out = np.empty((L, N_STATES, N_STATES))
+    if out is None:
+        out = np.empty((L, N_STATES, N_STATES))
     out[:] = _PHI_CONSTANT  # identity; zeros where the error model has no term
     flat = out.reshape(L, N_STATES * N_STATES)
     flat[:, _DR_DV] = dt[:, :, 0]
@@ -392,6 +394,56 @@ def _schedule(t_s, updates):
         for row, kk in enumerate(k.tolist()):
             sched.setdefault(kk, []).append((i, row))
     return sched
+
+
+#: Measurement sets whose rows :func:`_stacked_rows` lays out ahead (their ``rows`` read only ``z``, ``sd`` and the
+#: state): where in ``[position, velocity, C^T velocity]`` each component's prediction sits.
+_STACKED = {PositionFix: 0, NavVelocity: 3, BodyVelocity: 6}
+
+
+def _stacked_rows(t_s, updates):
+    """Every update epoch's stacked measurement rows laid out ahead, for the epochs whose sets are all of the
+    :data:`_STACKED` classes: ``(plan, Z, R, H, src, body)`` with ``plan`` {epoch: (a, b)} the epoch's rows
+    ``a:b`` of ``Z`` (M,) measured values, ``R`` (M,) variances ``sd**2`` and ``H`` (M, 21) Jacobians (constant
+    entries written; the body-velocity rows' ``C^T`` and ``C^T [v x]`` are written at the update), ``src`` (M,)
+    the index of each row's prediction in ``[pos, vel, C^T vel]`` and ``body`` {epoch: (local rows, components)}
+    of its body-velocity rows. The rows are those :meth:`_ThreeAxisMeasurement.rows` returns (used components
+    only), in the order :func:`run_eskf` stacks them (epoch, set, measurement, component): the same values as
+    stacking them at the update."""
+    recs, other = [], []
+    for i, u in enumerate(updates):
+        if np.size(u.t_s) == 0:
+            continue
+        k = np.searchsorted(t_s, u.t_s, side="left")
+        off = _STACKED.get(type(u))
+        if off is None:
+            other.append(k)
+            continue
+        j, c = np.nonzero(np.isfinite(u.sd))  # row-major: measurement, then component
+        recs.append((np.unique(k), k[j], np.full(j.size, i), j, c, u.z[j, c], (u.sd ** 2)[j, c], off + c))
+    if not recs:
+        return {}, None, None, None, None, {}
+    epochs = np.unique(np.concatenate([r[0] for r in recs]))
+    if other:
+        epochs = np.setdiff1d(epochs, np.concatenate(other))
+    kk, ii, jj, cc, Z, R, src = (np.concatenate([r[n] for r in recs]) for n in range(1, 8))
+    order = np.lexsort((cc, jj, ii, kk))
+    kk, cc, Z, R, src = kk[order], cc[order], Z[order], R[order], src[order]
+    keep = np.isin(kk, epochs)
+    kk, cc, Z, R, src = kk[keep], cc[keep], Z[keep], R[keep], src[keep]
+    a = np.searchsorted(kk, epochs, side="left")
+    b = np.searchsorted(kk, epochs, side="right")
+    plan = dict(zip(epochs.tolist(), zip(a.tolist(), b.tolist(), strict=True), strict=True))
+    H = np.zeros((kk.size, N_STATES))
+    const = np.flatnonzero(src < 6)  # position rows: 1 at the position component; ENU velocity rows: at velocity
+    H[const, src[const]] = 1.0
+    body = {}
+    ib = np.flatnonzero(src >= 6)
+    if ib.size:
+        eb, first = np.unique(kk[ib], return_index=True)
+        for e, grp in zip(eb.tolist(), np.split(ib, first[1:]), strict=True):
+            body[e] = (grp - plan[e][0], cc[grp])
+    return plan, Z, R, H, src.astype(np.intp), body
 
 
 def _same_bits(a, b) -> bool:
@@ -609,6 +661,7 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             sdv = np.asarray(sd, dtype=float)
             _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
     sched = _schedule(t_s, updates)
+    plan, Z_all, R_all, H_all, src_all, body = _stacked_rows(t_s, updates)
     s0 = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
     P = 0.5 * (P0 + P0.T)
     full = bool(keep_covariance)
@@ -669,12 +722,11 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             seg = slice(k, kb)
             dt = dt_all[seg]
             w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
-            pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1] = strapdown(p, v, C, w_c, f_c, dt)
+            strapdown(p, v, C, w_c, f_c, dt, out=(pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1]))
             sens[k + 1:kb + 1] = s
             qd = qd_all[seg]
             if full:
-                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)
-                Phis[k + 1:kb + 1] = Ph
+                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt, out=Phis[k + 1:kb + 1])
                 P = _predict_stretch(P, Ph, qd, P_minus[k + 1:kb + 1], P_plus[k + 1:kb + 1])
             else:
                 # bounded memory: transition matrices a stretch at a time, checkpoints every CHECKPOINT_EPOCHS
@@ -688,7 +740,25 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             P_minus[0] = P
         k = kb
         rows = sched.get(kb)
-        if rows:
+        ab = plan.get(kb)
+        if ab is not None:
+            # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
+            a, b = ab
+            if b > a:
+                bo = body.get(kb)
+                Hk = H_all[a:b]
+                if bo is None:
+                    x = np.concatenate((p, v))
+                else:
+                    Ct = C.T
+                    x = np.concatenate((p, v, Ct @ v))
+                    Hk[bo[0], 3:6] = Ct[bo[1]]
+                    Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
+                dx, P, nis[kb] = joseph_update(P, Z_all[a:b] - x[src_all[a:b]], Hk, R_all[a:b])
+                n_meas[kb] = b - a
+                dxs[kb] = dx
+                p, v, C, s = correct_nav(p, v, C, s, dx)
+        elif rows:
             # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
             innov, Hs, Rd = [], [], []
             for i, j in rows:
