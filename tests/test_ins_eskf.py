@@ -270,3 +270,47 @@ def test_eskf_predict_into_buffers_gives_the_same_bits():
     assert got is out
     assert np.array_equal(got, ins.eskf_predict(P, Phi, q))
     assert np.array_equal(got, Phi @ P @ Phi.T + np.diag(q))
+
+
+def _fields_equal(a, b):
+    keys = ("pos_n_m", "vel_n_mps", "mat_nb", "sensor", "dx", "nis", "n_meas", "P_plus", "P_minus", "Phi", "cp_idx",
+            "cp_P")
+    return all((getattr(a, k) is None and getattr(b, k) is None)
+               or np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True) for k in keys)
+
+
+@pytest.mark.parametrize("keep", [True, False])
+def test_prefix_reuses_the_shared_beginning_with_the_same_bits(keep):
+    rng = np.random.default_rng(5)
+    n = 2500
+    t = np.cumsum(rng.uniform(0.015, 0.025, n))
+    g = rng.normal(0, 0.01, (n, 3))
+    f = np.tile([0.0, 0.0, 9.80665], (n, 1)) + rng.normal(0, 0.05, (n, 3))
+    i1, i2 = np.arange(10, n, 40), np.arange(1300, n, 300)
+    fix = ins.PositionFix(t[i1], rng.normal(0, 0.3, (i1.size, 3)), np.full((i1.size, 3), 0.3))
+    vel = ins.NavVelocity(t[i1[::3]], np.zeros((i1[::3].size, 3)), np.full((i1[::3].size, 3), 0.05))
+    gcp = ins.PositionFix(t[i2], rng.normal(0, 0.1, (i2.size, 3)), np.full((i2.size, 3), 0.1))
+    args = (t, g, f, np.zeros(3), np.zeros(3), np.eye(3), ins.initial_covariance())
+    a = ins.run_eskf(*args, [fix, vel], CFG, keep_covariance=keep)
+    b = ins.run_eskf(*args, [fix, vel, gcp], CFG, keep_covariance=keep)
+    # the run with more fixes, from the run without them (shared up to the update before the first extra fix):
+    # equal to its own run from scratch
+    assert ins.eskf._resume_point(a, b.inputs) == i1[i1 < i2[0]][-1]
+    assert _fields_equal(ins.run_eskf(*args, [fix, vel, gcp], CFG, keep_covariance=keep, prefix=a), b)
+    assert ins.same_run(b, ins.run_eskf(*args, [fix, vel, gcp], CFG, keep_covariance=keep, prefix=b))
+    assert not ins.same_run(a, b)
+    # a fix moved by one ulp after the first extra fix, a changed sensor sample, another history mode: the same
+    # bits as a run from scratch
+    z2 = gcp.z.copy()
+    z2[2, 0] = np.nextafter(z2[2, 0], np.inf)
+    gcp2 = ins.PositionFix(gcp.t_s, z2, gcp.sd)
+    c = ins.run_eskf(*args, [fix, vel, gcp2], CFG, keep_covariance=keep, prefix=[a, b])
+    assert _fields_equal(c, ins.run_eskf(*args, [fix, vel, gcp2], CFG, keep_covariance=keep))
+    assert not np.array_equal(c.pos_n_m, b.pos_n_m)
+    f2 = f.copy()
+    f2[500, 1] += 1e-3
+    args2 = (t, g, f2, *args[3:])
+    assert _fields_equal(ins.run_eskf(*args2, [fix, vel, gcp], CFG, keep_covariance=keep, prefix=b),
+                         ins.run_eskf(*args2, [fix, vel, gcp], CFG, keep_covariance=keep))
+    other = ins.run_eskf(*args, [fix, vel, gcp], CFG, keep_covariance=not keep, prefix=b)
+    assert np.array_equal(other.pos_n_m, b.pos_n_m) and (other.P_plus is None) == keep

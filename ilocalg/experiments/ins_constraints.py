@@ -13,6 +13,7 @@ import pandas as pd
 
 from ilocalg.ins import error_stats, eskf_rts_smooth, heading_error_with_lag_deg
 from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, stats_rows, trajectory_frame
+from ilocalg.ins.eskf import same_run
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walk, stair_mask
@@ -172,7 +173,10 @@ def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action):
     on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``."""
     if w is walk:
         return (METHODS[2], (rgcp.pos_n_m, rgcp.mat_nb)), (METHODS[3], sol[METHODS[3]])
-    r = run_walk(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+    # a walk with other control points has the default walk's IMU log: the filters agree up to the first difference
+    r = run_walk(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action, prefix=(rgcp,))
+    if same_run(rgcp, r):  # the same fixes as the default walk's (e.g. little RSSI scatter): the same smoothing
+        return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], sol[METHODS[3]])
     sm = eskf_rts_smooth(r, with_cov=False)
     return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], (sm.pos_n_m, sm.mat_nb))
 
@@ -189,7 +193,7 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
 
     for label, opt, action in STAIR_VARIANTS:
         same = handling(opt, action) == handling(stairs, stair_action)
-        sol_o = sol if same else run_methods(walk, opt, action, nhc=sol[METHODS[0]])[0]
+        sol_o = sol if same else run_methods(walk, opt, action, nhc=sol[METHODS[0]], prefix=(rgcp,))[0]
         for method, (pos, mat) in sol_o.items():
             st = error_stats(indoor_errors(walk, pos, mat, ind))
             stair_rows += [{"phone": phone, "stairs": label, "method": method, "seed": s, "stat": k,

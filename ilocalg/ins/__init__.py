@@ -58,6 +58,7 @@ from ilocalg.ins.eskf import (
     position_rows,
     process_noise_diag,
     run_eskf,
+    same_run,
     transition_matrices,
     transition_matrix,
 )
@@ -167,6 +168,7 @@ __all__ = [
     "eskf_rts_smooth",
     "eskf_rts_smooth_grids",
     "run_eskf",
+    "same_run",
     "skew",
     "step_frequency_hz",
     "transition_matrix",

@@ -31,20 +31,23 @@ METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT
            "Smoothing + WVC/ZUPT + GCP")
 
 
-def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None):
+def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None, prefix=()):
     """The four methods on one walk: ``({method: (pos, mat)}, gcp_filter_result)``.
 
     ``nhc``: the ``(pos, mat)`` of Filtering + NHC/ZUPT on this walk when already run (it does not depend on the
-    stair handling, which only the WVC uses).
+    stair handling, which only the WVC uses). ``prefix``: earlier filter results on the same IMU log (e.g. the
+    default stair handling's), whose shared beginning the filters reuse (:func:`~ilocalg.ins.eskf.run_eskf`); the
+    filter with control points reuses the one without them up to the first control point. The same numbers.
     """
     out = {}
+    prefix = list(prefix)
     if nhc is None:
-        r = run_walk(walk, "nhc", use_gcp=False)
+        r = run_walk(walk, "nhc", use_gcp=False, prefix=prefix)
         nhc = (r.pos_n_m, r.mat_nb)
     out[METHODS[0]] = nhc
-    r = run_walk(walk, "wvc", use_gcp=False, stairs=stairs, stair_action=stair_action)
+    r = run_walk(walk, "wvc", use_gcp=False, stairs=stairs, stair_action=stair_action, prefix=prefix)
     out[METHODS[1]] = (r.pos_n_m, r.mat_nb)
-    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
+    r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action, prefix=[r, *prefix])
     out[METHODS[2]] = (r.pos_n_m, r.mat_nb)
     s = eskf_rts_smooth(r, with_cov=False)
     out[METHODS[3]] = (s.pos_n_m, s.mat_nb)

@@ -64,6 +64,7 @@ __all__ = [
     "MIN_MEAS_VARIANCE",
     "CHECKPOINT_EPOCHS",
     "run_eskf",
+    "same_run",
 ]
 
 N_STATES = 21
@@ -113,6 +114,9 @@ class EskfResult:
     None) but checkpoints: ``cp_idx`` (K,) epochs (every update epoch and at least every
     :data:`CHECKPOINT_EPOCHS` epochs) and ``cp_P`` (K, 21, 21) the covariance there, with the raw sensors
     ``gyr_b_radps`` / ``acc_b_mps2`` (N, 3), from which :func:`covariance_chunk` recomputes any stretch exactly.
+
+    ``inputs``: what :func:`run_eskf` was given (IMU log, initial state, covariance, measurement sets, configuration,
+    history mode), by reference, so that a later run can reuse the epochs it shares with this one (``prefix``).
     """
 
     t_s: np.ndarray
@@ -131,6 +135,7 @@ class EskfResult:
     cp_P: np.ndarray | None = None
     gyr_b_radps: np.ndarray | None = None
     acc_b_mps2: np.ndarray | None = None
+    inputs: tuple | None = field(default=None, repr=False, compare=False)
 
 
 def initial_covariance(pos_sd_m=1.0, vel_sd_mps=0.1, att_sd_rad=(0.03, 0.03, 0.2), acc_bias_sd_mps2=0.1,
@@ -164,7 +169,7 @@ _DV_DPHI_NEG = np.array([3 * N_STATES + 8, 4 * N_STATES + 6, 5 * N_STATES + 7])
 _CF_COMPONENTS_NEG = np.array([1, 2, 0])
 
 
-def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
+def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s, out=None) -> np.ndarray:
     """Batched first-order transition matrices ``Phi = I + F dt`` (L, 21, 21) of the error model (eq. 2).
 
     ``dr' = dv``; ``dv' = -[(C f) x] dphi - C db_a - C diag(f) ds_a``;
@@ -173,6 +178,7 @@ def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
     Parameters
     ----------
     mat_nb : (L, 3, 3); f_b_mps2, omega_b_radps : (L, 3) corrected sensors; dt_s : (L,)
+    out : optional C-contiguous (L, 21, 21) array to write into (the filter's history)
     """
     C = np.asarray(mat_nb, dtype=float)
     L = C.shape[0]
@@ -180,7 +186,8 @@ def transition_matrices(mat_nb, f_b_mps2, omega_b_radps, dt_s) -> np.ndarray:
     cdt = C * dt
     ncdt = -cdt
     cf = np.einsum("lij,lj->li", cdt, f_b_mps2)
-    out = np.empty((L, N_STATES, N_STATES))
+    if out is None:
+        out = np.empty((L, N_STATES, N_STATES))
     out[:] = _PHI_CONSTANT  # identity; zeros where the error model has no term
     flat = out.reshape(L, N_STATES * N_STATES)
     flat[:, _DR_DV] = dt[:, :, 0]
@@ -389,6 +396,129 @@ def _schedule(t_s, updates):
     return sched
 
 
+#: Measurement sets whose rows :func:`_stacked_rows` lays out ahead (their ``rows`` read only ``z``, ``sd`` and the
+#: state): where in ``[position, velocity, C^T velocity]`` each component's prediction sits.
+_STACKED = {PositionFix: 0, NavVelocity: 3, BodyVelocity: 6}
+
+
+def _stacked_rows(t_s, updates):
+    """Every update epoch's stacked measurement rows laid out ahead, for the epochs whose sets are all of the
+    :data:`_STACKED` classes: ``(plan, Z, R, H, src, body)`` with ``plan`` {epoch: (a, b)} the epoch's rows
+    ``a:b`` of ``Z`` (M,) measured values, ``R`` (M,) variances ``sd**2`` and ``H`` (M, 21) Jacobians (constant
+    entries written; the body-velocity rows' ``C^T`` and ``C^T [v x]`` are written at the update), ``src`` (M,)
+    the index of each row's prediction in ``[pos, vel, C^T vel]`` and ``body`` {epoch: (local rows, components)}
+    of its body-velocity rows. The rows are those :meth:`_ThreeAxisMeasurement.rows` returns (used components
+    only), in the order :func:`run_eskf` stacks them (epoch, set, measurement, component): the same values as
+    stacking them at the update."""
+    recs, other = [], []
+    for i, u in enumerate(updates):
+        if np.size(u.t_s) == 0:
+            continue
+        k = np.searchsorted(t_s, u.t_s, side="left")
+        off = _STACKED.get(type(u))
+        if off is None:
+            other.append(k)
+            continue
+        j, c = np.nonzero(np.isfinite(u.sd))  # row-major: measurement, then component
+        recs.append((np.unique(k), k[j], np.full(j.size, i), j, c, u.z[j, c], (u.sd ** 2)[j, c], off + c))
+    if not recs:
+        return {}, None, None, None, None, {}
+    epochs = np.unique(np.concatenate([r[0] for r in recs]))
+    if other:
+        epochs = np.setdiff1d(epochs, np.concatenate(other))
+    kk, ii, jj, cc, Z, R, src = (np.concatenate([r[n] for r in recs]) for n in range(1, 8))
+    order = np.lexsort((cc, jj, ii, kk))
+    kk, cc, Z, R, src = kk[order], cc[order], Z[order], R[order], src[order]
+    keep = np.isin(kk, epochs)
+    kk, cc, Z, R, src = kk[keep], cc[keep], Z[keep], R[keep], src[keep]
+    a = np.searchsorted(kk, epochs, side="left")
+    b = np.searchsorted(kk, epochs, side="right")
+    plan = dict(zip(epochs.tolist(), zip(a.tolist(), b.tolist(), strict=True), strict=True))
+    H = np.zeros((kk.size, N_STATES))
+    const = np.flatnonzero(src < 6)  # position rows: 1 at the position component; ENU velocity rows: at velocity
+    H[const, src[const]] = 1.0
+    body = {}
+    ib = np.flatnonzero(src >= 6)
+    if ib.size:
+        eb, first = np.unique(kk[ib], return_index=True)
+        for e, grp in zip(eb.tolist(), np.split(ib, first[1:]), strict=True):
+            body[e] = (grp - plan[e][0], cc[grp])
+    return plan, Z, R, H, src.astype(np.intp), body
+
+
+def _same_bits(a, b) -> bool:
+    """Whether two float arrays hold the same bits (NaN payloads and signed zeros included)."""
+    if a is b:
+        return True
+    a, b = np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(b, dtype=float)
+    return a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
+
+
+def _rows_record(t_s, updates, codes: dict):
+    """Every measurement row of ``updates`` in the order :func:`run_eskf` stacks them: ``(epoch (R,), content
+    (R, 7))``, sorted by epoch, set and row. ``content`` is a code for what computes the row (the class of a
+    :class:`PositionFix`-like set; the object itself for any other :class:`Measurement`, with its row index) and
+    the bits of ``z`` and ``sd``: two rows with equal content give the same innovation, H and R."""
+    ks, keys, contents = [], [], []
+    for i, u in enumerate(updates):
+        m = np.size(u.t_s)
+        if m == 0:
+            continue
+        k = np.searchsorted(t_s, np.asarray(u.t_s, dtype=float), side="left")
+        three = isinstance(u, _ThreeAxisMeasurement)
+        c = np.empty((m, 7), dtype=np.int64)
+        c[:, 0] = codes.setdefault(type(u) if three else ("object", id(u)), len(codes))
+        if three:
+            c[:, 1:4] = np.ascontiguousarray(u.z).view(np.int64)
+            c[:, 4:7] = np.ascontiguousarray(u.sd).view(np.int64)
+        else:
+            c[:, 1:] = np.arange(m)[:, None]
+        ks.append(k)
+        keys.append(np.column_stack([k, np.full(m, i), np.arange(m)]))
+        contents.append(c)
+    if not ks:
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 7), dtype=np.int64)
+    key = np.concatenate(keys)
+    order = np.lexsort((key[:, 2], key[:, 1], key[:, 0]))
+    return np.concatenate(ks)[order], np.concatenate(contents)[order]
+
+
+def _first_difference(old: tuple | None, inputs: tuple) -> tuple[int, np.ndarray]:
+    """The first epoch where two runs' inputs (as stored in :attr:`EskfResult.inputs`) differ (N when they
+    never do, -1 for another IMU log, initial state, configuration or history mode), and the update epochs of
+    ``inputs`` before it."""
+    if old is None:
+        return -1, np.zeros(0, dtype=np.int64)
+    t_s, updates, config, full = inputs[0], inputs[8], inputs[9], inputs[10]
+    if old[9] != config or old[10] != full or not all(_same_bits(a, b) for a, b in zip(old[:8], inputs[:8],
+                                                                                         strict=True)):
+        return -1, np.zeros(0, dtype=np.int64)
+    codes: dict = {}
+    ka, ca = _rows_record(t_s, old[8], codes)
+    kb, cb = _rows_record(t_s, updates, codes)
+    m = min(ka.size, kb.size)
+    same = (ka[:m] == kb[:m]) & np.all(ca[:m] == cb[:m], axis=1)
+    p = int(np.argmin(same)) if m and not same.all() else m
+    if p < ka.size or p < kb.size:
+        first = min(ka[p] if p < ka.size else t_s.size, kb[p] if p < kb.size else t_s.size)
+    else:
+        first = t_s.size  # the same measurements throughout
+    return int(first), kb[:p][kb[:p] < first]
+
+
+def _resume_point(prev: EskfResult, inputs: tuple) -> int:
+    """The last update epoch of ``prev`` before the first epoch where its inputs and ``inputs`` differ: every
+    epoch up to it is the same computation on the same numbers in both runs (-1: none)."""
+    _, before = _first_difference(prev.inputs, inputs)
+    return int(before[-1]) if before.size else -1
+
+
+def same_run(a: EskfResult, b: EskfResult) -> bool:
+    """Whether two filter results come from the same inputs, bit for bit (IMU log, initial state, covariance,
+    measurements, configuration, history mode): then every output is the same, and so is any smoothing of it."""
+    return a is b or (b.inputs is not None and _first_difference(a.inputs, b.inputs)[0] == b.t_s.size)
+
+
 #: Largest sane variance of any state of the 21-state model (a standard deviation of 1e6 in its unit).
 MAX_VARIANCE = 1e12
 #: Smallest measurement variance :func:`run_eskf` accepts (a standard deviation of 1 micrometre or
@@ -475,7 +605,8 @@ def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=
 
 
 def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
-             config: EskfConfig | None = None, sensor0=None, keep_covariance: bool = True) -> EskfResult:
+             config: EskfConfig | None = None, sensor0=None, keep_covariance: bool = True,
+             prefix=()) -> EskfResult:
     """Run the closed-loop 21-state EKF over an IMU log with the given measurement sets.
 
     Between two update epochs the driver propagates with constant sensor-error estimates, vectorised
@@ -498,6 +629,12 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     keep_covariance : True stores the (N, 21, 21) histories ``P_plus``, ``P_minus`` and ``Phi`` (what
         :func:`~ilocalg.ins.smoother.eskf_rts_smooth` reads fastest); False stores only checkpoints (memory
         O(N) instead of O(441 N); the smoother recomputes each stretch from them)
+    prefix : earlier results (an :class:`EskfResult` or a sequence of them) of runs that may share a beginning
+        with this one: when one had the same IMU log, initial state, covariance, configuration and history mode
+        and the same measurements up to some epoch (compared bit for bit), the epochs up to its last update
+        before the first difference are copied from it instead of recomputed (the same numbers: the filter is
+        deterministic); the run continues from there. E.g. the filter with control points after the same filter
+        without them (the same until the first control point).
 
     Returns
     -------
@@ -524,13 +661,23 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             sdv = np.asarray(sd, dtype=float)
             _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
     sched = _schedule(t_s, updates)
+    plan, Z_all, R_all, H_all, src_all, body = _stacked_rows(t_s, updates)
+    s0 = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
+    P = 0.5 * (P0 + P0.T)
+    full = bool(keep_covariance)
+    inputs = (t_s, gyr, acc, np.asarray(pos0_n_m, dtype=float), np.asarray(vel0_n_mps, dtype=float),
+              np.asarray(mat0_nb, dtype=float), P, s0, tuple(updates), config, full)
+    prev, k_start = None, -1
+    for cand in ([prefix] if isinstance(prefix, EskfResult) else prefix):
+        k_c = _resume_point(cand, inputs)
+        if k_c > k_start:
+            prev, k_start = cand, k_c
     n = t_s.size
     pos = np.empty((n, 3))
     vel = np.empty((n, 3))
     mat = np.empty((n, 3, 3))
     sens = np.empty((n, 12))
     dxs = np.zeros((n, N_STATES))
-    full = bool(keep_covariance)
     if full:
         P_plus = np.empty((n, N_STATES, N_STATES))
         P_minus = np.empty((n, N_STATES, N_STATES))
@@ -545,8 +692,7 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     p = np.asarray(pos0_n_m, dtype=float).copy()
     v = np.asarray(vel0_n_mps, dtype=float).copy()
     C = np.asarray(mat0_nb, dtype=float).copy()
-    s = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
-    P = 0.5 * (P0 + P0.T)
+    s = s0.copy()
     if not full:
         cps.append((0, P.copy()))
     dt_all = np.diff(t_s)
@@ -554,18 +700,33 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     # segment boundaries: every update epoch and the last epoch
     stops = sorted(set(sched) | {n - 1})
     k = 0
+    if prev is not None:
+        # epochs 0..k_start (k_start an update epoch) as the earlier run computed them; continue after its update
+        k = k_start
+        e = k + 1
+        for a, b in ((pos, prev.pos_n_m), (vel, prev.vel_n_mps), (mat, prev.mat_nb), (sens, prev.sensor),
+                     (dxs, prev.dx), (nis, prev.nis), (n_meas, prev.n_meas)):
+            a[:e] = b[:e]
+        if full:
+            P_plus[:e], P_minus[:e], Phis[:e] = prev.P_plus[:e], prev.P_minus[:e], prev.Phi[:e]
+            P = prev.P_plus[k].copy()
+        else:
+            j = int(np.searchsorted(prev.cp_idx, k, side="right"))
+            cps = [(int(i), c.copy()) for i, c in zip(prev.cp_idx[:j], prev.cp_P[:j], strict=True)]
+            P = cps[-1][1].copy()
+        p, v, C, s = pos[k].copy(), vel[k].copy(), mat[k].copy(), sens[k].copy()
+        stops = [kb for kb in stops if kb > k]
     for kb in stops:
         if kb > k:
             # predict k -> kb with constant sensor-error estimates (eq. 2-3)
             seg = slice(k, kb)
             dt = dt_all[seg]
             w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
-            pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1] = strapdown(p, v, C, w_c, f_c, dt)
+            strapdown(p, v, C, w_c, f_c, dt, out=(pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1]))
             sens[k + 1:kb + 1] = s
             qd = qd_all[seg]
             if full:
-                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt)
-                Phis[k + 1:kb + 1] = Ph
+                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt, out=Phis[k + 1:kb + 1])
                 P = _predict_stretch(P, Ph, qd, P_minus[k + 1:kb + 1], P_plus[k + 1:kb + 1])
             else:
                 # bounded memory: transition matrices a stretch at a time, checkpoints every CHECKPOINT_EPOCHS
@@ -579,7 +740,25 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             P_minus[0] = P
         k = kb
         rows = sched.get(kb)
-        if rows:
+        ab = plan.get(kb)
+        if ab is not None:
+            # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
+            a, b = ab
+            if b > a:
+                bo = body.get(kb)
+                Hk = H_all[a:b]
+                if bo is None:
+                    x = np.concatenate((p, v))
+                else:
+                    Ct = C.T
+                    x = np.concatenate((p, v, Ct @ v))
+                    Hk[bo[0], 3:6] = Ct[bo[1]]
+                    Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
+                dx, P, nis[kb] = joseph_update(P, Z_all[a:b] - x[src_all[a:b]], Hk, R_all[a:b])
+                n_meas[kb] = b - a
+                dxs[kb] = dx
+                p, v, C, s = correct_nav(p, v, C, s, dx)
+        elif rows:
             # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
             innov, Hs, Rd = [], [], []
             for i, j in rows:
@@ -615,7 +794,7 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
         extra = {"cp_idx": np.array([c[0] for c in cps], dtype=np.int64), "cp_P": np.array([c[1] for c in cps]),
                  "gyr_b_radps": gyr, "acc_b_mps2": acc}
     return EskfResult(t_s=t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sens, dx=dxs, P_plus=P_plus,
-                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config, **extra)
+                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config, inputs=inputs, **extra)
 
 
 def covariance_chunk(res: EskfResult, a: int, b: int):

@@ -170,7 +170,7 @@ def dcm_to_euler(mat_nb) -> np.ndarray:
     return np.stack([roll, pitch, yaw], -1)
 
 
-def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
+def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s, out=None):
     """Strapdown integration over L steps from mean rates: the one copy of the mechanisation equations.
 
     Step ``j`` uses the angular rate ``gyr[j]`` and specific force ``acc[j]`` held over ``dt[j]``:
@@ -185,6 +185,8 @@ def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
     gyr_b_radps, acc_b_mps2 : (L, 3) angular rate (rad/s) and specific force (m/s^2), body frame
     dt_s : (L,) step lengths (s)
 
+    out : optional ``(pos, vel, mat)`` C-contiguous arrays of those shapes to write into (the filter's histories)
+
     Returns
     -------
     pos_n_m (L+1, 3), vel_n_mps (L+1, 3), mat_nb (L+1, 3, 3): the start and the state after every step.
@@ -194,16 +196,25 @@ def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s):
     Liao et al. (2016), sec. 3.1 (the INS that eq. 1-6 correct); Shin (2005), UCGE 20219, ch. 2.
     """
     dt = np.asarray(dt_s, dtype=float)
+    L = dt.size
+    pos, vel, mat = out if out is not None else (np.empty((L + 1, 3)), np.empty((L + 1, 3)), np.empty((L + 1, 3, 3)))
     dC = rotvecs_to_dcm(np.asarray(gyr_b_radps, dtype=float) * dt[:, None])
-    mat = np.empty((dt.size + 1, 3, 3))
     mat[0] = mat0_nb
-    for j in range(dt.size):
-        np.matmul(mat[j], dC[j], out=mat[j + 1])  # mat[j] @ dC[j], written in place
-    dv = (0.5 * dt[:, None] * np.einsum("lij,lj->li", mat[:-1] + mat[1:], acc_b_mps2)
-          + GRAVITY_N_MPS2 * dt[:, None])
-    vel = vel0_n_mps + np.concatenate([np.zeros((1, 3)), np.cumsum(dv, axis=0)])
-    pos = pos0_n_m + np.concatenate([np.zeros((1, 3)), np.cumsum(0.5 * dt[:, None] * (vel[:-1] + vel[1:]),
-                                                                 axis=0)])
+    mm = np.matmul
+    for j in range(L):
+        mm(mat[j], dC[j], out=mat[j + 1])  # mat[j] @ dC[j], written in place
+    half_dt = 0.5 * dt[:, None]
+    dv = half_dt * np.einsum("lij,lj->li", mat[:-1] + mat[1:], acc_b_mps2)
+    dv += GRAVITY_N_MPS2 * dt[:, None]
+    # vel0 + [0, cumsum(dv)] and pos0 + [0, cumsum(dt/2 (vel_j + vel_j+1))], written in place
+    np.add(vel0_n_mps, 0.0, out=vel[0])
+    np.cumsum(dv, axis=0, out=vel[1:])
+    np.add(vel0_n_mps, vel[1:], out=vel[1:])
+    dp = vel[:-1] + vel[1:]
+    dp *= half_dt
+    np.add(pos0_n_m, 0.0, out=pos[0])
+    np.cumsum(dp, axis=0, out=pos[1:])
+    np.add(pos0_n_m, pos[1:], out=pos[1:])
     return pos, vel, mat
 
 

@@ -128,11 +128,12 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
 
 def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
              wvc_params: dict | None = None, stairs: str = "none", stair_action: str = "drop",
-             step_smoothing: str = "none", keep_covariance: bool = True) -> EskfResult:
+             step_smoothing: str = "none", keep_covariance: bool = True, prefix=()) -> EskfResult:
     """Level the phone over its first ``level_s`` seconds, initialise and run the 21-state filter.
 
-    ``stairs``, ``stair_action``, ``step_smoothing``: see :func:`walk_updates`; ``keep_covariance``: see
-    :func:`~ilocalg.ins.eskf.run_eskf`.
+    ``stairs``, ``stair_action``, ``step_smoothing``: see :func:`walk_updates`; ``keep_covariance`` and ``prefix``
+    (earlier runs on the same IMU log whose shared beginning is reused, e.g. this walk without control points):
+    see :func:`~ilocalg.ins.eskf.run_eskf`.
     """
     s = settings or PhoneFilterSettings()
     t = walk.t_s
@@ -144,4 +145,5 @@ def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: Phon
                             acc_sf_sd=s.acc_sf_sd, gyr_sf_sd=s.gyr_sf_sd)
     ups = walk_updates(walk, constraint, use_gcp, s, wvc_params, stairs, stair_action, step_smoothing)
     return run_eskf(t, walk.gyr_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
-                    euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf, keep_covariance=keep_covariance)
+                    euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf, keep_covariance=keep_covariance,
+                    prefix=prefix)
