@@ -52,7 +52,8 @@ def _latest_fix(fix_t, fix_xy, t_s):
 def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2: float,
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
-                  gain: GainStats | None = None, fix_var_model: FixVarModel | None = None) -> dict:
+                  gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
+                  loo_fixes: tuple | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -65,7 +66,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     on the other walks), needed by the ``kf_gain*`` methods. ``fix_var_model``: each fix's own variance
     (:class:`~ilocalg.track.fixes.FixVarModel`); when None and ``cfg.fix_var == "per_fix"`` it is fitted on
     ``db`` (:func:`~ilocalg.track.fixes.fit_fix_var_model`), every method then weighting each fix by it;
-    ``fix_var_m2`` is the one variance of ``cfg.fix_var == "isotropic"``.
+    ``fix_var_m2`` is the one variance of ``cfg.fix_var == "isotropic"``. ``loo_fixes``: the database walks'
+    leave-one-walk-out fixes the per-fix variance and the fix-error correlation are fitted on, when already
+    computed (:func:`~ilocalg.track.fixes.loo_fix_features` of ``db`` with ``cfg``, e.g.
+    :attr:`ilocalg.track.floor.WalkModel.loo_fixes`, kept with the floor model); None: computed here.
 
     Returns
     -------
@@ -97,7 +101,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     fv_note, fix_corr = "isotropic", None
     if (fix_var_model is None and cfg.fix_var == "per_fix") or cfg.fix_corr:
         try:
-            err, feats = loo_fix_features(db, cfg)        # the database walks' own leave-one-walk-out fixes
+            # the database walks' own leave-one-walk-out fixes
+            err, feats = loo_fix_features(db, cfg) if loo_fixes is None else loo_fixes
             if fix_var_model is None and cfg.fix_var == "per_fix":
                 fix_var_model = log_variance_fit((err ** 2).sum(axis=1), feats)
             if cfg.fix_corr:

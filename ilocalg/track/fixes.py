@@ -64,20 +64,25 @@ def db_matrix(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> np.ndar
     return X
 
 
-def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, exclude=None):
+def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, exclude=None, d2=None):
     """Euclidean K nearest fingerprints of every query (dense numpy; one matrix product).
 
     Not-heard readings (NaN) take ``not_heard_dbm``. Database rows hearing nothing and the pairs where
     ``exclude`` (bool, (m, n)) is True are never neighbours. Returns ``(idx, dist)``, each (m, k), nearest
-    first; ``dist`` is inf where fewer than ``k`` rows were allowed.
+    first; ``dist`` is inf where fewer than ``k`` rows were allowed. ``d2`` (m, n): the squared distances
+    ``|q|^2 + |a|^2 - 2 q.a`` of the shifted vectors when already computed (e.g. one product for a whole
+    floor, :func:`loo_fix_features_nested`); not modified.
 
     References
     ----------
     Luo et al. (2017), eq. 1 (the RSSI-space distance of KNN fingerprinting).
     """
     A = np.nan_to_num(np.asarray(db_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
-    B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
-    D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+    if d2 is None:
+        B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+        D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+    else:
+        D2 = d2
     D2 = np.maximum(D2, 0.0)
     D2[:, ~(A > 0).any(axis=1)] = np.inf
     if exclude is not None:
@@ -100,7 +105,7 @@ def _weights(dist, weights: str) -> np.ndarray:
 
 
 def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, return_floor: bool = False,
-                exclude=None):
+                exclude=None, d2=None):
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances.
 
     Euclidean distance (``cfg.p == 2``, the fast dense path :func:`dense_wknn`) or, for other
@@ -108,7 +113,8 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     query's floor: the weighted (``cfg.weights``) majority of its neighbours' floors (NaN when the
     database has no floors), and its confidence (the winning share of the weights). A query sharing
     no access point with the database gets NaN (the estimators' documented no-AP result).
-    ``exclude`` (bool (m, n_rows), dense path only): database rows a query may not use.
+    ``exclude`` (bool (m, n_rows), dense path only): database rows a query may not use. ``d2`` (m, n_rows,
+    dense path only): the queries' squared distances to the rows when already computed (:func:`dense_wknn`).
 
     References
     ----------
@@ -123,7 +129,8 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     if (~miss).any():
         if cfg.p == 2 and cfg.metric == "minkowski":
             idx, dist = dense_wknn(D, X[~miss], cfg.k_neighbors, cfg.not_heard_dbm,
-                                   None if exclude is None else np.asarray(exclude)[~miss])
+                                   None if exclude is None else np.asarray(exclude)[~miss],
+                                   None if d2 is None else d2[~miss])
         else:
             est = _wknn(db, cfg)
             dist, idx = est.kneighbors(X[~miss])
@@ -196,16 +203,56 @@ class FixVarModel:
         return np.exp(self.beta[0] + f @ self.beta[1:]) * self.smear / 2.0
 
 
-def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[np.ndarray, np.ndarray]:
+def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, d2=None) -> tuple[np.ndarray, np.ndarray]:
     """Leave-one-walk-out fix error vectors (n, 2; m, fix minus truth) and :func:`fix_features` (n, 3) of every
     database row, each row located against the rows of the other walks (Euclidean WKNN, :func:`dense_wknn`);
-    NaN errors for rows that cannot be located."""
+    NaN errors for rows that cannot be located. ``d2``: the rows' squared distances to each other when already
+    computed (see :func:`loo_fix_features_nested`)."""
     if not (cfg.p == 2 and cfg.metric == "minkowski"):
         raise ValueError("loo_fix_features: the per-fix variance is measured with the Euclidean WKNN (p=2)")
     D = db_matrix(db, cfg)
-    xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :])
+    xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :], d2=d2)
     age = np.zeros(D.shape[0]) if db.age_s is None else fix_age_s(db.age_s, D)
     return xy - db.xy_m, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
+
+
+def wknn_key(cfg: RealWalkConfig) -> list:
+    """The settings a WKNN fix depends on (``k_neighbors, p, weights, metric, max_age_s, not_heard_dbm``), as a
+    JSON-ready list: what :func:`loo_fix_features` of one database depends on besides the database."""
+    return [cfg.k_neighbors, cfg.p, cfg.weights, cfg.metric, cfg.max_age_s, cfg.not_heard_dbm]
+
+
+def loo_fix_features_nested(db: WifiDatabase, walk_cfgs: dict) -> dict:
+    """:func:`loo_fix_features` of ``db.without(s)`` with ``walk_cfgs[s]`` for every ``s`` of ``walk_cfgs`` (a
+    name that is not a walk of ``db``: of the whole ``db``), the numbers of a leave-one-walk-out sweep's nested
+    fix-variance fits. Returns ``{s: (err, features)}``.
+
+    The squared distances of every pair of rows are one matrix product per reading-age limit (and not-heard
+    value), each walk taking its rows' block of it, instead of one product per walk. They are the same numbers
+    as a product of the walk's own rows when the shifted RSSI values are whole numbers (dBm readings: every
+    product and sum is exact); otherwise each walk gets its own product, as before.
+    """
+    out, groups = {}, {}
+    for s, c in walk_cfgs.items():
+        groups.setdefault((c.max_age_s, c.not_heard_dbm), []).append((s, c))
+    walks = set(db.walk)
+    for members in groups.values():
+        c0 = members[0][1]
+        G = None
+        if all(c.p == 2 and c.metric == "minkowski" for _, c in members):
+            A = np.nan_to_num(db_matrix(db, c0), nan=c0.not_heard_dbm) - c0.not_heard_dbm
+            if np.array_equal(A, np.round(A)) and float(np.abs(A).max(initial=0.0)) ** 2 * A.shape[1] < 2.0 ** 52:
+                sq = (A * A).sum(1)
+                G = sq[:, None] + sq[None, :] - 2.0 * (A @ A.T)
+        for s, c in members:
+            if s in walks:
+                keep = np.flatnonzero(db.walk != s)
+                sub = db.without(s)
+            else:
+                keep, sub = None, db
+            d2 = None if G is None else (G if keep is None else G.take(keep, axis=0).take(keep, axis=1))
+            out[s] = loo_fix_features(sub, c, d2=d2)
+    return out
 
 
 def fix_error_correlation(err_m, walk, max_lag: int = 8) -> tuple[float, float, float]:
