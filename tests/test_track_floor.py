@@ -12,7 +12,13 @@ import pytest
 from ilocalg.sim import walk_recordings as wr
 from ilocalg.track import RealWalkConfig
 from ilocalg.track import floor as floor_mod
-from ilocalg.track.fixes import loo_fix_features, loo_fix_features_nested, select_wifi, select_wifi_nested
+from ilocalg.track.fixes import (
+    calibrate_fix_var,
+    loo_fix_features,
+    loo_fix_features_nested,
+    select_wifi,
+    select_wifi_nested,
+)
 
 
 @pytest.fixture(scope="module")
@@ -196,3 +202,9 @@ def test_loo_fixes_of_the_floor_walks_are_computed_once_for_all_asked(recs, monk
     # a configuration needing no fix model computes none
     assert m.for_walk(walks[0], dataclasses.replace(RealWalkConfig(), fix_var="isotropic",
                                                     fix_corr=False)).loo_fixes is None
+    # without the selection: the one isotropic variance from the same fixes, as calibrate_fix_var alone gives
+    cfg = RealWalkConfig()
+    for s in walks:
+        wm = m.for_walk(s, cfg, select=False)
+        assert wm.fix_var_m2 == calibrate_fix_var(m.db.without(s), cfg)[0]
+        _same(wm.loo_fixes, loo_fix_features(m.db.without(s), cfg))

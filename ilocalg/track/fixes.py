@@ -151,11 +151,18 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     return (xy, C, fl_out) if return_floor else (xy, C)
 
 
+def same_walk(walk) -> np.ndarray:
+    """(n, n) bool: rows ``i, j`` of the same walk (``walk`` (n,) names), compared as integer codes rather than
+    as n^2 Python strings."""
+    codes = np.unique(np.asarray(walk), return_inverse=True)[1].ravel()
+    return codes[:, None] == codes[None, :]
+
+
 def loo_fix_errors(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, without=()) -> np.ndarray:
     """Leave-one-walk-out fix error (m) of every database row: each row located against the rows of the
     *other* walks, never those of ``without`` (nested leave-out); NaN for rows of ``without`` and rows
     hearing nothing the others hear."""
-    excl = db.walk[:, None] == db.walk[None, :]
+    excl = same_walk(db.walk)
     if len(without):
         excl |= np.isin(db.walk, list(without))[None, :]
     xy, _ = locate_wknn(db, db_matrix(db, cfg), cfg, exclude=excl)
@@ -211,7 +218,7 @@ def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, d2=
     if not (cfg.p == 2 and cfg.metric == "minkowski"):
         raise ValueError("loo_fix_features: the per-fix variance is measured with the Euclidean WKNN (p=2)")
     D = db_matrix(db, cfg)
-    xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :], d2=d2)
+    xy, C = locate_wknn(db, D, cfg, exclude=same_walk(db.walk), d2=d2)
     age = np.zeros(D.shape[0]) if db.age_s is None else fix_age_s(db.age_s, D)
     return xy - db.xy_m, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
 
@@ -232,26 +239,34 @@ def loo_fix_features_nested(db: WifiDatabase, walk_cfgs: dict) -> dict:
     as a product of the walk's own rows when the shifted RSSI values are whole numbers (dBm readings: every
     product and sum is exact); otherwise each walk gets its own product, as before.
     """
-    out, groups = {}, {}
-    for s, c in walk_cfgs.items():
-        groups.setdefault((c.max_age_s, c.not_heard_dbm), []).append((s, c))
+    return dict(zip(walk_cfgs, loo_fix_features_shared(db, list(walk_cfgs.items())), strict=True))
+
+
+def loo_fix_features_shared(db: WifiDatabase, pairs) -> list:
+    """:func:`loo_fix_features_nested` for a list of ``(walk, cfg)`` pairs (a walk may come with several
+    configurations; a name that is not a walk of ``db``: the whole ``db``). Returns one ``(err, features)`` per
+    pair, in order."""
+    pairs = list(pairs)
+    out, groups = [None] * len(pairs), {}
+    for i, (s, c) in enumerate(pairs):
+        groups.setdefault((c.max_age_s, c.not_heard_dbm), []).append((i, s, c))
     walks = set(db.walk)
     for members in groups.values():
-        c0 = members[0][1]
+        c0 = members[0][2]
         G = None
-        if all(c.p == 2 and c.metric == "minkowski" for _, c in members):
+        if all(c.p == 2 and c.metric == "minkowski" for _, _, c in members):
             A = np.nan_to_num(db_matrix(db, c0), nan=c0.not_heard_dbm) - c0.not_heard_dbm
             if np.array_equal(A, np.round(A)) and float(np.abs(A).max(initial=0.0)) ** 2 * A.shape[1] < 2.0 ** 52:
                 sq = (A * A).sum(1)
                 G = sq[:, None] + sq[None, :] - 2.0 * (A @ A.T)
-        for s, c in members:
+        for i, s, c in members:
             if s in walks:
                 keep = np.flatnonzero(db.walk != s)
                 sub = db.without(s)
             else:
                 keep, sub = None, db
             d2 = None if G is None else (G if keep is None else G.take(keep, axis=0).take(keep, axis=1))
-            out[s] = loo_fix_features(sub, c, d2=d2)
+            out[i] = loo_fix_features(sub, c, d2=d2)
     return out
 
 
@@ -387,15 +402,19 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
                      np.maximum(t - age, t0), var, age)
 
 
-def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:
+def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
+                      loo_err=None) -> tuple[float, pd.DataFrame]:
     """Isotropic Wi-Fi fix variance (per axis, m^2) by leave-one-walk-out *inside* ``db``.
 
     Each walk of ``db`` is located against the others (:func:`loo_fix_errors`); ``var = mean(error^2) / 2``.
     Scans sharing no access point with the other walks are not located and not counted (``n_unlocated``).
     Returns the variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n``
-    located scans).
+    located scans). ``loo_err``: the rows' leave-one-walk-out error vectors when already computed (the first
+    of :func:`loo_fix_features` of ``db`` with ``cfg``: the same fixes, so the same numbers).
     """
-    if cfg.p == 2 and cfg.metric == "minkowski":
+    if loo_err is not None:
+        e_all = np.hypot(*np.asarray(loo_err, dtype=np.float64).T)
+    elif cfg.p == 2 and cfg.metric == "minkowski":
         e_all = loo_fix_errors(db, cfg)
     else:
         e_all = np.full(len(db.walk), np.nan)
@@ -588,7 +607,7 @@ def select_wifi_nested(db: WifiDatabase, scored_walks, cfg: RealWalkConfig = DEF
     """
     cands = WIFI_CANDIDATES if candidates is None else candidates
     walk = db.walk
-    same = walk[:, None] == walk[None, :]
+    same = same_walk(walk)
     groups: dict = {}                 # the candidates seeing the same database matrix: (max_age_s, not heard)
     for i, (label, kw) in enumerate(cands.items()):
         c = dataclasses.replace(cfg, **kw)

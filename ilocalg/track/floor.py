@@ -118,15 +118,17 @@ class FloorModel:
             gs = gain_stats(iv, cal)
         except ValueError:                         # too few walks with waypoint intervals: no kf_gain
             gs = None
+        loo = None
+        if cfg.fix_var == "per_fix" or cfg.fix_corr or not select:
+            loo = self.loo_fixes([name], cfg, select=select)[name]
         if select:
             label, c, var = self.select_wifi([name], cfg)[name]
-        else:
+        else:       # the isotropic variance from the same leave-one-walk-out fixes
             from ilocalg.track.fixes import calibrate_fix_var
 
-            label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
-        loo = None
-        if cfg.fix_var == "per_fix" or cfg.fix_corr:
-            loo = self.loo_fixes([name], cfg, select=select)[name]
+            label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg, None if loo is None else loo[0])
+        if not (cfg.fix_var == "per_fix" or cfg.fix_corr):
+            loo = None
         return WalkModel(db, cal, var, sv, c, label, gs, loo)
 
     def loo_fixes(self, names, cfg: RealWalkConfig = DEFAULT_CONFIG, select: bool = True) -> dict:
