@@ -208,3 +208,14 @@ def test_loo_fixes_of_the_floor_walks_are_computed_once_for_all_asked(recs, monk
         wm = m.for_walk(s, cfg, select=False)
         assert wm.fix_var_m2 == calibrate_fix_var(m.db.without(s), cfg)[0]
         _same(wm.loo_fixes, loo_fix_features(m.db.without(s), cfg))
+
+
+def test_shared_loo_fixes_give_each_candidates_loo_fix_errors(model):
+    """wifi_ablation's candidates from one product per reading-age limit: the errors loo_fix_errors gives each."""
+    from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_errors, loo_fix_features_shared
+
+    db = model.db
+    cands = [dataclasses.replace(RealWalkConfig(), **kw) for kw in WIFI_CANDIDATES.values()]
+    got = loo_fix_features_shared(db, [(None, c) for c in cands])
+    for c, (err, _) in zip(cands, got, strict=True):
+        np.testing.assert_array_equal(np.hypot(*err.T), loo_fix_errors(db, c))
