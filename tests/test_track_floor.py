@@ -140,20 +140,20 @@ def test_nested_loo_fixes_are_those_of_the_database_without_the_walk_bit_for_bit
     from ilocalg.track import fixes
 
     c5, c10 = (dataclasses.replace(RealWalkConfig(), k_neighbors=k, max_age_s=None) for k in (5, 10))
-    shared = []
+    own = []                                                      # walks computed alone (their own product)
     real = fixes.loo_fix_features
 
     def seen(db, cfg, d2=None):
-        shared.append(d2 is not None)
+        own.append(d2)
         return real(db, cfg, d2=d2)
-    for db, want_shared in ((model.db, True), (_fractional_rssi(model.db), False)):   # one product / one per walk
+    for db, n_own in ((model.db, 0), (_fractional_rssi(model.db), 4)):   # one shared product / one per walk
         ws = list(dict.fromkeys(db.walk))
         cfgs = {ws[0]: c5, ws[1]: c10, ws[2]: c5, "__none__": c10}
-        shared.clear()
+        own.clear()
         monkeypatch.setattr(fixes, "loo_fix_features", seen)
         got = loo_fix_features_nested(db, cfgs)
         monkeypatch.setattr(fixes, "loo_fix_features", real)
-        assert shared == [want_shared] * 4
+        assert own == [None] * n_own
         for s, c in cfgs.items():
             want = loo_fix_features(db.without(s) if s != "__none__" else db, c)
             _same(got[s], want)

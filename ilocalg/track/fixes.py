@@ -83,8 +83,14 @@ def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, e
         D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
     else:
         D2 = d2
+    return _nearest(D2, ~(A > 0).any(axis=1), k, exclude)
+
+
+def _nearest(D2, empty_rows, k: int, exclude=None):
+    """:func:`dense_wknn` from the squared distances ``D2`` (m, n; not modified): rows ``empty_rows`` (n,) and
+    the pairs of ``exclude`` never neighbours."""
     D2 = np.maximum(D2, 0.0)
-    D2[:, ~(A > 0).any(axis=1)] = np.inf
+    D2[:, empty_rows] = np.inf
     if exclude is not None:
         D2[np.asarray(exclude, dtype=bool)] = np.inf
     k = min(k, D2.shape[1])
@@ -134,12 +140,7 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
         else:
             est = _wknn(db, cfg)
             dist, idx = est.kneighbors(X[~miss])
-        w = _weights(dist, cfg.weights)
-        ok = w.sum(axis=1) > 0
-        sub = np.flatnonzero(~miss)[ok]
-        idx, dist, w = idx[ok], dist[ok], w[ok]
-        xy[sub] = (w[..., None] * db.xy_m[idx]).sum(1) / w.sum(1)[:, None]
-        C[sub] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+        sub, idx, w = _place(xy, C, db.xy_m, idx, dist, cfg.weights, np.flatnonzero(~miss))
         if return_floor and db.has_floors:
             fl = db.floor[idx]
             levels = np.unique(fl)
@@ -149,6 +150,18 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     if return_floor == "confidence":
         return xy, C, fl_out, conf
     return (xy, C, fl_out) if return_floor else (xy, C)
+
+
+def _place(xy, C, db_xy_m, idx, dist, weights: str, rows):
+    """Write the WKNN fixes and spread covariances of the queries ``rows`` (their neighbours ``idx``, ``dist``)
+    into ``xy`` and ``C``; returns the rows placed (some weight) with their neighbours and weights."""
+    w = _weights(dist, weights)
+    ok = w.sum(axis=1) > 0
+    sub = rows[ok]
+    idx, w = idx[ok], w[ok]
+    xy[sub] = (w[..., None] * db_xy_m[idx]).sum(1) / w.sum(1)[:, None]
+    C[sub] = fix_covariance_from_spread(db_xy_m[idx], w, min_var_m2=1.0)
+    return sub, idx, w
 
 
 def same_walk(walk) -> np.ndarray:
@@ -255,18 +268,30 @@ def loo_fix_features_shared(db: WifiDatabase, pairs) -> list:
         c0 = members[0][2]
         G = None
         if all(c.p == 2 and c.metric == "minkowski" for _, _, c in members):
-            A = np.nan_to_num(db_matrix(db, c0), nan=c0.not_heard_dbm) - c0.not_heard_dbm
+            D = db_matrix(db, c0)
+            A = np.nan_to_num(D, nan=c0.not_heard_dbm) - c0.not_heard_dbm
             if np.array_equal(A, np.round(A)) and float(np.abs(A).max(initial=0.0)) ** 2 * A.shape[1] < 2.0 ** 52:
                 sq = (A * A).sum(1)
                 G = sq[:, None] + sq[None, :] - 2.0 * (A @ A.T)
+                # what loo_fix_features computes per row, the same for every walk left out: once
+                heard = ~np.isnan(D)
+                row_heard, n_aps, empty = heard.any(axis=1), heard.sum(axis=1), ~(A > 0).any(axis=1)
+                age = np.zeros(D.shape[0]) if db.age_s is None else fix_age_s(db.age_s, D)
+                same = same_walk(db.walk)
+                del A, D, heard
         for i, s, c in members:
-            if s in walks:
-                keep = np.flatnonzero(db.walk != s)
-                sub = db.without(s)
-            else:
-                keep, sub = None, db
-            d2 = None if G is None else (G if keep is None else G.take(keep, axis=0).take(keep, axis=1))
-            out[i] = loo_fix_features(sub, c, d2=d2)
+            if G is None:
+                out[i] = loo_fix_features(db.without(s) if s in walks else db, c)
+                continue
+            # loo_fix_features(db.without(s), c) from the rows' block of G: a row hearing nothing is not located
+            keep = np.flatnonzero(db.walk != s) if s in walks else np.arange(len(db.walk))
+            q = np.flatnonzero(row_heard[keep])
+            xy, C = np.full((keep.size, 2), np.nan), np.full((keep.size, 2, 2), np.nan)
+            if q.size:
+                idx, dist = _nearest(G.take(keep[q], axis=0).take(keep, axis=1), empty[keep], c.k_neighbors,
+                                     same.take(keep[q], axis=0).take(keep, axis=1))
+                _place(xy, C, db.xy_m[keep], idx, dist, c.weights, q)
+            out[i] = (xy - db.xy_m[keep], fix_features(np.nan_to_num(C, nan=1.0), n_aps[keep], age[keep]))
     return out
 
 
