@@ -1,15 +1,24 @@
 """The floor model's Wi-Fi selection (ilocalg.track.floor): the floor-level choice made once at build and saved,
-the nested choices of the floor's own walks unchanged and computed once per model, old caches rebuilt."""
+the nested choices of the floor's own walks unchanged and computed once per model, old caches rebuilt; the same
+for the leave-one-walk-out fixes the per-fix variance is fitted on."""
 
 import dataclasses
 import json
 
+import numpy as np
+import pandas as pd
 import pytest
 
 from ilocalg.sim import walk_recordings as wr
 from ilocalg.track import RealWalkConfig
 from ilocalg.track import floor as floor_mod
-from ilocalg.track.fixes import select_wifi, select_wifi_nested
+from ilocalg.track.fixes import (
+    calibrate_fix_var,
+    loo_fix_features,
+    loo_fix_features_nested,
+    select_wifi,
+    select_wifi_nested,
+)
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +86,7 @@ def test_a_selection_made_with_other_wknn_settings_is_not_reused(recs, model, mo
 def test_an_old_or_partial_cache_folder_is_rebuilt_never_read(recs, model, tmp_path, monkeypatch):
     folder = model.save(tmp_path / "m")
     (folder / "selection.json").write_text(json.dumps({"version": 1, "selection": model.selection}))
-    with pytest.raises(ValueError, match=r"selection\.json: floor model version 1, expected 2"):
+    with pytest.raises(ValueError, match=r"selection\.json: floor model version 1, expected 3"):
         type(model).load(folder)
     (folder / "selection.json").unlink()                         # a version-1 folder has no selection file
     with pytest.raises(ValueError, match="selection.json missing"):
@@ -113,3 +122,100 @@ def test_nested_selection_is_select_wifi_without_the_walk_for_every_walk(model):
     # K = 10 and the uniform weights really differ from the shared K = 5 neighbours here (the simulated readings
     # are all fresh, so the reading-age limits give one matrix; the real-floor check is in the report)
     assert table["mean_error_m"].nunique() >= 3
+
+
+def _fractional_rssi(db):
+    """The database with fractional readings: the distance products are no longer exact, so each walk's nested
+    leave-out gets its own (the simulated readings are whole dBm, as the ILC files')."""
+    assert np.array_equal(db.rssi_dbm, np.round(db.rssi_dbm), equal_nan=True)
+    return dataclasses.replace(db, rssi_dbm=db.rssi_dbm + 0.37)
+
+
+def _same(a, b):
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+
+
+def test_nested_loo_fixes_are_those_of_the_database_without_the_walk_bit_for_bit(model, monkeypatch):
+    from ilocalg.track import fixes
+
+    c5, c10 = (dataclasses.replace(RealWalkConfig(), k_neighbors=k, max_age_s=None) for k in (5, 10))
+    own = []                                                      # walks computed alone (their own product)
+    real = fixes.loo_fix_features
+
+    def seen(db, cfg, d2=None):
+        own.append(d2)
+        return real(db, cfg, d2=d2)
+    for db, n_own in ((model.db, 0), (_fractional_rssi(model.db), 4)):   # one shared product / one per walk
+        ws = list(dict.fromkeys(db.walk))
+        cfgs = {ws[0]: c5, ws[1]: c10, ws[2]: c5, "__none__": c10}
+        own.clear()
+        monkeypatch.setattr(fixes, "loo_fix_features", seen)
+        got = loo_fix_features_nested(db, cfgs)
+        monkeypatch.setattr(fixes, "loo_fix_features", real)
+        assert own == [None] * n_own
+        for s, c in cfgs.items():
+            want = loo_fix_features(db.without(s) if s != "__none__" else db, c)
+            _same(got[s], want)
+            assert np.isfinite(want[0]).all(axis=1).sum() > 0.9 * len(want[0])
+
+
+def test_loo_fixes_stored_with_the_floor_model_serve_an_outside_walk(recs, model, tmp_path, monkeypatch):
+    from ilocalg import track
+
+    wm = model.for_walk(recs[0].name)
+    _same(wm.loo_fixes, loo_fix_features(model.db, wm.cfg))
+    assert model.floor_loo_fixes["key"] == floor_mod.wknn_key(wm.cfg)
+    back = type(model).load(model.save(tmp_path / "m"))
+    _same((back.floor_loo_fixes["err"], back.floor_loo_fixes["features"]), wm.loo_fixes)
+
+    def boom(*a, **k):
+        raise AssertionError("loo_fix_features_nested called again")
+    monkeypatch.setattr(floor_mod, "loo_fix_features_nested", boom)
+    got = back.for_walk(recs[0].name)                              # a look-up, never a refit
+    _same(got.loo_fixes, wm.loo_fixes)
+    # the walk's scores with the stored fixes are those of evaluate_walk fitting them itself
+    kw = dict(methods=("wifi", "lsq", "kf_gain"), step_var_m2=got.step_var_m2, gain=got.gain)
+    a = track.evaluate_walk(recs[0], got.db, got.calibration, got.fix_var_m2, got.cfg, loo_fixes=got.loo_fixes, **kw)
+    b = track.evaluate_walk(recs[0], got.db, got.calibration, got.fix_var_m2, got.cfg, **kw)
+    pd.testing.assert_frame_equal(a["errors"], b["errors"], check_exact=True)
+    assert a["info"] == b["info"] or str(a["info"]) == str(b["info"])
+
+
+def test_loo_fixes_of_the_floor_walks_are_computed_once_for_all_asked(recs, monkeypatch):
+    m = floor_mod.build_floor_model(recs[1:])
+    walks = m.walks[:3]
+    calls = []
+    real = floor_mod.loo_fix_features_nested
+
+    def counted(db, walk_cfgs):
+        calls.append(sorted(walk_cfgs))
+        return real(db, walk_cfgs)
+    monkeypatch.setattr(floor_mod, "loo_fix_features_nested", counted)
+    got = m.loo_fixes(walks)
+    assert calls == [sorted(walks)]
+    for s in walks:
+        wm = m.for_walk(s)                                         # a look-up
+        _same(wm.loo_fixes, got[s])
+        _same(got[s], loo_fix_features(m.db.without(s), wm.cfg))
+    assert len(calls) == 1
+    # a configuration needing no fix model computes none
+    assert m.for_walk(walks[0], dataclasses.replace(RealWalkConfig(), fix_var="isotropic",
+                                                    fix_corr=False)).loo_fixes is None
+    # without the selection: the one isotropic variance from the same fixes, as calibrate_fix_var alone gives
+    cfg = RealWalkConfig()
+    for s in walks:
+        wm = m.for_walk(s, cfg, select=False)
+        assert wm.fix_var_m2 == calibrate_fix_var(m.db.without(s), cfg)[0]
+        _same(wm.loo_fixes, loo_fix_features(m.db.without(s), cfg))
+
+
+def test_shared_loo_fixes_give_each_candidates_loo_fix_errors(model):
+    """wifi_ablation's candidates from one product per reading-age limit: the errors loo_fix_errors gives each."""
+    from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_errors, loo_fix_features_shared
+
+    db = model.db
+    cands = [dataclasses.replace(RealWalkConfig(), **kw) for kw in WIFI_CANDIDATES.values()]
+    got = loo_fix_features_shared(db, [(None, c) for c in cands])
+    for c, (err, _) in zip(cands, got, strict=True):
+        np.testing.assert_array_equal(np.hypot(*err.T), loo_fix_errors(db, c))

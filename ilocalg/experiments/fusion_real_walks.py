@@ -153,6 +153,8 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
         model = build_floor_model(fl.traces, cfg, steps=steps, select=False)     # in memory only: no floor-level choice
     if select:       # every scored walk's nested choice at once (one distance matrix per candidate), kept
         model.select_wifi(scored, cfg)
+    if not select or any(_fits_fix_model(dataclasses.replace(cfg, **kw)) for kw in variants.values()):
+        model.loo_fixes(scored, cfg, select=select)     # their nested fix-variance data at once, kept
     plain = dataclasses.replace(cfg, **PLAIN_WKNN)
     # the walked-path graph of the floor's waypoints, built once; each scored walk's graph leaves it out
     paths = (WalkedPaths.from_recordings(fl.traces, model.db.frame) if any(m in PATH_METHODS for m in methods)
@@ -168,7 +170,9 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
             r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, wm.fix_var_m2, wcfg, grid=grid,
                               steps=steps[name], rng=np.random.default_rng([seed, all_names.index(name)]),
                               methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain,
-                              paths=None if paths is None else paths.without(name))
+                              paths=None if paths is None else paths.without(name),
+                              loo_fixes=model.loo_fixes([name], cfg, select=select)[name]
+                              if _fits_fix_model(wcfg) else None)
             e = r["errors"].assign(walk=name)
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
@@ -177,6 +181,12 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
             prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                          "wifi_config": wm.wifi_config, **r["info"]})
     return {v: _tables(*acc[v], methods, fl, dataset, relisted_wifi, cfg) for v in variants}
+
+
+def _fits_fix_model(cfg: RealWalkConfig) -> bool:
+    """Whether :func:`ilocalg.track.evaluate_walk` fits a fix model on the database walks' leave-one-walk-out
+    fixes with ``cfg`` (the per-fix variance or the fix-error correlation)."""
+    return cfg.fix_var == "per_fix" or bool(cfg.fix_corr)
 
 
 def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:

@@ -61,7 +61,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
                   gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
-                  paths: WalkedPaths | None = None) -> dict:
+                  paths: WalkedPaths | None = None, loo_fixes: tuple | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -77,7 +77,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     ``fix_var_m2`` is the one variance of ``cfg.fix_var == "isotropic"``. ``paths``: the walked-path graph of
     the database walks' waypoints (:class:`~ilocalg.track.paths.WalkedPaths`, without the scored walk: one
     that holds it raises), needed by :data:`~ilocalg.track.PATH_METHODS`; when None they use the graph of
-    ``db``'s scan positions (:meth:`~ilocalg.track.paths.WalkedPaths.from_database`).
+    ``db``'s scan positions (:meth:`~ilocalg.track.paths.WalkedPaths.from_database`). ``loo_fixes``: the database
+    walks' leave-one-walk-out fixes the per-fix variance and the fix-error correlation are fitted on, when already
+    computed (:func:`~ilocalg.track.fixes.loo_fix_features` of ``db`` with ``cfg``, e.g.
+    :attr:`ilocalg.track.floor.WalkModel.loo_fixes`, kept with the floor model); None: computed here.
 
     Returns
     -------
@@ -109,7 +112,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     fv_note, fix_corr = "isotropic", None
     if (fix_var_model is None and cfg.fix_var == "per_fix") or cfg.fix_corr:
         try:
-            err, feats = loo_fix_features(db, cfg)        # the database walks' own leave-one-walk-out fixes
+            # the database walks' own leave-one-walk-out fixes
+            err, feats = loo_fix_features(db, cfg) if loo_fixes is None else loo_fixes
             if fix_var_model is None and cfg.fix_var == "per_fix":
                 fix_var_model = log_variance_fit((err ** 2).sum(axis=1), feats)
             if cfg.fix_corr:

@@ -64,22 +64,33 @@ def db_matrix(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> np.ndar
     return X
 
 
-def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, exclude=None):
+def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, exclude=None, d2=None):
     """Euclidean K nearest fingerprints of every query (dense numpy; one matrix product).
 
     Not-heard readings (NaN) take ``not_heard_dbm``. Database rows hearing nothing and the pairs where
     ``exclude`` (bool, (m, n)) is True are never neighbours. Returns ``(idx, dist)``, each (m, k), nearest
-    first; ``dist`` is inf where fewer than ``k`` rows were allowed.
+    first; ``dist`` is inf where fewer than ``k`` rows were allowed. ``d2`` (m, n): the squared distances
+    ``|q|^2 + |a|^2 - 2 q.a`` of the shifted vectors when already computed (e.g. one product for a whole
+    floor, :func:`loo_fix_features_nested`); not modified.
 
     References
     ----------
     Luo et al. (2017), eq. 1 (the RSSI-space distance of KNN fingerprinting).
     """
     A = np.nan_to_num(np.asarray(db_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
-    B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
-    D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+    if d2 is None:
+        B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+        D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+    else:
+        D2 = d2
+    return _nearest(D2, ~(A > 0).any(axis=1), k, exclude)
+
+
+def _nearest(D2, empty_rows, k: int, exclude=None):
+    """:func:`dense_wknn` from the squared distances ``D2`` (m, n; not modified): rows ``empty_rows`` (n,) and
+    the pairs of ``exclude`` never neighbours."""
     D2 = np.maximum(D2, 0.0)
-    D2[:, ~(A > 0).any(axis=1)] = np.inf
+    D2[:, empty_rows] = np.inf
     if exclude is not None:
         D2[np.asarray(exclude, dtype=bool)] = np.inf
     k = min(k, D2.shape[1])
@@ -100,7 +111,7 @@ def _weights(dist, weights: str) -> np.ndarray:
 
 
 def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, return_floor: bool = False,
-                exclude=None):
+                exclude=None, d2=None):
     """WKNN fixes (m, 2) of queries ``X`` (m, n_aps in ``db.ap_ids`` order) and their spread covariances.
 
     Euclidean distance (``cfg.p == 2``, the fast dense path :func:`dense_wknn`) or, for other
@@ -108,7 +119,8 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     query's floor: the weighted (``cfg.weights``) majority of its neighbours' floors (NaN when the
     database has no floors), and its confidence (the winning share of the weights). A query sharing
     no access point with the database gets NaN (the estimators' documented no-AP result).
-    ``exclude`` (bool (m, n_rows), dense path only): database rows a query may not use.
+    ``exclude`` (bool (m, n_rows), dense path only): database rows a query may not use. ``d2`` (m, n_rows,
+    dense path only): the queries' squared distances to the rows when already computed (:func:`dense_wknn`).
 
     References
     ----------
@@ -123,16 +135,12 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     if (~miss).any():
         if cfg.p == 2 and cfg.metric == "minkowski":
             idx, dist = dense_wknn(D, X[~miss], cfg.k_neighbors, cfg.not_heard_dbm,
-                                   None if exclude is None else np.asarray(exclude)[~miss])
+                                   None if exclude is None else np.asarray(exclude)[~miss],
+                                   None if d2 is None else d2[~miss])
         else:
             est = _wknn(db, cfg)
             dist, idx = est.kneighbors(X[~miss])
-        w = _weights(dist, cfg.weights)
-        ok = w.sum(axis=1) > 0
-        sub = np.flatnonzero(~miss)[ok]
-        idx, dist, w = idx[ok], dist[ok], w[ok]
-        xy[sub] = (w[..., None] * db.xy_m[idx]).sum(1) / w.sum(1)[:, None]
-        C[sub] = fix_covariance_from_spread(db.xy_m[idx], w, min_var_m2=1.0)
+        sub, idx, w = _place(xy, C, db.xy_m, idx, dist, cfg.weights, np.flatnonzero(~miss))
         if return_floor and db.has_floors:
             fl = db.floor[idx]
             levels = np.unique(fl)
@@ -144,11 +152,30 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     return (xy, C, fl_out) if return_floor else (xy, C)
 
 
+def _place(xy, C, db_xy_m, idx, dist, weights: str, rows):
+    """Write the WKNN fixes and spread covariances of the queries ``rows`` (their neighbours ``idx``, ``dist``)
+    into ``xy`` and ``C``; returns the rows placed (some weight) with their neighbours and weights."""
+    w = _weights(dist, weights)
+    ok = w.sum(axis=1) > 0
+    sub = rows[ok]
+    idx, w = idx[ok], w[ok]
+    xy[sub] = (w[..., None] * db_xy_m[idx]).sum(1) / w.sum(1)[:, None]
+    C[sub] = fix_covariance_from_spread(db_xy_m[idx], w, min_var_m2=1.0)
+    return sub, idx, w
+
+
+def same_walk(walk) -> np.ndarray:
+    """(n, n) bool: rows ``i, j`` of the same walk (``walk`` (n,) names), compared as integer codes rather than
+    as n^2 Python strings."""
+    codes = np.unique(np.asarray(walk), return_inverse=True)[1].ravel()
+    return codes[:, None] == codes[None, :]
+
+
 def loo_fix_errors(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, without=()) -> np.ndarray:
     """Leave-one-walk-out fix error (m) of every database row: each row located against the rows of the
     *other* walks, never those of ``without`` (nested leave-out); NaN for rows of ``without`` and rows
     hearing nothing the others hear."""
-    excl = db.walk[:, None] == db.walk[None, :]
+    excl = same_walk(db.walk)
     if len(without):
         excl |= np.isin(db.walk, list(without))[None, :]
     xy, _ = locate_wknn(db, db_matrix(db, cfg), cfg, exclude=excl)
@@ -196,16 +223,76 @@ class FixVarModel:
         return np.exp(self.beta[0] + f @ self.beta[1:]) * self.smear / 2.0
 
 
-def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[np.ndarray, np.ndarray]:
+def loo_fix_features(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG, d2=None) -> tuple[np.ndarray, np.ndarray]:
     """Leave-one-walk-out fix error vectors (n, 2; m, fix minus truth) and :func:`fix_features` (n, 3) of every
     database row, each row located against the rows of the other walks (Euclidean WKNN, :func:`dense_wknn`);
-    NaN errors for rows that cannot be located."""
+    NaN errors for rows that cannot be located. ``d2``: the rows' squared distances to each other when already
+    computed (see :func:`loo_fix_features_nested`)."""
     if not (cfg.p == 2 and cfg.metric == "minkowski"):
         raise ValueError("loo_fix_features: the per-fix variance is measured with the Euclidean WKNN (p=2)")
     D = db_matrix(db, cfg)
-    xy, C = locate_wknn(db, D, cfg, exclude=db.walk[:, None] == db.walk[None, :])
+    xy, C = locate_wknn(db, D, cfg, exclude=same_walk(db.walk), d2=d2)
     age = np.zeros(D.shape[0]) if db.age_s is None else fix_age_s(db.age_s, D)
     return xy - db.xy_m, fix_features(np.nan_to_num(C, nan=1.0), (~np.isnan(D)).sum(axis=1), age)
+
+
+def wknn_key(cfg: RealWalkConfig) -> list:
+    """The settings a WKNN fix depends on (``k_neighbors, p, weights, metric, max_age_s, not_heard_dbm``), as a
+    JSON-ready list: what :func:`loo_fix_features` of one database depends on besides the database."""
+    return [cfg.k_neighbors, cfg.p, cfg.weights, cfg.metric, cfg.max_age_s, cfg.not_heard_dbm]
+
+
+def loo_fix_features_nested(db: WifiDatabase, walk_cfgs: dict) -> dict:
+    """:func:`loo_fix_features` of ``db.without(s)`` with ``walk_cfgs[s]`` for every ``s`` of ``walk_cfgs`` (a
+    name that is not a walk of ``db``: of the whole ``db``), the numbers of a leave-one-walk-out sweep's nested
+    fix-variance fits. Returns ``{s: (err, features)}``.
+
+    The squared distances of every pair of rows are one matrix product per reading-age limit (and not-heard
+    value), each walk taking its rows' block of it, instead of one product per walk. They are the same numbers
+    as a product of the walk's own rows when the shifted RSSI values are whole numbers (dBm readings: every
+    product and sum is exact); otherwise each walk gets its own product, as before.
+    """
+    return dict(zip(walk_cfgs, loo_fix_features_shared(db, list(walk_cfgs.items())), strict=True))
+
+
+def loo_fix_features_shared(db: WifiDatabase, pairs) -> list:
+    """:func:`loo_fix_features_nested` for a list of ``(walk, cfg)`` pairs (a walk may come with several
+    configurations; a name that is not a walk of ``db``: the whole ``db``). Returns one ``(err, features)`` per
+    pair, in order."""
+    pairs = list(pairs)
+    out, groups = [None] * len(pairs), {}
+    for i, (s, c) in enumerate(pairs):
+        groups.setdefault((c.max_age_s, c.not_heard_dbm), []).append((i, s, c))
+    walks = set(db.walk)
+    for members in groups.values():
+        c0 = members[0][2]
+        G = None
+        if all(c.p == 2 and c.metric == "minkowski" for _, _, c in members):
+            D = db_matrix(db, c0)
+            A = np.nan_to_num(D, nan=c0.not_heard_dbm) - c0.not_heard_dbm
+            if np.array_equal(A, np.round(A)) and float(np.abs(A).max(initial=0.0)) ** 2 * A.shape[1] < 2.0 ** 52:
+                sq = (A * A).sum(1)
+                G = sq[:, None] + sq[None, :] - 2.0 * (A @ A.T)
+                # what loo_fix_features computes per row, the same for every walk left out: once
+                heard = ~np.isnan(D)
+                row_heard, n_aps, empty = heard.any(axis=1), heard.sum(axis=1), ~(A > 0).any(axis=1)
+                age = np.zeros(D.shape[0]) if db.age_s is None else fix_age_s(db.age_s, D)
+                same = same_walk(db.walk)
+                del A, D, heard
+        for i, s, c in members:
+            if G is None:
+                out[i] = loo_fix_features(db.without(s) if s in walks else db, c)
+                continue
+            # loo_fix_features(db.without(s), c) from the rows' block of G: a row hearing nothing is not located
+            keep = np.flatnonzero(db.walk != s) if s in walks else np.arange(len(db.walk))
+            q = np.flatnonzero(row_heard[keep])
+            xy, C = np.full((keep.size, 2), np.nan), np.full((keep.size, 2, 2), np.nan)
+            if q.size:
+                idx, dist = _nearest(G.take(keep[q], axis=0).take(keep, axis=1), empty[keep], c.k_neighbors,
+                                     same.take(keep[q], axis=0).take(keep, axis=1))
+                _place(xy, C, db.xy_m[keep], idx, dist, c.weights, q)
+            out[i] = (xy - db.xy_m[keep], fix_features(np.nan_to_num(C, nan=1.0), n_aps[keep], age[keep]))
+    return out
 
 
 def fix_error_correlation(err_m, walk, max_lag: int = 8) -> tuple[float, float, float]:
@@ -340,15 +427,19 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
                      np.maximum(t - age, t0), var, age)
 
 
-def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> tuple[float, pd.DataFrame]:
+def calibrate_fix_var(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
+                      loo_err=None) -> tuple[float, pd.DataFrame]:
     """Isotropic Wi-Fi fix variance (per axis, m^2) by leave-one-walk-out *inside* ``db``.
 
     Each walk of ``db`` is located against the others (:func:`loo_fix_errors`); ``var = mean(error^2) / 2``.
     Scans sharing no access point with the other walks are not located and not counted (``n_unlocated``).
     Returns the variance and the per-walk errors table (``walk, n, mean_error_m, n_unlocated``; ``n``
-    located scans).
+    located scans). ``loo_err``: the rows' leave-one-walk-out error vectors when already computed (the first
+    of :func:`loo_fix_features` of ``db`` with ``cfg``: the same fixes, so the same numbers).
     """
-    if cfg.p == 2 and cfg.metric == "minkowski":
+    if loo_err is not None:
+        e_all = np.hypot(*np.asarray(loo_err, dtype=np.float64).T)
+    elif cfg.p == 2 and cfg.metric == "minkowski":
         e_all = loo_fix_errors(db, cfg)
     else:
         e_all = np.full(len(db.walk), np.nan)
@@ -541,7 +632,7 @@ def select_wifi_nested(db: WifiDatabase, scored_walks, cfg: RealWalkConfig = DEF
     """
     cands = WIFI_CANDIDATES if candidates is None else candidates
     walk = db.walk
-    same = walk[:, None] == walk[None, :]
+    same = same_walk(walk)
     groups: dict = {}                 # the candidates seeing the same database matrix: (max_age_s, not heard)
     for i, (label, kw) in enumerate(cands.items()):
         c = dataclasses.replace(cfg, **kw)

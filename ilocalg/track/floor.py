@@ -18,6 +18,12 @@ when the model is built, and saved with it (``selection.json``, :attr:`FloorMode
 selections of the floor's own walks (each chosen without the walk) are computed on demand, one distance
 matrix per reading-age limit for all the walks asked at once (:meth:`FloorModel.select_wifi`), and kept in
 memory with the model so that later calls for the same walks only look them up.
+
+The same holds for the database walks' leave-one-walk-out fixes the per-fix variance model and the fix-error
+correlation are fitted on (:func:`ilocalg.track.fixes.loo_fix_features`): for a walk from outside the floor
+they are computed at build with the floor-level selection and saved (``loo_fixes.npz``); for the floor's own
+walks (each without the walk) on demand, one distance matrix for all the walks asked at once
+(:meth:`FloorModel.loo_fixes`), and kept in memory.
 """
 
 from __future__ import annotations
@@ -29,12 +35,13 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ilocalg.io.recording import as_recording, common_frame
 from ilocalg.track._config import DEFAULT_CONFIG, RealWalkConfig
 from ilocalg.track.database import WifiDatabase
-from ilocalg.track.fixes import WIFI_CANDIDATES, select_wifi_nested
+from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_features_nested, select_wifi_nested, wknn_key
 from ilocalg.track.motion import (
     Calibration,
     GainStats,
@@ -61,6 +68,10 @@ class WalkModel:
     cfg: RealWalkConfig
     wifi_config: str
     gain: GainStats | None = None
+    #: :func:`ilocalg.track.fixes.loo_fix_features` of ``db`` with ``cfg`` (``(err, features)``), the
+    #: per-fix variance's and the fix-error correlation's data (:func:`ilocalg.track.evaluate_walk`'s
+    #: ``loo_fixes``); None: not computed (``cfg`` needs neither, or its WKNN is not Euclidean).
+    loo_fixes: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -74,7 +85,12 @@ class FloorModel:
     #: build: ``{"key": ..., "label": ..., "fix_var_m2": ...}`` (:func:`floor_selection`); None: not made
     #: (fewer than two walks), then chosen when asked.
     selection: dict | None = None
+    #: :func:`ilocalg.track.fixes.loo_fix_features` of the whole database with the floor-level selection's
+    #: configuration (what a walk from outside the floor is weighted with), made at build with :attr:`selection`:
+    #: ``{"key": wknn_key(config), "err": (n, 2), "features": (n, 3)}``; None: not made.
+    floor_loo_fixes: dict | None = None
     _selected: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+    _loo: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     @property
     def walks(self) -> list[str]:
@@ -102,13 +118,53 @@ class FloorModel:
             gs = gain_stats(iv, cal)
         except ValueError:                         # too few walks with waypoint intervals: no kf_gain
             gs = None
+        loo = None
+        if cfg.fix_var == "per_fix" or cfg.fix_corr or not select:
+            loo = self.loo_fixes([name], cfg, select=select)[name]
         if select:
             label, c, var = self.select_wifi([name], cfg)[name]
-        else:
+        else:       # the isotropic variance from the same leave-one-walk-out fixes
             from ilocalg.track.fixes import calibrate_fix_var
 
-            label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg)
-        return WalkModel(db, cal, var, sv, c, label, gs)
+            label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg, None if loo is None else loo[0])
+        if not (cfg.fix_var == "per_fix" or cfg.fix_corr):
+            loo = None
+        return WalkModel(db, cal, var, sv, c, label, gs, loo)
+
+    def loo_fixes(self, names, cfg: RealWalkConfig = DEFAULT_CONFIG, select: bool = True) -> dict:
+        """The database walks' leave-one-walk-out fixes (:func:`ilocalg.track.fixes.loo_fix_features`: error
+        vectors and features) that :meth:`for_walk` gives each walk of ``names``: of the database without the
+        walk (the whole database for a name that is not a walk of the floor, or None), with the walk's Wi-Fi
+        configuration (:meth:`select_wifi` when ``select``, else ``cfg``). Returns ``{name: (err, features)}``,
+        None for a configuration that is not Euclidean.
+
+        For a walk from outside the floor they are :attr:`floor_loo_fixes` when made with the same
+        configuration; the others are computed together (:func:`ilocalg.track.fixes.loo_fix_features_nested`,
+        one distance matrix per reading-age limit) the first time they are asked, then kept with the model.
+        """
+        own = set(self.per_walk["walk"])
+        sel = self.select_wifi(names, cfg) if select else {n: ("given", cfg, None) for n in names}
+        keys = {n: (n if n in own else "__none__", json.dumps(wknn_key(sel[n][1]))) for n in names}
+        fl = self.floor_loo_fixes
+        if fl is not None:
+            self._loo.setdefault(("__none__", json.dumps(fl["key"])), (fl["err"], fl["features"]))
+        todo = {}
+        for n, k in keys.items():
+            if k not in self._loo and k not in todo:
+                c = sel[n][1]
+                todo[k] = c if c.p == 2 and c.metric == "minkowski" else None
+        for k in [k for k, c in todo.items() if c is None]:
+            self._loo[k] = None
+        walks = [k for k, c in todo.items() if c is not None]
+        if walks:
+            got = loo_fix_features_nested(self.db, {k[0]: todo[k] for k in walks if k[0] != "__none__"})
+            for k in walks:
+                if k[0] != "__none__":
+                    self._loo[k] = got[k[0]]
+            for k in walks:                         # outside the floor: the whole database, one key per config
+                if k[0] == "__none__":
+                    self._loo[k] = loo_fix_features_nested(self.db, {"__none__": todo[k]})["__none__"]
+        return {n: self._loo[k] for n, k in keys.items()}
 
     def select_wifi(self, names, cfg: RealWalkConfig = DEFAULT_CONFIG) -> dict:
         """The nested Wi-Fi configuration of each walk of ``names`` (:func:`ilocalg.track.fixes.select_wifi_nested`:
@@ -134,14 +190,22 @@ class FloorModel:
                 for n, k in keys.items()}
 
     def save(self, folder) -> Path:
-        """Write ``database.npz``, ``per_walk.csv``, ``intervals.csv`` and ``selection.json`` into ``folder``."""
+        """Write ``database.npz``, ``per_walk.csv``, ``intervals.csv``, ``loo_fixes.npz`` (when
+        :attr:`floor_loo_fixes` is made) and ``selection.json`` (last: the model is complete when it is there)
+        into ``folder``."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         self.db.save(folder / "database.npz")
         self.per_walk.to_csv(folder / "per_walk.csv", index=False, float_format="%.17g")
         self.intervals.to_csv(folder / "intervals.csv", index=False, float_format="%.17g")
+        fl = self.floor_loo_fixes
+        if fl is not None:
+            with open(folder / "loo_fixes.npz", "wb") as f:
+                np.savez(f, err=np.asarray(fl["err"], dtype=np.float64),
+                         features=np.asarray(fl["features"], dtype=np.float64))
         tmp = folder / "selection.json.tmp"
-        tmp.write_text(json.dumps({"version": FLOOR_MODEL_VERSION, "selection": self.selection}))
+        tmp.write_text(json.dumps({"version": FLOOR_MODEL_VERSION, "selection": self.selection,
+                                   "loo_fixes_key": None if fl is None else fl["key"]}))
         os.replace(tmp, folder / "selection.json")      # JSON floats are repr: read back bit-identical
         return folder
 
@@ -163,12 +227,21 @@ class FloorModel:
                              f"{FLOOR_MODEL_VERSION}; delete the folder to rebuild it")
         pw = pd.read_csv(folder / "per_walk.csv", dtype={"walk": str})
         iv = pd.read_csv(folder / "intervals.csv", dtype={"walk": str})
-        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"])
+        fl = None
+        if meta.get("loo_fixes_key") is not None:
+            try:
+                with np.load(folder / "loo_fixes.npz", allow_pickle=False) as z:
+                    fl = {"key": meta["loo_fixes_key"], "err": z["err"], "features": z["features"]}
+            except (OSError, ValueError, KeyError) as e:
+                raise ValueError(f"{folder / 'loo_fixes.npz'}: not a floor model's leave-one-walk-out fixes "
+                                 f"({type(e).__name__}: {e})") from None
+        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl)
 
 
 #: Version of a saved floor model (1: database, calibration rows, step intervals; 2: + the floor-level Wi-Fi
-#: selection, ``selection.json``). Part of :func:`cached_floor_model`'s key, so an older cache is never read.
-FLOOR_MODEL_VERSION = 2
+#: selection, ``selection.json``; 3: + the leave-one-walk-out fixes of that selection, ``loo_fixes.npz``). Part
+#: of :func:`cached_floor_model`'s key, so an older cache is never read.
+FLOOR_MODEL_VERSION = 3
 
 
 def selection_key(cfg: RealWalkConfig = DEFAULT_CONFIG, candidates=None) -> list:
@@ -215,7 +288,21 @@ def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict |
     db = WifiDatabase.from_recordings(recs, None, frame=frame, align_time=cfg.align_fix_time)
     pw = calibrate(recs, st, cfg).per_walk
     iv = pd.concat([step_intervals(r, st[r.name]) for r in recs], ignore_index=True)
-    return FloorModel(db, pw, iv, floor_selection(db, cfg) if select else None)
+    sel = floor_selection(db, cfg) if select else None
+    return FloorModel(db, pw, iv, sel, floor_loo_fixes(db, sel, cfg))
+
+
+def floor_loo_fixes(db: WifiDatabase, selection: dict | None, cfg: RealWalkConfig = DEFAULT_CONFIG) -> dict | None:
+    """:attr:`FloorModel.floor_loo_fixes`: :func:`ilocalg.track.fixes.loo_fix_features` of the whole ``db`` with
+    the floor-level ``selection``'s configuration in ``cfg`` (made whatever ``cfg.fix_var`` and ``cfg.fix_corr``
+    say: they are not in the cache key); None without a selection or for a selection that is not Euclidean."""
+    if selection is None:
+        return None
+    c = dataclasses.replace(cfg, **WIFI_CANDIDATES[selection["label"]])
+    if not (c.p == 2 and c.metric == "minkowski"):
+        return None
+    err, feats = loo_fix_features_nested(db, {"__none__": c})["__none__"]
+    return {"key": wknn_key(c), "err": err, "features": feats}
 
 
 def floor_cache_key(files, **settings) -> str:

@@ -29,7 +29,7 @@ from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.scans import merge_relisted_wifi
 from ilocalg.track._config import CAUSAL_METHODS, LATENCY_METHODS, METHODS, RealWalkConfig, latency_of
 from ilocalg.track.database import WifiDatabase
-from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_errors
+from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_features_shared
 
 __all__ = ["sweep_summary", "lowo_findings", "wifi_ablation", "floor_files", "floor_image"]
 
@@ -120,8 +120,11 @@ def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
                 t = dataclasses.replace(t, wifi=w)
             trs[k] = t
         db = WifiDatabase.from_traces(trs)
-        for label, kw in WIFI_CANDIDATES.items():
-            e = loo_fix_errors(db, dataclasses.replace(cfg, **kw))
+        # every candidate's leave-one-walk-out fixes, one distance product per reading-age limit (the same fixes
+        # as loo_fix_errors of each)
+        loo = loo_fix_features_shared(db, [(None, dataclasses.replace(cfg, **kw)) for kw in WIFI_CANDIDATES.values()])
+        for label, (err, _) in zip(WIFI_CANDIDATES, loo, strict=True):
+            e = np.hypot(*err.T)
             e = e[np.isfinite(e)]
             rows.append({"relisted_wifi": policy, "wifi_config": label, "n": int(e.size), "mean_m": float(e.mean()),
                          "median_m": float(np.median(e)), "p75_m": float(np.quantile(e, 0.75)),
