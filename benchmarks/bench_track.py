@@ -114,7 +114,8 @@ def test_floor_model_cached(benchmark, floor_100):
     def one_walk():
         m = FloorModel.load(cache / "m").for_walk(scored.name)
         return track.evaluate_walk(scored, m.db, m.calibration, m.fix_var_m2, m.cfg, methods=NO_PF,
-                                   step_var_m2=m.step_var_m2, gain=m.gain, loo_fixes=m.loo_fixes)
+                                   step_var_m2=m.step_var_m2, gain=m.gain, loo_fixes=m.loo_fixes,
+                                   path_var_m2=m.path_var_m2)
 
     benchmark.pedantic(one_walk, rounds=1, iterations=1)
     t_cached = best_time_s(one_walk, repeat=2)
@@ -159,7 +160,8 @@ def test_site1_floor_real(benchmark):
     def one_walk():
         m = model.for_walk(name, cfg)
         return track.evaluate_walk(fl.traces[name], m.db, m.calibration, m.fix_var_m2, m.cfg, grid=grid, rng=0,
-                                   step_var_m2=m.step_var_m2, gain=m.gain, loo_fixes=m.loo_fixes)
+                                   step_var_m2=m.step_var_m2, gain=m.gain, loo_fixes=m.loo_fixes,
+                                   path_var_m2=m.path_var_m2)
 
     benchmark.pedantic(one_walk, rounds=1, iterations=1)
     benchmark.extra_info.update({

@@ -86,7 +86,8 @@ def test_a_selection_made_with_other_wknn_settings_is_not_reused(recs, model, mo
 def test_an_old_or_partial_cache_folder_is_rebuilt_never_read(recs, model, tmp_path, monkeypatch):
     folder = model.save(tmp_path / "m")
     (folder / "selection.json").write_text(json.dumps({"version": 1, "selection": model.selection}))
-    with pytest.raises(ValueError, match=r"selection\.json: floor model version 1, expected 3"):
+    want = rf"selection\.json: floor model version 1, expected {floor_mod.FLOOR_MODEL_VERSION}"
+    with pytest.raises(ValueError, match=want):
         type(model).load(folder)
     (folder / "selection.json").unlink()                         # a version-1 folder has no selection file
     with pytest.raises(ValueError, match="selection.json missing"):
@@ -219,3 +220,25 @@ def test_shared_loo_fixes_give_each_candidates_loo_fix_errors(model):
     got = loo_fix_features_shared(db, [(None, c) for c in cands])
     for c, (err, _) in zip(cands, got, strict=True):
         np.testing.assert_array_equal(np.hypot(*err.T), loo_fix_errors(db, c))
+
+
+def test_the_walked_path_spread_stored_with_the_floor_model_serves_an_outside_walk(recs, model, tmp_path, monkeypatch):
+    from ilocalg import track
+    from ilocalg.track.paths import WalkedPaths
+
+    want = WalkedPaths.from_database(model.db).spread_var_m2()
+    assert model.paths_var_m2 == want > 0
+    back = type(model).load(model.save(tmp_path / "m"))
+    assert back.paths_var_m2 == want                              # JSON floats read back bit-identical
+    assert back.for_walk(recs[0].name).path_var_m2 == want        # an outside walk: the whole database's graph
+    assert back.for_walk(recs[1].name).path_var_m2 is None        # a floor walk's graph leaves it out: measured then
+    got = back.for_walk(recs[0].name)
+    kw = dict(methods=("wifi", "lsq_paths"), step_var_m2=got.step_var_m2, gain=got.gain, loo_fixes=got.loo_fixes)
+    b = track.evaluate_walk(recs[0], got.db, got.calibration, got.fix_var_m2, got.cfg, **kw)
+
+    def boom(self, *a, **k):
+        raise AssertionError("spread measured again")
+    monkeypatch.setattr(WalkedPaths, "spread_var_m2", boom)
+    a = track.evaluate_walk(recs[0], got.db, got.calibration, got.fix_var_m2, got.cfg, path_var_m2=got.path_var_m2,
+                            **kw)
+    pd.testing.assert_frame_equal(a["errors"], b["errors"], check_exact=True)

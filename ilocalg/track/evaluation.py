@@ -61,7 +61,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
                   cfg: RealWalkConfig = DEFAULT_CONFIG, grid: OccupancyGrid | None = None,
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
                   gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
-                  paths: WalkedPaths | None = None, loo_fixes: tuple | None = None) -> dict:
+                  paths: WalkedPaths | None = None, loo_fixes: tuple | None = None,
+                  path_var_m2: float | None = None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -81,6 +82,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     walks' leave-one-walk-out fixes the per-fix variance and the fix-error correlation are fitted on, when already
     computed (:func:`~ilocalg.track.fixes.loo_fix_features` of ``db`` with ``cfg``, e.g.
     :attr:`ilocalg.track.floor.WalkModel.loo_fixes`, kept with the floor model); None: computed here.
+    ``path_var_m2``: the graph's spread when already measured (:attr:`ilocalg.track.floor.WalkModel.path_var_m2`,
+    kept with the floor model); None: :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2` here.
 
     Returns
     -------
@@ -203,7 +206,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
                             fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start,
-                            fix_corr=fix_corr, paths=paths)
+                            fix_corr=fix_corr, paths=paths, path_var_m2=path_var_m2)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))

@@ -52,6 +52,7 @@ from ilocalg.track.motion import (
     step_var_from_intervals,
     walk_steps,
 )
+from ilocalg.track.paths import WalkedPaths
 
 __all__ = ["FLOOR_MODEL_VERSION", "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model",
            "floor_cache_key", "floor_selection", "selection_key"]
@@ -72,6 +73,10 @@ class WalkModel:
     #: per-fix variance's and the fix-error correlation's data (:func:`ilocalg.track.evaluate_walk`'s
     #: ``loo_fixes``); None: not computed (``cfg`` needs neither, or its WKNN is not Euclidean).
     loo_fixes: tuple | None = None
+    #: :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2` of the graph of ``db``'s scan positions (what
+    #: :data:`~ilocalg.track.PATH_METHODS` weight the graph by, :func:`ilocalg.track.evaluate_walk`'s
+    #: ``path_var_m2``); None: computed when needed.
+    path_var_m2: float | None = None
 
 
 @dataclass(frozen=True)
@@ -89,6 +94,11 @@ class FloorModel:
     #: configuration (what a walk from outside the floor is weighted with), made at build with :attr:`selection`:
     #: ``{"key": wknn_key(config), "err": (n, 2), "features": (n, 3)}``; None: not made.
     floor_loo_fixes: dict | None = None
+    #: The spread (per-axis variance, m^2) of the walked-path graph of the whole database's scan positions
+    #: (:meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2` of
+    #: :meth:`~ilocalg.track.paths.WalkedPaths.from_database`): what a walk from outside the floor weights the
+    #: graph with, made at build; None: fewer than two walks.
+    paths_var_m2: float | None = None
     _selected: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
     _loo: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
@@ -129,7 +139,7 @@ class FloorModel:
             label, c, (var, _) = "given", cfg, calibrate_fix_var(db, cfg, None if loo is None else loo[0])
         if not (cfg.fix_var == "per_fix" or cfg.fix_corr):
             loo = None
-        return WalkModel(db, cal, var, sv, c, label, gs, loo)
+        return WalkModel(db, cal, var, sv, c, label, gs, loo, None if out else self.paths_var_m2)
 
     def loo_fixes(self, names, cfg: RealWalkConfig = DEFAULT_CONFIG, select: bool = True) -> dict:
         """The database walks' leave-one-walk-out fixes (:func:`ilocalg.track.fixes.loo_fix_features`: error
@@ -205,7 +215,8 @@ class FloorModel:
                          features=np.asarray(fl["features"], dtype=np.float64))
         tmp = folder / "selection.json.tmp"
         tmp.write_text(json.dumps({"version": FLOOR_MODEL_VERSION, "selection": self.selection,
-                                   "loo_fixes_key": None if fl is None else fl["key"]}))
+                                   "loo_fixes_key": None if fl is None else fl["key"],
+                                   "paths_var_m2": self.paths_var_m2}))
         os.replace(tmp, folder / "selection.json")      # JSON floats are repr: read back bit-identical
         return folder
 
@@ -235,13 +246,14 @@ class FloorModel:
             except (OSError, ValueError, KeyError) as e:
                 raise ValueError(f"{folder / 'loo_fixes.npz'}: not a floor model's leave-one-walk-out fixes "
                                  f"({type(e).__name__}: {e})") from None
-        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl)
+        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl, meta.get("paths_var_m2"))
 
 
 #: Version of a saved floor model (1: database, calibration rows, step intervals; 2: + the floor-level Wi-Fi
-#: selection, ``selection.json``; 3: + the leave-one-walk-out fixes of that selection, ``loo_fixes.npz``). Part
-#: of :func:`cached_floor_model`'s key, so an older cache is never read.
-FLOOR_MODEL_VERSION = 3
+#: selection, ``selection.json``; 3: + the leave-one-walk-out fixes of that selection, ``loo_fixes.npz``; 4: + the
+#: spread of the walked-path graph, :attr:`FloorModel.paths_var_m2`). Part of :func:`cached_floor_model`'s key,
+#: so an older cache is never read.
+FLOOR_MODEL_VERSION = 4
 
 
 def selection_key(cfg: RealWalkConfig = DEFAULT_CONFIG, candidates=None) -> list:
@@ -289,7 +301,8 @@ def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict |
     pw = calibrate(recs, st, cfg).per_walk
     iv = pd.concat([step_intervals(r, st[r.name]) for r in recs], ignore_index=True)
     sel = floor_selection(db, cfg) if select else None
-    return FloorModel(db, pw, iv, sel, floor_loo_fixes(db, sel, cfg))
+    pvar = WalkedPaths.from_database(db).spread_var_m2() if len(set(db.walk)) >= 2 else None
+    return FloorModel(db, pw, iv, sel, floor_loo_fixes(db, sel, cfg), pvar)
 
 
 def floor_loo_fixes(db: WifiDatabase, selection: dict | None, cfg: RealWalkConfig = DEFAULT_CONFIG) -> dict | None:

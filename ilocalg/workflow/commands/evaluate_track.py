@@ -251,7 +251,8 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
         st("tracking the walk")
         grid = None if fmap is None else OccupancyGrid.from_floor_map(fmap, cfg.grid_cell_m)
         r = evaluate_walk(rec, wm.db, wm.calibration, wm.fix_var_m2, wm.cfg, grid=grid, rng=args.seed,
-                          methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain, loo_fixes=wm.loo_fixes)
+                          methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain, loo_fixes=wm.loo_fixes,
+                          path_var_m2=wm.path_var_m2)
         r["info"]["wifi_config"] = wm.wifi_config
         r["info"]["database_from_cache"] = cached
         n_db = len(model.walks) - (trace.name in set(model.walks))
