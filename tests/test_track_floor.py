@@ -230,6 +230,13 @@ def test_the_walked_path_spread_stored_with_the_floor_model_serves_an_outside_wa
     assert model.paths_var_m2 == want > 0
     back = type(model).load(model.save(tmp_path / "m"))
     assert back.paths_var_m2 == want                              # JSON floats read back bit-identical
+    folder = tmp_path / "bad"
+    model.save(folder)
+    meta = json.loads((folder / "selection.json").read_text())
+    for bad in ("1.0", -1.0, float("nan")):
+        (folder / "selection.json").write_text(json.dumps({**meta, "paths_var_m2": bad}))
+        with pytest.raises(ValueError, match=r"bad/selection\.json: paths_var_m2 must be a positive number"):
+            type(model).load(folder)
     assert back.for_walk(recs[0].name).path_var_m2 == want        # an outside walk: the whole database's graph
     assert back.for_walk(recs[1].name).path_var_m2 is None        # a floor walk's graph leaves it out: measured then
     got = back.for_walk(recs[0].name)

@@ -31,6 +31,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -246,7 +247,11 @@ class FloorModel:
             except (OSError, ValueError, KeyError) as e:
                 raise ValueError(f"{folder / 'loo_fixes.npz'}: not a floor model's leave-one-walk-out fixes "
                                  f"({type(e).__name__}: {e})") from None
-        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl, meta.get("paths_var_m2"))
+        pvar = meta.get("paths_var_m2")
+        if pvar is not None and not (isinstance(pvar, (int, float)) and math.isfinite(pvar) and pvar > 0):
+            raise ValueError(f"{folder / 'selection.json'}: paths_var_m2 must be a positive number or null, got "
+                             f"{pvar!r}")
+        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl, pvar)
 
 
 #: Version of a saved floor model (1: database, calibration rows, step intervals; 2: + the floor-level Wi-Fi
