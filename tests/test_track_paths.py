@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from ilocalg.track.estimators import ESTIMATORS, TrackProblem, lsq_track
-from ilocalg.track.paths import WalkedPaths, lsq_paths_track
+from ilocalg.track.estimators import ESTIMATORS, TrackProblem, lsq_paths_track, lsq_track
+from ilocalg.track.paths import WalkedPaths
 
 # an L-shaped corridor: 40 m east, then 30 m north
 CORNER = np.array([[0.0, 0.0], [40.0, 0.0], [40.0, 30.0]])
@@ -103,8 +103,7 @@ def test_lsq_paths_beats_lsq_on_a_simulated_corridor_walk():
 def test_gain_solve_reduces_to_lsq_and_finds_the_walks_gain():
     from dataclasses import replace
 
-    from ilocalg.track.estimators import _interp_rows, lsq_solve
-    from ilocalg.track.paths import lsq_gain_solve
+    from ilocalg.track.estimators import _interp_rows, lsq_gain_solve, lsq_solve
 
     p, truth = _l_walk(3, heading_bias=0.1)
     j, a = _interp_rows(p.state_t_s, p.fix_t_s)
