@@ -10,16 +10,13 @@ from ilocalg.track import error_sources as es
 from ilocalg.track.estimators import TrackProblem, kf_gain_track
 from ilocalg.track.motion import GainStats
 from ilocalg.track.online_kf import gain_kf
+from tests.track_sim import gained_walk
 
 
 def _walk(seed=0, n=160, fix_sd=3.0, scale=1.1, bias_rad=0.15, fix_every=4, fix_bias=(4.0, -3.0)):
     """A winding walk: PDR steps off by a gain, fixes with a persistent bias; waypoints every 20 steps."""
     rng = np.random.default_rng(seed)
-    th = np.cumsum(rng.normal(0, 0.08, n))
-    true_d = 0.7 * np.column_stack([np.cos(th), np.sin(th)])
-    truth = np.vstack([[0.0, 0.0], np.cumsum(true_d, 0)])
-    g = scale * np.exp(1j * bias_rad)
-    pdr = (true_d[:, 0] + 1j * true_d[:, 1]) / g
+    truth, g, pdr = gained_walk(rng, n, scale, bias_rad)
     ts = np.arange(n + 1) * 0.5
     fi = np.arange(1, n + 1, fix_every)
     fixes = truth[fi] + rng.normal(0, fix_sd, (fi.size, 2)) + np.asarray(fix_bias)

@@ -9,17 +9,14 @@ import pytest
 from ilocalg.track.estimators import TrackProblem, kf_gain_lag_track, kf_gain_track
 from ilocalg.track.motion import Calibration, GainStats, gain_stats
 from ilocalg.track.online_kf import gain_kf, gain_kf_lag
+from tests.track_sim import gained_walk
 
 
 def _walk(seed=0, n=200, fix_sd=4.0, step_sd=0.15, scale=1.12, bias_rad=0.12, fix_every=4):
     """A winding walk whose PDR steps are off by a step scale and a heading bias (the walk's own gain)."""
     rng = np.random.default_rng(seed)
-    th = np.cumsum(rng.normal(0, 0.08, n))
-    true_d = 0.7 * np.column_stack([np.cos(th), np.sin(th)])
-    truth = np.vstack([[0.0, 0.0], np.cumsum(true_d, 0)])
-    g = scale * np.exp(1j * bias_rad)
-    pdr = (true_d[:, 0] + 1j * true_d[:, 1]) / g
-    disp = np.column_stack([pdr.real, pdr.imag]) + rng.normal(0, step_sd, true_d.shape)
+    truth, g, pdr = gained_walk(rng, n, scale, bias_rad)
+    disp = np.column_stack([pdr.real, pdr.imag]) + rng.normal(0, step_sd, (n, 2))
     ts = np.arange(n + 1) * 0.5
     fi = np.arange(1, n + 1, fix_every)
     fixes = truth[fi] + rng.normal(0, fix_sd, (fi.size, 2))
