@@ -42,6 +42,7 @@ def test_all_notebooks_run_in_fast_mode(fast_reports):
     prov = json.loads((out / "provenance.json").read_text())
     assert prov["seed"] == 0 and prov["fast"] is True
     assert prov["notebooks"] == [nb.stem for nb in NOTEBOOKS]
+    assert sorted(prov["tables_sha256"]) == sorted(p.name for p in (out / "tables").glob("*.csv"))
 
 
 def test_every_notebook_has_parameters_cell_and_writes_a_table(fast_reports):
@@ -73,20 +74,31 @@ def test_every_saved_figure_is_an_image_output_and_in_the_html(fast_reports):
     assert n_saved >= 2 and len(set(_png_outputs(out / "07_fusion_iloc_kf.ipynb"))) >= n_saved
 
 
+#: Notebooks the second run leaves out: the four dearest of the fast reproduce (about 260 of its 515 notebook CPU-s,
+#: reports/timings.csv), whose second run would put ``make test`` over its 15-minute goal on the 2-core CI machine.
+#: What still checks them: same-seed runs of the photo experiment (tests/test_experiment_photo.py), the INS
+#: constraints' runs with and without side studies (tests/test_experiment_ins_constraints.py), the saved floor model
+#: against the built one (tests/test_track_database.py); notebooks 09 and 16 as a whole only by two reproduces
+#: outside CI, whose provenance.json ``tables_sha256`` maps are equal exactly when every table is.
+SECOND_RUN_SKIPS = ("09_fusion_real_walks", "11_photo_positioning", "12_ins_constraints_gcp", "16_measured_worlds")
+
+
 def test_same_seed_gives_byte_identical_tables(fast_reports, tmp_path):
-    """Every notebook again, in fresh kernels: the same tables, byte for byte. The second run skips what writes no
-    table (``manifest={}``: no claims ledger, which fast_reports has made, no runs recorded for it; the notebooks and
-    the tables they write are the same, and that recording never changes a table is checked on the way)."""
+    """The notebooks again, in fresh kernels: the same tables, byte for byte, except :data:`SECOND_RUN_SKIPS`.
+    The second run skips what writes no table (``manifest={}``: no claims ledger, which fast_reports has made, no
+    runs recorded for it; the notebooks and the tables they write are the same, and that recording never changes a
+    table is checked on the way)."""
     code, out_a = fast_reports
     assert code == 0
+    again = [nb.stem for nb in NOTEBOOKS if nb.stem not in SECOND_RUN_SKIPS]
+    assert len(again) == len(NOTEBOOKS) - len(SECOND_RUN_SKIPS), "a skipped notebook no longer exists"
     out_b = tmp_path / "reports_b"
-    assert reproduce(out_b, fast=True, seed=0, html=False, progress=False, manifest={}) == 0
-    a = sorted(p.name for p in (out_a / "tables").glob("*.csv"))
+    assert reproduce(out_b, fast=True, seed=0, only=",".join(again), html=False, progress=False, manifest={}) == 0
+    a = sorted(p.name for p in (out_a / "tables").glob("*.csv") if p.name.split("__")[0] in again)
     b = sorted(p.name for p in (out_b / "tables").glob("*.csv"))
     assert a == b and a
     _, mismatch, errors = filecmp.cmpfiles(out_a / "tables", out_b / "tables", a, shallow=False)
     assert not mismatch and not errors, f"tables differ between two runs with the same seed: {mismatch}"
-
 
 
 def test_equation_cells_cite_the_paper_numbering_and_name_functions_that_exist():

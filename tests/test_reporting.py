@@ -53,6 +53,22 @@ def test_provenance_has_commit_seed_versions_and_hashes(tmp_path):
     assert prov["input_files_sha256"][str(f)] == (
         "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
     )
+    assert prov["tables_sha256"] == {}
+
+
+def test_provenance_hashes_every_table_so_two_runs_compare_by_their_provenance(tmp_path):
+    Report(tmp_path, "98_t").table(pd.DataFrame({"a": [1.5, 2.0]}), "t")
+    Report(tmp_path, "98_t").table(pd.DataFrame({"b": ["x"]}), "u")
+    def hashes_of_a_run():
+        path = reporting.write_provenance(tmp_path, tmp_path, 0, True, [], ["98_t"])
+        return json.loads(path.read_text())["tables_sha256"]
+
+    hashes = hashes_of_a_run()
+    assert set(hashes) == {"98_t__t.csv", "98_t__u.csv"}
+    assert hashes["98_t__t.csv"] == reporting.sha256_file(tmp_path / "tables" / "98_t__t.csv")
+    Report(tmp_path, "98_t").table(pd.DataFrame({"a": [1.5, 2.1]}), "t")  # one digit differs: another hash
+    again = hashes_of_a_run()
+    assert again["98_t__t.csv"] != hashes["98_t__t.csv"] and again["98_t__u.csv"] == hashes["98_t__u.csv"]
 
 
 def test_readme_takes_paper_ref_tables_without_agreement(tmp_path):

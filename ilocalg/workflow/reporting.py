@@ -775,7 +775,9 @@ PROVENANCE_PACKAGES = ("numpy", "pandas", "scipy", "scikit-learn", "filterpy", "
 
 def write_provenance(out_dir: str | Path, repo: str | Path, seed: int, fast: bool,
                      inputs: list[str | Path], notebooks: list[str], n_seeds: int = 1) -> Path:
-    """Write ``provenance.json``: git commit, seed, mode, package versions, input sha256s."""
+    """Write ``provenance.json``: git commit, seed, mode, package versions, input sha256s, and the sha256 of every
+    table the run wrote (``tables_sha256``, by file name): two runs wrote byte-identical tables exactly when these
+    maps are equal, which compares two full reproduces without keeping both folders."""
     versions = {}
     for p in PROVENANCE_PACKAGES:
         try:
@@ -796,6 +798,7 @@ def write_provenance(out_dir: str | Path, repo: str | Path, seed: int, fast: boo
         "packages": versions,
         "notebooks": notebooks,
         "input_files_sha256": files,
+        "tables_sha256": {t.name: sha256_file(t) for t in sorted((Path(out_dir) / "tables").glob("*.csv"))},
     }
     path = Path(out_dir) / "provenance.json"
     path.write_text(json.dumps(prov, indent=2, sort_keys=True) + "\n")
