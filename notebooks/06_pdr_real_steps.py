@@ -53,6 +53,17 @@ if HAVE_DATA:
 else:
     report.table(pdr_real_steps.missing_table(archive), "summary")
 
+# %% [markdown]
+# ## Readings
+# Every choice of the experiment: where the data set's description (`SOURCE.txt`, `README_DataSet.md`) or a paper
+# speaks of it (line numbers of the text copies), what it says, what the code does, and the source of each value
+# neither gives.
+
+# %%
+if HAVE_DATA:
+    report.table(tables["readings"], "readings")
+    display(tables["readings"])  # noqa: F821
+
 # %%
 if HAVE_DATA:
     display(tables["per_position"])  # noqa: F821
