@@ -36,6 +36,7 @@ from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.pdr.robust import ROBUST_DEFAULTS
 from ilocalg.pdr.step_evaluate import (
     DETECTORS,
+    ONSET_GRID,
     RATE_HZ,
     SAM_RATE_HZ,
     Prepared,
@@ -107,7 +108,8 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         ``robust_diagnosis_by_position``, ``robust_by_truth_and_split`` (development / held-out halves,
         :func:`ilocalg.pdr.step_evaluate.is_development`, against the published truth and with heel bounces
         merged, mean with a bootstrap interval), ``walk_gate_sweep`` (the robust detector's walk detection
-        threshold on the development half only, with its leave-one-recording-out choices), ``robust_errors``
+        threshold on the development half only, with its leave-one-recording-out choices and the detector's own
+        errors per cause), ``onset_sweep`` (the same for the gait-onset ratio ``min_onset_ratio``), ``robust_errors``
         (every missed and extra step of the robust detector against the bounce-merged truth, with its cause,
         :func:`ilocalg.pdr.step_evaluate.error_causes`), ``robust_error_causes`` (their counts per recording),
         ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``comparison``, ``readings`` (:func:`readings`).
@@ -165,7 +167,8 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
             "robust_error_causes_by_split": causes_by_split(causes),
             "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "robust_by_truth_and_split": split_summary(diag, goal_min=GOAL_MIN, seed=seed),
-            "walk_gate_sweep": walk_gate_sweep(prep, recs),
+            "walk_gate_sweep": walk_gate_sweep(prep, recs, tol_s=MATCH_TOL_S),
+            "onset_sweep": walk_gate_sweep(prep, recs, ONSET_GRID, "min_onset_ratio", tol_s=MATCH_TOL_S),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
             "comparison": pd.DataFrame(comp), "readings": readings(fast)}
 
@@ -214,9 +217,12 @@ def readings(fast: bool = False) -> pd.DataFrame:
                 "min_step_s: 240 steps/min, above walking cadences (Tudor-Locke et al. 2011)"),
         reading("robust detector: walk detection", "", "not a paper's method",
                 f"a bout's first and last peaks dropped while the normalised auto-correlation of the stride around "
-                f"them is below min_stride_nac = {rb['min_stride_nac']}; peaks inside a bout never dropped",
-                "Rai et al. 2012 (normalised auto-correlation); threshold chosen by leave-one-recording-out on the "
-                "development half (odd repeats) only, table walk_gate_sweep"),
+                f"them is below min_stride_nac = {rb['min_stride_nac']}; then its first peaks while less prominent "
+                f"than min_onset_ratio = {rb['min_onset_ratio']} times the peak one stride later (gait onset); "
+                "peaks inside a bout never dropped",
+                "Rai et al. 2012 (normalised auto-correlation); Crenna & Frigo 1991 (the weight shift before the "
+                "first step); both values chosen by leave-one-recording-out on the development half (odd repeats) "
+                "only, tables walk_gate_sweep and onset_sweep"),
         reading("find_peaks baseline", "", "not a paper's method",
                 f"low-pass |a| and scipy.signal.find_peaks, no bout gate; grid: {axes('find_peaks')}",
                 "grid chosen per held-out recording"),
@@ -276,19 +282,24 @@ def truth_headline(tables: dict) -> str:
     return "; ".join(out)
 
 
-def gate_headline(tables: dict) -> str:
-    """One sentence: the walk-detection threshold the development folds choose, beside the detector's default."""
-    from ilocalg.pdr.robust import ROBUST_DEFAULTS
-
-    g = tables["walk_gate_sweep"]
+def gate_headline(tables: dict, table: str = "walk_gate_sweep", param: str = "min_stride_nac") -> str:
+    """One sentence: the value of a walk-detection parameter the development folds choose, beside the detector's
+    default (``table``/``param``: ``walk_gate_sweep``/``min_stride_nac`` or ``onset_sweep``/``min_onset_ratio``),
+    and the detector's own errors on the development half with it off and at the default."""
+    g = tables[table]
     out = []
     for truth in ("bounces_merged", "published"):
         best = g.loc[g[f"loro_chosen_{truth}"].idxmax()]
         mean, low = best[f"mean_accuracy_{truth}"], best[f"min_accuracy_{truth}"]
         out.append(f"against the {truth.replace('_', ' ')} truth, {int(best[f'loro_chosen_{truth}'])} of "
-                   f"{int(best['n_recordings'])} development folds choose min_stride_nac = {best['min_stride_nac']} "
+                   f"{int(best['n_recordings'])} development folds choose {param} = {best[param]} "
                    f"(development mean {mean:.2%}, worst {low:.2%})")
-    return "; ".join(out) + f"; the detector's default: {ROBUST_DEFAULTS['min_stride_nac']}"
+    default = ROBUST_DEFAULTS[param]
+    own = g.set_index(g[param].astype(str))["own_errors"]
+    if "off" in own.index and str(default) in own.index:
+        out.append(f"the detector's own errors against the bounce-merged truth: {own['off']} with it off, "
+                   f"{own[str(default)]} at the default")
+    return "; ".join(out) + f"; the detector's default: {default}"
 
 
 def causes_by_split(causes: pd.DataFrame) -> pd.DataFrame:
