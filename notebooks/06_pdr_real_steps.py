@@ -53,6 +53,17 @@ if HAVE_DATA:
 else:
     report.table(pdr_real_steps.missing_table(archive), "summary")
 
+# %% [markdown]
+# ## Readings
+# Every choice of the experiment: where the data set's description (`SOURCE.txt`, `README_DataSet.md`) or a paper
+# speaks of it (line numbers of the text copies), what it says, what the code does, and the source of each value
+# neither gives.
+
+# %%
+if HAVE_DATA:
+    report.table(tables["readings"], "readings")
+    display(tables["readings"])  # noqa: F821
+
 # %%
 if HAVE_DATA:
     display(tables["per_position"])  # noqa: F821
@@ -136,13 +147,26 @@ if HAVE_DATA:
 # `min_stride_nac` (`ilocalg.pdr.robust.stride_nac`, `trim_bout_ends`): "off" is the detector without walk
 # detection; each value is scored on the development recordings only, against the published and the
 # bounce-merged truth, with the number of leave-one-recording-out folds (over the development recordings) that
-# choose it. The detector's default is the value those folds choose.
+# choose it. The detector's default is the value those folds choose. The `own_*` columns count the detector's own
+# errors against the bounce-merged truth by cause (the cause table below explains them), so a value that raises the
+# mean by dropping true steps in recordings the truth over-counts shows as more `own_missed_*`.
+#
+# Gait onset: starting to walk from standing, the body shifts its weight before the first step (anticipatory
+# postural adjustments, Crenna & Frigo 1991), a small bump of |a| about one step period before the first heel
+# landing. The stride test keeps it (the walk's stride follows it). The second table sweeps `min_onset_ratio`
+# (`ilocalg.pdr.robust.trim_bout_onsets`): a bout's first peak is dropped while it is less prominent than that
+# ratio times the peak one stride later (the same foot's next landing, so that a phone in one pocket compares like
+# with like), with the stride threshold at its default. The end of a walk gets no such rule: its last landing is
+# the softest of the walk, weaker than the bumps after it.
 
 # %%
 if HAVE_DATA:
     report.table(tables["walk_gate_sweep"], "walk_gate_sweep")
+    report.table(tables["onset_sweep"], "onset_sweep")
     display(tables["walk_gate_sweep"])  # noqa: F821
     print(pdr_real_steps.gate_headline(tables))
+    display(tables["onset_sweep"])  # noqa: F821
+    print(pdr_real_steps.gate_headline(tables, "onset_sweep", "min_onset_ratio"))
 
 # %% [markdown]
 # ## Every missed and extra step given a cause
@@ -222,6 +246,12 @@ if HAVE_DATA:
 #   each was chosen); the held-out half was scored once, with the chosen value, in the split table above.
 #   A pouch swaying while the walker stands *inside* a walk (less than `max_step_s` between the peaks) stays
 #   counted, and a walk that starts with the recording can lose its first steps (no stride before them repeats).
+#   The weight shift before the first step passes the stride test; the gait-onset rule drops a bout's first peaks
+#   while they are much weaker than the same foot's next landing (the onset table: how many handling detections
+#   before the walk it removes and whether any first step is lost). Neither the intervals between the peaks
+#   (a run of detections at the walk's own period: the bumps before a walk come at that period too) nor a
+#   prominence ratio at the end of a walk (its last landing is weak) separated handling from steps on the
+#   development half.
 # * What is left below the goal's floor is, recording by recording, printed above from the cause table: the
 #   recordings below it against the bounce-merged truth, how many of their extra detections lie in the truth's gaps
 #   beside the loader's independent count of unpaired landings, and their accuracy once those gaps are filled. Where

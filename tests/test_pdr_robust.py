@@ -3,7 +3,15 @@ import pandas as pd
 import pytest
 from scipy import signal as ss
 
-from ilocalg.pdr.robust import RobustStepDetector, bout_gate, detect_steps_robust, stride_nac, trim_bout_ends
+from ilocalg.pdr.robust import (
+    ROBUST_DEFAULTS,
+    RobustStepDetector,
+    bout_gate,
+    detect_steps_robust,
+    stride_nac,
+    trim_bout_ends,
+    trim_bout_onsets,
+)
 from ilocalg.sim import gait
 
 
@@ -104,3 +112,49 @@ def test_walk_detection_drops_handling_before_a_walk():
     assert (gated["t_s"] > 2.8).all()
     with pytest.raises(ValueError, match="min_stride_nac"):
         detect_steps_robust(m, t, min_stride_nac=1.5)
+
+
+def test_trim_bout_onsets_drops_only_a_bout_s_weak_first_peaks():
+    # two bouts; the first starts with two weak peaks (0.2 and 0.5 against the same foot's 2.0 and 2.2 one stride
+    # later), and a weak peak inside it (0.3) and at its end (0.2) stay; the second bout starts strong
+    t = np.r_[0.5 * np.arange(8), 10.0 + 0.5 * np.arange(4)]
+    prom = np.array([0.2, 0.5, 2.0, 2.2, 0.3, 2.1, 2.0, 0.2, 1.0, 1.0, 0.1, 1.0])
+    keep = trim_bout_onsets(t, prom, max_step_s=1.0, min_ratio=0.3)
+    assert keep.tolist() == [False, False] + [True] * 10
+    assert trim_bout_onsets(t, prom, 1.0, 0.0).all()
+    # one stride = one peak: the first peak against the next one
+    assert trim_bout_onsets(t, prom, 1.0, 0.3, stride_peaks=1).tolist() == [True] * 12
+    # a bout too short to hold the peak one stride later is left alone
+    assert trim_bout_onsets([0.0, 0.5], [0.1, 5.0], 1.0, 0.3).all()
+    assert trim_bout_onsets([], [], 1.0, 0.3).size == 0
+    with pytest.raises(ValueError, match="shape"):
+        trim_bout_onsets(t, prom[:-1], 1.0, 0.3)
+    with pytest.raises(ValueError, match="stride_peaks"):
+        trim_bout_onsets(t, prom, 1.0, 0.3, stride_peaks=0)
+
+
+def test_gait_onset_drops_the_weight_shift_before_a_walk_and_only_with_walk_detection():
+    # 2.5 s standing, then a 20 s walk at 2 steps/s (first landing 2.75 s, prominence about 2 m/s^2) with a bump
+    # (the weight shift) one step period before its first landing; the stride test keeps the bump
+    rate = 100.0
+    t = np.arange(0, 24, 1 / rate)
+    m = np.full(t.size, 9.8)
+    walk = (t >= 2.5) & (t < 22.5)
+    m[walk] += 2.0 * np.sin(2 * np.pi * 2.0 * (t[walk] - 2.5) - np.pi / 2) + 2.0
+
+    def with_bump(amp):
+        return m + amp * np.exp(-0.5 * ((t - 2.25) / 0.08) ** 2)
+
+    weak = with_bump(1.5)                                   # filtered prominence ~0.5: about 0.26 of the next ones
+    on, off = detect_steps_robust(weak, t), detect_steps_robust(weak, t, min_onset_ratio=None)
+    assert len(off) == len(on) + 1 == 41 and off["t_s"].iloc[0] < 2.3 < 2.7 < on["t_s"].iloc[0]
+    assert off["prominence_mps2"].iloc[0] < ROBUST_DEFAULTS["min_onset_ratio"] * off["prominence_mps2"].iloc[2]
+    # a bump at ~0.4 of the same foot's next landing is kept (a weak first step is still a step)
+    assert len(detect_steps_robust(with_bump(2.0), t)) == 41
+    # without walk detection (the track's and the gait statistics' setting) the onset rule is off too
+    pd.testing.assert_frame_equal(detect_steps_robust(weak, t, min_stride_nac=None),
+                                  detect_steps_robust(weak, t, min_stride_nac=None, min_onset_ratio=None))
+    assert len(detect_steps_robust(weak, t, min_stride_nac=None)) == 41
+    assert RobustStepDetector().get_params() == ROBUST_DEFAULTS
+    with pytest.raises(ValueError, match="min_onset_ratio"):
+        detect_steps_robust(weak, t, min_onset_ratio=1.5)

@@ -38,3 +38,15 @@ def test_truth_artefacts_counts_double_triggers():
     r = SimpleNamespace(name="r", true_steps=5, step_t_s=np.array([0.0, 0.5, 0.6, 1.1, 1.15]))
     t = prs.truth_artefacts([r]).iloc[0]
     assert t["intervals_below_0.25s"] == 2 and t["share_of_steps"] == 0.4
+
+
+def test_walk_gate_sweep_names_a_robust_parameter_and_needs_development_recordings():
+    from ilocalg.pdr.step_errors import CAUSES, TRUTH_LIMITED
+
+    with pytest.raises(ValueError, match="unknown robust detector parameter 'min_onset'"):
+        prs.walk_gate_sweep([], [], prs.ONSET_GRID, "min_onset")
+    with pytest.raises(ValueError, match="at least 2 development recordings"):
+        prs.walk_gate_sweep([], [], prs.ONSET_GRID, "min_onset_ratio")
+    # the sweep's own-error columns are exactly the detector's causes (every cause not limited by the truth)
+    assert set(prs.OWN_CAUSES) == {f"{k}_{c}" for k, c in CAUSES if c not in TRUTH_LIMITED}
+    assert prs.ONSET_GRID[0] is None and prs.NAC_GRID[0] is None

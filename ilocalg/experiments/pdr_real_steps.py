@@ -30,11 +30,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ilocalg.io.oxford import OxfordRecording, load_oxford_archive
+from ilocalg.io.oxford import MIN_STRIDE_S, OxfordRecording, load_oxford_archive
 from ilocalg.io.paths import dataset_path
-from ilocalg.papers import paper_ref
+from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
+from ilocalg.pdr.robust import ROBUST_DEFAULTS
 from ilocalg.pdr.step_evaluate import (
     DETECTORS,
+    ONSET_GRID,
+    RATE_HZ,
+    SAM_RATE_HZ,
     Prepared,
     accuracy,
     diagnosis_window,
@@ -49,7 +53,7 @@ from ilocalg.pdr.step_evaluate import (
 )
 
 __all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "cause_headline",
-           "causes_by_split", "worst", "GOAL_MEAN", "GOAL_MIN",
+           "causes_by_split", "worst", "readings", "GOAL_MEAN", "GOAL_MIN", "MATCH_TOL_S",
            # re-exported from ilocalg.pdr.step_evaluate for the notebook
            "Prepared", "prepare", "DETECTORS", "accuracy", "loro_cv", "step_diagnosis", "diagnosis_window",
            "truth_artefacts"]
@@ -66,6 +70,9 @@ OXFORD_MEDIAN_PAPER = 0.968
 #: The toolkit's goal for its best detector: mean accuracy and worst recording.
 GOAL_MEAN = 0.993
 GOAL_MIN = 0.98
+#: Largest |t_true - t_detected| of a matched step in the diagnosis tables, s (a setting: below half of the
+#: shortest step interval the detectors allow, ``2 min_step_s``; :func:`ilocalg.pdr.step_evaluate.step_diagnosis`).
+MATCH_TOL_S = 0.25
 ARCHIVE = "optimisation_data.tar.xz"
 
 
@@ -101,10 +108,11 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         ``robust_diagnosis_by_position``, ``robust_by_truth_and_split`` (development / held-out halves,
         :func:`ilocalg.pdr.step_evaluate.is_development`, against the published truth and with heel bounces
         merged, mean with a bootstrap interval), ``walk_gate_sweep`` (the robust detector's walk detection
-        threshold on the development half only, with its leave-one-recording-out choices), ``robust_errors``
+        threshold on the development half only, with its leave-one-recording-out choices and the detector's own
+        errors per cause), ``onset_sweep`` (the same for the gait-onset ratio ``min_onset_ratio``), ``robust_errors``
         (every missed and extra step of the robust detector against the bounce-merged truth, with its cause,
         :func:`ilocalg.pdr.step_evaluate.error_causes`), ``robust_error_causes`` (their counts per recording),
-        ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``comparison``.
+        ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``comparison``, ``readings`` (:func:`readings`).
     """
     recs = recordings if recordings is not None else load(data_dir)
     if fast:
@@ -148,20 +156,97 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
                   OXFORD_MEDIAN_PAPER * 100, best["median_accuracy"] * 100, unit="%",
                   note="reference: the data set's own windowed peak detector"),
     ]
-    diag = step_diagnosis(prep, recs)
+    diag = step_diagnosis(prep, recs, tol_s=MATCH_TOL_S)
     by_pos_diag = diag.groupby("position")[["accuracy", "accuracy_bounces_merged", "missed", "missed_close_to_true",
                                             "extra", "n_heel_bounces"]]
     by_pos_diag = by_pos_diag.agg(["mean", "min", "max"])
     by_pos_diag.columns = [f"{a}_{b}" for a, b in by_pos_diag.columns]
-    errors, causes = error_causes(prep, recs)
+    errors, causes = error_causes(prep, recs, tol_s=MATCH_TOL_S)
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
             "robust_errors": errors, "robust_error_causes": causes,
             "robust_error_causes_by_split": causes_by_split(causes),
             "robust_diagnosis": diag, "robust_diagnosis_by_position": by_pos_diag.reset_index(),
             "robust_by_truth_and_split": split_summary(diag, goal_min=GOAL_MIN, seed=seed),
-            "walk_gate_sweep": walk_gate_sweep(prep, recs),
+            "walk_gate_sweep": walk_gate_sweep(prep, recs, tol_s=MATCH_TOL_S),
+            "onset_sweep": walk_gate_sweep(prep, recs, ONSET_GRID, "min_onset_ratio", tol_s=MATCH_TOL_S),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
-            "comparison": pd.DataFrame(comp)}
+            "comparison": pd.DataFrame(comp), "readings": readings(fast)}
+
+
+_SOURCE = "Oxford step counter data set, SOURCE.txt "
+
+
+def readings(fast: bool = False) -> pd.DataFrame:
+    """One row per choice of :func:`run`: where the data set's description or a paper speaks of it (line numbers of
+    ``oxford_step_counter/SOURCE.txt`` and of the papers' text copies), what it says, what the code does, and the
+    source of every value neither gives. ``fast``: the run's small grids."""
+    grids = {d: DETECTORS[d][1 if fast else 0] for d in DETECTORS}
+
+    def axes(det: str) -> str:
+        values = {k: list(dict.fromkeys(str(g[k]) for g in grids[det])) for k in grids[det][0]}   # grid order
+        return "; ".join(f"{k} in [{', '.join(v)}]" for k, v in values.items())
+
+    rb = ROBUST_DEFAULTS
+    return readings_table([
+        reading("ground truth", _SOURCE + "L10-14",
+                "a step is a 0 -> 1 transition of either heel-pressure foot state; their count is the 'steps' column",
+                "the published count (truth 'published'); beside it the count with heel-sensor bounces merged (a foot "
+                f"landing again less than MIN_STRIDE_S = {MIN_STRIDE_S:g} s after its last landing) and, as a "
+                "sensitivity check only, with the unpaired landings added",
+                "MIN_STRIDE_S measured on the 48 recordings (ilocalg.io.oxford: a gap in the same foot's landing "
+                "intervals at 0.50-0.55 s)"),
+        reading("accuracy measure", _SOURCE + "L17-18", "accuracy = 1 - |counted - true| / true, per recording",
+                "the same, per recording; mean, median, worst and recordings below the goal's floor", "data set"),
+        reading("reference values", _SOURCE + "L17-18",
+                f"the project's windowed peak detector: {OXFORD_MEAN_PAPER:.1%} mean, {OXFORD_MEDIAN_PAPER:.1%} median",
+                "shown beside the best detector's leave-one-recording-out mean and median (comparison table); "
+                "reference values, never a target", "data set"),
+        reading("sampling", _SOURCE + "L8-9", "each phone at its fastest rate (~221-405 Hz, the Nexus 5 varies)",
+                f"linear resampling of the 3-axis log to {RATE_HZ:g} Hz ({SAM_RATE_HZ:g} Hz for SAM, whose X1 "
+                "feature scales with the rate)", "one parameter set for every phone; no value from the data set"),
+        reading("parameter choice", "", "silent (the data set is for optimising a detector's parameters)",
+                "leave-one-recording-out: each recording scored with the grid point best on the other recordings"
+                + (" (fast: every third recording)" if fast else ""),
+                "the data set's own purpose (README_DataSet.md L7)"),
+        reading("robust detector: signal", "", "not a paper's method",
+                f"|a| (orientation-free), zero-phase 2nd-order Butterworth low-pass; grid: {axes('robust')}; "
+                f"defaults cutoff_hz={rb['cutoff_hz']:g}, prominence_mps2={rb['prominence_mps2']:g}, "
+                f"min_step_s={rb['min_step_s']:g}, max_step_s={rb['max_step_s']:g}, "
+                f"min_bout_steps={rb['min_bout_steps']}",
+                "grid chosen per held-out recording; the defaults are the values that search picks on the set; "
+                "min_step_s: 240 steps/min, above walking cadences (Tudor-Locke et al. 2011)"),
+        reading("robust detector: walk detection", "", "not a paper's method",
+                f"a bout's first and last peaks dropped while the normalised auto-correlation of the stride around "
+                f"them is below min_stride_nac = {rb['min_stride_nac']}; then its first peaks while less prominent "
+                f"than min_onset_ratio = {rb['min_onset_ratio']} times the peak one stride later (gait onset); "
+                "peaks inside a bout never dropped",
+                "Rai et al. 2012 (normalised auto-correlation); Crenna & Frigo 1991 (the weight shift before the "
+                "first step); both values chosen by leave-one-recording-out on the development half (odd repeats) "
+                "only, tables walk_gate_sweep and onset_sweep"),
+        reading("find_peaks baseline", "", "not a paper's method",
+                f"low-pass |a| and scipy.signal.find_peaks, no bout gate; grid: {axes('find_peaks')}",
+                "grid chosen per held-out recording"),
+        reading("peak_window (Luo et al. 2017)", f"{PAPERS['luo']}, L175-189",
+                "sliding-window peaks; a peak is rejected if it differs from the previous one by more than a "
+                "threshold or its interval is outside 0.2-2 s; no threshold value",
+                f"ilocalg.pdr.peak_window, valley-rise reading of the rule; grid: {axes('peak_window')}",
+                "threshold not given: chosen per held-out recording from the grid"),
+        reading("sign_change (Chao 2008)", f"{PAPERS['pso']}, L519-520 (Fig 3.9)",
+                "slope sign changes of the filtered vertical acceleration; extrema inside the +-RMS band dropped",
+                f"ilocalg.pdr.sign_change on the specific force along gravity; moving-average half-width "
+                f"{axes('sign_change')}", "width not given for these phones: chosen per held-out recording"),
+        reading("sam (Chiu 2013)", f"{PAPERS['iloc']}, L399 (eq. 8-15)",
+                "seven feature ranges, each the 5 % and 95 % points of the training steps' CDFs",
+                f"ranges learned on the other recordings' heel-sensor steps; quantile pairs {axes('sam')}",
+                "the thesis's 5-95 % is one grid point; the others are sensitivity choices"),
+        reading("development / held-out halves", "", "silent",
+                "odd repeat numbers (_1, _3) develop, even repeats are kept apart (every condition of the set in "
+                "both)", "a rule fixed by the recordings' names (ilocalg.pdr.step_evaluate.is_development)"),
+        reading("step matching", "", "silent",
+                f"a detection matches a true step within {MATCH_TOL_S:g} s, one-to-one in time order; unmatched "
+                "ones within 0.5 s are paired as 'timing' (found, not the detector's count error)",
+                "setting: below half the shortest step interval the detectors allow"),
+    ])
 
 
 def missing_table(path) -> pd.DataFrame:
@@ -197,19 +282,24 @@ def truth_headline(tables: dict) -> str:
     return "; ".join(out)
 
 
-def gate_headline(tables: dict) -> str:
-    """One sentence: the walk-detection threshold the development folds choose, beside the detector's default."""
-    from ilocalg.pdr.robust import ROBUST_DEFAULTS
-
-    g = tables["walk_gate_sweep"]
+def gate_headline(tables: dict, table: str = "walk_gate_sweep", param: str = "min_stride_nac") -> str:
+    """One sentence: the value of a walk-detection parameter the development folds choose, beside the detector's
+    default (``table``/``param``: ``walk_gate_sweep``/``min_stride_nac`` or ``onset_sweep``/``min_onset_ratio``),
+    and the detector's own errors on the development half with it off and at the default."""
+    g = tables[table]
     out = []
     for truth in ("bounces_merged", "published"):
         best = g.loc[g[f"loro_chosen_{truth}"].idxmax()]
         mean, low = best[f"mean_accuracy_{truth}"], best[f"min_accuracy_{truth}"]
         out.append(f"against the {truth.replace('_', ' ')} truth, {int(best[f'loro_chosen_{truth}'])} of "
-                   f"{int(best['n_recordings'])} development folds choose min_stride_nac = {best['min_stride_nac']} "
+                   f"{int(best['n_recordings'])} development folds choose {param} = {best[param]} "
                    f"(development mean {mean:.2%}, worst {low:.2%})")
-    return "; ".join(out) + f"; the detector's default: {ROBUST_DEFAULTS['min_stride_nac']}"
+    default = ROBUST_DEFAULTS[param]
+    own = g.set_index(g[param].astype(str))["own_errors"]
+    if "off" in own.index and str(default) in own.index:
+        out.append(f"the detector's own errors against the bounce-merged truth: {own['off']} with it off, "
+                   f"{own[str(default)]} at the default")
+    return "; ".join(out) + f"; the detector's default: {default}"
 
 
 def causes_by_split(causes: pd.DataFrame) -> pd.DataFrame:

@@ -18,19 +18,30 @@ Beyond the papers. Steps:
    2013 study it). This removes the handling peaks before and after a walk and a pouch swaying while
    the walker stands, which the bout gate below keeps when they come less than ``max_step_s`` apart;
    peaks inside a bout are never dropped (a weak step between strong ones is still a step);
+   gait onset: then, while the first peak of a bout is less prominent than ``min_onset_ratio`` times the
+   peak one stride (two peaks) later, the same foot's next landing, it is dropped
+   (:func:`trim_bout_onsets`). Starting to walk from standing, the body shifts its weight before the first
+   step (the anticipatory postural adjustments of gait initiation, Crenna & Frigo 1991): a small bump of |a|
+   about one step period before the first landing, which the stride test above keeps because the walk's
+   stride follows it. The first landing is weak too, but less so against the same foot's next one (one
+   stride later, so that a phone in one pocket compares like with like). The end of a walk gets no such
+   rule: the last landing of a walk is the softest, weaker than a bump after it;
 5. walking-bout gate: bouts of fewer than ``min_bout_steps`` peaks (handling the phone, standing)
    are dropped.
 
 The parameters are chosen by leave-one-recording-out cross-validation on labelled walks (the
 experiment ``pdr_real_steps``); the defaults are the values that search picks on the Oxford
 optimisation set (``min_stride_nac``: on its development half, odd repeats, against the truth with
-heel-sensor bounces merged: 0.5 in each of the 24 folds over off, 0, 0.3-0.7; table ``walk_gate_sweep``).
+heel-sensor bounces merged: 0.5 in each of the 24 folds over off, 0, 0.3-0.7; table ``walk_gate_sweep``;
+``min_onset_ratio``: the same way, table ``onset_sweep``).
 
 References
 ----------
 Rai, A., Chintalapudi, K. K., Padmanabhan, V. N., Sen, R. (2012), "Zee: zero-effort crowdsourcing for
 indoor localization", MobiCom (normalised auto-correlation of |a| over a gait cycle).
 Brajdic, A., Harle, R. (2013), "Walk detection and step counting on unconstrained smartphones", UbiComp.
+Crenna, P., Frigo, C. (1991), "A motor programme for the initiation of forward-oriented movements in humans",
+J. Physiol. 437 (anticipatory postural adjustments before the first step of gait initiation).
 """
 
 from __future__ import annotations
@@ -42,14 +53,15 @@ from scipy import signal as ss
 from ilocalg.pdr.registry import register_step_detector
 from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, resample_uniform
 
-__all__ = ["match_steps", "lowpass_magnitude", "bout_gate", "stride_nac", "trim_bout_ends", "detect_steps_robust",
+__all__ = ["match_steps", "lowpass_magnitude", "bout_gate", "stride_nac", "trim_bout_ends", "trim_bout_onsets",
+           "detect_steps_robust",
            "detect_steps_find_peaks",
            "RobustStepDetector",
            "ROBUST_DEFAULTS"]
 
 #: Default parameters (selected by leave-one-recording-out search on the Oxford set).
 ROBUST_DEFAULTS = {"rate_hz": 100.0, "cutoff_hz": 2.0, "prominence_mps2": 0.3, "min_step_s": 0.25,
-                   "max_step_s": 1.0, "min_bout_steps": 8, "min_stride_nac": 0.5}
+                   "max_step_s": 1.0, "min_bout_steps": 8, "min_stride_nac": 0.5, "min_onset_ratio": 0.3}
 
 
 def lowpass_magnitude(mag_mps2, rate_hz: float, cutoff_hz: float) -> np.ndarray:
@@ -184,6 +196,45 @@ def trim_bout_ends(t_peak_s, score_fn, max_step_s: float, min_score: float) -> n
     return keep
 
 
+def trim_bout_onsets(t_peak_s, prominence, max_step_s: float, min_ratio: float, stride_peaks: int = 2) -> np.ndarray:
+    """Mask of the peaks left once each bout's first peaks, weaker than ``min_ratio`` times the peak one stride later,
+    are dropped.
+
+    Bouts as in :func:`bout_gate`. From the start of each bout, the first peak is dropped while its
+    ``prominence`` is below ``min_ratio`` times that of the peak ``stride_peaks`` later (two: the same foot's next
+    landing) and that peak is in the bout; the first peak that passes stops the trimming, so no peak after it
+    is dropped.
+
+    Parameters
+    ----------
+    t_peak_s : array_like, shape (k,)
+        Increasing peak times, s.
+    prominence : array_like, shape (k,)
+        The peaks' prominences (any unit; only their ratios count).
+    max_step_s : float
+        Longest step: a larger gap starts a new bout, s.
+    min_ratio : float
+        Smallest prominence of a bout's first peak against the peak one stride later.
+    stride_peaks : int
+        Peaks per stride (>= 1).
+    """
+    t = np.asarray(t_peak_s, dtype=np.float64)
+    prom = np.asarray(prominence, dtype=np.float64)
+    if prom.shape != t.shape:
+        raise ValueError(f"prominence must have the shape of t_peak_s {t.shape}, got {prom.shape}")
+    if stride_peaks < 1:
+        raise ValueError(f"stride_peaks must be >= 1, got {stride_peaks}")
+    keep = np.ones(t.size, dtype=bool)
+    if t.size == 0:
+        return keep
+    starts = np.flatnonzero(_bout_breaks(t, max_step_s))
+    for i, end in zip(starts, np.append(starts[1:], t.size), strict=True):
+        while i + stride_peaks < end and prom[i] < min_ratio * prom[i + stride_peaks]:
+            keep[i] = False
+            i += 1
+    return keep
+
+
 def match_steps(true_t_s, det_t_s, tol_s: float = 0.2) -> tuple[np.ndarray, np.ndarray]:
     """One-to-one matching of detected to true step times (greedy by time order).
 
@@ -226,7 +277,8 @@ def match_steps(true_t_s, det_t_s, tol_s: float = 0.2) -> tuple[np.ndarray, np.n
 @register_step_detector("robust")
 def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float = 2.0,
                         prominence_mps2: float = 0.3, min_step_s: float = 0.25, max_step_s: float = 1.0,
-                        min_bout_steps: int = 8, min_stride_nac: float | None = 0.5) -> pd.DataFrame:
+                        min_bout_steps: int = 8, min_stride_nac: float | None = 0.5,
+                        min_onset_ratio: float | None = 0.3) -> pd.DataFrame:
     """Detect steps in an accelerometer log of any (even irregular) sampling.
 
     Parameters
@@ -235,8 +287,9 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
         Specific force (m/s^2) or its magnitude.
     t_s : array_like, shape (n,)
         Strictly increasing times, s (irregular sampling is fine: the log is resampled).
-    rate_hz, cutoff_hz, prominence_mps2, min_step_s, max_step_s, min_bout_steps, min_stride_nac
-        See the module docstring; ``min_stride_nac=None`` switches the walk detection at bout ends off.
+    rate_hz, cutoff_hz, prominence_mps2, min_step_s, max_step_s, min_bout_steps, min_stride_nac, min_onset_ratio
+        See the module docstring; ``min_stride_nac=None`` switches the walk detection at bout ends off (the gait
+        onset rule with it), ``min_onset_ratio=None`` the gait onset rule alone.
 
     Returns
     -------
@@ -250,6 +303,8 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
         raise ValueError(f"min_bout_steps must be >= 1, got {min_bout_steps}")
     if min_stride_nac is not None and not -1.0 <= min_stride_nac <= 1.0:
         raise ValueError(f"min_stride_nac must lie in [-1, 1] (a correlation) or be None, got {min_stride_nac}")
+    if min_onset_ratio is not None and not 0.0 <= min_onset_ratio <= 1.0:
+        raise ValueError(f"min_onset_ratio must lie in [0, 1] (a prominence ratio) or be None, got {min_onset_ratio}")
     m = magnitude_mps2(a) if a.ndim == 2 else a
     dt = np.diff(t)
     if np.abs(dt * rate_hz - 1.0).max() < 1e-6:        # already on the common grid: no resampling
@@ -265,6 +320,9 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
         lags = (max(int(round(2 * min_step_s * rate_hz)), 2), int(round(2 * max_step_s * rate_hz)))
         step = max(int(round(_NAC_LAG_S * rate_hz)), 1)
         keep = trim_bout_ends(tu[p], lambda k: stride_nac(mu, p[k], *lags, step), max_step_s, min_stride_nac)
+        if min_onset_ratio is not None:
+            k = np.flatnonzero(keep)
+            keep[k] = trim_bout_onsets(tu[p[k]], props["prominences"][k], max_step_s, min_onset_ratio)
     keep[keep] = bout_gate(tu[p[keep]], max_step_s, min_bout_steps)
     p = p[keep]
     base = np.minimum(y[props["left_bases"][keep]], y[props["right_bases"][keep]])
@@ -296,7 +354,7 @@ class RobustStepDetector:
 
     def __init__(self, rate_hz: float = 100.0, cutoff_hz: float = 2.0, prominence_mps2: float = 0.3,
                  min_step_s: float = 0.25, max_step_s: float = 1.0, min_bout_steps: int = 8,
-                 min_stride_nac: float | None = 0.5):
+                 min_stride_nac: float | None = 0.5, min_onset_ratio: float | None = 0.3):
         self.rate_hz = rate_hz
         self.cutoff_hz = cutoff_hz
         self.prominence_mps2 = prominence_mps2
@@ -304,6 +362,7 @@ class RobustStepDetector:
         self.max_step_s = max_step_s
         self.min_bout_steps = min_bout_steps
         self.min_stride_nac = min_stride_nac
+        self.min_onset_ratio = min_onset_ratio
 
     def get_params(self) -> dict:
         return {k: getattr(self, k) for k in ROBUST_DEFAULTS}

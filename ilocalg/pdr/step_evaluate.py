@@ -32,7 +32,8 @@ from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
-           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "walk_gate_sweep", "error_causes"]
+           "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "ONSET_GRID", "OWN_CAUSES",
+           "walk_gate_sweep", "error_causes"]
 
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
@@ -278,27 +279,46 @@ def split_summary(diag: pd.DataFrame, columns=(("published", "accuracy"),
 
 #: Walk-detection thresholds swept on the development half (:func:`walk_gate_sweep`; None: gate off).
 NAC_GRID = (None, 0.0, 0.3, 0.4, 0.5, 0.6, 0.7)
+#: Gait-onset ratios swept on the development half (``walk_gate_sweep(..., param="min_onset_ratio")``; None: off).
+ONSET_GRID = (None, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5)
+#: The detector's own error causes (:data:`ilocalg.pdr.step_errors.CAUSES` less the truth-limited ones), as
+#: ``<kind>_<cause>``, counted per grid point by :func:`walk_gate_sweep`.
+OWN_CAUSES = ("missed_walk_end", "missed_inside_walk", "extra_pause", "extra_before_walk", "extra_after_walk",
+              "extra_inside_walk")
 
 
-def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID) -> pd.DataFrame:
-    """The robust detector's walk detection (``min_stride_nac``) swept on the development half only.
+def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID, param: str = "min_stride_nac",
+                    tol_s: float = 0.25) -> pd.DataFrame:
+    """One parameter of the robust detector's walk detection swept on the development half only.
 
-    Each grid value is scored on the development recordings (:func:`is_development`; the others are not
-    read) against the published truth and the truth with heel bounces merged: mean and worst accuracy, and
-    how often leave-one-recording-out over the development recordings (:func:`loro_cv`) chooses it.
+    Each grid value of ``param`` (``min_stride_nac``, ``min_onset_ratio``; the others at
+    :data:`ilocalg.pdr.robust.ROBUST_DEFAULTS`) is scored on the development recordings (:func:`is_development`;
+    the others are not read) against the published truth and the truth with heel bounces merged: mean and worst
+    accuracy, and how often leave-one-recording-out over the development recordings (:func:`loro_cv`) chooses
+    it; and the detector's own errors against the merged truth, summed per cause
+    (:func:`ilocalg.pdr.step_errors.classify_step_errors`, :data:`OWN_CAUSES`, with their total ``own_errors``).
     ``recordings`` are the :class:`ilocalg.io.oxford.OxfordRecording` of ``prep``, for the bounce counts.
     """
     from ilocalg.pdr.robust import ROBUST_DEFAULTS, detect_steps_robust
+    from ilocalg.pdr.step_errors import classify_step_errors, count_causes
 
+    if param not in ROBUST_DEFAULTS:
+        raise ValueError(f"unknown robust detector parameter {param!r}; known: {sorted(ROBUST_DEFAULTS)}")
     dev = [k for k, p in enumerate(prep) if is_development(p.name)]
     if len(dev) < 2:
         raise ValueError(f"need at least 2 development recordings (odd repeats), got {len(dev)}")
     published = np.array([recordings[k].true_steps + recordings[k].n_heel_bounces_merged for k in dev])
     merged = published - np.array([recordings[k].n_heel_bounces for k in dev])
-    counts = np.array([[len(detect_steps_robust(prep[k].acc_mps2, prep[k].t_s,
-                                                **{**ROBUST_DEFAULTS, "min_stride_nac": g})) for k in dev]
-                       for g in grid])
-    out = pd.DataFrame({"min_stride_nac": ["off" if g is None else g for g in grid]})
+    counts = np.zeros((len(grid), len(dev)), dtype=int)
+    own = np.zeros((len(grid), len(OWN_CAUSES)), dtype=int)
+    for g, value in enumerate(grid):
+        for j, k in enumerate(dev):
+            det = detect_steps_robust(prep[k].acc_mps2, prep[k].t_s, **{**ROBUST_DEFAULTS, param: value})["t_s"]
+            counts[g, j] = det.size
+            truth = prep[k].step_t_s[~recordings[k].step_is_heel_bounce]
+            n = count_causes(classify_step_errors(truth, det.to_numpy(), tol_s))
+            own[g] += [n[c] for c in OWN_CAUSES]
+    out = pd.DataFrame({param: ["off" if g is None else g for g in grid]})
     for truth, n in (("published", published), ("bounces_merged", merged)):
         score = accuracy(counts, n[None, :])
         _, choice = loro_cv(score)
@@ -306,6 +326,9 @@ def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID) -> pd.DataF
         out[f"min_accuracy_{truth}"] = score.min(axis=1)
         out[f"loro_chosen_{truth}"] = np.bincount(choice, minlength=len(grid))
     out["n_recordings"] = len(dev)
+    for c, col in zip(OWN_CAUSES, own.T, strict=True):
+        out[f"own_{c}"] = col
+    out["own_errors"] = own.sum(axis=1)
     return out
 
 
