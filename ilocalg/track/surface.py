@@ -37,9 +37,11 @@ the surfaces of a walk's first 3 / 5 / 10 scans around the ``lsq_online_map`` st
 per walk (median), 53 % of its scans' five nearest rows come from one database walk, in 22 of 50 walks one of the
 two walks recorded nearest in time; the five neighbours taken from distinct walks (at most one / two rows per walk)
 raise the fix error from 5.28 m to 9.03 / 6.60 m (``lsq`` 1.20 / 0.78); the RSSI distance over only the access
-points the walk hears at all (its device's): fixes 5.54 m, ``lsq`` 0.604. The weights' scale h spans the gap between
-a scan's nearest and fifth-nearest row (7-33 dB, 10-90 %), the spatial sd the
-rows' spacing along a walk (1.3-3.4 m, 10-90 %; swept 1-4 m).
+points the walk hears at all (its device's): fixes 5.54 m, ``lsq`` 0.604; only the rows within 1 / 2 / 3 s of a
+waypoint of their walk (whose positions are not interpolated over a turn): fixes 6.54 / 5.68 / 5.44 m, ``lsq``
+0.757 / 0.666 / 0.632 (density matters more than the rows' interpolated positions). The weights' scale h spans
+the gap between a scan's nearest and fifth-nearest row (7-33 dB, 10-90 %), the spatial sd the rows' spacing along
+a walk (1.3-3.4 m, 10-90 %; swept 1-4 m).
 
 CPU (surface and 41 x 41 placement of one walk, :func:`surface_table`'s ``cpu_s``): median 0.23 s, at most 0.48 s
 (50 walks, loaded machine).
