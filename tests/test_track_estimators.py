@@ -7,6 +7,7 @@ import pytest
 from ilocalg.fusion.particle_filter import OccupancyGrid
 from ilocalg.io.scans import merge_relisted_wifi, relisted_readings
 from ilocalg.track.estimators import TrackProblem, lsq_causal_track, lsq_solve, lsq_track, snap_to_map
+from tests.track_sim import SITE1_WALK, site1_floor
 
 
 def _walk(seed=0, n=120, fix_sd=4.0, step_sd=0.2):
@@ -124,14 +125,10 @@ def test_map_methods_not_worse_than_wifi_on_a_site1_walk(shared_data):
     place the walk where its Wi-Fi fixes are: before the map term was de-correlated, map_align put this walk
     33 m away (Wi-Fi 4.5 m) in a wholly walkable placement, and on site1 the map variants averaged 15-17 m."""
     from ilocalg.fusion.particle_filter import OccupancyGrid
-    from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
     from ilocalg.track import RealWalkConfig, build_floor_model, evaluate_walk
 
-    root = shared_data("ilc2020_site1")
-    scored = "5dd9efa7c5b77e0006b17367"
-    names = [n for n in list_ilc_traces(root, floor_name="site1_F1") if n != scored][::4] + [scored]
-    fl = load_ilc_floor(root, names=names, duplicate_bssid="keep_latest", relisted_wifi="keep",
-                        floor_name="site1_F1")
+    scored = SITE1_WALK
+    fl = site1_floor(shared_data("ilc2020_site1"))
     cfg = RealWalkConfig(n_particles=300)
     wm = build_floor_model({k: v for k, v in fl.traces.items() if k != scored}, cfg).for_walk(scored, cfg)
     grid = OccupancyGrid.from_floor_map(fl.floor_map, 0.5)

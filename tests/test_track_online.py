@@ -9,7 +9,7 @@ import pytest
 from ilocalg.track.estimators import TrackProblem, kf_gain_lag_track, kf_gain_track
 from ilocalg.track.motion import Calibration, GainStats, gain_stats
 from ilocalg.track.online_kf import gain_kf, gain_kf_lag
-from tests.track_sim import gained_walk
+from tests.track_sim import SITE1_WALK, gained_walk, site1_floor
 
 
 def _walk(seed=0, n=200, fix_sd=4.0, step_sd=0.15, scale=1.12, bias_rad=0.12, fix_every=4):
@@ -136,14 +136,10 @@ def test_kf_gain_on_a_site1_walk_is_causal_and_beats_wifi(shared_data):
     """A site1 F1 walk (even index in the sorted walk list: a development walk) against 25 other F1 walks:
     the online kf_gain track stays causal on real data (removing everything after a state leaves it and
     every earlier state unchanged) and its mean error is well below the Wi-Fi-only error."""
-    from ilocalg.io.ilc import list_ilc_traces, load_ilc_floor
     from ilocalg.track import RealWalkConfig, build_floor_model, evaluate_walk
 
-    root = shared_data("ilc2020_site1")
-    scored = "5dd9efa7c5b77e0006b17367"
-    names = [n for n in list_ilc_traces(root, floor_name="site1_F1") if n != scored][::4] + [scored]
-    fl = load_ilc_floor(root, names=names, duplicate_bssid="keep_latest", relisted_wifi="keep",
-                        floor_name="site1_F1")
+    scored = SITE1_WALK
+    fl = site1_floor(shared_data("ilc2020_site1"))
     cfg = RealWalkConfig()
     wm = build_floor_model({k: v for k, v in fl.traces.items() if k != scored}, cfg).for_walk(scored, cfg)
     r = evaluate_walk(fl.traces[scored], wm.db, wm.calibration, wm.fix_var_m2, wm.cfg, rng=0,
