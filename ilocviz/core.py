@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -118,12 +119,16 @@ def _anchor_in_notebook(name: str) -> None:
     display(HTML(f'<a id="fig-{name}"></a>'))
 
 
-def savefig(fig, name: str, out_dir, formats=("png", "pdf")) -> list[Path]:
+def savefig(fig, name: str, out_dir, formats=None) -> list[Path]:
     """Save ``fig`` as ``<out_dir>/figures/<name>.<fmt>``; returns the paths (nothing when out_dir is None).
 
+    ``formats``: default PNG and PDF, or those the environment variable
+    :data:`ilocalg.workflow.reporting.FIGURE_FORMATS_ENV` names (the reproduce runner's fast mode: PNG only).
     The PNG carries the figure's title (:func:`figure_title`) in its ``Title`` text chunk; in a notebook
     kernel an anchor ``#fig-<name>`` marks the figure in the executed notebook's HTML.
     """
+    if formats is None:
+        formats = _default_formats()
     if out_dir is None:
         return []
     d = Path(out_dir) / "figures"
@@ -137,6 +142,19 @@ def savefig(fig, name: str, out_dir, formats=("png", "pdf")) -> list[Path]:
         paths.append(p)
     _anchor_in_notebook(name)
     return paths
+
+
+def _default_formats() -> tuple[str, ...]:
+    from ilocalg.workflow.reporting import FIGURE_FORMATS_ENV
+
+    value = os.environ.get(FIGURE_FORMATS_ENV, "").strip()
+    if not value:
+        return ("png", "pdf")
+    formats = tuple(f.strip().lower() for f in value.split(",") if f.strip())
+    bad = [f for f in formats if f not in ("png", "pdf", "svg")]
+    if bad or not formats:
+        raise ValueError(f"{FIGURE_FORMATS_ENV}={value!r}: figure formats are png, pdf or svg, comma-separated")
+    return formats
 
 
 def error_cdf(errors: dict, ax=None, unit: str = "m", xlabel: str | None = None, paper: dict | None = None):

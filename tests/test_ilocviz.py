@@ -22,6 +22,23 @@ def test_plots_return_axes_with_units_and_savefig_writes_png_pdf(tmp_path):
     plt.close("all")
 
 
+def test_savefig_formats_from_the_environment(tmp_path, monkeypatch):
+    """The reproduce runner's fast mode names PNG only (ilocalg.workflow.reporting.FIGURE_FORMATS_ENV)."""
+    from ilocalg.workflow.reporting import FIGURE_FORMATS_ENV
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1])
+    monkeypatch.setenv(FIGURE_FORMATS_ENV, "png")
+    assert [p.name for p in ilocviz.savefig(fig, "one", tmp_path)] == ["one.png"]
+    assert [p.suffix for p in ilocviz.savefig(fig, "two", tmp_path, formats=("pdf",))] == [".pdf"]  # explicit wins
+    monkeypatch.setenv(FIGURE_FORMATS_ENV, "png, SVG")
+    assert [p.suffix for p in ilocviz.savefig(fig, "three", tmp_path)] == [".png", ".svg"]
+    monkeypatch.setenv(FIGURE_FORMATS_ENV, "png,jpeg")
+    with pytest.raises(ValueError, match="ILOC_FIGURE_FORMATS='png,jpeg'"):
+        ilocviz.savefig(fig, "four", tmp_path)
+    plt.close("all")
+
+
 def test_style_restores_only_what_it_set_and_keeps_interactive_mode():
     before = {k: matplotlib.rcParams[k] for k in ilocviz.STYLE}
     was_interactive = matplotlib.is_interactive()

@@ -70,6 +70,7 @@ def test_every_saved_figure_is_an_image_output_and_in_the_html(fast_reports):
         n_saved = len(list((out / "figures").glob(f"{nb.stem}_*.png")))
         assert len(_png_outputs(out / nb.name)) >= n_saved, f"{nb.name}: a saved figure is not shown"
         assert (out / f"{nb.stem}.html").read_text().count("<img") >= n_saved, f"{nb.stem}.html misses a figure"
+    assert not list((out / "figures").glob("*.pdf")), "fast mode saves PNG only (the runner's FIGURE_FORMATS_ENV)"
     n_saved = len(list((out / "figures").glob("07_*.png")))  # notebook 07: one figure per cell, two or more
     assert n_saved >= 2 and len(set(_png_outputs(out / "07_fusion_iloc_kf.ipynb"))) >= n_saved
 

@@ -34,6 +34,7 @@ from ilocalg.papers import (
 )
 
 __all__ = [
+    "FIGURE_FORMATS_ENV",
     "Report",
     "write_table",
     "build_readme",
@@ -131,6 +132,11 @@ class Report:
         df = comparison_table(rows)
         return self.table(df, name)
 
+
+#: Environment variable naming the file formats of the figures a notebook saves (comma-separated, e.g. ``png``;
+#: read by :func:`ilocviz.savefig`; unset: PNG and PDF). The reproduce runner sets it to ``png`` in fast mode: the
+#: PDF is the print copy of a full run's figure, and writing it is about half of a figure's cost.
+FIGURE_FORMATS_ENV = "ILOC_FIGURE_FORMATS"
 
 #: The one vocabulary of the project (notebooks, tables, this page) for a comparison row: where the paper's
 #: value lies against the reproduced one. ``agrees``: inside the 95 % CI over seeds (a single run: within

@@ -4,7 +4,8 @@
 ``notebooks/NN_*.ipynb`` with papermill (each notebook's cell tagged ``parameters`` receives ``SEED``,
 ``FAST`` and ``OUT_DIR``, relative to the notebook's folder; ``DATA_DIR`` keeps its default), ``J`` notebooks side
 by side (independent processes, longest first), and exports each executed notebook, figures inline,
-to ``reports/<name>.ipynb`` and ``.html``. With ``--seeds N`` the swept experiments of
+to ``reports/<name>.ipynb`` and ``.html`` (figures also as files: PNG and PDF, PNG only with ``--fast``).
+With ``--seeds N`` the swept experiments of
 :data:`ilocalg.workflow.manifest.MANIFEST` are re-run over seeds: the runs at the other seeds share the
 same process pool as the notebooks, and the run at the base seed is the notebook's own (recorded into
 the sweep cache by its kernel, see :func:`ilocalg.workflow.sweep.record_runs`), never repeated.
@@ -29,7 +30,7 @@ from pathlib import Path
 from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.claims_step import n_samples_for, robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
-from ilocalg.workflow.reporting import build_index, build_readme, write_provenance, write_table
+from ilocalg.workflow.reporting import FIGURE_FORMATS_ENV, build_index, build_readme, write_provenance, write_table
 from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
@@ -102,7 +103,9 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
     env = {"MPLBACKEND": KERNEL_MPLBACKEND,
            sw.RECORD_ENV: str(record[0]) if record and record[1] else None,
            sw.RECORD_EXPERIMENTS_ENV: ",".join(record[1]) if record and record[1] else None,
-           STUDY_CACHE_ENV: str(study_cache) if study_cache is not None else None}
+           STUDY_CACHE_ENV: str(study_cache) if study_cache is not None else None,
+           # fast mode saves figures as PNG only (shown inline and on the pages); a full run adds the PDF
+           FIGURE_FORMATS_ENV: "png" if parameters.get("FAST") else os.environ.get(FIGURE_FORMATS_ENV)}
     try:
         with _environ(**env):
             pm.execute_notebook(
