@@ -12,8 +12,9 @@
 # inside the simulated 95 % interval. No paper result is used.
 
 # %% tags=["parameters"]
-# Seed of every simulation; FAST shrinks the data; OUT_DIR (set by the runner) receives tables and
-# figures; DATA_DIR is the folder of the real data sets (None: $ILOC_DATA_DIR, else ../shared/data).
+# Seed of every simulation; FAST shrinks the data (and the simulated statistics' bootstrap: 100 replicates, not
+# 400); OUT_DIR (set by the runner) receives tables and figures; DATA_DIR is the folder of the real data sets
+# (None: $ILOC_DATA_DIR, else ../shared/data).
 SEED = 0
 FAST = False
 OUT_DIR = None

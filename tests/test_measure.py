@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from ilocalg.measure import scans
-from ilocalg.measure.stats import bootstrap
+from ilocalg.measure.stats import bootstrap, bootstrap_many
 from ilocalg.sim import measured
 
 
@@ -58,6 +58,28 @@ def test_bootstrap_is_seeded_and_covers_the_mean():
     assert a.ci_low < 5.0 < a.ci_high and a.ci_high - a.ci_low < 0.4
     with pytest.raises(ValueError, match="n_boot"):
         bootstrap(x, np.mean, n_boot=10)
+
+
+def test_bootstrap_many_gives_each_output_its_own_bootstrap():
+    """Several outputs on one set of draws: each is bit for bit the single-output bootstrap with the same seed, which
+    is the percentile bootstrap written out (clusters resampled with replacement, 2.5 / 97.5 % of the replicates)."""
+    r = np.random.default_rng(5)
+    groups = [r.normal(0, 1, (int(r.integers(3, 9)), 2)) for _ in range(15)]  # clusters of (x, y) rows
+
+    def stats(a):
+        return float(np.corrcoef(a[:, 0], a[:, 1])[0, 1]), float(a[:, 0].std()), float(a[:, 1].mean())
+
+    many = bootstrap_many(groups, stats, n_boot=200, rng=9)
+    for j, e in enumerate(many):
+        assert e == bootstrap(groups, lambda a, j=j: stats(a)[j], n_boot=200, rng=9)
+        g = np.random.default_rng(9)
+        reps = [stats(np.concatenate([groups[i] for i in g.integers(0, 15, size=15)]))[j] for _ in range(200)]
+        a = (1.0 - 0.95) / 2.0
+        lo, hi = np.nanquantile(reps, [a, 1.0 - a])
+        assert (e.value, e.ci_low, e.ci_high, e.n) == (stats(np.concatenate(groups))[j], lo, hi, 15)
+    x = r.normal(2.0, 1.0, 300)  # one value per cluster
+    m, s = bootstrap_many(x, lambda v: (np.mean(v), np.std(v)), rng=3)
+    assert m == bootstrap(x, np.mean, rng=3) and s == bootstrap(x, np.std, rng=3)
 
 
 def test_cluster_bootstrap_is_wider_than_iid_for_correlated_clusters():

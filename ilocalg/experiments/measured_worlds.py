@@ -32,13 +32,17 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.measure import simulated
-from ilocalg.measure.stats import bootstrap
+from ilocalg.measure.stats import N_BOOT, bootstrap
 from ilocalg.papers import reading, readings_table
 from ilocalg.sim import gait, iloc_floor
 from ilocalg.sim.measured import calibrated_table, param, table
 from ilocalg.units import as_rng
 
-__all__ = ["run", "real_samples", "readings", "findings"]
+__all__ = ["run", "real_samples", "readings", "findings", "N_BOOT_FAST"]
+
+#: Bootstrap replicates of the simulated statistics' intervals in fast mode (a smoke run: the intervals are
+#: coarser than with the :data:`ilocalg.measure.stats.N_BOOT` of the full run, which the measured table uses too).
+N_BOOT_FAST = 100
 
 
 def readings() -> pd.DataFrame:
@@ -118,14 +122,15 @@ def real_samples(data_dir=None, every: int = 16) -> pd.DataFrame:
 def _simulate_world(world: str, seed, fast: bool, n_walkers: int):
     rng = as_rng(seed)
     sim = iloc_floor.simulate(rng, scans_per_point=30 if fast else 90, scans_per_test_point=5, world=world)
-    rstats, rsamp = simulated.radio_measures(sim)
+    n_boot = N_BOOT_FAST if fast else N_BOOT
+    rstats, rsamp = simulated.radio_measures(sim, n_boot=n_boot)
     route = iloc_floor.route_xy_m()
     cfg = gait.gait_config(world)
     walks = [gait.simulate_walk(route, w, rng, cfg) for w in gait.make_walkers(n_walkers, rng, world=world)]
-    gstats, gsamp = simulated.gait_measures(walks, route)
+    gstats, gsamp = simulated.gait_measures(walks, route, n_boot=n_boot)
     latency = 2.0 if world == "assumed" else param("wifi_scan_interval_s")
     lag = simulated.scan_lag_model_s(latency, n=1000, rng=int(rng.integers(2**31)))
-    e = bootstrap(lag[:1000], np.median)
+    e = bootstrap(lag[:1000], np.median, n_boot)
     stats = {**rstats, **gstats, "wifi_reading_age_median_s": e.as_dict()}
     samp = {**rsamp, **gsamp, "reading_age_s": lag}
     return stats, samp

@@ -136,11 +136,13 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     return out
 
 
-def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods, others, measures, sim_params):
+def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods, others, measures, sim_params,
+         sweep: bool = False):
     """The tables of :func:`run` with VA from the starts of ``shown_methods`` only, ``others=False``: without ST with
     the true orientation, SQPnP and the homography (``modern`` then has ST only), ``measures=False``: without the
     ``measures`` table (and its marker ranging). The sweeps below read only ``per_k``, ``per_shot``, ``errors`` and
-    ``layout_check``, which are those of :func:`run` for the methods located."""
+    ``layout_check``, which are those of :func:`run` for the methods located; ``sweep=True`` returns those four
+    alone (the other tables are not built)."""
     ks = sorted({int(k) for k in ks})
     if not ks or ks[0] < 2 or ks[-1] > 7:
         raise ValueError(f"ks must be numbers of PoIs between 2 and 7, got {ks}")
@@ -165,12 +167,13 @@ def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods
                                                            ("VA_truth", sim.c_m)) if name in shown_methods}
         est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=others)
         conv_rows += [{"method": c.pop("method"), "k": k, **c} for c in conv]
-        cond = st["cond"].reshape(N, C)
-        va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
-        for j, combo in enumerate(combos):
-            combo_info.append({"combo": combo_label(combo), "k": k,
-                               "st_cond_median": float(np.median(cond[:, j])),
-                               "min_view_angle_deg": float(np.degrees(va_true[:, j].min(axis=1).mean()))})
+        if not sweep:  # the combinations' geometry (per_combo)
+            cond = st["cond"].reshape(N, C)
+            va_true = view_angles_rad(sim.c_m[:, None, :].repeat(C, 1).reshape(N * C, 3), P).reshape(N, C, -1)
+            for j, combo in enumerate(combos):
+                combo_info.append({"combo": combo_label(combo), "k": k,
+                                   "st_cond_median": float(np.median(cond[:, j])),
+                                   "min_view_angle_deg": float(np.degrees(va_true[:, j].min(axis=1).mean()))})
         shot = np.repeat(sim.shot_index, C)
         photo = np.repeat(np.arange(N), C)
         labels = np.tile(np.array([combo_label(c) for c in combos], dtype=object), N)
@@ -206,6 +209,11 @@ def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods
     per_k.insert(0, "n_combos", errors[errors["method"] == "ST"].groupby("k")["combo"].nunique())
     per_k = per_k.reset_index()
     per_k.columns.name = None
+    p = sim.params
+    layout_check = photo_poi.check_layout(layout, f_px=f, width_px=int(p["width_px"]), height_px=int(p["height_px"]),
+                                          eye_height_m=p["eye_height_m"])
+    if sweep:
+        return {"per_shot": per_shot, "per_k": per_k, "layout_check": layout_check, "errors": errors}
 
     info = pd.DataFrame(combo_info)
     per_combo = thesis.pivot_table(index="combo", columns="method", values="error_cm", aggfunc="mean")[list(METHODS)]
@@ -256,7 +264,6 @@ def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods
     modern.columns.name = None
 
     # orientation-error propagation, all seven PoIs
-    p = sim.params
     prop = st_error_propagation(sim.pois_m, sim.img_true_px, f, sim.T_true, np.deg2rad(p["tilt_sd_deg"]),
                                 np.deg2rad(p["yaw_sd_deg"]), p["drag_sd_px"])
     st7 = st_solve_batch(sim.pois_m, sim.img_px, f, sim.T_meas)["c_m"]
@@ -307,8 +314,7 @@ def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods
         "propagation": propagation,
         "va_convergence": pd.DataFrame(conv_rows),
         "comparison": comparison,
-        "layout_check": photo_poi.check_layout(layout, f_px=f, width_px=int(p["width_px"]),
-                                               height_px=int(p["height_px"]), eye_height_m=p["eye_height_m"]),
+        "layout_check": layout_check,
         "readings": readings(layout, va_free_z, **{k: v for k, v in p.items() if k in photo_poi.DEFAULTS}),
         "errors": errors,
     }
@@ -361,7 +367,7 @@ def layout_sweep(seed: int = 0, fast: bool = False, layouts=None, ks=(2, 3, 4, 5
         fam = ("row (earlier)" if name == "row" else
                "one wall" if isinstance(lay, photo_poi.Layout) and lay.dims.get("family") == "one wall" else "room")
         try:
-            t = _run(seed, fast, None, False, None, ks, lay, SHOWN_METHODS, False, False, {})
+            t = _run(seed, fast, None, False, None, ks, lay, SHOWN_METHODS, False, False, {}, sweep=True)
         except ValueError as e:  # a shot whose aim error puts a PoI off the screen: the layout cannot be photographed
             if "falls outside the screen" not in str(e):
                 raise
@@ -398,7 +404,7 @@ def good_guess_sweep(seed: int = 0, fast: bool = False, sds=GOOD_GUESS_SD_M, ks=
     rows = []
     for sd in sds:
         t = _run(seed, fast, None, False, None, ks, layout, SHOWN_METHODS, False, False,
-                 {"good_guess_sd_m": float(sd)})
+                 {"good_guess_sd_m": float(sd)}, sweep=True)
         for _, r in t["per_k"].iterrows():
             for m in ("VA_truth", "VAGIG", "VABIG", "ST"):
                 rows.append({"good_guess_sd_m": float(sd), "k": int(r["k"]), "method": m, "error_cm": float(r[m])})
@@ -420,7 +426,8 @@ def sensitivity(seed: int = 0, fast: bool = False, ks=(2, 7), grid=SENSITIVITY_G
     for name, values in grid:
         for v in values:
             free_z, sim = (v, {}) if name == "va_free_z" else (False, {name: v})
-            t = _run(seed, fast, n, free_z, None, ks, photo_poi.DEFAULT_LAYOUT, METHODS, False, False, sim)["per_k"]
+            t = _run(seed, fast, n, free_z, None, ks, photo_poi.DEFAULT_LAYOUT, METHODS, False, False, sim,
+                     sweep=True)["per_k"]
             for _, r in t.iterrows():
                 for m in METHODS:
                     rows.append({"parameter": name, "value": float(v), "k": int(r["k"]), "method": m,

@@ -238,6 +238,20 @@ def ap_counts(params: dict, seed: int = 0, start=(16, 12), band=(4.0, 18.0)) -> 
     raise ValueError(f"no AP count gives {band[0]:g}-{band[1]:g} APs per scan for {params}")
 
 
+def _memo(stat_fn):
+    """``stat_fn`` computed once per distinct parameter set (the solve evaluates the start, which is the copied
+    point for the ``at_copied`` column, and the solution again for its Jacobian): deterministic, so the same table."""
+    seen = {}
+
+    def fn(p: dict) -> dict:
+        key = tuple(sorted((k, type(v).__name__, v) for k, v in p.items()))
+        if key not in seen:
+            seen[key] = stat_fn(p)
+        return dict(seen[key])
+
+    return fn
+
+
 def _group(cals, stat_fn, real, copied: dict, fixed: dict, start: dict | None = None) -> list[dict]:
     t, tlo, thi = _targets(cals, real)
     scale = np.maximum((thi - tlo) / 2.0, 1e-6)
@@ -268,13 +282,14 @@ def calibrate(real: pd.DataFrame | None = None, seeds=SEEDS, parts=("radio", "ga
     from ilocalg.sim.measured import table
 
     real = table() if real is None else real
+    radio_stats, gait_stats = _memo(lambda p: radio_statistics(p, seeds)), _memo(lambda p: gait_statistics(p, seeds))
     rows = []
     if "radio" in parts:
         cp = iloc_floor.world_params("copied")
         counts = (int(cp["n_aps_floor"]), int(cp["n_aps_other"]))
         for _ in range(3):
             fixed = {"n_aps_floor": counts[0], "n_aps_other": counts[1]}
-            r = _group(RADIO, lambda p: radio_statistics(p, seeds), real, cp, fixed)
+            r = _group(RADIO, radio_stats, real, cp, fixed)
             new = ap_counts({**fixed, **{c.parameter: row["value"] for c, row in zip(RADIO, r, strict=True)}})
             if new == counts:
                 break
@@ -292,7 +307,7 @@ def calibrate(real: pd.DataFrame | None = None, seeds=SEEDS, parts=("radio", "ga
         g = gait.gait_config("copied")
         copied = {c.parameter: getattr(g, c.parameter) for c in GAIT}
         # the copied world has no timing jitter or yaw wander (0): the solve starts from small positive values
-        rows += _group(GAIT, lambda p: gait_statistics(p, seeds), real, copied, {},
+        rows += _group(GAIT, gait_stats, real, copied, {},
                        start={"strike_jitter_rel": 0.02, "yaw_wander_sd_deg": 5.0})
     df = pd.DataFrame(rows, columns=list(CALIBRATED_COLUMNS))
     return df

@@ -13,7 +13,7 @@ import pandas as pd
 
 from ilocalg.measure import gait as mgait
 from ilocalg.measure import heading, radio
-from ilocalg.measure.stats import bootstrap
+from ilocalg.measure.stats import N_BOOT, bootstrap_many
 
 __all__ = ["radio_measures", "gait_measures", "scan_lag_model_s", "side_by_side", "COMPARED"]
 
@@ -27,19 +27,25 @@ COMPARED = {
 }
 
 
-def _est(groups, fn, ci: bool = True):
-    """``fn`` on the pooled groups with its bootstrap interval, or the point value alone (``ci=False``,
-    what the inverse calibration iterates on: same statistic, no resampling)."""
+def _est(groups, fn, ci: bool = True, n_boot: int = N_BOOT):
+    """``fn`` on the pooled groups with its bootstrap interval (``n_boot`` replicates), or the point value alone
+    (``ci=False``, what the inverse calibration iterates on: same statistic, no resampling)."""
+    return _est_many(groups, lambda x: (fn(x),), ci, n_boot)[0]
+
+
+def _est_many(groups, fn, ci: bool = True, n_boot: int = N_BOOT) -> list[dict]:
+    """:func:`_est` of a statistic with several outputs (``fn`` returns a sequence): one pass over the bootstrap
+    draws, each output's interval the one :func:`_est` gives for it alone."""
     if not ci:
         g = groups if isinstance(groups, np.ndarray) and groups.dtype != object else [np.asarray(x) for x in groups
                                                                                         if len(x)]
-        v = fn(g if isinstance(g, np.ndarray) else np.concatenate(g))
-        return {"value": float(v), "ci_low": np.nan, "ci_high": np.nan, "n": len(g)}
-    e = bootstrap(groups, fn)
-    return {"value": e.value, "ci_low": e.ci_low, "ci_high": e.ci_high, "n": e.n}
+        vs = fn(g if isinstance(g, np.ndarray) else np.concatenate(g))
+        return [{"value": float(v), "ci_low": np.nan, "ci_high": np.nan, "n": len(g)} for v in vs]
+    return [{"value": e.value, "ci_low": e.ci_low, "ci_high": e.ci_high, "n": e.n}
+            for e in bootstrap_many(groups, fn, n_boot)]
 
 
-def radio_measures(sim, ci: bool = True, only=None) -> tuple[dict, dict]:
+def radio_measures(sim, ci: bool = True, only=None, n_boot: int = N_BOOT) -> tuple[dict, dict]:
     """Radio statistics of an :class:`ilocalg.sim.iloc_floor.IlocFloor` (survey = training, test session).
 
     Returns ``(stats, samples)``: per parameter a dict ``value, ci_low, ci_high, n``; ``samples`` holds
@@ -56,22 +62,22 @@ def radio_measures(sim, ci: bool = True, only=None) -> tuple[dict, dict]:
     stats, res = {}, np.array([])
     if want & {"shadow_sd_db", "path_loss_exponent"}:
         pl = radio.path_loss_per_ap(pxy, pm[:, on_floor])
-        stats["shadow_sd_db"] = _est(pl["sigma_db"].to_numpy(), np.median, ci)
-        stats["path_loss_exponent"] = _est(pl["n"].to_numpy(), np.median, ci)
+        stats["shadow_sd_db"] = _est(pl["sigma_db"].to_numpy(), np.median, ci, n_boot)
+        stats["path_loss_exponent"] = _est(pl["n"].to_numpy(), np.median, ci, n_boot)
         res = np.concatenate(list(pl.attrs["residuals"].values())) if len(pl) else res
     if "fade_sd_db" in want:
         sd = radio.within_place_sd_db(tr.rssi_dbm, cell)
-        stats["fade_sd_db"] = _est(sd, lambda x: float(np.sqrt(np.mean(x**2))), ci)
+        stats["fade_sd_db"] = _est(sd, lambda x: float(np.sqrt(np.mean(x**2))), ci, n_boot)
     if "drift_sd_db" in want:
         dr = radio.drift_per_ap_db(pm, pxy, np.zeros(len(pxy)), te.rssi_dbm, te.xy_m, np.zeros(te.n_samples),
                                    radius_m=0.5)
-        stats["drift_sd_db"] = _est(dr.to_numpy(), lambda x: float(np.std(x, ddof=1)), ci)
+        stats["drift_sd_db"] = _est(dr.to_numpy(), lambda x: float(np.std(x, ddof=1)), ci, n_boot)
     if "detect_m50_dbm" in want:
         mm, ff, kk = radio.detection_curve(tr.rssi_dbm, cell)
         grp = [np.column_stack([mm[kk == k], ff[kk == k]]) for k in np.unique(kk)]
-        stats["detect_m50_dbm"] = _est(grp, lambda a: radio.fit_detection(a[:, 0], a[:, 1])["m50_dbm"], ci)
+        stats["detect_m50_dbm"] = _est(grp, lambda a: radio.fit_detection(a[:, 0], a[:, 1])["m50_dbm"], ci, n_boot)
     if "aps_per_scan_median" in want:
-        stats["aps_per_scan_median"] = _est(radio.aps_per_scan(tr.rssi_dbm).astype(float), np.median, ci)
+        stats["aps_per_scan_median"] = _est(radio.aps_per_scan(tr.rssi_dbm).astype(float), np.median, ci, n_boot)
     return stats, {"shadow_residual_db": res}
 
 
@@ -82,7 +88,7 @@ def scan_lag_model_s(latency_s: float, n: int = 4000, rng=0) -> np.ndarray:
     return latency_s * r.uniform(0.0, 1.0, n)
 
 
-def gait_measures(walks, route_xy_m, ci: bool = True, only=None) -> tuple[dict, dict]:
+def gait_measures(walks, route_xy_m, ci: bool = True, only=None, n_boot: int = N_BOOT) -> tuple[dict, dict]:
     """Gait and heading statistics of simulated walks (:class:`ilocalg.sim.gait.SimWalk`) along a route.
 
     Step variability from the true steps (as the Oxford heel contacts), gait correlations over the
@@ -115,21 +121,23 @@ def gait_measures(walks, route_xy_m, ci: bool = True, only=None) -> tuple[dict, 
     V = pd.DataFrame(var)
     cols = ["A_mps2", "SL_m", "T_s", "speed_mps"]
 
-    def corr(key):
-        return lambda a: mgait.gait_correlations(pd.DataFrame(a, columns=cols))[key]
+    corr_keys = ("corr_A_SL", "corr_T_SL", "A_resid_rel")
+
+    def corr(a):  # the three from one fit per resampled set of segments
+        c = mgait.gait_correlations(pd.DataFrame(a, columns=cols))
+        return tuple(c[key] for key in corr_keys)
 
     med = np.median(np.concatenate(mags))
     stats = {
-        "gait_step_period_cv": _est(V["rcv_T"].to_numpy(), np.median, ci),
-        "gait_step_amp_cv": _est(V["rcv_A"].to_numpy(), np.median, ci),
-        "gait_stride_period_cv": _est(V["cv_stride"].to_numpy(), np.median, ci),
-        "heading_mis_wdm_rms_deg": _est(mis, lambda x: float(np.sqrt(np.mean(np.degrees(x) ** 2))), ci),
-        "mag_norm_sd_ut": _est([m - med for m in mags], lambda x: float(np.std(x)), ci),
+        "gait_step_period_cv": _est(V["rcv_T"].to_numpy(), np.median, ci, n_boot),
+        "gait_step_amp_cv": _est(V["rcv_A"].to_numpy(), np.median, ci, n_boot),
+        "gait_stride_period_cv": _est(V["cv_stride"].to_numpy(), np.median, ci, n_boot),
+        "heading_mis_wdm_rms_deg": _est(mis, lambda x: float(np.sqrt(np.mean(np.degrees(x) ** 2))), ci, n_boot),
+        "mag_norm_sd_ut": _est([m - med for m in mags], lambda x: float(np.std(x)), ci, n_boot),
     }
     if corr_wanted:
-        stats.update({"gait_corr_A_SL": _est(segs, corr("corr_A_SL"), ci),
-                      "gait_corr_T_SL": _est(segs, corr("corr_T_SL"), ci),
-                      "gait_A_resid_rel": _est(segs, corr("A_resid_rel"), ci)})
+        stats.update(zip(("gait_corr_A_SL", "gait_corr_T_SL", "gait_A_resid_rel"), _est_many(segs, corr, ci, n_boot),
+                         strict=True))
     samples = {"misalignment_deg": np.degrees(np.concatenate(mis)), "step_T_rel": np.concatenate(steps_T),
                "step_A_rel": np.concatenate(steps_A)}
     return stats, samples

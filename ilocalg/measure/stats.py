@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Estimate", "bootstrap", "N_BOOT", "SEED"]
+__all__ = ["Estimate", "bootstrap", "bootstrap_many", "N_BOOT", "SEED"]
 
 #: bootstrap replicates and seed used for every interval in data/measured_parameters.csv
 N_BOOT = 400
@@ -64,6 +64,16 @@ def bootstrap(groups, statistic, n_boot: int = N_BOOT, rng=SEED, level: float = 
     -------
     Estimate
     """
+    return bootstrap_many(groups, lambda v: (statistic(v),), n_boot, rng, level)[0]
+
+
+def bootstrap_many(groups, statistic, n_boot: int = N_BOOT, rng=SEED, level: float = 0.95) -> list[Estimate]:
+    """:func:`bootstrap` of a statistic with several outputs on one set of draws.
+
+    ``statistic(values)`` returns a sequence of floats; the result holds one :class:`Estimate` per output, each
+    the one :func:`bootstrap` gives for that output alone with the same ``rng`` (the same resampled clusters),
+    for the cost of one pass (e.g. several correlations of the same segments).
+    """
     if n_boot < 50:
         raise ValueError(f"n_boot must be >= 50, got {n_boot}")
     if not 0.0 < level < 1.0:
@@ -77,16 +87,19 @@ def bootstrap(groups, statistic, n_boot: int = N_BOOT, rng=SEED, level: float = 
         if k < 2:
             raise ValueError(f"bootstrap needs at least 2 non-empty groups, got {k}")
         reps = np.array([statistic(x[r.integers(0, k, size=k)]) for _ in range(n_boot)], dtype=np.float64)
-        lo, hi = np.nanquantile(reps, [a, 1.0 - a])
-        return Estimate(value=float(statistic(x)), ci_low=float(lo), ci_high=float(hi), n=k)
-    groups = [np.asarray(g) for g in groups if len(g) > 0]
-    if len(groups) < 2:
-        raise ValueError(f"bootstrap needs at least 2 non-empty groups, got {len(groups)}")
-    value = float(statistic(np.concatenate(groups)))
-    reps = np.empty(n_boot)
-    k = len(groups)
-    for b in range(n_boot):
-        idx = r.integers(0, k, size=k)
-        reps[b] = statistic(np.concatenate([groups[i] for i in idx]))
-    lo, hi = np.nanquantile(reps, [a, 1.0 - a])
-    return Estimate(value=value, ci_low=float(lo), ci_high=float(hi), n=k)
+        value = statistic(x)
+    else:
+        groups = [np.asarray(g) for g in groups if len(g) > 0]
+        if len(groups) < 2:
+            raise ValueError(f"bootstrap needs at least 2 non-empty groups, got {len(groups)}")
+        value = statistic(np.concatenate(groups))
+        k = len(groups)
+        reps = np.empty((n_boot, len(value)))
+        for b in range(n_boot):
+            idx = r.integers(0, k, size=k)
+            reps[b] = statistic(np.concatenate([groups[i] for i in idx]))
+    out = []
+    for j, v in enumerate(value):
+        lo, hi = np.nanquantile(np.ascontiguousarray(reps[:, j]), [a, 1.0 - a])
+        out.append(Estimate(value=float(v), ci_low=float(lo), ci_high=float(hi), n=k))
+    return out

@@ -83,11 +83,17 @@ def locate_methods(P, U, f_px: float, T_meas, T_true, c0_m: dict, va_max_iter: i
         est["ST_true_orientation"] = st_solve_batch(P, U, f_px, T_true)["c_m"]
     ang = measured_view_angles_rad(U, f_px)
     conv = []
-    for name, c0 in c0_m.items():
-        va = va_solve_batch(P, ang, c0, max_iter=va_max_iter, free_z=va_free_z, step_tol_m=1e-6)
-        est[name] = va["c_m"]
-        conv.append({"method": name, "converged_share": float(va["converged"].mean()),
-                     "mean_iterations": float(va["n_iter"].mean())})
+    if c0_m:
+        # every start in one batch (the photos' descents are independent: the same result as one batch per start)
+        names, B = list(c0_m), P.shape[0]
+        va = va_solve_batch(np.concatenate([P] * len(names)), np.concatenate([ang] * len(names)),
+                            np.concatenate([c0_m[n] for n in names]), max_iter=va_max_iter, free_z=va_free_z,
+                            step_tol_m=1e-6)
+        for i, name in enumerate(names):
+            part = slice(i * B, (i + 1) * B)
+            est[name] = va["c_m"][part]
+            conv.append({"method": name, "converged_share": float(va["converged"][part].mean()),
+                         "mean_iterations": float(va["n_iter"][part].mean())})
     if others and P.shape[1] >= 4:
         est["PnP_SQPnP"] = pnp_solve_batch(P, U, f_px)
         hom = np.full((P.shape[0], 3), np.nan)

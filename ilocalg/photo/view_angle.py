@@ -194,36 +194,41 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
     n_iter = np.zeros(B, dtype=int)
     active = gn > 0
     idx = np.flatnonzero(active)
-    # the active photos' pairs and angles, gathered again only when photos converge
+    # the active photos' state, pairs and angles, kept compact (gathered again only when photos converge; a
+    # converged photo's state is written back then): the same arithmetic per photo as on the full arrays
+    ca, Ja, ga, al, ni = c[idx], J[idx], g[idx], alpha[idx], n_iter[idx]
     Pi_a, Pj_a, a_a = Pi[idx], Pj[idx], a[idx]
     for _ in range(max_iter):
         if idx.size == 0:
             break
-        trial = c[idx] - alpha[idx, None] * g[idx]
+        trial = ca - al[:, None] * ga
         Jt, gt = _cost_grad(trial, Pi_a, Pj_a, a_a, True)
-        ok = Jt < J[idx]
-        n_iter[idx] += 1
+        ok = Jt < Ja
+        ni += 1
         # rejected steps: backtrack
-        alpha[idx[~ok]] *= shrink
-        acc = idx[ok]
-        if acc.size:
+        al[~ok] *= shrink
+        if ok.any():
             gt = gt[ok] * mask
-            s_ = trial[ok] - c[acc]
-            y_ = gt - g[acc]
+            s_ = trial[ok] - ca[ok]
+            y_ = gt - ga[ok]
             sy = np.sum(s_ * y_, axis=1)
             ss = np.sum(s_ * s_, axis=1)
             # Barzilai-Borwein step for the next iteration (grow when curvature is not positive)
-            alpha[acc] = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), alpha[acc] * grow)
-            c[acc] = trial[ok]
-            J[acc] = Jt[ok]
-            g[acc] = gt
-        gi = g[idx]
-        steplen = alpha[idx] * np.sqrt(np.sum(gi * gi, axis=1))
+            al[ok] = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), al[ok] * grow)
+            ca[ok] = trial[ok]
+            Ja[ok] = Jt[ok]
+            ga[ok] = gt
+        steplen = al * np.sqrt(np.sum(ga * ga, axis=1))
         keep = steplen > step_tol_m
-        active[idx] = keep
         if not keep.all():
+            done = ~keep
+            d = idx[done]
+            c[d], J[d], n_iter[d] = ca[done], Ja[done], ni[done]
+            active[d] = False
             idx = idx[keep]
+            ca, Ja, ga, al, ni = ca[keep], Ja[keep], ga[keep], al[keep], ni[keep]
             Pi_a, Pj_a, a_a = Pi_a[keep], Pj_a[keep], a_a[keep]
+    c[idx], J[idx], n_iter[idx] = ca, Ja, ni  # photos still moving after max_iter
     return {"c_m": c, "cost": J, "n_iter": n_iter, "converged": ~active}
 
 
