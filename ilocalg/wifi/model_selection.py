@@ -39,6 +39,9 @@ __all__ = [
     "TOOLKIT_GRID",
     "TOOLKIT_GRID_FAST",
     "SubsampledGroupKFold",
+    "SpotPhoneKFold",
+    "SPOT_PHONE",
+    "group_cv",
     "toolkit_cv",
     "toolkit_ladder",
     "bootstrap_mean_ci",
@@ -52,7 +55,10 @@ __all__ = [
     "SPOT_WEIGHT_POWERS",
     "SPOT_NEIGHBORS",
     "spot_grid",
+    "HEADLINE_NEIGHBORS",
+    "headline_grid",
     "fit_members",
+    "rows_cv",
 ]
 
 
@@ -233,6 +239,28 @@ def spot_grid(base: list, fast: bool = False) -> dict:
     return {"est__estimators": cands}
 
 
+#: K of every member of the headline row's candidates (:func:`headline_grid`): :func:`offset_grid`'s K values.
+HEADLINE_NEIGHBORS = (5, 8)
+
+
+def headline_grid(fast: bool = False) -> dict:
+    """Candidates of the headline row (``{"est__estimators": [members, ...]}``), chosen by the spot x PHONEID CV
+    (:class:`SpotPhoneKFold`) on training, at each K of :data:`HEADLINE_NEIGHBORS`: every member set of
+    :func:`offset_range_grid` (search range +-1 or +-2 sd, three member sets), each crossed with :func:`spot_grid`
+    (the weight exponent; raw members alone or raw + spot-averaged at each spot K). The union of the candidates the
+    GroupKFold(PHONEID) CVs of the ensemble, offset-range and spot rows chose among, whatever those CVs chose, fixed
+    before any score of this CV was seen. Member names stand for one configuration. Fast mode: the fast grids.
+    """
+    cands, seen = [], set()
+    for base in offset_range_grid(fast)["est__estimators"]:
+        for members in spot_grid(base, fast)["est__estimators"]:
+            key = tuple(n for n, _ in members)
+            if key not in seen:
+                seen.add(key)
+                cands.append(members)
+    return {"est__estimators": cands}
+
+
 def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):
     """``Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(estimators, n_neighbors))])``."""
     from sklearn.pipeline import Pipeline
@@ -261,10 +289,8 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
 
     cands = list(grid["est__estimators"])
-    if train.meta is None or group not in train.meta:
-        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID), got {group!r}")
-    groups = train.meta[group].to_numpy()
-    cv = SubsampledGroupKFold(min(n_splits, len(np.unique(groups))), max_test, seed)
+    groups = _cv_groups(train, group)
+    cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     y = _target(train)
     scores = np.empty((len(cands), cv.get_n_splits()))
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
@@ -292,6 +318,42 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
                           "cv_sd_m": scores.std(axis=1), "rank": rank})
     return ({"est__estimators": cands[int(np.argmin(rank))]},
             table.sort_values("rank", kind="stable").reset_index(drop=True))
+
+
+def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, n_splits: int = 3,
+            max_test: int = 300) -> pd.DataFrame:
+    """CV mean error of fixed configurations (no choice): each row's estimator fitted on every fold's training part.
+
+    ``rows``: ``(name, members, aps)`` with ``members`` a list of ``(member name, estimator)`` (one member: that
+    estimator; several: their :func:`ilocalg.wifi.ensemble.combine_predictions`, as
+    :class:`ilocalg.wifi.FingerprintEnsemble`; each member keeps its own K) and ``aps`` whether
+    :class:`ilocalg.wifi.ApSelector` (``min_count=1``) comes first. A member name must stand for one configuration
+    (members of the same name are fitted once per fold and AP setting). Folds as :func:`ensemble_cv` with the same
+    ``group``, ``n_splits``, ``max_test`` and ``seed``. Returns one row per configuration: ``groups``, ``row``,
+    ``cv_mean_error_m``, ``cv_sd_m`` (over folds).
+    """
+    from ilocalg.metrics import mean_horizontal_error_m
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+
+    rows = list(rows)
+    groups = _cv_groups(train, group)
+    cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
+    y = _target(train)
+    scores = np.empty((len(rows), cv.get_n_splits()))
+    for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
+        preds = {}
+        for aps in sorted({bool(a) for _, _, a in rows}):
+            x_tr, x_te = train.rssi_dbm[tr], train.rssi_dbm[te]
+            if aps:
+                sel = ApSelector(1).fit(x_tr)
+                x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
+            need = {n: e for _, members, a in rows if bool(a) == aps for n, e in members}
+            preds.update({(n, aps): v for n, v in fit_members(list(need.items()), x_tr, y[tr], x_te, None).items()})
+        for r, (_, members, aps) in enumerate(rows):
+            scores[r, f] = mean_horizontal_error_m(y[te], combine_predictions([preds[(n, bool(aps))]
+                                                                                for n, _ in members]))
+    return pd.DataFrame({"groups": group, "row": [n for n, _, _ in rows], "cv_mean_error_m": scores.mean(axis=1),
+                         "cv_sd_m": scores.std(axis=1)})
 
 
 def _weight_power_param(est) -> str | None:
@@ -360,6 +422,86 @@ class SubsampledGroupKFold:
             yield tr, te
 
 
+class SpotPhoneKFold:
+    """Folds whose test scans were taken at reference spots *and* with phones that the training part never saw.
+
+    Mimics what sets a later campaign apart from the survey (UJIIndoorLoc's validation set: recorded four months
+    later by other users, mostly with other phones, at free positions rather than at the survey's reference spots;
+    Torres-Sospedra et al. 2014). A spot is a distinct row of the target ``y`` (``[x_m, y_m, floor, building]``);
+    the spots are dealt at random (seeded) into ``spot_groups`` groups, the phones (``groups``) into ``n_splits``
+    groups by :class:`sklearn.model_selection.GroupKFold`. Fold ``f`` tests the scans whose spot is in spot group
+    ``f`` and whose phone is in phone group ``f`` (a seeded subsample of at most ``max_test`` of them) and trains
+    on the scans whose spot is not in spot group ``f`` and whose phone is not in phone group ``f``: no test
+    position is a reference position of the training part, and no test phone is in it. Each fold drops one spot in
+    ``spot_groups`` (default 10: the rest of the survey keeps its density, so that a test position lies between
+    reference spots as a free position does) and the phones of one phone group (about ``1 / n_splits`` of them,
+    as :class:`SubsampledGroupKFold`; an area only those phones surveyed is lost with them).
+
+    GroupKFold by phone alone (:class:`SubsampledGroupKFold`) scores scans at spots other phones recorded (a
+    query then meets references at its own position, which favours spot-averaged fingerprints) and drops whole
+    areas only the held-out phones surveyed.
+    """
+
+    def __init__(self, n_splits: int = 3, max_test: int = 300, seed: int = 0, spot_groups: int = 10):
+        self.n_splits = n_splits
+        self.max_test = max_test
+        self.seed = seed
+        self.spot_groups = spot_groups
+
+    def get_n_splits(self, X=None, y=None, groups=None) -> int:
+        return self.n_splits
+
+    def split(self, X, y=None, groups=None):
+        from sklearn.model_selection import GroupKFold
+
+        if self.spot_groups < self.n_splits:
+            raise ValueError(f"spot_groups={self.spot_groups} must be at least n_splits={self.n_splits}")
+        if y is None or groups is None:
+            raise ValueError("SpotPhoneKFold needs y (identical rows are one spot) and groups (the phone of each row)")
+        yy = np.asarray(y, dtype=np.float64).reshape(len(groups), -1)
+        _, spot = np.unique(yy, axis=0, return_inverse=True)
+        spot = spot.ravel()
+        n_phones, n_spots = len(np.unique(groups)), int(spot.max()) + 1
+        if n_phones < self.n_splits or n_spots < self.spot_groups:
+            raise ValueError(f"SpotPhoneKFold needs at least n_splits={self.n_splits} phones and spot_groups="
+                             f"{self.spot_groups} spots, got {n_phones} phones and {n_spots} spots")
+        rng = np.random.default_rng(self.seed)
+        spot_fold = (rng.permutation(spot.max() + 1) % self.spot_groups)[spot]
+        phone_fold = np.empty(len(groups), dtype=np.int64)
+        for f, (_, te) in enumerate(GroupKFold(self.n_splits).split(yy, yy, groups)):
+            phone_fold[te] = f
+        for f in range(self.n_splits):
+            te = np.flatnonzero((spot_fold == f) & (phone_fold == f))
+            tr = np.flatnonzero((spot_fold != f) & (phone_fold != f))
+            if te.size == 0 or tr.size == 0:
+                raise ValueError(f"SpotPhoneKFold fold {f} has no test or no training rows: too few spots or phones "
+                                 f"for n_splits={self.n_splits}")
+            if te.size > self.max_test:
+                te = np.sort(rng.choice(te, self.max_test, replace=False))
+            yield tr, te
+
+
+def group_cv(kind: str, n_splits: int = 3, max_test: int = 300, seed: int = 0):
+    """The CV splitter of a CV ``kind``: ``"PHONEID"`` / ``"USERID"`` (:class:`SubsampledGroupKFold`, grouped by
+    that meta column) or ``"spot x PHONEID"`` (:class:`SpotPhoneKFold`, phones from the PHONEID column)."""
+    if kind == SPOT_PHONE:
+        return SpotPhoneKFold(n_splits, max_test, seed)
+    return SubsampledGroupKFold(n_splits, max_test, seed)
+
+
+#: Name of the :class:`SpotPhoneKFold` CV in tables (``groups`` column) and in :func:`ensemble_cv`'s ``group``.
+SPOT_PHONE = "spot x PHONEID"
+
+
+def _cv_groups(train: FingerprintSet, group: str) -> np.ndarray:
+    """The group column of a CV kind (:func:`group_cv`): PHONEID for ``"spot x PHONEID"``."""
+    col = "PHONEID" if group == SPOT_PHONE else group
+    if train.meta is None or col not in train.meta:
+        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID) or {SPOT_PHONE!r}, "
+                         f"got {group!r}")
+    return train.meta[col].to_numpy()
+
+
 def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_splits: int = 3,
                max_test: int = 400, group: str = "USERID", estimator=None, grid: dict | None = None
                ) -> tuple[dict, pd.DataFrame]:
@@ -379,10 +521,8 @@ def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_split
     if grid is None:
         grid = TOOLKIT_GRID_FAST if fast else TOOLKIT_GRID
     estimator = CascadeFingerprint(p=2) if estimator is None else estimator
-    if train.meta is None or group not in train.meta:
-        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID), got {group!r}")
-    groups = train.meta[group].to_numpy()
-    cv = SubsampledGroupKFold(min(n_splits, len(np.unique(groups))), max_test, seed)
+    groups = _cv_groups(train, group)
+    cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     gs = GridSearchCV(estimator, grid, scoring=horizontal_error_scorer(), cv=cv, refit=False)
     gs.fit(train.rssi_dbm, _target(train), groups=groups)
     r = gs.cv_results_
