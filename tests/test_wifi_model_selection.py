@@ -217,3 +217,27 @@ def test_rows_cv_equals_grid_search_of_each_row():
         assert list(t["groups"]) == [group, group]
     with pytest.raises(ValueError, match="meta column"):
         ms.rows_cv(train, [("a", [("off", est)], False)], group="USERID")
+
+
+def test_spot_phone_kfold_scores_only_places_the_survey_covers():
+    # with coverage_quantile, every test position lies within that quantile of the survey's own spot spacing of a
+    # training-part reference on its floor; without it, some fold scores a place only its held-out phones surveyed
+    from scipy.spatial import cKDTree
+
+    train, _ = _spot_train(n_spots=60, n_phones=6)
+    phone = train.meta["PHONEID"].to_numpy()
+    y = np.column_stack([train.xy_m, train.floor, train.building])
+    u = np.unique(y, axis=0)
+    spacing = [cKDTree(u[u[:, 2] == f, :2]).query(u[u[:, 2] == f, :2], k=2)[0][:, 1] for f in np.unique(u[:, 2])]
+    radius = np.quantile(np.concatenate(spacing), 0.5)
+
+    def nearest(tr, te):
+        return np.array([cKDTree(y[tr][y[tr][:, 2] == y[i, 2], :2]).query(y[i, :2])[0] for i in te])
+
+    covered = list(ms.SpotPhoneKFold(3, 500, 1, spot_groups=5, coverage_quantile=0.5).split(None, y, phone))
+    every = list(ms.SpotPhoneKFold(3, 500, 1, spot_groups=5, coverage_quantile=None).split(None, y, phone))
+    for (tr, te), (tr0, te0) in zip(covered, every, strict=True):
+        np.testing.assert_array_equal(tr, tr0)
+        assert set(te) <= set(te0) and (nearest(tr, te) <= radius + 1e-9).all()
+        np.testing.assert_array_equal(np.sort(te0[nearest(tr0, te0) <= radius + 1e-9]), te)
+    assert sum(te.size for _, te in covered) < sum(te.size for _, te in every)

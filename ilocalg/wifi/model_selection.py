@@ -57,8 +57,10 @@ __all__ = [
     "spot_grid",
     "HEADLINE_NEIGHBORS",
     "headline_grid",
+    "headline_cv",
     "fit_members",
     "rows_cv",
+    "ladder_cv_diagnostic",
 ]
 
 
@@ -435,18 +437,24 @@ class SpotPhoneKFold:
     position is a reference position of the training part, and no test phone is in it. Each fold drops one spot in
     ``spot_groups`` (default 10: the rest of the survey keeps its density, so that a test position lies between
     reference spots as a free position does) and the phones of one phone group (about ``1 / n_splits`` of them,
-    as :class:`SubsampledGroupKFold`; an area only those phones surveyed is lost with them).
+    as :class:`SubsampledGroupKFold`). An area only those phones surveyed is lost with them, where no later campaign
+    at a surveyed place would be: with ``coverage_quantile`` (default 0.9), a fold scores only the test scans whose
+    position lies within the survey's own spot spacing of a training-part reference on the same floor and building
+    (the ``coverage_quantile`` quantile, over the survey's spots, of the distance to the nearest other spot of the
+    floor; measured on ``y`` itself; UJIIndoorLoc: about 6.3 m). ``None``: every test scan.
 
     GroupKFold by phone alone (:class:`SubsampledGroupKFold`) scores scans at spots other phones recorded (a
     query then meets references at its own position, which favours spot-averaged fingerprints) and drops whole
     areas only the held-out phones surveyed.
     """
 
-    def __init__(self, n_splits: int = 3, max_test: int = 300, seed: int = 0, spot_groups: int = 10):
+    def __init__(self, n_splits: int = 3, max_test: int = 300, seed: int = 0, spot_groups: int = 10,
+                 coverage_quantile: float | None = 0.9):
         self.n_splits = n_splits
         self.max_test = max_test
         self.seed = seed
         self.spot_groups = spot_groups
+        self.coverage_quantile = coverage_quantile
 
     def get_n_splits(self, X=None, y=None, groups=None) -> int:
         return self.n_splits
@@ -465,6 +473,10 @@ class SpotPhoneKFold:
         if n_phones < self.n_splits or n_spots < self.spot_groups:
             raise ValueError(f"SpotPhoneKFold needs at least n_splits={self.n_splits} phones and spot_groups="
                              f"{self.spot_groups} spots, got {n_phones} phones and {n_spots} spots")
+        radius = None
+        if self.coverage_quantile is not None:
+            u = np.unique(yy, axis=0)
+            radius = float(np.quantile(_nearest_reference_m(u, u, exclude_self=True), self.coverage_quantile))
         rng = np.random.default_rng(self.seed)
         spot_fold = (rng.permutation(spot.max() + 1) % self.spot_groups)[spot]
         phone_fold = np.empty(len(groups), dtype=np.int64)
@@ -473,12 +485,33 @@ class SpotPhoneKFold:
         for f in range(self.n_splits):
             te = np.flatnonzero((spot_fold == f) & (phone_fold == f))
             tr = np.flatnonzero((spot_fold != f) & (phone_fold != f))
+            if radius is not None and te.size and tr.size:
+                te = te[_nearest_reference_m(yy[tr], yy[te]) <= radius]
             if te.size == 0 or tr.size == 0:
                 raise ValueError(f"SpotPhoneKFold fold {f} has no test or no training rows: too few spots or phones "
                                  f"for n_splits={self.n_splits}")
             if te.size > self.max_test:
                 te = np.sort(rng.choice(te, self.max_test, replace=False))
             yield tr, te
+
+
+def _nearest_reference_m(ref: np.ndarray, query: np.ndarray, exclude_self: bool = False) -> np.ndarray:
+    """Distance (m) from each ``query`` row's position (columns 0-1) to the nearest ``ref`` position on the same
+    floor and building (columns 2-3, where present); inf where that floor has no reference. ``exclude_self``: the
+    nearest *other* reference (``query`` rows are distinct rows of ``ref``)."""
+    from scipy.spatial import cKDTree
+
+    key_r = ref[:, 2:4] if ref.shape[1] >= 4 else np.zeros((len(ref), 0))
+    key_q = query[:, 2:4] if query.shape[1] >= 4 else np.zeros((len(query), 0))
+    out = np.full(len(query), np.inf)
+    for key in np.unique(key_q, axis=0):
+        mq = (key_q == key).all(axis=1)
+        mr = (key_r == key).all(axis=1)
+        k = 2 if exclude_self else 1
+        if mr.sum() >= k:
+            d = cKDTree(ref[mr, :2]).query(query[mq, :2], k=k)[0]
+            out[mq] = d[:, 1] if exclude_self else d
+    return out
 
 
 def group_cv(kind: str, n_splits: int = 3, max_test: int = 300, seed: int = 0):
@@ -552,7 +585,7 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
                    cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True,
-                   offset_range: bool = True, spots: bool = True) -> dict:
+                   offset_range: bool = True, spots: bool = True, headline: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -585,6 +618,13 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     averaged"), the spot members' K and the neighbour-weight exponent chosen by the same GroupKFold(PHONEID) CV
     on training (:func:`spot_grid`; candidates without spot members included; fold predictions shared with the
     earlier CVs). Its CV rows carry ``grid = "spots x weight exponent"``.
+
+    With ``headline`` (and ``spots``), one more row, the last and the headline: the members, search range, spot
+    members, weight exponent and K chosen among :func:`headline_grid`'s candidates at each K of
+    :data:`HEADLINE_NEIGHBORS` by the spot x PHONEID CV (:class:`SpotPhoneKFold`: each fold scores scans at reference
+    spots and with phones its training part never saw, at places the rest of the survey covers), the CV that mimics
+    a later campaign at free positions. Its CV rows carry ``groups = "spot x PHONEID"``, ``grid = "headline
+    candidates"`` and their K; ``rank`` is over both K.
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
     from ilocalg.wifi.offset import OffsetFingerprint
@@ -609,15 +649,18 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
              dict(estimator="offset", metric="sorensen", **off_best)),
         ]
     cv_table = pd.concat([t for _, t in cvs], ignore_index=True)
-    rows, res_by = [], {}
-    for name, par in steps:
+    rows, res_by, configs = [], {}, []
+    for i, (name, par) in enumerate(steps):
         if par is None:
             res = evaluate_method(train, test, "wknn", 5, "euclidean")
+            # the same neighbours and positions (Euclidean distances ignore the representation's offset)
+            est = OffsetFingerprint(5, (0.0,), "positive", "minkowski", p=2)
         else:
             kw = {"n_neighbors": 5, **par}
             est = (OffsetFingerprint(**{k: v for k, v in kw.items() if k != "estimator"}) if
                    kw.get("estimator") == "offset" else CascadeFingerprint(p=2, **kw))
             res = _prediction_result(est.fit(train.rssi_dbm, _target(train)).predict(test.rssi_dbm), test)
+        configs.append((name, [(f"row{i}", est)], False))
         res_by[name] = res
         rows.append(_ladder_row(name, res, test, seed, "" if par is None else ", ".join(
             f"{k}={_fmt(v)}" for k, v in {"n_neighbors": 5, **par}.items() if k != "estimator")))
@@ -637,10 +680,49 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
                 sp_best, sp_table = ensemble_cv(train, spot_grid(ranged, fast), k_cv, seed, max_test=300, cache=cache)
                 cv_table = pd.concat([cv_table, sp_table.assign(grid="spots x weight exponent")], ignore_index=True)
                 spotted = sp_best["est__estimators"]
-        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged, spotted):
+        top = None
+        if offset_range and spots and headline:
+            top, hl_table = headline_cv(train, seed, fast, cache)
+            cv_table = pd.concat([cv_table, hl_table], ignore_index=True)
+        for name, pr, par, k, members in _ensemble_rows(train, test, k_cv, chosen, ranged, spotted, top):
             res_by[name] = res = _prediction_result(pr, test)
             rows.append(_ladder_row(name, res, test, seed, par))
-    return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
+            configs.append((name, [(f"{n}@K{k}", _with_k(e, k)) for n, e in members], True))
+    return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by, "configs": configs}
+
+
+def _with_k(est, k: int):
+    """A clone of ``est`` with ``n_neighbors=k`` where it has that parameter (as :func:`fit_members` sets it)."""
+    from sklearn.base import clone
+
+    e = clone(est)
+    return e.set_params(n_neighbors=k) if "n_neighbors" in e.get_params() else e
+
+
+def ladder_cv_diagnostic(train: FingerprintSet, ladder: dict, seed: int = 0,
+                         groups: tuple[str, ...] = ("PHONEID", SPOT_PHONE)) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """How well each CV ranks the ladder's rows as the test set does: a diagnostic of the CV, used to choose nothing.
+
+    Every row of :func:`toolkit_ladder`'s result ``ladder`` (its configuration as fitted, ``ladder["configs"]``) is
+    scored by :func:`rows_cv` under each CV of ``groups``, beside its test-set mean error. Returns the long table
+    (``row``, ``groups``, ``cv_mean_error_m``, ``cv_sd_m``, ``test_mean_m``) and one row per CV with Spearman's
+    rank correlation between CV and test errors over all rows and over the rows from the offset search on
+    (``spearman_all``, ``spearman_offset_rows``: the rows the CVs chose among).
+    """
+    from scipy.stats import spearmanr
+
+    test_mean = ladder["toolkit_ladder"].set_index("method")["mean_m"]
+    long = pd.concat([rows_cv(train, ladder["configs"], g, seed) for g in groups], ignore_index=True)
+    long["test_mean_m"] = test_mean.loc[long["row"]].to_numpy()
+    first_offset = next((i for i, (n, _, _) in enumerate(ladder["configs"]) if "offset search" in n),
+                        len(ladder["configs"]))
+    summary = []
+    for g, t in long.groupby("groups", sort=False):
+        off = t.iloc[first_offset:]
+        summary.append({"groups": g, "spearman_all": float(spearmanr(t["cv_mean_error_m"], t["test_mean_m"])[0]),
+                        "spearman_offset_rows": float(spearmanr(off["cv_mean_error_m"], off["test_mean_m"])[0])
+                        if len(off) > 2 else np.nan, "n_rows": len(t)})
+    return long, pd.DataFrame(summary)
 
 
 def _prediction_result(pr: np.ndarray, test: FingerprintSet) -> dict:
@@ -655,8 +737,28 @@ def _ladder_row(name: str, res: dict, test: FingerprintSet, seed: int, params: s
     return {"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi, "params": params}
 
 
+def headline_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, cache: dict | None = None
+                ) -> tuple[tuple[int, list], pd.DataFrame]:
+    """The headline row's choice: :func:`headline_grid`'s candidates at each K of :data:`HEADLINE_NEIGHBORS` (fast
+    mode: K = 5) scored by :func:`ensemble_cv` with the spot x PHONEID CV (:class:`SpotPhoneKFold`, 300 test scans
+    per fold); the smallest CV mean error wins (ties: the first K, then the first candidate). Returns ``(K,
+    members)`` and the CV table (``grid = "headline candidates"``, ``n_neighbors``, ``rank`` over every K)."""
+    from scipy.stats import rankdata
+
+    tables, best = [], None
+    for k in ((5,) if fast else HEADLINE_NEIGHBORS):
+        b, t = ensemble_cv(train, headline_grid(fast), k, seed, max_test=300, group=SPOT_PHONE, cache=cache)
+        tables.append(t.assign(grid="headline candidates", n_neighbors=k))
+        score = float(t["cv_mean_error_m"].min())
+        if best is None or score < best[0]:
+            best = (score, k, b["est__estimators"])
+    table = pd.concat(tables, ignore_index=True)
+    table["rank"] = rankdata(table["cv_mean_error_m"], method="min").astype(np.int32)
+    return (best[1], best[2]), table.sort_values("rank", kind="stable").reset_index(drop=True)
+
+
 def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None,
-                   spotted: list | None = None):
+                   spotted: list | None = None, top: tuple[int, list] | None = None):
     """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, with
     ``ranged`` the CV-chosen offset-range row, and with ``spotted`` the CV-chosen spot row; each member fitted once
     per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`; a member without an
@@ -667,7 +769,8 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     x_tr, x_te, y = aps.transform(train.rssi_dbm), aps.transform(test.rssi_dbm), _target(train)
     three = ensemble_members(three=True)
     need: dict = {}
-    for k, members in ((5, three), (k_cv, chosen), (k_cv, ranged or []), (k_cv, spotted or [])):
+    for k, members in ((5, three), (k_cv, chosen), (k_cv, ranged or []), (k_cv, spotted or []),
+                       top or (k_cv, [])):
         need.setdefault(k, {}).update(dict(members))
     cache = {(n, k): pr for k, m in need.items() for n, pr in fit_members(list(m.items()), x_tr, y, x_te, k).items()}
 
@@ -677,22 +780,33 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     names = " + ".join(n for n, _ in three)
     yield ("toolkit: offset search row + AP selection (APs heard in training)", member(*three[0], 5),
            "n_neighbors=5, min_count=1, representation=powed, metric=sorensen, "
-           f"shifts_db={_fmt(offset_shifts_db())}")
+           f"shifts_db={_fmt(offset_shifts_db())}", 5, three[:1])
     yield ("toolkit: + ensemble (mean position, majority floor and building)",
-           combine_predictions([member(n, e, 5) for n, e in three]), f"n_neighbors=5, min_count=1, members={names}")
+           combine_predictions([member(n, e, 5) for n, e in three]), f"n_neighbors=5, min_count=1, members={names}",
+           5, three)
     yield ("toolkit: ensemble members by GroupKFold(PHONEID) CV, K of the offset-search CV",
            combine_predictions([member(n, e, k_cv) for n, e in chosen]),
-           f"n_neighbors={k_cv}, min_count=1, members={_fmt(chosen)}")
+           f"n_neighbors={k_cv}, min_count=1, members={_fmt(chosen)}", k_cv, chosen)
     if ranged is not None:
         sh = next((e.get_params()["shifts_db"] for _, e in ranged if "shifts_db" in e.get_params()), None)
         yield ("toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV",
                combine_predictions([member(n, e, k_cv) for n, e in ranged]),
                f"n_neighbors={k_cv}, min_count=1, members={_fmt(ranged)}"
-               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"), k_cv, ranged)
     if ranged is not None and spotted is not None:
         wp = next((e.get_params()["weight_power"] for _, e in spotted if "weight_power" in e.get_params()), 1.0)
         yield ("toolkit: + spot-averaged fingerprints (raw + averaged members), spot K and weight exponent by "
                "GroupKFold(PHONEID) CV",
                combine_predictions([member(n, e, k_cv) for n, e in spotted]),
                f"n_neighbors={k_cv}, min_count=1, members={_fmt(spotted)}, weight_power={wp:g}"
-               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"), k_cv, spotted)
+    if top is not None:
+        k_top, members = top
+        wp = next((e.get_params()["weight_power"] for _, e in members if "weight_power" in e.get_params()), 1.0)
+        sh_top = sorted({tuple(e.get_params()["shifts_db"]) for _, e in members if "shifts_db" in e.get_params()},
+                        key=len)
+        yield ("toolkit: members, offset range, spots, weight exponent and K by spot x PHONEID CV (test spots and "
+               "phones unseen)",
+               combine_predictions([member(n, e, k_top) for n, e in members]),
+               f"n_neighbors={k_top}, min_count=1, members={_fmt(members)}, weight_power={wp:g}"
+               + "".join(f", shifts_db={_fmt(v)}" for v in sh_top), k_top, members)
