@@ -241,3 +241,33 @@ def test_spot_phone_kfold_scores_only_places_the_survey_covers():
         assert set(te) <= set(te0) and (nearest(tr, te) <= radius + 1e-9).all()
         np.testing.assert_array_equal(np.sort(te0[nearest(tr0, te0) <= radius + 1e-9]), te)
     assert sum(te.size for _, te in covered) < sum(te.size for _, te in every)
+
+
+def test_ladder_configs_reproduce_each_row_and_the_diagnostic_ranks_them():
+    # every ladder row's recorded configuration, refitted on the training set, gives the row's test error; the
+    # diagnostic scores those configurations under both CVs and rank-correlates them with the test errors
+    from scipy.stats import spearmanr
+
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+
+    train, _ = _spot_train(seed=7, n_spots=60, per_spot=6, n_phones=6)
+    train.meta["USERID"] = train.meta["PHONEID"]
+    test, _ = _spot_train(seed=8, n_spots=20, per_spot=3, n_phones=6)
+    lad = ms.toolkit_ladder(train, test, seed=0, fast=True)
+    rows = lad["toolkit_ladder"].set_index("method")
+    assert [n for n, _, _ in lad["configs"]] == list(rows.index) and len(rows) == 13
+    y = np.column_stack([train.xy_m, train.floor, train.building])
+    for name, members, aps in lad["configs"]:
+        x_tr, x_te = train.rssi_dbm, test.rssi_dbm
+        if aps:
+            sel = ApSelector(1).fit(x_tr)
+            x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
+        pr = combine_predictions([e.fit(x_tr, y).predict(x_te) for _, e in members])
+        err = np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m)
+        assert np.nanmean(err) == pytest.approx(rows.loc[name, "mean_m"], rel=1e-6), name
+    long, summary = ms.ladder_cv_diagnostic(train, lad, seed=0)
+    assert list(summary["groups"]) == ["PHONEID", ms.SPOT_PHONE] and (summary["n_rows"] == 13).all()
+    for g, t in long.groupby("groups"):
+        rho = summary.set_index("groups").loc[g, "spearman_all"]
+        assert rho == pytest.approx(spearmanr(t["cv_mean_error_m"], t["test_mean_m"])[0])
+        np.testing.assert_array_equal(t["test_mean_m"], rows["mean_m"])

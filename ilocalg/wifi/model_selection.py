@@ -278,7 +278,8 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     """:func:`toolkit_cv` of :func:`ensemble_pipeline` over ``grid`` (``{"est__estimators": [members, ...]}``),
     with each distinct member fitted once per fold: a candidate's fold score is
     :func:`ilocalg.wifi.ensemble.combine_predictions` of its members' fold predictions, which is what the
-    pipeline's ``predict`` returns. Same folds, scorer, table and choice (first of the best rank) as
+    pipeline's ``predict`` returns. ``group``: as :func:`toolkit_cv` (a meta column, or :data:`SPOT_PHONE`). Same
+    folds, scorer, table and choice (first of the best rank) as
     ``toolkit_cv(train, seed, group=group, max_test=max_test, estimator=ensemble_pipeline(n_neighbors),
     grid=grid)`` (a test checks the equality); the members shared by the candidates are not refitted.
     ``cache`` (a dict, filled in place): fold predictions by (fold setting, fold, member name), so that a second
@@ -543,7 +544,8 @@ def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_split
     ``estimator`` / ``grid``: by default the cascade (:class:`ilocalg.wifi.CascadeFingerprint`) over
     :data:`TOOLKIT_GRID` (representation, distance and K). ``group`` is a meta column of the training
     set: ``USERID`` (each fold scores users the fit never saw) or ``PHONEID`` (phones the fit never saw;
-    the validation campaign used other phones, four months later). Scoring: minus the mean 2-D error (m).
+    the validation campaign used other phones, four months later), or :data:`SPOT_PHONE` (:class:`SpotPhoneKFold`:
+    reference spots and phones the fit never saw, phones from PHONEID). Scoring: minus the mean 2-D error (m).
     Returns the chosen parameters and the CV table (one row per candidate, one column per parameter).
     """
     from sklearn.model_selection import GridSearchCV
