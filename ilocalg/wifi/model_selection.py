@@ -425,7 +425,7 @@ class SubsampledGroupKFold:
             yield tr, te
 
 
-class SpotPhoneKFold:
+class SpotPhoneKFold(SubsampledGroupKFold):
     """Folds whose test scans were taken at reference spots *and* with phones that the training part never saw.
 
     Mimics what sets a later campaign apart from the survey (UJIIndoorLoc's validation set: recorded four months
@@ -451,14 +451,9 @@ class SpotPhoneKFold:
 
     def __init__(self, n_splits: int = 3, max_test: int = 300, seed: int = 0, spot_groups: int = 10,
                  coverage_quantile: float | None = 0.9):
-        self.n_splits = n_splits
-        self.max_test = max_test
-        self.seed = seed
+        super().__init__(n_splits, max_test, seed)
         self.spot_groups = spot_groups
         self.coverage_quantile = coverage_quantile
-
-    def get_n_splits(self, X=None, y=None, groups=None) -> int:
-        return self.n_splits
 
     def split(self, X, y=None, groups=None):
         from sklearn.model_selection import GroupKFold
