@@ -172,8 +172,12 @@ if tables is not None and "toolkit_ladder" in tables:
         print(f"GroupKFold(PHONEID) CV on training: best with the offset search {on:.2f} m, without {off:.2f} m")
     if "estimators" in tables["toolkit_cv"]:
         for r in tables["toolkit_cv"].dropna(subset=["estimators"]).itertuples():
+            if r.groups != "PHONEID" and r.rank > 5:
+                continue  # the spot x PHONEID CV's many candidates: its first five ranks (all in toolkit_cv)
             grid = f" [{r.grid}]" if isinstance(getattr(r, "grid", None), str) else ""
-            print(f"GroupKFold(PHONEID) CV on training{grid}, ensemble of {r.estimators}: {r.cv_mean_error_m:.2f} m "
+            cv_name = "GroupKFold(PHONEID)" if r.groups == "PHONEID" else f"{r.groups}"
+            k = f", K={r.n_neighbors:g}" if r.groups != "PHONEID" else ""
+            print(f"{cv_name} CV on training{grid}, ensemble of {r.estimators}{k}: {r.cv_mean_error_m:.2f} m "
                   f"(rank {r.rank})")
     lad = tables["toolkit_ladder"].set_index("method")
     ens = "toolkit: ensemble members by GroupKFold(PHONEID) CV, K of the offset-search CV"
