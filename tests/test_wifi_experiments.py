@@ -40,18 +40,25 @@ def test_ujiindoorloc_fast_run(shared_data):
     assert (m["n"] == 256).all()
     assert m.loc["best (union top-5 APs, N=12)", "mean_m"] < m.loc["KNN K=5 (Euclidean)", "mean_m"]
     lad = t["toolkit_ladder"]
-    assert len(lad) == 12 and lad["method"].str.startswith("toolkit: ").all()
+    assert len(lad) == 13 and lad["method"].str.startswith("toolkit: ").all()
     assert set(lad["method"]) <= set(m.index)                          # the literal rows stay, toolkit rows added
     assert ((lad["mean_ci95_lo_m"] <= lad["mean_m"]) & (lad["mean_m"] <= lad["mean_ci95_hi_m"])).all()
-    assert set(t["toolkit_cv"]["groups"]) == {"USERID", "PHONEID"}
+    assert set(t["toolkit_cv"]["groups"]) == {"USERID", "PHONEID", "spot x PHONEID"}
     off = t["toolkit_cv"].query("groups == 'PHONEID'")
     assert off["shifts_db"].notna().sum() == 2                     # with and without the offset search
     assert off["estimators"].notna().sum() == 1 + 2 + 3            # the ensemble's members (fast: one candidate),
     assert (off["grid"] == "offset range x members").sum() == 2     # then offset range x members (fast: two)
     assert (off["grid"] == "spots x weight exponent").sum() == 3    # then spots (fast: none, K = 1, K = 2)
     sp = off[off["grid"] == "spots x weight exponent"]
-    assert f"members={sp['estimators'].iloc[0]}," in lad["params"].iloc[-1]   # the last row: the spot CV's first rank
+    assert f"members={sp['estimators'].iloc[0]}," in lad["params"].iloc[-2]   # the spot row: the spot CV's first rank
+    hl = t["toolkit_cv"].query("groups == 'spot x PHONEID'")
+    assert (hl["grid"] == "headline candidates").all() and len(hl) == 6 and (hl["n_neighbors"] == 5).all()
+    assert hl["rank"].iloc[0] == 1 and hl["cv_mean_error_m"].is_monotonic_increasing
+    assert f"members={hl['estimators'].iloc[0]}," in lad["params"].iloc[-1]   # the last row: the new CV's first rank
     assert lad["method"].iloc[-1] == t["measures"]["item"].iloc[0]   # the headline is the CV-chosen last row
+    c = t["campaigns"].set_index("quantity")
+    assert c.loc["scans", "validation"] == 256 and c.loc["users (USERID; 0 = not recorded)", "validation"] == 1
+    assert 0.5 < c.loc["share of scans with a phone not in training", "validation"] < 1  # 9 of 11 phones are new
     assert set(t["measures"]["quantity"]) >= {"toolkit_mean_error", "toolkit_floor_hit_rate"}
     assert wifi_ujiindoorloc.run(data_dir=d.parent / "nowhere") is None
 

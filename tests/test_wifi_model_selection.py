@@ -166,3 +166,108 @@ def test_fit_members_shares_one_search_across_weight_exponents(monkeypatch):
     for name, est in members:
         alone = est.set_params(n_neighbors=4) if "n_neighbors" in est.get_params() else est
         np.testing.assert_array_equal(got[name], alone.fit(x, y).predict(q))
+
+
+def _spot_train(seed=6, n_spots=40, per_spot=6, n_phones=5):
+    """A survey shaped like UJIIndoorLoc's: several scans per reference spot, each spot by two phones."""
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(seed)
+    x, xy = _radio(rng, n=n_spots * per_spot)
+    xy = np.repeat(xy[::per_spot], per_spot, axis=0)                     # per_spot scans share one position
+    spot = np.repeat(np.arange(n_spots), per_spot)
+    phone = (spot + np.tile(np.arange(per_spot) % 2, n_spots)) % n_phones
+    return FingerprintSet(rssi_dbm=x, ap_ids=tuple(f"a{i}" for i in range(x.shape[1])), x_m=xy[:, 0],
+                          y_m=xy[:, 1], floor=(xy[:, 0] > 15).astype(int), building=np.zeros(len(x), dtype=int),
+                          meta=pd.DataFrame({"PHONEID": phone})), spot
+
+
+def test_spot_phone_kfold_keeps_test_spots_and_phones_out_of_training():
+    train, spot = _spot_train()
+    phone = train.meta["PHONEID"].to_numpy()
+    y = np.column_stack([train.xy_m, train.floor, train.building])
+    cv = ms.SpotPhoneKFold(3, max_test=20, seed=3)
+    folds = list(cv.split(train.rssi_dbm, y, phone))
+    assert len(folds) == 3 and cv.get_n_splits() == 3
+    for tr, te in folds:
+        assert 0 < te.size <= 20 and tr.size > 0
+        assert not set(spot[tr]) & set(spot[te]) and not set(phone[tr]) & set(phone[te])
+        assert not set(map(tuple, y[tr])) & set(map(tuple, y[te]))     # no test position is a reference one
+    again = list(ms.SpotPhoneKFold(3, max_test=20, seed=3).split(train.rssi_dbm, y, phone))
+    assert all((a[0] == b[0]).all() and (a[1] == b[1]).all() for a, b in zip(folds, again, strict=True))
+    other = list(ms.SpotPhoneKFold(3, max_test=20, seed=4).split(train.rssi_dbm, y, phone))
+    assert any(set(a[1]) != set(b[1]) for a, b in zip(folds, other, strict=True))
+    with pytest.raises(ValueError, match="needs y"):
+        next(cv.split(train.rssi_dbm, None, phone))
+    with pytest.raises(ValueError, match="at least n_splits=3 phones"):
+        next(ms.SpotPhoneKFold(3).split(train.rssi_dbm, y, np.zeros(len(y))))
+
+
+def test_rows_cv_equals_grid_search_of_each_row():
+    # a fixed configuration's CV error is GridSearchCV's over the same folds (toolkit_cv with a one-point grid)
+    from ilocalg.wifi.offset import OffsetFingerprint
+
+    train, _ = _spot_train()
+    est = OffsetFingerprint(3, (-2.0, 0.0, 2.0), "powed", "sorensen")
+    for group in ("PHONEID", ms.SPOT_PHONE):
+        t = ms.rows_cv(train, [("a", [("off", est)], False), ("b", [("off", est), ("off_w2", est.set_params())],
+                                                                     False)], group=group, seed=1, max_test=30)
+        _, ref = ms.toolkit_cv(train, seed=1, group=group, max_test=30, estimator=est, grid={"n_neighbors": [3]})
+        np.testing.assert_allclose(t["cv_mean_error_m"], ref["cv_mean_error_m"].iloc[0], rtol=1e-12)
+        assert list(t["groups"]) == [group, group]
+    with pytest.raises(ValueError, match="meta column"):
+        ms.rows_cv(train, [("a", [("off", est)], False)], group="USERID")
+
+
+def test_spot_phone_kfold_scores_only_places_the_survey_covers():
+    # with coverage_quantile, every test position lies within that quantile of the survey's own spot spacing of a
+    # training-part reference on its floor; without it, some fold scores a place only its held-out phones surveyed
+    from scipy.spatial import cKDTree
+
+    train, _ = _spot_train(n_spots=60, n_phones=6)
+    phone = train.meta["PHONEID"].to_numpy()
+    y = np.column_stack([train.xy_m, train.floor, train.building])
+    u = np.unique(y, axis=0)
+    spacing = [cKDTree(u[u[:, 2] == f, :2]).query(u[u[:, 2] == f, :2], k=2)[0][:, 1] for f in np.unique(u[:, 2])]
+    radius = np.quantile(np.concatenate(spacing), 0.5)
+
+    def nearest(tr, te):
+        return np.array([cKDTree(y[tr][y[tr][:, 2] == y[i, 2], :2]).query(y[i, :2])[0] for i in te])
+
+    covered = list(ms.SpotPhoneKFold(3, 500, 1, spot_groups=5, coverage_quantile=0.5).split(None, y, phone))
+    every = list(ms.SpotPhoneKFold(3, 500, 1, spot_groups=5, coverage_quantile=None).split(None, y, phone))
+    for (tr, te), (tr0, te0) in zip(covered, every, strict=True):
+        np.testing.assert_array_equal(tr, tr0)
+        assert set(te) <= set(te0) and (nearest(tr, te) <= radius + 1e-9).all()
+        np.testing.assert_array_equal(np.sort(te0[nearest(tr0, te0) <= radius + 1e-9]), te)
+    assert sum(te.size for _, te in covered) < sum(te.size for _, te in every)
+
+
+def test_ladder_configs_reproduce_each_row_and_the_diagnostic_ranks_them():
+    # every ladder row's recorded configuration, refitted on the training set, gives the row's test error; the
+    # diagnostic scores those configurations under both CVs and rank-correlates them with the test errors
+    from scipy.stats import spearmanr
+
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+
+    train, _ = _spot_train(seed=7, n_spots=60, per_spot=6, n_phones=6)
+    train.meta["USERID"] = train.meta["PHONEID"]
+    test, _ = _spot_train(seed=8, n_spots=20, per_spot=3, n_phones=6)
+    lad = ms.toolkit_ladder(train, test, seed=0, fast=True)
+    rows = lad["toolkit_ladder"].set_index("method")
+    assert [n for n, _, _ in lad["configs"]] == list(rows.index) and len(rows) == 13
+    y = np.column_stack([train.xy_m, train.floor, train.building])
+    for name, members, aps in lad["configs"]:
+        x_tr, x_te = train.rssi_dbm, test.rssi_dbm
+        if aps:
+            sel = ApSelector(1).fit(x_tr)
+            x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
+        pr = combine_predictions([e.fit(x_tr, y).predict(x_te) for _, e in members])
+        err = np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m)
+        assert np.nanmean(err) == pytest.approx(rows.loc[name, "mean_m"], rel=1e-6), name
+    long, summary = ms.ladder_cv_diagnostic(train, lad, seed=0)
+    assert list(summary["groups"]) == ["PHONEID", ms.SPOT_PHONE] and (summary["n_rows"] == 13).all()
+    for g, t in long.groupby("groups"):
+        rho = summary.set_index("groups").loc[g, "spearman_all"]
+        assert rho == pytest.approx(spearmanr(t["cv_mean_error_m"], t["test_mean_m"])[0])
+        np.testing.assert_array_equal(t["test_mean_m"], rows["mean_m"])

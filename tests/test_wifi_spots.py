@@ -34,6 +34,27 @@ def test_spot_fingerprints_are_the_mean_of_each_spots_heard_readings():
     assert ys1.shape == (2,) and fp1.shape == (2, 3)
 
 
+def test_spot_fingerprints_are_computed_once_per_content(monkeypatch):
+    # a CV fits several spot members on one fold: the second call on equal arrays reuses the first one's means, and
+    # what a caller does to a returned array never reaches the store
+    from ilocalg.wifi import spots
+
+    rng = np.random.default_rng(3)
+    x, xy, _, _ = _survey(rng, scans_per_spot=3)
+    fp, ys = spot_fingerprints(x, xy, 0.25)
+    calls = []
+    monkeypatch.setattr(spots, "mean_fingerprints", lambda *a: calls.append(a) or (_ for _ in ()).throw(AssertionError))
+    fp2, ys2 = spot_fingerprints(x.copy(), xy.copy(), 0.25)
+    assert not calls
+    np.testing.assert_array_equal(fp2, fp)
+    np.testing.assert_array_equal(ys2, ys)
+    fp2[:] = 0.0
+    np.testing.assert_array_equal(spot_fingerprints(x, xy, 0.25)[0], fp)
+    x[0, np.flatnonzero(np.isfinite(x[0]))[0]] += 1.0                       # other content: computed again
+    with pytest.raises(AssertionError):
+        spot_fingerprints(x, xy, 0.25)
+
+
 def test_class_equals_the_inner_estimator_on_the_spot_fingerprints():
     rng = np.random.default_rng(0)
     x, y, q, _ = _survey(rng, scans_per_spot=4)

@@ -34,9 +34,15 @@ from ilocalg.io.ujiindoorloc import load_ujiindoorloc
 from ilocalg.papers import paper_ref
 from ilocalg.wifi import ESTIMATORS, evaluate_method
 from ilocalg.wifi.knn import shared_searches
-from ilocalg.wifi.model_selection import best_search, metrics_row, selection_mask, toolkit_ladder
+from ilocalg.wifi.model_selection import (
+    best_search,
+    ladder_cv_diagnostic,
+    metrics_row,
+    selection_mask,
+    toolkit_ladder,
+)
 
-__all__ = ["PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "find_files", "load", "run"]
+__all__ = ["PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "campaign_shift", "find_files", "load", "run"]
 
 # Settings from the paper
 # -----------------------
@@ -91,7 +97,53 @@ TOOLKIT_READINGS = (
      "the offset of an unseen phone is unknown; the search must cover the spread of phones",
      "offset search over +-1 sd or +-2 sd of the measured sd (2 dB steps), chosen with the members by "
      "GroupKFold(PHONEID) CV on training (offset_range_grid)"),
+    ("a CV that mimics the validation campaign", "Torres-Sospedra et al. 2014 (the data set paper); SOURCE.txt",
+     "validation: recorded about four months after the survey, by other users, mostly with other phones (9 of its "
+     "11 phones are not in training), at free positions rather than at the survey's reference spots",
+     "SpotPhoneKFold ('spot x PHONEID'): each fold scores scans at reference spots and with phones its training "
+     "part never saw, at places the rest of the survey covers; it chooses the headline row among headline_grid's "
+     "candidates, fixed beforehand (headline_cv). The time gap (access points changed) has no counterpart "
+     "inside the training campaign"),
 )
+
+
+def campaign_shift(train: FingerprintSet, test: FingerprintSet) -> pd.DataFrame:
+    """What sets the test campaign apart from the survey, from columns that are neither labels nor positions.
+
+    Users, phones (and the share of test scans taken with phones the survey never used), recording days and
+    span, access points heard (and the share of each set's readings on APs the other set never heard), APs per
+    scan; and, for the training set only, its reference spots (distinct targets; a label, so never for the test
+    set). One row per quantity, a column per set.
+    """
+    rows = []
+
+    def add(q, a, b):
+        rows.append({"quantity": q, "training": a, "validation": b})
+
+    mt, mv = train.meta, test.meta
+    new_phone = ~mv["PHONEID"].isin(set(mt["PHONEID"]))
+    add("scans", train.n_samples, test.n_samples)
+    add("users (USERID; 0 = not recorded)", mt["USERID"].nunique(), mv["USERID"].nunique())
+    add("phones (PHONEID)", mt["PHONEID"].nunique(), mv["PHONEID"].nunique())
+    add("phones not in the other set", int((~mt["PHONEID"].isin(set(mv["PHONEID"]))).groupby(mt["PHONEID"]).first()
+                                           .sum()), int(new_phone.groupby(mv["PHONEID"]).first().sum()))
+    add("share of scans with a phone not in training", 0.0, float(new_phone.mean()))
+    for name, m in (("training", mt), ("validation", mv)):
+        t = pd.to_datetime(m["TIMESTAMP"], unit="s")
+        rows.append({"quantity": "first day", name: str(t.min().date())})
+        rows.append({"quantity": "last day", name: str(t.max().date())})
+        rows.append({"quantity": "days with scans", name: int(t.dt.date.nunique())})
+    heard_t, heard_v = np.isfinite(train.rssi_dbm), np.isfinite(test.rssi_dbm)
+    ever_t, ever_v = heard_t.any(axis=0), heard_v.any(axis=0)
+    add("APs heard", int(ever_t.sum()), int(ever_v.sum()))
+    add("APs heard only in this set", int((ever_t & ~ever_v).sum()), int((ever_v & ~ever_t).sum()))
+    add("share of readings on APs the other set never heard", float(heard_t[:, ~ever_v].sum() / heard_t.sum()),
+        float(heard_v[:, ~ever_t].sum() / heard_v.sum()))
+    add("median APs heard per scan", float(np.median(heard_t.sum(axis=1))), float(np.median(heard_v.sum(axis=1))))
+    y = np.column_stack([train.xy_m, train.floor, train.building])
+    add("reference spots (distinct targets; training only)", len(np.unique(y, axis=0)), None)
+    out = pd.DataFrame(rows).groupby("quantity", sort=False).first().reset_index()
+    return out.astype({"training": object, "validation": object})
 
 
 def find_files(data_dir: str | Path | None = None) -> tuple[Path, Path] | None:
@@ -117,7 +169,8 @@ def load(data_dir: str | Path | None = None) -> tuple[FingerprintSet, Fingerprin
 
 
 def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, search: bool | None = None,
-        fast_train_rows: int = 4000, fast_test_rows: int = 256, toolkit: bool = True) -> dict[str, pd.DataFrame] | None:
+        fast_train_rows: int = 4000, fast_test_rows: int = 256, toolkit: bool = True,
+        cv_diagnostic: bool = False) -> dict[str, pd.DataFrame] | None:
     """Load the official split, run every method and score; None when the set is absent.
 
     Parameters
@@ -132,15 +185,21 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
         Add the toolkit ladder (:func:`ilocalg.wifi.model_selection.toolkit_ladder`): rows
         ``toolkit: ...`` in ``methods`` and ``errors``, tables ``toolkit_ladder``, ``toolkit_cv``,
         ``toolkit_readings`` (:data:`TOOLKIT_READINGS`) and ``measures``.
+    cv_diagnostic : bool
+        With ``toolkit``, also score every ladder row under the GroupKFold(PHONEID) and spot x PHONEID CVs
+        (:func:`ilocalg.wifi.model_selection.ladder_cv_diagnostic`; a diagnostic of the CVs, used to choose
+        nothing): tables ``toolkit_cv_diagnostic`` and ``toolkit_cv_agreement``. Off by default (about 80 CPU-s in
+        full mode).
     """
     data = load(data_dir)
     if data is None:
         return None
     with shared_searches():  # the CVs refit the same folds for several K and overlapping offset grids
-        return _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit)
+        return _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_diagnostic)
 
 
-def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit) -> dict[str, pd.DataFrame]:
+def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_diagnostic=False
+         ) -> dict[str, pd.DataFrame]:
     """:func:`run` on the loaded split."""
     train, test = data
     if fast:
@@ -206,6 +265,7 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit) -> 
                   "winner: private test set; ours: public validation set"),
     ]
     tables = {
+        "campaigns": campaign_shift(train, test),
         "methods": methods,
         "errors": pd.concat(errs, ignore_index=True),
         "best_halves": best_halves,
@@ -240,6 +300,8 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit) -> 
             {"quantity": "toolkit_building_hit_rate", "value": tk["building_hit_rate"], "unit": "fraction",
              "item": tk["method"]},
         ])
+    if ladder is not None and cv_diagnostic:
+        tables["toolkit_cv_diagnostic"], tables["toolkit_cv_agreement"] = ladder_cv_diagnostic(train, ladder, seed)
     if search if search is not None else not fast:
         tables["best_search"] = best_search(train, test, seed)
     return tables

@@ -39,6 +39,9 @@ __all__ = [
     "TOOLKIT_GRID",
     "TOOLKIT_GRID_FAST",
     "SubsampledGroupKFold",
+    "SpotPhoneKFold",
+    "SPOT_PHONE",
+    "group_cv",
     "toolkit_cv",
     "toolkit_ladder",
     "bootstrap_mean_ci",
@@ -52,7 +55,12 @@ __all__ = [
     "SPOT_WEIGHT_POWERS",
     "SPOT_NEIGHBORS",
     "spot_grid",
+    "HEADLINE_NEIGHBORS",
+    "headline_grid",
+    "headline_cv",
     "fit_members",
+    "rows_cv",
+    "ladder_cv_diagnostic",
 ]
 
 
@@ -233,6 +241,28 @@ def spot_grid(base: list, fast: bool = False) -> dict:
     return {"est__estimators": cands}
 
 
+#: K of every member of the headline row's candidates (:func:`headline_grid`): :func:`offset_grid`'s K values.
+HEADLINE_NEIGHBORS = (5, 8)
+
+
+def headline_grid(fast: bool = False) -> dict:
+    """Candidates of the headline row (``{"est__estimators": [members, ...]}``), chosen by the spot x PHONEID CV
+    (:class:`SpotPhoneKFold`) on training, at each K of :data:`HEADLINE_NEIGHBORS`: every member set of
+    :func:`offset_range_grid` (search range +-1 or +-2 sd, three member sets), each crossed with :func:`spot_grid`
+    (the weight exponent; raw members alone or raw + spot-averaged at each spot K). The union of the candidates the
+    GroupKFold(PHONEID) CVs of the ensemble, offset-range and spot rows chose among, whatever those CVs chose, fixed
+    before any score of this CV was seen. Member names stand for one configuration. Fast mode: the fast grids.
+    """
+    cands, seen = [], set()
+    for base in offset_range_grid(fast)["est__estimators"]:
+        for members in spot_grid(base, fast)["est__estimators"]:
+            key = tuple(n for n, _ in members)
+            if key not in seen:
+                seen.add(key)
+                cands.append(members)
+    return {"est__estimators": cands}
+
+
 def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):
     """``Pipeline([("aps", ApSelector(min_count)), ("est", FingerprintEnsemble(estimators, n_neighbors))])``."""
     from sklearn.pipeline import Pipeline
@@ -248,7 +278,8 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     """:func:`toolkit_cv` of :func:`ensemble_pipeline` over ``grid`` (``{"est__estimators": [members, ...]}``),
     with each distinct member fitted once per fold: a candidate's fold score is
     :func:`ilocalg.wifi.ensemble.combine_predictions` of its members' fold predictions, which is what the
-    pipeline's ``predict`` returns. Same folds, scorer, table and choice (first of the best rank) as
+    pipeline's ``predict`` returns. ``group``: as :func:`toolkit_cv` (a meta column, or :data:`SPOT_PHONE`). Same
+    folds, scorer, table and choice (first of the best rank) as
     ``toolkit_cv(train, seed, group=group, max_test=max_test, estimator=ensemble_pipeline(n_neighbors),
     grid=grid)`` (a test checks the equality); the members shared by the candidates are not refitted.
     ``cache`` (a dict, filled in place): fold predictions by (fold setting, fold, member name), so that a second
@@ -261,10 +292,8 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
 
     cands = list(grid["est__estimators"])
-    if train.meta is None or group not in train.meta:
-        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID), got {group!r}")
-    groups = train.meta[group].to_numpy()
-    cv = SubsampledGroupKFold(min(n_splits, len(np.unique(groups))), max_test, seed)
+    groups = _cv_groups(train, group)
+    cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     y = _target(train)
     scores = np.empty((len(cands), cv.get_n_splits()))
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
@@ -292,6 +321,42 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
                           "cv_sd_m": scores.std(axis=1), "rank": rank})
     return ({"est__estimators": cands[int(np.argmin(rank))]},
             table.sort_values("rank", kind="stable").reset_index(drop=True))
+
+
+def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, n_splits: int = 3,
+            max_test: int = 300) -> pd.DataFrame:
+    """CV mean error of fixed configurations (no choice): each row's estimator fitted on every fold's training part.
+
+    ``rows``: ``(name, members, aps)`` with ``members`` a list of ``(member name, estimator)`` (one member: that
+    estimator; several: their :func:`ilocalg.wifi.ensemble.combine_predictions`, as
+    :class:`ilocalg.wifi.FingerprintEnsemble`; each member keeps its own K) and ``aps`` whether
+    :class:`ilocalg.wifi.ApSelector` (``min_count=1``) comes first. A member name must stand for one configuration
+    (members of the same name are fitted once per fold and AP setting). Folds as :func:`ensemble_cv` with the same
+    ``group``, ``n_splits``, ``max_test`` and ``seed``. Returns one row per configuration: ``groups``, ``row``,
+    ``cv_mean_error_m``, ``cv_sd_m`` (over folds).
+    """
+    from ilocalg.metrics import mean_horizontal_error_m
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+
+    rows = list(rows)
+    groups = _cv_groups(train, group)
+    cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
+    y = _target(train)
+    scores = np.empty((len(rows), cv.get_n_splits()))
+    for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
+        preds = {}
+        for aps in sorted({bool(a) for _, _, a in rows}):
+            x_tr, x_te = train.rssi_dbm[tr], train.rssi_dbm[te]
+            if aps:
+                sel = ApSelector(1).fit(x_tr)
+                x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
+            need = {n: e for _, members, a in rows if bool(a) == aps for n, e in members}
+            preds.update({(n, aps): v for n, v in fit_members(list(need.items()), x_tr, y[tr], x_te, None).items()})
+        for r, (_, members, aps) in enumerate(rows):
+            scores[r, f] = mean_horizontal_error_m(y[te], combine_predictions([preds[(n, bool(aps))]
+                                                                                for n, _ in members]))
+    return pd.DataFrame({"groups": group, "row": [n for n, _, _ in rows], "cv_mean_error_m": scores.mean(axis=1),
+                         "cv_sd_m": scores.std(axis=1)})
 
 
 def _weight_power_param(est) -> str | None:
@@ -360,6 +425,112 @@ class SubsampledGroupKFold:
             yield tr, te
 
 
+class SpotPhoneKFold(SubsampledGroupKFold):
+    """Folds whose test scans were taken at reference spots *and* with phones that the training part never saw.
+
+    Mimics what sets a later campaign apart from the survey (UJIIndoorLoc's validation set: recorded four months
+    later by other users, mostly with other phones, at free positions rather than at the survey's reference spots;
+    Torres-Sospedra et al. 2014). A spot is a distinct row of the target ``y`` (``[x_m, y_m, floor, building]``);
+    the spots are dealt at random (seeded) into ``spot_groups`` groups, the phones (``groups``) into ``n_splits``
+    groups by :class:`sklearn.model_selection.GroupKFold`. Fold ``f`` tests the scans whose spot is in spot group
+    ``f`` and whose phone is in phone group ``f`` (a seeded subsample of at most ``max_test`` of them) and trains
+    on the scans whose spot is not in spot group ``f`` and whose phone is not in phone group ``f``: no test
+    position is a reference position of the training part, and no test phone is in it. Each fold drops one spot in
+    ``spot_groups`` (default 10: the rest of the survey keeps its density, so that a test position lies between
+    reference spots as a free position does) and the phones of one phone group (about ``1 / n_splits`` of them,
+    as :class:`SubsampledGroupKFold`). An area only those phones surveyed is lost with them, where no later campaign
+    at a surveyed place would be: with ``coverage_quantile`` (default 0.9), a fold scores only the test scans whose
+    position lies within the survey's own spot spacing of a training-part reference on the same floor and building
+    (the ``coverage_quantile`` quantile, over the survey's spots, of the distance to the nearest other spot of the
+    floor; measured on ``y`` itself; UJIIndoorLoc: about 6.3 m). ``None``: every test scan.
+
+    GroupKFold by phone alone (:class:`SubsampledGroupKFold`) scores scans at spots other phones recorded (a
+    query then meets references at its own position, which favours spot-averaged fingerprints) and drops whole
+    areas only the held-out phones surveyed.
+    """
+
+    def __init__(self, n_splits: int = 3, max_test: int = 300, seed: int = 0, spot_groups: int = 10,
+                 coverage_quantile: float | None = 0.9):
+        super().__init__(n_splits, max_test, seed)
+        self.spot_groups = spot_groups
+        self.coverage_quantile = coverage_quantile
+
+    def split(self, X, y=None, groups=None):
+        from sklearn.model_selection import GroupKFold
+
+        if self.spot_groups < self.n_splits:
+            raise ValueError(f"spot_groups={self.spot_groups} must be at least n_splits={self.n_splits}")
+        if y is None or groups is None:
+            raise ValueError("SpotPhoneKFold needs y (identical rows are one spot) and groups (the phone of each row)")
+        yy = np.asarray(y, dtype=np.float64).reshape(len(groups), -1)
+        _, spot = np.unique(yy, axis=0, return_inverse=True)
+        spot = spot.ravel()
+        n_phones, n_spots = len(np.unique(groups)), int(spot.max()) + 1
+        if n_phones < self.n_splits or n_spots < self.spot_groups:
+            raise ValueError(f"SpotPhoneKFold needs at least n_splits={self.n_splits} phones and spot_groups="
+                             f"{self.spot_groups} spots, got {n_phones} phones and {n_spots} spots")
+        radius = None
+        if self.coverage_quantile is not None:
+            u = np.unique(yy, axis=0)
+            radius = float(np.quantile(_nearest_reference_m(u, u, exclude_self=True), self.coverage_quantile))
+        rng = np.random.default_rng(self.seed)
+        spot_fold = (rng.permutation(spot.max() + 1) % self.spot_groups)[spot]
+        phone_fold = np.empty(len(groups), dtype=np.int64)
+        for f, (_, te) in enumerate(GroupKFold(self.n_splits).split(yy, yy, groups)):
+            phone_fold[te] = f
+        for f in range(self.n_splits):
+            te = np.flatnonzero((spot_fold == f) & (phone_fold == f))
+            tr = np.flatnonzero((spot_fold != f) & (phone_fold != f))
+            if radius is not None and te.size and tr.size:
+                te = te[_nearest_reference_m(yy[tr], yy[te]) <= radius]
+            if te.size == 0 or tr.size == 0:
+                raise ValueError(f"SpotPhoneKFold fold {f} has no test or no training rows: too few spots or phones "
+                                 f"for n_splits={self.n_splits}")
+            if te.size > self.max_test:
+                te = np.sort(rng.choice(te, self.max_test, replace=False))
+            yield tr, te
+
+
+def _nearest_reference_m(ref: np.ndarray, query: np.ndarray, exclude_self: bool = False) -> np.ndarray:
+    """Distance (m) from each ``query`` row's position (columns 0-1) to the nearest ``ref`` position on the same
+    floor and building (columns 2-3, where present); inf where that floor has no reference. ``exclude_self``: the
+    nearest *other* reference (``query`` rows are distinct rows of ``ref``)."""
+    from scipy.spatial import cKDTree
+
+    key_r = ref[:, 2:4] if ref.shape[1] >= 4 else np.zeros((len(ref), 0))
+    key_q = query[:, 2:4] if query.shape[1] >= 4 else np.zeros((len(query), 0))
+    out = np.full(len(query), np.inf)
+    for key in np.unique(key_q, axis=0):
+        mq = (key_q == key).all(axis=1)
+        mr = (key_r == key).all(axis=1)
+        k = 2 if exclude_self else 1
+        if mr.sum() >= k:
+            d = cKDTree(ref[mr, :2]).query(query[mq, :2], k=k)[0]
+            out[mq] = d[:, 1] if exclude_self else d
+    return out
+
+
+def group_cv(kind: str, n_splits: int = 3, max_test: int = 300, seed: int = 0):
+    """The CV splitter of a CV ``kind``: ``"PHONEID"`` / ``"USERID"`` (:class:`SubsampledGroupKFold`, grouped by
+    that meta column) or ``"spot x PHONEID"`` (:class:`SpotPhoneKFold`, phones from the PHONEID column)."""
+    if kind == SPOT_PHONE:
+        return SpotPhoneKFold(n_splits, max_test, seed)
+    return SubsampledGroupKFold(n_splits, max_test, seed)
+
+
+#: Name of the :class:`SpotPhoneKFold` CV in tables (``groups`` column) and in :func:`ensemble_cv`'s ``group``.
+SPOT_PHONE = "spot x PHONEID"
+
+
+def _cv_groups(train: FingerprintSet, group: str) -> np.ndarray:
+    """The group column of a CV kind (:func:`group_cv`): PHONEID for ``"spot x PHONEID"``."""
+    col = "PHONEID" if group == SPOT_PHONE else group
+    if train.meta is None or col not in train.meta:
+        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID) or {SPOT_PHONE!r}, "
+                         f"got {group!r}")
+    return train.meta[col].to_numpy()
+
+
 def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_splits: int = 3,
                max_test: int = 400, group: str = "USERID", estimator=None, grid: dict | None = None
                ) -> tuple[dict, pd.DataFrame]:
@@ -368,7 +539,8 @@ def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_split
     ``estimator`` / ``grid``: by default the cascade (:class:`ilocalg.wifi.CascadeFingerprint`) over
     :data:`TOOLKIT_GRID` (representation, distance and K). ``group`` is a meta column of the training
     set: ``USERID`` (each fold scores users the fit never saw) or ``PHONEID`` (phones the fit never saw;
-    the validation campaign used other phones, four months later). Scoring: minus the mean 2-D error (m).
+    the validation campaign used other phones, four months later), or :data:`SPOT_PHONE` (:class:`SpotPhoneKFold`:
+    reference spots and phones the fit never saw, phones from PHONEID). Scoring: minus the mean 2-D error (m).
     Returns the chosen parameters and the CV table (one row per candidate, one column per parameter).
     """
     from sklearn.model_selection import GridSearchCV
@@ -379,10 +551,8 @@ def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_split
     if grid is None:
         grid = TOOLKIT_GRID_FAST if fast else TOOLKIT_GRID
     estimator = CascadeFingerprint(p=2) if estimator is None else estimator
-    if train.meta is None or group not in train.meta:
-        raise ValueError(f"group must be a meta column of the training set (USERID, PHONEID), got {group!r}")
-    groups = train.meta[group].to_numpy()
-    cv = SubsampledGroupKFold(min(n_splits, len(np.unique(groups))), max_test, seed)
+    groups = _cv_groups(train, group)
+    cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     gs = GridSearchCV(estimator, grid, scoring=horizontal_error_scorer(), cv=cv, refit=False)
     gs.fit(train.rssi_dbm, _target(train), groups=groups)
     r = gs.cv_results_
@@ -412,7 +582,7 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
                    cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True,
-                   offset_range: bool = True, spots: bool = True) -> dict:
+                   offset_range: bool = True, spots: bool = True, headline: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -445,6 +615,13 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     averaged"), the spot members' K and the neighbour-weight exponent chosen by the same GroupKFold(PHONEID) CV
     on training (:func:`spot_grid`; candidates without spot members included; fold predictions shared with the
     earlier CVs). Its CV rows carry ``grid = "spots x weight exponent"``.
+
+    With ``headline`` (and ``spots``), one more row, the last and the headline: the members, search range, spot
+    members, weight exponent and K chosen among :func:`headline_grid`'s candidates at each K of
+    :data:`HEADLINE_NEIGHBORS` by the spot x PHONEID CV (:class:`SpotPhoneKFold`: each fold scores scans at reference
+    spots and with phones its training part never saw, at places the rest of the survey covers), the CV that mimics
+    a later campaign at free positions. Its CV rows carry ``groups = "spot x PHONEID"``, ``grid = "headline
+    candidates"`` and their K; ``rank`` is over both K.
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
     from ilocalg.wifi.offset import OffsetFingerprint
@@ -469,15 +646,18 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
              dict(estimator="offset", metric="sorensen", **off_best)),
         ]
     cv_table = pd.concat([t for _, t in cvs], ignore_index=True)
-    rows, res_by = [], {}
-    for name, par in steps:
+    rows, res_by, configs = [], {}, []
+    for i, (name, par) in enumerate(steps):
         if par is None:
             res = evaluate_method(train, test, "wknn", 5, "euclidean")
+            # the same neighbours and positions (Euclidean distances ignore the representation's offset)
+            est = OffsetFingerprint(5, (0.0,), "positive", "minkowski", p=2)
         else:
             kw = {"n_neighbors": 5, **par}
             est = (OffsetFingerprint(**{k: v for k, v in kw.items() if k != "estimator"}) if
                    kw.get("estimator") == "offset" else CascadeFingerprint(p=2, **kw))
             res = _prediction_result(est.fit(train.rssi_dbm, _target(train)).predict(test.rssi_dbm), test)
+        configs.append((name, [(f"row{i}", est)], False))
         res_by[name] = res
         rows.append(_ladder_row(name, res, test, seed, "" if par is None else ", ".join(
             f"{k}={_fmt(v)}" for k, v in {"n_neighbors": 5, **par}.items() if k != "estimator")))
@@ -497,10 +677,49 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
                 sp_best, sp_table = ensemble_cv(train, spot_grid(ranged, fast), k_cv, seed, max_test=300, cache=cache)
                 cv_table = pd.concat([cv_table, sp_table.assign(grid="spots x weight exponent")], ignore_index=True)
                 spotted = sp_best["est__estimators"]
-        for name, pr, par in _ensemble_rows(train, test, k_cv, chosen, ranged, spotted):
+        top = None
+        if offset_range and spots and headline:
+            top, hl_table = headline_cv(train, seed, fast, cache)
+            cv_table = pd.concat([cv_table, hl_table], ignore_index=True)
+        for name, pr, par, k, members in _ensemble_rows(train, test, k_cv, chosen, ranged, spotted, top):
             res_by[name] = res = _prediction_result(pr, test)
             rows.append(_ladder_row(name, res, test, seed, par))
-    return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by}
+            configs.append((name, [(f"{n}@K{k}", _with_k(e, k)) for n, e in members], True))
+    return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by, "configs": configs}
+
+
+def _with_k(est, k: int):
+    """A clone of ``est`` with ``n_neighbors=k`` where it has that parameter (as :func:`fit_members` sets it)."""
+    from sklearn.base import clone
+
+    e = clone(est)
+    return e.set_params(n_neighbors=k) if "n_neighbors" in e.get_params() else e
+
+
+def ladder_cv_diagnostic(train: FingerprintSet, ladder: dict, seed: int = 0,
+                         groups: tuple[str, ...] = ("PHONEID", SPOT_PHONE)) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """How well each CV ranks the ladder's rows as the test set does: a diagnostic of the CV, used to choose nothing.
+
+    Every row of :func:`toolkit_ladder`'s result ``ladder`` (its configuration as fitted, ``ladder["configs"]``) is
+    scored by :func:`rows_cv` under each CV of ``groups``, beside its test-set mean error. Returns the long table
+    (``row``, ``groups``, ``cv_mean_error_m``, ``cv_sd_m``, ``test_mean_m``) and one row per CV with Spearman's
+    rank correlation between CV and test errors over all rows and over the rows from the offset search on
+    (``spearman_all``, ``spearman_offset_rows``: the rows the CVs chose among).
+    """
+    from scipy.stats import spearmanr
+
+    test_mean = ladder["toolkit_ladder"].set_index("method")["mean_m"]
+    long = pd.concat([rows_cv(train, ladder["configs"], g, seed) for g in groups], ignore_index=True)
+    long["test_mean_m"] = test_mean.loc[long["row"]].to_numpy()
+    first_offset = next((i for i, (n, _, _) in enumerate(ladder["configs"]) if "offset search" in n),
+                        len(ladder["configs"]))
+    summary = []
+    for g, t in long.groupby("groups", sort=False):
+        off = t.iloc[first_offset:]
+        summary.append({"groups": g, "spearman_all": float(spearmanr(t["cv_mean_error_m"], t["test_mean_m"])[0]),
+                        "spearman_offset_rows": float(spearmanr(off["cv_mean_error_m"], off["test_mean_m"])[0])
+                        if len(off) > 2 else np.nan, "n_rows": len(t)})
+    return long, pd.DataFrame(summary)
 
 
 def _prediction_result(pr: np.ndarray, test: FingerprintSet) -> dict:
@@ -515,8 +734,28 @@ def _ladder_row(name: str, res: dict, test: FingerprintSet, seed: int, params: s
     return {"method": name, **metrics_row(res, test), "mean_ci95_lo_m": lo, "mean_ci95_hi_m": hi, "params": params}
 
 
+def headline_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, cache: dict | None = None
+                ) -> tuple[tuple[int, list], pd.DataFrame]:
+    """The headline row's choice: :func:`headline_grid`'s candidates at each K of :data:`HEADLINE_NEIGHBORS` (fast
+    mode: K = 5) scored by :func:`ensemble_cv` with the spot x PHONEID CV (:class:`SpotPhoneKFold`, 300 test scans
+    per fold); the smallest CV mean error wins (ties: the first K, then the first candidate). Returns ``(K,
+    members)`` and the CV table (``grid = "headline candidates"``, ``n_neighbors``, ``rank`` over every K)."""
+    from scipy.stats import rankdata
+
+    tables, best = [], None
+    for k in ((5,) if fast else HEADLINE_NEIGHBORS):
+        b, t = ensemble_cv(train, headline_grid(fast), k, seed, max_test=300, group=SPOT_PHONE, cache=cache)
+        tables.append(t.assign(grid="headline candidates", n_neighbors=k))
+        score = float(t["cv_mean_error_m"].min())
+        if best is None or score < best[0]:
+            best = (score, k, b["est__estimators"])
+    table = pd.concat(tables, ignore_index=True)
+    table["rank"] = rankdata(table["cv_mean_error_m"], method="min").astype(np.int32)
+    return (best[1], best[2]), table.sort_values("rank", kind="stable").reset_index(drop=True)
+
+
 def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chosen: list, ranged: list | None = None,
-                   spotted: list | None = None):
+                   spotted: list | None = None, top: tuple[int, list] | None = None):
     """(name, prediction (n, 4), params) of the AP-selection, ensemble and CV-chosen ensemble rows, with
     ``ranged`` the CV-chosen offset-range row, and with ``spotted`` the CV-chosen spot row; each member fitted once
     per K on the selected APs (the same as the rows' pipelines, :func:`ensemble_pipeline`; a member without an
@@ -527,7 +766,8 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     x_tr, x_te, y = aps.transform(train.rssi_dbm), aps.transform(test.rssi_dbm), _target(train)
     three = ensemble_members(three=True)
     need: dict = {}
-    for k, members in ((5, three), (k_cv, chosen), (k_cv, ranged or []), (k_cv, spotted or [])):
+    for k, members in ((5, three), (k_cv, chosen), (k_cv, ranged or []), (k_cv, spotted or []),
+                       top or (k_cv, [])):
         need.setdefault(k, {}).update(dict(members))
     cache = {(n, k): pr for k, m in need.items() for n, pr in fit_members(list(m.items()), x_tr, y, x_te, k).items()}
 
@@ -537,22 +777,33 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
     names = " + ".join(n for n, _ in three)
     yield ("toolkit: offset search row + AP selection (APs heard in training)", member(*three[0], 5),
            "n_neighbors=5, min_count=1, representation=powed, metric=sorensen, "
-           f"shifts_db={_fmt(offset_shifts_db())}")
+           f"shifts_db={_fmt(offset_shifts_db())}", 5, three[:1])
     yield ("toolkit: + ensemble (mean position, majority floor and building)",
-           combine_predictions([member(n, e, 5) for n, e in three]), f"n_neighbors=5, min_count=1, members={names}")
+           combine_predictions([member(n, e, 5) for n, e in three]), f"n_neighbors=5, min_count=1, members={names}",
+           5, three)
     yield ("toolkit: ensemble members by GroupKFold(PHONEID) CV, K of the offset-search CV",
            combine_predictions([member(n, e, k_cv) for n, e in chosen]),
-           f"n_neighbors={k_cv}, min_count=1, members={_fmt(chosen)}")
+           f"n_neighbors={k_cv}, min_count=1, members={_fmt(chosen)}", k_cv, chosen)
     if ranged is not None:
         sh = next((e.get_params()["shifts_db"] for _, e in ranged if "shifts_db" in e.get_params()), None)
         yield ("toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV",
                combine_predictions([member(n, e, k_cv) for n, e in ranged]),
                f"n_neighbors={k_cv}, min_count=1, members={_fmt(ranged)}"
-               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"), k_cv, ranged)
     if ranged is not None and spotted is not None:
         wp = next((e.get_params()["weight_power"] for _, e in spotted if "weight_power" in e.get_params()), 1.0)
         yield ("toolkit: + spot-averaged fingerprints (raw + averaged members), spot K and weight exponent by "
                "GroupKFold(PHONEID) CV",
                combine_predictions([member(n, e, k_cv) for n, e in spotted]),
                f"n_neighbors={k_cv}, min_count=1, members={_fmt(spotted)}, weight_power={wp:g}"
-               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"))
+               + ("" if sh is None else f", shifts_db={_fmt(tuple(sh))}"), k_cv, spotted)
+    if top is not None:
+        k_top, members = top
+        wp = next((e.get_params()["weight_power"] for _, e in members if "weight_power" in e.get_params()), 1.0)
+        sh_top = sorted({tuple(e.get_params()["shifts_db"]) for _, e in members if "shifts_db" in e.get_params()},
+                        key=len)
+        yield ("toolkit: members, offset range, spots, weight exponent and K by spot x PHONEID CV (test spots and "
+               "phones unseen)",
+               combine_predictions([member(n, e, k_top) for n, e in members]),
+               f"n_neighbors={k_top}, min_count=1, members={_fmt(members)}, weight_power={wp:g}"
+               + "".join(f", shifts_db={_fmt(v)}" for v in sh_top), k_top, members)

@@ -24,6 +24,8 @@ fingerprint-based indoor localization problems. IPIN 2014 (reference spots: SPAC
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin, clone
 from sklearn.utils.validation import check_is_fitted
@@ -55,8 +57,29 @@ def spot_fingerprints(rssi_dbm, y, min_heard_fraction: float = 0.0) -> tuple[np.
     """
     x = check_rssi(rssi_dbm, "X")
     yy = check_positions(y, x.shape[0])
-    fp, pts, _ = mean_fingerprints(x, yy, min_heard_fraction)
-    return fp, (pts[:, 0] if yy.ndim == 1 else pts)
+    key = (_digest(x), _digest(yy), float(min_heard_fraction))
+    hit = _SPOTS_MEMO.get(key)
+    if hit is None:
+        fp, pts, _ = mean_fingerprints(x, yy, min_heard_fraction)
+        hit = (fp, pts[:, 0] if yy.ndim == 1 else pts)
+        for a in hit:
+            a.setflags(write=False)
+        _SPOTS_MEMO[key] = hit
+        while len(_SPOTS_MEMO) > _SPOTS_MEMO_SIZE:
+            _SPOTS_MEMO.pop(next(iter(_SPOTS_MEMO)))
+    return hit[0].copy(), hit[1].copy()
+
+
+#: The last few :func:`spot_fingerprints` results by content (a CV fits several spot members on one fold's
+#: training part: the per-spot means are computed once per fold); read-only arrays, the same values.
+_SPOTS_MEMO: dict = {}
+_SPOTS_MEMO_SIZE = 4
+
+
+def _digest(a: np.ndarray) -> tuple:
+    """Shape, dtype and a BLAKE2b hash of ``a``'s bytes (a content key)."""
+    a = np.ascontiguousarray(a)
+    return a.shape, a.dtype.str, hashlib.blake2b(a.view(np.uint8), digest_size=16).hexdigest()
 
 
 class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
