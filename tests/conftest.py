@@ -23,7 +23,7 @@ def _require(name: str):
     return p
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")  # stateless: module fixtures may take it
 def shared_data():
     """Call with a data-set name (``shared_data('ujiindoorloc')``) to get its folder."""
     return _require

@@ -1,4 +1,5 @@
-"""ilocalg.track.surface: the scans' likelihood surface and the walk's placement on it (a diagnostic of issue 26)."""
+"""ilocalg.track.surface: the scans' likelihood surface and the walk's placement on it (a diagnostic of issue 26);
+and, on the same site1 floor model, ilocalg.track.walk_align's site1 walk."""
 
 import numpy as np
 import pytest
@@ -91,19 +92,27 @@ def test_bad_input_raises():
         ScanSurfaces(np.zeros((2, 3, 2)), np.zeros((2, 3)), 0.0)
 
 
+@pytest.fixture(scope="module")
+def site1(shared_data):
+    """site1 F1's small floor (tests.track_sim.site1_floor) and its floor model without Wi-Fi selection, built once
+    for the surface test and the walk_align test below (the build is most of their cost)."""
+    from ilocalg.track import RealWalkConfig, build_floor_model
+
+    fl = site1_floor(shared_data("ilc2020_site1"))
+    cfg = RealWalkConfig()
+    return fl, cfg, build_floor_model(fl.traces, cfg, select=False)
+
+
 @pytest.mark.realdata
-def test_a_site1_walk_its_scans_are_its_fixes_and_its_placement_is_bounded(shared_data):
+def test_a_site1_walk_its_scans_are_its_fixes_and_its_placement_is_bounded(site1):
     """On site1 F1 (every 4th walk as the database): the scans :func:`walk_queries` gives are those the fixes were
     made of (the same WKNN fixes again), and the surface placement of the walk's ``lsq`` track stays within the
     lattice (its CPU is reported in ``cpu_s``; speed is measured in benchmarks, not asserted here)."""
-    from ilocalg.track import RealWalkConfig, build_floor_model
     from ilocalg.track.fixes import locate_wknn, wifi_fixes
     from ilocalg.track.surface import surface_table, walk_queries
 
     scored = SITE1_WALK
-    fl = site1_floor(shared_data("ilc2020_site1"))
-    cfg = RealWalkConfig()
-    model = build_floor_model(fl.traces, cfg, select=False)
+    fl, cfg, model = site1
     wm = model.for_walk(scored, cfg, select=False)
     fx = wifi_fixes(fl.traces[scored], wm.db, wm.cfg)
     X = walk_queries(fl.traces[scored], wm.db, fx.t_s, wm.cfg)
@@ -115,3 +124,22 @@ def test_a_site1_walk_its_scans_are_its_fixes_and_its_placement_is_bounded(share
     moved = (t["surface_m"] - t["lsq_m"]).abs().max()
     assert moved <= np.hypot(10.0, 10.0) + 1e-9
     assert t["cpu_s"].iloc[0] > 0
+
+
+@pytest.mark.realdata
+def test_walk_align_on_a_site1_walk_its_alignment_table_holds_its_invariants(site1):
+    """On site1 F1 (every 4th walk as the database): one row per scan inside the walk's waypoints, the ``fix`` and
+    ``lsq`` errors the same in every setting, a wider radius never fewer candidates, and the oracle candidate (chosen
+    with the truth) on average no farther from the truth than the cheapest one."""
+    from ilocalg.track.walk_align import align_table, scan_summary
+
+    fl, cfg, model = site1
+    t = align_table(fl.traces, model, [SITE1_WALK], cfg, settings=((5.0, 0.5, 0.0), (30.0, 0.0, 0.0)), select=False)
+    a, b = (g.reset_index(drop=True) for _, g in t.groupby("radius_m"))
+    assert len(a) == len(b) > 5
+    same = ["fix_dx", "fix_dy", "lsq_dx", "lsq_dy"]
+    np.testing.assert_array_equal(a[same], b[same])
+    assert b["n_candidates"].iloc[0] == len(set(model.db.walk) - {SITE1_WALK})      # min_frac 0: every other walk
+    assert b["n_candidates"].iloc[0] >= a["n_candidates"].iloc[0]
+    s = scan_summary(t)
+    assert (s["oracle_m"] <= s["best_m"] + 1e-9).all() and np.isfinite(s[["fix_m", "lsq_m"]].to_numpy()).all()
