@@ -393,8 +393,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         # the claims step's robustness samples (fast-mode runs at the base seed) fill the cores beside the notebooks
         samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest, n_samples=n_samples_for(fast))
                    if not sw._cache_path(cache_dir, t).exists()] if manifest else []
-        # a study notebook's tasks (notebook 15: some 900 short runs) are jobs of this pool too, run before the
-        # notebook (which then reads them from the cache) instead of a second pool of its own inside one job
+        # a study notebook's tasks (notebook 15: some 900 short runs, one job per experiment and seed: study_jobs) are
+        # jobs of this pool too, run before the notebook (which then reads them from the cache) instead of a second
+        # pool of its own inside one job
         study_nbs = [nb.stem for nb in nbs if nb.stem in NOTEBOOK_STUDIES]
         studies = [t for stem in study_nbs for t in notebook_tasks(stem, seed, fast)
                    if not sw._cache_path(cache_dir, t).exists()]
