@@ -135,3 +135,39 @@ def test_survey_sweep_keeps_the_walks():
     common = pa.index.intersection(pb.index)
     assert len(common) > 10
     np.testing.assert_array_equal(pa[common].to_numpy(), pb[common].to_numpy())
+
+
+def test_shared_computations_give_what_each_call_computes_on_its_own():
+    """run() lets its _walk_tracks calls share fits, fixes, training and PDR (_Shared): a call given what an earlier
+    call with the default detector computed (the detector's defaults spelled out are the same detector) returns the
+    same tables as the call on its own, and cached arrays cannot be changed in place."""
+    scn = fusion_knn_pdr._scenario(0, True, 2, 3, 5, None, None, fusion_knn_pdr.SCAN_LATENCY_S)
+    variant0 = dict(fusion_knn_pdr.DETECTOR_VARIANTS[0][1])
+    assert fusion_knn_pdr._detector_key(None) == fusion_knn_pdr._detector_key(variant0)
+    assert fusion_knn_pdr._detector_key(None) != fusion_knn_pdr._detector_key({"threshold_mps2": 0.5})
+    with pytest.raises(ValueError, match="window_m"):
+        fusion_knn_pdr._detector_key({"window_m": 1.0})
+    shared = fusion_knn_pdr._Shared()
+    fusion_knn_pdr._walk_tracks(scn, None, 0.2, (0.5,), principled=True, shared=shared)
+    for det in (variant0, {"threshold_mps2": 2.0}):
+        alone = fusion_knn_pdr._walk_tracks(scn, det, 0.2, (0.5,), principled=False)
+        with_shared = fusion_knn_pdr._walk_tracks(scn, det, 0.2, (0.5,), principled=False, shared=shared)
+        pd.testing.assert_frame_equal(with_shared[0], alone[0], check_exact=True)
+        assert {k: v for k, v in with_shared[2].items() if k != "inputs"} == \
+            {k: v for k, v in alone[2].items() if k != "inputs"}
+    pdr = next(v for k, v in shared._values.items() if k[1][0] == "pdr")
+    with pytest.raises(ValueError, match="read-only"):
+        pdr["step_m"][0] = 0.0
+
+
+def test_seed_table_reads_the_runs_it_is_given(monkeypatch):
+    """seed_table(runs=) takes a seed from the tables given instead of running it again: same table either way."""
+    runs = {0: fusion_knn_pdr.run(seed=0, fast=True)}
+    per, head = fusion_knn_pdr.seed_table(range(2), fast=True)
+    calls = []
+    orig = fusion_knn_pdr.run
+    monkeypatch.setattr(fusion_knn_pdr, "run", lambda **kw: calls.append(kw["seed"]) or orig(**kw))
+    per2, head2 = fusion_knn_pdr.seed_table(range(2), fast=True, runs=runs)
+    assert calls == [1]
+    pd.testing.assert_frame_equal(per2, per, check_exact=True)
+    pd.testing.assert_frame_equal(head2, head, check_exact=True)

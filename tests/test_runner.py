@@ -193,3 +193,18 @@ def test_side_by_side_failure_is_reported_and_exits_1(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "01_fails.ipynb" in err and "boom side by side" in err
     assert not (tmp_path / "out" / "README.md").exists()
+
+
+def test_study_jobs_group_a_study_notebooks_tasks_by_experiment_and_seed():
+    """The pool runs a study notebook's tasks as one job per (experiment, seed): every task once, in its order."""
+    from ilocalg.workflow.runner import study_jobs
+    from ilocalg.workflow.studies import notebook_tasks
+
+    tasks = notebook_tasks("15_sweep_studies", 0, True)
+    jobs = study_jobs(tasks)
+    assert sorted(t.key for j in jobs for t in j) == sorted(t.key for t in tasks)
+    assert len(jobs) == len({(t.experiment, t.seed) for t in tasks})
+    for j in jobs:
+        assert len({(t.experiment, t.seed) for t in j}) == 1
+        pos = [tasks.index(t) for t in j]
+        assert pos == sorted(pos)

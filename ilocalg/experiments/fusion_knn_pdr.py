@@ -46,6 +46,8 @@ Sec. 3-4, eq. (1)-(6), Fig 6.
 
 from __future__ import annotations
 
+import inspect
+
 import numpy as np
 import pandas as pd
 
@@ -60,6 +62,7 @@ from ilocalg.papers.claims import interval
 from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
 from ilocalg.pdr.luo_pdr import eq4_vs_constant_error, luo_pdr, luo_training_spread
+from ilocalg.pdr.peak_window import detect_steps_peak_window
 from ilocalg.pdr.signals import acc_from_log
 from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import gait, iloc_floor, iloc_scenario
@@ -93,22 +96,74 @@ PAPER = PAPERS["luo"]
 PAPER_LUO = PUBLISHED
 
 
-def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: bool):
-    """Detect, combine and score every walk of a scenario: the per-position error table and the example tracks."""
+class _Shared:
+    """What the :func:`_walk_tracks` calls of one :func:`run` would compute alike, computed once.
+
+    The run's tables, its survey / detector / latency sweeps and a second pass for a given weight call
+    :func:`_walk_tracks` up to twelve times on the same floor, training walks and walk logs: the KNN fit and its
+    standing variance depend on the floor only, the walks' fixes on the floor and their scans, eq. (4)'s ``k``
+    and the training spreads on the training walks and the detector, a walk's PDR on its log, ``k`` and the
+    detector. Entries are keyed by those objects (held here, so their ids stay unique for the run) and the
+    detector's full parameters (:func:`_detector_key`: ``None`` and its defaults spelled out are one detector);
+    cached arrays are read-only.
+    """
+
+    def __init__(self):
+        self._values: dict = {}
+        self._held: list = []
+
+    def get(self, objs: tuple, key, compute):
+        k = (tuple(id(o) for o in objs), key)
+        if k not in self._values:
+            self._held.extend(objs)
+            self._values[k] = _read_only(compute())
+        return self._values[k]
+
+
+def _read_only(value):
+    for v in (value.values() if isinstance(value, dict) else value if isinstance(value, tuple) else ()):
+        if isinstance(v, np.ndarray):
+            v.flags.writeable = False
+    return value
+
+
+def _detector_key(detector: dict | None) -> tuple:
+    """The peak-window detector's parameters in full (its defaults filled in), as a hashable key."""
+    params = {n: p.default for n, p in inspect.signature(detect_steps_peak_window).parameters.items()
+              if p.default is not inspect.Parameter.empty}
+    unknown = set(detector or {}) - set(params)
+    if unknown:
+        raise ValueError(f"unknown peak-window detector parameters {sorted(unknown)}; known: {sorted(params)}")
+    return tuple(sorted({**params, **(detector or {})}.items()))
+
+
+def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: bool, shared: _Shared | None = None):
+    """Detect, combine and score every walk of a scenario: the per-position error table and the example tracks
+    (``shared``: what earlier calls of the same run computed, :class:`_Shared`)."""
     method = "KNN (Manhattan, K=5)"
-    est = iloc_floor.fit_estimator(scn.floor, method)
-    r_var = float(iloc_floor.standing_fix_variance_m2(scn.floor, est).mean())
-    k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in scn.train_walks], detector)
-    sig_th, step_s, step_m = luo_training_spread([sw for _, _, sw in scn.train_walks], k, detector)
+    shared = _Shared() if shared is None else shared
+    det = _detector_key(detector)
+
+    def wifi():
+        est = iloc_floor.fit_estimator(scn.floor, method)
+        return est, float(iloc_floor.standing_fix_variance_m2(scn.floor, est).mean())
+
+    def training():
+        k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in scn.train_walks],
+                              detector)
+        return (k, sig_sl, *luo_training_spread([sw for _, _, sw in scn.train_walks], k, detector))
+
+    est, r_var = shared.get((scn.floor,), "wifi", wifi)
+    k, sig_sl, sig_th, step_s, step_m = shared.get((scn.train_walks,), ("training", det), training)
     w_p, q_var = principled_weight(sig_sl, sig_th, step_m, step_s, scn.params["scan_interval_s"], r_var)
     weights = tuple(sorted(set(adjust_weights) | ({round(w_p, 3)} if principled else set())))
     route = scn.route_xy_m
     tps, ex, nsteps, x0_err, inputs, n_deaf = [], [], [], [], [], 0
     for w_i, w in enumerate(scn.walks):
-        pdr = luo_pdr(w.imu, k, detector, w.stand_s)
+        pdr = shared.get((w.imu,), ("pdr", k, det, w.stand_s), lambda w=w: luo_pdr(w.imu, k, detector, w.stand_s))
         ts, d, th = pdr["state_t_s"], pdr["step_m"], pdr["theta_rad"]
         nsteps.append((d.size, len(w.steps)))
-        fx = walk_fixes(scn, w, est)
+        fx = shared.get((scn.floor, w.scans), "fixes", lambda w=w: walk_fixes(scn, w, est))
         walk_t0 = float(w.steps["t_strike_s"].iloc[0])
         walk_t1 = float((w.steps["t_strike_s"] + w.steps["duration_s"]).iloc[-1])
         start_fix = fx[["fix_x_m", "fix_y_m"]].to_numpy()[0]
@@ -268,10 +323,12 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     """
     scn = _scenario(seed, fast, n_walkers, n_train, n_cal, scans_per_point, scan_interval_s, scan_latency_s,
                     lag_model)
-    tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS, principled=True)
+    shared = _Shared()  # the calls below share fits, fixes and PDR (same bits as computing them per call)
+    tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS, principled=True, shared=shared)
     w_used = round(info["principled_weight"], 3) if adjust_weight is None else float(adjust_weight)
     if adjust_weight is not None and f"{COMBINED}, weight {w_used:g}" not in set(tp["method"]):
-        tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS + (w_used,), principled=True)
+        tp, ex, info = _walk_tracks(scn, detector, sigma_theta_rad, ADJUST_WEIGHTS + (w_used,), principled=True,
+                                    shared=shared)
     default = f"{COMBINED}, weight {w_used:g}"
     wts = sorted({float(m.rsplit(" ", 1)[1]) for m in tp["method"].unique() if m.startswith(COMBINED + ",")})
     mm0 = tp.groupby("method", sort=False)["error_m"].mean()
@@ -362,7 +419,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             # the run's own survey size is the run's scenario (the same seed and settings): not built again
             s2 = (scn if spp == scn.params["scans_per_point"] else
                   _scenario(seed, fast, n_walkers, n_train, n_cal, spp, scan_interval_s, scan_latency_s, lag_model))
-            t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
+            t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False, shared=shared)
             mm = _means(t2)
             srows.append({"scans_per_point": i2["scans_per_point"], "wifi_only_mean_m": mm["Wi-Fi only (KNN)"],
                           "combined_mean_m": mm[f"{COMBINED}, weight {w_used:g}"],
@@ -370,7 +427,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
         out["survey_sweep"] = pd.DataFrame(srows)
         drows = []
         for name, det in (DETECTOR_VARIANTS[:2] if fast else DETECTOR_VARIANTS):
-            t2, _, i2 = _walk_tracks(scn, det, sigma_theta_rad, (w_used,), principled=False)
+            t2, _, i2 = _walk_tracks(scn, det, sigma_theta_rad, (w_used,), principled=False, shared=shared)
             mm = _means(t2)
             drows.append({"detector": name, "det_over_true_steps": i2["det_over_true_steps"], "k": i2["k"],
                           "pdr_only_mean_m": mm["PDR only"],
@@ -382,7 +439,7 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
             s2 = iloc_scenario.rescan(scn, seed, scan_interval_s=max(scn.params["scan_interval_s"], lat),
                                       scan_latency_s=lat,
                                       lag_model="uniform")
-            t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False)
+            t2, _, i2 = _walk_tracks(s2, detector, sigma_theta_rad, (w_used,), principled=False, shared=shared)
             mm = _means(t2)
             lrows.append({"scan_latency_s": lat, "scan_interval_s": max(scn.params["scan_interval_s"], lat),
                           "test_positions": int(t2[t2["method"] == "PDR only"].shape[0]),
@@ -393,9 +450,14 @@ def run(seed: int = 0, fast: bool = False, n_walkers: int = 8, n_train: int = 8,
     return out
 
 
-def seed_table(seeds=range(5), fast: bool = False, **params) -> tuple[pd.DataFrame, pd.DataFrame]:
+def seed_table(seeds=range(5), fast: bool = False, runs: dict | None = None,
+               **params) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The headline over several seeds: each seed's Wi-Fi only and combined means and their ratio, and the
     ratio's mean with a Student-t 95 % interval (:func:`ilocalg.papers.claims.interval`).
+
+    ``runs`` maps a seed to the tables :func:`run` already returned for it with the same ``fast`` and
+    ``params`` (a notebook's own run): that seed is read from them, not run again (its ``summary`` and
+    ``calibration`` do not depend on ``sweeps`` or ``budget``).
 
     Returns
     -------
@@ -404,7 +466,7 @@ def seed_table(seeds=range(5), fast: bool = False, **params) -> tuple[pd.DataFra
     """
     rows = []
     for s in seeds:
-        t = run(seed=s, fast=fast, sweeps=False, budget=False, **params)
+        t = (runs or {}).get(s) or run(seed=s, fast=fast, sweeps=False, budget=False, **params)
         m = t["summary"].set_index("method")["mean_error_m"]
         w = t["calibration"].set_index("quantity")["value"]["adjustment weight used"]
         rows.append({"seed": s, "wifi_only_mean_m": m["Wi-Fi only (KNN)"], "combined_mean_m": m[COMBINED],

@@ -35,7 +35,7 @@ from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
            "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS", "cpu_seconds",
-           "idle_wall_estimate"]
+           "idle_wall_estimate", "study_jobs"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 
@@ -208,14 +208,30 @@ def _notebook_job(nb: Path, out_dir: Path, params: dict, html: bool, record, pro
 
 
 def _sweep_job(task, cache_dir: Path) -> dict:
-    """One seed-sweep run, robustness sample or study task as a pool job: result into the cache; failures are
-    reported by whoever reads the cache later (the sweep, the claims step, the study notebook)."""
+    """One seed-sweep run, robustness sample or study task (or a list of study tasks, :func:`study_jobs`) as a pool
+    job: results into the cache; failures are reported by whoever reads the cache later (the sweep, the claims
+    step, the study notebook)."""
     from ilocalg.workflow import sweep as sw
 
+    tasks = task if isinstance(task, list) else [task]
     t0, c0 = time.perf_counter(), cpu_seconds()
-    sw.sweep([task], workers=0, cache_dir=cache_dir, progress=False)
-    return {"name": task.describe(), "seconds": time.perf_counter() - t0, "cpu_seconds": cpu_seconds() - c0,
-            "error": None}
+    sw.sweep(tasks, workers=0, cache_dir=cache_dir, progress=False)
+    return {"name": tasks[0].describe(), "seconds": time.perf_counter() - t0, "cpu_seconds": cpu_seconds() - c0,
+            "error": None, "runs": len(tasks)}
+
+
+def study_jobs(tasks: list) -> list[list]:
+    """A study notebook's tasks grouped into pool jobs: one job per (experiment, seed), tasks in their order.
+
+    The tasks of one seed share what a study caches in its process (the simulated floor and surveys of
+    ``study_wifi``, the walks of ``study_pso``), so one process computes them once instead of each pool process
+    computing its own copy; and some 50 jobs of a few seconds instead of ~900 of a fraction of one keep the pool's
+    per-job cost small while still filling both cores. The results (one cache entry per task) are the same.
+    """
+    groups: dict[tuple, list] = {}
+    for t in tasks:
+        groups.setdefault((t.experiment, t.seed), []).append(t)
+    return list(groups.values())
 
 
 #: Thread-count variables of the numerical libraries, set to 1 for notebooks run side by side.
@@ -341,7 +357,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     stage_rows: list[dict] = []
     sweep_s: dict[str, list[tuple[float, float]]] = {}
     sample_s: dict[str, list[tuple[float, float]]] = {}
-    study_s: dict[str, list[tuple[float, float]]] = {}
+    study_s: dict[str, list[tuple[float, float]]] = {}  # per pool job
+    study_runs: dict[str, int] = {}  # tasks per study (a study job runs several)
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
     print(f"reproducing {len(nbs)} notebook(s) into {_relative(out_dir, Path.cwd())} (seed={seed}, fast={fast}, "
           f"{jobs} side by side)", flush=True)
@@ -379,8 +396,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         # the claims step's robustness samples (fast-mode runs at the base seed) fill the cores beside the notebooks
         samples = [t for t in robustness_tasks([nb.stem for nb in nbs], seed, manifest, n_samples=n_samples_for(fast))
                    if not sw._cache_path(cache_dir, t).exists()] if manifest else []
-        # a study notebook's tasks (notebook 15: some 900 short runs) are jobs of this pool too, run before the
-        # notebook (which then reads them from the cache) instead of a second pool of its own inside one job
+        # a study notebook's tasks (notebook 15: some 900 short runs, one job per experiment and seed: study_jobs) are
+        # jobs of this pool too, run before the notebook (which then reads them from the cache) instead of a second
+        # pool of its own inside one job
         study_nbs = [nb.stem for nb in nbs if nb.stem in NOTEBOOK_STUDIES]
         studies = [t for stem in study_nbs for t in notebook_tasks(stem, seed, fast)
                    if not sw._cache_path(cache_dir, t).exists()]
@@ -388,7 +406,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         first = float("inf")  # the study tasks, then their notebook, then everything else longest first
         jobs_list = [(first if nb.stem in study_nbs else timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb)
                      for i, nb in enumerate(nbs)]
-        jobs_list += [(first, -1, i, "study", t) for i, t in enumerate(studies)]
+        jobs_list += [(first, -1, i, "study", job) for i, job in enumerate(study_jobs(studies))]
         jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
                                timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
                       for i, t in enumerate(extra)]
@@ -404,8 +422,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                     study_cache = cache_dir if item.stem in study_nbs else None
                     futs[pool.submit(_notebook_job, item, out_dir, params_for(item), html, record_for(item),
                                      study_cache=study_cache)] = (kind, item.stem)
-                else:  # a seed-sweep run or a robustness sample: one task into the cache
-                    futs[pool.submit(_sweep_job, item, cache_dir)] = (kind, item.experiment)
+                else:  # a seed-sweep run, a robustness sample or a study job: tasks into the cache
+                    futs[pool.submit(_sweep_job, item, cache_dir)] = (
+                        kind, (item[0] if isinstance(item, list) else item).experiment)
             n_done = 0
             pending = set(futs)
             while pending:
@@ -425,6 +444,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                         continue
                     if kind == "study":
                         study_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
+                        study_runs[name] = study_runs.get(name, 0) + r["runs"]
                         continue
                     n_done += 1
                     timings[_timing_key(name, fast)] = r["seconds"]
@@ -442,7 +462,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     stage_rows.sort(key=lambda r: r["name"])
     for stage_name, runs in (("sweep", sweep_s), ("robustness", sample_s), ("study", study_s)):
         stage_rows += [{"stage": stage_name, "name": e, "seconds": sum(w for w, _ in v),
-                        "cpu_seconds": sum(c for _, c in v), "runs": len(v)} for e, v in sorted(runs.items())]
+                        "cpu_seconds": sum(c for _, c in v), "runs": study_runs[e] if runs is study_s else len(v)}
+                       for e, v in sorted(runs.items())]
     stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks, "cpu_seconds": c_notebooks})
 
     def stage(name: str, t0: float, c0: float) -> None:
