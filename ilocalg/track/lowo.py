@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import ArchiveReader
 from ilocalg.io.ilc import _read_members, _resolve_root
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.scans import merge_relisted_wifi
@@ -134,15 +135,22 @@ def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
 
 def floor_image(data_dir, dataset: str) -> bytes | None:
     """The floor plan image (``floor_image.png``) of a data set's floor, or None when absent (``data_dir``
-    None: the toolkit's data folder)."""
+    None: the toolkit's data folder). In an archive: the first ``floor_image.png`` of the floor's folder for
+    ``"folder/floor"`` (the archive is read only up to it), else the archive's one image (None when several)."""
     p = Path(default_data_dir() if data_dir is None else data_dir)
     folder, _, floor_name = dataset.partition("/")
     root = _resolve_root(p / folder if (p / folder).exists() else p)
     if root.is_dir():
         f = root / "floor_image.png"
         return f.read_bytes() if f.is_file() else None
-    m = _read_members(root, lambda n: n.endswith("floor_image.png") and (not floor_name or f"/{floor_name}/" in
-                                                                        "/" + n))
+    if floor_name:          # the floor folder's image: read up to it, not through the rest of the archive
+        with ArchiveReader(root) as ar:
+            for m in ar.tar:
+                if m.isfile() and m.name.endswith("floor_image.png") and f"/{floor_name}/" in "/" + m.name:
+                    ar.member = m.name
+                    return ar.tar.extractfile(m).read()
+        return None
+    m = _read_members(root, lambda n: n.endswith("floor_image.png"))
     return next(iter(m.values())) if len(m) == 1 else None
 
 
