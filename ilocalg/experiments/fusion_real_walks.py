@@ -39,7 +39,7 @@ from ilocalg.track import (
 )
 from ilocalg.track._config import PATH_METHODS, latency_of
 from ilocalg.track.evaluation import _latest_fix
-from ilocalg.track.fixes import wifi_fixes
+from ilocalg.track.fixes import wifi_fixes, wknn_key
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 from ilocalg.track.paths import WalkedPaths
@@ -162,8 +162,9 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     acc = {v: ([], [], {}) for v in variants}
     for name in scored:
         wm = model.for_walk(name, cfg, select=select)      # the fix-model fields do not enter it
-        # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database
-        pfx = wifi_fixes(fl.traces[name], wm.db, plain)
+        # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database; the
+        # walk's own fixes when its Wi-Fi configuration has the same WKNN settings (the same fixes)
+        pfx = None
         for v, kw in variants.items():
             wrows, prow, trk = acc[v]
             wcfg = dataclasses.replace(wm.cfg, **kw)
@@ -174,6 +175,8 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
                               loo_fixes=model.loo_fixes([name], cfg, select=select)[name]
                               if _fits_fix_model(wcfg) else None)
             e = r["errors"].assign(walk=name)
+            if pfx is None:
+                pfx = r["fixes"] if wknn_key(wcfg) == wknn_key(plain) else wifi_fixes(fl.traces[name], wm.db, plain)
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
             trk[name] = r["track"]
