@@ -101,13 +101,15 @@ def lowo_findings(summary: pd.DataFrame) -> str:
     return "\n".join(out)
 
 
-def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
+def wifi_ablation(floor, cfg: RealWalkConfig | None = None, db: WifiDatabase | None = None) -> pd.DataFrame:
     """What each Wi-Fi piece buys: leave-one-walk-out fix error of every database scan (each walk located
     against the others) for every Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` (the first
     one is the plain reference: WKNN, K = 5, readings older than 2 s dropped) with the re-listed readings
     kept and merged (:func:`ilocalg.io.scans.merge_relisted_wifi`, the loader's ``relisted_wifi`` rule).
-    ``floor`` must be loaded with ``relisted_wifi="keep"``. Columns: ``relisted_wifi, wifi_config, n,
-    mean_m, median_m, p75_m, merged_readings``.
+    ``floor`` must be loaded with ``relisted_wifi="keep"``. ``db``: its database with the readings kept when
+    already built from the same walks (``WifiDatabase.from_traces(floor.traces)``, e.g. the floor model's
+    :attr:`~ilocalg.track.FloorModel.db`); None: built here. Columns: ``relisted_wifi, wifi_config, n, mean_m,
+    median_m, p75_m, merged_readings``.
     """
     cfg = cfg or RealWalkConfig()
     rows = []
@@ -120,10 +122,11 @@ def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
                 n_merged += n
                 t = dataclasses.replace(t, wifi=w)
             trs[k] = t
-        db = WifiDatabase.from_traces(trs)
+        db_p = db if policy == "keep" and db is not None else WifiDatabase.from_traces(trs)
         # every candidate's leave-one-walk-out fixes, one distance product per reading-age limit (the same fixes
         # as loo_fix_errors of each)
-        loo = loo_fix_features_shared(db, [(None, dataclasses.replace(cfg, **kw)) for kw in WIFI_CANDIDATES.values()])
+        loo = loo_fix_features_shared(db_p, [(None, dataclasses.replace(cfg, **kw))
+                                             for kw in WIFI_CANDIDATES.values()])
         for label, (err, _) in zip(WIFI_CANDIDATES, loo, strict=True):
             e = np.hypot(*err.T)
             e = e[np.isfinite(e)]
