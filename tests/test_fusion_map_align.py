@@ -16,11 +16,16 @@ def _grid():
     return OccupancyGrid.from_polygons(RINGS, cell_m=1.0, x_range_m=(0, 80), y_range_m=(0, 23))
 
 
-def test_walkable_counts_match_direct_counting():
+@pytest.mark.parametrize("shifts", [
+    np.array([[0, 0], [1, -2], [-3, 1], [8, 0]]),
+    np.array([[0, 0], [1, -2], [0, 0], [-3, 1], [1, -2], [0, 0]]),      # points sharing a cell: counted each
+    np.random.default_rng(1).integers(-2, 3, (300, 2)),                  # more than 255 points (wider counts)
+])
+def test_walkable_counts_match_direct_counting(shifts):
     rng = np.random.default_rng(0)
     mask = rng.random((7, 9)) < 0.5
-    shifts = np.array([[0, 0], [1, -2], [-3, 1], [8, 0]])
     out = _walkable_counts(mask, shifts)
+    assert out.dtype == np.int32
     for j in range(7):
         for i in range(9):
             want = sum(bool(mask[j + sy, i + sx]) for sx, sy in shifts if 0 <= j + sy < 7 and 0 <= i + sx < 9)
@@ -67,3 +72,32 @@ def test_bad_input(kw, match):
     args.update(kw)
     with pytest.raises(ValueError, match=match):
         map_align(**args)
+
+
+def _wifi_loglik_whole_raster(q, fi, z, var, tx, ty, eps, area):
+    """The Wi-Fi term as map_align wrote it before the boxes: every fix's Gaussian on the whole raster."""
+    sw = np.zeros((ty.size, tx.size))
+    for j in range(fi.size):
+        cx, cy = z[j] - q[fi[j]]
+        g = np.exp(-0.5 * (((ty - cy) ** 2)[:, None] + ((tx - cx) ** 2)[None, :]) / var[j]) / (2 * np.pi * var[j])
+        sw = sw + np.log((1 - eps) * g + eps / area)
+    return sw
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_wifi_term_in_boxes_has_the_bits_of_the_whole_raster(seed):
+    """Each fix's Gaussian evaluated only where it can change the sum gives the same bits as on the whole raster
+    (variances from 0.5 to 400 m^2, fixes inside and outside the raster, areas and outlier rates as used)."""
+    from ilocalg.fusion.map_align import _wifi_loglik
+
+    rng = np.random.default_rng(seed)
+    tx, ty = np.arange(120) + 0.5 - 10.0, np.arange(90) + 0.5 + 3.0
+    m = 40
+    q = rng.normal(0, 20, (60, 2))
+    fi = rng.integers(0, 60, m)
+    z = rng.uniform(-40, 150, (m, 2))
+    var = np.exp(rng.uniform(np.log(0.5), np.log(400.0), m))
+    for eps, area in ((0.2, 9000.0), (0.05, 3.0e4), (0.5, 123.0)):
+        a = _wifi_loglik(q, fi, z, var, tx, ty, eps, area)
+        b = _wifi_loglik_whole_raster(q, fi, z, var, tx, ty, eps, area)
+        assert np.array_equal(a, b)

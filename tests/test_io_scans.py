@@ -33,3 +33,17 @@ def test_keep_mask_leaves_nan_but_keeps_every_scan_row():
         scan_matrix(s, ["a"], keep=[True])
     with pytest.raises(ValueError, match="rssi_dbm"):
         scan_matrix(s.drop(columns="rssi_dbm"), ["a"])
+
+
+def test_string_dtypes_and_a_repeated_column_id():
+    """The loaders' pyarrow strings give the same matrix as Python strings; a column id listed twice gets its
+    readings in its last column (what a dict {id: column} gives), the other column stays NaN."""
+    s = _scans()
+    _, _, X = scan_matrix(s, ["a", "b", "c"])
+    for dtype in ("string[pyarrow]", "string[python]", "category"):
+        _, _, Y = scan_matrix(s.astype({"bssid": dtype}), ["a", "b", "c"])
+        np.testing.assert_array_equal(Y, X)
+    _, _, R = scan_matrix(s, ["a", "b", "a"])
+    assert np.isnan(R[:, 0]).all()
+    np.testing.assert_array_equal(R[:, 2], X[:, 0])
+    np.testing.assert_array_equal(R[:, 1], X[:, 1])

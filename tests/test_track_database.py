@@ -89,3 +89,49 @@ def test_load_refuses_other_files_naming_them(tmp_path):
     junk.write_bytes(b"not a zip")
     with pytest.raises(ValueError, match=r"junk\.npz: not a fingerprint database file"):
         WifiDatabase.load(junk)
+
+
+def _reference_wknn(db: WifiDatabase, X, cfg):
+    """locate_wknn as written before the shared query side: the dense product of the database's own matrix."""
+    from ilocalg.track.fixes import _place, db_matrix, dense_wknn
+
+    D = db_matrix(db, cfg)
+    heard = ~np.isnan(D).all(axis=0)
+    miss = ~(~np.isnan(X[:, heard])).any(axis=1)
+    xy, C = np.full((len(X), 2), np.nan), np.full((len(X), 2, 2), np.nan)
+    idx, dist = dense_wknn(D, X[~miss], cfg.k_neighbors, cfg.not_heard_dbm)
+    _place(xy, C, db.xy_m, idx, dist, cfg.weights, np.flatnonzero(~miss))
+    return xy, C
+
+
+@pytest.mark.parametrize("whole", [True, False])
+@pytest.mark.parametrize("max_age_s", [2.0, None])
+def test_queries_against_a_database_left_out_of_another_give_its_own_bits(whole, max_age_s):
+    """A walk left out (`without`) takes its query side from the whole database's rows: the same fixes, bit for
+    bit, as the database built alone (whole dBm values, where the product runs over heard cells, with ties
+    between distances; and fractional values, the dense product)."""
+    import dataclasses
+
+    from ilocalg.track import RealWalkConfig
+    from ilocalg.track.fixes import locate_wknn, query_side
+
+    rng = np.random.default_rng(3)
+    db = _random_db(rng)
+    if whole:
+        db = dataclasses.replace(db, rssi_dbm=np.round(db.rssi_dbm / 10.0) * 10.0)     # many equal distances
+    cfg = RealWalkConfig(max_age_s=max_age_s)
+    X = db.rssi_dbm[::3].copy()
+    X[1] = np.nan                                                        # hears nothing: no fix
+    for left in ("walk1", "walk4"):
+        sub = db.without(left)
+        alone = WifiDatabase(sub.rssi_dbm.copy(), sub.xy_m, sub.walk, sub.ap_ids, sub.floor, sub.frame,
+                             sub.content_ids, sub.age_s)
+        assert alone._parent is None and sub._parent is not None
+        got, ref = locate_wknn(sub, X, cfg), _reference_wknn(alone, X, cfg)
+        for a, b in zip(got, ref, strict=True):
+            np.testing.assert_array_equal(a.view(np.uint64), b.view(np.uint64))
+        assert (query_side(sub, cfg).A_sparse is not None) == whole
+        np.testing.assert_array_equal(query_side(sub, cfg).heard, query_side(alone, cfg).heard)
+    # a replaced database starts without the other's memo or parent
+    r = dataclasses.replace(sub, xy_m=sub.xy_m + 1.0)
+    assert r._memo == {} and r._parent is None

@@ -40,6 +40,33 @@ def test_lsq_matches_dense_weighted_least_squares():
     np.testing.assert_allclose(x, ref, atol=1e-4)      # the solver adds 1e-9 I
 
 
+@pytest.mark.parametrize("corr", [None, (0.6, 0.8, 5.0)])
+def test_lsq_solve_has_the_bits_of_a_spsolve_per_axis(corr, monkeypatch):
+    """One SuperLU factorisation per Huber round for both axes gives the bits of a spsolve per axis (the solver
+    as written before), Huber rounds, per-fix variances, anchors and correlated fix errors included."""
+    import scipy.sparse.linalg as sla
+
+    import ilocalg.track.estimators as est
+
+    p, _ = _walk(seed=3)
+    j, a = est._interp_rows(p.state_t_s, p.fix_t_s)
+    fv = np.linspace(4.0, 30.0, j.size)
+    fv[5] = 0.5                                                   # an outlier's weight to re-weight
+    kw = dict(anchor_idx=[10, 40], anchor_xy_m=[[1.0, 2.0], [5.0, -3.0]], fix_corr=corr)
+    got = lsq_solve(p.state_t_s.size, p.disp_m, p.step_var_m2, j, a, p.fix_xy_m, fv, **kw)
+
+    class PerAxis:          # splu's stand-in: spsolve for each right-hand side, as the solver did
+        def __init__(self, N):
+            self.N = N
+
+        def solve(self, rhs):
+            return sla.spsolve(self.N, rhs)
+
+    monkeypatch.setattr(est, "splu", PerAxis)
+    ref = lsq_solve(p.state_t_s.size, p.disp_m, p.step_var_m2, j, a, p.fix_xy_m, fv, **kw)
+    np.testing.assert_array_equal(got.view(np.uint64), ref.view(np.uint64))
+
+
 def test_lsq_beats_fixes_and_causal_is_causal():
     errs = {"fix": [], "lsq": [], "online": []}
     for seed in range(5):

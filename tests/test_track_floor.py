@@ -249,3 +249,27 @@ def test_the_walked_path_spread_stored_with_the_floor_model_serves_an_outside_wa
     a = track.evaluate_walk(recs[0], got.db, got.calibration, got.fix_var_m2, got.cfg, path_var_m2=got.path_var_m2,
                             **kw)
     pd.testing.assert_frame_equal(a["errors"], b["errors"], check_exact=True)
+
+
+def test_the_last_two_floor_models_are_kept(tmp_path, monkeypatch):
+    """A notebook's floor stays in memory while a leave-one-walk-out visits a second floor; a third evicts the
+    least recently used."""
+    class Fake:
+        def save(self, folder):
+            return folder
+
+    monkeypatch.setattr(floor_mod, "build_floor_model", lambda walks, cfg, progress=None: Fake())
+    files = []
+    for name in "abc":
+        f = tmp_path / f"{name}.txt"
+        f.write_text(name)
+        files.append(f)
+    floor_mod._LAST_MODEL.clear()
+    a, _ = floor_mod.cached_floor_model([files[0]], list, tmp_path / "cache")
+    b, _ = floor_mod.cached_floor_model([files[1]], list, tmp_path / "cache")
+    assert floor_mod.cached_floor_model([files[0]], lambda: 1 / 0, tmp_path / "cache") == (a, True)
+    floor_mod.cached_floor_model([files[2]], list, tmp_path / "cache")       # evicts b, the oldest now
+    assert floor_mod.cached_floor_model([files[0]], lambda: 1 / 0, tmp_path / "cache")[0] is a
+    c, cached = floor_mod.cached_floor_model([files[1]], list, tmp_path / "cache")
+    assert c is not b and not cached                                         # rebuilt (a fake has no files)
+    floor_mod._LAST_MODEL.clear()

@@ -53,6 +53,25 @@ def test_floor_files_and_image_of_a_folder(tmp_path):
     assert lowo.floor_image(tmp_path, "myfloor") == b"\x89PNG"
 
 
+def test_floor_image_of_an_archive_is_its_floors(tmp_path):
+    """In a two-floor archive each floor gets its own image (read up to it); without a floor name, no image (two)."""
+    import io
+    import tarfile
+
+    root = tmp_path / "site"
+    root.mkdir()
+    with tarfile.open(root / "site_F1_F2.tar.xz", "w:xz") as tar:
+        for name, data in (("F1/floor_image.png", b"one"), ("F1/path_data_files/a.txt", b""),
+                           ("F2/floor_image.png", b"two"), ("F2/path_data_files/b.txt", b"")):
+            info = tarfile.TarInfo(name)
+            info.size = len(data)
+            tar.addfile(info, io.BytesIO(data))
+    assert lowo.floor_image(tmp_path, "site/F1") == b"one"
+    assert lowo.floor_image(tmp_path, "site/F2") == b"two"
+    assert lowo.floor_image(tmp_path, "site/F3") is None
+    assert lowo.floor_image(tmp_path, "site") is None
+
+
 @pytest.mark.realdata
 def test_wifi_ablation_plain_reference_first(shared_data):
     from ilocalg.io.ilc import load_ilc_floor

@@ -137,3 +137,21 @@ def test_evaluate_uses_the_graph_of_the_other_walks_only():
     # without a graph: the database scans' positions (the other walks' only)
     r2 = track.evaluate_walk(walks[0], db, cal, 25.0, methods=("lsq_paths",))
     assert set(r2["problem"].paths.walk) == {w.name for w in walks[1:]}
+
+
+def test_spread_of_a_graph_without_a_walk_is_the_same_from_the_whole_graph():
+    """A walk's graph (the floor's without it) measures its spread from the whole graph's per-walk distances: the
+    same number, bit for bit, as the graph built alone (random walks crossing each other, one of a single point)."""
+    rng = np.random.default_rng(7)
+    polys = {f"w{i}": np.cumsum(rng.normal(0, 6, (int(rng.integers(2, 30)), 2)), axis=0) + rng.uniform(0, 60, 2)
+             for i in range(12)}
+    polys["lonely"] = np.array([[5.0, 5.0]])
+    whole = WalkedPaths.from_polylines(polys)
+    for left in (("w0",), ("w3", "w7"), ("nobody",)):
+        sub = whole.without(*left)
+        alone = WalkedPaths(sub.a_m.copy(), sub.b_m.copy(), sub.walk.copy())
+        assert sub._parent is not None and alone._parent is None
+        assert sub.spread_var_m2() == alone.spread_var_m2()
+        assert sub.spread_var_m2(0.5) == alone.spread_var_m2(0.5)
+    with pytest.raises(ValueError, match="at least two walks"):
+        whole.without(*[f"w{i}" for i in range(11)]).spread_var_m2()

@@ -39,13 +39,13 @@ from ilocalg.track import (
 )
 from ilocalg.track._config import PATH_METHODS, latency_of
 from ilocalg.track.evaluation import _latest_fix
-from ilocalg.track.fixes import wifi_fixes
+from ilocalg.track.fixes import wifi_fixes, wknn_key
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 from ilocalg.track.paths import WalkedPaths
 
-__all__ = ["DATASET", "load_floor", "run", "example", "findings", "leave_one_walk_out", "fix_ablation",
-           "ablation_findings",
+__all__ = ["DATASET", "load_floor", "run", "run_config", "floor_model", "example", "findings", "leave_one_walk_out",
+           "fix_ablation", "ablation_findings",
            # from ilocalg.track.lowo (the CLI's sweep command calls an experiment's own sweep_summary)
            "sweep_summary", "lowo_findings", "wifi_ablation", "floor_image"]
 
@@ -82,6 +82,23 @@ def _load_floor_once(root: str, floor_name: str | None, relisted_wifi: str, stam
     del stamp  # part of the cache key only: changed files are read again
     return load_ilc_floor(Path(root), duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi,
                           floor_name=floor_name)
+
+
+def run_config(fast: bool = False) -> RealWalkConfig:
+    """The configuration :func:`run` uses by default: 1000 particles and a 0.5 m map raster (``fast``: 300 and
+    1 m)."""
+    return RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
+
+
+def floor_model(data_dir=None, dataset: str = DATASET, fast: bool = False, relisted_wifi: str = "keep",
+                cfg: RealWalkConfig | None = None, cache_dir=None):
+    """The floor model :func:`run` scores the floor's walks with (:func:`ilocalg.track.cached_floor_model`: built
+    once and saved in ``cache_dir``, default :data:`FLOOR_CACHE`; the last ones kept in this process), for ``cfg``
+    (default :func:`run_config` of ``fast``). Its ``db`` is the floor's fingerprint database, e.g. for
+    :func:`wifi_ablation`."""
+    return cached_floor_model(floor_files(data_dir, dataset),
+                              lambda: load_floor(data_dir, dataset, relisted_wifi).traces, cache_dir or FLOOR_CACHE,
+                              cfg or run_config(fast), dataset=dataset, relisted_wifi=relisted_wifi)[0]
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
@@ -130,7 +147,7 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     bad = [k for k, kw in variants.items() if set(kw) - set(NOT_IN_FLOOR_MODEL)]
     if bad:
         raise ValueError(f"variant {bad[0]!r} changes more than the fix model {NOT_IN_FLOOR_MODEL}")
-    cfg = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
+    cfg = cfg or run_config(fast)
     select = (not fast) if select is None else select
     methods = tuple(METHODS if methods is None else methods)
     if not (n_shards >= 1 and 0 <= shard < n_shards and names_every >= 1):
@@ -147,8 +164,7 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     grid = OccupancyGrid.from_floor_map(fl.floor_map, cfg.grid_cell_m)
     steps = {n: walk_steps(fl.traces[n], cfg) for n in scored}
     if floor is None:
-        model, _ = cached_floor_model(floor_files(data_dir, dataset), lambda: fl.traces, cache_dir or FLOOR_CACHE,
-                                      cfg, dataset=dataset, relisted_wifi=relisted_wifi)
+        model = floor_model(data_dir, dataset, relisted_wifi=relisted_wifi, cfg=cfg, cache_dir=cache_dir)
     else:
         model = build_floor_model(fl.traces, cfg, steps=steps, select=False)     # in memory only: no floor-level choice
     if select:       # every scored walk's nested choice at once (one distance matrix per candidate), kept
@@ -162,8 +178,9 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     acc = {v: ([], [], {}) for v in variants}
     for name in scored:
         wm = model.for_walk(name, cfg, select=select)      # the fix-model fields do not enter it
-        # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database
-        pfx = wifi_fixes(fl.traces[name], wm.db, plain)
+        # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database; the
+        # walk's own fixes when its Wi-Fi configuration has the same WKNN settings (the same fixes)
+        pfx = None
         for v, kw in variants.items():
             wrows, prow, trk = acc[v]
             wcfg = dataclasses.replace(wm.cfg, **kw)
@@ -174,6 +191,8 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
                               loo_fixes=model.loo_fixes([name], cfg, select=select)[name]
                               if _fits_fix_model(wcfg) else None)
             e = r["errors"].assign(walk=name)
+            if pfx is None:
+                pfx = r["fixes"] if wknn_key(wcfg) == wknn_key(plain) else wifi_fixes(fl.traces[name], wm.db, plain)
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
             trk[name] = r["track"]
@@ -292,7 +311,7 @@ def fix_ablation(configs=None, methods=ABLATION_METHODS, cfg: RealWalkConfig | N
     """
     configs = FIX_ABLATION if configs is None else configs
     fast = run_kwargs.get("fast", False)
-    base = cfg or RealWalkConfig(n_particles=300 if fast else 1000, grid_cell_m=1.0 if fast else 0.5)
+    base = cfg or run_config(fast)
     if all(set(kw) <= set(NOT_IN_FLOOR_MODEL) for kw in configs.values()):
         # one pass over the walks: everything but the fix weighting computed once for all configurations
         res = _run(configs, cfg=base, methods=methods, **run_kwargs)

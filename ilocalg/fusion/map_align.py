@@ -54,16 +54,65 @@ class MapAlignResult:
 def _walkable_counts(mask: np.ndarray, shifts: np.ndarray) -> np.ndarray:
     """``out[j, i] = sum_p mask[j + sy_p, i + sx_p]`` (zero outside the raster)."""
     ny, nx = mask.shape
-    out = np.zeros((ny, nx), dtype=np.int32)
-    m = mask.astype(np.int32)
-    for sx, sy in shifts:
+    shifts = np.asarray(shifts, dtype=np.int64).reshape(-1, 2)
+    # points in the same cell shift alike: each distinct shift once, times its count; counts up to 255 fit a byte
+    uniq, count = np.unique(shifts, axis=0, return_counts=True)
+    dtype = np.uint8 if len(shifts) <= 255 else np.int32
+    out = np.zeros((ny, nx), dtype=dtype)
+    m = mask.astype(dtype)
+    for (sx, sy), k in zip(uniq.tolist(), count.tolist(), strict=True):
         # rows j with 0 <= j + sy < ny, columns i with 0 <= i + sx < nx
         j0, j1 = max(0, -sy), min(ny, ny - sy)
         i0, i1 = max(0, -sx), min(nx, nx - sx)
         if j0 >= j1 or i0 >= i1:
             continue
-        out[j0:j1, i0:i1] += m[j0 + sy:j1 + sy, i0 + sx:i1 + sx]
-    return out
+        part = m[j0 + sy:j1 + sy, i0 + sx:i1 + sx]
+        out[j0:j1, i0:i1] += part if k == 1 else part * dtype(k)
+    return out.astype(np.int32, copy=False)
+
+
+def _wifi_loglik(q, fi, z, var, tx, ty, outlier_prob: float, area: float) -> np.ndarray:
+    """``sum_j log[(1 - eps) N(z_j; q_{fi_j} + t, var_j I) + eps / area]`` for every translation ``t`` of the
+    raster's cell centres ``(tx, ty)`` (ny, nx), the fixes added one after another.
+
+    Far from a fix the Gaussian term is below an eighth of the floating-point spacing of ``eps / area``, so the
+    fix's term there is exactly ``log(eps / area)``: each fix's Gaussian is evaluated only in the box of cells
+    where it can change that sum (a disc of squared radius ``s_min``), the rest of the raster takes the constant,
+    computed as the same array operation. Every cell gets the same floating-point operations in the same order
+    as evaluating the Gaussian on the whole raster for every fix, so the same bits.
+    """
+    ny, nx = ty.size, tx.size
+    floor = outlier_prob / area
+    const = np.log(np.full((ny, nx), floor))      # log(eps / area), as the whole-raster expression gives it
+    # (1 - eps) g < ulp(floor) / 8 (a margin of 2 under the half-spacing that rounding absorbs) wherever
+    # (1 - eps) exp(-s / (2 var)) / (2 pi var) < ulp / 8, i.e. beyond the squared distance s_min
+    tiny = np.spacing(floor) / 8.0
+    sw = np.zeros((ny, nx))
+    for j in range(fi.size):
+        cx, cy = z[j] - q[fi[j]]
+        dx2 = (tx - cx) ** 2
+        dy2 = (ty - cy) ** 2
+        v = var[j]
+        peak = (1 - outlier_prob) / (2 * np.pi * v)
+        s_min = 2.0 * v * np.log(peak / tiny) if peak > tiny else 0.0
+        rows = np.flatnonzero(dy2 < s_min)
+        cols = np.flatnonzero(dx2 < s_min)
+        if rows.size and cols.size:
+            r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+            e = dy2[r0:r1, None] + dx2[None, c0:c1]
+            e *= -0.5                   # the whole-raster expression's operations, in place where exact
+            e /= v
+            g = np.exp(e)
+            g /= 2 * np.pi * v
+            g *= 1 - outlier_prob
+            g += floor
+            box = np.log(g)
+            box += sw[r0:r1, c0:c1]
+            sw += const
+            sw[r0:r1, c0:c1] = box
+        else:
+            sw += const
+    return sw
 
 
 def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, angles_rad=None,
@@ -128,17 +177,8 @@ def map_align(track_xy_m, fix_index, fix_xy_m, fix_var_m2, grid: OccupancyGrid, 
     map_w = min(1.0, max(fi.size, 1) / sub.size) if map_weight is None else float(map_weight)
     best = (-np.inf, 0.0, np.zeros(2), 0)
     by_angle = np.full(angles.size, -np.inf)
-    wifi_terms = []
-    for a in angles:                  # the Wi-Fi log-likelihood of every placement, per angle
-        q = rotate_xy(p, a)
-        sw = np.zeros((ny, nx))
-        for j in range(fi.size):
-            cx, cy = z[j] - q[fi[j]]
-            dx2 = (tx - cx) ** 2
-            dy2 = (ty - cy) ** 2
-            g = np.exp(-0.5 * (dy2[:, None] + dx2[None, :]) / var[j]) / (2 * np.pi * var[j])
-            sw = sw + np.log((1 - outlier_prob) * g + outlier_prob / area)
-        wifi_terms.append(sw)
+    # the Wi-Fi log-likelihood of every placement, per angle
+    wifi_terms = [_wifi_loglik(rotate_xy(p, a), fi, z, var, tx, ty, outlier_prob, area) for a in angles]
     # placements the fixes reject (Wi-Fi log-likelihood more than wifi_margin nats per fix below the best
     # placement's) are not candidates, whatever the map says: the map chooses among Wi-Fi-consistent ones
     floor_ll = max(float(w.max()) for w in wifi_terms) - wifi_margin * max(fi.size, 1)

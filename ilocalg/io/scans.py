@@ -43,20 +43,24 @@ def scan_matrix(scans: pd.DataFrame, ap_ids, keep=None) -> tuple[np.ndarray, np.
     missing = [c for c in (T_S, SCAN_ID, BSSID, RSSI_DBM) if c not in scans.columns]
     if missing:
         raise ValueError(f"scans lacks the column(s) {missing}")
+    sid = scans[SCAN_ID].to_numpy()
     sids = np.sort(scans[SCAN_ID].unique())
     t = scans.groupby(SCAN_ID)[T_S].first().loc[sids].to_numpy()
-    col = {a: j for j, a in enumerate(ap_ids)}
-    rowof = {s: i for i, s in enumerate(sids)}
-    X = np.full((sids.size, len(col)), np.nan)
-    j = scans[BSSID].map(col)
-    ok = j.notna().to_numpy()
+    cols = pd.Index(list(ap_ids))
+    if cols.is_unique:      # one hash lookup per reading (not a Python call per reading)
+        j = cols.get_indexer(scans[BSSID])
+    else:                   # a repeated id: its last column, as a dict {id: column} gives
+        col = {a: k for k, a in enumerate(ap_ids)}
+        j = scans[BSSID].map(col).fillna(-1).to_numpy().astype(np.int64)
+    X = np.full((sids.size, len(cols)), np.nan)
+    ok = j >= 0
     if keep is not None:
         keep = np.asarray(keep, dtype=bool)
         if keep.shape != (len(scans),):
             raise ValueError(f"keep must have shape ({len(scans)},), got {keep.shape}")
         ok = ok & keep
-    X[scans[SCAN_ID].map(rowof).to_numpy()[ok], j.to_numpy()[ok].astype(np.int64)] = \
-        scans[RSSI_DBM].to_numpy(dtype=np.float64)[ok]
+    # the row of each reading: its scan's place among the sorted scan ids (every id is there)
+    X[np.searchsorted(sids, sid)[ok], j[ok]] = scans[RSSI_DBM].to_numpy(dtype=np.float64)[ok]
     return sids, t, X
 
 

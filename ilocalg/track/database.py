@@ -33,6 +33,14 @@ class WifiDatabase:
     frame: LocalFrame | None = None
     content_ids: dict = dataclasses.field(default_factory=dict, compare=False)
     age_s: np.ndarray | None = dataclasses.field(default=None, compare=False)
+    #: what the queries' searches derive from the matrices, per setting (:func:`ilocalg.track.fixes.query_side`),
+    #: kept with this database; never copied by :func:`dataclasses.replace` (a new database starts empty)
+    _memo: dict = dataclasses.field(init=False, default=None, compare=False, repr=False)
+    #: ``(database, rows)`` when this one is :meth:`without` of another (its rows ``rows`` of it), else None
+    _parent: tuple | None = dataclasses.field(init=False, default=None, compare=False, repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "_memo", {})
 
     @classmethod
     def from_recordings(cls, recordings, max_age_s: float | None = None,
@@ -83,10 +91,12 @@ class WifiDatabase:
         keep = ~np.isin(self.walk, list(walks))
         if not keep.any():
             raise ValueError(f"no fingerprint left after removing {walks}")
-        return WifiDatabase(self.rssi_dbm[keep], self.xy_m[keep], self.walk[keep], self.ap_ids,
-                            None if self.floor is None else self.floor[keep], self.frame,
-                            {k: v for k, v in self.content_ids.items() if k not in walks},
-                            None if self.age_s is None else self.age_s[keep])
+        out = WifiDatabase(self.rssi_dbm[keep], self.xy_m[keep], self.walk[keep], self.ap_ids,
+                           None if self.floor is None else self.floor[keep], self.frame,
+                           {k: v for k, v in self.content_ids.items() if k not in walks},
+                           None if self.age_s is None else self.age_s[keep])
+        object.__setattr__(out, "_parent", (self, np.flatnonzero(keep)))
+        return out
 
     def save(self, path) -> Path:
         """Write the database to one uncompressed ``.npz`` file; :meth:`load` reads it back bit-identical.

@@ -52,7 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from scipy.ndimage import distance_transform_edt
-from scipy.sparse.linalg import spsolve
+from scipy.sparse.linalg import splu
 
 from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 
@@ -189,15 +189,18 @@ def lsq_solve(n_states: int, disp_m, step_var_m2: float, fix_j, fix_a, fix_xy_m,
     sd_fix = np.sqrt(white + var_b) if corr else np.sqrt(1.0 / w0)
     hub = np.ones(m)
     x = None
+    ridge = sp.identity(n + nb, format="csc") * 1e-9
+    A_fix, At = A[k:k + m, :n], A.T
     for _ in range(max(n_iter, 1)):
         w_fix = hub / white if corr else w0 * hub
         w = np.concatenate([np.full(k, 1.0 / step_var_m2), w_fix, np.full(na, 1.0 / anchor_var_m2), w_chain])
-        AtW = A.T.multiply(w).tocsr()
-        N = (AtW @ A).tocsc() + sp.identity(n + nb, format="csc") * 1e-9
-        x = np.column_stack([spsolve(N, AtW @ b[:, 0]), spsolve(N, AtW @ b[:, 1])])
+        AtW = At.multiply(w).tocsr()
+        # one factorisation for both axes: the same SuperLU factors and triangular solves as a spsolve per axis
+        lu = splu((AtW @ A).tocsc() + ridge)
+        x = np.column_stack([lu.solve(AtW @ b[:, 0]), lu.solve(AtW @ b[:, 1])])
         if m == 0:
             break
-        res = np.hypot(*((A[k:k + m, :n] @ x[:n]) - b[k:k + m]).T) / sd_fix
+        res = np.hypot(*((A_fix @ x[:n]) - b[k:k + m]).T) / sd_fix
         new = np.minimum(1.0, HUBER_C / np.maximum(res, 1e-12))
         if np.allclose(new, hub, atol=1e-3):
             break

@@ -78,12 +78,89 @@ def dense_wknn(db_rssi_dbm, Q_rssi_dbm, k: int, not_heard_dbm: float = -100.0, e
     Luo et al. (2017), eq. 1 (the RSSI-space distance of KNN fingerprinting).
     """
     A = np.nan_to_num(np.asarray(db_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
+    return _search(A, (A * A).sum(1) if d2 is None else None, ~(A > 0).any(axis=1), Q_rssi_dbm, k, not_heard_dbm,
+                   exclude, d2)
+
+
+def _search(A, sq, empty, Q_rssi_dbm, k: int, not_heard_dbm: float, exclude=None, d2=None, A_sparse=None):
+    """:func:`dense_wknn` from the shifted database ``A`` (n, n_aps), its rows' squared norms ``sq`` (n,) and its
+    rows hearing nothing ``empty`` (n,). ``A_sparse``: ``A`` as a sparse matrix when its values are whole
+    numbers (:class:`QuerySide`): for queries of whole numbers too every product and sum is an exact integer,
+    the same in any order, so the product is taken over the heard cells only (same bits)."""
     if d2 is None:
         B = np.nan_to_num(np.asarray(Q_rssi_dbm, dtype=np.float64), nan=not_heard_dbm) - not_heard_dbm
-        D2 = (B * B).sum(1)[:, None] + (A * A).sum(1)[None, :] - 2.0 * (B @ A.T)
+        if A_sparse is not None and _exact_products(A_sparse.data, B):
+            G = np.asarray(A_sparse @ B.T).T
+        else:
+            G = B @ (A.T if A is not None else A_sparse.toarray().T)
+        D2 = (B * B).sum(1)[:, None] + sq[None, :] - 2.0 * G
     else:
         D2 = d2
-    return _nearest(D2, ~(A > 0).any(axis=1), k, exclude)
+    return _nearest(D2, empty, k, exclude)
+
+
+def _exact_products(a_values, B) -> bool:
+    """Whether every product and partial sum of rows of whole numbers ``a_values`` (the nonzero values of a
+    matrix) with the rows of ``B`` is an exact float64 integer: both whole, and the largest possible sum under
+    2^53."""
+    if not np.array_equal(B, np.round(B)):
+        return False
+    a = float(np.abs(a_values).max(initial=0.0))
+    b = float(np.abs(B).max(initial=0.0))
+    return a * b * max(B.shape[1], 1) < 2.0 ** 52
+
+
+@dataclass(frozen=True)
+class QuerySide:
+    """What every query against one database with one reading-age limit and not-heard value shares
+    (:func:`query_side`): ``A`` (n, n_aps) the database matrix the queries see (:func:`db_matrix`) with not
+    heard at ``not_heard_dbm`` and shifted by it (None when ``A_sparse`` holds it), ``A_sparse`` the same as a
+    sparse matrix when its values are whole numbers (dBm readings; else None), ``sq`` (n,) its rows' squared
+    norms, ``empty`` (n,) its rows hearing nothing, ``heard`` (n_aps, bool) the access points some row hears,
+    ``heard_rows`` (n, n_aps, bool)."""
+
+    A: np.ndarray | None
+    A_sparse: object
+    sq: np.ndarray
+    empty: np.ndarray
+    heard: np.ndarray
+    heard_rows: np.ndarray
+
+
+def query_side(db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG) -> QuerySide:
+    """:class:`QuerySide` of ``db`` for ``cfg``'s reading-age limit and not-heard value, made once and kept with
+    the database. For a database that is another's :meth:`~ilocalg.track.database.WifiDatabase.without`, its
+    rows of the other's (the same numbers: every quantity is per row (whole numbers: the squared norms are exact
+    integers), or, for ``heard``, counted).
+
+    References
+    ----------
+    Luo et al. (2017), eq. 1 (the RSSI-space distance of KNN fingerprinting).
+    """
+    import scipy.sparse as sp
+
+    key = ("query_side", cfg.max_age_s if db.age_s is not None else None, cfg.not_heard_dbm)
+    got = db._memo.get(key)
+    if got is not None:
+        return got
+    if db._parent is not None and query_side(db._parent[0], cfg).A_sparse is not None:
+        ps, rows = query_side(db._parent[0], cfg), db._parent[1]
+        hr = ps.heard_rows[rows]
+        out = QuerySide(None, ps.A_sparse[rows], ps.sq[rows], ps.empty[rows], hr.any(axis=0), hr)
+    else:
+        if db._parent is not None:
+            ps, rows = query_side(db._parent[0], cfg), db._parent[1]
+            A, hr = ps.A[rows], ps.heard_rows[rows]
+        else:
+            D = db_matrix(db, cfg)
+            A = np.nan_to_num(np.asarray(D, dtype=np.float64), nan=cfg.not_heard_dbm) - cfg.not_heard_dbm
+            hr = ~np.isnan(D)
+        whole = np.array_equal(A, np.round(A))
+        sq = (A * A).sum(1)
+        out = QuerySide(None if whole else A, sp.csr_matrix(A) if whole else None, sq, ~(A > 0).any(axis=1),
+                        hr.any(axis=0), hr)
+    db._memo[key] = out
+    return out
 
 
 def _nearest(D2, empty_rows, k: int, exclude=None):
@@ -127,16 +204,16 @@ def locate_wknn(db: WifiDatabase, X, cfg: RealWalkConfig = DEFAULT_CONFIG, retur
     Luo et al. (2017), eq. 1-2 (KNN fingerprinting).
     """
     X = np.asarray(X, dtype=np.float64)
-    D = db_matrix(db, cfg)
-    heard = ~np.isnan(D).all(axis=0)
+    qs = query_side(db, cfg)
+    heard = qs.heard
     miss = ~(~np.isnan(X[:, heard])).any(axis=1) if X.size else np.zeros(X.shape[0], dtype=bool)
     n = X.shape[0]
     xy, C, fl_out, conf = np.full((n, 2), np.nan), np.full((n, 2, 2), np.nan), np.full(n, np.nan), np.full(n, np.nan)
     if (~miss).any():
         if cfg.p == 2 and cfg.metric == "minkowski":
-            idx, dist = dense_wknn(D, X[~miss], cfg.k_neighbors, cfg.not_heard_dbm,
-                                   None if exclude is None else np.asarray(exclude)[~miss],
-                                   None if d2 is None else d2[~miss])
+            idx, dist = _search(qs.A, qs.sq if d2 is None else None, qs.empty, X[~miss], cfg.k_neighbors,
+                                cfg.not_heard_dbm, None if exclude is None else np.asarray(exclude)[~miss],
+                                None if d2 is None else d2[~miss], qs.A_sparse)
         else:
             est = _wknn(db, cfg)
             dist, idx = est.kneighbors(X[~miss])
@@ -412,7 +489,7 @@ def wifi_fixes(trace, db: WifiDatabase, cfg: RealWalkConfig = DEFAULT_CONFIG,
     xy, C, fl, conf = locate_wknn(db, X, cfg, return_floor="confidence")
     var = None
     if fix_var_model is not None:
-        heard_db = ~np.isnan(db_matrix(db, cfg)).all(axis=0)
+        heard_db = query_side(db, cfg).heard
         var = fix_var_model.predict(fix_features(C, (~np.isnan(X[:, heard_db])).sum(axis=1), age))
         R = var[:, None, None] * np.eye(2)
     elif fix_var_m2 is not None:

@@ -350,14 +350,15 @@ def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAU
     ``load_walks()`` returns the walks (called only when building); ``settings`` (e.g. the loader
     policies) join the files and ``cfg`` in the cache key. Returns ``(model, from_cache)``.
 
-    The last model returned is kept in this process: asked again with the same key (e.g. a notebook's run, its
-    leave-one-walk-out and each configuration of an ablation), the same object comes back, with the Wi-Fi
-    selections it has made (:meth:`FloorModel.select_wifi`), and ``from_cache`` is True.
+    The last :data:`KEPT_MODELS` models returned are kept in this process: asked again with the same key (e.g. a
+    notebook's run, its leave-one-walk-out and each configuration of an ablation), the same object comes back, with
+    the Wi-Fi selections it has made (:meth:`FloorModel.select_wifi`), and ``from_cache`` is True.
     """
     key = floor_cache_key(files, cfg=_model_cfg(cfg), floor_model_version=FLOOR_MODEL_VERSION, **settings)
     folder = Path(cache_dir) / key
-    kept = _LAST_MODEL.get(str(folder.resolve()))
+    kept = _LAST_MODEL.pop(str(folder.resolve()), None)
     if kept is not None:
+        _LAST_MODEL[str(folder.resolve())] = kept               # the most recently used, kept longest
         return kept, True
     model, cached = None, False
     if folder.is_dir():
@@ -368,10 +369,15 @@ def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAU
     if model is None:
         model = build_floor_model(load_walks(), cfg, progress=progress)
         model.save(folder)
-    _LAST_MODEL.clear()                             # one floor kept (a site 1 floor is about 60 MB in memory)
+    while len(_LAST_MODEL) >= KEPT_MODELS:          # a site 1 floor is about 60 MB in memory
+        _LAST_MODEL.pop(next(iter(_LAST_MODEL)))
     _LAST_MODEL[str(folder.resolve())] = model
     return model, cached
 
 
-#: The floor model :func:`cached_floor_model` returned last in this process (resolved folder -> model).
+#: How many floor models :func:`cached_floor_model` keeps in this process: two, so that a notebook's floor keeps its
+#: selections while a leave-one-walk-out over two floors visits the other one.
+KEPT_MODELS = 2
+#: The floor models :func:`cached_floor_model` returned last in this process (resolved folder -> model), least
+#: recently used first.
 _LAST_MODEL: dict = {}

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import ArchiveReader
 from ilocalg.io.ilc import _read_members, _resolve_root
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.scans import merge_relisted_wifi
@@ -100,13 +101,15 @@ def lowo_findings(summary: pd.DataFrame) -> str:
     return "\n".join(out)
 
 
-def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
+def wifi_ablation(floor, cfg: RealWalkConfig | None = None, db: WifiDatabase | None = None) -> pd.DataFrame:
     """What each Wi-Fi piece buys: leave-one-walk-out fix error of every database scan (each walk located
     against the others) for every Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` (the first
     one is the plain reference: WKNN, K = 5, readings older than 2 s dropped) with the re-listed readings
     kept and merged (:func:`ilocalg.io.scans.merge_relisted_wifi`, the loader's ``relisted_wifi`` rule).
-    ``floor`` must be loaded with ``relisted_wifi="keep"``. Columns: ``relisted_wifi, wifi_config, n,
-    mean_m, median_m, p75_m, merged_readings``.
+    ``floor`` must be loaded with ``relisted_wifi="keep"``. ``db``: its database with the readings kept when
+    already built from the same walks (``WifiDatabase.from_traces(floor.traces)``, e.g. the floor model's
+    :attr:`~ilocalg.track.FloorModel.db`); None: built here. Columns: ``relisted_wifi, wifi_config, n, mean_m,
+    median_m, p75_m, merged_readings``.
     """
     cfg = cfg or RealWalkConfig()
     rows = []
@@ -119,10 +122,11 @@ def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
                 n_merged += n
                 t = dataclasses.replace(t, wifi=w)
             trs[k] = t
-        db = WifiDatabase.from_traces(trs)
+        db_p = db if policy == "keep" and db is not None else WifiDatabase.from_traces(trs)
         # every candidate's leave-one-walk-out fixes, one distance product per reading-age limit (the same fixes
         # as loo_fix_errors of each)
-        loo = loo_fix_features_shared(db, [(None, dataclasses.replace(cfg, **kw)) for kw in WIFI_CANDIDATES.values()])
+        loo = loo_fix_features_shared(db_p, [(None, dataclasses.replace(cfg, **kw))
+                                             for kw in WIFI_CANDIDATES.values()])
         for label, (err, _) in zip(WIFI_CANDIDATES, loo, strict=True):
             e = np.hypot(*err.T)
             e = e[np.isfinite(e)]
@@ -134,15 +138,22 @@ def wifi_ablation(floor, cfg: RealWalkConfig | None = None) -> pd.DataFrame:
 
 def floor_image(data_dir, dataset: str) -> bytes | None:
     """The floor plan image (``floor_image.png``) of a data set's floor, or None when absent (``data_dir``
-    None: the toolkit's data folder)."""
+    None: the toolkit's data folder). In an archive: the first ``floor_image.png`` of the floor's folder for
+    ``"folder/floor"`` (the archive is read only up to it), else the archive's one image (None when several)."""
     p = Path(default_data_dir() if data_dir is None else data_dir)
     folder, _, floor_name = dataset.partition("/")
     root = _resolve_root(p / folder if (p / folder).exists() else p)
     if root.is_dir():
         f = root / "floor_image.png"
         return f.read_bytes() if f.is_file() else None
-    m = _read_members(root, lambda n: n.endswith("floor_image.png") and (not floor_name or f"/{floor_name}/" in
-                                                                        "/" + n))
+    if floor_name:          # the floor folder's image: read up to it, not through the rest of the archive
+        with ArchiveReader(root) as ar:
+            for m in ar.tar:
+                if m.isfile() and m.name.endswith("floor_image.png") and f"/{floor_name}/" in "/" + m.name:
+                    ar.member = m.name
+                    return ar.tar.extractfile(m).read()
+        return None
+    m = _read_members(root, lambda n: n.endswith("floor_image.png"))
     return next(iter(m.values())) if len(m) == 1 else None
 
 

@@ -65,6 +65,8 @@ class WalkedPaths:
     b_m: np.ndarray
     walk: np.ndarray
     _memo: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+    #: ``(graph, names)`` when this graph is :meth:`without` ``names`` of another, else None
+    _parent: tuple | None = dataclasses.field(init=False, default=None, compare=False, repr=False)
 
     def __post_init__(self):
         a, b = np.asarray(self.a_m), np.asarray(self.b_m)
@@ -113,7 +115,9 @@ class WalkedPaths:
     def without(self, *names) -> WalkedPaths:
         """The graph without the segments of the walks ``names``."""
         keep = ~np.isin(self.walk, np.asarray(names, dtype=object))
-        return WalkedPaths(self.a_m[keep], self.b_m[keep], self.walk[keep])
+        out = WalkedPaths(self.a_m[keep], self.b_m[keep], self.walk[keep])
+        object.__setattr__(out, "_parent", (self, frozenset(names)))
+        return out
 
     def project(self, xy_m) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Nearest point of the graph to every point: ``(projected (n, 2), distance (n,), segment index (n,))``."""
@@ -159,7 +163,48 @@ class WalkedPaths:
             names = self.walks
             if len(names) < 2:
                 raise ValueError("the spread of the walked paths needs at least two walks")
-            xy, w = self.samples(step_m)
-            d2 = np.concatenate([self.without(n).project(xy[w == n])[1] ** 2 for n in names])
+            if self._parent is not None:        # from the whole graph's distances to each walk's paths
+                parent, removed = self._parent
+                d2 = parent._spread_d2(step_m, removed, names)
+            else:
+                xy, w = self.samples(step_m)
+                d2 = np.concatenate([self.without(n).project(xy[w == n])[1] ** 2 for n in names])
             self._memo[key] = float(d2.mean() / 2.0)
         return self._memo[key]
+
+    def _walk_min_d2(self, step_m: float):
+        """Every sample of :meth:`samples`' squared distance to each walk's segments (the least over them, as
+        :meth:`project` computes it): ``(M (n_samples, n_walks), sample walk (n_samples,), walks)``; kept."""
+        key = ("walk_min_d2", step_m)
+        if key not in self._memo:
+            xy, sw = self.samples(step_m)
+            walks = self.walks
+            a, ab = self.a_m, self.b_m - self.a_m
+            ab2 = np.maximum((ab ** 2).sum(axis=1), 1e-12)
+            segs = [np.flatnonzero(self.walk == w) for w in walks]
+            M = np.empty((xy.shape[0], len(walks)))
+            step = max(1, _BLOCK // max(a.shape[0], 1))
+            for s in range(0, xy.shape[0], step):
+                p = xy[s:s + step]
+                ap_x = p[:, 0, None] - a[None, :, 0]
+                ap_y = p[:, 1, None] - a[None, :, 1]
+                t = np.clip((ap_x * ab[None, :, 0] + ap_y * ab[None, :, 1]) / ab2[None, :], 0.0, 1.0)
+                dx, dy = ap_x - t * ab[None, :, 0], ap_y - t * ab[None, :, 1]
+                d2 = dx * dx + dy * dy
+                for j, g in enumerate(segs):
+                    M[s:s + step, j] = d2[:, g].min(axis=1)
+            self._memo[key] = (M, sw, walks)
+        return self._memo[key]
+
+    def _spread_d2(self, step_m: float, removed, names) -> np.ndarray:
+        """The squared distances :meth:`spread_var_m2` of ``self.without(*removed)`` averages (walks ``names``, in
+        order): each of a walk's samples to the nearest segment of the walks other than it and ``removed``, the
+        least of this graph's per-walk distances (:meth:`_walk_min_d2`; the same numbers as projecting)."""
+        M, sw, walks = self._walk_min_d2(step_m)
+        out = []
+        for n in names:
+            allowed = np.array([w != n and w not in removed for w in walks])
+            if not allowed.any():
+                raise ValueError("the walked-path graph has no segment (no database walk with two waypoints)")
+            out.append(np.sqrt(M[sw == n][:, allowed].min(axis=1)) ** 2)
+        return np.concatenate(out)
