@@ -75,13 +75,13 @@ def test_every_saved_figure_is_an_image_output_and_in_the_html(fast_reports):
     assert n_saved >= 2 and len(set(_png_outputs(out / "07_fusion_iloc_kf.ipynb"))) >= n_saved
 
 
-#: Notebooks the second run leaves out: the four dearest of the fast reproduce (about 260 of its 515 notebook CPU-s,
-#: reports/timings.csv), whose second run would put ``make test`` over its 15-minute goal on the 2-core CI machine.
-#: What still checks them: same-seed runs of the photo experiment (tests/test_experiment_photo.py), the INS
-#: constraints' runs with and without side studies (tests/test_experiment_ins_constraints.py), the saved floor model
-#: against the built one (tests/test_track_database.py); notebooks 09 and 16 as a whole only by two reproduces
-#: outside CI, whose provenance.json ``tables_sha256`` maps are equal exactly when every table is.
-SECOND_RUN_SKIPS = ("09_fusion_real_walks", "11_photo_positioning", "12_ins_constraints_gcp", "16_measured_worlds")
+#: Notebooks the second run leaves out: three of the dearest of the fast reproduce (about 105 of its ~400 notebook
+#: CPU-s, reports/timings.csv), whose second run would put ``make test`` over its 15-minute goal on the 2-core CI
+#: machine. Notebook 09 (real walks, floor-model and sweep caches: where a second run most likely differs) stays.
+#: What still checks the three: same-seed runs of the photo experiment (tests/test_experiment_photo.py), the INS
+#: constraints' runs with and without side studies (tests/test_experiment_ins_constraints.py); notebook 16 as a whole
+#: only by two reproduces outside CI, whose provenance.json ``tables_sha256`` maps agree exactly when all tables do.
+SECOND_RUN_SKIPS = ("11_photo_positioning", "12_ins_constraints_gcp", "16_measured_worlds")
 
 
 def test_same_seed_gives_byte_identical_tables(fast_reports, tmp_path):
