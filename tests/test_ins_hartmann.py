@@ -220,3 +220,23 @@ def test_lockstep_run_checks_its_batch():
         hm.run_hartmann_many(t, *([a, a] for a in one[:5]), [np.eye(15), bad])
     with pytest.raises(ValueError, match="vt_sd holds 3 rows for 2 sequences"):
         hm.run_hartmann_many(t, *([a, a] for a in one), vt_sd=[hm.VT_SD_DEFAULT] * 3)
+
+
+def test_model_on_arrays_has_the_bits_of_the_per_sequence_model(monkeypatch):
+    """Many sequences take the numpy path of ``_model_many`` (``_model_arrays``): every output, bit for bit, as the
+    Python-float path one sequence at a time (states near and far from level, several step lengths)."""
+    rng = np.random.default_rng(7)
+    n_seq = hm._VECTOR_SEQS + 3
+    x = rng.normal(size=(n_seq, hm.HARTMANN_N_STATES)) * np.r_[[0.05, 0.05, 3.0], [10.0] * 3, [1.0] * 3, [0.01] * 6]
+    x[0, 0:2] = [1.2, -1.4]  # far from level
+    u = rng.normal(size=(n_seq, 6)) * np.r_[[0.5] * 3, [3.0] * 3] + np.r_[0.0, 0.0, 0.0, 0.0, 0.0, 9.81]
+    for dt in (0.01, 1 / 3, 0.0123456789):
+        arrays = hm._model_many(x, u, dt, {})
+        assert x.shape[0] >= hm._VECTOR_SEQS
+        monkeypatch.setattr(hm, "_VECTOR_SEQS", 10**9)
+        floats = hm._model_many(x, u, dt, {})
+        monkeypatch.undo()
+        for a, b in zip(arrays, floats, strict=True):
+            assert a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
+        x_one = np.stack([hm._model(x[s], u[s], dt)[0] for s in range(n_seq)])  # one sequence at a time
+        assert np.array_equal(arrays[0].view(np.int64), x_one.view(np.int64))

@@ -583,11 +583,13 @@ def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=
     L = Ph.shape[0]
     if P_minus_out is not None and P_minus_out.flags.c_contiguous:
         # eskf_predict's products and adds, inlined: the diagonals of the whole stretch as one strided view
+        # np.dot, not np.matmul: for two 2-D float64 operands both hand the same cblas_dgemm call (same
+        # transposition flags, sizes and strides) to BLAS, so the same bits; np.dot skips the gufunc set-up
         diag = P_minus_out.reshape(L, N_STATES * N_STATES)[:, ::N_STATES + 1]
-        mm = np.matmul
+        dot = np.dot
         for j in range(L):
             Phj = Ph[j]
-            P = mm(mm(Phj, P, out=work), Phj.T, out=P_minus_out[j])
+            P = dot(dot(Phj, P, out=work), Phj.T, out=P_minus_out[j])
             diag[j] += qd[j]
         P_plus_out[...] = P_minus_out
         return P

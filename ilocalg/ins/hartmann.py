@@ -128,6 +128,10 @@ def _model_many(x, u, dt_s: float, cache: dict):
     slice, as for a single state), Phi's entries element by element from the table.
     """
     n_seq = x.shape[0]
+    h = 0.5 * dt_s * dt_s
+    g1, g2, g3 = _GRAVITY
+    if n_seq >= _VECTOR_SEQS:
+        return _model_arrays(x, u, dt_s, h, cache)
     sin, cos = math.sin, math.cos
     xls = x.tolist()
     tab: list[float] = []
@@ -139,8 +143,6 @@ def _model_many(x, u, dt_s: float, cache: dict):
     # (E w, C a): E and C, w and a are adjacent in the table
     ew_ca = (m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1)).tolist()
     # x[0:3] + (E w) dt, x[3:6] + x[6:9] dt + (dt^2 / 2) acc_v, x[6:9] + dt acc_v with acc_v = C a + g
-    h = 0.5 * dt_s * dt_s
-    g1, g2, g3 = _GRAVITY
     new: list[float] = []
     for xl, ((ew1, ew2, ew3), (ca1, ca2, ca3)) in zip(xls, ew_ca, strict=True):
         av1, av2, av3 = ca1[0] + g1, ca2[0] + g2, ca3[0] + g3
@@ -149,6 +151,42 @@ def _model_many(x, u, dt_s: float, cache: dict):
                 xl[6] + dt_s * av1, xl[7] + dt_s * av2, xl[8] + dt_s * av3)
         new += xl[9:15]
     x_new = np.fromiter(new, float, 15 * n_seq).reshape(n_seq, 15)
+    return x_new, *_jacobians(m, n_seq, dt_s, cache)
+
+
+#: From this many sequences on, :func:`_model_many` computes its table with numpy on arrays of the sequences
+#: (:func:`_model_arrays`) instead of on Python floats one sequence after the other: the same operations in the
+#: same order on each element (IEEE float64 +, -, *, / give the same bits either way; sines and cosines from
+#: :mod:`math` in both), cheaper once the per-sequence Python work outweighs numpy's per-call cost.
+_VECTOR_SEQS = 16
+
+
+def _model_arrays(x, u, dt_s: float, h: float, cache: dict):
+    """:func:`_model_many` with :func:`_terms` and the state update evaluated on columns (S,) instead of
+    Python floats: each expression is the same, element by element."""
+    n_seq = x.shape[0]
+    sin, cos = math.sin, math.cos
+    ang = x[:, 0:3].T.tolist()
+    sc = [np.array([f(a) for a in col]) for col in ang for f in (sin, cos)]
+    wa = u - x[:, 9:15]  # ul[i] - xl[9 + i]
+    m = np.empty((n_seq, 40))
+    for i, v in enumerate(_terms(*sc, *wa.T)):
+        m[:, i] = v
+    ew_ca = m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1)
+    ew, ca = ew_ca[:, 0, :, 0], ew_ca[:, 1, :, 0]
+    g1, g2, g3 = _GRAVITY
+    av = (ca[:, 0] + g1, ca[:, 1] + g2, ca[:, 2] + g3)
+    x_new = np.empty((n_seq, 15))
+    for i in range(3):
+        x_new[:, i] = x[:, i] + ew[:, i] * dt_s
+        x_new[:, 3 + i] = x[:, 3 + i] + x[:, 6 + i] * dt_s + h * av[i]
+        x_new[:, 6 + i] = x[:, 6 + i] + dt_s * av[i]
+    x_new[:, 9:15] = x[:, 9:15]
+    return x_new, *_jacobians(m, n_seq, dt_s, cache)
+
+
+def _jacobians(m, n_seq: int, dt_s: float, cache: dict):
+    """Phi (S, 15, 15) and W (S, 15, 12) of :func:`_model_many` from its table ``m`` (S, 40)."""
     coef = cache.setdefault("coef", {}).get(dt_s)
     if coef is None:
         coef = cache["coef"][dt_s] = _coefficients(dt_s)
@@ -163,7 +201,7 @@ def _model_many(x, u, dt_s: float, cache: dict):
     Phi.reshape(n_seq, -1)[:, _PHI_IDX] = vals
     # W (eq. 22) is Phi's last six columns in rows 0-8 (the identity below them set once)
     W[:, 0:9, 0:6] = Phi[:, 0:9, 9:15]
-    return x_new, Phi, W
+    return Phi, W
 
 
 def _model(x, u, dt_s: float):

@@ -200,9 +200,11 @@ def strapdown(pos0_n_m, vel0_n_mps, mat0_nb, gyr_b_radps, acc_b_mps2, dt_s, out=
     pos, vel, mat = out if out is not None else (np.empty((L + 1, 3)), np.empty((L + 1, 3)), np.empty((L + 1, 3, 3)))
     dC = rotvecs_to_dcm(np.asarray(gyr_b_radps, dtype=float) * dt[:, None])
     mat[0] = mat0_nb
-    mm = np.matmul
+    # mat[j] @ dC[j], written in place; np.dot hands two 3x3 float64 matrices to the same cblas_dgemm call as
+    # np.matmul (the same bits) without the gufunc set-up, but needs a C-contiguous output
+    mm = np.dot if mat.flags.c_contiguous and mat.dtype == np.float64 else np.matmul
     for j in range(L):
-        mm(mat[j], dC[j], out=mat[j + 1])  # mat[j] @ dC[j], written in place
+        mm(mat[j], dC[j], out=mat[j + 1])
     half_dt = 0.5 * dt[:, None]
     dv = half_dt * np.einsum("lij,lj->li", mat[:-1] + mat[1:], acc_b_mps2)
     dv += GRAVITY_N_MPS2 * dt[:, None]
