@@ -86,7 +86,10 @@ Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (
 ``estimators`` (least squares, map step), ``online_kf`` (the gain-augmented Kalman filter), ``floor`` (the
 cached floor model), ``paths`` (the walked-path graph of the database walks' waypoints and ``lsq_paths``, the
 least squares pulled towards it), ``evaluation``, ``lowo`` (leave-one-walk-out pooling over floors, the Wi-Fi
-ablation, a floor's files).
+ablation, a floor's files), ``online_pf`` (a particle filter with ``kf_gain``'s model; tested, not a method).
+Diagnostics of issue 26, no method: ``error_sources`` (oracle ablations: which error source the online tracks
+keep), ``surface`` (the walk placed on its scans' likelihood surface) and ``walk_align`` (its scan sequence
+aligned to the database walks'); each module's docstring gives what it measured on the development walks.
 
 References
 ----------
