@@ -104,7 +104,7 @@ def accuracy_bars(summary, ax=None, goal: float | None = None):
     ax.set_xticks(x, list(summary["detector"]))
     ax.set_ylabel("Step-count accuracy [%]")
     ax.set_ylim(max(0.0, float(summary["min_accuracy"].min()) * 100 - 5), 100.5)
-    ax.legend(loc="lower left")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)  # beside the bars, not over them
     return ax
 
 
