@@ -57,6 +57,16 @@ SPREAD_STEP_M = 1.0
 _BLOCK = 1 << 20
 
 
+def _segment_d2(p, a, ab, ab2):
+    """Each point of ``p`` (n, 2) against each segment ``a + t ab`` (m): the clipped parameter ``t`` (n, m) of its
+    nearest point and the squared distance ``d2`` (n, m) to it (``ab2``: the segments' squared lengths)."""
+    ap_x = p[:, 0, None] - a[None, :, 0]
+    ap_y = p[:, 1, None] - a[None, :, 1]
+    t = np.clip((ap_x * ab[None, :, 0] + ap_y * ab[None, :, 1]) / ab2[None, :], 0.0, 1.0)
+    dx, dy = ap_x - t * ab[None, :, 0], ap_y - t * ab[None, :, 1]
+    return t, dx * dx + dy * dy
+
+
 @dataclass(frozen=True)
 class WalkedPaths:
     """Segments ``a_m[i] -> b_m[i]`` (map frame, metres) of the walks ``walk[i]`` (module docstring)."""
@@ -132,11 +142,7 @@ class WalkedPaths:
         step = max(1, _BLOCK // a.shape[0])
         for s in range(0, xy.shape[0], step):
             p = xy[s:s + step]
-            ap_x = p[:, 0, None] - a[None, :, 0]
-            ap_y = p[:, 1, None] - a[None, :, 1]
-            t = np.clip((ap_x * ab[None, :, 0] + ap_y * ab[None, :, 1]) / ab2[None, :], 0.0, 1.0)
-            dx, dy = ap_x - t * ab[None, :, 0], ap_y - t * ab[None, :, 1]
-            d2 = dx * dx + dy * dy
+            t, d2 = _segment_d2(p, a, ab, ab2)
             k = np.argmin(d2, axis=1)
             r = np.arange(p.shape[0])
             seg[s:s + step] = k
@@ -186,11 +192,7 @@ class WalkedPaths:
             step = max(1, _BLOCK // max(a.shape[0], 1))
             for s in range(0, xy.shape[0], step):
                 p = xy[s:s + step]
-                ap_x = p[:, 0, None] - a[None, :, 0]
-                ap_y = p[:, 1, None] - a[None, :, 1]
-                t = np.clip((ap_x * ab[None, :, 0] + ap_y * ab[None, :, 1]) / ab2[None, :], 0.0, 1.0)
-                dx, dy = ap_x - t * ab[None, :, 0], ap_y - t * ab[None, :, 1]
-                d2 = dx * dx + dy * dy
+                _, d2 = _segment_d2(p, a, ab, ab2)
                 for j, g in enumerate(segs):
                     M[s:s + step, j] = d2[:, g].min(axis=1)
             self._memo[key] = (M, sw, walks)
