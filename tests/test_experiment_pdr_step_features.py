@@ -37,3 +37,24 @@ def test_oxford_archive_is_found_under_the_data_root_or_its_own_folder(shared_da
     folder = shared_data("oxford_step_counter")
     assert pdr_step_features._oxford_archive(folder.parent) == folder / pdr_step_features.OXFORD_ARCHIVE
     assert pdr_step_features._oxford_archive(folder) == folder / pdr_step_features.OXFORD_ARCHIVE
+
+
+def test_the_held_recordings_are_read_once_per_process_and_again_when_the_archive_changes(tmp_path, monkeypatch):
+    import os
+
+    archive = tmp_path / pdr_step_features.OXFORD_ARCHIVE
+    archive.write_bytes(b"first")
+    reads = []
+
+    def fake_load(path, select=None):
+        reads.append(path)
+        return [f"rec{len(reads)}"]
+
+    monkeypatch.setattr(pdr_step_features, "load_oxford_archive", fake_load)
+    monkeypatch.setattr(pdr_step_features, "_HELD", {})
+    first = pdr_step_features._held_recordings(archive, "InHand")
+    assert pdr_step_features._held_recordings(archive, "InHand") == first == ("rec1",) and len(reads) == 1
+    assert pdr_step_features._held_recordings(archive, "InPocket") == ("rec2",)  # another position: read
+    archive.write_bytes(b"second, longer")
+    os.utime(archive, ns=(1, 1))
+    assert pdr_step_features._held_recordings(archive, "InHand") == ("rec3",) and len(reads) == 3

@@ -44,3 +44,47 @@ def test_the_iloc_floor_area_contradiction_reads_not_reproduced():
     assert row["reproduced"] == pytest.approx(3792.6196)
     assert AGREE_REL < abs(row["reproduced"] / area.paper_value - 1) < CLOSE_REL
     assert row["verdict"] == "not reproduced"
+
+
+def _long_results() -> pd.DataFrame:
+    """Long results of two experiments over three seeds, with a swept-parameter row and a duplicated quantity."""
+    rows = []
+    for seed in range(3):
+        for exp in ("a", "b"):
+            rows += [{"experiment": exp, "params": "{}", "seed": seed, "table": "comparison", "item": "x",
+                      "quantity": "err", "value": 1.0 + seed + (exp == "b")},
+                     {"experiment": exp, "params": "{}", "seed": seed, "table": "measures", "item": "x",
+                      "quantity": "err", "value": 10.0 * seed},
+                     {"experiment": exp, "params": '{"k": 2}', "seed": seed, "table": "comparison", "item": "y",
+                      "quantity": "rate", "value": -1.0}]
+    return pd.DataFrame(rows)
+
+
+@pytest.mark.parametrize("ref", [M("a", "err", table="comparison"), M("b", "err", item="x", table="measures"),
+                                 M("a", "err"), M("b", "rate"), M("c", "err")])
+def test_lookup_on_a_result_index_gives_the_dataframe_lookups_values_and_errors(ref):
+    from ilocalg.papers.claims import ResultIndex, lookup
+
+    res = _long_results()
+    try:
+        want = lookup(res, ref)
+    except KeyError as exc:
+        with pytest.raises(KeyError) as got:
+            lookup(ResultIndex(res), ref)
+        assert got.value.args == exc.args  # the same message (no row; two rows per seed; only swept rows)
+        return
+    got = lookup(ResultIndex(res), ref)
+    pd.testing.assert_series_equal(got, want, check_exact=True)
+    assert got.index.dtype == want.index.dtype
+
+
+def test_a_result_index_with_one_experiment_replaced_reads_the_new_rows_for_it_only():
+    from ilocalg.papers.claims import ResultIndex, lookup
+
+    res = _long_results()
+    base = ResultIndex(res[res["seed"] == 0])
+    new_a = res[(res["experiment"] == "a") & (res["seed"] == 0)].assign(value=lambda d: d["value"] + 100.0)
+    idx = base.replace("a", new_a)
+    assert lookup(idx, M("a", "err", table="comparison")).iloc[0] == 101.0
+    assert lookup(idx, M("b", "err", table="comparison")).iloc[0] == 2.0
+    assert lookup(base, M("a", "err", table="comparison")).iloc[0] == 1.0  # the original is unchanged

@@ -90,3 +90,18 @@ def test_stop_interval_brackets_where_the_pso_stops():
             assert lo <= s["k_pso"] <= hi
     # a walk whose best fitness is above minFitness has no stop interval
     assert np.isnan(K.stop_interval(q, d, min_fitness=1e-6)[0])
+
+
+@pytest.mark.parametrize("fitness", ["total", "per_step"])
+def test_learn_k_repeats_gives_each_seeds_learn_k_bit_for_bit(fitness):
+    q = np.random.default_rng(3).uniform(1.3, 1.7, 60)
+    st, d = _steps(q), 0.47 * q.sum() * 1.05
+    summ, runs = K.learn_k_repeats(st, d, fitness, [np.random.default_rng([7, r]) for r in range(6)])
+    for r, res in enumerate(runs):
+        one, one_res = K.learn_k(st, d, fitness, rng=np.random.default_rng([7, r]))
+        assert float(res.x_best[0]) == one["k_pso"] and res.n_iters == one["iters"]
+        np.testing.assert_array_equal(res.positions, one_res.positions)
+        assert {k: one[k] for k in summ} == summ
+    assert len({res.n_iters for res in runs} | {float(res.x_best[0]) for res in runs}) > 2  # the seeds differ
+    with pytest.raises(ValueError, match="positive distance"):
+        K.learn_k_repeats(st, -1.0, fitness, [0])

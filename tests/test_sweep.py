@@ -198,3 +198,25 @@ def test_aggregate_clips_intervals_to_the_physical_range_and_flags_them():
     assert agg.loc["accuracy", "ci95_high"] == 100.0 and agg.loc["accuracy", "ci_clipped"]
     assert agg.loc["error", "ci95_low"] == 0.0 and agg.loc["error", "ci_clipped"]
     assert agg.loc["error difference", "ci95_low"] < 0 and not agg.loc["error difference", "ci_clipped"]
+
+
+def test_cached_results_read_as_arrow_give_the_frame_read_parquet_and_concat_give(tmp_path):
+    """Tables of one schema joined in Arrow, a different schema (an empty result) and a fresh DataFrame between
+    them: the same frame, dtypes and index as reading every file with pandas and concatenating."""
+    full = pd.DataFrame({"experiment": ["e"] * 3, "params": ["{}"] * 3, "seed": [0, 0, 0],
+                         "table": ["t", "t", "m"], "item": ["a", "", "b"], "quantity": ["q", "q", "r"],
+                         "value": [1.5, np.nan, -2.0]})
+    empty = pd.DataFrame({"experiment": pd.Series([], dtype=object), "seed": pd.Series([], dtype=np.int64),
+                          "value": pd.Series([], dtype=np.float64)})
+    parts = [full, full.assign(seed=1), empty, full.assign(seed=2), full.assign(seed=3)]
+    paths = []
+    for i, df in enumerate(parts):
+        paths.append(tmp_path / f"{i}.parquet")
+        df.to_parquet(paths[-1], index=False)
+    fresh = full.assign(seed=9)
+    want = pd.concat([pd.read_parquet(p) for p in paths[:3]] + [fresh] + [pd.read_parquet(p) for p in paths[3:]],
+                     ignore_index=True)
+    got = sw._results_frame([sw._read_cache(p) for p in paths[:3]] + [fresh] + [sw._read_cache(p) for p in paths[3:]])
+    pd.testing.assert_frame_equal(got, want, check_exact=True)
+    assert got.dtypes.to_dict() == want.dtypes.to_dict() and isinstance(got.index, pd.RangeIndex)
+    assert sw._results_frame([]).empty

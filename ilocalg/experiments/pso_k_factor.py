@@ -45,7 +45,7 @@ from ilocalg.papers.readings_pso import SENSITIVITY_VARIANTS
 from ilocalg.papers.readings_pso import readings as _readings
 from ilocalg.pdr import k_walks
 from ilocalg.pdr.filters import moving_average, rms, savitzky_golay
-from ilocalg.pdr.k_factor import FITNESSES, PSO_SETTINGS_PAPER, learn_k
+from ilocalg.pdr.k_factor import FITNESSES, PSO_SETTINGS_PAPER, learn_k, learn_k_repeats
 from ilocalg.pdr.k_walks import PREFILTERS
 from ilocalg.pdr.step_length import k_from_distance, weinberg_length_m
 from ilocalg.sim import pso_walks as sim
@@ -224,12 +224,10 @@ def _pso_repeat(walks: list[Walk], prefilter: str, fitness: str, seed: int, n_re
     for i, w in enumerate(walks):
         st = _steps(w, prefilter, b)
         d_gps = gps_track_length_m(w.gps)
-        ks, iters = [], []
-        for r in range(n_rep):
-            s, _ = learn_k(st, d_gps, fitness, rng=np.random.default_rng([seed, 20, i, r]))
-            ks.append(s["k_pso"])
-            iters.append(s["iters"])
-        ks = np.asarray(ks)
+        # learn_k from each seed: the swarms in one pass, the seed-independent references once
+        s, runs = learn_k_repeats(st, d_gps, fitness, [np.random.default_rng([seed, 20, i, r]) for r in range(n_rep)])
+        ks = np.asarray([float(res.x_best[0]) for res in runs])
+        iters = [res.n_iters for res in runs]
         rows.append({"walker": w.walker, "prefilter": prefilter, "band": band, "fitness": fitness, "n_runs": n_rep,
                      "k_closed": s["k_closed"], "k_stop_lo": s["k_stop_lo"], "k_stop_hi": s["k_stop_hi"],
                      "k_pso_mean": ks.mean(), "k_pso_sd": ks.std(ddof=1) if n_rep > 1 else 0.0,

@@ -137,8 +137,8 @@ def real_dataset_summaries(data_dir: str | Path | None = None, fast: bool = Fals
     if ox.exists():
         from ilocalg.io.oxford import list_oxford_archive, load_oxford_archive
 
-        names = list_oxford_archive(ox)
-        recs = load_oxford_archive(ox, names[:3] if fast else None)
+        # the full run reads every recording in one pass over the xz archive (listing it first is a second pass)
+        recs = load_oxford_archive(ox, list_oxford_archive(ox)[:3]) if fast else load_oxford_archive(ox)
         rows = []
         for r in recs:
             t = r.imu.index.to_numpy()

@@ -53,6 +53,7 @@ __all__ = [
     "Assumption",
     "Claim",
     "lookup",
+    "ResultIndex",
     "statistic_by_seed",
     "interval",
     "judge",
@@ -129,14 +130,14 @@ def diff(a: Ref, b: Ref, unit: str = "") -> Stat:
 def spearman(refs: Sequence[Ref], xs: Sequence[float]) -> Stat:
     """Spearman rank correlation of the values at ``refs`` with their abscissae ``xs`` (a trend claim:
     ``"<0"`` falls, ``">0"`` rises)."""
-    from scipy.stats import spearmanr
-
     refs = tuple(refs)
     xs = tuple(float(x) for x in xs)
     if len(refs) != len(xs) or len(refs) < 3:
         raise ValueError(f"spearman needs as many abscissae as refs and at least 3, got {len(refs)}, {len(xs)}")
 
     def rho(*v):
+        from scipy.stats import spearmanr  # scipy.stats costs ~1 CPU-s to import: only when a claim is judged
+
         r = spearmanr(xs, v).statistic
         return float(r) if np.isfinite(r) else math.nan
 
@@ -208,9 +209,61 @@ def _parse_expect(cid: str, expect: str) -> tuple[str, float]:
     raise ValueError(f"claim {cid}: expect {expect!r} must be '~', '<x' or '>x'")
 
 
-def lookup(results: pd.DataFrame, ref: Ref) -> pd.Series:
+class ResultIndex:
+    """Long results (see :func:`lookup`) split once into each experiment's default-parameter rows, so that many
+    lookups each read one experiment's rows instead of the whole table; :func:`lookup` and
+    :func:`statistic_by_seed` take it in place of the DataFrame and give the same values and errors."""
+
+    def __init__(self, results: pd.DataFrame):
+        r = results
+        if "params" in r.columns:
+            r = r[r["params"].isin(["{}", ""])]
+        self._empty = r.iloc[:0]
+        self._by_experiment = ({str(e): g for e, g in r.groupby("experiment", sort=False)}
+                               if "experiment" in r.columns and len(r) else {})
+        self._arrays: dict[str, tuple] = {}
+
+    def rows(self, experiment: str) -> pd.DataFrame:
+        """The default-parameter rows of ``experiment`` (in the results' order; none: an empty frame)."""
+        return self._by_experiment.get(experiment, self._empty)
+
+    def replace(self, experiment: str, rows: pd.DataFrame) -> ResultIndex:
+        """A copy whose ``experiment`` rows are ``rows`` (already default-parameter rows of that experiment)."""
+        out = ResultIndex.__new__(ResultIndex)
+        out._empty = self._empty
+        out._by_experiment = {**self._by_experiment, experiment: rows}
+        out._arrays = {k: v for k, v in self._arrays.items() if k != experiment}
+        return out
+
+    def find(self, ref: Ref) -> pd.Series | None:
+        """:func:`lookup` of ``ref`` from column arrays (positions by quantity), or None when it would raise
+        (then :func:`lookup` reads the rows as a DataFrame and raises with its message)."""
+        if ref.experiment not in self._arrays:
+            g = self.rows(ref.experiment)
+            if not {"quantity", "item", "table", "value"} <= set(g.columns):
+                return None
+            by_q: dict = {}
+            for i, q in enumerate(g["quantity"].to_numpy(dtype=object)):
+                by_q.setdefault(q, []).append(i)
+            seeds = g["seed"].to_numpy() if "seed" in g.columns else np.zeros(len(g), dtype=np.int64)
+            self._arrays[ref.experiment] = (by_q, g["item"].to_numpy(dtype=object),
+                                            g["table"].to_numpy(dtype=object), g["value"].to_numpy(dtype=np.float64),
+                                            seeds)
+        by_q, item, table, val, seed = self._arrays[ref.experiment]
+        pos = [i for i in by_q.get(ref.quantity, ())
+               if (ref.item is None or item[i] == ref.item) and (ref.table is None or table[i] == ref.table)]
+        if not pos:
+            return None
+        s = seed[pos]
+        if len(set(s.tolist())) < len(pos):
+            return None
+        return pd.Series(val[pos], index=s, name=str(ref))
+
+
+def lookup(results: pd.DataFrame | ResultIndex, ref: Ref) -> pd.Series:
     """The values of ``ref`` per seed (index: seed) from long results (columns ``experiment``, ``table``,
-    ``item``, ``quantity``, ``value``, optional ``seed`` and ``params``; only default-parameter rows).
+    ``item``, ``quantity``, ``value``, optional ``seed`` and ``params``; only default-parameter rows), or from
+    their :class:`ResultIndex`.
 
     Raises
     ------
@@ -218,9 +271,15 @@ def lookup(results: pd.DataFrame, ref: Ref) -> pd.Series:
         No row matches, or more than one row matches for a seed (the message names the ref and the
         candidates, so a claim that names its quantity loosely is found at once).
     """
-    r = results
-    if "params" in r.columns:
-        r = r[r["params"].isin(["{}", ""])]
+    if isinstance(results, ResultIndex):
+        found = results.find(ref)
+        if found is not None:
+            return found
+        r = results.rows(ref.experiment)
+    else:
+        r = results
+        if "params" in r.columns:
+            r = r[r["params"].isin(["{}", ""])]
     m = (r["experiment"] == ref.experiment) & (r["quantity"] == ref.quantity)
     if ref.item is not None:
         m &= r["item"] == ref.item
@@ -237,7 +296,7 @@ def lookup(results: pd.DataFrame, ref: Ref) -> pd.Series:
     return pd.Series(hit["value"].to_numpy(dtype=np.float64), index=seeds.to_numpy(), name=str(ref))
 
 
-def statistic_by_seed(stat: Stat, results: pd.DataFrame) -> pd.Series:
+def statistic_by_seed(stat: Stat, results: pd.DataFrame | ResultIndex) -> pd.Series:
     """The statistic on each seed that every ref has a value for (index: seed)."""
     if not stat.refs:
         return pd.Series([stat()], index=[0], dtype=np.float64)
@@ -330,7 +389,7 @@ CLAIM_COLUMNS = ("paper", "claim_id", "line", "kind", "claim", "paper_value", "r
                  "verdict", "robust_share", "decided_in")
 
 
-def evaluate(claim: Claim, results: pd.DataFrame, level: float = 0.95) -> dict:
+def evaluate(claim: Claim, results: pd.DataFrame | ResultIndex, level: float = 0.95) -> dict:
     """One ledger row (:data:`CLAIM_COLUMNS` plus ``n_seeds``, ``statistic``, ``expect``, ``note``) for a claim
     on long results (see :func:`lookup`). ``robust_share`` is left NaN (the robustness step fills it)."""
     row = {"paper": claim.paper, "claim_id": claim.id, "line": ";".join(str(x) for x in claim.lines),

@@ -50,7 +50,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import minimize_scalar
 
-from ilocalg.optim import PSOResult, pso_minimize
+from ilocalg.optim import PSOResult, pso_minimize, pso_minimize_many
 from ilocalg.pdr.step_length import k_from_distance, weinberg_length_m
 
 __all__ = [
@@ -63,6 +63,7 @@ __all__ = [
     "closed_form_k",
     "stop_interval",
     "learn_k",
+    "learn_k_repeats",
 ]
 
 #: PSO settings of Chao (2008), sec. 5.3.
@@ -213,3 +214,31 @@ def learn_k(steps: pd.DataFrame, d_gps_m: float, fitness: str = "per_step", rng=
                    strict=True)),
     }
     return summary, res
+
+
+def learn_k_repeats(steps: pd.DataFrame, d_gps_m: float, fitness: str = "per_step", rngs=(),
+                    pso_settings: dict | None = None) -> tuple[dict, list[PSOResult]]:
+    """:func:`learn_k` of one walk from several random sources: the PSO once per source, the references once.
+
+    The closed-form minimiser and the stop interval do not depend on the random source, so they are computed once
+    (``k_closed``, ``k_ls``, ``k_stop_lo``, ``k_stop_hi``, ``n_steps``, ``sum_q``); the swarms run in one lockstep
+    pass (:func:`ilocalg.optim.pso_minimize_many`), each the one ``learn_k(..., rng=rngs[r])`` runs, bit for bit.
+
+    Returns
+    -------
+    summary : dict
+        The seed-independent entries of :func:`learn_k`'s summary.
+    results : list of PSOResult, one per entry of ``rngs`` (``x_best[0]`` is that run's ``k_pso``).
+    """
+    if not np.isfinite(d_gps_m) or d_gps_m <= 0:
+        raise ValueError(f"d_gps_m must be a positive distance, got {d_gps_m!r}")
+    q = step_factors(steps)
+    f = _fitness_fn(fitness, q, d_gps_m)
+    settings = {**PSO_SETTINGS_PAPER, **(pso_settings or {})}
+    results = pso_minimize_many(f, K_BOUNDS, list(rngs), vectorized=True, **settings)
+    ref = closed_form_k(q, d_gps_m, fitness)
+    summary = {"k_closed": float(ref["k_min"]), "k_ls": float(ref["k_ls"]), "n_steps": int(q.size),
+               "sum_q": float(q.sum()),
+               **dict(zip(("k_stop_lo", "k_stop_hi"), stop_interval(q, d_gps_m, fitness, settings["min_fitness"]),
+                          strict=True))}
+    return summary, results

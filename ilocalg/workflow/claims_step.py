@@ -105,9 +105,10 @@ def evaluate_ledger(claims: Sequence[cl.Claim], results: pd.DataFrame, level: fl
         One or more claims whose references do not resolve; the message names every such claim.
     """
     rows, bad = [], []
+    index = cl.ResultIndex(results)  # every claim's lookups read one experiment's rows
     for c in claims:
         try:
-            rows.append(cl.evaluate(c, results, level))
+            rows.append(cl.evaluate(c, index, level))
         except KeyError as exc:
             bad.append(f"claim {c.id} ({c.paper}, line {c.line}): {exc.args[0] if exc.args else exc}")
     if bad:
@@ -305,6 +306,7 @@ def robustness(claims: Sequence[cl.Claim], base: pd.DataFrame, seed: int, fast: 
             # integer assumptions can round two samples to the same parameters: one task's rows each
             by_task[(e, p)] = g.drop_duplicates(subset=["seed", "table", "item", "quantity"])
     base0 = base[base["seed"] == seed] if "seed" in base.columns else base
+    base_index = cl.ResultIndex(base0)  # split once; each sample then replaces its own experiment's rows
     out = []
     for c in claims:
         e = c.assumptions[0].experiment
@@ -320,8 +322,8 @@ def robustness(claims: Sequence[cl.Claim], base: pd.DataFrame, seed: int, fast: 
             g = by_task.get((e, params))
             if g is None:
                 continue
-            others = base0[base0["experiment"] != e] if "experiment" in base0.columns else None
-            frame = pd.concat([others, g.assign(params="{}")], ignore_index=True)
+            # the base results of the other experiments with this sample's rows as experiment e's
+            frame = base_index.replace(e, g.assign(params="{}"))
             try:
                 v = cl.statistic_by_seed(c.statistic, frame)
             except KeyError as exc:

@@ -195,6 +195,41 @@ def _cache_path(cache_dir: Path, task: SweepTask) -> Path:
     return Path(cache_dir) / task.experiment / f"{task.key}.parquet"
 
 
+def _read_cache(path: Path):
+    """A cached result as an Arrow table (:func:`_results_frame` turns the tables into one DataFrame): a study
+    notebook reads some 900 of them, and reading each with ``pd.read_parquet`` cost ~4 ms, ~7x this."""
+    import pyarrow.parquet as pq
+
+    with pq.ParquetFile(path) as f:
+        return f.read(use_threads=False)
+
+
+def _results_frame(parts: list) -> pd.DataFrame:
+    """``pd.concat(frames, ignore_index=True)`` of task results given as DataFrames or cached Arrow tables
+    (:func:`_read_cache`): consecutive tables of one schema are joined in Arrow and converted once; each
+    converted part has the dtypes its tables have one by one, so the frame is the one ``pd.read_parquet`` of
+    every file and ``pd.concat`` gave."""
+    import pyarrow as pa
+
+    frames, run = [], []
+
+    def flush():
+        if run:
+            frames.append((pa.concat_tables(run) if len(run) > 1 else run[0]).to_pandas())
+            run.clear()
+
+    for p in parts:
+        if isinstance(p, pa.Table):
+            if run and not p.schema.equals(run[0].schema, check_metadata=True):
+                flush()
+            run.append(p)
+        else:
+            flush()
+            frames.append(p)
+    flush()
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+
+
 def _write_cache(cache_dir: Path, task: SweepTask, df: pd.DataFrame) -> None:
     cp = _cache_path(cache_dir, task)
     cp.parent.mkdir(parents=True, exist_ok=True)
@@ -299,7 +334,7 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
     for t in tasks:
         cp = _cache_path(cache, t) if cache else None
         if cp is not None and cp.exists():
-            done[t.key] = pd.read_parquet(cp)
+            done[t.key] = _read_cache(cp)  # an Arrow table until _results_frame
         else:
             todo.append(t)
     n_cached = len(done)
@@ -358,8 +393,7 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
             if own_cluster is not None:
                 own_cluster.close()
     bar.close()
-    frames = [done[t.key] for t in tasks if t.key in done]
-    results = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    results = _results_frame([done[t.key] for t in tasks if t.key in done])
     return SweepResult(results=results, failures=failures, n_tasks=len(tasks), n_cached=n_cached)
 
 
