@@ -46,6 +46,7 @@ Rauch, Tung, Striebel, AIAA J. 3(8) (1965), batch least squares and smoothing.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -229,7 +230,15 @@ def lsq_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> n
 
 
 def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> np.ndarray:
-    """Online least-squares track: each state from the data up to its time only (module docstring)."""
+    """Online least-squares track: each state from the data up to its time only (module docstring).
+
+    Solved once per problem (:func:`_shared`): ``lsq_online_map`` and ``lsq_online_map_start5s`` start from the same
+    map-started problem, and without the map at start-up ``lsq_online`` too."""
+    return _shared(problem, ("lsq_causal", bool(rotate), int(n_iter)),
+                   lambda: _lsq_causal_track(problem, rotate, n_iter)).copy()
+
+
+def _lsq_causal_track(problem: TrackProblem, rotate: bool, n_iter: int) -> np.ndarray:
     ts = problem.state_t_s
     n = ts.size
     out = np.full((n, 2), np.nan)
@@ -297,6 +306,43 @@ def map_snapper(grid) -> Callable:
 #: The snappers of the latest rasters (id -> (raster, snapper)): a floor's distance transform is computed once
 #: for all its walks and map steps. The raster is kept with its snapper, so its id stays its own.
 _SNAPPERS: dict = {}
+
+
+#: What the estimators of the latest problems share (id -> (problem, its fingerprint, {step: result})): the causal
+#: least squares, the gain filter and the map-started problem, each computed once per problem (:func:`_shared`).
+_SHARED: dict = {}
+#: How many problems :data:`_SHARED` keeps (a walk has two: its own and the map-started one).
+_SHARED_KEPT = 4
+
+
+def _fingerprint(problem: TrackProblem) -> bytes:
+    """A digest of the problem's array contents (its other fields count by identity): a problem whose arrays were
+    changed in place after a shared step is not served that step's stale result."""
+    h = hashlib.blake2b(digest_size=16)
+    for f in dataclasses.fields(problem):
+        v = getattr(problem, f.name)
+        if v is None or isinstance(v, (bool, int, float, np.ndarray, tuple, list)):
+            a = np.asarray(v if v is not None else np.nan, dtype=np.float64)
+            h.update(f.name.encode() + str(a.shape).encode() + np.ascontiguousarray(a).tobytes())
+        else:
+            h.update(f"{f.name}:{id(v)}".encode())
+    return h.digest()
+
+
+def _shared(problem: TrackProblem, key, make: Callable):
+    """``make()``, computed once per problem and ``key`` and kept for the latest :data:`_SHARED_KEPT` problems (the
+    problem kept with it, so its id stays its own); the result is shared: callers must not change it."""
+    fp = _fingerprint(problem)
+    hit = _SHARED.get(id(problem))
+    if hit is None or hit[0] is not problem or hit[1] != fp:
+        _SHARED.pop(id(problem), None)
+        while len(_SHARED) >= _SHARED_KEPT:
+            _SHARED.pop(next(iter(_SHARED)))
+        hit = _SHARED[id(problem)] = (problem, fp, {})
+    memo = hit[2]
+    if key not in memo:
+        memo[key] = make()
+    return memo[key]
 
 
 def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
@@ -382,6 +428,11 @@ def map_first_fix(problem: TrackProblem) -> TrackProblem:
     variance: the map at start-up, when the track rests on that one fix (causal: it uses that fix only)."""
     if problem.grid is None:
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    # the same object for the same problem (:func:`_shared`), so the estimators started from it share their steps
+    return _shared(problem, "map_first_fix", lambda: _map_first_fix(problem))
+
+
+def _map_first_fix(problem: TrackProblem) -> TrackProblem:
     fv = np.array(problem.fix_var_at(), dtype=np.float64)
     mu, S = walkable_posterior(problem.fix_xy_m[0], np.eye(2) * fv[0], problem.grid)
     xy = np.array(problem.fix_xy_m, dtype=np.float64)
@@ -402,12 +453,19 @@ def lsq_causal_map_track(problem: TrackProblem, map_start: bool | None = None) -
 
 
 def _gain_kf_result(problem: TrackProblem):
-    from ilocalg.track.online_kf import gain_kf
-
+    """:func:`ilocalg.track.online_kf.gain_kf` of the problem, run once per problem (:func:`_shared`: the
+    ``kf_gain*`` variants of one walk share two filters, with and without the map at start-up); read-only."""
     g = problem.gain
     if g is None:
         raise ValueError("the kf_gain estimators need the measured gain spread (TrackProblem.gain, "
                          "ilocalg.track.motion.gain_stats on the other walks)")
+    return _shared(problem, "gain_kf", lambda: _gain_kf_run(problem))
+
+
+def _gain_kf_run(problem: TrackProblem):
+    from ilocalg.track.online_kf import gain_kf
+
+    g = problem.gain
     return gain_kf(problem.state_t_s, problem.disp_m, problem.fix_t_s, problem.fix_xy_m, problem.fix_var_m2,
                    g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s,
                    fix_corr=problem.fix_corr)
@@ -415,7 +473,7 @@ def _gain_kf_result(problem: TrackProblem):
 
 def kf_gain_track(problem: TrackProblem) -> np.ndarray:
     """The gain-augmented Kalman filter (:func:`ilocalg.track.online_kf.gain_kf`), causal."""
-    return _gain_kf_result(problem).xy_m
+    return _gain_kf_result(problem).xy_m.copy()
 
 
 def kf_gain_map_track(problem: TrackProblem, map_start: bool | None = None) -> np.ndarray:
