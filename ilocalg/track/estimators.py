@@ -60,7 +60,10 @@ from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 __all__ = ["TrackProblem", "Estimator", "ESTIMATORS", "lsq_solve", "lsq_track", "lsq_causal_track", "snap_to_map",
            "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C",
            "kf_gain_map_lag_track", "kf_gain_map_start_track", "lsq_online_map_start_track", "startup_until_s",
-           "STARTUP_DELAY_S", "lsq_paths_track", "lsq_gain_solve", "PATH_ROUNDS"]
+           "STARTUP_DELAY_S", "lsq_paths_track", "lsq_gain_solve", "PATH_ROUNDS", "STATES_USED_METHODS"]
+
+#: The estimators that honour :attr:`TrackProblem.states_used` (the causal least squares and its map variants).
+STATES_USED_METHODS = ("lsq_online", "lsq_online_map", "lsq_online_map_start5s")
 
 #: Huber's constant (in standard deviations): 95 % efficiency under Gaussian errors (Huber 1981).
 HUBER_C = 1.345
@@ -92,6 +95,10 @@ class TrackProblem:
         holding the scored walk) or None; needed by the ``lsq_paths*`` estimators.
     path_var_m2 : per-axis variance of a position constrained to ``paths`` (default:
         :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2`, measured leave-one-walk-out on its walks).
+    states_used : indices of the states whose estimates are used (e.g. those around the times a walk is scored
+        at), or None (every state). The causal least squares (``lsq_online*``) then solves only at the fixes
+        those states depend on and leaves the other states NaN; every state it returns is the same number as
+        without it. The other estimators ignore it.
     """
 
     state_t_s: np.ndarray
@@ -107,6 +114,7 @@ class TrackProblem:
     fix_corr: tuple | None = None
     paths: object | None = None
     path_var_m2: float | None = None
+    states_used: np.ndarray | None = None
 
     def fix_var_at(self, sel=slice(None)) -> np.ndarray:
         """Per-axis variance of the fixes ``sel`` (an index, slice or mask of the fixes), one per fix."""
@@ -128,6 +136,10 @@ class TrackProblem:
             raise ValueError("a track needs at least one Wi-Fi fix")
         if self.fix_avail_t_s is not None and np.shape(self.fix_avail_t_s) != np.shape(self.fix_t_s):
             raise ValueError("fix_avail_t_s must have the shape of fix_t_s")
+        if self.states_used is not None:
+            u = np.asarray(self.states_used)
+            if u.ndim != 1 or u.dtype.kind not in "iu" or (u.size and (u.min() < 0 or u.max() >= n)):
+                raise ValueError(f"states_used must be indices of the {n} states, got {self.states_used!r}")
 
 
 def _interp_rows(state_t_s, t_s):
@@ -252,11 +264,27 @@ def _lsq_causal_track(problem: TrackProblem, rotate: bool, n_iter: int) -> np.nd
     last_i, last_disp = 0, problem.disp_m
     last_xy = problem.fix_xy_m[0] - (_track_at_cum(ts, cum, ft[:1])[0] - cum[0])
     out[0] = last_xy
+    solve_at = np.zeros(n, dtype=bool)             # a new fix arrived at state i: solve on 0..i
     q = 0
     for i in range(n):
         while q < ft.size and avail[q] <= i:
             q += 1
-        if q and (i == 0 or avail[q - 1] == i):          # a new fix arrived at state i: solve on 0..i
+        solve_at[i] = bool(q) and (i == 0 or avail[q - 1] == i)
+    used = needed = None
+    if problem.states_used is not None:     # only the solves the used states rest on (the last one at or before each)
+        used = np.zeros(n, dtype=bool)
+        used[np.asarray(problem.states_used, dtype=np.int64)] = True
+        last_solve = np.maximum.accumulate(np.where(solve_at, np.arange(n), -1))[used]
+        needed = np.zeros(n, dtype=bool)
+        needed[last_solve[last_solve >= 0]] = True
+    rel = None
+    q = 0
+    for i in range(n):
+        while q < ft.size and avail[q] <= i:
+            q += 1
+        if solve_at[i]:
+            if needed is not None and not needed[i]:
+                continue                                  # no used state rests on this solve
             disp = rotate_xy(problem.disp_m, _rotation(problem, q)) if rotate else problem.disp_m
             j, a = _interp_rows(ts[:i + 1], ft[:q])
             if i == 0:
@@ -265,11 +293,14 @@ def _lsq_causal_track(problem: TrackProblem, rotate: bool, n_iter: int) -> np.nd
             else:
                 x = lsq_solve(i + 1, disp[:i], problem.step_var_m2, j, a, problem.fix_xy_m[:q],
                               problem.fix_var_at(slice(q)), n_iter=n_iter, fix_corr=problem.fix_corr)
-            last_i, last_xy, last_disp = i, x[-1], disp
+            last_i, last_xy, last_disp, rel = i, x[-1], disp, None
             out[i] = last_xy
-        else:                                             # dead-reckon from the last solved state
-            rel = np.vstack([[0.0, 0.0], np.cumsum(last_disp, axis=0)])
+        elif used is None or used[i]:                     # dead-reckon from the last solved state
+            if rel is None:                               # the steps of the last solve, summed once per solve
+                rel = np.vstack([[0.0, 0.0], np.cumsum(last_disp, axis=0)])
             out[i] = last_xy + rel[i] - rel[last_i]
+    if used is not None:
+        out[~used] = np.nan
     return out
 
 
@@ -357,6 +388,18 @@ def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
             _SNAPPERS.pop(next(iter(_SNAPPERS)))
         hit = _SNAPPERS[id(grid)] = (grid, map_snapper(grid))
     return hit[1](xy_m)
+
+
+def _snap_finite(xy_m, grid) -> np.ndarray:
+    """:func:`snap_to_map` of the finite states (a state snaps alone); the NaN states a problem's ``states_used``
+    left out stay NaN."""
+    xy = np.asarray(xy_m, dtype=np.float64)
+    ok = np.isfinite(xy).all(axis=1)
+    if ok.all():
+        return snap_to_map(xy, grid)[0]
+    out = xy.copy()
+    out[ok] = snap_to_map(xy[ok], grid)[0]
+    return out
 
 
 def walkable_posterior(mean_m, cov_m2, grid, n_sd: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
@@ -449,7 +492,7 @@ def lsq_causal_map_track(problem: TrackProblem, map_start: bool | None = None) -
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
     if problem.map_start if map_start is None else map_start:
         problem = map_first_fix(problem)
-    return snap_to_map(lsq_causal_track(problem), problem.grid)[0]
+    return _snap_finite(lsq_causal_track(problem), problem.grid)
 
 
 def _gain_kf_result(problem: TrackProblem):
@@ -549,7 +592,7 @@ def lsq_online_map_start_track(problem: TrackProblem, delay_s: float = STARTUP_D
         jj, a = _interp_rows(ts[:j + 1], problem.fix_t_s[q])
         out[:j + 1] = lsq_solve(j + 1, problem.disp_m[:j], problem.step_var_m2, jj, a, problem.fix_xy_m[q],
                                 problem.fix_var_at(q), fix_corr=problem.fix_corr)
-    return snap_to_map(out, problem.grid)[0]
+    return _snap_finite(out, problem.grid)
 
 
 def _map_started(problem: TrackProblem) -> TrackProblem:

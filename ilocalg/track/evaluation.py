@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 
@@ -26,7 +28,7 @@ from ilocalg.track._config import (
     RealWalkConfig,
 )
 from ilocalg.track.database import WifiDatabase
-from ilocalg.track.estimators import ESTIMATORS, TrackProblem
+from ilocalg.track.estimators import ESTIMATORS, STATES_USED_METHODS, TrackProblem
 from ilocalg.track.fixes import (
     FixVarModel,
     calibrate_fix_var,
@@ -62,7 +64,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
                   gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
                   paths: WalkedPaths | None = None, loo_fixes: tuple | None = None,
-                  path_var_m2: float | None = None) -> dict:
+                  path_var_m2: float | None = None, score_only: bool = False) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -84,6 +86,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     :attr:`ilocalg.track.floor.WalkModel.loo_fixes`, kept with the floor model); None: computed here.
     ``path_var_m2``: the graph's spread when already measured (:attr:`ilocalg.track.floor.WalkModel.path_var_m2`,
     kept with the floor model); None: :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2` here.
+    ``score_only``: the tracks are needed only at the ground-truth points (a leave-one-walk-out sweep): the
+    estimators that can (the causal least squares, :data:`~ilocalg.track.estimators.STATES_USED_METHODS`) compute
+    only the states around them (:attr:`~ilocalg.track.estimators.TrackProblem.states_used`), their other states
+    NaN in ``tracks`` and ``track``; the errors are the same numbers. :func:`complete_tracks` fills them in.
 
     Returns
     -------
@@ -204,9 +210,13 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
+        used = None
+        if score_only:          # the states each ground-truth time is interpolated between (np.interp)
+            j = np.clip(np.searchsorted(ts, tw, side="right") - 1, 0, ts.size - 1)
+            used = np.unique(np.concatenate([j, np.minimum(j + 1, ts.size - 1)]))
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
                             fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start,
-                            fix_corr=fix_corr, paths=paths, path_var_m2=path_var_m2)
+                            fix_corr=fix_corr, paths=paths, path_var_m2=path_var_m2, states_used=used)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))
@@ -243,6 +253,24 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     out = {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info, "problem": prob,
            "scans": scans, "floors": floors}
     out["track"] = track_table(out, state_floor)
+    return out
+
+
+def complete_tracks(track: pd.DataFrame, problem: TrackProblem | None) -> pd.DataFrame:
+    """The long ``track`` table of :func:`evaluate_walk` run with ``score_only`` (its ``problem``), with the states
+    it left NaN computed: the :data:`~ilocalg.track.estimators.STATES_USED_METHODS` rows solved again on the whole
+    problem (the states it did compute are the same numbers). Unchanged when every state was computed."""
+    if problem is None or problem.states_used is None:
+        return track
+    full = dataclasses.replace(problem, states_used=None)
+    out = track.copy()
+    meth = out["method"].to_numpy()
+    for m in STATES_USED_METHODS:
+        sel = meth == m
+        if sel.any():
+            xy = ESTIMATORS[m].fn(full)
+            out.loc[sel, X_M] = xy[:, 0]
+            out.loc[sel, Y_M] = xy[:, 1]
     return out
 
 
