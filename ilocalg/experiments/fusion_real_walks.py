@@ -175,14 +175,14 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     # the walked-path graph of the floor's waypoints, built once; each scored walk's graph leaves it out
     paths = (WalkedPaths.from_recordings(fl.traces, model.db.frame) if any(m in PATH_METHODS for m in methods)
              else None)
-    acc = {v: ([], [], {}, {}) for v in variants}
+    acc = {v: ([], [], {}) for v in variants}
     for name in scored:
         wm = model.for_walk(name, cfg, select=select)      # the fix-model fields do not enter it
         # the fair-baseline check: plain WKNN (K = 5, readings older than 2 s dropped) on the same database; the
         # walk's own fixes when its Wi-Fi configuration has the same WKNN settings (the same fixes)
         pfx = None
         for v, kw in variants.items():
-            wrows, prow, trk, probs = acc[v]
+            wrows, prow, trk = acc[v]
             wcfg = dataclasses.replace(wm.cfg, **kw)
             r = evaluate_walk(fl.traces[name], wm.db, wm.calibration, wm.fix_var_m2, wcfg, grid=grid,
                               steps=steps[name], rng=np.random.default_rng([seed, all_names.index(name)]),
@@ -195,7 +195,8 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
                 pfx = r["fixes"] if wknn_key(wcfg) == wknn_key(plain) else wifi_fixes(fl.traces[name], wm.db, plain)
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
-            trk[name], probs[name] = r["track"], r["problem"]     # whole tracks only for the walks drawn
+            # what the two drawn walks' whole tracks are made from (complete_tracks), once they are known
+            trk[name] = {k: r[k] for k in ("tracks", "state_t_s", "fixes", "problem", "state_floor", "track")}
             wrows.append(e)
             prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                          "wifi_config": wm.wifi_config, **r["info"]})
@@ -208,9 +209,9 @@ def _fits_fix_model(cfg: RealWalkConfig) -> bool:
     return cfg.fix_var == "per_fix" or bool(cfg.fix_corr)
 
 
-def _tables(wrows, prow, trk, probs, methods, fl, dataset, relisted_wifi, cfg) -> dict:
-    """:func:`run`'s tables from the scored walks' error rows, per-walk rows and tracks (scored at the waypoints
-    only, ``probs``: each walk's track problem to complete the two drawn walks' tracks with)."""
+def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
+    """:func:`run`'s tables from the scored walks' error rows, per-walk rows and what their tracks are made from
+    (scored at the waypoints only: :func:`ilocalg.track.evaluation.complete_tracks` for the two walks drawn)."""
     wp = pd.concat(wrows, ignore_index=True)
     wp = wp[["walk"] + [c for c in wp.columns if c != "walk"]]
     pw = pd.DataFrame(prow)
@@ -244,7 +245,7 @@ def _tables(wrows, prow, trk, probs, methods, fl, dataset, relisted_wifi, cfg) -
     best_m = off.loc[off["mean_error_m"].idxmin(), "method"] if len(off) else "wifi"
     order = pw.sort_values(best_m)["walk"].tolist()
     picks = {"best": order[0], "worst": order[-1]}
-    tracks = pd.concat([complete_tracks(trk[w], probs[w]).assign(walk=w, which=k) for k, w in picks.items()],
+    tracks = pd.concat([complete_tracks(trk[w]).assign(walk=w, which=k) for k, w in picks.items()],
                        ignore_index=True)
     truth = pd.concat([fl.traces[w].waypoints[[T_S, X_M, Y_M]].assign(walk=w, which=k) for k, w in picks.items()],
                       ignore_index=True)

@@ -89,7 +89,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     ``score_only``: the tracks are needed only at the ground-truth points (a leave-one-walk-out sweep): the
     estimators that can (the causal least squares, :data:`~ilocalg.track.estimators.STATES_USED_METHODS`) compute
     only the states around them (:attr:`~ilocalg.track.estimators.TrackProblem.states_used`), their other states
-    NaN in ``tracks`` and ``track``; the errors are the same numbers. :func:`complete_tracks` fills them in.
+    NaN in ``tracks``, and ``track`` is None; the errors are the same numbers. :func:`complete_tracks` gives the
+    ``track`` table of such a result, every state computed.
 
     Returns
     -------
@@ -100,7 +101,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         ``floor_true`` and one column per method, or None without floor numbers), ``problem`` (the
         :class:`~ilocalg.track.estimators.TrackProblem` the least-squares and ``kf_gain*`` methods solved, or
         None when none was asked for), ``track`` (long
-        DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`). ``errors``
+        DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`; None with ``score_only``),
+        ``state_floor`` (method -> floor estimate per state, empty without floor numbers). ``errors``
         also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints),
         never a method.
 
@@ -252,26 +254,26 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
              "floor_source": None if fest is None else fest.source}
     out = {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info, "problem": prob,
            "scans": scans, "floors": floors}
-    out["track"] = track_table(out, state_floor)
+    # scored only: the long table (every state of every method) is made for the walks drawn, by complete_tracks
+    out["track"] = None if score_only else track_table(out, state_floor)
+    out["state_floor"] = state_floor
     return out
 
 
-def complete_tracks(track: pd.DataFrame, problem: TrackProblem | None) -> pd.DataFrame:
-    """The long ``track`` table of :func:`evaluate_walk` run with ``score_only`` (its ``problem``), with the states
-    it left NaN computed: the :data:`~ilocalg.track.estimators.STATES_USED_METHODS` rows solved again on the whole
-    problem (the states it did compute are the same numbers). Unchanged when every state was computed."""
-    if problem is None or problem.states_used is None:
-        return track
-    full = dataclasses.replace(problem, states_used=None)
-    out = track.copy()
-    meth = out["method"].to_numpy()
-    for m in STATES_USED_METHODS:
-        sel = meth == m
-        if sel.any():
-            xy = ESTIMATORS[m].fn(full)
-            out.loc[sel, X_M] = xy[:, 0]
-            out.loc[sel, Y_M] = xy[:, 1]
-    return out
+def complete_tracks(result: dict) -> pd.DataFrame:
+    """The long ``track`` table (:func:`track_table`) of a result of :func:`evaluate_walk` run with ``score_only``:
+    the :data:`~ilocalg.track.estimators.STATES_USED_METHODS` tracks solved again on the whole problem, every state
+    (the states the scoring computed are the same numbers); the result's own table when it has one."""
+    if result.get("track") is not None:
+        return result["track"]
+    prob = result["problem"]
+    tracks = dict(result["tracks"])
+    if prob is not None and prob.states_used is not None:
+        full = dataclasses.replace(prob, states_used=None)
+        for m in STATES_USED_METHODS:
+            if m in tracks:
+                tracks[m] = ESTIMATORS[m].fn(full)
+    return track_table({**result, "tracks": tracks}, result["state_floor"])
 
 
 def track_table(result: dict, state_floor: dict | None = None) -> pd.DataFrame:
