@@ -38,6 +38,9 @@ def test_run_on_two_walks(shared_data, floor):
     assert (pw["k_weinberg"].between(0.3, 0.7)).all() and (pw["floor_offset_deg"].abs() < 20).all()
     t2 = frw.run(seed=0, floor=floor, cfg=cfg, names=SHORT, select=False)
     assert t2["waypoints"].equals(wp)
+    # scored at the waypoints only, the drawn walks' tracks are whole: every state of every method
+    assert t["tracks"][["x_m", "y_m"]].notna().all().all()
+    assert set(t["tracks"]["method"]) >= {"lsq_online", "lsq_online_map", "lsq_online_map_start5s"}
     from ilocalg.io.paths import dataset_path
 
     assert frw.load_floor(dataset_path(frw.DATASET)) is floor  # the same files are read once per process

@@ -218,3 +218,32 @@ def test_effective_age_is_the_mean_fresh_reading_age():
 
     a = np.array([[0.5, 1.5, 9.0], [np.nan, 3.0, 4.0], [np.nan, np.nan, np.nan], [0.0, np.nan, 2.0]])
     np.testing.assert_allclose(effective_age_s(a), [1.0, 3.0, 0.0, 1.0])
+
+
+@pytest.mark.parametrize("rotate", [False, True])
+def test_states_used_gives_the_same_states_and_nan_elsewhere(rotate):
+    """TrackProblem.states_used: the causal least squares solves only where the used states rest on, and those
+    states are the very numbers of the whole solve (bit for bit); the map variants snap them alike."""
+    import dataclasses
+
+    from ilocalg.track.estimators import ESTIMATORS, STATES_USED_METHODS
+
+    p, _ = _walk(seed=3, n=160)
+    rng = np.random.default_rng(3)
+    p = dataclasses.replace(p, fix_avail_t_s=np.sort(p.fix_t_s + rng.uniform(0, 2.5, p.fix_t_s.size)),
+                            fix_corr=(0.4, 0.7, 3.0))
+    used = np.array([0, 1, 37, 38, 90, 91, 159, 160])
+    q = dataclasses.replace(p, states_used=used)
+    a, b = lsq_causal_track(p, rotate=rotate), lsq_causal_track(q, rotate=rotate)
+    assert a[used].tobytes() == b[used].tobytes()
+    assert np.isnan(np.delete(b, used, axis=0)).all()
+    if not rotate:
+        mask = np.ones((60, 200), dtype=bool)
+        mask[:, 90:110] = False                     # a wall band the track crosses: some states snap
+        grid = OccupancyGrid(mask, x0_m=-50.0, y0_m=-30.0, cell_m=1.0)
+        pg, qg = (dataclasses.replace(r, grid=grid, map_start=True) for r in (p, q))
+        for m in STATES_USED_METHODS:
+            full, part = ESTIMATORS[m].fn(pg), ESTIMATORS[m].fn(qg)
+            assert full[used].tobytes() == part[used].tobytes(), m
+    with pytest.raises(ValueError, match="states_used"):
+        dataclasses.replace(p, states_used=np.array([0, 161]))

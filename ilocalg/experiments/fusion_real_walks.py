@@ -38,7 +38,7 @@ from ilocalg.track import (
     walk_steps,
 )
 from ilocalg.track._config import PATH_METHODS, latency_of
-from ilocalg.track.evaluation import _latest_fix
+from ilocalg.track.evaluation import _latest_fix, complete_tracks
 from ilocalg.track.fixes import wifi_fixes, wknn_key
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
@@ -189,13 +189,14 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
                               methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain,
                               paths=None if paths is None else paths.without(name),
                               loo_fixes=model.loo_fixes([name], cfg, select=select)[name]
-                              if _fits_fix_model(wcfg) else None)
+                              if _fits_fix_model(wcfg) else None, score_only=True)
             e = r["errors"].assign(walk=name)
             if pfx is None:
                 pfx = r["fixes"] if wknn_key(wcfg) == wknn_key(plain) else wifi_fixes(fl.traces[name], wm.db, plain)
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
-            trk[name] = r["track"]
+            # what the two drawn walks' whole tracks are made from (complete_tracks), once they are known
+            trk[name] = {k: r[k] for k in ("tracks", "state_t_s", "fixes", "problem", "state_floor", "track")}
             wrows.append(e)
             prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                          "wifi_config": wm.wifi_config, **r["info"]})
@@ -209,7 +210,8 @@ def _fits_fix_model(cfg: RealWalkConfig) -> bool:
 
 
 def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
-    """:func:`run`'s tables from the scored walks' error rows, per-walk rows and tracks."""
+    """:func:`run`'s tables from the scored walks' error rows, per-walk rows and what their tracks are made from
+    (scored at the waypoints only: :func:`ilocalg.track.evaluation.complete_tracks` for the two walks drawn)."""
     wp = pd.concat(wrows, ignore_index=True)
     wp = wp[["walk"] + [c for c in wp.columns if c != "walk"]]
     pw = pd.DataFrame(prow)
@@ -243,7 +245,8 @@ def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
     best_m = off.loc[off["mean_error_m"].idxmin(), "method"] if len(off) else "wifi"
     order = pw.sort_values(best_m)["walk"].tolist()
     picks = {"best": order[0], "worst": order[-1]}
-    tracks = pd.concat([trk[w].assign(walk=w, which=k) for k, w in picks.items()], ignore_index=True)
+    tracks = pd.concat([complete_tracks(trk[w]).assign(walk=w, which=k) for k, w in picks.items()],
+                       ignore_index=True)
     truth = pd.concat([fl.traces[w].waypoints[[T_S, X_M, Y_M]].assign(walk=w, which=k) for k, w in picks.items()],
                       ignore_index=True)
     sw = wp.melt(id_vars=["walk", "waypoint"], value_vars=list(methods) + ["wifi_plain_knn"], var_name="quantity")

@@ -253,7 +253,8 @@ class Recording:
         h.update(np.round(self.imu.to_numpy(dtype=np.float64), 6).tobytes())
         h.update(np.round(self.wifi[T_S].to_numpy(dtype=np.float64) - t0, 6).tobytes())
         h.update(np.round(self.wifi[RSSI_DBM].to_numpy(dtype=np.float64), 3).tobytes())
-        h.update("\n".join(self.wifi[BSSID].astype(str).str.lower()).encode())
+        # tolist: the same strings, without iterating an Arrow-backed column element by element (5x faster)
+        h.update("\n".join(self.wifi[BSSID].astype(str).str.lower().tolist()).encode())
         return h.hexdigest()
 
     def in_frame(self, frame: LocalFrame) -> Recording:

@@ -46,6 +46,7 @@ Rauch, Tung, Striebel, AIAA J. 3(8) (1965), batch least squares and smoothing.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -59,7 +60,10 @@ from ilocalg.fusion.heading_offset import fit_track_to_fixes, rotate_xy
 __all__ = ["TrackProblem", "Estimator", "ESTIMATORS", "lsq_solve", "lsq_track", "lsq_causal_track", "snap_to_map",
            "map_snapper", "kf_gain_track", "kf_gain_map_track", "kf_gain_lag_track", "KF_GAIN_LAG_S", "HUBER_C",
            "kf_gain_map_lag_track", "kf_gain_map_start_track", "lsq_online_map_start_track", "startup_until_s",
-           "STARTUP_DELAY_S", "lsq_paths_track", "lsq_gain_solve", "PATH_ROUNDS"]
+           "STARTUP_DELAY_S", "lsq_paths_track", "lsq_gain_solve", "PATH_ROUNDS", "STATES_USED_METHODS"]
+
+#: The estimators that honour :attr:`TrackProblem.states_used` (the causal least squares and its map variants).
+STATES_USED_METHODS = ("lsq_online", "lsq_online_map", "lsq_online_map_start5s")
 
 #: Huber's constant (in standard deviations): 95 % efficiency under Gaussian errors (Huber 1981).
 HUBER_C = 1.345
@@ -91,6 +95,10 @@ class TrackProblem:
         holding the scored walk) or None; needed by the ``lsq_paths*`` estimators.
     path_var_m2 : per-axis variance of a position constrained to ``paths`` (default:
         :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2`, measured leave-one-walk-out on its walks).
+    states_used : indices of the states whose estimates are used (e.g. those around the times a walk is scored
+        at), or None (every state). The causal least squares (``lsq_online*``) then solves only at the fixes
+        those states depend on and leaves the other states NaN; every state it returns is the same number as
+        without it. The other estimators ignore it.
     """
 
     state_t_s: np.ndarray
@@ -106,6 +114,7 @@ class TrackProblem:
     fix_corr: tuple | None = None
     paths: object | None = None
     path_var_m2: float | None = None
+    states_used: np.ndarray | None = None
 
     def fix_var_at(self, sel=slice(None)) -> np.ndarray:
         """Per-axis variance of the fixes ``sel`` (an index, slice or mask of the fixes), one per fix."""
@@ -127,6 +136,10 @@ class TrackProblem:
             raise ValueError("a track needs at least one Wi-Fi fix")
         if self.fix_avail_t_s is not None and np.shape(self.fix_avail_t_s) != np.shape(self.fix_t_s):
             raise ValueError("fix_avail_t_s must have the shape of fix_t_s")
+        if self.states_used is not None:
+            u = np.asarray(self.states_used)
+            if u.ndim != 1 or u.dtype.kind not in "iu" or (u.size and (u.min() < 0 or u.max() >= n)):
+                raise ValueError(f"states_used must be indices of the {n} states, got {self.states_used!r}")
 
 
 def _interp_rows(state_t_s, t_s):
@@ -229,7 +242,15 @@ def lsq_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> n
 
 
 def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 5) -> np.ndarray:
-    """Online least-squares track: each state from the data up to its time only (module docstring)."""
+    """Online least-squares track: each state from the data up to its time only (module docstring).
+
+    Solved once per problem (:func:`_shared`): ``lsq_online_map`` and ``lsq_online_map_start5s`` start from the same
+    map-started problem, and without the map at start-up ``lsq_online`` too."""
+    return _shared(problem, ("lsq_causal", bool(rotate), int(n_iter)),
+                   lambda: _lsq_causal_track(problem, rotate, n_iter)).copy()
+
+
+def _lsq_causal_track(problem: TrackProblem, rotate: bool, n_iter: int) -> np.ndarray:
     ts = problem.state_t_s
     n = ts.size
     out = np.full((n, 2), np.nan)
@@ -243,11 +264,27 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
     last_i, last_disp = 0, problem.disp_m
     last_xy = problem.fix_xy_m[0] - (_track_at_cum(ts, cum, ft[:1])[0] - cum[0])
     out[0] = last_xy
+    solve_at = np.zeros(n, dtype=bool)             # a new fix arrived at state i: solve on 0..i
     q = 0
     for i in range(n):
         while q < ft.size and avail[q] <= i:
             q += 1
-        if q and (i == 0 or avail[q - 1] == i):          # a new fix arrived at state i: solve on 0..i
+        solve_at[i] = bool(q) and (i == 0 or avail[q - 1] == i)
+    used = needed = None
+    if problem.states_used is not None:     # only the solves the used states rest on (the last one at or before each)
+        used = np.zeros(n, dtype=bool)
+        used[np.asarray(problem.states_used, dtype=np.int64)] = True
+        last_solve = np.maximum.accumulate(np.where(solve_at, np.arange(n), -1))[used]
+        needed = np.zeros(n, dtype=bool)
+        needed[last_solve[last_solve >= 0]] = True
+    rel = None
+    q = 0
+    for i in range(n):
+        while q < ft.size and avail[q] <= i:
+            q += 1
+        if solve_at[i]:
+            if needed is not None and not needed[i]:
+                continue                                  # no used state rests on this solve
             disp = rotate_xy(problem.disp_m, _rotation(problem, q)) if rotate else problem.disp_m
             j, a = _interp_rows(ts[:i + 1], ft[:q])
             if i == 0:
@@ -256,11 +293,14 @@ def lsq_causal_track(problem: TrackProblem, rotate: bool = False, n_iter: int = 
             else:
                 x = lsq_solve(i + 1, disp[:i], problem.step_var_m2, j, a, problem.fix_xy_m[:q],
                               problem.fix_var_at(slice(q)), n_iter=n_iter, fix_corr=problem.fix_corr)
-            last_i, last_xy, last_disp = i, x[-1], disp
+            last_i, last_xy, last_disp, rel = i, x[-1], disp, None
             out[i] = last_xy
-        else:                                             # dead-reckon from the last solved state
-            rel = np.vstack([[0.0, 0.0], np.cumsum(last_disp, axis=0)])
+        elif used is None or used[i]:                     # dead-reckon from the last solved state
+            if rel is None:                               # the steps of the last solve, summed once per solve
+                rel = np.vstack([[0.0, 0.0], np.cumsum(last_disp, axis=0)])
             out[i] = last_xy + rel[i] - rel[last_i]
+    if used is not None:
+        out[~used] = np.nan
     return out
 
 
@@ -299,6 +339,43 @@ def map_snapper(grid) -> Callable:
 _SNAPPERS: dict = {}
 
 
+#: What the estimators of the latest problems share (id -> (problem, its fingerprint, {step: result})): the causal
+#: least squares, the gain filter and the map-started problem, each computed once per problem (:func:`_shared`).
+_SHARED: dict = {}
+#: How many problems :data:`_SHARED` keeps (a walk has two: its own and the map-started one).
+_SHARED_KEPT = 4
+
+
+def _fingerprint(problem: TrackProblem) -> bytes:
+    """A digest of the problem's array contents (its other fields count by identity): a problem whose arrays were
+    changed in place after a shared step is not served that step's stale result."""
+    h = hashlib.blake2b(digest_size=16)
+    for f in dataclasses.fields(problem):
+        v = getattr(problem, f.name)
+        if v is None or isinstance(v, (bool, int, float, np.ndarray, tuple, list)):
+            a = np.asarray(v if v is not None else np.nan, dtype=np.float64)
+            h.update(f.name.encode() + str(a.shape).encode() + np.ascontiguousarray(a).tobytes())
+        else:
+            h.update(f"{f.name}:{id(v)}".encode())
+    return h.digest()
+
+
+def _shared(problem: TrackProblem, key, make: Callable):
+    """``make()``, computed once per problem and ``key`` and kept for the latest :data:`_SHARED_KEPT` problems (the
+    problem kept with it, so its id stays its own); the result is shared: callers must not change it."""
+    fp = _fingerprint(problem)
+    hit = _SHARED.get(id(problem))
+    if hit is None or hit[0] is not problem or hit[1] != fp:
+        _SHARED.pop(id(problem), None)
+        while len(_SHARED) >= _SHARED_KEPT:
+            _SHARED.pop(next(iter(_SHARED)))
+        hit = _SHARED[id(problem)] = (problem, fp, {})
+    memo = hit[2]
+    if key not in memo:
+        memo[key] = make()
+    return memo[key]
+
+
 def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
     """Nearest walkable cell centre of every point off the walkable raster (points on it are unchanged).
 
@@ -311,6 +388,18 @@ def snap_to_map(xy_m, grid) -> tuple[np.ndarray, np.ndarray]:
             _SNAPPERS.pop(next(iter(_SNAPPERS)))
         hit = _SNAPPERS[id(grid)] = (grid, map_snapper(grid))
     return hit[1](xy_m)
+
+
+def _snap_finite(xy_m, grid) -> np.ndarray:
+    """:func:`snap_to_map` of the finite states (a state snaps alone); the NaN states a problem's ``states_used``
+    left out stay NaN."""
+    xy = np.asarray(xy_m, dtype=np.float64)
+    ok = np.isfinite(xy).all(axis=1)
+    if ok.all():
+        return snap_to_map(xy, grid)[0]
+    out = xy.copy()
+    out[ok] = snap_to_map(xy[ok], grid)[0]
+    return out
 
 
 def walkable_posterior(mean_m, cov_m2, grid, n_sd: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
@@ -382,6 +471,11 @@ def map_first_fix(problem: TrackProblem) -> TrackProblem:
     variance: the map at start-up, when the track rests on that one fix (causal: it uses that fix only)."""
     if problem.grid is None:
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
+    # the same object for the same problem (:func:`_shared`), so the estimators started from it share their steps
+    return _shared(problem, "map_first_fix", lambda: _map_first_fix(problem))
+
+
+def _map_first_fix(problem: TrackProblem) -> TrackProblem:
     fv = np.array(problem.fix_var_at(), dtype=np.float64)
     mu, S = walkable_posterior(problem.fix_xy_m[0], np.eye(2) * fv[0], problem.grid)
     xy = np.array(problem.fix_xy_m, dtype=np.float64)
@@ -398,16 +492,23 @@ def lsq_causal_map_track(problem: TrackProblem, map_start: bool | None = None) -
         raise ValueError("the map step needs the floor's walkable raster (TrackProblem.grid)")
     if problem.map_start if map_start is None else map_start:
         problem = map_first_fix(problem)
-    return snap_to_map(lsq_causal_track(problem), problem.grid)[0]
+    return _snap_finite(lsq_causal_track(problem), problem.grid)
 
 
 def _gain_kf_result(problem: TrackProblem):
-    from ilocalg.track.online_kf import gain_kf
-
+    """:func:`ilocalg.track.online_kf.gain_kf` of the problem, run once per problem (:func:`_shared`: the
+    ``kf_gain*`` variants of one walk share two filters, with and without the map at start-up); read-only."""
     g = problem.gain
     if g is None:
         raise ValueError("the kf_gain estimators need the measured gain spread (TrackProblem.gain, "
                          "ilocalg.track.motion.gain_stats on the other walks)")
+    return _shared(problem, "gain_kf", lambda: _gain_kf_run(problem))
+
+
+def _gain_kf_run(problem: TrackProblem):
+    from ilocalg.track.online_kf import gain_kf
+
+    g = problem.gain
     return gain_kf(problem.state_t_s, problem.disp_m, problem.fix_t_s, problem.fix_xy_m, problem.fix_var_m2,
                    g.step_var_m2, g.gain_var, g.gain_walk_var, fix_avail_t_s=problem.fix_avail_t_s,
                    fix_corr=problem.fix_corr)
@@ -415,7 +516,7 @@ def _gain_kf_result(problem: TrackProblem):
 
 def kf_gain_track(problem: TrackProblem) -> np.ndarray:
     """The gain-augmented Kalman filter (:func:`ilocalg.track.online_kf.gain_kf`), causal."""
-    return _gain_kf_result(problem).xy_m
+    return _gain_kf_result(problem).xy_m.copy()
 
 
 def kf_gain_map_track(problem: TrackProblem, map_start: bool | None = None) -> np.ndarray:
@@ -491,7 +592,7 @@ def lsq_online_map_start_track(problem: TrackProblem, delay_s: float = STARTUP_D
         jj, a = _interp_rows(ts[:j + 1], problem.fix_t_s[q])
         out[:j + 1] = lsq_solve(j + 1, problem.disp_m[:j], problem.step_var_m2, jj, a, problem.fix_xy_m[q],
                                 problem.fix_var_at(q), fix_corr=problem.fix_corr)
-    return snap_to_map(out, problem.grid)[0]
+    return _snap_finite(out, problem.grid)
 
 
 def _map_started(problem: TrackProblem) -> TrackProblem:

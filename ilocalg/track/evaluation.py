@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 
@@ -26,7 +28,7 @@ from ilocalg.track._config import (
     RealWalkConfig,
 )
 from ilocalg.track.database import WifiDatabase
-from ilocalg.track.estimators import ESTIMATORS, TrackProblem
+from ilocalg.track.estimators import ESTIMATORS, STATES_USED_METHODS, TrackProblem
 from ilocalg.track.fixes import (
     FixVarModel,
     calibrate_fix_var,
@@ -62,7 +64,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
                   gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
                   paths: WalkedPaths | None = None, loo_fixes: tuple | None = None,
-                  path_var_m2: float | None = None) -> dict:
+                  path_var_m2: float | None = None, score_only: bool = False) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -84,6 +86,11 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     :attr:`ilocalg.track.floor.WalkModel.loo_fixes`, kept with the floor model); None: computed here.
     ``path_var_m2``: the graph's spread when already measured (:attr:`ilocalg.track.floor.WalkModel.path_var_m2`,
     kept with the floor model); None: :meth:`~ilocalg.track.paths.WalkedPaths.spread_var_m2` here.
+    ``score_only``: the tracks are needed only at the ground-truth points (a leave-one-walk-out sweep): the
+    estimators that can (the causal least squares, :data:`~ilocalg.track.estimators.STATES_USED_METHODS`) compute
+    only the states around them (:attr:`~ilocalg.track.estimators.TrackProblem.states_used`), their other states
+    NaN in ``tracks``, and ``track`` is None; the errors are the same numbers. :func:`complete_tracks` gives the
+    ``track`` table of such a result, every state computed.
 
     Returns
     -------
@@ -94,7 +101,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         ``floor_true`` and one column per method, or None without floor numbers), ``problem`` (the
         :class:`~ilocalg.track.estimators.TrackProblem` the least-squares and ``kf_gain*`` methods solved, or
         None when none was asked for), ``track`` (long
-        DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`). ``errors``
+        DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`; None with ``score_only``),
+        ``state_floor`` (method -> floor estimate per state, empty without floor numbers). ``errors``
         also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints),
         never a method.
 
@@ -204,9 +212,13 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
+        used = None
+        if score_only:          # the states each ground-truth time is interpolated between (np.interp)
+            j = np.clip(np.searchsorted(ts, tw, side="right") - 1, 0, ts.size - 1)
+            used = np.unique(np.concatenate([j, np.minimum(j + 1, ts.size - 1)]))
         prob = TrackProblem(ts, np.diff(dead_reckon(d, th)[["x_m", "y_m"]].to_numpy(), axis=0), sv, t_fix, fx.xy_m,
                             fvar, grid, fix_avail_t_s=fx.t_s, gain=gain, map_start=cfg.map_start,
-                            fix_corr=fix_corr, paths=paths, path_var_m2=path_var_m2)
+                            fix_corr=fix_corr, paths=paths, path_var_m2=path_var_m2, states_used=used)
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))
@@ -242,8 +254,26 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
              "floor_source": None if fest is None else fest.source}
     out = {"errors": pd.DataFrame(err), "tracks": tracks, "state_t_s": ts, "fixes": fx, "info": info, "problem": prob,
            "scans": scans, "floors": floors}
-    out["track"] = track_table(out, state_floor)
+    # scored only: the long table (every state of every method) is made for the walks drawn, by complete_tracks
+    out["track"] = None if score_only else track_table(out, state_floor)
+    out["state_floor"] = state_floor
     return out
+
+
+def complete_tracks(result: dict) -> pd.DataFrame:
+    """The long ``track`` table (:func:`track_table`) of a result of :func:`evaluate_walk` run with ``score_only``:
+    the :data:`~ilocalg.track.estimators.STATES_USED_METHODS` tracks solved again on the whole problem, every state
+    (the states the scoring computed are the same numbers); the result's own table when it has one."""
+    if result.get("track") is not None:
+        return result["track"]
+    prob = result["problem"]
+    tracks = dict(result["tracks"])
+    if prob is not None and prob.states_used is not None:
+        full = dataclasses.replace(prob, states_used=None)
+        for m in STATES_USED_METHODS:
+            if m in tracks:
+                tracks[m] = ESTIMATORS[m].fn(full)
+    return track_table({**result, "tracks": tracks}, result["state_floor"])
 
 
 def track_table(result: dict, state_floor: dict | None = None) -> pd.DataFrame:

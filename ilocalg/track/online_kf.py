@@ -231,12 +231,16 @@ def gain_kf_smooth_to(res: GainKFResult, end) -> np.ndarray:
     if end.shape != (n,) or np.any(end < np.arange(n)) or np.any(end >= n):
         raise ValueError(f"end must have shape ({n},) with k <= end[k] < {n}")
     out = res.x[:, :2].copy()
+    # the RTS gain of state i does not depend on where the recursion started: each computed once, when first needed
+    # (the smoothed covariances are not needed for the positions)
+    gains = [None] * n
     for k in range(n):
         j = int(end[k])
-        xs, Ps = res.x[j], res.P[j]
+        xs = res.x[j]
         for i in range(j - 1, k - 1, -1):
-            C = np.linalg.solve(res.P_pred[i + 1], res.F[i + 1] @ res.P[i]).T
+            C = gains[i]
+            if C is None:
+                C = gains[i] = np.linalg.solve(res.P_pred[i + 1], res.F[i + 1] @ res.P[i]).T
             xs = res.x[i] + C @ (xs - res.x_pred[i + 1])
-            Ps = res.P[i] + C @ (Ps - res.P_pred[i + 1]) @ C.T
         out[k] = xs[:2]
     return out

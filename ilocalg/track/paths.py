@@ -198,11 +198,43 @@ class WalkedPaths:
             self._memo[key] = (M, sw, walks)
         return self._memo[key]
 
+    def _two_nearest_walks(self, step_m: float):
+        """Every sample's nearest other walk (index into :attr:`walks`, -1: none), its squared distance, the
+        second nearest other walk's (inf: none), from :meth:`_walk_min_d2`, and each walk's samples (walk -> rows);
+        kept."""
+        key = ("two_nearest", step_m)
+        if key not in self._memo:
+            M, sw, walks = self._walk_min_d2(step_m)
+            pos = {w: i for i, w in enumerate(walks)}
+            own = np.array([pos[w] for w in sw], dtype=np.int64).reshape(-1)
+            D = M.copy()
+            D[np.arange(D.shape[0]), own] = np.inf
+            if D.shape[1] >= 2:
+                part = np.argpartition(D, 1, axis=1)[:, :2]
+                v = np.take_along_axis(D, part, axis=1)
+                first = np.argmin(v, axis=1)
+                b1 = part[np.arange(D.shape[0]), first]
+                v1, v2 = v[np.arange(D.shape[0]), first], v[np.arange(D.shape[0]), 1 - first]
+            else:
+                b1, v1, v2 = np.zeros(D.shape[0], dtype=np.int64), D[:, 0], np.full(D.shape[0], np.inf)
+            b1 = np.where(np.isfinite(v1), b1, -1)
+            self._memo[key] = (b1, v1, v2, {w: np.flatnonzero(own == i) for i, w in enumerate(walks)})
+        return self._memo[key]
+
     def _spread_d2(self, step_m: float, removed, names) -> np.ndarray:
         """The squared distances :meth:`spread_var_m2` of ``self.without(*removed)`` averages (walks ``names``, in
         order): each of a walk's samples to the nearest segment of the walks other than it and ``removed``, the
         least of this graph's per-walk distances (:meth:`_walk_min_d2`; the same numbers as projecting)."""
         M, sw, walks = self._walk_min_d2(step_m)
+        if len(removed) == 1:                   # one walk left out (a scored walk): from each sample's two nearest
+            (r,) = removed
+            b1, v1, v2, rows = self._two_nearest_walks(step_m)
+            ri = walks.index(r) if r in walks else -1
+            at = np.concatenate([rows[n] for n in names])       # each walk's samples, in the order of names
+            d = np.where(b1[at] == ri, v2[at], v1[at])  # the least over the walks but its own and r: the same value
+            if not np.isfinite(d).all():
+                raise ValueError("the walked-path graph has no segment (no database walk with two waypoints)")
+            return np.sqrt(d) ** 2
         out = []
         for n in names:
             allowed = np.array([w != n and w not in removed for w in walks])
