@@ -606,6 +606,171 @@ def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=
     return P
 
 
+class _Run:
+    """One filter run between its epochs: what :func:`run_eskf` and :func:`run_eskf_batch` set up, update and
+    return (the same code for both: the prediction between two update epochs is the only part they do apart).
+
+    ``mode``: "full" (covariance histories), "cp" (checkpoints) or "nav" (no covariance kept: the navigation
+    solution, sensor estimates, fed-back errors and NIS only; :func:`run_eskf_batch` only). The navigation
+    solution never depends on it.
+    """
+
+    def __init__(self, t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates, config, sensor0,
+                 mode, prefix, arrays=None):
+        t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
+        config = config or EskfConfig()
+        P0 = check_covariance("P0", P0, N_STATES)
+        for name, v, shape in (("pos0_n_m", pos0_n_m, (3,)), ("vel0_n_mps", vel0_n_mps, (3,)),
+                               ("mat0_nb", mat0_nb, (3, 3))):
+            a = np.asarray(v, dtype=float)
+            if a.shape != shape or not np.all(np.isfinite(a)):
+                raise ValueError(f"{name} must be a finite array of shape {shape}, got {a.shape}")
+        updates = list(updates)
+        for u in updates:
+            if not isinstance(u, Measurement):
+                raise ValueError(f"updates must obey the Measurement protocol (t_s, name, rows), got "
+                                 f"{type(u).__name__}")
+            sd = getattr(u, "sd", None)
+            if sd is not None:
+                sdv = np.asarray(sd, dtype=float)
+                _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
+        self.t_s, self.gyr, self.acc, self.config, self.mode = t_s, gyr, acc, config, mode
+        self.updates = updates
+        self.sched = _schedule(t_s, updates)
+        self.plan, self.Z_all, self.R_all, self.H_all, self.src_all, self.body = _stacked_rows(t_s, updates)
+        s0 = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
+        P = 0.5 * (P0 + P0.T)
+        full = mode == "full"
+        self.full = full
+        self.P0 = P0
+        self.pos0, self.vel0, self.mat0, self.sensor0 = pos0_n_m, vel0_n_mps, mat0_nb, sensor0
+        self.inputs = inputs = (t_s, gyr, acc, np.asarray(pos0_n_m, dtype=float), np.asarray(vel0_n_mps, dtype=float),
+                                np.asarray(mat0_nb, dtype=float), P, s0, tuple(updates), config,
+                                full if mode != "nav" else "nav")
+        prev, k_start = None, -1
+        for cand in ([prefix] if isinstance(prefix, EskfResult) else prefix):
+            k_c = _resume_point(cand, inputs)
+            if k_c > k_start:
+                prev, k_start = cand, k_c
+        n = t_s.size
+        if arrays is None:
+            pos, vel, mat, sens = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 12))
+        else:  # views into a batch's stacked arrays
+            pos, vel, mat, sens = arrays
+        dxs = np.zeros((n, N_STATES))
+        if full:
+            P_plus = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[4]
+            P_minus = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[5]
+            Phis = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[6]
+            Phis[0] = np.eye(N_STATES)
+        else:
+            P_plus = P_minus = Phis = None
+        cps: list = []
+        self.nis = np.full(n, np.nan)
+        self.n_meas = np.zeros(n, dtype=np.int64)
+        self.p = np.asarray(pos0_n_m, dtype=float).copy()
+        self.v = np.asarray(vel0_n_mps, dtype=float).copy()
+        self.C = np.asarray(mat0_nb, dtype=float).copy()
+        self.s = s0.copy()
+        if mode == "cp":
+            cps.append((0, P.copy()))
+        self.dt_all = np.diff(t_s)
+        self.qd_all = process_noise_diag(config, self.dt_all)  # elementwise in dt: the same values as per segment
+        # segment boundaries: every update epoch and the last epoch
+        stops = sorted(set(self.sched) | {n - 1})
+        k = 0
+        if prev is not None:
+            # epochs 0..k_start (k_start an update epoch) as the earlier run computed them; continue after its update
+            k = k_start
+            e = k + 1
+            for a, b in ((pos, prev.pos_n_m), (vel, prev.vel_n_mps), (mat, prev.mat_nb), (sens, prev.sensor),
+                         (dxs, prev.dx), (self.nis, prev.nis), (self.n_meas, prev.n_meas)):
+                a[:e] = b[:e]
+            if full:
+                P_plus[:e], P_minus[:e], Phis[:e] = prev.P_plus[:e], prev.P_minus[:e], prev.Phi[:e]
+                P = prev.P_plus[k].copy()
+            else:
+                j = int(np.searchsorted(prev.cp_idx, k, side="right"))
+                cps = [(int(i), c.copy()) for i, c in zip(prev.cp_idx[:j], prev.cp_P[:j], strict=True)]
+                P = cps[-1][1].copy()
+            self.p, self.v, self.C, self.s = pos[k].copy(), vel[k].copy(), mat[k].copy(), sens[k].copy()
+            stops = [kb for kb in stops if kb > k]
+        self.P, self.k, self.stops, self.cps = P, k, stops, cps
+        self.pos, self.vel, self.mat, self.sens, self.dxs = pos, vel, mat, sens, dxs
+        self.P_plus, self.P_minus, self.Phis = P_plus, P_minus, Phis
+
+    def update(self, kb: int) -> None:
+        """The epoch ``kb`` after its prediction: every measurement due there (eq. 4-6), the closed-loop
+        feedback, and what the run stores of the epoch."""
+        self.k = kb
+        p, v, C, s, P = self.p, self.v, self.C, self.s, self.P
+        rows = self.sched.get(kb)
+        ab = self.plan.get(kb)
+        if ab is not None:
+            # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
+            a, b = ab
+            if b > a:
+                bo = self.body.get(kb)
+                Hk = self.H_all[a:b]
+                if bo is None:
+                    x = np.concatenate((p, v))
+                else:
+                    Ct = C.T
+                    x = np.concatenate((p, v, Ct @ v))
+                    Hk[bo[0], 3:6] = Ct[bo[1]]
+                    Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
+                dx, P, self.nis[kb] = joseph_update(P, self.Z_all[a:b] - x[self.src_all[a:b]], Hk, self.R_all[a:b])
+                self.n_meas[kb] = b - a
+                self.dxs[kb] = dx
+                p, v, C, s = correct_nav(p, v, C, s, dx)
+        elif rows:
+            # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
+            updates = self.updates
+            innov, Hs, Rd = [], [], []
+            for i, j in rows:
+                e, H, R = updates[i].rows(j, p, v, C)
+                innov.append(e)
+                Hs.append(H)
+                Rd.append(R)
+            innov = np.concatenate(innov)
+            if innov.size:
+                Rc = np.concatenate(Rd)
+                if not (np.all(Rc >= MIN_MEAS_VARIANCE) and np.all(Rc <= MAX_VARIANCE)):  # NaN fails too
+                    _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
+                                                               for i, _ in rows})), Rc)
+                dx, P, self.nis[kb] = joseph_update(P, innov, np.vstack(Hs), Rc)
+                self.n_meas[kb] = innov.size
+                self.dxs[kb] = dx
+                p, v, C, s = correct_nav(p, v, C, s, dx)
+        self.pos[kb], self.vel[kb], self.mat[kb], self.sens[kb] = p, v, C, s
+        self.p, self.v, self.C, self.s, self.P = p, v, C, s, P
+        if self.full:
+            self.P_plus[kb] = P
+        elif self.mode == "cp":
+            cps = self.cps
+            if cps[-1][0] == kb:
+                cps[-1] = (kb, P.copy())
+            else:
+                cps.append((kb, P.copy()))
+
+    def result(self) -> EskfResult:
+        """The run's :class:`EskfResult` once every stop is done."""
+        full = self.full
+        if 0 not in self.sched:
+            if full:
+                self.P_minus[0] = self.P_plus[0] = 0.5 * (self.P0 + self.P0.T)
+            self.pos[0], self.vel[0], self.mat[0], self.sens[0] = (
+                self.pos0, self.vel0, self.mat0, (np.zeros(12) if self.sensor0 is None else self.sensor0))
+        extra = {}
+        if self.mode == "cp":
+            cps = self.cps
+            extra = {"cp_idx": np.array([c[0] for c in cps], dtype=np.int64), "cp_P": np.array([c[1] for c in cps]),
+                     "gyr_b_radps": self.gyr, "acc_b_mps2": self.acc}
+        return EskfResult(t_s=self.t_s, pos_n_m=self.pos, vel_n_mps=self.vel, mat_nb=self.mat, sensor=self.sens,
+                          dx=self.dxs, P_plus=self.P_plus, P_minus=self.P_minus, Phi=self.Phis, nis=self.nis,
+                          n_meas=self.n_meas, config=self.config, inputs=self.inputs, **extra)
+
+
 def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
              config: EskfConfig | None = None, sensor0=None, keep_covariance: bool = True,
              prefix=()) -> EskfResult:
@@ -646,157 +811,38 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     ----------
     Liao et al. (2016), eq. (1)-(6).
     """
-    t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
-    config = config or EskfConfig()
-    P0 = check_covariance("P0", P0, N_STATES)
-    for name, v, shape in (("pos0_n_m", pos0_n_m, (3,)), ("vel0_n_mps", vel0_n_mps, (3,)),
-                           ("mat0_nb", mat0_nb, (3, 3))):
-        a = np.asarray(v, dtype=float)
-        if a.shape != shape or not np.all(np.isfinite(a)):
-            raise ValueError(f"{name} must be a finite array of shape {shape}, got {a.shape}")
-    updates = list(updates)
-    for u in updates:
-        if not isinstance(u, Measurement):
-            raise ValueError(f"updates must obey the Measurement protocol (t_s, name, rows), got {type(u).__name__}")
-        sd = getattr(u, "sd", None)
-        if sd is not None:
-            sdv = np.asarray(sd, dtype=float)
-            _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
-    sched = _schedule(t_s, updates)
-    plan, Z_all, R_all, H_all, src_all, body = _stacked_rows(t_s, updates)
-    s0 = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
-    P = 0.5 * (P0 + P0.T)
-    full = bool(keep_covariance)
-    inputs = (t_s, gyr, acc, np.asarray(pos0_n_m, dtype=float), np.asarray(vel0_n_mps, dtype=float),
-              np.asarray(mat0_nb, dtype=float), P, s0, tuple(updates), config, full)
-    prev, k_start = None, -1
-    for cand in ([prefix] if isinstance(prefix, EskfResult) else prefix):
-        k_c = _resume_point(cand, inputs)
-        if k_c > k_start:
-            prev, k_start = cand, k_c
-    n = t_s.size
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    mat = np.empty((n, 3, 3))
-    sens = np.empty((n, 12))
-    dxs = np.zeros((n, N_STATES))
-    if full:
-        P_plus = np.empty((n, N_STATES, N_STATES))
-        P_minus = np.empty((n, N_STATES, N_STATES))
-        Phis = np.empty((n, N_STATES, N_STATES))
-        Phis[0] = np.eye(N_STATES)
-    else:
-        P_plus = P_minus = Phis = None
-    cps: list = []
-    nis = np.full(n, np.nan)
-    n_meas = np.zeros(n, dtype=np.int64)
-
-    p = np.asarray(pos0_n_m, dtype=float).copy()
-    v = np.asarray(vel0_n_mps, dtype=float).copy()
-    C = np.asarray(mat0_nb, dtype=float).copy()
-    s = s0.copy()
-    if not full:
-        cps.append((0, P.copy()))
-    dt_all = np.diff(t_s)
-    qd_all = process_noise_diag(config, dt_all)  # elementwise in dt: the same values as per segment
-    # segment boundaries: every update epoch and the last epoch
-    stops = sorted(set(sched) | {n - 1})
-    k = 0
-    if prev is not None:
-        # epochs 0..k_start (k_start an update epoch) as the earlier run computed them; continue after its update
-        k = k_start
-        e = k + 1
-        for a, b in ((pos, prev.pos_n_m), (vel, prev.vel_n_mps), (mat, prev.mat_nb), (sens, prev.sensor),
-                     (dxs, prev.dx), (nis, prev.nis), (n_meas, prev.n_meas)):
-            a[:e] = b[:e]
-        if full:
-            P_plus[:e], P_minus[:e], Phis[:e] = prev.P_plus[:e], prev.P_minus[:e], prev.Phi[:e]
-            P = prev.P_plus[k].copy()
-        else:
-            j = int(np.searchsorted(prev.cp_idx, k, side="right"))
-            cps = [(int(i), c.copy()) for i, c in zip(prev.cp_idx[:j], prev.cp_P[:j], strict=True)]
-            P = cps[-1][1].copy()
-        p, v, C, s = pos[k].copy(), vel[k].copy(), mat[k].copy(), sens[k].copy()
-        stops = [kb for kb in stops if kb > k]
-    for kb in stops:
+    r = _Run(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates, config, sensor0,
+             "full" if keep_covariance else "cp", prefix)
+    full = r.full
+    gyr, acc, dt_all, qd_all = r.gyr, r.acc, r.dt_all, r.qd_all
+    pos, vel, mat, sens = r.pos, r.vel, r.mat, r.sens
+    for kb in r.stops:
+        k = r.k
         if kb > k:
             # predict k -> kb with constant sensor-error estimates (eq. 2-3)
             seg = slice(k, kb)
             dt = dt_all[seg]
+            s = r.s
             w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
-            strapdown(p, v, C, w_c, f_c, dt, out=(pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1]))
+            strapdown(r.p, r.v, r.C, w_c, f_c, dt, out=(pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1]))
             sens[k + 1:kb + 1] = s
             qd = qd_all[seg]
+            P = r.P
             if full:
-                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt, out=Phis[k + 1:kb + 1])
-                P = _predict_stretch(P, Ph, qd, P_minus[k + 1:kb + 1], P_plus[k + 1:kb + 1])
+                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt, out=r.Phis[k + 1:kb + 1])
+                P = _predict_stretch(P, Ph, qd, r.P_minus[k + 1:kb + 1], r.P_plus[k + 1:kb + 1])
             else:
                 # bounded memory: transition matrices a stretch at a time, checkpoints every CHECKPOINT_EPOCHS
                 for a in range(0, kb - k, CHECKPOINT_EPOCHS):
                     b = min(a + CHECKPOINT_EPOCHS, kb - k)
                     Ph = transition_matrices(mat[k + a:k + b], f_c[a:b], w_c[a:b], dt[a:b])
-                    P = _predict_stretch(P, Ph, qd[a:b], cps=cps, k0=k + a)
-            p, v, C = pos[kb].copy(), vel[kb].copy(), mat[kb].copy()
-            P = 0.5 * (P + P.T)
+                    P = _predict_stretch(P, Ph, qd[a:b], cps=r.cps, k0=k + a)
+            r.p, r.v, r.C = pos[kb].copy(), vel[kb].copy(), mat[kb].copy()
+            r.P = 0.5 * (P + P.T)
         elif kb == 0 and full:
-            P_minus[0] = P
-        k = kb
-        rows = sched.get(kb)
-        ab = plan.get(kb)
-        if ab is not None:
-            # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
-            a, b = ab
-            if b > a:
-                bo = body.get(kb)
-                Hk = H_all[a:b]
-                if bo is None:
-                    x = np.concatenate((p, v))
-                else:
-                    Ct = C.T
-                    x = np.concatenate((p, v, Ct @ v))
-                    Hk[bo[0], 3:6] = Ct[bo[1]]
-                    Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
-                dx, P, nis[kb] = joseph_update(P, Z_all[a:b] - x[src_all[a:b]], Hk, R_all[a:b])
-                n_meas[kb] = b - a
-                dxs[kb] = dx
-                p, v, C, s = correct_nav(p, v, C, s, dx)
-        elif rows:
-            # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
-            innov, Hs, Rd = [], [], []
-            for i, j in rows:
-                e, H, R = updates[i].rows(j, p, v, C)
-                innov.append(e)
-                Hs.append(H)
-                Rd.append(R)
-            innov = np.concatenate(innov)
-            if innov.size:
-                Rc = np.concatenate(Rd)
-                if not (np.all(Rc >= MIN_MEAS_VARIANCE) and np.all(Rc <= MAX_VARIANCE)):  # NaN fails too
-                    _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
-                                                               for i, _ in rows})), Rc)
-                dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), Rc)
-                n_meas[kb] = innov.size
-                dxs[kb] = dx
-                p, v, C, s = correct_nav(p, v, C, s, dx)
-        pos[kb], vel[kb], mat[kb], sens[kb] = p, v, C, s
-        if full:
-            P_plus[kb] = P
-        else:
-            if cps[-1][0] == kb:
-                cps[-1] = (kb, P.copy())
-            else:
-                cps.append((kb, P.copy()))
-    if 0 not in sched:
-        if full:
-            P_minus[0] = P_plus[0] = 0.5 * (P0 + P0.T)
-        pos[0], vel[0], mat[0], sens[0] = pos0_n_m, vel0_n_mps, mat0_nb, (np.zeros(12) if sensor0 is None
-                                                                         else sensor0)
-    extra = {}
-    if not full:
-        extra = {"cp_idx": np.array([c[0] for c in cps], dtype=np.int64), "cp_P": np.array([c[1] for c in cps]),
-                 "gyr_b_radps": gyr, "acc_b_mps2": acc}
-    return EskfResult(t_s=t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sens, dx=dxs, P_plus=P_plus,
-                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config, inputs=inputs, **extra)
+            r.P_minus[0] = r.P
+        r.update(kb)
+    return r.result()
 
 
 def covariance_chunk(res: EskfResult, a: int, b: int):
