@@ -12,11 +12,11 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.ins import error_stats, eskf_rts_smooth, heading_error_with_lag_deg
-from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, stats_rows, trajectory_frame
+from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, run_methods_many, stats_rows, trajectory_frame
 from ilocalg.ins.eskf import same_run
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import paper_value, side_by_side
-from ilocalg.ins.pipeline import run_walk, stair_mask
+from ilocalg.ins.pipeline import run_walk, run_walks, stair_mask
 from ilocalg.papers.comparison_liao import constraints_rows
 from ilocalg.papers.readings_liao import (
     BIAS_INSTABILITY_FACTORS,
@@ -85,16 +85,18 @@ def readings(stairs: str, stair_action: str, noise_factor: float = ins_walk.PHON
                                 rssi_sd_db, speed_mean_mps)
 
 
-def _filter_rms(route, profile, seed, stairs, stair_action, reused=None, **sim_kw):
-    """Filtering + WVC/ZUPT + GCP on one walk (``reused``: its ``(walk, filter result)`` when already run):
-    ``(walk, RMS N, E, H and heading on the indoor part)``."""
-    if reused is not None:
-        walk, r = reused
-    else:
-        walk = ins_walk.simulate(route, profile, seed=seed, **sim_kw)
-        r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
-    rms = error_stats(indoor_errors(walk, r.pos_n_m, r.mat_nb))["rms"]
-    return walk, {ax: rms[ax] for ax in ("N", "E", "H", "Heading")}
+def _filter_rms_many(jobs, stairs, stair_action):
+    """Filtering + WVC/ZUPT + GCP on several walks, scored: ``jobs`` holds ``(walk, filter result or None)`` per
+    walk (a result when already run); the others run as one batch (:func:`ilocalg.ins.pipeline.run_walks`, the
+    same numbers as one by one). Returns the RMS N, E, H and heading on each walk's indoor part."""
+    new = iter(run_walks([w for w, r in jobs if r is None], "wvc", use_gcp=True, stairs=stairs,
+                         stair_action=stair_action, keep_covariance=False))
+    out = []
+    for walk, r in jobs:
+        r = next(new) if r is None else r
+        rms = error_stats(indoor_errors(walk, r.pos_n_m, r.mat_nb))["rms"]
+        out.append({ax: rms[ax] for ax in ("N", "E", "H", "Heading")})
+    return out
 
 
 def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", stair_action: str = "drop",
@@ -125,14 +127,18 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", sta
         cells = [(_PROFILE_NOISE_FACTOR, k, j) for k in bias_instability_factors for j in time_jitters_s
                  if full_grid or k == 1.0 or j == base.time_jitter_sd_s]
         cells += [(c, 1.0, base.time_jitter_sd_s) for c in noise_factors if c != _PROFILE_NOISE_FACTOR]
+        jobs, keys = [], []
         for c, k, jit in cells:
             prof = ins_walk.phone_profile(profile, c, k, jit)
             for s in seeds:
-                walk, rms = _filter_rms(route, prof, s, stairs, stair_action, reuse.get((phone, s)) if reuse
-                                        and prof == base else None, gait=gait, truth_cache=truth_cache)
-                rows.append({"phone": phone, "noise_factor": float(c), "bias_instability_factor": float(k),
-                             "time_jitter_sd_ms": 1e3 * float(jit),
-                             "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)), **rms})
+                reused = reuse.get((phone, s)) if reuse and prof == base else None
+                jobs.append(reused or (ins_walk.simulate(route, prof, seed=s, gait=gait, truth_cache=truth_cache),
+                                       None))
+                keys.append((c, k, jit))
+        for (c, k, jit), (walk, _), rms in zip(keys, jobs, _filter_rms_many(jobs, stairs, stair_action), strict=True):
+            rows.append({"phone": phone, "noise_factor": float(c), "bias_instability_factor": float(k),
+                         "time_jitter_sd_ms": 1e3 * float(jit),
+                         "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)), **rms})
     out = (pd.DataFrame(rows).groupby(["phone", "noise_factor", "bias_instability_factor", "time_jitter_sd_ms"],
                                       sort=False)[["tag_error_sd_ms", "N", "E", "H", "Heading"]].mean().reset_index())
     out.insert(5, "n_seeds", len(seeds))
@@ -156,12 +162,15 @@ def gait_sensitivity(seeds, stairs: str = "none", stair_action: str = "drop", va
         raise ValueError("seeds must hold at least one seed")
     rows = []
     for phone, route, profile in PHONES:
+        jobs, labels = [], []
         for label, gait, kw in variants:
             for s in seeds:
-                walk, rms = _filter_rms(route, profile, s, stairs, stair_action, reuse.get((phone, s)) if reuse
-                                        and gait == "published" and not kw else None, gait=gait, gait_kw=kw)
-                rows.append({"phone": phone, "walker": label, "speed_mps": walk.params.get("speed_mps", np.nan),
-                             "cadence_hz": walk.params.get("cadence_hz", np.nan), **rms})
+                reused = reuse.get((phone, s)) if reuse and gait == "published" and not kw else None
+                jobs.append(reused or (ins_walk.simulate(route, profile, seed=s, gait=gait, gait_kw=kw), None))
+                labels.append(label)
+        for label, (walk, _), rms in zip(labels, jobs, _filter_rms_many(jobs, stairs, stair_action), strict=True):
+            rows.append({"phone": phone, "walker": label, "speed_mps": walk.params.get("speed_mps", np.nan),
+                         "cadence_hz": walk.params.get("cadence_hz", np.nan), **rms})
     out = (pd.DataFrame(rows).groupby(["phone", "walker"], sort=False)
            [["speed_mps", "cadence_hz", "N", "E", "H", "Heading"]].mean().reset_index())
     out.insert(4, "n_seeds", len(seeds))
@@ -298,8 +307,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     if speed_mean_mps != ins_walk.LEVEL_SPEED_MEAN_MPS:
         sim_kw["gait_kw"] = {"speed_mean_mps": speed_mean_mps}
     # every walk of one walker (seed) shares its truth: the side studies' other phones, control points and
-    # sensor errors, and the sensitivity cells (their seeds, the first n_sens, still held after the main loop)
-    cache = ins_walk.TruthCache(maxsize=max(2, n_sens))
+    # sensor errors, and the sensitivity cells (their seeds, the first n_sens, still held after the main loop);
+    # every seed of a phone is simulated before its side studies run (the filters of the seeds run together)
+    cache = ins_walk.TruthCache(maxsize=max(2, n_sens, n_seeds))
     # the sensitivity sweeps reuse the default walks only when the run's are the default ones
     at_default = (all(profiles[pr] == ins_walk.PROFILES[pr] for pr in profiles) and "gait_kw" not in sim_kw
                   and rssi_sd_db == ins_walk.BLE_RSSI_SD_DB)
@@ -309,8 +319,10 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         profile = profiles[name]
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
-        for s in range(seed * n_seeds, (seed + 1) * n_seeds):
-            walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, truth_cache=cache, **sim_kw)
+        seeds = range(seed * n_seeds, (seed + 1) * n_seeds)
+        walks = [ins_walk.simulate(route, profile, seed=s, truth_cache=cache, **sim_kw) for s in seeds]
+        # every seed's four methods, each filter advanced together with the other seeds' (the same numbers)
+        for s, walk, (sol, rgcp) in zip(seeds, walks, run_methods_many(walks, stairs, stair_action), strict=True):
             if at_default and s < seed * n_seeds + n_sens:
                 reuse[(phone, s)] = (walk, rgcp)
             ind = walk.t_s >= walk.t_indoor_s

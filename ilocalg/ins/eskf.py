@@ -30,7 +30,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ilocalg.ins._linalg import solve
-from ilocalg.ins.mechanisation import _check_imu, rotvec_to_dcm, skew, strapdown
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, _check_imu, rotvec_to_dcm, rotvecs_to_dcm, skew, strapdown
 
 __all__ = [
     "N_STATES",
@@ -53,6 +53,7 @@ __all__ = [
     "process_noise_diag",
     "eskf_predict",
     "joseph_update",
+    "joseph_update_stacked",
     "position_rows",
     "nav_velocity_rows",
     "body_velocity_rows",
@@ -64,6 +65,8 @@ __all__ = [
     "MIN_MEAS_VARIANCE",
     "CHECKPOINT_EPOCHS",
     "run_eskf",
+    "run_eskf_batch",
+    "BATCH_EPOCHS",
     "same_run",
 ]
 
@@ -261,6 +264,26 @@ def joseph_update(P, innov, H, R_diag):
     nis = float(innov @ solve(S, innov))
     return dx, 0.5 * (P + P.T), nis
 
+
+
+def joseph_update_stacked(P, innov, H, R_diag):
+    """:func:`joseph_update` on B updates of the same size at once: ``P`` (B, n, n), ``innov`` (B, m), ``H``
+    (B, m, n), ``R_diag`` (B, m). The same operations on stacked arrays (``np.matmul`` and the LAPACK gufuncs
+    loop over the matrices with the same call per matrix as for one), so each update's ``dx`` (B, n), ``P``
+    (B, n, n) and ``nis`` (B,) have the same bits as :func:`joseph_update` gives it alone."""
+    B, m = innov.shape
+    n = P.shape[-1]
+    PHt = P @ H.swapaxes(1, 2)
+    S = H @ PHt
+    S.reshape(B, m * m)[:, ::m + 1] += R_diag
+    Kt = solve(S, PHt.swapaxes(1, 2))
+    K = Kt.swapaxes(1, 2)
+    dx = (K @ innov[:, :, None])[:, :, 0]
+    A = -K @ H
+    A.reshape(B, n * n)[:, ::n + 1] += 1.0
+    P = A @ P @ A.swapaxes(1, 2) + (K * R_diag[:, None, :]) @ Kt
+    nis = (innov[:, None, :] @ solve(S, innov)[:, :, None])[:, 0, 0]
+    return dx, 0.5 * (P + P.swapaxes(1, 2)), nis
 
 def position_rows(pos_n_m, z_pos_n_m):
     """Innovation (3,) and H (3, 21) of an ENU position fix (GNSS or control point)."""
@@ -656,7 +679,7 @@ class _Run:
         if arrays is None:
             pos, vel, mat, sens = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 12))
         else:  # views into a batch's stacked arrays
-            pos, vel, mat, sens = arrays
+            pos, vel, mat, sens = arrays[:4]
         dxs = np.zeros((n, N_STATES))
         if full:
             P_plus = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[4]
@@ -699,30 +722,60 @@ class _Run:
         self.pos, self.vel, self.mat, self.sens, self.dxs = pos, vel, mat, sens, dxs
         self.P_plus, self.P_minus, self.Phis = P_plus, P_minus, Phis
 
+    def planned(self, kb: int):
+        """The rows laid out ahead (:func:`_stacked_rows`) of the epoch ``kb`` for the current state: ``(innovation,
+        H, R)``, the same as stacking the sets' ``rows()``; None when the epoch has none laid out (no update, or a
+        set of another class)."""
+        ab = self.plan.get(kb)
+        if ab is None or ab[1] <= ab[0]:
+            return None
+        a, b = ab
+        p, v, C = self.p, self.v, self.C
+        bo = self.body.get(kb)
+        Hk = self.H_all[a:b]
+        if bo is None:
+            x = np.concatenate((p, v))
+        else:
+            Ct = C.T
+            x = np.concatenate((p, v, Ct @ v))
+            Hk[bo[0], 3:6] = Ct[bo[1]]
+            Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
+        return self.Z_all[a:b] - x[self.src_all[a:b]], Hk, self.R_all[a:b]
+
+    def feedback(self, kb: int, dx, P, nis, m: int) -> None:
+        """Store the update of epoch ``kb`` (``dx``, updated ``P``, ``nis`` over ``m`` rows), feed it back
+        (:func:`correct_nav`) and store the epoch."""
+        self.nis[kb] = nis
+        self.n_meas[kb] = m
+        self.dxs[kb] = dx
+        self.store(kb, *correct_nav(self.p, self.v, self.C, self.s, dx), P)
+
+    def store(self, kb: int, p, v, C, s, P) -> None:
+        """The state after epoch ``kb`` and what the run keeps of it."""
+        self.k = kb
+        self.pos[kb], self.vel[kb], self.mat[kb], self.sens[kb] = p, v, C, s
+        self.p, self.v, self.C, self.s, self.P = p, v, C, s, P
+        if self.full:
+            self.P_plus[kb] = P
+        elif self.mode == "cp":
+            cps = self.cps
+            if cps[-1][0] == kb:
+                cps[-1] = (kb, P.copy())
+            else:
+                cps.append((kb, P.copy()))
+
     def update(self, kb: int) -> None:
         """The epoch ``kb`` after its prediction: every measurement due there (eq. 4-6), the closed-loop
         feedback, and what the run stores of the epoch."""
-        self.k = kb
         p, v, C, s, P = self.p, self.v, self.C, self.s, self.P
         rows = self.sched.get(kb)
-        ab = self.plan.get(kb)
-        if ab is not None:
+        if kb in self.plan:
             # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
-            a, b = ab
-            if b > a:
-                bo = self.body.get(kb)
-                Hk = self.H_all[a:b]
-                if bo is None:
-                    x = np.concatenate((p, v))
-                else:
-                    Ct = C.T
-                    x = np.concatenate((p, v, Ct @ v))
-                    Hk[bo[0], 3:6] = Ct[bo[1]]
-                    Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
-                dx, P, self.nis[kb] = joseph_update(P, self.Z_all[a:b] - x[self.src_all[a:b]], Hk, self.R_all[a:b])
-                self.n_meas[kb] = b - a
-                self.dxs[kb] = dx
-                p, v, C, s = correct_nav(p, v, C, s, dx)
+            ihr = self.planned(kb)
+            if ihr is not None:
+                dx, P, nis = joseph_update(P, *ihr)
+                self.feedback(kb, dx, P, nis, ihr[0].size)
+                return
         elif rows:
             # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
             updates = self.updates
@@ -738,20 +791,10 @@ class _Run:
                 if not (np.all(Rc >= MIN_MEAS_VARIANCE) and np.all(Rc <= MAX_VARIANCE)):  # NaN fails too
                     _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
                                                                for i, _ in rows})), Rc)
-                dx, P, self.nis[kb] = joseph_update(P, innov, np.vstack(Hs), Rc)
-                self.n_meas[kb] = innov.size
-                self.dxs[kb] = dx
-                p, v, C, s = correct_nav(p, v, C, s, dx)
-        self.pos[kb], self.vel[kb], self.mat[kb], self.sens[kb] = p, v, C, s
-        self.p, self.v, self.C, self.s, self.P = p, v, C, s, P
-        if self.full:
-            self.P_plus[kb] = P
-        elif self.mode == "cp":
-            cps = self.cps
-            if cps[-1][0] == kb:
-                cps[-1] = (kb, P.copy())
-            else:
-                cps.append((kb, P.copy()))
+                dx, P, nis = joseph_update(P, innov, np.vstack(Hs), Rc)
+                self.feedback(kb, dx, P, nis, innov.size)
+                return
+        self.store(kb, p, v, C, s, P)
 
     def result(self) -> EskfResult:
         """The run's :class:`EskfResult` once every stop is done."""
@@ -843,6 +886,183 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
             r.P_minus[0] = r.P
         r.update(kb)
     return r.result()
+
+
+#: Largest (members x epochs) of one stacked prediction in :func:`run_eskf_batch` (bounds its buffers: each
+#: (members, epochs, 21, 21) array of the group is this many 21 x 21 matrices at most, 14 MB at 4096).
+BATCH_EPOCHS = 4096
+
+
+def _predict_group(runs, kbs, big):
+    """The prediction of every run in ``runs`` from its epoch ``r.k`` to ``kbs`` (each at least one step), all
+    stacked: the operations of :func:`run_eskf`'s prediction (correct_sensors, strapdown, transition_matrices,
+    the per-epoch ``Phi P Phi^T + Q``) on (members, epochs, ...) arrays, sorted by stretch length so that the
+    members still stepping at epoch ``j`` of the stretch are the first ``cnt[j]``: elementwise operations and one
+    BLAS call per matrix (``np.matmul`` on stacked float64 matrices hands each to the same ``cblas_dgemm`` as
+    ``np.dot``), so every member's numbers have the same bits as its own :func:`run_eskf`."""
+    GY, AC, DT, QD, POS, VEL, MAT, SENS, PP, PM, PH = big
+    n = len(runs)
+    ks = np.array([r.k for r in runs])
+    kbs = np.asarray(kbs)
+    offs = np.array([r.off for r in runs])
+    L = kbs - ks
+    Lm = int(L[0])
+    jj = np.arange(Lm)
+    cnt = np.count_nonzero(L[None, :] > jj[:, None], axis=1).tolist()
+    src = np.minimum((offs + ks)[:, None] + jj, (offs + kbs - 1)[:, None])  # pads repeat the last sample
+    S = np.array([r.s for r in runs])[:, None, :]
+    dt = DT[src]
+    # correct_sensors
+    f_c = (AC[src] - S[:, :, 0:3]) / (1.0 + S[:, :, 6:9])
+    w_c = (GY[src] - S[:, :, 3:6]) / (1.0 + S[:, :, 9:12])
+    # strapdown
+    dC = rotvecs_to_dcm((w_c * dt[:, :, None]).reshape(n * Lm, 3)).reshape(n, Lm, 3, 3)
+    mat = np.zeros((n, Lm + 1, 3, 3))
+    mat[:, 0] = np.array([r.C for r in runs])
+    mm = np.matmul
+    for j in range(Lm):
+        m = cnt[j]
+        mm(mat[:m, j], dC[:m, j], out=mat[:m, j + 1])
+    half_dt = 0.5 * dt[:, :, None]
+    dv = half_dt * np.einsum("lij,lj->li", (mat[:, :-1] + mat[:, 1:]).reshape(n * Lm, 3, 3),
+                             f_c.reshape(n * Lm, 3)).reshape(n, Lm, 3)
+    dv += GRAVITY_N_MPS2 * dt[:, :, None]
+    v0 = np.array([r.v for r in runs])
+    vel = np.empty((n, Lm + 1, 3))
+    np.add(v0, 0.0, out=vel[:, 0])
+    np.cumsum(dv, axis=1, out=vel[:, 1:])
+    np.add(v0[:, None], vel[:, 1:], out=vel[:, 1:])
+    dp = vel[:, :-1] + vel[:, 1:]
+    dp *= half_dt
+    p0 = np.array([r.p for r in runs])
+    pos = np.empty((n, Lm + 1, 3))
+    np.add(p0, 0.0, out=pos[:, 0])
+    np.cumsum(dp, axis=1, out=pos[:, 1:])
+    np.add(p0[:, None], pos[:, 1:], out=pos[:, 1:])
+    # transition matrices and covariance prediction
+    Ph = transition_matrices(mat[:, :Lm].reshape(n * Lm, 3, 3), f_c.reshape(n * Lm, 3), w_c.reshape(n * Lm, 3),
+                             dt.reshape(n * Lm)).reshape(n, Lm, N_STATES, N_STATES)
+    PhT = Ph.swapaxes(2, 3)
+    qd = QD[src]
+    hist = np.empty((n, Lm, N_STATES, N_STATES))
+    work = np.empty((n, N_STATES, N_STATES))
+    prev = np.array([r.P for r in runs])
+    for j in range(Lm):
+        m = cnt[j]
+        o = hist[:m, j]
+        mm(mm(Ph[:m, j], prev[:m], out=work[:m]), PhT[:m, j], out=o)
+        o.reshape(m, N_STATES * N_STATES)[:, ::N_STATES + 1] += qd[:m, j]
+        prev = hist[:, j]
+    # what each run stores of the stretch, and its state at the stretch's end
+    valid = jj[None, :] < L[:, None]
+    dst = ((offs + ks)[:, None] + 1 + jj)[valid]
+    SENS[dst] = np.broadcast_to(S, (n, Lm, 12))[valid]
+    if PP is not None:
+        PM[dst] = PP[dst] = hist[valid]
+        PH[dst] = Ph[valid]
+    j1 = np.arange(Lm + 1)
+    valid1 = j1[None, :] <= L[:, None]
+    dst1 = ((offs + ks)[:, None] + j1)[valid1]
+    POS[dst1], VEL[dst1], MAT[dst1] = pos[valid1], vel[valid1], mat[valid1]
+    ar = np.arange(n)
+    Pend = hist[ar, L - 1]
+    Pend = 0.5 * (Pend + Pend.swapaxes(1, 2))
+    pe, ve, Ce = pos[ar, L], vel[ar, L], mat[ar, L]
+    for i, r in enumerate(runs):
+        r.p, r.v, r.C, r.P = pe[i], ve[i], Ce[i], Pend[i]
+
+
+def run_eskf_batch(runs, keep_covariance: bool = True) -> list[EskfResult]:
+    """:func:`run_eskf` on several runs advanced together: the same results, bit for bit, in less time.
+
+    Each run's prediction between two of its update epochs is stacked with the other runs' (their own IMU logs,
+    epochs and measurement sets: the k-th stretch of every run at once, whatever its length); the updates stay
+    per run. The Python work per stretch is shared by the runs, which is where a single run spends its time
+    (stretches of a few epochs between updates).
+
+    Parameters
+    ----------
+    runs : sequence of dicts of :func:`run_eskf` keyword arguments (``t_s``, ``gyr_b_radps``, ``acc_b_mps2``,
+        ``pos0_n_m``, ``vel0_n_mps``, ``mat0_nb``, ``P0`` and optionally ``updates``, ``config``, ``sensor0``,
+        ``prefix``); every check of :func:`run_eskf` applies to each
+    keep_covariance : True keeps the covariance histories as ``run_eskf(..., keep_covariance=True)``; False keeps
+        no covariance at all (``P_plus``, ``P_minus``, ``Phi`` and the checkpoints are None: the navigation
+        solution, sensor estimates, fed-back errors and NIS only, e.g. to score the filter without smoothing it;
+        ``prefix`` is then not used)
+
+    Returns
+    -------
+    list of :class:`EskfResult`, one per run, in order (their arrays are views into arrays shared by the batch).
+    """
+    keys = {"t_s", "gyr_b_radps", "acc_b_mps2", "pos0_n_m", "vel0_n_mps", "mat0_nb", "P0", "updates", "config",
+            "sensor0", "prefix"}
+    runs = [dict(r) for r in runs]
+    for i, r in enumerate(runs):
+        bad = sorted(set(r) - keys)
+        if bad:
+            raise ValueError(f"run_eskf_batch: run {i} has unknown arguments {bad}")
+    if not runs:
+        return []
+    full = bool(keep_covariance)
+    Ns = [np.asarray(r["t_s"]).size for r in runs]
+    T = int(np.sum(Ns))
+    POS, VEL, MAT, SENS = np.empty((T, 3)), np.empty((T, 3)), np.empty((T, 3, 3)), np.empty((T, 12))
+    PP = PM = PH = None
+    if full:
+        PP, PM, PH = (np.empty((T, N_STATES, N_STATES)) for _ in range(3))
+    members = []
+    off = 0
+    for i, (r, N) in enumerate(zip(runs, Ns, strict=True)):
+        sl = slice(off, off + N)
+        arrays = (POS[sl], VEL[sl], MAT[sl], SENS[sl]) + ((PP[sl], PM[sl], PH[sl]) if full else ())
+        m = _Run(r["t_s"], r["gyr_b_radps"], r["acc_b_mps2"], r["pos0_n_m"], r["vel0_n_mps"], r["mat0_nb"], r["P0"],
+                 r.get("updates", ()), r.get("config"), r.get("sensor0"), "full" if full else "nav",
+                 r.get("prefix", ()) if full else (), arrays=arrays)
+        if m.t_s.size != N:
+            raise ValueError(f"run_eskf_batch: run {i} t_s has {m.t_s.size} samples, expected {N}")
+        m.off = off
+        members.append(m)
+        off += N
+    GY = np.concatenate([m.gyr for m in members])
+    AC = np.concatenate([m.acc for m in members])
+    DT = np.concatenate([np.append(m.dt_all, 0.0) for m in members])
+    QD = np.concatenate([np.vstack((m.qd_all, np.zeros((1, N_STATES)))) for m in members])
+    big = (GY, AC, DT, QD, POS, VEL, MAT, SENS, PP, PM, PH)
+    todo = [(m, iter(m.stops)) for m in members]
+    while todo:
+        cur, nxt = [], []
+        for m, it in todo:
+            kb = next(it, None)
+            if kb is not None:
+                cur.append((m, kb))
+                nxt.append((m, it))
+        todo = nxt
+        pred = sorted(((kb - m.k, i) for i, (m, kb) in enumerate(cur) if kb > m.k), reverse=True)
+        a = 0
+        while a < len(pred):  # groups of at most BATCH_EPOCHS (members x longest stretch)
+            b = a + max(1, BATCH_EPOCHS // pred[a][0])
+            grp = [cur[i] for _, i in pred[a:b]]
+            _predict_group([m for m, _ in grp], [kb for _, kb in grp], big)
+            a = b
+        planned: dict = {}
+        for m, kb in cur:
+            if kb == 0 and m.k == 0 and full:
+                m.P_minus[0] = m.P
+            ihr = m.planned(kb)
+            if ihr is None:
+                m.update(kb)
+            else:
+                planned.setdefault(ihr[0].size, []).append((m, kb, ihr))
+        for size, grp in planned.items():  # the updates of one size stacked (joseph_update_stacked)
+            if len(grp) == 1:
+                m, kb, ihr = grp[0]
+                m.feedback(kb, *joseph_update(m.P, *ihr), size)
+                continue
+            dx, P, nis = joseph_update_stacked(np.array([m.P for m, _, _ in grp]), np.array([i[0] for _, _, i in grp]),
+                                               np.array([i[1] for _, _, i in grp]), np.array([i[2] for _, _, i in grp]))
+            for j, (m, kb, _) in enumerate(grp):
+                m.feedback(kb, dx[j], P[j], float(nis[j]), size)
+    return [m.result() for m in members]
 
 
 def covariance_chunk(res: EskfResult, a: int, b: int):
