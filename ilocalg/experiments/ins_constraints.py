@@ -13,10 +13,10 @@ import pandas as pd
 
 from ilocalg.ins import error_stats, eskf_rts_smooth, heading_error_with_lag_deg
 from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, run_methods_many, stats_rows, trajectory_frame
-from ilocalg.ins.eskf import same_run
+from ilocalg.ins.eskf import run_eskf, run_eskf_batch, same_run
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import paper_value, side_by_side
-from ilocalg.ins.pipeline import run_walk, run_walks, stair_mask
+from ilocalg.ins.pipeline import run_walks, stair_mask, walk_filter_args
 from ilocalg.papers.comparison_liao import constraints_rows
 from ilocalg.papers.readings_liao import (
     BIAS_INSTABILITY_FACTORS,
@@ -177,13 +177,21 @@ def gait_sensitivity(seeds, stairs: str = "none", stair_action: str = "drop", va
     return out
 
 
-def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action):
+def _gcp_filter_args(w, rgcp, stairs, stair_action) -> dict:
+    """The filter of :func:`_filter_and_smoothing` on the walk ``w`` (Filtering + WVC/ZUPT + GCP), as
+    :func:`ilocalg.ins.eskf.run_eskf` keywords: a walk with other control points has the default walk's IMU log,
+    so the filters agree up to the first difference (``prefix``)."""
+    return {**walk_filter_args(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action), "prefix": (rgcp,)}
+
+
+def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action, r=None):
     """``((METHODS[2], (pos, mat)), (METHODS[3], (pos, mat)))`` of Filtering + WVC/ZUPT + GCP and its smoothing
-    on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``."""
+    on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``. ``r``: the
+    filter result on ``w`` when already run (:func:`_gcp_filter_args`)."""
     if w is walk:
         return (METHODS[2], (rgcp.pos_n_m, rgcp.mat_nb)), (METHODS[3], sol[METHODS[3]])
-    # a walk with other control points has the default walk's IMU log: the filters agree up to the first difference
-    r = run_walk(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action, prefix=(rgcp,))
+    if r is None:
+        r = run_eskf(**_gcp_filter_args(w, rgcp, stairs, stair_action))
     if same_run(rgcp, r):  # the same fixes as the default walk's (e.g. little RSSI scatter): the same smoothing
         return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], sol[METHODS[3]])
     sm = eskf_rts_smooth(r, with_cov=False)
@@ -215,8 +223,23 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
                       ins_walk.simulate(route, profile, seed=s, gcp_mode="ble", **sim_kw)),
                      ("ideal (true position + 5 cm)",
                       ins_walk.simulate(route, profile, seed=s, gcp_mode="ideal", **sim_kw))]
+    ideal = ins_walk.simulate(route, profile.ideal_timing(), seed=s, **sim_kw)
+    ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
+    if not fast:
+        ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
+    ref_walks = [(imu_label, ins_walk.simulate(route, prof, seed=s, **sim_kw))
+                 for imu_label, prof in (ref_imus if reference_grade else ())]
+    ref_methods = (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False), (METHODS[3], "wvc", True))
+    # every filter of these side studies advanced together (the same numbers as one by one)
+    other = [w2 for _, w2 in gcp_variants if w2 is not walk] + [ideal]
+    jobs = [_gcp_filter_args(w2, rgcp, stairs, stair_action) for w2 in other]
+    jobs += [walk_filter_args(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
+                              stair_action=stair_action) for _, wr in ref_walks for _, cons, gcp in ref_methods]
+    filters = run_eskf_batch(jobs)
+    done = {id(w2): r for w2, r in zip(other, filters, strict=False)}
     for gname, w2 in gcp_variants:
-        for method, (pos2, mat2) in _filter_and_smoothing(w2, walk, sol, rgcp, stairs, stair_action):
+        for method, (pos2, mat2) in _filter_and_smoothing(w2, walk, sol, rgcp, stairs, stair_action,
+                                                          done.get(id(w2))):
             err = indoor_errors(walk, pos2, mat2, ind)
             k_fix = np.minimum(np.searchsorted(w2.t_s, w2.gcp_t_s), w2.t_s.size - 1)
             fix_err = np.linalg.norm(w2.pos_true_n_m[k_fix, :2] - w2.gcp_pos_n_m[:, :2], axis=1)
@@ -224,25 +247,20 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
                           "n_fixes": int(w2.gcp_t_s.size),
                           "fix_horizontal_error_mean_m": float(fix_err.mean()) if fix_err.size else np.nan,
                           "method": method, "seed": s, **error_stats(err)["rms"]})
-    ideal = ins_walk.simulate(route, profile.ideal_timing(), seed=s, **sim_kw)
     indi = ideal.t_s >= ideal.t_indoor_s
     for label, w3 in (("realistic phone (jitter, point samples, bias instability)", walk),
                       ("ideal sensor timing", ideal)):
         i3 = ind if w3 is walk else indi
-        for method, (pos3, mat3) in _filter_and_smoothing(w3, walk, sol, rgcp, stairs, stair_action):
+        for method, (pos3, mat3) in _filter_and_smoothing(w3, walk, sol, rgcp, stairs, stair_action,
+                                                          done.get(id(w3))):
             err = indoor_errors(w3, pos3, mat3, i3)
             sens_rows.append({"phone": phone, "sensor": label, "method": method, "seed": s,
                               **error_stats(err)["rms"]})
-    ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
-    if not fast:
-        ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
-    for imu_label, prof in ref_imus if reference_grade else ():
-        wr = ins_walk.simulate(route, prof, seed=s, **sim_kw)
+    ref_filters = iter(filters[len(other):])
+    for imu_label, wr in ref_walks:
         indr = wr.t_s >= wr.t_indoor_s
-        for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
-                                 (METHODS[3], "wvc", True)):
-            sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
-                                          stair_action=stair_action), with_cov=False)
+        for label, cons, _ in ref_methods:
+            sm = eskf_rts_smooth(next(ref_filters), with_cov=False)
             err = indoor_errors(wr, sm.pos_n_m, sm.mat_nb, indr)
             st_used = stairs if cons == "wvc" else "none"
             refg.append({"phone route": phone, "imu": imu_label, "method": label,
