@@ -359,8 +359,12 @@ def test_batch_gives_the_bits_of_each_run_alone(monkeypatch, batch_epochs):
     more = dict(runs[0], updates=[*runs[0]["updates"], ins.PositionFix(runs[0]["t_s"][[400]], np.zeros((1, 3)),
                                                                          np.full((1, 3), 0.1))])
     ref = ins.run_eskf(**more)
-    got2 = E.run_eskf_batch([dict(more, prefix=alone[0]), runs[1]])
-    assert _fields_equal(got2[0], ref) and _fields_equal(got2[1], alone[1])
+    for min_runs in (1, E.BATCH_MIN_RUNS):  # two runs stacked, and two run one by one (too few to stack)
+        monkeypatch.setattr(E, "BATCH_MIN_RUNS", min_runs)
+        got2 = E.run_eskf_batch([dict(more, prefix=alone[0]), runs[1]])
+        assert _fields_equal(got2[0], ref) and _fields_equal(got2[1], alone[1])
+        one = E.run_eskf_batch([runs[2]], keep_covariance=False)[0]
+        assert one.P_plus is None and one.cp_P is None and np.array_equal(one.pos_n_m, alone[2].pos_n_m)
     assert E.run_eskf_batch([]) == []
 
 

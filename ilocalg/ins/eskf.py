@@ -24,7 +24,7 @@ navigation", UCGE 20219 (the psi-angle error model and closed-loop feedback).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -67,6 +67,7 @@ __all__ = [
     "run_eskf",
     "run_eskf_batch",
     "BATCH_EPOCHS",
+    "BATCH_MIN_RUNS",
     "same_run",
 ]
 
@@ -972,6 +973,16 @@ def _predict_group(runs, kbs, big):
         r.p, r.v, r.C, r.P = pe[i], ve[i], Ce[i], Pend[i]
 
 
+#: Fewest runs :func:`run_eskf_batch` advances together (fewer run one by one: with one or two, the stacking costs
+#: more than it shares).
+BATCH_MIN_RUNS = 3
+
+
+def _without_covariance(r: EskfResult) -> EskfResult:
+    """A checkpointed result (``keep_covariance=False``) as :func:`run_eskf_batch` returns one without covariance."""
+    return replace(r, cp_idx=None, cp_P=None, gyr_b_radps=None, acc_b_mps2=None, inputs=r.inputs[:10] + ("nav",))
+
+
 def run_eskf_batch(runs, keep_covariance: bool = True) -> list[EskfResult]:
     """:func:`run_eskf` on several runs advanced together: the same results, bit for bit, in less time.
 
@@ -992,7 +1003,8 @@ def run_eskf_batch(runs, keep_covariance: bool = True) -> list[EskfResult]:
 
     Returns
     -------
-    list of :class:`EskfResult`, one per run, in order (their arrays are views into arrays shared by the batch).
+    list of :class:`EskfResult`, one per run, in order (their arrays are views into arrays shared by the batch;
+    fewer than :data:`BATCH_MIN_RUNS` runs are run one by one).
     """
     keys = {"t_s", "gyr_b_radps", "acc_b_mps2", "pos0_n_m", "vel0_n_mps", "mat0_nb", "P0", "updates", "config",
             "sensor0", "prefix"}
@@ -1004,6 +1016,8 @@ def run_eskf_batch(runs, keep_covariance: bool = True) -> list[EskfResult]:
     if not runs:
         return []
     full = bool(keep_covariance)
+    if len(runs) < BATCH_MIN_RUNS:  # too few to share the work: one by one (the same results)
+        return [run_eskf(**r) if full else _without_covariance(run_eskf(**r, keep_covariance=False)) for r in runs]
     Ns = [np.asarray(r["t_s"]).size for r in runs]
     T = int(np.sum(Ns))
     POS, VEL, MAT, SENS = np.empty((T, 3)), np.empty((T, 3)), np.empty((T, 3, 3)), np.empty((T, 12))
