@@ -8,6 +8,8 @@ Statistics are per run, then averaged over seeds.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pandas as pd
 
@@ -107,7 +109,8 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", sta
 
     Every cell simulates the same walks (same seeds; the swept draws are paired, see
     :meth:`ilocalg.sim.ins_walk.PhoneProfile.swept`) and scores the indoor part. ``reuse`` maps
-    ``(phone, seed)`` to ``(walk, filter result)`` of the default profile, reused for its own cell.
+    ``(phone, seed)`` to ``(walk, filter result)`` of the default profile (any object with its ``pos_n_m`` and
+    ``mat_nb``), reused for its own cell.
     ``full_grid=False`` sweeps one value at a time (each factor at the profile's jitter, each jitter at x1).
     ``noise_factors`` (factors on the datasheet white-noise densities; the profiles' is 3) are swept one at a
     time, at the default bias instability and jitter. ``truth_cache`` (:class:`ilocalg.sim.ins_walk.TruthCache`,
@@ -342,7 +345,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         # every seed's four methods, each filter advanced together with the other seeds' (the same numbers)
         for s, walk, (sol, rgcp) in zip(seeds, walks, run_methods_many(walks, stairs, stair_action), strict=True):
             if at_default and s < seed * n_seeds + n_sens:
-                reuse[(phone, s)] = (walk, rgcp)
+                # its solution only: the filter's covariance histories (shared by the seeds' batch) are not kept
+                reuse[(phone, s)] = (walk, SimpleNamespace(pos_n_m=rgcp.pos_n_m, mat_nb=rgcp.mat_nb))
             ind = walk.t_s >= walk.t_indoor_s
             for method, (pos, mat) in sol.items():
                 err = indoor_errors(walk, pos, mat, ind)
