@@ -54,3 +54,16 @@ def test_run_methods_reuses_a_given_nhc_solution_exactly():
     for m in METHODS:
         assert all(np.array_equal(a, b) for a, b in zip(got[m], ref[m], strict=True))
     assert np.array_equal(r_got.pos_n_m, r_ref.pos_n_m)
+
+
+def test_run_methods_many_gives_each_walk_the_bits_of_run_methods():
+    from ilocalg.ins.chain import run_methods, run_methods_many
+    from ilocalg.ins.eskf import same_run
+    from ilocalg.sim import ins_walk
+
+    walks = [ins_walk.simulate("iphone", "iphone_5s", seed=1), ins_walk.simulate("samsung", "samsung_s5", seed=2)]
+    for walk, (sol, r) in zip(walks, run_methods_many(walks, "truth", "downweight"), strict=True):
+        ref, r_ref = run_methods(walk, "truth", "downweight")
+        for m in METHODS:
+            assert all(np.array_equal(a, b) for a, b in zip(sol[m], ref[m], strict=True)), m
+        assert same_run(r_ref, r) and np.array_equal(r.P_plus, r_ref.P_plus)

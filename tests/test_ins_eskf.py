@@ -314,3 +314,91 @@ def test_prefix_reuses_the_shared_beginning_with_the_same_bits(keep):
                          ins.run_eskf(*args2, [fix, vel, gcp], CFG, keep_covariance=keep))
     other = ins.run_eskf(*args, [fix, vel, gcp], CFG, keep_covariance=not keep, prefix=b)
     assert np.array_equal(other.pos_n_m, b.pos_n_m) and (other.P_plus is None) == keep
+
+
+def _batch_case(seed, n, with_body=False, with_height=False):
+    """One filter run's keyword arguments: its own irregular clock, sensors and measurement sets."""
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.015, 0.025, n))
+    g = rng.normal(0, 0.01, (n, 3))
+    f = np.tile([0.0, 0.0, 9.80665], (n, 1)) + rng.normal(0, 0.05, (n, 3))
+    i1 = np.sort(rng.choice(np.arange(1, n), n // 12, replace=False))  # stretches of every length
+    ups = [ins.PositionFix(t[i1], rng.normal(0, 0.3, (i1.size, 3)), np.full((i1.size, 3), 0.3)),
+           ins.NavVelocity(t[i1[::4]], np.zeros((i1[::4].size, 3)), np.full((i1[::4].size, 3), 0.05))]
+    if with_body:
+        i3 = np.arange(5, n, 7)
+        ups.append(ins.BodyVelocity(t[i3], np.zeros((i3.size, 3)), np.tile([np.nan, 0.1, 0.1], (i3.size, 1))))
+    if with_height:  # a set of another class: updated through its rows(), not the rows laid out ahead
+        i4 = np.arange(30, n, 90)
+        ups.append(_HeightFix(t[i4], rng.normal(0, 0.1, i4.size), 0.1))
+    return {"t_s": t, "gyr_b_radps": g, "acc_b_mps2": f, "pos0_n_m": np.zeros(3), "vel0_n_mps": rng.normal(0, 0.1, 3),
+            "mat0_nb": ins.rotvec_to_dcm(rng.normal(0, 0.05, 3)), "P0": ins.initial_covariance(), "updates": ups,
+            "config": CFG}
+
+
+@pytest.mark.parametrize("batch_epochs", [None, 40])
+def test_batch_gives_the_bits_of_each_run_alone(monkeypatch, batch_epochs):
+    from ilocalg.ins import eskf as E
+
+    if batch_epochs:  # small groups: the stretches of one step split over several stacked predictions
+        monkeypatch.setattr(E, "BATCH_EPOCHS", batch_epochs)
+    runs = [_batch_case(0, 700), _batch_case(1, 450, with_body=True), _batch_case(2, 900, with_height=True),
+            _batch_case(3, 300, with_body=True, with_height=True), _batch_case(4, 700)]
+    runs[4]["updates"] = runs[4]["updates"][:1]  # another schedule on the same kind of log
+    alone = [ins.run_eskf(**r) for r in runs]
+    got = E.run_eskf_batch(runs)
+    assert len(got) == len(runs) and all(_fields_equal(a, b) for a, b in zip(alone, got, strict=True))
+    assert all(ins.same_run(a, b) for a, b in zip(alone, got, strict=True))
+    # no covariance kept: the same navigation solution, estimates and NIS, no covariance of any kind
+    nav = E.run_eskf_batch(runs, keep_covariance=False)
+    for a, b in zip(alone, nav, strict=True):
+        assert b.P_plus is None and b.cp_P is None
+        for k in ("pos_n_m", "vel_n_mps", "mat_nb", "sensor", "dx", "nis", "n_meas"):
+            assert np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True), k
+    # a run resumed from an earlier result (prefix) inside a batch: the same bits as from scratch
+    more = dict(runs[0], updates=[*runs[0]["updates"], ins.PositionFix(runs[0]["t_s"][[400]], np.zeros((1, 3)),
+                                                                         np.full((1, 3), 0.1))])
+    ref = ins.run_eskf(**more)
+    for min_runs in (1, E.BATCH_MIN_RUNS):  # two runs stacked, and two run one by one (too few to stack)
+        monkeypatch.setattr(E, "BATCH_MIN_RUNS", min_runs)
+        got2 = E.run_eskf_batch([dict(more, prefix=alone[0]), runs[1]])
+        assert _fields_equal(got2[0], ref) and _fields_equal(got2[1], alone[1])
+        one = E.run_eskf_batch([runs[2]], keep_covariance=False)[0]
+        assert one.P_plus is None and one.cp_P is None and np.array_equal(one.pos_n_m, alone[2].pos_n_m)
+    assert E.run_eskf_batch([]) == []
+
+
+def test_batch_checks_every_run():
+    from ilocalg.ins import eskf as E
+
+    good = _batch_case(0, 200)
+    with pytest.raises(ValueError, match="run 1 has unknown arguments"):
+        E.run_eskf_batch([good, dict(good, keep_covariance=False)])
+    bad = ins.initial_covariance()
+    bad[4, 4] = -1.0
+    with pytest.raises(ValueError, match="P0.*negative"):
+        E.run_eskf_batch([good, dict(good, P0=bad)])
+
+
+def test_stacked_joseph_update_and_solve_have_the_bits_of_one_at_a_time():
+    from ilocalg.ins._linalg import solve
+
+    rng = np.random.default_rng(7)
+    for m in (1, 2, 3, 5, 9):
+        B = 6
+        A = rng.normal(size=(B, 21, 21))
+        P = A @ A.swapaxes(1, 2) + 0.1 * np.eye(21)
+        H = rng.normal(size=(B, m, 21))
+        e = rng.normal(size=(B, m))
+        R = rng.uniform(0.01, 1.0, (B, m))
+        dx, Pn, nis = ins.joseph_update_stacked(P, e, H, R)
+        for i in range(B):
+            d1, P1, n1 = ins.joseph_update(P[i], e[i], H[i], R[i])
+            assert np.array_equal(dx[i], d1) and np.array_equal(Pn[i], P1) and nis[i] == n1
+        S = H @ H.swapaxes(1, 2) + np.eye(m)
+        for b in (e, rng.normal(size=(B, m, 4))):
+            got = solve(S, b)
+            assert all(np.array_equal(got[i], solve(S[i], b[i])) for i in range(B))
+    S = np.stack([np.eye(2), np.array([[1.0, 2.0], [2.0, 4.0]])])
+    with pytest.raises(np.linalg.LinAlgError), pytest.warns(RuntimeWarning):
+        solve(S, np.ones((2, 2)))

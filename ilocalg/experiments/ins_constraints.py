@@ -8,15 +8,17 @@ Statistics are per run, then averaged over seeds.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pandas as pd
 
 from ilocalg.ins import error_stats, eskf_rts_smooth, heading_error_with_lag_deg
-from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, stats_rows, trajectory_frame
-from ilocalg.ins.eskf import same_run
+from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, run_methods_many, stats_rows, trajectory_frame
+from ilocalg.ins.eskf import run_eskf, run_eskf_batch, same_run
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import paper_value, side_by_side
-from ilocalg.ins.pipeline import run_walk, stair_mask
+from ilocalg.ins.pipeline import run_walks, stair_mask, walk_filter_args
 from ilocalg.papers.comparison_liao import constraints_rows
 from ilocalg.papers.readings_liao import (
     BIAS_INSTABILITY_FACTORS,
@@ -85,16 +87,18 @@ def readings(stairs: str, stair_action: str, noise_factor: float = ins_walk.PHON
                                 rssi_sd_db, speed_mean_mps)
 
 
-def _filter_rms(route, profile, seed, stairs, stair_action, reused=None, **sim_kw):
-    """Filtering + WVC/ZUPT + GCP on one walk (``reused``: its ``(walk, filter result)`` when already run):
-    ``(walk, RMS N, E, H and heading on the indoor part)``."""
-    if reused is not None:
-        walk, r = reused
-    else:
-        walk = ins_walk.simulate(route, profile, seed=seed, **sim_kw)
-        r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action)
-    rms = error_stats(indoor_errors(walk, r.pos_n_m, r.mat_nb))["rms"]
-    return walk, {ax: rms[ax] for ax in ("N", "E", "H", "Heading")}
+def _filter_rms_many(jobs, stairs, stair_action):
+    """Filtering + WVC/ZUPT + GCP on several walks, scored: ``jobs`` holds ``(walk, filter result or None)`` per
+    walk (a result when already run); the others run as one batch (:func:`ilocalg.ins.pipeline.run_walks`, the
+    same numbers as one by one). Returns the RMS N, E, H and heading on each walk's indoor part."""
+    new = iter(run_walks([w for w, r in jobs if r is None], "wvc", use_gcp=True, stairs=stairs,
+                         stair_action=stair_action, keep_covariance=False))
+    out = []
+    for walk, r in jobs:
+        r = next(new) if r is None else r
+        rms = error_stats(indoor_errors(walk, r.pos_n_m, r.mat_nb))["rms"]
+        out.append({ax: rms[ax] for ax in ("N", "E", "H", "Heading")})
+    return out
 
 
 def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", stair_action: str = "drop",
@@ -105,7 +109,8 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", sta
 
     Every cell simulates the same walks (same seeds; the swept draws are paired, see
     :meth:`ilocalg.sim.ins_walk.PhoneProfile.swept`) and scores the indoor part. ``reuse`` maps
-    ``(phone, seed)`` to ``(walk, filter result)`` of the default profile, reused for its own cell.
+    ``(phone, seed)`` to ``(walk, filter result)`` of the default profile (any object with its ``pos_n_m`` and
+    ``mat_nb``), reused for its own cell.
     ``full_grid=False`` sweeps one value at a time (each factor at the profile's jitter, each jitter at x1).
     ``noise_factors`` (factors on the datasheet white-noise densities; the profiles' is 3) are swept one at a
     time, at the default bias instability and jitter. ``truth_cache`` (:class:`ilocalg.sim.ins_walk.TruthCache`,
@@ -125,14 +130,18 @@ def sensor_sensitivity(seeds, gait: str = "published", stairs: str = "none", sta
         cells = [(_PROFILE_NOISE_FACTOR, k, j) for k in bias_instability_factors for j in time_jitters_s
                  if full_grid or k == 1.0 or j == base.time_jitter_sd_s]
         cells += [(c, 1.0, base.time_jitter_sd_s) for c in noise_factors if c != _PROFILE_NOISE_FACTOR]
+        jobs, keys = [], []
         for c, k, jit in cells:
             prof = ins_walk.phone_profile(profile, c, k, jit)
             for s in seeds:
-                walk, rms = _filter_rms(route, prof, s, stairs, stair_action, reuse.get((phone, s)) if reuse
-                                        and prof == base else None, gait=gait, truth_cache=truth_cache)
-                rows.append({"phone": phone, "noise_factor": float(c), "bias_instability_factor": float(k),
-                             "time_jitter_sd_ms": 1e3 * float(jit),
-                             "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)), **rms})
+                reused = reuse.get((phone, s)) if reuse and prof == base else None
+                jobs.append(reused or (ins_walk.simulate(route, prof, seed=s, gait=gait, truth_cache=truth_cache),
+                                       None))
+                keys.append((c, k, jit))
+        for (c, k, jit), (walk, _), rms in zip(keys, jobs, _filter_rms_many(jobs, stairs, stair_action), strict=True):
+            rows.append({"phone": phone, "noise_factor": float(c), "bias_instability_factor": float(k),
+                         "time_jitter_sd_ms": 1e3 * float(jit),
+                         "tag_error_sd_ms": 1e3 * float(np.std(walk.t_s - walk.t_true_s)), **rms})
     out = (pd.DataFrame(rows).groupby(["phone", "noise_factor", "bias_instability_factor", "time_jitter_sd_ms"],
                                       sort=False)[["tag_error_sd_ms", "N", "E", "H", "Heading"]].mean().reset_index())
     out.insert(5, "n_seeds", len(seeds))
@@ -156,25 +165,36 @@ def gait_sensitivity(seeds, stairs: str = "none", stair_action: str = "drop", va
         raise ValueError("seeds must hold at least one seed")
     rows = []
     for phone, route, profile in PHONES:
+        jobs, labels = [], []
         for label, gait, kw in variants:
             for s in seeds:
-                walk, rms = _filter_rms(route, profile, s, stairs, stair_action, reuse.get((phone, s)) if reuse
-                                        and gait == "published" and not kw else None, gait=gait, gait_kw=kw)
-                rows.append({"phone": phone, "walker": label, "speed_mps": walk.params.get("speed_mps", np.nan),
-                             "cadence_hz": walk.params.get("cadence_hz", np.nan), **rms})
+                reused = reuse.get((phone, s)) if reuse and gait == "published" and not kw else None
+                jobs.append(reused or (ins_walk.simulate(route, profile, seed=s, gait=gait, gait_kw=kw), None))
+                labels.append(label)
+        for label, (walk, _), rms in zip(labels, jobs, _filter_rms_many(jobs, stairs, stair_action), strict=True):
+            rows.append({"phone": phone, "walker": label, "speed_mps": walk.params.get("speed_mps", np.nan),
+                         "cadence_hz": walk.params.get("cadence_hz", np.nan), **rms})
     out = (pd.DataFrame(rows).groupby(["phone", "walker"], sort=False)
            [["speed_mps", "cadence_hz", "N", "E", "H", "Heading"]].mean().reset_index())
     out.insert(4, "n_seeds", len(seeds))
     return out
 
 
-def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action):
+def _gcp_filter_args(w, rgcp, stairs, stair_action) -> dict:
+    """The filter of :func:`_filter_and_smoothing` on the walk ``w`` (Filtering + WVC/ZUPT + GCP), as
+    :func:`ilocalg.ins.eskf.run_eskf` keywords: a walk with other control points has the default walk's IMU log,
+    so the filters agree up to the first difference (``prefix``)."""
+    return {**walk_filter_args(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action), "prefix": (rgcp,)}
+
+
+def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action, r=None):
     """``((METHODS[2], (pos, mat)), (METHODS[3], (pos, mat)))`` of Filtering + WVC/ZUPT + GCP and its smoothing
-    on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``."""
+    on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``. ``r``: the
+    filter result on ``w`` when already run (:func:`_gcp_filter_args`)."""
     if w is walk:
         return (METHODS[2], (rgcp.pos_n_m, rgcp.mat_nb)), (METHODS[3], sol[METHODS[3]])
-    # a walk with other control points has the default walk's IMU log: the filters agree up to the first difference
-    r = run_walk(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action, prefix=(rgcp,))
+    if r is None:
+        r = run_eskf(**_gcp_filter_args(w, rgcp, stairs, stair_action))
     if same_run(rgcp, r):  # the same fixes as the default walk's (e.g. little RSSI scatter): the same smoothing
         return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], sol[METHODS[3]])
     sm = eskf_rts_smooth(r, with_cov=False)
@@ -206,8 +226,23 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
                       ins_walk.simulate(route, profile, seed=s, gcp_mode="ble", **sim_kw)),
                      ("ideal (true position + 5 cm)",
                       ins_walk.simulate(route, profile, seed=s, gcp_mode="ideal", **sim_kw))]
+    ideal = ins_walk.simulate(route, profile.ideal_timing(), seed=s, **sim_kw)
+    ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
+    if not fast:
+        ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
+    ref_walks = [(imu_label, ins_walk.simulate(route, prof, seed=s, **sim_kw))
+                 for imu_label, prof in (ref_imus if reference_grade else ())]
+    ref_methods = (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False), (METHODS[3], "wvc", True))
+    # every filter of these side studies advanced together (the same numbers as one by one)
+    other = [w2 for _, w2 in gcp_variants if w2 is not walk] + [ideal]
+    jobs = [_gcp_filter_args(w2, rgcp, stairs, stair_action) for w2 in other]
+    jobs += [walk_filter_args(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
+                              stair_action=stair_action) for _, wr in ref_walks for _, cons, gcp in ref_methods]
+    filters = run_eskf_batch(jobs)
+    done = {id(w2): r for w2, r in zip(other, filters, strict=False)}
     for gname, w2 in gcp_variants:
-        for method, (pos2, mat2) in _filter_and_smoothing(w2, walk, sol, rgcp, stairs, stair_action):
+        for method, (pos2, mat2) in _filter_and_smoothing(w2, walk, sol, rgcp, stairs, stair_action,
+                                                          done.get(id(w2))):
             err = indoor_errors(walk, pos2, mat2, ind)
             k_fix = np.minimum(np.searchsorted(w2.t_s, w2.gcp_t_s), w2.t_s.size - 1)
             fix_err = np.linalg.norm(w2.pos_true_n_m[k_fix, :2] - w2.gcp_pos_n_m[:, :2], axis=1)
@@ -215,25 +250,20 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
                           "n_fixes": int(w2.gcp_t_s.size),
                           "fix_horizontal_error_mean_m": float(fix_err.mean()) if fix_err.size else np.nan,
                           "method": method, "seed": s, **error_stats(err)["rms"]})
-    ideal = ins_walk.simulate(route, profile.ideal_timing(), seed=s, **sim_kw)
     indi = ideal.t_s >= ideal.t_indoor_s
     for label, w3 in (("realistic phone (jitter, point samples, bias instability)", walk),
                       ("ideal sensor timing", ideal)):
         i3 = ind if w3 is walk else indi
-        for method, (pos3, mat3) in _filter_and_smoothing(w3, walk, sol, rgcp, stairs, stair_action):
+        for method, (pos3, mat3) in _filter_and_smoothing(w3, walk, sol, rgcp, stairs, stair_action,
+                                                          done.get(id(w3))):
             err = indoor_errors(w3, pos3, mat3, i3)
             sens_rows.append({"phone": phone, "sensor": label, "method": method, "seed": s,
                               **error_stats(err)["rms"]})
-    ref_imus = [("MIDG-II grade (paper Table 3)", "midg2")]  # reference IMUs: exact timing
-    if not fast:
-        ref_imus.append(("error-free, 50 Hz", _IDEAL_50HZ))
-    for imu_label, prof in ref_imus if reference_grade else ():
-        wr = ins_walk.simulate(route, prof, seed=s, **sim_kw)
+    ref_filters = iter(filters[len(other):])
+    for imu_label, wr in ref_walks:
         indr = wr.t_s >= wr.t_indoor_s
-        for label, cons, gcp in (("Smoothing + NHC/ZUPT (as the paper's reference)", "nhc", False),
-                                 (METHODS[3], "wvc", True)):
-            sm = eskf_rts_smooth(run_walk(wr, cons, use_gcp=gcp, stairs=stairs if cons == "wvc" else "none",
-                                          stair_action=stair_action), with_cov=False)
+        for label, cons, _ in ref_methods:
+            sm = eskf_rts_smooth(next(ref_filters), with_cov=False)
             err = indoor_errors(wr, sm.pos_n_m, sm.mat_nb, indr)
             st_used = stairs if cons == "wvc" else "none"
             refg.append({"phone route": phone, "imu": imu_label, "method": label,
@@ -298,8 +328,9 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
     if speed_mean_mps != ins_walk.LEVEL_SPEED_MEAN_MPS:
         sim_kw["gait_kw"] = {"speed_mean_mps": speed_mean_mps}
     # every walk of one walker (seed) shares its truth: the side studies' other phones, control points and
-    # sensor errors, and the sensitivity cells (their seeds, the first n_sens, still held after the main loop)
-    cache = ins_walk.TruthCache(maxsize=max(2, n_sens))
+    # sensor errors, and the sensitivity cells (their seeds, the first n_sens, still held after the main loop);
+    # every seed of a phone is simulated before its side studies run (the filters of the seeds run together)
+    cache = ins_walk.TruthCache(maxsize=max(2, n_sens, n_seeds))
     # the sensitivity sweeps reuse the default walks only when the run's are the default ones
     at_default = (all(profiles[pr] == ins_walk.PROFILES[pr] for pr in profiles) and "gait_kw" not in sim_kw
                   and rssi_sd_db == ins_walk.BLE_RSSI_SD_DB)
@@ -309,10 +340,13 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         profile = profiles[name]
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
-        for s in range(seed * n_seeds, (seed + 1) * n_seeds):
-            walk, sol, rgcp = run_phone(route, profile, s, stairs, stair_action, truth_cache=cache, **sim_kw)
+        seeds = range(seed * n_seeds, (seed + 1) * n_seeds)
+        walks = [ins_walk.simulate(route, profile, seed=s, truth_cache=cache, **sim_kw) for s in seeds]
+        # every seed's four methods, each filter advanced together with the other seeds' (the same numbers)
+        for s, walk, (sol, rgcp) in zip(seeds, walks, run_methods_many(walks, stairs, stair_action), strict=True):
             if at_default and s < seed * n_seeds + n_sens:
-                reuse[(phone, s)] = (walk, rgcp)
+                # its solution only: the filter's covariance histories (shared by the seeds' batch) are not kept
+                reuse[(phone, s)] = (walk, SimpleNamespace(pos_n_m=rgcp.pos_n_m, mat_nb=rgcp.mat_nb))
             ind = walk.t_s >= walk.t_indoor_s
             for method, (pos, mat) in sol.items():
                 err = indoor_errors(walk, pos, mat, ind)

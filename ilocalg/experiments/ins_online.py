@@ -16,7 +16,7 @@ import pandas as pd
 from ilocalg.ins.chain import trajectory_frame
 from ilocalg.ins.evaluate import AXES, window_sweep_tables, window_sweeps
 from ilocalg.ins.paper_values import side_by_side
-from ilocalg.ins.pipeline import run_walk
+from ilocalg.ins.pipeline import run_walks
 from ilocalg.ins.smoother import rts_gains
 from ilocalg.papers.comparison_liao import fig19_monotonicity, online_rows
 from ilocalg.papers.comparison_liao import online_label as _label
@@ -83,9 +83,11 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         profile = ins_walk.phone_profile(name, noise_factor, bias_instability_factor, time_jitter_sd_s)
         # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
         # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
-        for s in range(seed * n_seeds, (seed + 1) * n_seeds):
-            walk = ins_walk.simulate(route, profile, seed=s, rssi_sd_db=rssi_sd_db, gait_kw=gait_kw)
-            res = run_walk(walk, "wvc", use_gcp=True, stairs=stairs)
+        seeds = range(seed * n_seeds, (seed + 1) * n_seeds)
+        walks = [ins_walk.simulate(route, profile, seed=s, rssi_sd_db=rssi_sd_db, gait_kw=gait_kw) for s in seeds]
+        # the seeds' filters advanced together (the same numbers as one by one)
+        filters = run_walks(walks, "wvc", use_gcp=True, stairs=stairs)
+        for s, walk, res in zip(seeds, walks, filters, strict=True):
             G = rts_gains(res)
             ind = walk.t_s >= walk.t_indoor_s
             # every offset's windows smoothed in one pass

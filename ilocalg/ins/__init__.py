@@ -54,10 +54,12 @@ from ilocalg.ins.eskf import (
     eskf_predict,
     initial_covariance,
     joseph_update,
+    joseph_update_stacked,
     nav_velocity_rows,
     position_rows,
     process_noise_diag,
     run_eskf,
+    run_eskf_batch,
     same_run,
     transition_matrices,
     transition_matrix,
@@ -95,7 +97,7 @@ from ilocalg.ins.mechanisation import (
     skew,
     strapdown,
 )
-from ilocalg.ins.pipeline import PhoneFilterSettings, body_imu_from_log, run_walk, walk_updates
+from ilocalg.ins.pipeline import PhoneFilterSettings, body_imu_from_log, run_walk, run_walks, walk_updates
 from ilocalg.ins.smoother import (
     ErrorStateINS,
     EskfSmoothResult,
@@ -128,6 +130,7 @@ __all__ = [
     "rotvecs_to_dcm",
     "run_hartmann",
     "run_walk",
+    "run_walks",
     "transition_matrices",
     "walk_updates",
     "N_STATES",
@@ -155,6 +158,7 @@ __all__ = [
     "euler_to_dcm",
     "initial_covariance",
     "joseph_update",
+    "joseph_update_stacked",
     "strapdown",
     "mechanise",
     "nav_errors",
@@ -168,6 +172,7 @@ __all__ = [
     "eskf_rts_smooth",
     "eskf_rts_smooth_grids",
     "run_eskf",
+    "run_eskf_batch",
     "same_run",
     "skew",
     "step_frequency_hz",

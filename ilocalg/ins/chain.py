@@ -19,12 +19,14 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ilocalg.ins.eskf import run_eskf_batch
 from ilocalg.ins.evaluate import error_stats, nav_errors
 from ilocalg.ins.mechanisation import dcm_to_euler
-from ilocalg.ins.pipeline import run_walk
+from ilocalg.ins.pipeline import run_walk, run_walks, walk_filter_args
 from ilocalg.ins.smoother import eskf_rts_smooth
 
-__all__ = ["METHODS", "run_methods", "indoor_errors", "stats_rows", "gcp_fix_delay_s", "trajectory_frame"]
+__all__ = ["METHODS", "run_methods", "run_methods_many", "indoor_errors", "stats_rows", "gcp_fix_delay_s",
+           "trajectory_frame"]
 
 #: The four methods of Tables 4-7, in the order of the chain.
 METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT + GCP",
@@ -53,6 +55,24 @@ def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None
     out[METHODS[3]] = (s.pos_n_m, s.mat_nb)
     return out, r
 
+
+
+def run_methods_many(walks, stairs: str = "none", stair_action: str = "drop"):
+    """:func:`run_methods` on several walks, each filter advanced together with the same filter of the other
+    walks (:func:`~ilocalg.ins.pipeline.run_walks`; the filter with control points still reuses the one without
+    them up to the first control point): the same numbers. Returns one ``({method: (pos, mat)},
+    gcp_filter_result)`` per walk."""
+    walks = list(walks)
+    nhc = run_walks(walks, "nhc", use_gcp=False, keep_covariance=False)
+    wvc = run_walks(walks, "wvc", use_gcp=False, stairs=stairs, stair_action=stair_action)
+    gcp = run_eskf_batch([{**walk_filter_args(w, "wvc", True, stairs=stairs, stair_action=stair_action),
+                           "prefix": (r,)} for w, r in zip(walks, wvc, strict=True)])
+    out = []
+    for a, b, r in zip(nhc, wvc, gcp, strict=True):
+        s = eskf_rts_smooth(r, with_cov=False)
+        out.append(({METHODS[0]: (a.pos_n_m, a.mat_nb), METHODS[1]: (b.pos_n_m, b.mat_nb),
+                     METHODS[2]: (r.pos_n_m, r.mat_nb), METHODS[3]: (s.pos_n_m, s.mat_nb)}, r))
+    return out
 
 def indoor_errors(walk, pos_n_m, mat_nb, ind=None) -> pd.DataFrame:
     """Per-epoch errors (:func:`ilocalg.ins.evaluate.nav_errors`) of a solution on the walk's indoor part

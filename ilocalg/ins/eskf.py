@@ -24,13 +24,13 @@ navigation", UCGE 20219 (the psi-angle error model and closed-loop feedback).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from ilocalg.ins._linalg import solve
-from ilocalg.ins.mechanisation import _check_imu, rotvec_to_dcm, skew, strapdown
+from ilocalg.ins.mechanisation import GRAVITY_N_MPS2, _check_imu, rotvec_to_dcm, rotvecs_to_dcm, skew, strapdown
 
 __all__ = [
     "N_STATES",
@@ -53,6 +53,7 @@ __all__ = [
     "process_noise_diag",
     "eskf_predict",
     "joseph_update",
+    "joseph_update_stacked",
     "position_rows",
     "nav_velocity_rows",
     "body_velocity_rows",
@@ -64,6 +65,9 @@ __all__ = [
     "MIN_MEAS_VARIANCE",
     "CHECKPOINT_EPOCHS",
     "run_eskf",
+    "run_eskf_batch",
+    "BATCH_EPOCHS",
+    "BATCH_MIN_RUNS",
     "same_run",
 ]
 
@@ -261,6 +265,26 @@ def joseph_update(P, innov, H, R_diag):
     nis = float(innov @ solve(S, innov))
     return dx, 0.5 * (P + P.T), nis
 
+
+
+def joseph_update_stacked(P, innov, H, R_diag):
+    """:func:`joseph_update` on B updates of the same size at once: ``P`` (B, n, n), ``innov`` (B, m), ``H``
+    (B, m, n), ``R_diag`` (B, m). The same operations on stacked arrays (``np.matmul`` and the LAPACK gufuncs
+    loop over the matrices with the same call per matrix as for one), so each update's ``dx`` (B, n), ``P``
+    (B, n, n) and ``nis`` (B,) have the same bits as :func:`joseph_update` gives it alone."""
+    B, m = innov.shape
+    n = P.shape[-1]
+    PHt = P @ H.swapaxes(1, 2)
+    S = H @ PHt
+    S.reshape(B, m * m)[:, ::m + 1] += R_diag
+    Kt = solve(S, PHt.swapaxes(1, 2))
+    K = Kt.swapaxes(1, 2)
+    dx = (K @ innov[:, :, None])[:, :, 0]
+    A = -K @ H
+    A.reshape(B, n * n)[:, ::n + 1] += 1.0
+    P = A @ P @ A.swapaxes(1, 2) + (K * R_diag[:, None, :]) @ Kt
+    nis = (innov[:, None, :] @ solve(S, innov)[:, :, None])[:, 0, 0]
+    return dx, 0.5 * (P + P.swapaxes(1, 2)), nis
 
 def position_rows(pos_n_m, z_pos_n_m):
     """Innovation (3,) and H (3, 21) of an ENU position fix (GNSS or control point)."""
@@ -606,6 +630,191 @@ def _predict_stretch(P, Ph, qd, P_minus_out=None, P_plus_out=None, cps=None, k0=
     return P
 
 
+class _Run:
+    """One filter run between its epochs: what :func:`run_eskf` and :func:`run_eskf_batch` set up, update and
+    return (the same code for both: the prediction between two update epochs is the only part they do apart).
+
+    ``mode``: "full" (covariance histories), "cp" (checkpoints) or "nav" (no covariance kept: the navigation
+    solution, sensor estimates, fed-back errors and NIS only; :func:`run_eskf_batch` only). The navigation
+    solution never depends on it.
+    """
+
+    def __init__(self, t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates, config, sensor0,
+                 mode, prefix, arrays=None):
+        t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
+        config = config or EskfConfig()
+        P0 = check_covariance("P0", P0, N_STATES)
+        for name, v, shape in (("pos0_n_m", pos0_n_m, (3,)), ("vel0_n_mps", vel0_n_mps, (3,)),
+                               ("mat0_nb", mat0_nb, (3, 3))):
+            a = np.asarray(v, dtype=float)
+            if a.shape != shape or not np.all(np.isfinite(a)):
+                raise ValueError(f"{name} must be a finite array of shape {shape}, got {a.shape}")
+        updates = list(updates)
+        for u in updates:
+            if not isinstance(u, Measurement):
+                raise ValueError(f"updates must obey the Measurement protocol (t_s, name, rows), got "
+                                 f"{type(u).__name__}")
+            sd = getattr(u, "sd", None)
+            if sd is not None:
+                sdv = np.asarray(sd, dtype=float)
+                _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
+        self.t_s, self.gyr, self.acc, self.config, self.mode = t_s, gyr, acc, config, mode
+        self.updates = updates
+        self.sched = _schedule(t_s, updates)
+        self.plan, self.Z_all, self.R_all, self.H_all, self.src_all, self.body = _stacked_rows(t_s, updates)
+        s0 = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
+        P = 0.5 * (P0 + P0.T)
+        full = mode == "full"
+        self.full = full
+        self.P0 = P0
+        self.pos0, self.vel0, self.mat0, self.sensor0 = pos0_n_m, vel0_n_mps, mat0_nb, sensor0
+        self.inputs = inputs = (t_s, gyr, acc, np.asarray(pos0_n_m, dtype=float), np.asarray(vel0_n_mps, dtype=float),
+                                np.asarray(mat0_nb, dtype=float), P, s0, tuple(updates), config,
+                                full if mode != "nav" else "nav")
+        prev, k_start = None, -1
+        for cand in ([prefix] if isinstance(prefix, EskfResult) else prefix):
+            k_c = _resume_point(cand, inputs)
+            if k_c > k_start:
+                prev, k_start = cand, k_c
+        n = t_s.size
+        if arrays is None:
+            pos, vel, mat, sens = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 12))
+        else:  # views into a batch's stacked arrays
+            pos, vel, mat, sens = arrays[:4]
+        dxs = np.zeros((n, N_STATES))
+        if full:
+            P_plus = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[4]
+            P_minus = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[5]
+            Phis = np.empty((n, N_STATES, N_STATES)) if arrays is None else arrays[6]
+            Phis[0] = np.eye(N_STATES)
+        else:
+            P_plus = P_minus = Phis = None
+        cps: list = []
+        self.nis = np.full(n, np.nan)
+        self.n_meas = np.zeros(n, dtype=np.int64)
+        self.p = np.asarray(pos0_n_m, dtype=float).copy()
+        self.v = np.asarray(vel0_n_mps, dtype=float).copy()
+        self.C = np.asarray(mat0_nb, dtype=float).copy()
+        self.s = s0.copy()
+        if mode == "cp":
+            cps.append((0, P.copy()))
+        self.dt_all = np.diff(t_s)
+        self.qd_all = process_noise_diag(config, self.dt_all)  # elementwise in dt: the same values as per segment
+        # segment boundaries: every update epoch and the last epoch
+        stops = sorted(set(self.sched) | {n - 1})
+        k = 0
+        if prev is not None:
+            # epochs 0..k_start (k_start an update epoch) as the earlier run computed them; continue after its update
+            k = k_start
+            e = k + 1
+            for a, b in ((pos, prev.pos_n_m), (vel, prev.vel_n_mps), (mat, prev.mat_nb), (sens, prev.sensor),
+                         (dxs, prev.dx), (self.nis, prev.nis), (self.n_meas, prev.n_meas)):
+                a[:e] = b[:e]
+            if full:
+                P_plus[:e], P_minus[:e], Phis[:e] = prev.P_plus[:e], prev.P_minus[:e], prev.Phi[:e]
+                P = prev.P_plus[k].copy()
+            else:
+                j = int(np.searchsorted(prev.cp_idx, k, side="right"))
+                cps = [(int(i), c.copy()) for i, c in zip(prev.cp_idx[:j], prev.cp_P[:j], strict=True)]
+                P = cps[-1][1].copy()
+            self.p, self.v, self.C, self.s = pos[k].copy(), vel[k].copy(), mat[k].copy(), sens[k].copy()
+            stops = [kb for kb in stops if kb > k]
+        self.P, self.k, self.stops, self.cps = P, k, stops, cps
+        self.pos, self.vel, self.mat, self.sens, self.dxs = pos, vel, mat, sens, dxs
+        self.P_plus, self.P_minus, self.Phis = P_plus, P_minus, Phis
+
+    def planned(self, kb: int):
+        """The rows laid out ahead (:func:`_stacked_rows`) of the epoch ``kb`` for the current state: ``(innovation,
+        H, R)``, the same as stacking the sets' ``rows()``; None when the epoch has none laid out (no update, or a
+        set of another class)."""
+        ab = self.plan.get(kb)
+        if ab is None or ab[1] <= ab[0]:
+            return None
+        a, b = ab
+        p, v, C = self.p, self.v, self.C
+        bo = self.body.get(kb)
+        Hk = self.H_all[a:b]
+        if bo is None:
+            x = np.concatenate((p, v))
+        else:
+            Ct = C.T
+            x = np.concatenate((p, v, Ct @ v))
+            Hk[bo[0], 3:6] = Ct[bo[1]]
+            Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
+        return self.Z_all[a:b] - x[self.src_all[a:b]], Hk, self.R_all[a:b]
+
+    def feedback(self, kb: int, dx, P, nis, m: int) -> None:
+        """Store the update of epoch ``kb`` (``dx``, updated ``P``, ``nis`` over ``m`` rows), feed it back
+        (:func:`correct_nav`) and store the epoch."""
+        self.nis[kb] = nis
+        self.n_meas[kb] = m
+        self.dxs[kb] = dx
+        self.store(kb, *correct_nav(self.p, self.v, self.C, self.s, dx), P)
+
+    def store(self, kb: int, p, v, C, s, P) -> None:
+        """The state after epoch ``kb`` and what the run keeps of it."""
+        self.k = kb
+        self.pos[kb], self.vel[kb], self.mat[kb], self.sens[kb] = p, v, C, s
+        self.p, self.v, self.C, self.s, self.P = p, v, C, s, P
+        if self.full:
+            self.P_plus[kb] = P
+        elif self.mode == "cp":
+            cps = self.cps
+            if cps[-1][0] == kb:
+                cps[-1] = (kb, P.copy())
+            else:
+                cps.append((kb, P.copy()))
+
+    def update(self, kb: int) -> None:
+        """The epoch ``kb`` after its prediction: every measurement due there (eq. 4-6), the closed-loop
+        feedback, and what the run stores of the epoch."""
+        p, v, C, s, P = self.p, self.v, self.C, self.s, self.P
+        rows = self.sched.get(kb)
+        if kb in self.plan:
+            # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
+            ihr = self.planned(kb)
+            if ihr is not None:
+                dx, P, nis = joseph_update(P, *ihr)
+                self.feedback(kb, dx, P, nis, ihr[0].size)
+                return
+        elif rows:
+            # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
+            updates = self.updates
+            innov, Hs, Rd = [], [], []
+            for i, j in rows:
+                e, H, R = updates[i].rows(j, p, v, C)
+                innov.append(e)
+                Hs.append(H)
+                Rd.append(R)
+            innov = np.concatenate(innov)
+            if innov.size:
+                Rc = np.concatenate(Rd)
+                if not (np.all(Rc >= MIN_MEAS_VARIANCE) and np.all(Rc <= MAX_VARIANCE)):  # NaN fails too
+                    _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
+                                                               for i, _ in rows})), Rc)
+                dx, P, nis = joseph_update(P, innov, np.vstack(Hs), Rc)
+                self.feedback(kb, dx, P, nis, innov.size)
+                return
+        self.store(kb, p, v, C, s, P)
+
+    def result(self) -> EskfResult:
+        """The run's :class:`EskfResult` once every stop is done."""
+        full = self.full
+        if 0 not in self.sched:
+            if full:
+                self.P_minus[0] = self.P_plus[0] = 0.5 * (self.P0 + self.P0.T)
+            self.pos[0], self.vel[0], self.mat[0], self.sens[0] = (
+                self.pos0, self.vel0, self.mat0, (np.zeros(12) if self.sensor0 is None else self.sensor0))
+        extra = {}
+        if self.mode == "cp":
+            cps = self.cps
+            extra = {"cp_idx": np.array([c[0] for c in cps], dtype=np.int64), "cp_P": np.array([c[1] for c in cps]),
+                     "gyr_b_radps": self.gyr, "acc_b_mps2": self.acc}
+        return EskfResult(t_s=self.t_s, pos_n_m=self.pos, vel_n_mps=self.vel, mat_nb=self.mat, sensor=self.sens,
+                          dx=self.dxs, P_plus=self.P_plus, P_minus=self.P_minus, Phi=self.Phis, nis=self.nis,
+                          n_meas=self.n_meas, config=self.config, inputs=self.inputs, **extra)
+
+
 def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates=(),
              config: EskfConfig | None = None, sensor0=None, keep_covariance: bool = True,
              prefix=()) -> EskfResult:
@@ -646,157 +855,228 @@ def run_eskf(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, up
     ----------
     Liao et al. (2016), eq. (1)-(6).
     """
-    t_s, gyr, acc = _check_imu(t_s, gyr_b_radps, acc_b_mps2)
-    config = config or EskfConfig()
-    P0 = check_covariance("P0", P0, N_STATES)
-    for name, v, shape in (("pos0_n_m", pos0_n_m, (3,)), ("vel0_n_mps", vel0_n_mps, (3,)),
-                           ("mat0_nb", mat0_nb, (3, 3))):
-        a = np.asarray(v, dtype=float)
-        if a.shape != shape or not np.all(np.isfinite(a)):
-            raise ValueError(f"{name} must be a finite array of shape {shape}, got {a.shape}")
-    updates = list(updates)
-    for u in updates:
-        if not isinstance(u, Measurement):
-            raise ValueError(f"updates must obey the Measurement protocol (t_s, name, rows), got {type(u).__name__}")
-        sd = getattr(u, "sd", None)
-        if sd is not None:
-            sdv = np.asarray(sd, dtype=float)
-            _check_measurement_noise(u.name or type(u).__name__, np.square(sdv[np.isfinite(sdv)]))
-    sched = _schedule(t_s, updates)
-    plan, Z_all, R_all, H_all, src_all, body = _stacked_rows(t_s, updates)
-    s0 = np.zeros(12) if sensor0 is None else np.asarray(sensor0, dtype=float).copy()
-    P = 0.5 * (P0 + P0.T)
-    full = bool(keep_covariance)
-    inputs = (t_s, gyr, acc, np.asarray(pos0_n_m, dtype=float), np.asarray(vel0_n_mps, dtype=float),
-              np.asarray(mat0_nb, dtype=float), P, s0, tuple(updates), config, full)
-    prev, k_start = None, -1
-    for cand in ([prefix] if isinstance(prefix, EskfResult) else prefix):
-        k_c = _resume_point(cand, inputs)
-        if k_c > k_start:
-            prev, k_start = cand, k_c
-    n = t_s.size
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    mat = np.empty((n, 3, 3))
-    sens = np.empty((n, 12))
-    dxs = np.zeros((n, N_STATES))
-    if full:
-        P_plus = np.empty((n, N_STATES, N_STATES))
-        P_minus = np.empty((n, N_STATES, N_STATES))
-        Phis = np.empty((n, N_STATES, N_STATES))
-        Phis[0] = np.eye(N_STATES)
-    else:
-        P_plus = P_minus = Phis = None
-    cps: list = []
-    nis = np.full(n, np.nan)
-    n_meas = np.zeros(n, dtype=np.int64)
-
-    p = np.asarray(pos0_n_m, dtype=float).copy()
-    v = np.asarray(vel0_n_mps, dtype=float).copy()
-    C = np.asarray(mat0_nb, dtype=float).copy()
-    s = s0.copy()
-    if not full:
-        cps.append((0, P.copy()))
-    dt_all = np.diff(t_s)
-    qd_all = process_noise_diag(config, dt_all)  # elementwise in dt: the same values as per segment
-    # segment boundaries: every update epoch and the last epoch
-    stops = sorted(set(sched) | {n - 1})
-    k = 0
-    if prev is not None:
-        # epochs 0..k_start (k_start an update epoch) as the earlier run computed them; continue after its update
-        k = k_start
-        e = k + 1
-        for a, b in ((pos, prev.pos_n_m), (vel, prev.vel_n_mps), (mat, prev.mat_nb), (sens, prev.sensor),
-                     (dxs, prev.dx), (nis, prev.nis), (n_meas, prev.n_meas)):
-            a[:e] = b[:e]
-        if full:
-            P_plus[:e], P_minus[:e], Phis[:e] = prev.P_plus[:e], prev.P_minus[:e], prev.Phi[:e]
-            P = prev.P_plus[k].copy()
-        else:
-            j = int(np.searchsorted(prev.cp_idx, k, side="right"))
-            cps = [(int(i), c.copy()) for i, c in zip(prev.cp_idx[:j], prev.cp_P[:j], strict=True)]
-            P = cps[-1][1].copy()
-        p, v, C, s = pos[k].copy(), vel[k].copy(), mat[k].copy(), sens[k].copy()
-        stops = [kb for kb in stops if kb > k]
-    for kb in stops:
+    r = _Run(t_s, gyr_b_radps, acc_b_mps2, pos0_n_m, vel0_n_mps, mat0_nb, P0, updates, config, sensor0,
+             "full" if keep_covariance else "cp", prefix)
+    full = r.full
+    gyr, acc, dt_all, qd_all = r.gyr, r.acc, r.dt_all, r.qd_all
+    pos, vel, mat, sens = r.pos, r.vel, r.mat, r.sens
+    for kb in r.stops:
+        k = r.k
         if kb > k:
             # predict k -> kb with constant sensor-error estimates (eq. 2-3)
             seg = slice(k, kb)
             dt = dt_all[seg]
+            s = r.s
             w_c, f_c = correct_sensors(gyr[seg], acc[seg], s)
-            strapdown(p, v, C, w_c, f_c, dt, out=(pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1]))
+            strapdown(r.p, r.v, r.C, w_c, f_c, dt, out=(pos[k:kb + 1], vel[k:kb + 1], mat[k:kb + 1]))
             sens[k + 1:kb + 1] = s
             qd = qd_all[seg]
+            P = r.P
             if full:
-                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt, out=Phis[k + 1:kb + 1])
-                P = _predict_stretch(P, Ph, qd, P_minus[k + 1:kb + 1], P_plus[k + 1:kb + 1])
+                Ph = transition_matrices(mat[k:kb], f_c, w_c, dt, out=r.Phis[k + 1:kb + 1])
+                P = _predict_stretch(P, Ph, qd, r.P_minus[k + 1:kb + 1], r.P_plus[k + 1:kb + 1])
             else:
                 # bounded memory: transition matrices a stretch at a time, checkpoints every CHECKPOINT_EPOCHS
                 for a in range(0, kb - k, CHECKPOINT_EPOCHS):
                     b = min(a + CHECKPOINT_EPOCHS, kb - k)
                     Ph = transition_matrices(mat[k + a:k + b], f_c[a:b], w_c[a:b], dt[a:b])
-                    P = _predict_stretch(P, Ph, qd[a:b], cps=cps, k0=k + a)
-            p, v, C = pos[kb].copy(), vel[kb].copy(), mat[kb].copy()
-            P = 0.5 * (P + P.T)
+                    P = _predict_stretch(P, Ph, qd[a:b], cps=r.cps, k0=k + a)
+            r.p, r.v, r.C = pos[kb].copy(), vel[kb].copy(), mat[kb].copy()
+            r.P = 0.5 * (P + P.T)
         elif kb == 0 and full:
-            P_minus[0] = P
-        k = kb
-        rows = sched.get(kb)
-        ab = plan.get(kb)
-        if ab is not None:
-            # the rows laid out ahead (_stacked_rows): the same innovation, H and R as stacking rows() below
-            a, b = ab
-            if b > a:
-                bo = body.get(kb)
-                Hk = H_all[a:b]
-                if bo is None:
-                    x = np.concatenate((p, v))
-                else:
-                    Ct = C.T
-                    x = np.concatenate((p, v, Ct @ v))
-                    Hk[bo[0], 3:6] = Ct[bo[1]]
-                    Hk[bo[0], 6:9] = (Ct @ skew(v))[bo[1]]
-                dx, P, nis[kb] = joseph_update(P, Z_all[a:b] - x[src_all[a:b]], Hk, R_all[a:b])
-                n_meas[kb] = b - a
-                dxs[kb] = dx
-                p, v, C, s = correct_nav(p, v, C, s, dx)
-        elif rows:
-            # update (eq. 4-6) with every measurement due at this epoch, then closed-loop feedback
-            innov, Hs, Rd = [], [], []
-            for i, j in rows:
-                e, H, R = updates[i].rows(j, p, v, C)
-                innov.append(e)
-                Hs.append(H)
-                Rd.append(R)
-            innov = np.concatenate(innov)
-            if innov.size:
-                Rc = np.concatenate(Rd)
-                if not (np.all(Rc >= MIN_MEAS_VARIANCE) and np.all(Rc <= MAX_VARIANCE)):  # NaN fails too
-                    _check_measurement_noise(", ".join(sorted({updates[i].name or type(updates[i]).__name__
-                                                               for i, _ in rows})), Rc)
-                dx, P, nis[kb] = joseph_update(P, innov, np.vstack(Hs), Rc)
-                n_meas[kb] = innov.size
-                dxs[kb] = dx
-                p, v, C, s = correct_nav(p, v, C, s, dx)
-        pos[kb], vel[kb], mat[kb], sens[kb] = p, v, C, s
-        if full:
-            P_plus[kb] = P
-        else:
-            if cps[-1][0] == kb:
-                cps[-1] = (kb, P.copy())
+            r.P_minus[0] = r.P
+        r.update(kb)
+    return r.result()
+
+
+#: Largest (members x epochs) of one stacked prediction in :func:`run_eskf_batch` (bounds its buffers: each
+#: (members, epochs, 21, 21) array of the group is this many 21 x 21 matrices at most, 14 MB at 4096).
+BATCH_EPOCHS = 4096
+
+
+def _predict_group(runs, kbs, big):
+    """The prediction of every run in ``runs`` from its epoch ``r.k`` to ``kbs`` (each at least one step), all
+    stacked: the operations of :func:`run_eskf`'s prediction (correct_sensors, strapdown, transition_matrices,
+    the per-epoch ``Phi P Phi^T + Q``) on (members, epochs, ...) arrays, sorted by stretch length so that the
+    members still stepping at epoch ``j`` of the stretch are the first ``cnt[j]``: elementwise operations and one
+    BLAS call per matrix (``np.matmul`` on stacked float64 matrices hands each to the same ``cblas_dgemm`` as
+    ``np.dot``), so every member's numbers have the same bits as its own :func:`run_eskf`."""
+    GY, AC, DT, QD, POS, VEL, MAT, SENS, PP, PM, PH = big
+    n = len(runs)
+    ks = np.array([r.k for r in runs])
+    kbs = np.asarray(kbs)
+    offs = np.array([r.off for r in runs])
+    L = kbs - ks
+    Lm = int(L[0])
+    jj = np.arange(Lm)
+    cnt = np.count_nonzero(L[None, :] > jj[:, None], axis=1).tolist()
+    src = np.minimum((offs + ks)[:, None] + jj, (offs + kbs - 1)[:, None])  # pads repeat the last sample
+    S = np.array([r.s for r in runs])[:, None, :]
+    dt = DT[src]
+    # correct_sensors
+    f_c = (AC[src] - S[:, :, 0:3]) / (1.0 + S[:, :, 6:9])
+    w_c = (GY[src] - S[:, :, 3:6]) / (1.0 + S[:, :, 9:12])
+    # strapdown
+    dC = rotvecs_to_dcm((w_c * dt[:, :, None]).reshape(n * Lm, 3)).reshape(n, Lm, 3, 3)
+    mat = np.zeros((n, Lm + 1, 3, 3))
+    mat[:, 0] = np.array([r.C for r in runs])
+    mm = np.matmul
+    for j in range(Lm):
+        m = cnt[j]
+        mm(mat[:m, j], dC[:m, j], out=mat[:m, j + 1])
+    half_dt = 0.5 * dt[:, :, None]
+    dv = half_dt * np.einsum("lij,lj->li", (mat[:, :-1] + mat[:, 1:]).reshape(n * Lm, 3, 3),
+                             f_c.reshape(n * Lm, 3)).reshape(n, Lm, 3)
+    dv += GRAVITY_N_MPS2 * dt[:, :, None]
+    v0 = np.array([r.v for r in runs])
+    vel = np.empty((n, Lm + 1, 3))
+    np.add(v0, 0.0, out=vel[:, 0])
+    np.cumsum(dv, axis=1, out=vel[:, 1:])
+    np.add(v0[:, None], vel[:, 1:], out=vel[:, 1:])
+    dp = vel[:, :-1] + vel[:, 1:]
+    dp *= half_dt
+    p0 = np.array([r.p for r in runs])
+    pos = np.empty((n, Lm + 1, 3))
+    np.add(p0, 0.0, out=pos[:, 0])
+    np.cumsum(dp, axis=1, out=pos[:, 1:])
+    np.add(p0[:, None], pos[:, 1:], out=pos[:, 1:])
+    # transition matrices and covariance prediction
+    Ph = transition_matrices(mat[:, :Lm].reshape(n * Lm, 3, 3), f_c.reshape(n * Lm, 3), w_c.reshape(n * Lm, 3),
+                             dt.reshape(n * Lm)).reshape(n, Lm, N_STATES, N_STATES)
+    PhT = Ph.swapaxes(2, 3)
+    qd = QD[src]
+    hist = np.empty((n, Lm, N_STATES, N_STATES))
+    work = np.empty((n, N_STATES, N_STATES))
+    prev = np.array([r.P for r in runs])
+    for j in range(Lm):
+        m = cnt[j]
+        o = hist[:m, j]
+        mm(mm(Ph[:m, j], prev[:m], out=work[:m]), PhT[:m, j], out=o)
+        o.reshape(m, N_STATES * N_STATES)[:, ::N_STATES + 1] += qd[:m, j]
+        prev = hist[:, j]
+    # what each run stores of the stretch, and its state at the stretch's end
+    valid = jj[None, :] < L[:, None]
+    dst = ((offs + ks)[:, None] + 1 + jj)[valid]
+    SENS[dst] = np.broadcast_to(S, (n, Lm, 12))[valid]
+    if PP is not None:
+        PM[dst] = PP[dst] = hist[valid]
+        PH[dst] = Ph[valid]
+    j1 = np.arange(Lm + 1)
+    valid1 = j1[None, :] <= L[:, None]
+    dst1 = ((offs + ks)[:, None] + j1)[valid1]
+    POS[dst1], VEL[dst1], MAT[dst1] = pos[valid1], vel[valid1], mat[valid1]
+    ar = np.arange(n)
+    Pend = hist[ar, L - 1]
+    Pend = 0.5 * (Pend + Pend.swapaxes(1, 2))
+    pe, ve, Ce = pos[ar, L], vel[ar, L], mat[ar, L]
+    for i, r in enumerate(runs):
+        r.p, r.v, r.C, r.P = pe[i], ve[i], Ce[i], Pend[i]
+
+
+#: Fewest runs :func:`run_eskf_batch` advances together (fewer run one by one: with one or two, the stacking costs
+#: more than it shares).
+BATCH_MIN_RUNS = 3
+
+
+def _without_covariance(r: EskfResult) -> EskfResult:
+    """A checkpointed result (``keep_covariance=False``) as :func:`run_eskf_batch` returns one without covariance."""
+    return replace(r, cp_idx=None, cp_P=None, gyr_b_radps=None, acc_b_mps2=None, inputs=r.inputs[:10] + ("nav",))
+
+
+def run_eskf_batch(runs, keep_covariance: bool = True) -> list[EskfResult]:
+    """:func:`run_eskf` on several runs advanced together: the same results, bit for bit, in less time.
+
+    Each run's prediction between two of its update epochs is stacked with the other runs' (their own IMU logs,
+    epochs and measurement sets: the k-th stretch of every run at once, whatever its length); the updates stay
+    per run. The Python work per stretch is shared by the runs, which is where a single run spends its time
+    (stretches of a few epochs between updates).
+
+    Parameters
+    ----------
+    runs : sequence of dicts of :func:`run_eskf` keyword arguments (``t_s``, ``gyr_b_radps``, ``acc_b_mps2``,
+        ``pos0_n_m``, ``vel0_n_mps``, ``mat0_nb``, ``P0`` and optionally ``updates``, ``config``, ``sensor0``,
+        ``prefix``); every check of :func:`run_eskf` applies to each
+    keep_covariance : True keeps the covariance histories as ``run_eskf(..., keep_covariance=True)``; False keeps
+        no covariance at all (``P_plus``, ``P_minus``, ``Phi`` and the checkpoints are None: the navigation
+        solution, sensor estimates, fed-back errors and NIS only, e.g. to score the filter without smoothing it;
+        ``prefix`` is then not used)
+
+    Returns
+    -------
+    list of :class:`EskfResult`, one per run, in order (their arrays are views into arrays shared by the batch;
+    fewer than :data:`BATCH_MIN_RUNS` runs are run one by one).
+    """
+    keys = {"t_s", "gyr_b_radps", "acc_b_mps2", "pos0_n_m", "vel0_n_mps", "mat0_nb", "P0", "updates", "config",
+            "sensor0", "prefix"}
+    runs = [dict(r) for r in runs]
+    for i, r in enumerate(runs):
+        bad = sorted(set(r) - keys)
+        if bad:
+            raise ValueError(f"run_eskf_batch: run {i} has unknown arguments {bad}")
+    if not runs:
+        return []
+    full = bool(keep_covariance)
+    if len(runs) < BATCH_MIN_RUNS:  # too few to share the work: one by one (the same results)
+        return [run_eskf(**r) if full else _without_covariance(run_eskf(**r, keep_covariance=False)) for r in runs]
+    Ns = [np.asarray(r["t_s"]).size for r in runs]
+    T = int(np.sum(Ns))
+    POS, VEL, MAT, SENS = np.empty((T, 3)), np.empty((T, 3)), np.empty((T, 3, 3)), np.empty((T, 12))
+    PP = PM = PH = None
+    if full:
+        PP, PM, PH = (np.empty((T, N_STATES, N_STATES)) for _ in range(3))
+    members = []
+    off = 0
+    for i, (r, N) in enumerate(zip(runs, Ns, strict=True)):
+        sl = slice(off, off + N)
+        arrays = (POS[sl], VEL[sl], MAT[sl], SENS[sl]) + ((PP[sl], PM[sl], PH[sl]) if full else ())
+        m = _Run(r["t_s"], r["gyr_b_radps"], r["acc_b_mps2"], r["pos0_n_m"], r["vel0_n_mps"], r["mat0_nb"], r["P0"],
+                 r.get("updates", ()), r.get("config"), r.get("sensor0"), "full" if full else "nav",
+                 r.get("prefix", ()) if full else (), arrays=arrays)
+        if m.t_s.size != N:
+            raise ValueError(f"run_eskf_batch: run {i} t_s has {m.t_s.size} samples, expected {N}")
+        m.off = off
+        members.append(m)
+        off += N
+    GY = np.concatenate([m.gyr for m in members])
+    AC = np.concatenate([m.acc for m in members])
+    DT = np.concatenate([np.append(m.dt_all, 0.0) for m in members])
+    QD = np.concatenate([np.vstack((m.qd_all, np.zeros((1, N_STATES)))) for m in members])
+    big = (GY, AC, DT, QD, POS, VEL, MAT, SENS, PP, PM, PH)
+    todo = [(m, iter(m.stops)) for m in members]
+    while todo:
+        cur, nxt = [], []
+        for m, it in todo:
+            kb = next(it, None)
+            if kb is not None:
+                cur.append((m, kb))
+                nxt.append((m, it))
+        todo = nxt
+        pred = sorted(((kb - m.k, i) for i, (m, kb) in enumerate(cur) if kb > m.k), reverse=True)
+        a = 0
+        while a < len(pred):  # groups of at most BATCH_EPOCHS (members x longest stretch)
+            b = a + max(1, BATCH_EPOCHS // pred[a][0])
+            grp = [cur[i] for _, i in pred[a:b]]
+            _predict_group([m for m, _ in grp], [kb for _, kb in grp], big)
+            a = b
+        planned: dict = {}
+        for m, kb in cur:
+            if kb == 0 and m.k == 0 and full:
+                m.P_minus[0] = m.P
+            ihr = m.planned(kb)
+            if ihr is None:
+                m.update(kb)
             else:
-                cps.append((kb, P.copy()))
-    if 0 not in sched:
-        if full:
-            P_minus[0] = P_plus[0] = 0.5 * (P0 + P0.T)
-        pos[0], vel[0], mat[0], sens[0] = pos0_n_m, vel0_n_mps, mat0_nb, (np.zeros(12) if sensor0 is None
-                                                                         else sensor0)
-    extra = {}
-    if not full:
-        extra = {"cp_idx": np.array([c[0] for c in cps], dtype=np.int64), "cp_P": np.array([c[1] for c in cps]),
-                 "gyr_b_radps": gyr, "acc_b_mps2": acc}
-    return EskfResult(t_s=t_s, pos_n_m=pos, vel_n_mps=vel, mat_nb=mat, sensor=sens, dx=dxs, P_plus=P_plus,
-                      P_minus=P_minus, Phi=Phis, nis=nis, n_meas=n_meas, config=config, inputs=inputs, **extra)
+                planned.setdefault(ihr[0].size, []).append((m, kb, ihr))
+        for size, grp in planned.items():  # the updates of one size stacked (joseph_update_stacked)
+            if len(grp) == 1:
+                m, kb, ihr = grp[0]
+                m.feedback(kb, *joseph_update(m.P, *ihr), size)
+                continue
+            dx, P, nis = joseph_update_stacked(np.array([m.P for m, _, _ in grp]), np.array([i[0] for _, _, i in grp]),
+                                               np.array([i[1] for _, _, i in grp]), np.array([i[2] for _, _, i in grp]))
+            for j, (m, kb, _) in enumerate(grp):
+                m.feedback(kb, dx[j], P[j], float(nis[j]), size)
+    return [m.result() for m in members]
 
 
 def covariance_chunk(res: EskfResult, a: int, b: int):

@@ -25,11 +25,20 @@ from ilocalg.ins.constraints import (
     wvc_updates,
     zupt_updates,
 )
-from ilocalg.ins.eskf import EskfConfig, EskfResult, Measurement, PositionFix, initial_covariance, run_eskf
+from ilocalg.ins.eskf import (
+    EskfConfig,
+    EskfResult,
+    Measurement,
+    PositionFix,
+    initial_covariance,
+    run_eskf,
+    run_eskf_batch,
+)
 from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm, phone_to_body
 from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
-__all__ = ["PhoneFilterSettings", "body_imu_from_log", "stair_mask", "walk_updates", "run_walk"]
+__all__ = ["PhoneFilterSettings", "body_imu_from_log", "stair_mask", "walk_updates", "walk_filter_args", "run_walk",
+           "run_walks"]
 
 
 def body_imu_from_log(imu) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -126,15 +135,11 @@ def walk_updates(walk, constraint: str = "wvc", use_gcp: bool = True, settings: 
     return ups
 
 
-def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
-             wvc_params: dict | None = None, stairs: str = "none", stair_action: str = "drop",
-             step_smoothing: str = "none", keep_covariance: bool = True, prefix=()) -> EskfResult:
-    """Level the phone over its first ``level_s`` seconds, initialise and run the 21-state filter.
-
-    ``stairs``, ``stair_action``, ``step_smoothing``: see :func:`walk_updates`; ``keep_covariance`` and ``prefix``
-    (earlier runs on the same IMU log whose shared beginning is reused, e.g. this walk without control points):
-    see :func:`~ilocalg.ins.eskf.run_eskf`.
-    """
+def walk_filter_args(walk, constraint: str = "wvc", use_gcp: bool = True,
+                     settings: PhoneFilterSettings | None = None, wvc_params: dict | None = None, stairs: str = "none",
+                     stair_action: str = "drop", step_smoothing: str = "none") -> dict:
+    """What :func:`run_walk` hands the filter: the :func:`~ilocalg.ins.eskf.run_eskf` keyword arguments of one walk
+    (IMU log, levelled initial state, initial covariance, measurement sets, process noise)."""
     s = settings or PhoneFilterSettings()
     t = walk.t_s
     first = t < t[0] + s.level_s
@@ -144,6 +149,29 @@ def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: Phon
                             acc_bias_sd_mps2=s.acc_bias_sd_mps2, gyr_bias_sd_radps=s.gyr_bias_sd_radps,
                             acc_sf_sd=s.acc_sf_sd, gyr_sf_sd=s.gyr_sf_sd)
     ups = walk_updates(walk, constraint, use_gcp, s, wvc_params, stairs, stair_action, step_smoothing)
-    return run_eskf(t, walk.gyr_b_radps, walk.acc_b_mps2, walk.init["pos_n_m"], walk.init["vel_n_mps"],
-                    euler_to_dcm(roll, pitch, yaw), P0, ups, s.eskf, keep_covariance=keep_covariance,
-                    prefix=prefix)
+    return {"t_s": t, "gyr_b_radps": walk.gyr_b_radps, "acc_b_mps2": walk.acc_b_mps2, "pos0_n_m": walk.init["pos_n_m"],
+            "vel0_n_mps": walk.init["vel_n_mps"], "mat0_nb": euler_to_dcm(roll, pitch, yaw), "P0": P0, "updates": ups,
+            "config": s.eskf}
+
+
+def run_walk(walk, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
+             wvc_params: dict | None = None, stairs: str = "none", stair_action: str = "drop",
+             step_smoothing: str = "none", keep_covariance: bool = True, prefix=()) -> EskfResult:
+    """Level the phone over its first ``level_s`` seconds, initialise and run the 21-state filter.
+
+    ``stairs``, ``stair_action``, ``step_smoothing``: see :func:`walk_updates`; ``keep_covariance`` and ``prefix``
+    (earlier runs on the same IMU log whose shared beginning is reused, e.g. this walk without control points):
+    see :func:`~ilocalg.ins.eskf.run_eskf`.
+    """
+    return run_eskf(**walk_filter_args(walk, constraint, use_gcp, settings, wvc_params, stairs, stair_action,
+                                       step_smoothing), keep_covariance=keep_covariance, prefix=prefix)
+
+
+def run_walks(walks, constraint: str = "wvc", use_gcp: bool = True, settings: PhoneFilterSettings | None = None,
+              wvc_params: dict | None = None, stairs: str = "none", stair_action: str = "drop",
+              step_smoothing: str = "none", keep_covariance: bool = True) -> list[EskfResult]:
+    """:func:`run_walk` on several walks with the same settings, the filters advanced together
+    (:func:`~ilocalg.ins.eskf.run_eskf_batch`): the same results, bit for bit. ``keep_covariance=False`` keeps no
+    covariance at all (the navigation solution only; such a result cannot be smoothed)."""
+    return run_eskf_batch([walk_filter_args(w, constraint, use_gcp, settings, wvc_params, stairs, stair_action,
+                                            step_smoothing) for w in walks], keep_covariance=keep_covariance)
