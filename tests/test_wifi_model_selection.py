@@ -140,7 +140,7 @@ def test_spot_grid_crosses_exponents_and_spot_k(fast):
 
 
 def test_fit_members_shares_one_search_across_weight_exponents(monkeypatch):
-    from ilocalg.wifi import CascadeFingerprint, OffsetFingerprint, SpotAveragedFingerprint
+    from ilocalg.wifi import CascadeFingerprint, OffsetFingerprint, SpotAveragedFingerprint, spots
     from tests.test_wifi_ensemble import _radio
 
     rng = np.random.default_rng(6)
@@ -150,19 +150,28 @@ def test_fit_members_shares_one_search_across_weight_exponents(monkeypatch):
     off = OffsetFingerprint(shifts_db=(-2.0, 0.0, 2.0))
     members = [("o1", off), ("o4", OffsetFingerprint(shifts_db=(-2.0, 0.0, 2.0), weight_power=4.0)),
                ("cas", CascadeFingerprint(metric="sorensen")),
-               ("s2", SpotAveragedFingerprint(OffsetFingerprint(n_neighbors=1, weight_power=2.0)))]
+               ("s2", SpotAveragedFingerprint(OffsetFingerprint(n_neighbors=1, weight_power=2.0))),
+               ("s2k2", SpotAveragedFingerprint(OffsetFingerprint(n_neighbors=2))),
+               ("s_half", SpotAveragedFingerprint(OffsetFingerprint(n_neighbors=1), min_heard_fraction=0.5))]
     got = ms.fit_members(members, x, y, q, 4)
-    calls = []
+    calls, averaged = [], []
     real = OffsetFingerprint.predict_weight_powers
+    real_spots = spots.spot_fingerprints
 
     def counting(self, X, powers):
         calls.append(tuple(powers))
         return real(self, X, powers)
 
+    def counting_spots(rssi, yy, frac=0.0):
+        averaged.append(frac)
+        return real_spots(rssi, yy, frac)
+
     monkeypatch.setattr(OffsetFingerprint, "predict_weight_powers", counting)
+    monkeypatch.setattr(spots, "spot_fingerprints", counting_spots)
     ms.fit_members(members, x, y, q, 4)
     monkeypatch.undo()
-    assert sorted(calls) == [(1.0, 4.0), (2.0,)]                        # o1 and o4 share one search
+    assert sorted(calls) == [(1.0,), (1.0,), (1.0, 4.0), (2.0,)]        # o1 and o4 share one search
+    assert sorted(averaged) == [0.0, 0.5]                               # one averaging per heard fraction
     for name, est in members:
         alone = est.set_params(n_neighbors=4) if "n_neighbors" in est.get_params() else est
         np.testing.assert_array_equal(got[name], alone.fit(x, y).predict(q))

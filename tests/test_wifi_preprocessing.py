@@ -34,6 +34,43 @@ def test_representations_equal_the_dense_formula(representation):
         np.testing.assert_array_equal(f, dense.astype(dtype))
 
 
+@pytest.mark.parametrize("representation", ["positive", "exponential", "powed"])
+def test_checked_features_equal_the_dense_formula_in_any_layout(representation):
+    # checked_features (the estimators' path after check_rssi) maps only the readings above the floor: the same bytes
+    # as the formula over the whole matrix, for non-integer readings, readings exactly at the floor (0) and a
+    # column-major matrix (a column selection of the training set), always C-contiguous
+    from ilocalg.wifi.preprocessing import checked_features
+
+    rng = np.random.default_rng(1)
+    x = rng.uniform(-104, -20, (150, 40))
+    x[rng.random(x.shape) < 0.7] = np.nan
+    x[rng.random(x.shape) < 0.05] = -104.0
+    pos = np.nan_to_num(x + 104.0, nan=0.0)
+    dense = {"positive": pos, "exponential": np.where(pos == 0, 0.0, np.exp(pos / 24.0) / np.exp(104.0 / 24.0)),
+             "powed": (pos / 104.0) ** np.e}[representation]
+    for xx in (x, np.asfortranarray(x)):
+        for dtype in (np.float32, np.float64):
+            for f in (checked_features(check_rssi(xx), -104.0, representation, dtype=dtype),
+                      to_features(xx, -104.0, representation, dtype=dtype)):
+                assert f.dtype == dtype and f.flags.c_contiguous
+                np.testing.assert_array_equal(f, dense.astype(dtype))
+    with pytest.raises(ValueError, match="row 2, column 1 has -105.0 dBm, weaker than not_heard_dbm"):
+        checked_features(check_rssi(np.where(np.arange(12).reshape(4, 3) == 7, -105.0, -50.0)), -104.0)
+
+
+def test_check_rssi_names_the_first_infinite_or_out_of_range_reading():
+    # the range is checked by the smallest and largest reading first; a failure still names the first offender
+    x = np.full((3, 4), -60.0)
+    x[0, 0] = np.nan
+    x[2, 1], x[1, 3] = -130.0, 5.0
+    with pytest.raises(ValueError, match=r"row 1, column 3: RSSI 5 dBm is outside \[-120, 0\] dBm \(2 such"):
+        check_rssi(x, valid_dbm=(-120.0, 0.0))
+    x[2, 2] = -np.inf
+    with pytest.raises(ValueError, match="infinite at row 2, column 2"):
+        check_rssi(x)
+    assert check_rssi(np.full((2, 2), np.nan), valid_dbm=(-120.0, 0.0)).shape == (2, 2)  # nothing heard: no range
+
+
 def test_bad_input_messages():
     with pytest.raises(ValueError, match="2-D"):
         check_rssi(np.zeros(3))

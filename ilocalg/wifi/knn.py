@@ -52,9 +52,9 @@ from ilocalg.wifi.preprocessing import (
     check_positions,
     check_rssi,
     check_shared_aps,
+    checked_features,
     heard_aps,
     predict_located,
-    to_features,
 )
 
 __all__ = [
@@ -649,14 +649,9 @@ def vote(labels_nbr, w=None, tie: str = "smallest") -> np.ndarray:
 
 def _checked_features(x: np.ndarray, not_heard_dbm, representation: str) -> np.ndarray:
     """:func:`~ilocalg.wifi.preprocessing.to_features` of an RSSI matrix that :func:`check_rssi` has already
-    returned (float64): the plain representation without checking ``x`` a second time (the same float32
-    values); anything else, or a reading it would refuse, goes through ``to_features`` and its message."""
-    floor = float(not_heard_dbm) if isinstance(not_heard_dbm, (int, float, np.number)) else np.nan
-    if representation != "positive" or not np.isfinite(floor) or bool((x < floor).any()):
-        return to_features(x, not_heard_dbm, representation, name="X")
-    f = np.subtract(x, floor)
-    f[np.isnan(f)] = 0.0
-    return np.ascontiguousarray(f, dtype=np.float32)
+    returned (float64), without checking ``x`` a second time (:func:`~ilocalg.wifi.preprocessing.checked_features`:
+    the same values and messages)."""
+    return checked_features(x, not_heard_dbm, representation, name="X")
 
 
 class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
@@ -712,7 +707,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     def _features(self, X, name="X", n_aps=None, allow_empty_rows=True):
         x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__,
                        valid_dbm=self.rssi_range_dbm)
-        return to_features(x, self.not_heard_dbm, self.representation, name=name)
+        return checked_features(x, self.not_heard_dbm, self.representation, name=name)
 
     def fit(self, X, y):
         """Store the reference fingerprints ``X`` (n_refs, n_aps, dBm/NaN) and positions ``y``."""
@@ -723,7 +718,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         if self.weights not in ("uniform", "distance"):
             raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
         x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
-        f = to_features(x, self.not_heard_dbm, self.representation, name="X")
+        f = checked_features(x, self.not_heard_dbm, self.representation, name="X")
         heard = heard_aps(x, type(self).__name__)
         y = check_positions(y, f.shape[0])
         if not 1 <= int(self.n_neighbors) <= f.shape[0]:

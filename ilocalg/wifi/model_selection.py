@@ -372,9 +372,13 @@ def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n
 
     Members that differ only in their neighbour-weight exponent (:class:`ilocalg.wifi.OffsetFingerprint`'s
     ``weight_power``, also inside :class:`ilocalg.wifi.SpotAveragedFingerprint`) share one fit and one neighbour
-    search (``predict_weight_powers``): the same values as fitting each alone. Names must be distinct.
+    search (``predict_weight_powers``): the same values as fitting each alone. Spot-averaged members
+    (:class:`ilocalg.wifi.SpotAveragedFingerprint`) share one :func:`ilocalg.wifi.spots.spot_fingerprints` of
+    ``x_tr`` per ``min_heard_fraction`` (what each one's ``fit`` computes). Names must be distinct.
     """
     from sklearn.base import clone
+
+    from ilocalg.wifi.spots import SpotAveragedFingerprint, spot_fingerprints
 
     groups: dict = {}
     for name, est in members:
@@ -385,10 +389,16 @@ def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n
         key = ("alone", name) if wk is None else (type(e).__name__, tuple(sorted(
             (k, repr(v)) for k, v in e.get_params(deep=True).items() if k != wk and not hasattr(v, "get_params"))))
         groups.setdefault(key, []).append((name, e, wk))
-    out = {}
+    out, spots = {}, {}
     for items in groups.values():
         name0, e0, wk = items[0]
-        e0.fit(x_tr, y_tr)
+        if isinstance(e0, SpotAveragedFingerprint):  # the spot members share one averaging of the same scans
+            frac = float(e0.min_heard_fraction)
+            if frac not in spots:
+                spots[frac] = spot_fingerprints(x_tr, y_tr, frac)
+            e0._fit_spots(*(a.copy() for a in spots[frac]), x_tr.shape[1])
+        else:
+            e0.fit(x_tr, y_tr)
         if wk is None:
             out[name0] = e0.predict(x_te)
             continue

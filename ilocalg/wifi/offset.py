@@ -35,6 +35,7 @@ from ilocalg.wifi.preprocessing import (
     RSSI_RANGE_DBM,
     RssiPositionTags,
     check_rssi,
+    checked_features,
     heard_aps,
     predict_located,
     to_features,
@@ -158,7 +159,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
             if v is not None and (v != np.round(v)).any():
                 raise ValueError(f"y column {name} must hold whole numbers, got {v[v != np.round(v)][0]}")
         self.heard_aps_ = heard_aps(x, owner)
-        self.index_ = build_index(to_features(x, self.not_heard_dbm, self.representation))
+        self.index_ = build_index(checked_features(x, self.not_heard_dbm, self.representation))
         self.y_ = np.asarray(y, dtype=np.float64)
         self.n_outputs_ = 4 if floor is not None else (1 if xy.ndim == 1 else xy.shape[1])
         self.n_features_in_ = x.shape[1]

@@ -45,6 +45,7 @@ __all__ = [
     "check_positions",
     "fill_not_heard",
     "to_features",
+    "checked_features",
     "strongest_ap_mask",
     "mean_fingerprints",
     "RssiPositionTags",
@@ -109,11 +110,16 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
         raise ValueError(f"{name} has {x.shape[1]} features, but {owner} is expecting {n_aps} features as input "
                          f"({name} has {x.shape[1]} AP columns, the fitted database {n_aps}; columns must be the "
                          "same access points in the same order)")
-    bad = np.isinf(x)
-    if bad.any():
+    # one pass for the smallest and largest reading (NaN ignored): when both are finite and in range, nothing is
+    # infinite or out of range and the element-wise checks below (which name the first offender) are skipped
+    lo_v, hi_v = np.fmin.reduce(x, axis=None), np.fmax.reduce(x, axis=None)
+    fine = bool(np.isnan(lo_v)) or (bool(np.isfinite(lo_v)) and bool(np.isfinite(hi_v)) and (
+        valid_dbm is None or (lo_v >= valid_dbm[0] and hi_v <= valid_dbm[1])))
+    bad = None if fine else np.isinf(x)
+    if bad is not None and bad.any():
         r, c = np.argwhere(bad)[0]
         raise ValueError(f"{name} is infinite at row {r}, column {c}; use NaN for 'not heard'")
-    if valid_dbm is not None:
+    if valid_dbm is not None and not fine:
         lo, hi = valid_dbm
         out = (x < lo) | (x > hi)
         if out.any():
@@ -163,28 +169,39 @@ def to_features(rssi_dbm, not_heard_dbm: float = -104.0, representation: str = "
     """
     if representation not in REPRESENTATIONS:
         raise ValueError(f"representation must be one of {REPRESENTATIONS}, got {representation!r}")
-    x = check_rssi(rssi_dbm, name)
+    return checked_features(check_rssi(rssi_dbm, name), not_heard_dbm, representation, alpha, beta, dtype, name)
+
+
+def checked_features(x: np.ndarray, not_heard_dbm: float = -104.0, representation: str = "positive",
+                     alpha: float = 24.0, beta: float = np.e, dtype=np.float32, name: str = "X") -> np.ndarray:
+    """:func:`to_features` of an RSSI matrix that :func:`check_rssi` has returned (float64, 2-D, no infinity):
+    the same values, without checking ``x`` a second time (estimators check their input once, then map it).
+
+    Only the heard readings above the floor are mapped (a scan hears a few of many APs): ``x > not_heard_dbm``
+    is where ``x - not_heard_dbm`` is non-zero (NaN compares false), every other feature is exactly 0.
+    """
+    if representation not in REPRESENTATIONS:
+        raise ValueError(f"representation must be one of {REPRESENTATIONS}, got {representation!r}")
     floor = float(not_heard_dbm)
     if not np.isfinite(floor):
         raise ValueError(f"not_heard_dbm must be finite, got {not_heard_dbm!r}")
-    weak = x < floor
-    if weak.any():
+    if np.fmin.reduce(x, axis=None) < floor:  # NaN (nothing heard) compares false
+        weak = x < floor
         r, c = np.argwhere(weak)[0]
         raise ValueError(f"{name} row {r}, column {c} has {x[r, c]} dBm, weaker than not_heard_dbm={floor}; "
                          "lower not_heard_dbm")
-    pos = x - floor  # NaN (not heard) -> 0; finite otherwise (x >= floor), unless it overflows
-    np.copyto(pos, 0.0, where=np.isnan(pos))  # nan_to_num's result in fewer passes (no +-inf check per element)
-    if pos.size and not np.isfinite(pos.max()):
-        pos = np.nan_to_num(pos)  # an overflow to inf: nan_to_num's largest float, as before
-    if representation == "positive":
-        return np.ascontiguousarray(pos, dtype=dtype)
     if representation == "powed" and floor >= 0:
         raise ValueError("the powed representation needs not_heard_dbm < 0")
-    # only the heard readings (a scan hears a few of many APs); "not heard" (pos == 0) stays exactly 0
-    heard = pos != 0
-    v = pos[heard]
-    f = np.zeros(pos.shape, dtype=dtype)
-    f[heard] = np.exp(v / alpha) / np.exp(-floor / alpha) if representation == "exponential" else (v / -floor) ** beta
+    heard = x > floor
+    v = x[heard] - floor  # finite (x >= floor, x finite), unless it overflows
+    if v.size and not np.isfinite(v.max()):
+        v = np.nan_to_num(v)  # an overflow to inf: nan_to_num's largest float, as before
+    f = np.zeros(x.shape, dtype=dtype)
+    if representation == "positive":
+        f[heard] = v
+    else:
+        f[heard] = (np.exp(v / alpha) / np.exp(-floor / alpha) if representation == "exponential"
+                    else (v / -floor) ** beta)
     return f
 
 

@@ -41,6 +41,7 @@ from ilocalg.wifi.preprocessing import (
     check_positions,
     check_rssi,
     check_shared_aps,
+    checked_features,
     heard_aps,
     predict_located,
     strongest_ap_mask,
@@ -245,7 +246,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Store the reference scans ``X`` (dBm, NaN = not heard) and positions ``y``."""
         x = check_rssi(X, "X", valid_dbm=self.rssi_range_dbm)
-        r = to_features(x, self.not_heard_dbm, dtype=np.float64, name="X")  # validates readings against the floor
+        r = checked_features(x, self.not_heard_dbm, dtype=np.float64, name="X")  # checks readings against the floor
         if int(self.k_aps) < 1:
             raise ValueError(f"k_aps must be >= 1, got {self.k_aps}")
         heard = heard_aps(x, type(self).__name__)
@@ -295,7 +296,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
         idx = np.empty((x.shape[0], k), dtype=np.int64)
         for s in range(0, x.shape[0], _Q_BATCH):
             xb = x[s:s + _Q_BATCH]
-            q = to_features(xb, self.not_heard_dbm, dtype=np.float64)
+            q = checked_features(xb, self.not_heard_dbm, dtype=np.float64)
             a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
             d2 = _union_sq(q, a, self._refs)
             if self._starts is not None:  # one distance per training point: its nearest stored scan

@@ -111,19 +111,24 @@ class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def fit(self, X, y):
         """Average ``X`` (n, n_aps; dBm, NaN = not heard) per distinct row of ``y`` and fit the inner estimator."""
-        from ilocalg.wifi.offset import OffsetFingerprint
-
         x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row, or positions)")
-        fp, y_spot = spot_fingerprints(x, y, self.min_heard_fraction)
+        return self._fit_spots(*spot_fingerprints(x, y, self.min_heard_fraction), x.shape[1])
+
+    def _fit_spots(self, fp: np.ndarray, y_spot: np.ndarray, n_features: int):
+        """:meth:`fit` from the spots' fingerprints and targets (:func:`spot_fingerprints` of the training scans,
+        ``n_features`` AP columns): members that share the training scans share the averaging
+        (:func:`ilocalg.wifi.model_selection.fit_members`)."""
+        from ilocalg.wifi.offset import OffsetFingerprint
+
         est = OffsetFingerprint() if self.estimator is None else self.estimator
         if not hasattr(est, "fit"):
             raise ValueError(f"estimator must be a fingerprint estimator with fit/predict, got {est!r}")
         self.estimator_ = clone(est).fit(fp, y_spot)
         self.n_spots_ = int(fp.shape[0])
-        self.n_features_in_ = x.shape[1]
+        self.n_features_in_ = int(n_features)
         return self
 
     def predict(self, X) -> np.ndarray:
