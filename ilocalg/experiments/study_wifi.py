@@ -114,7 +114,7 @@ _OFFSETS = tuple(sorted(set(GRIDS[False]["device_offset_db"]) | set(GRIDS[True][
 def _split(radio: tuple) -> tuple[tuple, float]:
     """``radio`` (sorted (name, value) pairs) -> (the survey's pairs, without the device offset; the offset)."""
     r = dict(radio)
-    off = r.pop("device_offset_db", iloc_floor.world_params()["device_offset_db"])
+    off = r.pop("device_offset_db") if "device_offset_db" in r else iloc_floor.world_params()["device_offset_db"]
     return tuple(sorted(r.items())), off
 
 
@@ -139,7 +139,7 @@ def _training(seed: int, spp: int, spt: int, survey_radio: tuple, spacing_m: flo
     """The training side of a task (read only): the floor, the kept points, the training scans and positions kept
     and their per-point mean fingerprints. The AP-count and device-offset points of a survey share it (12 entries,
     as :func:`_floors`; the scans kept are at most 3 MB per survey)."""
-    sim = _floor(seed, spp, spt, survey_radio)
+    sim = next(iter(_floors(seed, spp, spt, survey_radio, _OFFSETS).values()))  # every offset's floor has its survey
     keep = thin_points(sim.points_xy_m, spacing_m)
     rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
     X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
