@@ -135,3 +135,24 @@ def test_mean_fingerprints_bits_equal_unique_and_add_at(d):
         got, want = mean_fingerprints(X, y, frac), _mean_fingerprints_reference(X, y, frac)
         for a, b in zip(got, want, strict=True):
             assert a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def test_strongest_ap_mask_is_a_stable_argsorts_first_k():
+    """The argmax passes (k <= 8) and the argsort (above, or an infinite reading) give the first k of a stable sort by
+    strength: ties by column, fewer when fewer are heard."""
+    from ilocalg.wifi.preprocessing import strongest_ap_mask
+
+    rng = np.random.default_rng(3)
+    X = np.round(rng.uniform(-100, -30, (300, 12)))  # integer dBm: many ties
+    X[rng.random(X.shape) < 0.5] = np.nan
+    X[0] = np.nan
+    X[1] = -50.0
+    X[2, :3] = [0.0, -0.0, 0.0]
+    X_inf = X.copy()
+    X_inf[3, 4] = -np.inf
+    for x in (X, X_inf, X[:, :1]):
+        key = np.where(np.isnan(x), -np.inf, x)
+        for k in (1, 2, 5, 8, 9, 12, 40):
+            want = np.zeros(x.shape, dtype=bool)
+            np.put_along_axis(want, np.argsort(-key, axis=1, kind="stable")[:, :k], True, axis=1)
+            np.testing.assert_array_equal(strongest_ap_mask(x, k), want & ~np.isnan(x))

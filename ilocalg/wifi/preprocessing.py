@@ -188,6 +188,11 @@ def to_features(rssi_dbm, not_heard_dbm: float = -104.0, representation: str = "
     return f
 
 
+#: :func:`strongest_ap_mask` takes its k strongest by k passes of argmax up to this k (a stable argsort of every
+#: row above it, or when a heard reading is infinite); the same mask either way.
+_MASK_ARGMAX_K = 8
+
+
 def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
     """Boolean mask of the ``k`` strongest heard APs of each row (fewer when fewer are heard).
 
@@ -202,11 +207,21 @@ def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
     if int(k) < 1:
         raise ValueError(f"k_aps must be >= 1, got {k}")
     k = min(int(k), x.shape[1])
-    key = np.where(np.isnan(x), -np.inf, x)
-    order = np.argsort(-key, axis=1, kind="stable")[:, :k]
+    nan = np.isnan(x)
+    key = np.where(nan, -np.inf, x)
     mask = np.zeros(x.shape, dtype=bool)
+    if k <= _MASK_ARGMAX_K and x.size and not np.isinf(x).any():
+        # k passes of argmax (the first column of the strongest left: a stable sort's order), each taken AP set to
+        # -inf; a row with fewer than k heard takes not-heard or taken columns, which change nothing below
+        rows = np.arange(x.shape[0])
+        for _ in range(k):
+            j = np.argmax(key, axis=1)
+            mask[rows, j] = True
+            key[rows, j] = -np.inf
+        return mask & ~nan
+    order = np.argsort(-key, axis=1, kind="stable")[:, :k]
     np.put_along_axis(mask, order, True, axis=1)
-    return mask & ~np.isnan(x)
+    return mask & ~nan
 
 
 def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
