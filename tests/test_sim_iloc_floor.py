@@ -89,6 +89,27 @@ def test_body_shadowing_and_device_offset():
     np.testing.assert_array_equal(c.train.rssi_dbm, a.train.rssi_dbm)  # survey phone unchanged
 
 
+def test_device_offsets_at_once_are_the_floors_of_one_simulate_each():
+    offsets = (-10.0, 0.0, 7.5)
+    kw = dict(scans_per_point=20, scans_per_test_point=3, body_loss_db=2.0)
+    rng = np.random.default_rng(8)
+    floors = iloc_floor.simulate_device_offsets(offsets, rng, **kw)
+    assert len(floors) == 3
+    for off, f in zip(offsets, floors, strict=True):
+        one_rng = np.random.default_rng(8)
+        one = iloc_floor.simulate(one_rng, device_offset_db=off, **kw)
+        for a, b in ((f.train.rssi_dbm, one.train.rssi_dbm), (f.test.rssi_dbm, one.test.rssi_dbm),
+                     (f.test.xy_m, one.test.xy_m), (f.mean_rssi_dbm, one.mean_rssi_dbm)):
+            assert a.tobytes() == b.tobytes()
+        assert f.params == one.params and f.params["device_offset_db"] == off
+        assert one_rng.bit_generator.state == rng.bit_generator.state  # the caller's generator moves as one call
+    assert not np.array_equal(np.nan_to_num(floors[0].test.rssi_dbm), np.nan_to_num(floors[2].test.rssi_dbm))
+    with pytest.raises(ValueError, match="device_offsets_db"):
+        iloc_floor.simulate_device_offsets((0.0,), 1, device_offset_db=3.0)
+    with pytest.raises(ValueError, match="finite"):
+        iloc_floor.simulate_device_offsets((np.nan,), 1)
+
+
 @pytest.mark.parametrize("world", ["measured", "copied", "assumed"])
 def test_calibrated_inputs(world):
     sim = iloc_floor.simulate(0, scans_per_point=100, scans_per_test_point=2, world=world)

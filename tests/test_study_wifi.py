@@ -20,7 +20,8 @@ def _mean_error(seed, method, **params):
 
 
 def _clear_caches():
-    for f in (study_wifi._floor, study_wifi._survey, study_wifi._horus_fit, study_wifi._knn_summary):
+    for f in (study_wifi._floors, study_wifi._training, study_wifi._horus_fit, study_wifi._radar_fit,
+              study_wifi._knn_summary):
         f.cache_clear()
 
 
@@ -38,6 +39,25 @@ def test_ap_count_points_sharing_a_survey_give_the_tables_of_fresh_runs():
     h = fresh[3]
     knn = h["item"] == "method=KNN (Manhattan, K=5)"
     pd.testing.assert_frame_equal(h[knn], fresh[6][knn], check_exact=True)  # KNN does not read k
+
+
+def test_device_offset_points_sharing_a_survey_give_the_tables_of_fresh_runs():
+    kw = dict(seed=4, fast=True, scans_per_point=8, scans_per_test_point=3)
+    fresh = {}
+    for off in (-10.0, 0.0, 3.0):  # 3 dB: not a grid value (its own survey draw, the same arrays)
+        _clear_caches()
+        fresh[off] = study_wifi.run(device_offset_db=off, **kw)["sweep_wifi"]
+        _clear_caches()
+        sim = iloc_floor.simulate(4, scans_per_point=8, scans_per_test_point=3, device_offset_db=off)
+        assert study_wifi._floor(4, 8, 3, (("device_offset_db", off),)).test.rssi_dbm.tobytes() == \
+            sim.test.rssi_dbm.tobytes()
+    _clear_caches()
+    for off in (0.0, -10.0, 3.0):
+        pd.testing.assert_frame_equal(study_wifi.run(device_offset_db=off, **kw)["sweep_wifi"], fresh[off],
+                                      check_exact=True)
+    assert study_wifi._floors.cache_info().misses == 2  # the grid's offsets drawn with one survey, 3 dB apart
+    assert study_wifi._horus_fit.cache_info().hits == 2 and study_wifi._radar_fit.cache_info().hits == 2
+    assert not fresh[0.0].equals(fresh[-10.0])  # the offset reaches the test scans
 
 
 def test_same_seed_same_table_and_sweep_shape():

@@ -136,3 +136,60 @@ def test_estimators_refuse_rssi_outside_physics_by_default(make):
     # the opt-out accepts any finite value
     est = make().set_params(rssi_range_dbm=None).fit(X + 200.0, y)
     assert np.isfinite(est.predict(X[:1] + 200.0)).all()
+
+
+def _mean_fingerprints_reference(X, y, min_heard_fraction):
+    """The radio map by np.unique(axis=0) and np.add.at (the earlier implementation)."""
+    x = np.asarray(X, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64).reshape(x.shape[0], -1)
+    _, first, inv = np.unique(y, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    point = rank[inv.ravel()]
+    cnt = np.zeros((order.size, x.shape[1]))
+    tot = np.zeros((order.size, x.shape[1]))
+    np.add.at(cnt, point, (~np.isnan(x)).astype(np.float64))
+    np.add.at(tot, point, np.nan_to_num(x, nan=0.0))
+    n_scans = np.bincount(point, minlength=order.size)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fp = tot / cnt
+    fp[(cnt == 0) | (cnt < min_heard_fraction * n_scans)] = np.nan
+    return fp, y[first[order]], point
+
+
+@pytest.mark.parametrize("d", [1, 2, 3])
+def test_mean_fingerprints_bits_equal_unique_and_add_at(d):
+    rng = np.random.default_rng(d)
+    X = rng.normal(-70.0, 10.0, (400, 7))  # not integers: the order of the additions shows in the last bits
+    X[rng.random(X.shape) < 0.4] = np.nan
+    y = rng.integers(0, 4, (400, d)).astype(np.float64)
+    y[3] = np.nan  # a NaN position is a point of its own (np.unique's grouping)
+    y[5] = np.nan
+    y[9, 0], y[10, 0] = -0.0, 0.0  # -0.0 and 0.0 are one position
+    y[10, 1:] = y[9, 1:]
+    for frac in (0.0, 0.5, 1.0):
+        got, want = mean_fingerprints(X, y, frac), _mean_fingerprints_reference(X, y, frac)
+        for a, b in zip(got, want, strict=True):
+            assert a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def test_strongest_ap_mask_is_a_stable_argsorts_first_k():
+    """The argmax passes (k <= 8) and the argsort (above, or an infinite reading) give the first k of a stable sort by
+    strength: ties by column, fewer when fewer are heard."""
+    from ilocalg.wifi.preprocessing import strongest_ap_mask
+
+    rng = np.random.default_rng(3)
+    X = np.round(rng.uniform(-100, -30, (300, 12)))  # integer dBm: many ties
+    X[rng.random(X.shape) < 0.5] = np.nan
+    X[0] = np.nan
+    X[1] = -50.0
+    X[2, :3] = [0.0, -0.0, 0.0]
+    X_inf = X.copy()
+    X_inf[3, 4] = -np.inf
+    for x in (X, X_inf, X[:, :1]):
+        key = np.where(np.isnan(x), -np.inf, x)
+        for k in (1, 2, 5, 8, 9, 12, 40):
+            want = np.zeros(x.shape, dtype=bool)
+            np.put_along_axis(want, np.argsort(-key, axis=1, kind="stable")[:, :k], True, axis=1)
+            np.testing.assert_array_equal(strongest_ap_mask(x, k), want & ~np.isnan(x))

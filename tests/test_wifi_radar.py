@@ -165,3 +165,29 @@ def test_reference_factor_stacked_once_gives_the_same_bits(monkeypatch, not_hear
         for a, b in zip(cached.kneighbors(q), stacked.kneighbors(q), strict=True):
             assert a.tobytes() == b.tobytes()
         assert cached.predict(q).tobytes() == stacked.predict(q).tobytes()
+
+
+def test_clamp_after_the_point_minima_gives_the_bits_of_clamping_every_distance(monkeypatch):
+    """kneighbors clamps a float64 product's negative roundings only when a point's minimum is below 0: the same
+    distances, neighbours and positions as clamping the whole matrix (what _union_sq does by default)."""
+    from ilocalg.wifi import radar
+    from ilocalg.wifi.preprocessing import to_features
+
+    rng = np.random.default_rng(5)
+    X = np.round(rng.uniform(-90, -40, (40, 6))) + rng.choice([0.0, 0.3, 0.37], size=(40, 6))
+    X[rng.random(X.shape) < 0.3] = np.nan
+    X[np.isnan(X).all(axis=1), 0] = -50.0
+    y = np.repeat(np.arange(10.0), 4)[:, None] * [1.0, 0.0]  # 10 points of 4 scans
+    nh = -93.76  # features x - nh are not integers: the float64 product
+    est = SimplifiedRadar(k_aps=3, n_neighbors=3, not_heard_dbm=nh).fit(X, y)
+    raw = radar._union_sq(to_features(X, nh, dtype=np.float64), strongest_ap_mask(X, 3).astype(np.float64),
+                          est._refs, clamp=False)
+    assert (raw < 0).any()  # an exact match rounds below 0: the clamp path is exercised
+    Q = np.vstack([X, X[:7] + 2.0])  # exact matches (rounding below 0) and queries without one
+    got = est.kneighbors(Q), est.predict(Q)
+    assert (got[0][0] >= 0).all() and (got[0][0][:40, 0] < 1e-5).all()  # each scan finds itself (0 within rounding)
+    orig = radar._union_sq
+    monkeypatch.setattr(radar, "_union_sq", lambda q, a, ref, clamp=True: orig(q, a, ref, clamp=True))
+    want = est.kneighbors(Q), est.predict(Q)
+    for a, b in zip((*got[0], got[1]), (*want[0], want[1]), strict=True):
+        assert a.tobytes() == b.tobytes()

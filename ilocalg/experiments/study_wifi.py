@@ -105,25 +105,54 @@ def thin_points(points_xy_m, spacing_m: float) -> np.ndarray:
     return np.asarray(kept, dtype=np.int64)
 
 
+#: Device offsets whose test sessions every simulated survey draws at once (both grids' values): the offset
+#: changes only what the test phone reads (:func:`ilocalg.sim.iloc_floor.simulate_device_offsets`), so the
+#: device-offset points of a seed share one survey, its fits and its per-point fingerprints.
+_OFFSETS = tuple(sorted(set(GRIDS[False]["device_offset_db"]) | set(GRIDS[True]["device_offset_db"])))
+
+
+def _split(radio: tuple) -> tuple[tuple, float]:
+    """``radio`` (sorted (name, value) pairs) -> (the survey's pairs, without the device offset; the offset)."""
+    r = dict(radio)
+    off = r.pop("device_offset_db") if "device_offset_db" in r else iloc_floor.world_params()["device_offset_db"]
+    return tuple(sorted(r.items())), off
+
+
 @functools.lru_cache(maxsize=12)
+def _floors(seed: int, spp: int, spt: int, survey_radio: tuple, offsets: tuple) -> dict:
+    """The simulated floors of a survey, one per device offset (read only here): the AP-count, spacing and
+    device-offset points of a seed share them, so a worker process that runs several of them (the seeds
+    interleave in the task list) simulates the survey once; 12 surveys of 3.7 MB at most."""
+    sims = iloc_floor.simulate_device_offsets(offsets, seed, scans_per_point=spp, scans_per_test_point=spt,
+                                              **dict(survey_radio))
+    return dict(zip(offsets, sims, strict=True))
+
+
 def _floor(seed: int, spp: int, spt: int, radio: tuple) -> iloc_floor.IlocFloor:
-    """The simulated floor of a task (read only here): the AP-count and spacing points of a seed share it, so a
-    worker process that runs several of them (the seeds interleave in the task list) simulates it once; 12
-    floors of 3.7 MB at most."""
-    return iloc_floor.simulate(seed, scans_per_point=spp, scans_per_test_point=spt, **dict(radio))
+    """The simulated floor of a task (:func:`_floors`; the same arrays as ``iloc_floor.simulate``)."""
+    survey_radio, off = _split(radio)
+    return _floors(seed, spp, spt, survey_radio, tuple(sorted({*_OFFSETS, off})))[off]
 
 
 @functools.lru_cache(maxsize=12)
-def _survey(seed: int, spp: int, spt: int, radio: tuple, spacing_m: float) -> tuple:
-    """What a task scores on (read only): the floor, the kept points, the training scans and positions kept,
-    their per-point mean fingerprints, and the test scans hearing some AP with their true positions. The AP-count
-    points of a survey share it (12 entries, as :func:`_floor`: the seeds interleave in the task list; the scans
-    kept are at most 3 MB per survey)."""
-    sim = _floor(seed, spp, spt, radio)
+def _training(seed: int, spp: int, spt: int, survey_radio: tuple, spacing_m: float) -> tuple:
+    """The training side of a task (read only): the floor, the kept points, the training scans and positions kept
+    and their per-point mean fingerprints. The AP-count and device-offset points of a survey share it (12 entries,
+    as :func:`_floors`; the scans kept are at most 3 MB per survey)."""
+    sim = next(iter(_floors(seed, spp, spt, survey_radio, _OFFSETS).values()))  # every offset's floor has its survey
     keep = thin_points(sim.points_xy_m, spacing_m)
     rows_kept = np.isin(sim.train.meta["point"].to_numpy(), keep)
     X, xy = sim.train.rssi_dbm[rows_kept], sim.train.xy_m[rows_kept]
     fp, pts, _ = mean_fingerprints(X, xy, min_heard_fraction=0.5)
+    return sim, keep, X, xy, fp, pts
+
+
+def _survey(seed: int, spp: int, spt: int, radio: tuple, spacing_m: float) -> tuple:
+    """What a task scores on (read only): the floor, the kept points, the training scans and positions kept,
+    their per-point mean fingerprints (:func:`_training`), and the test scans hearing some AP with their true
+    positions."""
+    sim = _floor(seed, spp, spt, radio)
+    keep, X, xy, fp, pts = _training(seed, spp, spt, _split(radio)[0], spacing_m)[1:]
     heard = ~np.all(np.isnan(sim.test.rssi_dbm), axis=1)  # a scan hearing no AP cannot be positioned
     return sim, keep, X, xy, fp, pts, heard, sim.test.xy_m[heard], sim.test.rssi_dbm[heard]
 
@@ -133,11 +162,19 @@ def _paper_estimator(name: str, sim) -> object:
 
 
 @functools.lru_cache(maxsize=12)
-def _horus_fit(*survey) -> object:
+def _horus_fit(*training) -> object:
     """Simplified-Horus fitted on every stored scan of a survey (Fig 4): its per-point histograms do not read
-    ``k_aps`` (read only; :func:`_use_fit` copies what ``predict`` needs)."""
-    sim, _, X, xy, *_ = _survey(*survey)
+    ``k_aps`` nor the test phone (read only; :func:`_use_fit` copies what ``predict`` needs)."""
+    sim, _, X, xy, *_ = _training(*training)
     return _paper_estimator("Simplified-Horus", sim).fit(X, xy)
+
+
+@functools.lru_cache(maxsize=1)
+def _radar_fit(k_aps: int, *training) -> object:
+    """Simplified-RADAR with ``k_aps`` fitted on every stored scan of a survey (L283, L287; read only): the
+    device-offset points (consecutive tasks of a seed) share it."""
+    sim, _, X, xy, *_ = _training(*training)
+    return paper_estimators(sim.detect_dbm, k_aps)["Simplified-RADAR"].fit(X, xy)
 
 
 def _use_fit(est, fitted) -> None:
@@ -186,6 +223,7 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
     spp = int(scans_per_point or (60 if fast else iloc_floor.SCANS_PER_POINT))
     spt = int(scans_per_test_point or (5 if fast else 20))
     survey = (int(seed), spp, spt, tuple(sorted(radio.items())), float(spacing_m))
+    training = (int(seed), spp, spt, _split(survey[3])[0], float(spacing_m))
     sim, keep, X, xy, fp, pts, heard, true, Xq = _survey(*survey)
     rows = [study_row("training points", len(keep), "points"),
             study_row("test scans hearing no AP (not scored)", np.sum(~heard), "scans")]
@@ -194,9 +232,9 @@ def run(seed: int = 0, fast: bool = False, k_aps: int = 5, spacing_m: float = 2.
             s = _knn_summary(*survey)
         else:
             if name == "Simplified-Horus":  # the histograms do not depend on k (only the query's APs do)
-                _use_fit(est, _horus_fit(*survey))
+                _use_fit(est, _horus_fit(*training))
             else:  # every stored scan: RADAR's database (L283, L287)
-                est.fit(X, xy)
+                est = _radar_fit(int(k_aps), *training)
             s = summary(horizontal_error_m(est.predict(Xq), true))
         rows += [study_row(q, s[col], "m", method=name) for q, col in STATS]
     return {"sweep_wifi": pd.DataFrame(rows)}

@@ -123,6 +123,7 @@ __all__ = [
     "wall_materials",
     "mean_rssi_dbm",
     "simulate",
+    "simulate_device_offsets",
     "walking_scans",
     "session_drift_db",
     "walking_fixes",
@@ -473,7 +474,16 @@ def _body_db(xy: np.ndarray, facing_rad: np.ndarray, ap: np.ndarray, loss_db: fl
 
 
 def _detect(rssi: np.ndarray, p: dict, rng) -> np.ndarray:
-    miss = rng.random(rssi.shape) < p["miss_p"]
+    return _detect_with(rssi, p, _miss(rssi.shape, p, rng))
+
+
+def _miss(shape: tuple, p: dict, rng) -> np.ndarray:
+    """Which readings a scan misses although detectable (probability ``miss_p``): one uniform draw per reading."""
+    return rng.random(shape) < p["miss_p"]
+
+
+def _detect_with(rssi: np.ndarray, p: dict, miss: np.ndarray) -> np.ndarray:
+    """Readings as reported: integer dBm, NaN below ``detect_dbm`` or missed."""
     out = np.round(rssi)  # phones report integer dBm
     out[(out < p["detect_dbm"]) | miss] = np.nan
     return out
@@ -519,6 +529,39 @@ def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_poin
     IlocFloor
     """
     p = _check_params(overrides, world)
+    return _simulate(seed, scans_per_point, scans_per_test_point, p, (p["device_offset_db"],))[0]
+
+
+def simulate_device_offsets(device_offsets_db, seed=0, scans_per_point: int = SCANS_PER_POINT,
+                            scans_per_test_point: int = 10, world: str = "measured", **overrides) -> tuple:
+    """:func:`simulate` for several test phones: the survey and the test session are drawn once.
+
+    The device offset is added to the test session's RSSI only (the survey phone reads 0 dB), after every
+    draw, so the floors returned are exactly those of :func:`simulate` with ``device_offset_db`` set to each
+    value (same seed, same random numbers, identical arrays); they share one ``train`` set (read it, do not
+    modify it), and a Generator passed as ``seed`` ends in the state one :func:`simulate` call leaves.
+
+    Parameters
+    ----------
+    device_offsets_db : sequence of float
+        The test phone's offsets above the survey phone, dB.
+    seed, scans_per_point, scans_per_test_point, world, **overrides
+        As :func:`simulate` (``overrides`` without ``device_offset_db``).
+
+    Returns
+    -------
+    tuple of IlocFloor, one per offset, in the order given
+    """
+    if "device_offset_db" in overrides:
+        raise ValueError("give the device offsets as device_offsets_db, not as the device_offset_db override")
+    offsets = tuple(device_offsets_db)
+    if not offsets or not all(np.isfinite(float(o)) for o in offsets):
+        raise ValueError(f"device_offsets_db must be one or more finite offsets in dB, got {device_offsets_db!r}")
+    return _simulate(seed, scans_per_point, scans_per_test_point, _check_params(overrides, world), offsets)
+
+
+def _simulate(seed, scans_per_point: int, scans_per_test_point: int, p: dict, offsets: tuple) -> tuple:
+    """The floors of :func:`simulate` for each device offset in ``offsets`` (``p`` checked; its offset unused)."""
     if scans_per_point < 1 or scans_per_test_point < 1:
         raise ValueError("scans_per_point and scans_per_test_point must be >= 1")
     rng = as_rng(seed)
@@ -556,7 +599,8 @@ def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_poin
     tr_sess = np.tile(sess, n_pts)
     tr_facing = facing[:, sess].reshape(-1)
 
-    # --- test session: another day, facing the walking direction, test phone
+    # --- test session: another day, facing the walking direction, test phone (its offset added last but the
+    # fast fade, as one expression did: (mean + drift + local + body) + offset + fade, for each offset)
     test_idx = test_route_index()
     te_drift = rng.normal(0.0, p["drift_sd_db"], n_ap)
     te_local = rng.normal(0.0, p["local_sd_db"], (len(test_idx), n_ap))
@@ -564,21 +608,25 @@ def simulate(seed=0, scans_per_point: int = SCANS_PER_POINT, scans_per_test_poin
     te_body = _body_db(pts[test_idx], te_face, ap, p["body_loss_db"])
     n_t = scans_per_test_point
     te_fade = rng.normal(0.0, 1.0, (len(test_idx), n_t, n_ap)) * fade_sd[test_idx, None, None]
-    te = (mean[test_idx, None, :] + te_drift[None, None, :] + te_local[:, None, :] + te_body[:, None, :]
-          + p["device_offset_db"] + te_fade)
-    te_rssi = _detect(te, p, rng).reshape(len(test_idx) * n_t, n_ap)
+    te_part = mean[test_idx, None, :] + te_drift[None, None, :] + te_local[:, None, :] + te_body[:, None, :]
+    te_miss = _miss(te_fade.shape, p, rng)  # (points, scans, APs): te_part broadcasts over the scans
     te_point = np.repeat(test_idx, n_t)
     ap_ids = tuple(f"AP{i:02d}" for i in range(n_ap))
     src = f"ilocalg.sim.iloc_floor.simulate(seed={seed if not isinstance(seed, np.random.Generator) else 'rng'})"
     train = FingerprintSet(tr_rssi, ap_ids, pts[tr_point, 0].copy(), pts[tr_point, 1].copy(),
                            meta=pd.DataFrame({"point": tr_point, "session": tr_sess, "facing_rad": tr_facing}),
                            source=src)
-    test = FingerprintSet(te_rssi, ap_ids, pts[te_point, 0].copy(), pts[te_point, 1].copy(),
-                          meta=pd.DataFrame({"point": te_point, "session": n_sess,
-                                             "facing_rad": np.repeat(te_face, n_t)}), source=src)
-    return IlocFloor(train=train, test=test, points_xy_m=pts, test_points=test_idx, ap_xy_m=ap,
-                     ap_floor=ap_floor, mean_rssi_dbm=mean, fade_sd_db=fade_sd, detect_dbm=float(p["detect_dbm"]),
-                     params=p, test_drift_db=te_drift, shadow_field=shadow)
+    out = []
+    for off in offsets:
+        te_rssi = _detect_with(te_part + off + te_fade, p, te_miss).reshape(len(test_idx) * n_t, n_ap)
+        test = FingerprintSet(te_rssi, ap_ids, pts[te_point, 0].copy(), pts[te_point, 1].copy(),
+                              meta=pd.DataFrame({"point": te_point, "session": n_sess,
+                                                 "facing_rad": np.repeat(te_face, n_t)}), source=src)
+        out.append(IlocFloor(train=train, test=test, points_xy_m=pts, test_points=test_idx, ap_xy_m=ap,
+                             ap_floor=ap_floor, mean_rssi_dbm=mean, fade_sd_db=fade_sd,
+                             detect_dbm=float(p["detect_dbm"]), params={**p, "device_offset_db": off},
+                             test_drift_db=te_drift, shadow_field=shadow))
+    return tuple(out)
 
 
 def _corridor_distance_m(xy: np.ndarray) -> np.ndarray:

@@ -205,6 +205,11 @@ def checked_features(x: np.ndarray, not_heard_dbm: float = -104.0, representatio
     return f
 
 
+#: :func:`strongest_ap_mask` takes its k strongest by k passes of argmax up to this k (a stable argsort of every
+#: row above it, or when a heard reading is infinite); the same mask either way.
+_MASK_ARGMAX_K = 8
+
+
 def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
     """Boolean mask of the ``k`` strongest heard APs of each row (fewer when fewer are heard).
 
@@ -219,11 +224,21 @@ def strongest_ap_mask(rssi_dbm, k: int) -> np.ndarray:
     if int(k) < 1:
         raise ValueError(f"k_aps must be >= 1, got {k}")
     k = min(int(k), x.shape[1])
-    key = np.where(np.isnan(x), -np.inf, x)
-    order = np.argsort(-key, axis=1, kind="stable")[:, :k]
+    nan = np.isnan(x)
+    key = np.where(nan, -np.inf, x)
     mask = np.zeros(x.shape, dtype=bool)
+    if k <= _MASK_ARGMAX_K and x.size and not np.isinf(x).any():
+        # k passes of argmax (the first column of the strongest left: a stable sort's order), each taken AP set to
+        # -inf; a row with fewer than k heard takes not-heard or taken columns, which change nothing below
+        rows = np.arange(x.shape[0])
+        for _ in range(k):
+            j = np.argmax(key, axis=1)
+            mask[rows, j] = True
+            key[rows, j] = -np.inf
+        return mask & ~nan
+    order = np.argsort(-key, axis=1, kind="stable")[:, :k]
     np.put_along_axis(mask, order, True, axis=1)
-    return mask & ~np.isnan(x)
+    return mask & ~nan
 
 
 def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -252,17 +267,25 @@ def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np
     y = np.asarray(xy, dtype=np.float64).reshape(x.shape[0], -1)
     if not 0.0 <= min_heard_fraction <= 1.0:
         raise ValueError(f"min_heard_fraction must be in [0, 1], got {min_heard_fraction}")
-    _, first, inv = np.unique(y, axis=0, return_index=True, return_inverse=True)
+    # identical rows are one point (np.unique(axis=0)'s grouping: NaN rows apart, -0.0 = 0.0), points in the order
+    # of their first row: one stable lexsort, each group's first row is its first in the sorted order
+    srt_rows = np.lexsort(y.T[::-1])
+    srt = y[srt_rows]
+    new = np.ones(y.shape[0], dtype=bool)
+    new[1:] = np.any(srt[1:] != srt[:-1], axis=1)
+    first = srt_rows[new]
     order = np.argsort(first, kind="stable")
     rank = np.empty_like(order)
     rank[order] = np.arange(order.size)
-    point = rank[inv.ravel()]
-    n_pts = order.size
+    point = np.empty(y.shape[0], dtype=np.intp)
+    point[srt_rows] = rank[np.cumsum(new) - 1]
+    n_pts, m = order.size, x.shape[1]
     heard = ~np.isnan(x)
-    cnt = np.zeros((n_pts, x.shape[1]))
-    tot = np.zeros((n_pts, x.shape[1]))
-    np.add.at(cnt, point, heard.astype(np.float64))
-    np.add.at(tot, point, np.nan_to_num(x, nan=0.0))
+    # per (point, AP) sums over the point's rows in row order (bincount adds its weights in order, as np.add.at
+    # did: the same sums, bit for bit); not heard adds 0 (check_rssi has rejected +-inf)
+    cell = (point[:, None] * m + np.arange(m)).ravel()
+    cnt = np.bincount(cell, weights=heard.ravel().astype(np.float64), minlength=n_pts * m).reshape(n_pts, m)
+    tot = np.bincount(cell, weights=np.where(heard, x, 0.0).ravel(), minlength=n_pts * m).reshape(n_pts, m)
     n_scans = np.bincount(point, minlength=n_pts)[:, None]
     with np.errstate(invalid="ignore", divide="ignore"):
         fp = tot / cnt

@@ -156,13 +156,16 @@ def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_
     return _union_sq(q, a, _References(r, b))
 
 
-def _union_sq(q, a, ref: _References) -> np.ndarray:
+def _union_sq(q, a, ref: _References, clamp: bool = True) -> np.ndarray:
     """Squared eq. (1) distances as one matrix product per slab of references.
 
     With ``a``, ``b`` the strongest-AP masks of query and reference, the union's indicator is
     ``a + b - ab``, so ``d = sum_i (a_i + b_i - a_i b_i)(q_i - r_i)^2`` expands into five products of a
     query term and a reference term (grouped by the reference term: ``r``, ``r^2``, ``b``, ``br``,
-    ``br^2``) plus a constant of each side, all in one GEMM.
+    ``br^2``) plus a constant of each side, all in one GEMM. A float64 product may round a true 0 below 0:
+    ``clamp`` sets such values to 0 here (a pass over the whole matrix); with ``clamp=False`` the caller does,
+    where needed (:meth:`SimplifiedRadar.kneighbors` checks the per-point minima first, which are all >= 0 but
+    for a rare exact match).
     """
     k = int(max(a.sum(axis=1).max(initial=0), ref.k))
     dt = _exact_dtype(q, ref, k)
@@ -176,7 +179,7 @@ def _union_sq(q, a, ref: _References) -> np.ndarray:
         for s in range(0, n_ref, _REF_CHUNK):
             right = ref.right(s, s + _REF_CHUNK, dt)
             out[:, s:s + _REF_CHUNK] = left @ right.T  # (into a slice directly, matmul would not call BLAS)
-    if dt is not np.float32:  # float32 here is exact (an integer sum of integers): never below 0
+    if clamp and dt is not np.float32:  # float32 here is exact (an integer sum of integers): never below 0
         np.maximum(out, 0.0, out=out)
     return out
 
@@ -298,13 +301,17 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             xb = x[s:s + _Q_BATCH]
             q = checked_features(xb, self.not_heard_dbm, dtype=np.float64)
             a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
-            d2 = _union_sq(q, a, self._refs)
             if self._starts is not None:  # one distance per training point: its nearest stored scan
+                d2 = _union_sq(q, a, self._refs, clamp=False)
                 gmin = np.minimum.reduceat(d2, self._starts, axis=1)
+                if gmin.size and gmin.min() < 0:  # a float64 product rounded a 0 below 0: as _union_sq's clamp
+                    np.maximum(d2, 0.0, out=d2)  # (every column is in one point's run, so otherwise none is < 0)
+                    gmin = np.minimum.reduceat(d2, self._starts, axis=1)
                 gi = smallest_k(gmin, k)
                 dd = np.take_along_axis(gmin, gi, axis=1)
                 rows = self._order[self._nearest_scan(d2, gi)]
             else:
+                d2 = _union_sq(q, a, self._refs)
                 rows = smallest_k(d2, k)
                 dd = np.take_along_axis(d2, rows, axis=1)
             idx[s:s + _Q_BATCH] = rows
