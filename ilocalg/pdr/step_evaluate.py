@@ -28,7 +28,14 @@ import pandas as pd
 from ilocalg.io.schema import ACC_COLS
 from ilocalg.pdr.registry import DETECTOR_RATE_HZ, detect_steps
 from ilocalg.pdr.robust import RobustSignal
-from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges, match_waves_to_steps, sam_waves
+from ilocalg.pdr.sam import (
+    SAM_TESTED_FEATURES,
+    learn_feature_ranges,
+    match_waves_to_steps,
+    passes_ranges,
+    range_bounds,
+    sam_waves,
+)
 from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
@@ -152,12 +159,16 @@ def sam_loro_scores(prep: list[Prepared], grid: list[dict], tol_s: float = 0.25)
     counts = np.zeros((len(grid), n), dtype=int)
     choice = np.zeros(n, dtype=int)
     truth = np.array([p.true_steps for p in prep])
+    # every recording's waves as one feature matrix: in_ranges' test on all of them at once, counted per recording
+    feats = list(SAM_TESTED_FEATURES)
+    x = np.concatenate([np.column_stack([w[f].to_numpy() for f in feats]) for w in waves])
+    owner = np.repeat(np.arange(n), [len(w) for w in waves])
     for i in range(n):
         tr = pd.concat([train[j] for j in range(n) if j != i], ignore_index=True)
         fold = np.zeros((len(grid), n))
         for g, par in enumerate(grid):
-            r = learn_feature_ranges(tr, *par["q"])
-            c = np.array([int(in_ranges(w, r, SAM_TESTED_FEATURES).sum()) for w in waves])
+            lo, hi = range_bounds(learn_feature_ranges(tr, *par["q"]), feats)
+            c = np.bincount(owner[passes_ranges(x, lo, hi, len(feats))], minlength=n)
             fold[g] = accuracy(c, truth)
             counts[g, i] = c[i]
             held[g, i] = fold[g, i]
