@@ -5,6 +5,7 @@ from scipy import signal as ss
 
 from ilocalg.pdr.robust import (
     ROBUST_DEFAULTS,
+    RobustSignal,
     RobustStepDetector,
     bout_gate,
     detect_steps_robust,
@@ -158,3 +159,32 @@ def test_gait_onset_drops_the_weight_shift_before_a_walk_and_only_with_walk_dete
     assert RobustStepDetector().get_params() == ROBUST_DEFAULTS
     with pytest.raises(ValueError, match="min_onset_ratio"):
         detect_steps_robust(weak, t, min_onset_ratio=1.5)
+
+
+def test_robust_signal_reused_over_a_grid_gives_each_call_s_result_exactly():
+    # irregular sampling (resampled), handling noise before a walk, a weak onset bump, and a stretch of constant |a|
+    # after the walk whose windows are flat (their stride correlation is never reused from another call)
+    rng = np.random.default_rng(5)
+    t = np.cumsum(rng.uniform(0.004, 0.006, 6000))
+    m = np.full(t.size, 9.8)
+    walk = (t >= 5.0) & (t < 21.0)
+    m[walk] += 2.0 * np.sin(2 * np.pi * 1.9 * (t[walk] - 5.0) - np.pi / 2) + 0.4 * np.sin(np.pi * 1.9 * t[walk])
+    m[t < 4.0] += rng.normal(0.0, 2.0, int((t < 4.0).sum()))
+    m += 1.2 * np.exp(-0.5 * ((t - 4.7) / 0.08) ** 2) + 3.0 * np.exp(-0.5 * ((t - 23.0) / 0.05) ** 2)
+    grid = [dict(cutoff_hz=c, prominence_mps2=p, max_step_s=x, min_bout_steps=b, min_stride_nac=n, min_onset_ratio=o)
+            for c in (2.0, 3.0) for p in (0.3, 1.2) for x in (1.0, 1.2, np.inf) for b in (1, 8)
+            for n in (None, 0.0, 0.5) for o in (None, 0.3)]
+    sig = RobustSignal(m, t)
+    for k in rng.permutation(len(grid)).tolist() + [0, 1]:      # any order, and again
+        pd.testing.assert_frame_equal(sig.detect(**grid[k]), detect_steps_robust(m, t, **grid[k]), check_exact=True)
+        pd.testing.assert_frame_equal(detect_steps_robust(sig, None, **grid[k]), detect_steps_robust(m, t, **grid[k]),
+                                      check_exact=True)
+    # each peak's stride correlation is its own, whichever peaks are asked with it
+    y, idx = m[:3000], np.arange(700, 2800, 37)
+    assert stride_nac(y, idx, 50, 200, 2).tolist() == [stride_nac(y, [i], 50, 200, 2)[0] for i in idx]
+    with pytest.raises(ValueError, match="lag_min"):
+        sig.detect(min_step_s=0.6, max_step_s=0.5)
+    with pytest.raises(ValueError, match="min_bout_steps"):
+        RobustSignal(m, t).detect(min_bout_steps=0)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        RobustSignal(np.ones(5), [0.0, 0.1, 0.1, 0.2, 0.3]).detect()

@@ -131,3 +131,20 @@ def test_va_from_the_truth_converges_on_noise_free_photos(layout):
     near = va_solve_batch(P, a, C + [0.3, -0.4, 0.0], max_iter=5000)
     assert near["converged"].all()
     np.testing.assert_allclose(near["c_m"], C, atol=1e-4)
+
+
+def test_batch_gives_each_photo_its_result_alone_bit_for_bit():
+    # 7 PoIs (21 pairs: a sum over pairs long enough for numpy to add a contiguous axis in blocks), noisy angles, starts
+    # up to 3 m off; each photo's descent depends on its own numbers only, whatever the batch (and its size 1)
+    rng = np.random.default_rng(11)
+    c = np.column_stack([rng.uniform(-2, 2, 12), rng.uniform(2, 6, 12), np.full(12, 1.5)])
+    ang = view_angles_rad(c, np.broadcast_to(POIS, (12, 7, 3))) + rng.normal(0, 0.01, (12, 21))
+    c0 = c + np.column_stack([rng.uniform(-3, 3, (12, 2)), np.zeros(12)])
+    for free_z in (False, True):
+        batch = va_solve_batch(POIS, ang, c0, max_iter=300, free_z=free_z)
+        assert np.unique(batch["n_iter"]).size > 3                 # photos leave the batch at different iterations
+        for b in range(12):
+            one = va_solve_batch(POIS, ang[b:b + 1], c0[b:b + 1], max_iter=300, free_z=free_z)
+            for key in ("c_m", "cost", "n_iter", "converged"):
+                assert np.array_equal(one[key][0], batch[key][b]), (free_z, b, key)
+        np.testing.assert_array_equal(va_cost(c0, POIS, ang), [va_cost(c0[b], POIS, ang[b])[0] for b in range(12)])

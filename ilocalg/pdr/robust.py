@@ -56,6 +56,7 @@ from ilocalg.pdr.signals import check_acc, check_times, magnitude_mps2, resample
 __all__ = ["match_steps", "lowpass_magnitude", "bout_gate", "stride_nac", "trim_bout_ends", "trim_bout_onsets",
            "detect_steps_robust",
            "detect_steps_find_peaks",
+           "RobustSignal",
            "RobustStepDetector",
            "ROBUST_DEFAULTS"]
 
@@ -120,12 +121,29 @@ def stride_nac(x, i_peak, lag_min: int, lag_max: int, lag_step: int = 1) -> np.n
         raise ValueError(f"need 1 <= lag_min <= lag_max, got {lag_min}, {lag_max}")
     if lag_step < 1:
         raise ValueError(f"lag_step must be >= 1, got {lag_step}")
+    if idx.size == 0:
+        return np.full(0, -1.0)
+    return _stride_nac(x, idx, np.arange(int(lag_min), int(lag_max) + 1, int(lag_step)), _flat_floor(x, idx))[0]
+
+
+def _flat_floor(x: np.ndarray, idx: np.ndarray) -> float:
+    """The mean square below which :func:`stride_nac` takes a window as flat: flatter than rounding, on the scale of
+    the peaks asked (``idx`` non-empty)."""
+    return 1e-18 * float(np.max(x[np.clip(idx, 0, x.size - 1)] ** 2))
+
+
+def _stride_nac(x: np.ndarray, idx: np.ndarray, lags: np.ndarray, tiny: float):
+    """:func:`stride_nac` of the peaks ``idx`` with the flatness floor ``tiny``.
+
+    Each peak's value is computed from its own windows alone (the blocks of :data:`_NAC_CHUNK` peaks only bound
+    the temporary arrays). Also returns, per peak, whether a window inside the signal was taken as flat, and the
+    smallest mean square of its windows inside the signal (inf: none), with which :class:`RobustSignal` tells
+    whether a value computed once holds for another floor.
+    """
     n = x.size
     best = np.full(idx.size, -1.0)
-    if idx.size == 0:
-        return best
-    tiny = 1e-18 * float(np.max(x[np.clip(idx, 0, n - 1)] ** 2))   # flatter than rounding (scale: the peaks)
-    lags = np.arange(int(lag_min), int(lag_max) + 1, int(lag_step))
+    any_flat = np.zeros(idx.size, dtype=bool)
+    least = np.full(idx.size, np.inf)
     j = np.arange(lags[-1])
     mask = j[None, :] < lags[:, None]                       # (n_lags, longest): the samples of each lag's window
     for c in range(0, idx.size, _NAC_CHUNK):                # a few peaks at a time: (peaks, lags, samples) arrays
@@ -140,7 +158,10 @@ def stride_nac(x, i_peak, lag_min: int, lag_max: int, lag_step: int = 1) -> np.n
             flat = (aa <= tiny * lags) | (bb <= tiny * lags)
             cor = np.where(ok & ~flat, (a * bw).sum(axis=2) / np.where(flat, 1.0, np.sqrt(aa * bb)), -1.0)
             best[c:c + _NAC_CHUNK] = np.maximum(best[c:c + _NAC_CHUNK], cor.max(axis=1))
-    return best
+            any_flat[c:c + _NAC_CHUNK] |= (ok & flat).any(axis=1)
+            least[c:c + _NAC_CHUNK] = np.minimum(least[c:c + _NAC_CHUNK],
+                                                 np.where(ok, np.minimum(aa, bb) / lags, np.inf).min(axis=1))
+    return best, any_flat, least
 
 
 #: Peaks per block in :func:`stride_nac` (bounds its temporary arrays to a few MB).
@@ -274,6 +295,129 @@ def match_steps(true_t_s, det_t_s, tol_s: float = 0.2) -> tuple[np.ndarray, np.n
     return tm, dm
 
 
+class RobustSignal:
+    """One accelerometer log for :func:`detect_steps_robust` at many parameter sets.
+
+    Each stage of the detector is computed once per value of what it depends on and kept: the resampled
+    magnitude per ``rate_hz``, the low-pass per ``cutoff_hz``, the peaks per ``prominence_mps2`` and
+    ``min_step_s``, the walk detection at the bout ends per ``max_step_s`` and ``min_stride_nac``, and each peak's
+    stride auto-correlation per stride lengths (shared by every prominence: a peak's value depends on the signal
+    and its sample index alone). :meth:`detect` returns what :func:`detect_steps_robust` returns for the same log
+    and parameters, number for number; a grid search over the parameters (``ilocalg.pdr.step_evaluate``) keeps one
+    per recording. Pass it to :func:`detect_steps_robust` (or ``detect_steps_find_peaks``) in place of the log.
+
+    Parameters
+    ----------
+    acc_mps2, t_s
+        As :func:`detect_steps_robust` (checked at the first :meth:`detect`).
+    """
+
+    def __init__(self, acc_mps2, t_s):
+        self._raw = (acc_mps2, t_s)
+        self._log = None        # (t, |a|) once checked
+        self._grid: dict = {}   # rate -> (tu, mu)
+        self._lp: dict = {}     # (rate, cutoff) -> y
+        self._peaks: dict = {}  # (rate, cutoff, prominence, distance) -> find_peaks' (p, props)
+        self._nac: dict = {}    # (rate, lags, step) -> {sample index: (value, smallest window mean square)}
+        self._ends: dict = {}   # (rate, cutoff, prominence, distance, max_step, min_stride_nac, lags, step) -> keep
+
+    def _checked(self):
+        if self._log is None:
+            a = check_acc(self._raw[0], min_samples=3)
+            t = check_times(self._raw[1], n=a.shape[0], regular=False)
+            self._log = (t, magnitude_mps2(a) if a.ndim == 2 else a)
+        return self._log
+
+    def _stage(self, cache: dict, key, make):
+        if key not in cache:
+            cache[key] = make()
+        return cache[key]
+
+    def _resampled(self, rate_hz: float):
+        def make():
+            t, m = self._log
+            dt = np.diff(t)
+            if np.abs(dt * rate_hz - 1.0).max() < 1e-6:        # already on the common grid: no resampling
+                tu, mu = t, m
+            else:
+                mu, tu = resample_uniform(m, t, rate_hz)
+            if mu.size < 16:
+                raise ValueError(f"acc_mps2 is too short: {t[-1] - t[0]:.3g} s of data")
+            return tu, mu
+        return self._stage(self._grid, rate_hz, make)
+
+    def _stride_scores(self, mu: np.ndarray, key, lags: np.ndarray):
+        """``score_fn`` of :func:`trim_bout_ends` over sample indices: :func:`stride_nac`'s values, each peak's
+        computed once (reused while no window of it is near the flatness floor of the peaks asked with it)."""
+        known = self._nac.setdefault(key, {})
+
+        def score(idx):
+            idx = np.asarray(idx, dtype=np.int64)
+            out = np.full(idx.size, -1.0)
+            if idx.size == 0:
+                return out
+            tiny = _flat_floor(mu, idx)
+            todo = []
+            for q, i in enumerate(idx.tolist()):
+                hit = known.get(i)
+                if hit is not None and tiny < 0.5 * hit[1]:
+                    out[q] = hit[0]
+                else:
+                    todo.append(q)
+            if todo:
+                best, any_flat, least = _stride_nac(mu, idx[todo], lags, tiny)
+                out[todo] = best
+                for i, v, fl, le in zip(idx[todo].tolist(), best.tolist(), any_flat.tolist(), least.tolist(),
+                                        strict=True):
+                    if not fl:
+                        known[i] = (v, le)
+            return out
+        return score
+
+    def detect(self, rate_hz: float = 100.0, cutoff_hz: float = 2.0, prominence_mps2: float = 0.3,
+               min_step_s: float = 0.25, max_step_s: float = 1.0, min_bout_steps: int = 8,
+               min_stride_nac: float | None = 0.5, min_onset_ratio: float | None = 0.3) -> pd.DataFrame:
+        """:func:`detect_steps_robust` of this log (same parameters, same result)."""
+        t, _ = self._checked()
+        if min_bout_steps < 1:
+            raise ValueError(f"min_bout_steps must be >= 1, got {min_bout_steps}")
+        if min_stride_nac is not None and not -1.0 <= min_stride_nac <= 1.0:
+            raise ValueError(f"min_stride_nac must lie in [-1, 1] (a correlation) or be None, got {min_stride_nac}")
+        if min_onset_ratio is not None and not 0.0 <= min_onset_ratio <= 1.0:
+            raise ValueError(f"min_onset_ratio must lie in [0, 1] (a prominence ratio) or be None, "
+                             f"got {min_onset_ratio}")
+        tu, mu = self._resampled(rate_hz)
+        y = self._stage(self._lp, (rate_hz, cutoff_hz), lambda: lowpass_magnitude(mu, rate_hz, cutoff_hz))
+        distance = max(int(round(min_step_s * rate_hz)), 1)
+        p, props = self._stage(self._peaks, (rate_hz, cutoff_hz, prominence_mps2, distance),
+                               lambda: ss.find_peaks(y, prominence=prominence_mps2, distance=distance))
+        keep = np.ones(p.size, dtype=bool)
+        if min_stride_nac is not None and np.isfinite(max_step_s):
+            lags = (max(int(round(2 * min_step_s * rate_hz)), 2), int(round(2 * max_step_s * rate_hz)))
+            step = max(int(round(_NAC_LAG_S * rate_hz)), 1)
+
+            def ends():
+                if lags[0] > lags[1]:       # max_step_s < min_step_s: stride_nac names the error once asked
+                    return trim_bout_ends(tu[p], lambda k: stride_nac(mu, p[k], *lags, step), max_step_s,
+                                          min_stride_nac)
+                score = self._stride_scores(mu, (rate_hz, lags, step), np.arange(lags[0], lags[1] + 1, step))
+                return trim_bout_ends(tu[p], lambda k: score(p[k]), max_step_s, min_stride_nac)
+            keep = self._stage(self._ends, (rate_hz, cutoff_hz, prominence_mps2, distance, max_step_s,
+                                            min_stride_nac, lags, step), ends).copy()
+            if min_onset_ratio is not None:
+                k = np.flatnonzero(keep)
+                keep[k] = trim_bout_onsets(tu[p[k]], props["prominences"][k], max_step_s, min_onset_ratio)
+        keep[keep] = bout_gate(tu[p[keep]], max_step_s, min_bout_steps)
+        p = p[keep]
+        base = np.minimum(y[props["left_bases"][keep]], y[props["right_bases"][keep]])
+        ts = tu[p]
+        i_in = np.clip(np.searchsorted(t, ts), 0, t.size - 1)
+        prev = np.clip(i_in - 1, 0, t.size - 1)
+        i_in = np.where(np.abs(t[prev] - ts) <= np.abs(t[i_in] - ts), prev, i_in)
+        return pd.DataFrame({"i_peak": i_in.astype(np.int64), "t_s": ts, "a_max_mps2": y[p], "a_min_mps2": base,
+                             "prominence_mps2": props["prominences"][keep]})
+
+
 @register_step_detector("robust")
 def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float = 2.0,
                         prominence_mps2: float = 0.3, min_step_s: float = 0.25, max_step_s: float = 1.0,
@@ -283,8 +427,9 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
 
     Parameters
     ----------
-    acc_mps2 : array_like, shape (n, 3) or (n,)
-        Specific force (m/s^2) or its magnitude.
+    acc_mps2 : array_like, shape (n, 3) or (n,), or RobustSignal
+        Specific force (m/s^2) or its magnitude; or a :class:`RobustSignal` of the log, which keeps what this call
+        computes for the next one with other parameters (then ``t_s`` is not read: the signal holds the times).
     t_s : array_like, shape (n,)
         Strictly increasing times, s (irregular sampling is fine: the log is resampled).
     rate_hz, cutoff_hz, prominence_mps2, min_step_s, max_step_s, min_bout_steps, min_stride_nac, min_onset_ratio
@@ -297,41 +442,10 @@ def detect_steps_robust(acc_mps2, t_s, rate_hz: float = 100.0, cutoff_hz: float 
         ``i_peak`` (index of the input sample nearest the step), ``t_s``, ``a_max_mps2`` (filtered
         magnitude at the peak), ``a_min_mps2`` (the lower of the peak's two bases), ``prominence_mps2``.
     """
-    a = check_acc(acc_mps2, min_samples=3)
-    t = check_times(t_s, n=a.shape[0], regular=False)
-    if min_bout_steps < 1:
-        raise ValueError(f"min_bout_steps must be >= 1, got {min_bout_steps}")
-    if min_stride_nac is not None and not -1.0 <= min_stride_nac <= 1.0:
-        raise ValueError(f"min_stride_nac must lie in [-1, 1] (a correlation) or be None, got {min_stride_nac}")
-    if min_onset_ratio is not None and not 0.0 <= min_onset_ratio <= 1.0:
-        raise ValueError(f"min_onset_ratio must lie in [0, 1] (a prominence ratio) or be None, got {min_onset_ratio}")
-    m = magnitude_mps2(a) if a.ndim == 2 else a
-    dt = np.diff(t)
-    if np.abs(dt * rate_hz - 1.0).max() < 1e-6:        # already on the common grid: no resampling
-        tu, mu = t, m
-    else:
-        mu, tu = resample_uniform(m, t, rate_hz)
-    if mu.size < 16:
-        raise ValueError(f"acc_mps2 is too short: {t[-1] - t[0]:.3g} s of data")
-    y = lowpass_magnitude(mu, rate_hz, cutoff_hz)
-    p, props = ss.find_peaks(y, prominence=prominence_mps2, distance=max(int(round(min_step_s * rate_hz)), 1))
-    keep = np.ones(p.size, dtype=bool)
-    if min_stride_nac is not None and np.isfinite(max_step_s):
-        lags = (max(int(round(2 * min_step_s * rate_hz)), 2), int(round(2 * max_step_s * rate_hz)))
-        step = max(int(round(_NAC_LAG_S * rate_hz)), 1)
-        keep = trim_bout_ends(tu[p], lambda k: stride_nac(mu, p[k], *lags, step), max_step_s, min_stride_nac)
-        if min_onset_ratio is not None:
-            k = np.flatnonzero(keep)
-            keep[k] = trim_bout_onsets(tu[p[k]], props["prominences"][k], max_step_s, min_onset_ratio)
-    keep[keep] = bout_gate(tu[p[keep]], max_step_s, min_bout_steps)
-    p = p[keep]
-    base = np.minimum(y[props["left_bases"][keep]], y[props["right_bases"][keep]])
-    ts = tu[p]
-    i_in = np.clip(np.searchsorted(t, ts), 0, t.size - 1)
-    prev = np.clip(i_in - 1, 0, t.size - 1)
-    i_in = np.where(np.abs(t[prev] - ts) <= np.abs(t[i_in] - ts), prev, i_in)
-    return pd.DataFrame({"i_peak": i_in.astype(np.int64), "t_s": ts, "a_max_mps2": y[p], "a_min_mps2": base,
-                         "prominence_mps2": props["prominences"][keep]})
+    sig = acc_mps2 if isinstance(acc_mps2, RobustSignal) else RobustSignal(acc_mps2, t_s)
+    return sig.detect(rate_hz=rate_hz, cutoff_hz=cutoff_hz, prominence_mps2=prominence_mps2, min_step_s=min_step_s,
+                      max_step_s=max_step_s, min_bout_steps=min_bout_steps, min_stride_nac=min_stride_nac,
+                      min_onset_ratio=min_onset_ratio)
 
 
 @register_step_detector("find_peaks")

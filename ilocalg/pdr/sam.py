@@ -29,6 +29,8 @@ __all__ = [
     "sam_waves",
     "learn_feature_ranges",
     "in_ranges",
+    "range_bounds",
+    "passes_ranges",
     "detect_steps_sam",
     "SAMDetector",
     "match_waves_to_steps",
@@ -238,13 +240,23 @@ def in_ranges(waves: pd.DataFrame, ranges: pd.DataFrame, features=SAM_TESTED_FEA
     k = len(features) if min_pass is None else int(min_pass)
     if not 1 <= k <= len(features):
         raise ValueError(f"min_pass must lie in [1, {len(features)}], got {min_pass}")
-    n_ok = np.zeros(len(waves), dtype=np.int64)
+    lo, hi = range_bounds(ranges, features)
+    return passes_ranges(np.column_stack([waves[f].to_numpy() for f in features]), lo, hi, k)
+
+
+def range_bounds(ranges: pd.DataFrame, features=SAM_TESTED_FEATURES) -> tuple[np.ndarray, np.ndarray]:
+    """The ``min`` and ``max`` of ``ranges`` (:func:`learn_feature_ranges`) for ``features``, in their order."""
     for f in features:
         if f not in ranges.index:
             raise ValueError(f"ranges lack feature {f!r}")
-        x = waves[f].to_numpy()
-        n_ok += (x >= ranges.loc[f, "min"]) & (x <= ranges.loc[f, "max"])
-    return n_ok >= k
+    r = ranges.loc[list(features)]
+    return r["min"].to_numpy(dtype=np.float64), r["max"].to_numpy(dtype=np.float64)
+
+
+def passes_ranges(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, min_pass: int) -> np.ndarray:
+    """Rows of ``x`` (waves x features) with at least ``min_pass`` features inside ``[lo, hi]`` (inclusive); the test
+    of :func:`in_ranges` on arrays, for many waves or many ranges at once."""
+    return ((x >= lo) & (x <= hi)).sum(axis=1, dtype=np.int64) >= min_pass
 
 
 @register_step_detector("sam", rate_hz=50.0)

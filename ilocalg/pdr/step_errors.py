@@ -36,6 +36,8 @@ Brajdic, A., Harle, R. (2013), "Walk detection and step counting on unconstraine
 
 from __future__ import annotations
 
+from collections import Counter
+
 import numpy as np
 import pandas as pd
 
@@ -116,8 +118,10 @@ def count_causes(errors: pd.DataFrame) -> dict:
     """Counts per ``(kind, cause)`` of one :func:`classify_step_errors` table, as ``{"<kind>_<cause>": n}``,
     with ``detector_net`` (the detector's extra less its missed steps) and ``truth_gap`` (extra detections in
     the truth's gaps)."""
-    n = {f"{k}_{c}": int(((errors["kind"] == k) & (errors["cause"] == c)).sum()) for k, c in CAUSES}
-    own = ~errors["cause"].isin(TRUTH_LIMITED)
-    n["detector_net"] = int((own & (errors["kind"] == "extra")).sum() - (own & (errors["kind"] == "missed")).sum())
+    pairs = Counter(zip(errors["kind"].tolist(), errors["cause"].tolist(), strict=True))
+    n = {f"{k}_{c}": pairs[(k, c)] for k, c in CAUSES}
+    own = {kind: sum(m for (k, c), m in pairs.items() if k == kind and c not in TRUTH_LIMITED)
+           for kind in ("extra", "missed")}
+    n["detector_net"] = own["extra"] - own["missed"]
     n["truth_gap"] = n["extra_truth_gap"]
     return n

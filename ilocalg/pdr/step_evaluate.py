@@ -20,14 +20,22 @@ Luo et al. (2017), sec. 3.4.2 (peak window); Chao (2008), Fig 3.9 (slope sign ch
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from ilocalg.io.schema import ACC_COLS
 from ilocalg.pdr.registry import DETECTOR_RATE_HZ, detect_steps
-from ilocalg.pdr.sam import SAM_TESTED_FEATURES, in_ranges, learn_feature_ranges, match_waves_to_steps, sam_waves
+from ilocalg.pdr.robust import RobustSignal
+from ilocalg.pdr.sam import (
+    SAM_TESTED_FEATURES,
+    learn_feature_ranges,
+    match_waves_to_steps,
+    passes_ranges,
+    range_bounds,
+    sam_waves,
+)
 from ilocalg.pdr.signals import resample_uniform
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
@@ -51,6 +59,12 @@ class Prepared:
     acc_mps2: np.ndarray       # (n, 3) on the grid
     t50_s: np.ndarray          # 50 Hz grid (SAM)
     acc50_mps2: np.ndarray
+    #: The 100 Hz log for the robust and find_peaks detectors, keeping what each detection computes for the next
+    #: one with other parameters (:class:`ilocalg.pdr.robust.RobustSignal`; made anew by ``dataclasses.replace``).
+    robust: RobustSignal = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "robust", RobustSignal(self.acc_mps2, self.t_s))
 
 
 def prepare(rec) -> Prepared:
@@ -96,11 +110,17 @@ def detector_params(detector: str, params: dict) -> dict:
     return dict(params)
 
 
+#: Grid detectors that take the recording's :class:`ilocalg.pdr.robust.RobustSignal` in place of its log (their
+#: grid points then share the filtering, the peaks and the walk detection that do not depend on them).
+_ON_ROBUST_SIGNAL = ("robust", "find_peaks")
+
+
 def count_steps(p: Prepared, detector: str, params: dict) -> int:
     """Steps counted in one prepared recording by a grid detector (not SAM, which needs training)."""
     if detector not in DETECTORS or detector == "sam":
         raise ValueError(f"unknown grid detector {detector!r}; known: {sorted(set(DETECTORS) - {'sam'})}")
-    return len(detect_steps(detector, p.acc_mps2, p.t_s, **detector_params(detector, params)))
+    acc = p.robust if detector in _ON_ROBUST_SIGNAL else p.acc_mps2
+    return len(detect_steps(detector, acc, p.t_s, **detector_params(detector, params)))
 
 
 def loro_cv(score: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -139,12 +159,16 @@ def sam_loro_scores(prep: list[Prepared], grid: list[dict], tol_s: float = 0.25)
     counts = np.zeros((len(grid), n), dtype=int)
     choice = np.zeros(n, dtype=int)
     truth = np.array([p.true_steps for p in prep])
+    # every recording's waves as one feature matrix: in_ranges' test on all of them at once, counted per recording
+    feats = list(SAM_TESTED_FEATURES)
+    x = np.concatenate([np.column_stack([w[f].to_numpy() for f in feats]) for w in waves])
+    owner = np.repeat(np.arange(n), [len(w) for w in waves])
     for i in range(n):
         tr = pd.concat([train[j] for j in range(n) if j != i], ignore_index=True)
         fold = np.zeros((len(grid), n))
         for g, par in enumerate(grid):
-            r = learn_feature_ranges(tr, *par["q"])
-            c = np.array([int(in_ranges(w, r, SAM_TESTED_FEATURES).sum()) for w in waves])
+            lo, hi = range_bounds(learn_feature_ranges(tr, *par["q"]), feats)
+            c = np.bincount(owner[passes_ranges(x, lo, hi, len(feats))], minlength=n)
             fold[g] = accuracy(c, truth)
             counts[g, i] = c[i]
             held[g, i] = fold[g, i]
@@ -204,7 +228,7 @@ def step_diagnosis(prep: list[Prepared], recordings=None, params: dict | None = 
     par = dict(ROBUST_DEFAULTS if params is None else params)
     rows = []
     for k, p in enumerate(prep):
-        d = detect_steps_robust(p.acc_mps2, p.t_s, **par)
+        d = detect_steps_robust(p.robust, p.t_s, **par)
         tm, dm = match_steps(p.step_t_s, d["t_s"].to_numpy(), tol_s)
         hw = None if recordings is None else recordings[k].hardware_steps
         dt = np.diff(p.step_t_s)
@@ -313,7 +337,7 @@ def walk_gate_sweep(prep: list[Prepared], recordings, grid=NAC_GRID, param: str 
     own = np.zeros((len(grid), len(OWN_CAUSES)), dtype=int)
     for g, value in enumerate(grid):
         for j, k in enumerate(dev):
-            det = detect_steps_robust(prep[k].acc_mps2, prep[k].t_s, **{**ROBUST_DEFAULTS, param: value})["t_s"]
+            det = detect_steps_robust(prep[k].robust, prep[k].t_s, **{**ROBUST_DEFAULTS, param: value})["t_s"]
             counts[g, j] = det.size
             truth = prep[k].step_t_s[~recordings[k].step_is_heel_bounce]
             n = count_causes(classify_step_errors(truth, det.to_numpy(), tol_s))
@@ -362,7 +386,7 @@ def error_causes(prep: list[Prepared], recordings, params: dict | None = None,
         if rec.step_is_heel_bounce is None:
             raise ValueError(f"{rec.name}: no heel-bounce marks (not an optimisation recording)")
         truth = p.step_t_s[~rec.step_is_heel_bounce]
-        det = detect_steps_robust(p.acc_mps2, p.t_s, **par)["t_s"].to_numpy()
+        det = detect_steps_robust(p.robust, p.t_s, **par)["t_s"].to_numpy()
         e = classify_step_errors(truth, det, tol_s)
         dev = is_development(p.name)
         pos = p.meta.get("position", "")
@@ -384,7 +408,7 @@ def diagnosis_window(p: Prepared, t0_s: float, span_s: float = 12.0, params: dic
     from ilocalg.pdr.signals import magnitude_mps2
 
     par = dict(ROBUST_DEFAULTS if params is None else params)
-    d = detect_steps_robust(p.acc_mps2, p.t_s, **par)
+    d = detect_steps_robust(p.robust, p.t_s, **par)
     det = d["t_s"].to_numpy()
     tm, dm = match_steps(p.step_t_s, det, tol_s)
     y = lowpass_magnitude(magnitude_mps2(p.acc_mps2), par["rate_hz"], par["cutoff_hz"])

@@ -56,13 +56,15 @@ def homography_dlt(plane_xy, img_px) -> np.ndarray:
     if not (np.isfinite(X).all() and np.isfinite(x).all()):
         raise ValueError("plane_xy and img_px must be finite")
     TX, Tx = _normaliser(X), _normaliser(x)
-    Xh = np.c_[X, np.ones(len(X))] @ TX.T
-    xh = np.c_[x, np.ones(len(x))] @ Tx.T
-    rows = []
-    for (X1, Y1, W1), (u, v, w) in zip(Xh, xh, strict=True):
-        rows.append([0, 0, 0, -w * X1, -w * Y1, -w * W1, v * X1, v * Y1, v * W1])
-        rows.append([w * X1, w * Y1, w * W1, 0, 0, 0, -u * X1, -u * Y1, -u * W1])
-    A = np.asarray(rows)
+    Xh = np.column_stack([X, np.ones(len(X))]) @ TX.T
+    xh = np.column_stack([x, np.ones(len(x))]) @ Tx.T
+    # two rows per point: [0, -w X, v X] and [w X, 0, -u X], X = (X1, Y1, W1), (u, v, w) its image point
+    u, v, w = xh[:, :1], xh[:, 1:2], xh[:, 2:]
+    A = np.zeros((2 * len(X), 9))
+    A[0::2, 3:6] = -w * Xh
+    A[0::2, 6:] = v * Xh
+    A[1::2, :3] = w * Xh
+    A[1::2, 6:] = -u * Xh
     _, s, Vt = np.linalg.svd(A)
     if s.size >= 8 and s[7] < 1e-10 * s[0]:
         raise ValueError("degenerate point configuration for a homography (collinear target points?)")
@@ -111,7 +113,8 @@ def homography_pose(H, f_px: float, cx_px: float = 0.0, cy_px: float = 0.0) -> H
     if M[2, 2] * lam < 0:
         lam = -lam
     r1, r2, t = lam * M[:, 0], lam * M[:, 1], lam * M[:, 2]
-    Q = np.c_[r1, r2, np.cross(r1, r2)]
+    r3 = np.array([r1[1] * r2[2] - r1[2] * r2[1], r1[2] * r2[0] - r1[0] * r2[2], r1[0] * r2[1] - r1[1] * r2[0]])
+    Q = np.column_stack([r1, r2, r3])                         # r3 = r1 x r2 (np.cross's products, one call less)
     U, _, Vt = np.linalg.svd(Q)
     R = U @ np.diag([1.0, 1.0, np.linalg.det(U @ Vt)]) @ Vt
     c = -R.T @ t

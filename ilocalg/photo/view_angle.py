@@ -83,16 +83,20 @@ def measured_view_angles_rad(img_px, f_px: float) -> np.ndarray:
 
 
 def _pairs(pois_m, B):
+    """The pairs' PoIs of :func:`pair_index`, component-major: ``Pi``, ``Pj`` (3, m, B), contiguous (every
+    elementwise step of :func:`_cost_grad` then runs over the batch in one long loop, not three numbers at a time)."""
     P = np.broadcast_to(np.asarray(pois_m, dtype=float), (B,) + np.shape(pois_m)[-2:])
     pr = pair_index(P.shape[1])
-    return np.ascontiguousarray(P[:, pr[:, 0], :]), np.ascontiguousarray(P[:, pr[:, 1], :])
+    Pt = P.transpose(2, 1, 0)                                   # (3, n, B)
+    return np.ascontiguousarray(Pt[:, pr[:, 0], :]), np.ascontiguousarray(Pt[:, pr[:, 1], :])
 
 
 def va_cost(c_m, pois_m, angles_rad) -> np.ndarray:
     """``J(c)`` (B,), the sum of squared view-angle mismatches (rad^2), for ``c_m`` (B, 3), ``pois_m`` (B, n, 3)."""
     c = np.atleast_2d(np.asarray(c_m, dtype=float))
     Pi, Pj = _pairs(pois_m, c.shape[0])
-    return _cost_grad(c, Pi, Pj, np.asarray(angles_rad, dtype=float), False)[0]
+    a = np.broadcast_to(np.asarray(angles_rad, dtype=float), (c.shape[0], Pi.shape[1])).T
+    return _cost_grad(c, Pi, Pj, a, False)[0]
 
 
 def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
@@ -103,41 +107,54 @@ def va_gradient(c_m, pois_m, angles_rad) -> np.ndarray:
     """
     c = np.atleast_2d(np.asarray(c_m, dtype=float))
     Pi, Pj = _pairs(pois_m, c.shape[0])
-    return _cost_grad(c, Pi, Pj, np.asarray(angles_rad, dtype=float), True)[1]
+    a = np.broadcast_to(np.asarray(angles_rad, dtype=float), (c.shape[0], Pi.shape[1])).T
+    return _cost_grad(c, Pi, Pj, a, True)[1]
 
 
-def _cross(u, v):
-    ux, uy, uz = u[..., 0], u[..., 1], u[..., 2]
-    vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
-    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
-    out[..., 0] = uy * vz - uz * vy
-    out[..., 1] = uz * vx - ux * vz
-    out[..., 2] = ux * vy - uy * vx
-    return out
+def _dot3(u, v):
+    """Dot products over the first axis (3 components), summed as numpy's ``einsum`` sums three products of one
+    row, ``(u0 v0 + u2 v2) + u1 v1`` (so that this layout gives the row layout's numbers bit for bit)."""
+    return (u[0] * v[0] + u[2] * v[2]) + u[1] * v[1]
 
 
 def _cost_grad(c, Pi, Pj, a, need_grad):
-    """Cost (B,) and optionally gradient (B, 3); ``Pi``, ``Pj`` (B, m, 3) are the pairs' PoIs."""
-    u = Pi - c[:, None, :]
-    v = Pj - c[:, None, :]
-    cr = _cross(u, v)
-    sin_uv = np.sqrt(np.einsum("bmk,bmk->bm", cr, cr))
-    dot = np.einsum("bmk,bmk->bm", u, v)
+    """Cost (B,) and optionally gradient (B, 3) at centres ``c`` (B, 3); ``Pi``, ``Pj`` (3, m, B) are the pairs'
+    PoIs (:func:`_pairs`), ``a`` (m, B) their measured angles."""
+    ct = c.T[:, None, :]
+    u = Pi - ct
+    v = Pj - ct
+    cr = np.empty_like(u)
+    for k, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):     # u x v
+        np.multiply(u[i], v[j], out=cr[k])
+        cr[k] -= u[j] * v[i]
+    sin_uv = np.sqrt(_dot3(cr, cr))
+    dot = _dot3(u, v)
     r = np.arctan2(sin_uv, dot) - a
-    J = np.einsum("bm,bm->b", r, r)
+    rb = np.ascontiguousarray(r.T)
+    J = np.einsum("bm,bm->b", rb, rb)
     if not need_grad:
         return J, None
-    nu = np.sqrt(np.einsum("bmk,bmk->bm", u, u))
-    nv = np.sqrt(np.einsum("bmk,bmk->bm", v, v))
+    nu = np.sqrt(_dot3(u, u))
+    nv = np.sqrt(_dot3(v, v))
     nu = np.maximum(nu, _EPS)
     nv = np.maximum(nv, _EPS)
     cos = dot / (nu * nv)
     sin = np.maximum(sin_uv / (nu * nv), 1e-9)
-    uh = u / nu[..., None]
-    vh = v / nv[..., None]
-    w = (2.0 * r / sin)[..., None]
-    g = np.sum(w * ((vh - cos[..., None] * uh) / nu[..., None] + (uh - cos[..., None] * vh) / nv[..., None]), axis=1)
-    return J, g
+    uh = u / nu
+    vh = v / nv
+    w = 2.0 * r / sin
+    terms = cos * uh                                          # w ((vh - cos uh) / nu + (uh - cos vh) / nv), in place
+    np.subtract(vh, terms, out=terms)
+    terms /= nu
+    other = np.multiply(cos, vh, out=vh)
+    np.subtract(uh, other, out=other)
+    other /= nv
+    terms += other
+    terms *= w
+    g = terms[:, 0].copy()
+    for j in range(1, terms.shape[1]):  # pair after pair, as numpy sums the row layout's pair axis (a sum along a
+        g += terms[:, j]                # contiguous axis would add in blocks of eight: other last bits)
+    return J, np.ascontiguousarray(g.T)
 
 
 def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: float = 0.5,
@@ -186,7 +203,8 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
     B = c.shape[0]
     mask = np.array([1.0, 1.0, 1.0 if free_z else 0.0])
     Pi, Pj = _pairs(P, B)
-    J, g = _cost_grad(c, Pi, Pj, a, True)
+    at = np.ascontiguousarray(a.T)
+    J, g = _cost_grad(c, Pi, Pj, at, True)
     g = g * mask
     gn = np.sqrt(np.sum(g * g, axis=1))
     # first step moves step0_m along the steepest descent direction
@@ -197,7 +215,8 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
     # the active photos' state, pairs and angles, kept compact (gathered again only when photos converge; a
     # converged photo's state is written back then): the same arithmetic per photo as on the full arrays
     ca, Ja, ga, al, ni = c[idx], J[idx], g[idx], alpha[idx], n_iter[idx]
-    Pi_a, Pj_a, a_a = Pi[idx], Pj[idx], a[idx]
+    # (np.take / np.compress keep them C-contiguous: the sums over pairs then add in the same order as always)
+    Pi_a, Pj_a, a_a = np.take(Pi, idx, axis=-1), np.take(Pj, idx, axis=-1), np.take(at, idx, axis=-1)
     for _ in range(max_iter):
         if idx.size == 0:
             break
@@ -205,19 +224,27 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
         Jt, gt = _cost_grad(trial, Pi_a, Pj_a, a_a, True)
         ok = Jt < Ja
         ni += 1
-        # rejected steps: backtrack
-        al[~ok] *= shrink
-        if ok.any():
-            gt = gt[ok] * mask
-            s_ = trial[ok] - ca[ok]
-            y_ = gt - ga[ok]
+        if ok.all():  # the branch below with every step accepted, without gathering
+            gt = gt * mask
+            s_ = trial - ca
+            y_ = gt - ga
             sy = np.sum(s_ * y_, axis=1)
             ss = np.sum(s_ * s_, axis=1)
-            # Barzilai-Borwein step for the next iteration (grow when curvature is not positive)
-            al[ok] = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), al[ok] * grow)
-            ca[ok] = trial[ok]
-            Ja[ok] = Jt[ok]
-            ga[ok] = gt
+            al = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), al * grow)
+            ca, Ja, ga = trial, Jt, gt
+        else:  # rejected steps: backtrack
+            al[~ok] *= shrink
+            if ok.any():
+                gt = gt[ok] * mask
+                s_ = trial[ok] - ca[ok]
+                y_ = gt - ga[ok]
+                sy = np.sum(s_ * y_, axis=1)
+                ss = np.sum(s_ * s_, axis=1)
+                # Barzilai-Borwein step for the next iteration (grow when curvature is not positive)
+                al[ok] = np.where(sy > 0, ss / np.where(sy > 0, sy, 1.0), al[ok] * grow)
+                ca[ok] = trial[ok]
+                Ja[ok] = Jt[ok]
+                ga[ok] = gt
         steplen = al * np.sqrt(np.sum(ga * ga, axis=1))
         keep = steplen > step_tol_m
         if not keep.all():
@@ -227,7 +254,7 @@ def va_solve_batch(pois_m, angles_rad, c0_m, max_iter: int = 2000, step0_m: floa
             active[d] = False
             idx = idx[keep]
             ca, Ja, ga, al, ni = ca[keep], Ja[keep], ga[keep], al[keep], ni[keep]
-            Pi_a, Pj_a, a_a = Pi_a[keep], Pj_a[keep], a_a[keep]
+            Pi_a, Pj_a, a_a = (np.compress(keep, x, axis=-1) for x in (Pi_a, Pj_a, a_a))
     c[idx], J[idx], n_iter[idx] = ca, Ja, ni  # photos still moving after max_iter
     return {"c_m": c, "cost": J, "n_iter": n_iter, "converged": ~active}
 
