@@ -198,3 +198,23 @@ def test_aggregate_clips_intervals_to_the_physical_range_and_flags_them():
     assert agg.loc["accuracy", "ci95_high"] == 100.0 and agg.loc["accuracy", "ci_clipped"]
     assert agg.loc["error", "ci95_low"] == 0.0 and agg.loc["error", "ci_clipped"]
     assert agg.loc["error difference", "ci95_low"] < 0 and not agg.loc["error difference", "ci_clipped"]
+
+
+def test_a_batched_experiments_tasks_run_together_with_each_tasks_result_and_failure(tmp_path):
+    """An experiment with run_many gets its tasks of one sweep in one call; each cached result is the one
+    run_task gives; when the call raises, the tasks run one by one and only the failing one is reported."""
+    from tests import sweep_toy_batched as bt
+
+    batched = "tests.sweep_toy_batched"
+    assert sw.batched(batched) and not sw.batched(TOY)
+    tasks = sw.make_tasks(batched, range(3)) + sw.make_tasks(TOY, range(2))
+    bt.CALLS.clear()
+    res = sw.sweep(tasks, workers=0, cache_dir=tmp_path, progress=False)
+    assert bt.CALLS == [3] and not res.failures
+    for t in tasks:
+        pd.testing.assert_frame_equal(pd.read_parquet(sw._cache_path(tmp_path, t)), sw.run_task(t), check_exact=True)
+    failing = sw.make_tasks(batched, range(3), {"fail_seed": [1]})
+    bt.CALLS.clear()
+    res = sw.sweep(failing, workers=0, cache_dir=None, progress=False)
+    assert bt.CALLS == [3]  # the batch raised; its tasks then ran one by one
+    assert [f["seed"] for f in res.failures] == [1] and "toy failure at seed 1" in res.failures[0]["error"]

@@ -517,7 +517,7 @@ def _psd_check_epochs(fix_epochs, n: int) -> list[int]:
 def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
                       acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4,
                       acc_bias_rw_mps2_rsqrt_s=1e-3, vt_sd=VT_SD_DEFAULT) -> list[HartmannResult]:
-    """:func:`run_hartmann` on several sequences that share one IMU clock, moved in lockstep.
+    """:func:`run_hartmann` on several sequences on one IMU clock (or on prefixes of one), moved in lockstep.
 
     One Python pass over the epochs moves every sequence: the states are an (S, 15) array, the covariances
     (S, 15, 15). Each result equals the step-by-step filter (:func:`hartmann_predict`, :func:`hartmann_correct`,
@@ -525,12 +525,13 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     for bit: the element-wise arithmetic is the same, and the stacked ``np.matmul`` / ``np.linalg.solve`` calls
     hand each slice to the BLAS / LAPACK routine the two-dimensional call uses, with the same layout (the
     tests compare the two). The per-epoch cost of the numpy calls, which dominates a run on one sequence, is
-    then paid once per epoch for all of them.
+    then paid once per epoch for all of them. A sequence on a shorter clock leaves the batch after its last epoch.
 
     Parameters
     ----------
-    t_s : (N,) IMU times shared by every sequence
-    gyr_b_radps, acc_b_mps2 : one (N, 3) array per sequence (S of them)
+    t_s : (N,) IMU times shared by every sequence, or one clock per sequence (N_s,), each the first N_s times of
+        the longest
+    gyr_b_radps, acc_b_mps2 : one (N_s, 3) array per sequence (S of them)
     t_vt_s, z_vt : per sequence, its tracker times (M_s,) and fixes (M_s, 4)
     x0, P0 : per sequence, (15,) and (15, 15)
     gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s : as in :func:`run_hartmann`,
@@ -550,21 +551,33 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     per_seq = np.ndim(vt_sd) == 2
     if per_seq and len(vt_sd) != n_seq:
         raise ValueError(f"run_hartmann_many: vt_sd holds {len(vt_sd)} rows for {n_seq} sequences")
-    seqs = []
+    clocks = isinstance(t_s, list | tuple)
+    if clocks and len(t_s) != n_seq:
+        raise ValueError(f"run_hartmann_many: t_s holds {len(t_s)} clocks for {n_seq} sequences")
+    checked = []
     for s in range(n_seq):
         try:
-            seqs.append(_checked_run(t_s, gyr_b_radps[s], acc_b_mps2[s], t_vt_s[s], z_vt[s], x0[s], P0[s],
-                                     gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s,
-                                     vt_sd[s] if per_seq else vt_sd))
+            checked.append(_checked_run(t_s[s] if clocks else t_s, gyr_b_radps[s], acc_b_mps2[s], t_vt_s[s],
+                                        z_vt[s], x0[s], P0[s], gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
+                                        acc_bias_rw_mps2_rsqrt_s, vt_sd[s] if per_seq else vt_sd))
         except ValueError as err:
             raise ValueError(f"sequence {s}: {err}" if n_seq > 1 else str(err)) from None
+    # longest clock first: the sequences still running at an epoch are the first rows
+    order = sorted(range(n_seq), key=lambda s: -checked[s][0].size)
+    seqs = [checked[s] for s in order]
     t_s = seqs[0][0]
     n = t_s.size
-    u_all = np.empty((n, n_seq, 6))
+    n_each = [q[0].size for q in seqs]
+    for s, q in zip(order, seqs, strict=True):
+        if not np.array_equal(q[0], t_s[:q[0].size]):
+            raise ValueError(f"run_hartmann_many: sequence {s}'s t_s is not the start of the longest clock")
+    # active[k]: how many sequences have an epoch k
+    active = np.searchsorted(-np.asarray(n_each), -np.arange(n), side="left").tolist()
+    u_all = np.zeros((n, n_seq, 6))
     for s, (_, gyr, acc, *_rest) in enumerate(seqs):
-        u_all[:, s, 0:3], u_all[:, s, 3:6] = gyr, acc
+        u_all[:gyr.shape[0], s, 0:3], u_all[:acc.shape[0], s, 3:6] = gyr, acc
     R_all = np.stack([q[7] for q in seqs])
-    vt_idx = [np.searchsorted(t_s, q[3], side="left") for q in seqs]
+    vt_idx = [np.searchsorted(q[0], q[3], side="left") for q in seqs]
     # the fixes of epoch k in rounds: round r holds the r-th fix of that epoch of each sequence that has one
     events: dict[int, list] = {}
     for s, idx in enumerate(vt_idx):
@@ -583,10 +596,10 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
         rounds_at[k] = [(np.array(ss), ss, jj) for ss, jj in rounds]
     check_at: dict[int, list] = {}
     for s, idx in enumerate(vt_idx):
-        for k in _psd_check_epochs(idx.tolist(), n):
+        for k in _psd_check_epochs(idx.tolist(), n_each[s]):
             check_at.setdefault(k, []).append(s)
     xs = np.empty((n_seq, n, HARTMANN_N_STATES))
-    sds = np.empty((n_seq, n, HARTMANN_N_STATES))
+    sds = np.zeros((n_seq, n, HARTMANN_N_STATES))  # zeros past a shorter sequence's end (for the square root)
     priors = [np.empty((q[3].size, HARTMANN_N_STATES)) for q in seqs]
     z_all = [q[4] for q in seqs]
     x = np.stack([q[5] for q in seqs])
@@ -595,16 +608,31 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     Qw_cache: dict[float, np.ndarray] = {}
     cache: dict = {}
     n_rep = [0] * n_seq
+    work: dict[int, tuple] = {}  # per batch size: the buffers of the covariance prediction
     for k in range(n):
+        m = active[k]
         if k > 0:
+            if m < x.shape[0]:  # the shortest sequences have ended
+                x, P = x[:m], P[:m]
             dt = dt_all[k - 1]
             Qw = Qw_cache.get(dt)
             if Qw is None:
                 Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
                                                acc_bias_rw_mps2_rsqrt_s, dt)
-            x, Phi, W = _model_many(x, u_all[k - 1], dt, cache)
-            P = Phi @ P @ Phi.transpose(0, 2, 1) + W @ Qw @ W.transpose(0, 2, 1)
-            P = 0.5 * (P + P.transpose(0, 2, 1))
+            x, Phi, W = _model_many(x, u_all[k - 1, :m], dt, cache)
+            bufs = work.get(m)
+            if bufs is None:
+                bufs = work[m] = (np.empty((m, _N, _N)), np.empty((m, _N, _N)), np.empty((m, _N, 12)),
+                                  np.empty((m, _N, _N)), Phi.transpose(0, 2, 1), W.transpose(0, 2, 1))
+            A, B, C, D, PhiT, WT = bufs
+            # P = Phi P Phi^T + W Q W^T, then 0.5 (P + P^T): the same products and sums, into kept buffers
+            np.matmul(Phi, P, A)
+            np.matmul(A, PhiT, B)
+            np.matmul(W, Qw, C)
+            np.matmul(C, WT, D)
+            np.add(B, D, B)
+            np.add(B, B.transpose(0, 2, 1), P)
+            np.multiply(P, 0.5, P)
             for s in check_at.get(k, ()):
                 P[s], rep = repair_psd(P[s])
                 n_rep[s] += rep
@@ -613,11 +641,14 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
                 priors[s][j] = x[s]
             z = np.stack([z_all[s][j] for s, j in zip(ss, jj, strict=True)])
             x[J], P[J] = _correct_many(x[J], P[J], z, R_all[J])
-        xs[:, k] = x
-        sds[:, k] = P.diagonal(axis1=1, axis2=2)
+        xs[:m, k] = x
+        sds[:m, k] = P.diagonal(axis1=1, axis2=2)
     np.sqrt(sds, out=sds)
-    return [HartmannResult(t_s=t_s, x=xs[s], sd=sds[s], vt_idx=vt_idx[s], prior_at_vt=priors[s],
-                           n_psd_repairs=n_rep[s]) for s in range(n_seq)]
+    out = [None] * n_seq
+    for s, i in enumerate(order):
+        out[i] = HartmannResult(t_s=seqs[s][0], x=xs[s, :n_each[s]], sd=sds[s, :n_each[s]], vt_idx=vt_idx[s],
+                                prior_at_vt=priors[s], n_psd_repairs=n_rep[s])
+    return out
 
 
 class HartmannEKF:
