@@ -20,7 +20,7 @@ from ilocalg.papers.comparison_survey import implied_tracker_noise, table2_rows
 from ilocalg.papers.readings_survey import readings as _readings
 from ilocalg.sim import hartmann as sim
 
-__all__ = ["run_sequence", "readings", "run"]
+__all__ = ["run_sequence", "readings", "run", "run_many"]
 
 
 def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,

@@ -35,7 +35,7 @@ from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
            "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS", "cpu_seconds",
-           "idle_wall_estimate", "study_jobs"]
+           "idle_wall_estimate", "study_jobs", "batch_jobs"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 

@@ -45,6 +45,8 @@ __all__ = [
     "make_tasks",
     "run_task",
     "run_tasks",
+    "batched",
+    "run_batch",
     "batch_sizes",
     "sweep",
     "aggregate",
