@@ -91,3 +91,19 @@ def test_side_studies_reuse_the_main_runs_only_where_they_simulate_the_same_sequ
         for g, want in zip(got, rows, strict=True):
             assert g["mean_dev_x_m"] == want["mean_dev_x_m"] and g["mean_dev_z_m"] == want["mean_dev_z_m"]
     assert out["table2"].iloc[0]["mean_dev_x_m"] == doubled["mean_dev_x_m"]  # the main run at twice the rate
+
+
+def test_runs_together_give_each_runs_tables():
+    """run_many (the seed sweep's and the robustness samples' path): runs of other seeds, durations and tracker
+    settings filtered in one batch, each run's tables those of run alone."""
+    runs = [{"seed": 1, "fast": True, "n_sequences": 1, "duration_s": 12.0, "noise_scales": (), "outage_factors": ()},
+            {"seed": 0, "fast": True, "n_sequences": 2, "duration_s": 9.0, "noise_scales": (2.0,),
+             "outage_factors": (), "vt_noise_scale": 1.5, "outage_rate_factor": 2.0},
+            {"seed": 1, "fast": True, "n_sequences": 1, "duration_s": 12.0, "noise_scales": (1.0,),
+             "outage_factors": ((2.0, 1.0),)}]
+    together = ins_hartmann.run_many(runs)
+    for r, got in zip(runs, together, strict=True):
+        alone = ins_hartmann.run(**r)
+        assert list(got) == list(alone)
+        for name in alone:
+            pd.testing.assert_frame_equal(got[name], alone[name], check_exact=True)

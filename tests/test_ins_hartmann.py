@@ -240,3 +240,28 @@ def test_model_on_arrays_has_the_bits_of_the_per_sequence_model(monkeypatch):
             assert a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
         x_one = np.stack([hm._model(x[s], u[s], dt)[0] for s in range(n_seq)])  # one sequence at a time
         assert np.array_equal(arrays[0].view(np.int64), x_one.view(np.int64))
+
+
+def test_lockstep_run_on_prefixes_of_one_clock_equals_each_run_alone():
+    """Sequences of different durations at one IMU rate run in one batch (the shorter leave it at their end, the
+    longest given last): each result bit for bit the run on that sequence alone; a clock that is not the start
+    of the longest is refused."""
+    from ilocalg.ins.hartmann_eval import _start
+    from ilocalg.sim import hartmann as sh
+
+    seqs = [sh.simulate(d, seed=s) for s, d in ((0, 4.5), (1, 6.0), (2, 4.5), (3, 5.0))]
+    starts = [_start(q, 1.0) for q in seqs]
+    args = ([q.gyr_b_radps for q in seqs], [q.acc_b_mps2 for q in seqs], [q.t_vt_s for q in seqs],
+            [q.z_vt for q in seqs], [x0 for x0, _ in starts], [P0 for _, P0 in starts])
+    many = hm.run_hartmann_many([q.t_s for q in seqs], *args)
+    for i, q in enumerate(seqs):
+        alone = hm.run_hartmann(q.t_s, *(a[i] for a in args))
+        assert many[i].x.shape == (q.t_s.size, 15) and np.array_equal(many[i].t_s, q.t_s)
+        _assert_same_bits(many[i], (alone.x, alone.sd, alone.vt_idx, alone.prior_at_vt, alone.n_psd_repairs))
+    shifted = [q.t_s for q in seqs]
+    shifted[2] = shifted[2].copy()
+    shifted[2][5] += 1e-6
+    with pytest.raises(ValueError, match="sequence 2's t_s is not the start of the longest clock"):
+        hm.run_hartmann_many(shifted, *args)
+    with pytest.raises(ValueError, match="t_s holds 3 clocks for 4 sequences"):
+        hm.run_hartmann_many(shifted[:3], *args)

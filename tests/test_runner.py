@@ -195,6 +195,20 @@ def test_side_by_side_failure_is_reported_and_exits_1(tmp_path, capsys):
     assert not (tmp_path / "out" / "README.md").exists()
 
 
+def test_batch_jobs_give_a_batched_experiments_tasks_one_job():
+    """Seed-sweep runs and robustness samples: one pool job per task, except one job for all the tasks of an
+    experiment with run_many (in their order)."""
+    from ilocalg.workflow import sweep as sw
+    from ilocalg.workflow.runner import batch_jobs
+
+    tasks = sw.make_tasks("tests.sweep_toy", range(2)) + sw.make_tasks("tests.sweep_toy_batched", range(3))
+    tasks.insert(1, tasks.pop())  # interleaved
+    jobs = batch_jobs(tasks)
+    assert [len(j) for j in jobs] == [1, 3, 1]
+    assert [t.seed for t in jobs[1]] == [2, 0, 1] and {t.experiment for t in jobs[1]} == {"tests.sweep_toy_batched"}
+    assert batch_jobs([]) == []
+
+
 def test_study_jobs_group_a_study_notebooks_tasks_by_experiment_and_seed():
     """The pool runs a study notebook's tasks as one job per (experiment, seed): every task once, in its order."""
     from ilocalg.workflow.runner import study_jobs

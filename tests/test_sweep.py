@@ -220,3 +220,23 @@ def test_cached_results_read_as_arrow_give_the_frame_read_parquet_and_concat_giv
     pd.testing.assert_frame_equal(got, want, check_exact=True)
     assert got.dtypes.to_dict() == want.dtypes.to_dict() and isinstance(got.index, pd.RangeIndex)
     assert sw._results_frame([]).empty
+
+
+def test_a_batched_experiments_tasks_run_together_with_each_tasks_result_and_failure(tmp_path):
+    """An experiment with run_many gets its tasks of one sweep in one call; each cached result is the one
+    run_task gives; when the call raises, the tasks run one by one and only the failing one is reported."""
+    from tests import sweep_toy_batched as bt
+
+    batched = "tests.sweep_toy_batched"
+    assert sw.batched(batched) and not sw.batched(TOY)
+    tasks = sw.make_tasks(batched, range(3)) + sw.make_tasks(TOY, range(2))
+    bt.CALLS.clear()
+    res = sw.sweep(tasks, workers=0, cache_dir=tmp_path, progress=False)
+    assert bt.CALLS == [3] and not res.failures
+    for t in tasks:
+        pd.testing.assert_frame_equal(pd.read_parquet(sw._cache_path(tmp_path, t)), sw.run_task(t), check_exact=True)
+    failing = sw.make_tasks(batched, range(3), {"fail_seed": [1]})
+    bt.CALLS.clear()
+    res = sw.sweep(failing, workers=0, cache_dir=None, progress=False)
+    assert bt.CALLS == [3]  # the batch raised; its tasks then ran one by one
+    assert [f["seed"] for f in res.failures] == [1] and "toy failure at seed 1" in res.failures[0]["error"]

@@ -20,7 +20,7 @@ from ilocalg.papers.comparison_survey import implied_tracker_noise, table2_rows
 from ilocalg.papers.readings_survey import readings as _readings
 from ilocalg.sim import hartmann as sim
 
-__all__ = ["run_sequence", "readings", "run"]
+__all__ = ["run_sequence", "readings", "run", "run_many"]
 
 
 def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
@@ -49,10 +49,35 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
     sequence, decimated: time, EKF and
     true position, bias estimates and truths), ``vt`` (its tracker fixes) and ``readings``.
     """
+    return run_many([{"seed": seed, "fast": fast, "n_sequences": n_sequences, "duration_s": duration_s,
+                      "noise_scales": noise_scales, "outage_factors": outage_factors, "vt_noise_scale": vt_noise_scale,
+                      "outage_rate_factor": outage_rate_factor, "outage_excess_factor": outage_excess_factor}])[0]
+
+
+def run_many(runs) -> list[dict[str, pd.DataFrame]]:
+    """:func:`run` with the keywords of each mapping of ``runs``, each result the one :func:`run` gives alone:
+    every run's sequences are simulated first and filtered together (:func:`run_sequences`: the sequences of
+    one IMU rate in lockstep, a shorter one leaving the batch at its end), a sequence two runs share once. The
+    seed sweep's seeds and the claims' robustness samples run this way (:func:`ilocalg.workflow.sweep.sweep`)."""
+    plans = [_plan(**r) for r in runs]
+    # every sequence, keyed by (seed, duration, simulator keywords, index): equal keys simulate the same sequence
+    jobs: dict[tuple, dict] = {}
+    for pl in plans:
+        for key, kw in pl["jobs"].items():
+            jobs.setdefault((pl["seed"], pl["duration_s"], key), kw)
+    keys = list(jobs)
+    seqs = [sim.simulate(dur, seed=seed * 1000 + key[1], **jobs[(seed, dur, key)]) for seed, dur, key in keys]
+    done = dict(zip(keys, zip(seqs, run_sequences(seqs), strict=True), strict=True))
+    return [_tables(pl, {key: done[(pl["seed"], pl["duration_s"], key)] for key in pl["jobs"]}) for pl in plans]
+
+
+def _plan(seed: int = 0, fast: bool = False, n_sequences: int | None = None, duration_s: float | None = None,
+          noise_scales=(0.5, 1.0, 2.0, 4.0), outage_factors=((0.5, 1.0), (2.0, 1.0), (1.0, 0.5), (1.0, 2.0)),
+          vt_noise_scale: float = 1.0, outage_rate_factor: float = 1.0, outage_excess_factor: float = 1.0) -> dict:
+    """What one :func:`run` simulates (``jobs``: simulator keywords by (:func:`_sim_key`, index)) and the
+    settings its tables need."""
     n_sequences = n_sequences or (2 if fast else 6)
     duration_s = duration_s or (60.0 if fast else 120.0)
-    rows, settle, noise_rows = [], [], []
-    trace = vt = None
     main_kw = {}  # the defaults are the simulator's own
     if vt_noise_scale != 1.0:
         main_kw["vt_sd"] = tuple(vt_noise_scale * np.asarray(sim.VT_SD_DEFAULT))
@@ -62,7 +87,7 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
         main_kw["outage_excess_mean_s"] = outage_excess_factor * sim.OUTAGE_EXCESS_MEAN_S
     # every sequence of the run, keyed by (simulator keywords, index): the side studies' cells that simulate
     # the main run's sequences (or each other's) reuse them; the filter always assumes the simulated tracker
-    # noise, so the key fixes the result. All are simulated first and filtered together (in lockstep).
+    # noise, so the key fixes the result.
     n_noise = 1 if fast else min(2, n_sequences)
     noise_kw = [{"vt_sd": tuple(scale * np.asarray(sim.VT_SD_DEFAULT))} for scale in noise_scales]
     outage_cells = ((1.0, 1.0), *outage_factors) if outage_factors else ()
@@ -72,9 +97,19 @@ def run(seed: int = 0, fast: bool = False, n_sequences: int | None = None,
     for kw, count in ((main_kw, n_sequences), *((kw, n_noise) for kw in noise_kw + outage_kw)):
         for i in range(count):
             jobs.setdefault((_sim_key(kw), i), kw)
-    keys = list(jobs)
-    seqs = [sim.simulate(duration_s, seed=seed * 1000 + key[1], **jobs[key]) for key in keys]
-    results = dict(zip(keys, zip(seqs, run_sequences(seqs), strict=True), strict=True))
+    return {"seed": seed, "duration_s": duration_s, "n_sequences": n_sequences, "n_noise": n_noise,
+            "main_kw": main_kw, "noise_scales": noise_scales, "noise_kw": noise_kw, "outage_cells": outage_cells,
+            "outage_kw": outage_kw, "jobs": jobs}
+
+
+def _tables(pl: dict, results: dict) -> dict[str, pd.DataFrame]:
+    """:func:`run`'s tables from its plan ``pl`` (:func:`_plan`) and ``results``: (sequence, EKF result) by job
+    key."""
+    n_sequences, duration_s, n_noise, main_kw = pl["n_sequences"], pl["duration_s"], pl["n_noise"], pl["main_kw"]
+    noise_scales, noise_kw, outage_cells, outage_kw = (pl["noise_scales"], pl["noise_kw"], pl["outage_cells"],
+                                                       pl["outage_kw"])
+    rows, settle, noise_rows = [], [], []
+    trace = vt = None
     table_rows = {key: table2_row(str(key[1] + 1), seq, res) for key, (seq, res) in results.items()}
     main_key = _sim_key(main_kw)
     for i in range(n_sequences):

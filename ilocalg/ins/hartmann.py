@@ -18,6 +18,7 @@ sensors and marker-based video-tracking", IEEE/ION PLANS 2010, pp. 319-326.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -108,6 +109,7 @@ _E, _C, _D, _DEW = range(0, 9), range(9, 18), range(18, 27), range(27, 33)
 _PHI_COLS = np.array([*_DEW, *_E, *_D, *_C, *_D, *_C, 39, 39, 39], dtype=np.intp)
 _BASE6 = np.array([1.0, 0.0, 0.0, 0.0, 1.0, 0.0])
 _GRAVITY = tuple(GRAVITY_N_MPS2.tolist())
+_GRAVITY_V = np.array(_GRAVITY)
 
 
 def _coefficients(dt_s: float) -> np.ndarray:
@@ -151,7 +153,7 @@ def _model_many(x, u, dt_s: float, cache: dict):
                 xl[6] + dt_s * av1, xl[7] + dt_s * av2, xl[8] + dt_s * av3)
         new += xl[9:15]
     x_new = np.fromiter(new, float, 15 * n_seq).reshape(n_seq, 15)
-    return x_new, *_jacobians(m, n_seq, dt_s, cache)
+    return x_new, *_jacobians(m, None, n_seq, dt_s, cache)
 
 
 #: From this many sequences on, :func:`_model_many` computes its table with numpy on arrays of the sequences
@@ -161,44 +163,170 @@ def _model_many(x, u, dt_s: float, cache: dict):
 _VECTOR_SEQS = 16
 
 
+class _Traced:
+    """A value of :func:`_terms` while it is traced (:func:`_terms_program`): each arithmetic operation on it is
+    recorded as a node ``(op, left, right)``; operands are node numbers or ``("const", value)``."""
+
+    __slots__ = ("node", "tape")
+
+    def __init__(self, node: int, tape: list):
+        self.node, self.tape = node, tape
+
+    def _op(self, op: str, a, b=None) -> _Traced:
+        self.tape.append((op, _operand(a), None if b is None else _operand(b)))
+        return _Traced(len(self.tape) - 1, self.tape)
+
+    def __mul__(self, o):
+        return self._op("mul", self, o)
+
+    def __rmul__(self, o):
+        return self._op("mul", o, self)
+
+    def __add__(self, o):
+        return self._op("add", self, o)
+
+    def __radd__(self, o):
+        return self._op("add", o, self)
+
+    def __sub__(self, o):
+        return self._op("sub", self, o)
+
+    def __rsub__(self, o):
+        return self._op("sub", o, self)
+
+    def __truediv__(self, o):
+        return self._op("div", self, o)
+
+    def __rtruediv__(self, o):
+        return self._op("div", o, self)
+
+    def __neg__(self):
+        return self._op("neg", self)
+
+
+def _operand(v):
+    if isinstance(v, _Traced):
+        return v.node
+    if isinstance(v, int | float):
+        return ("const", float(v))
+    raise TypeError(f"_terms traced with an operand of type {type(v).__name__}")
+
+
+_UFUNCS = {"mul": np.multiply, "add": np.add, "sub": np.subtract, "div": np.true_divide, "neg": np.negative}
+
+
+@dataclass(frozen=True)
+class _Program:
+    """:func:`_terms` as numpy calls on a work table (S, ``n_cols``): columns 0-11 its arguments, then
+    ``consts`` (column, value), then each group's results; a group is ``(ufunc, operand columns, start, stop)``
+    with the left operands' columns before the right ones'; ``out_cols`` the 40 results' columns."""
+
+    n_cols: int
+    consts: tuple
+    groups: tuple
+    out_cols: np.ndarray
+
+
+@functools.cache
+def _terms_program() -> _Program:
+    """Trace :func:`_terms` once and schedule its operations: every operation whose operands are known by level
+    L (longest chain from an argument) runs at level L, and the operations of one kind at one level are one
+    numpy call on the columns of every sequence. Each element then sees the operations Python applies to the
+    floats, with the same operands: the same bits (IEEE float64, no contraction)."""
+    tape: list = []
+    args = [_Traced(i, tape) for i in range(12)]
+    tape.extend(("arg", None, None) for _ in range(12))
+    out = _terms(*args)
+    level = [0] * len(tape)
+    consts: dict[str, tuple[int, float]] = {}  # by float.hex, which tells -0.0 from 0.0
+    for i, (op, a, b) in enumerate(tape):
+        if op != "arg":
+            level[i] = 1 + max(level[v] if isinstance(v, int) else 0 for v in (a, b) if v is not None)
+    for v in (*(x for _, a, b in tape for x in (a, b)), *(_operand(o) for o in out if not isinstance(o, _Traced))):
+        if isinstance(v, tuple):
+            consts.setdefault(v[1].hex(), (12 + len(consts), v[1]))
+    col = {i: i for i in range(12)}
+    groups, n_cols = [], 12 + len(consts)
+    order: dict[tuple, list[int]] = {}
+    for i, (op, _a, _b) in enumerate(tape):
+        if op != "arg":
+            order.setdefault((level[i], op), []).append(i)
+    for (_lv, op), nodes in sorted(order.items()):
+        for j, i in enumerate(nodes):
+            col[i] = n_cols + j
+
+        def place(v):
+            return col[v] if isinstance(v, int) else consts[v[1].hex()][0]
+
+        left = [place(tape[i][1]) for i in nodes]
+        right = [place(tape[i][2]) for i in nodes] if op != "neg" else []
+        groups.append((_UFUNCS[op], np.array(left + right, dtype=np.intp), n_cols, n_cols + len(nodes)))
+        n_cols += len(nodes)
+    out_cols = np.array([col[o.node] if isinstance(o, _Traced) else consts[float(o).hex()][0] for o in out],
+                        dtype=np.intp)
+    return _Program(n_cols, tuple(consts.values()), tuple(groups), out_cols)
+
+
 def _model_arrays(x, u, dt_s: float, h: float, cache: dict):
-    """:func:`_model_many` with :func:`_terms` and the state update evaluated on columns (S,) instead of
-    Python floats: each expression is the same, element by element."""
+    """:func:`_model_many` with :func:`_terms` and the state update evaluated on arrays of the sequences instead
+    of Python floats (:func:`_terms_program`, on a work table (columns, S)): each expression is the same, element
+    by element."""
     n_seq = x.shape[0]
+    prog = _terms_program()
+    work = cache.get(("terms", n_seq))
+    if work is None:
+        buf = np.empty((prog.n_cols, n_seq))
+        for c, v in prog.consts:
+            buf[c] = v
+        rows = prog.out_cols[:, None] * n_seq + np.arange(n_seq)  # (40, S): the table's entry of each sequence
+        # E and C, then w and a, of each sequence as (S, 2, 3, 3) and (S, 2, 3, 1) C-contiguous (as from an
+        # (S, 40) table), and the Jacobians' entries (:func:`_jacobians`)
+        work = cache[("terms", n_seq)] = (buf, rows[0:18].T.ravel(), rows[33:39].T.ravel(), rows.T.copy())
+    buf, ec_idx, wa_idx, m_idx = work
     sin, cos = math.sin, math.cos
-    ang = x[:, 0:3].T.tolist()
-    sc = [np.array([f(a) for a in col]) for col in ang for f in (sin, cos)]
-    wa = u - x[:, 9:15]  # ul[i] - xl[9 + i]
-    m = np.empty((n_seq, 40))
-    for i, v in enumerate(_terms(*sc, *wa.T)):
-        m[:, i] = v
-    ew_ca = m[:, 0:18].reshape(n_seq, 2, 3, 3) @ m[:, 33:39].reshape(n_seq, 2, 3, 1)
+    a1, a2, a3 = x[:, 0:3].T.tolist()
+    buf[0:6] = [list(map(sin, a1)), list(map(cos, a1)), list(map(sin, a2)), list(map(cos, a2)),
+                list(map(sin, a3)), list(map(cos, a3))]
+    np.subtract(u.T, x[:, 9:15].T, buf[6:12])  # ul[i] - xl[9 + i]
+    take = buf.take
+    for ufunc, cols, start, stop in prog.groups:
+        n = stop - start
+        g = take(cols, 0)
+        if cols.size == n:
+            ufunc(g, buf[start:stop])
+        else:
+            ufunc(g[:n], g[n:], buf[start:stop])
+    ew_ca = buf.take(ec_idx).reshape(n_seq, 2, 3, 3) @ buf.take(wa_idx).reshape(n_seq, 2, 3, 1)
     ew, ca = ew_ca[:, 0, :, 0], ew_ca[:, 1, :, 0]
-    g1, g2, g3 = _GRAVITY
-    av = (ca[:, 0] + g1, ca[:, 1] + g2, ca[:, 2] + g3)
+    av = ca + _GRAVITY_V
     x_new = np.empty((n_seq, 15))
-    for i in range(3):
-        x_new[:, i] = x[:, i] + ew[:, i] * dt_s
-        x_new[:, 3 + i] = x[:, 3 + i] + x[:, 6 + i] * dt_s + h * av[i]
-        x_new[:, 6 + i] = x[:, 6 + i] + dt_s * av[i]
+    np.add(x[:, 0:3], ew * dt_s, x_new[:, 0:3])
+    np.add(x[:, 3:6] + x[:, 6:9] * dt_s, h * av, x_new[:, 3:6])
+    np.add(x[:, 6:9], dt_s * av, x_new[:, 6:9])
     x_new[:, 9:15] = x[:, 9:15]
-    return x_new, *_jacobians(m, n_seq, dt_s, cache)
+    return x_new, *_jacobians(buf, m_idx, n_seq, dt_s, cache)
 
 
-def _jacobians(m, n_seq: int, dt_s: float, cache: dict):
-    """Phi (S, 15, 15) and W (S, 15, 12) of :func:`_model_many` from its table ``m`` (S, 40)."""
-    coef = cache.setdefault("coef", {}).get(dt_s)
-    if coef is None:
-        coef = cache["coef"][dt_s] = _coefficients(dt_s)
+def _jacobians(m, m_idx, n_seq: int, dt_s: float, cache: dict):
+    """Phi (S, 15, 15) and W (S, 15, 12) of :func:`_model_many` from its table, the entry j of sequence s at
+    ``m.flat[m_idx[s, j]]`` (m_idx (S, 40); None: ``m`` is the table (S, 40), C-contiguous)."""
+    key = (n_seq, dt_s, m_idx is None)
+    plan = cache.get(key)
+    if plan is None:
+        idx = (40 * np.arange(n_seq)[:, None] + np.arange(40)) if m_idx is None else m_idx
+        plan = cache[key] = (idx[:, _PHI_COLS].ravel(), np.tile(_coefficients(dt_s), n_seq),
+                             (_N * _N * np.arange(n_seq)[:, None] + _PHI_IDX).ravel())
+    take_idx, coef, put_idx = plan
     Phi, W = cache.get("Phi"), cache.get("W")
     if Phi is None or Phi.shape[0] != n_seq:
         Phi = cache["Phi"] = np.repeat(np.eye(_N)[None], n_seq, axis=0)
         W = cache["W"] = np.zeros((n_seq, _N, 12))
         W[:, 9:15, 6:12] = np.eye(6)
-    vals = m[:, _PHI_COLS]
+    vals = m.take(take_idx)
     vals *= coef
-    vals[:, 0:6] += _BASE6  # 1 or 0 + d(E w) dt
-    Phi.reshape(n_seq, -1)[:, _PHI_IDX] = vals
+    base = vals.reshape(n_seq, _PHI_COLS.size)[:, 0:6]
+    base += _BASE6  # 1 or 0 + d(E w) dt
+    Phi.reshape(-1)[put_idx] = vals
     # W (eq. 22) is Phi's last six columns in rows 0-8 (the identity below them set once)
     W[:, 0:9, 0:6] = Phi[:, 0:9, 9:15]
     return Phi, W
@@ -389,7 +517,7 @@ def _psd_check_epochs(fix_epochs, n: int) -> list[int]:
 def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd_radps=GYR_SD_DEFAULT_RADPS,
                       acc_sd_mps2=ACC_SD_DEFAULT_MPS2, gyr_bias_rw_radps_rsqrt_s=1e-4,
                       acc_bias_rw_mps2_rsqrt_s=1e-3, vt_sd=VT_SD_DEFAULT) -> list[HartmannResult]:
-    """:func:`run_hartmann` on several sequences that share one IMU clock, moved in lockstep.
+    """:func:`run_hartmann` on several sequences on one IMU clock (or on prefixes of one), moved in lockstep.
 
     One Python pass over the epochs moves every sequence: the states are an (S, 15) array, the covariances
     (S, 15, 15). Each result equals the step-by-step filter (:func:`hartmann_predict`, :func:`hartmann_correct`,
@@ -397,12 +525,13 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     for bit: the element-wise arithmetic is the same, and the stacked ``np.matmul`` / ``np.linalg.solve`` calls
     hand each slice to the BLAS / LAPACK routine the two-dimensional call uses, with the same layout (the
     tests compare the two). The per-epoch cost of the numpy calls, which dominates a run on one sequence, is
-    then paid once per epoch for all of them.
+    then paid once per epoch for all of them. A sequence on a shorter clock leaves the batch after its last epoch.
 
     Parameters
     ----------
-    t_s : (N,) IMU times shared by every sequence
-    gyr_b_radps, acc_b_mps2 : one (N, 3) array per sequence (S of them)
+    t_s : (N,) IMU times shared by every sequence, or one clock per sequence (N_s,), each the first N_s times of
+        the longest
+    gyr_b_radps, acc_b_mps2 : one (N_s, 3) array per sequence (S of them)
     t_vt_s, z_vt : per sequence, its tracker times (M_s,) and fixes (M_s, 4)
     x0, P0 : per sequence, (15,) and (15, 15)
     gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s : as in :func:`run_hartmann`,
@@ -422,21 +551,33 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     per_seq = np.ndim(vt_sd) == 2
     if per_seq and len(vt_sd) != n_seq:
         raise ValueError(f"run_hartmann_many: vt_sd holds {len(vt_sd)} rows for {n_seq} sequences")
-    seqs = []
+    clocks = isinstance(t_s, list | tuple)
+    if clocks and len(t_s) != n_seq:
+        raise ValueError(f"run_hartmann_many: t_s holds {len(t_s)} clocks for {n_seq} sequences")
+    checked = []
     for s in range(n_seq):
         try:
-            seqs.append(_checked_run(t_s, gyr_b_radps[s], acc_b_mps2[s], t_vt_s[s], z_vt[s], x0[s], P0[s],
-                                     gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s, acc_bias_rw_mps2_rsqrt_s,
-                                     vt_sd[s] if per_seq else vt_sd))
+            checked.append(_checked_run(t_s[s] if clocks else t_s, gyr_b_radps[s], acc_b_mps2[s], t_vt_s[s],
+                                        z_vt[s], x0[s], P0[s], gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
+                                        acc_bias_rw_mps2_rsqrt_s, vt_sd[s] if per_seq else vt_sd))
         except ValueError as err:
             raise ValueError(f"sequence {s}: {err}" if n_seq > 1 else str(err)) from None
+    # longest clock first: the sequences still running at an epoch are the first rows
+    order = sorted(range(n_seq), key=lambda s: -checked[s][0].size)
+    seqs = [checked[s] for s in order]
     t_s = seqs[0][0]
     n = t_s.size
-    u_all = np.empty((n, n_seq, 6))
+    n_each = [q[0].size for q in seqs]
+    for s, q in zip(order, seqs, strict=True):
+        if not np.array_equal(q[0], t_s[:q[0].size]):
+            raise ValueError(f"run_hartmann_many: sequence {s}'s t_s is not the start of the longest clock")
+    # active[k]: how many sequences have an epoch k
+    active = np.searchsorted(-np.asarray(n_each), -np.arange(n), side="left").tolist()
+    u_all = np.zeros((n, n_seq, 6))
     for s, (_, gyr, acc, *_rest) in enumerate(seqs):
-        u_all[:, s, 0:3], u_all[:, s, 3:6] = gyr, acc
+        u_all[:gyr.shape[0], s, 0:3], u_all[:acc.shape[0], s, 3:6] = gyr, acc
     R_all = np.stack([q[7] for q in seqs])
-    vt_idx = [np.searchsorted(t_s, q[3], side="left") for q in seqs]
+    vt_idx = [np.searchsorted(q[0], q[3], side="left") for q in seqs]
     # the fixes of epoch k in rounds: round r holds the r-th fix of that epoch of each sequence that has one
     events: dict[int, list] = {}
     for s, idx in enumerate(vt_idx):
@@ -455,10 +596,10 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
         rounds_at[k] = [(np.array(ss), ss, jj) for ss, jj in rounds]
     check_at: dict[int, list] = {}
     for s, idx in enumerate(vt_idx):
-        for k in _psd_check_epochs(idx.tolist(), n):
+        for k in _psd_check_epochs(idx.tolist(), n_each[s]):
             check_at.setdefault(k, []).append(s)
     xs = np.empty((n_seq, n, HARTMANN_N_STATES))
-    sds = np.empty((n_seq, n, HARTMANN_N_STATES))
+    sds = np.zeros((n_seq, n, HARTMANN_N_STATES))  # zeros past a shorter sequence's end (for the square root)
     priors = [np.empty((q[3].size, HARTMANN_N_STATES)) for q in seqs]
     z_all = [q[4] for q in seqs]
     x = np.stack([q[5] for q in seqs])
@@ -467,16 +608,31 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
     Qw_cache: dict[float, np.ndarray] = {}
     cache: dict = {}
     n_rep = [0] * n_seq
+    work: dict[int, tuple] = {}  # per batch size: the buffers of the covariance prediction
     for k in range(n):
+        m = active[k]
         if k > 0:
+            if m < x.shape[0]:  # the shortest sequences have ended
+                x, P = x[:m], P[:m]
             dt = dt_all[k - 1]
             Qw = Qw_cache.get(dt)
             if Qw is None:
                 Qw = Qw_cache[dt] = _noise_cov(gyr_sd_radps, acc_sd_mps2, gyr_bias_rw_radps_rsqrt_s,
                                                acc_bias_rw_mps2_rsqrt_s, dt)
-            x, Phi, W = _model_many(x, u_all[k - 1], dt, cache)
-            P = Phi @ P @ Phi.transpose(0, 2, 1) + W @ Qw @ W.transpose(0, 2, 1)
-            P = 0.5 * (P + P.transpose(0, 2, 1))
+            x, Phi, W = _model_many(x, u_all[k - 1, :m], dt, cache)
+            bufs = work.get(m)
+            if bufs is None:
+                bufs = work[m] = (np.empty((m, _N, _N)), np.empty((m, _N, _N)), np.empty((m, _N, 12)),
+                                  np.empty((m, _N, _N)), Phi.transpose(0, 2, 1), W.transpose(0, 2, 1))
+            A, B, C, D, PhiT, WT = bufs
+            # P = Phi P Phi^T + W Q W^T, then 0.5 (P + P^T): the same products and sums, into kept buffers
+            np.matmul(Phi, P, A)
+            np.matmul(A, PhiT, B)
+            np.matmul(W, Qw, C)
+            np.matmul(C, WT, D)
+            np.add(B, D, B)
+            np.add(B, B.transpose(0, 2, 1), P)
+            np.multiply(P, 0.5, P)
             for s in check_at.get(k, ()):
                 P[s], rep = repair_psd(P[s])
                 n_rep[s] += rep
@@ -485,11 +641,14 @@ def run_hartmann_many(t_s, gyr_b_radps, acc_b_mps2, t_vt_s, z_vt, x0, P0, gyr_sd
                 priors[s][j] = x[s]
             z = np.stack([z_all[s][j] for s, j in zip(ss, jj, strict=True)])
             x[J], P[J] = _correct_many(x[J], P[J], z, R_all[J])
-        xs[:, k] = x
-        sds[:, k] = P.diagonal(axis1=1, axis2=2)
+        xs[:m, k] = x
+        sds[:m, k] = P.diagonal(axis1=1, axis2=2)
     np.sqrt(sds, out=sds)
-    return [HartmannResult(t_s=t_s, x=xs[s], sd=sds[s], vt_idx=vt_idx[s], prior_at_vt=priors[s],
-                           n_psd_repairs=n_rep[s]) for s in range(n_seq)]
+    out = [None] * n_seq
+    for s, i in enumerate(order):
+        out[i] = HartmannResult(t_s=seqs[s][0], x=xs[s, :n_each[s]], sd=sds[s, :n_each[s]], vt_idx=vt_idx[s],
+                                prior_at_vt=priors[s], n_psd_repairs=n_rep[s])
+    return out
 
 
 class HartmannEKF:

@@ -35,21 +35,28 @@ def run_sequence(seq, level_s: float = 1.0, vt_sd=None):
 
 def run_sequences(seqs, level_s: float = 1.0, vt_sd=None, max_batch: int = 32):
     """:func:`run_sequence` on each sequence of ``seqs`` (``vt_sd``: None, or one entry per sequence, None for the
-    sequence's own noise). Sequences on the same IMU clock run in lockstep, at most ``max_batch`` at a time
+    sequence's own noise). Sequences on one IMU clock, or on the first epochs of a longer one (the simulator's
+    clocks of any duration at one rate), run in lockstep, at most ``max_batch`` at a time, longest first
     (:func:`ilocalg.ins.hartmann.run_hartmann_many`); each result is the one :func:`run_sequence` gives."""
     seqs = list(seqs)
     vt_sd = [None] * len(seqs) if vt_sd is None else list(vt_sd)
     if len(vt_sd) != len(seqs):
         raise ValueError(f"vt_sd holds {len(vt_sd)} entries for {len(seqs)} sequences")
-    groups: dict[bytes, list[int]] = {}
-    for i, seq in enumerate(seqs):
-        groups.setdefault(np.asarray(seq.t_s, dtype=float).tobytes(), []).append(i)
+    clocks = [np.asarray(seq.t_s, dtype=float) for seq in seqs]
+    groups: list[list[int]] = []  # each group's first sequence has its longest clock
+    for i in sorted(range(len(seqs)), key=lambda i: -clocks[i].size):
+        t = clocks[i]
+        g = next((g for g in groups if np.array_equal(clocks[g[0]][:t.size], t)), None)
+        if g is None:
+            groups.append([i])
+        else:
+            g.append(i)
     out = [None] * len(seqs)
-    for idx in groups.values():
+    for idx in groups:
         for lo in range(0, len(idx), max_batch):
             part = idx[lo:lo + max_batch]
             starts = [_start(seqs[i], level_s) for i in part]
-            res = run_hartmann_many(seqs[part[0]].t_s, [seqs[i].gyr_b_radps for i in part],
+            res = run_hartmann_many([seqs[i].t_s for i in part], [seqs[i].gyr_b_radps for i in part],
                                     [seqs[i].acc_b_mps2 for i in part], [seqs[i].t_vt_s for i in part],
                                     [seqs[i].z_vt for i in part], [x0 for x0, _ in starts], [P0 for _, P0 in starts],
                                     vt_sd=[seqs[i].params["vt_sd"] if vt_sd[i] is None else vt_sd[i] for i in part])

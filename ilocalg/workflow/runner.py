@@ -35,7 +35,7 @@ from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
            "sweep_experiments", "KERNEL_MPLBACKEND", "write_timings", "TIMINGS_COLUMNS", "cpu_seconds",
-           "idle_wall_estimate", "study_jobs"]
+           "idle_wall_estimate", "study_jobs", "batch_jobs"]
 
 NOTEBOOK_DIR = REPO_ROOT / "notebooks"
 
@@ -234,6 +234,26 @@ def study_jobs(tasks: list) -> list[list]:
     return list(groups.values())
 
 
+def batch_jobs(tasks: list) -> list[list]:
+    """Seed-sweep runs or robustness samples as pool jobs: one job per task, except that the tasks of an
+    experiment that runs several together (:func:`ilocalg.workflow.sweep.batched`: e.g. ins_hartmann, whose
+    sequences of all seeds then share one lockstep filter) are one job, in their order. The results (one cache
+    entry per task) are the same."""
+    from ilocalg.workflow import sweep as sw
+
+    jobs: list[list] = []
+    together: dict[str, list] = {}
+    for t in tasks:
+        if sw.batched(t.experiment):
+            if t.experiment not in together:
+                together[t.experiment] = []
+                jobs.append(together[t.experiment])
+            together[t.experiment].append(t)
+        else:
+            jobs.append([t])
+    return jobs
+
+
 #: Thread-count variables of the numerical libraries, set to 1 for notebooks run side by side.
 _BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
@@ -357,6 +377,7 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     stage_rows: list[dict] = []
     sweep_s: dict[str, list[tuple[float, float]]] = {}
     sample_s: dict[str, list[tuple[float, float]]] = {}
+    stage_runs: dict[tuple[str, str], int] = {}  # tasks run per (stage, experiment)
     study_s: dict[str, list[tuple[float, float]]] = {}  # per pool job
     study_runs: dict[str, int] = {}  # tasks per study (a study job runs several)
     swept = {nb.stem: [e for e, s in manifest.get(nb.stem, {}).items() if s] for nb in nbs}
@@ -407,10 +428,11 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         jobs_list = [(first if nb.stem in study_nbs else timings.get(_timing_key(nb.stem, fast), 60.0), 0, i, "nb", nb)
                      for i, nb in enumerate(nbs)]
         jobs_list += [(first, -1, i, "study", job) for i, job in enumerate(study_jobs(studies))]
-        jobs_list += [(timings.get(_timing_key(f"sweep:{t.experiment}", fast),
-                               timings.get(_timing_key(owner.get(t.experiment, ""), fast), 60.0)), 1, i, "sweep", t)
-                      for i, t in enumerate(extra)]
-        jobs_list += [(timings.get(f"sample:{t.experiment}", 10.0), 2, i, "sample", t) for i, t in enumerate(samples)]
+        jobs_list += [(len(job) * timings.get(_timing_key(f"sweep:{job[0].experiment}", fast),
+                                              timings.get(_timing_key(owner.get(job[0].experiment, ""), fast), 60.0)),
+                       1, i, "sweep", job if len(job) > 1 else job[0]) for i, job in enumerate(batch_jobs(extra))]
+        jobs_list += [(len(job) * timings.get(f"sample:{job[0].experiment}", 10.0), 2, i, "sample",
+                       job if len(job) > 1 else job[0]) for i, job in enumerate(batch_jobs(samples))]
         jobs_list.sort(key=lambda j: (-j[0], j[1], j[2]))
         # one process per core is the parallelism: single-threaded BLAS in the processes and their kernels
         # (as Dask does for its workers), unless the caller set these; the tables are the same bytes
@@ -434,13 +456,15 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
                         continue
                     r = f.result()
                     kind, name = futs[f]
-                    if kind == "sweep":
-                        timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"]
+                    if kind == "sweep":  # per task: a batched experiment's job holds several
+                        timings[_timing_key(f"sweep:{name}", fast)] = r["seconds"] / r["runs"]
                         sweep_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
+                        stage_runs[("sweep", name)] = stage_runs.get(("sweep", name), 0) + r["runs"]
                         continue
                     if kind == "sample":
-                        timings[f"sample:{name}"] = r["seconds"]
+                        timings[f"sample:{name}"] = r["seconds"] / r["runs"]
                         sample_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
+                        stage_runs[("robustness", name)] = stage_runs.get(("robustness", name), 0) + r["runs"]
                         continue
                     if kind == "study":
                         study_s.setdefault(name, []).append((r["seconds"], r["cpu_seconds"]))
@@ -462,7 +486,8 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
     stage_rows.sort(key=lambda r: r["name"])
     for stage_name, runs in (("sweep", sweep_s), ("robustness", sample_s), ("study", study_s)):
         stage_rows += [{"stage": stage_name, "name": e, "seconds": sum(w for w, _ in v),
-                        "cpu_seconds": sum(c for _, c in v), "runs": study_runs[e] if runs is study_s else len(v)}
+                        "cpu_seconds": sum(c for _, c in v),
+                        "runs": study_runs[e] if runs is study_s else stage_runs.get((stage_name, e), len(v))}
                        for e, v in sorted(runs.items())]
     stage_rows.append({"stage": "run", "name": "notebooks", "seconds": t_notebooks, "cpu_seconds": c_notebooks})
 

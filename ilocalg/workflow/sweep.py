@@ -45,6 +45,8 @@ __all__ = [
     "make_tasks",
     "run_task",
     "run_tasks",
+    "batched",
+    "run_batch",
     "batch_sizes",
     "sweep",
     "aggregate",
@@ -155,11 +157,41 @@ def run_task(task: SweepTask) -> pd.DataFrame:
     """Run one task and return its long-format result (importable by Dask workers); the experiment's
     :data:`ilocalg.workflow.manifest.SWEEP_KWARGS` (side studies the result does not keep) apply unless the
     task's parameters set them."""
+    return _task_result(task, _experiment(task.experiment).run(**_run_kwargs(task)))
+
+
+def _run_kwargs(task: SweepTask) -> dict:
     from ilocalg.workflow.manifest import SWEEP_KWARGS
 
-    mod = _experiment(task.experiment)
-    kwargs = {**SWEEP_KWARGS.get(task.experiment, {}), **dict(task.params)}
-    return _task_result(task, mod.run(seed=task.seed, fast=task.fast, **kwargs))
+    return {**SWEEP_KWARGS.get(task.experiment, {}), **dict(task.params), "seed": task.seed, "fast": task.fast}
+
+
+def batched(experiment: str) -> bool:
+    """Whether the experiment's module has ``run_many(runs)``: :func:`run` for each mapping of keywords in
+    ``runs``, computed together, each result the one ``run`` gives alone. Its tasks of one sweep then run in one
+    call (:func:`run_batch`), and reproduce gives its seed sweep and its robustness samples one pool job each."""
+    return callable(getattr(_experiment(experiment), "run_many", None))
+
+
+def run_batch(tasks: list[SweepTask]) -> list[tuple[bool, object]]:
+    """:func:`run_tasks` with the tasks of each :func:`batched` experiment in one ``run_many`` call (in their
+    order); if that call raises, its tasks run one by one, so that a failure is still reported per task."""
+    out: dict[int, tuple[bool, object]] = {}
+    groups: dict[str, list[int]] = {}
+    for i, t in enumerate(tasks):
+        groups.setdefault(t.experiment if batched(t.experiment) else f"\0{i}", []).append(i)
+    for idx in groups.values():
+        if len(idx) > 1:
+            try:
+                tables = _experiment(tasks[idx[0]].experiment).run_many([_run_kwargs(tasks[i]) for i in idx])
+                for i, tb in zip(idx, tables, strict=True):
+                    out[i] = (True, _task_result(tasks[i], tb))
+                continue
+            except Exception:  # noqa: BLE001 - the tasks run one by one below and report their own failures
+                pass
+        for i, r in zip(idx, run_tasks([tasks[i] for i in idx]), strict=True):
+            out[i] = r
+    return [out[i] for i in range(len(tasks))]
 
 
 def run_tasks(tasks: list[SweepTask]) -> list[tuple[bool, object]]:
@@ -347,12 +379,11 @@ def sweep(tasks: list[SweepTask], scheduler: str | None = None, workers: int = 2
 
     bar = tqdm(total=len(tasks), initial=n_cached, desc="sweep", unit="run", disable=not progress)
     if todo and workers == 0 and scheduler is None and client is None:
-        for t in todo:
-            try:
-                _store(t, run_task(t))
-            except Exception as exc:  # noqa: BLE001 - a failed task is reported, not fatal
-                failures.append({"task": t.describe(), "seed": t.seed, "params": dict(t.params),
-                                 "error": f"{type(exc).__name__}: {exc}"})
+        for t, (ok, val) in zip(todo, run_batch(todo), strict=True):
+            if ok:
+                _store(t, val)
+            else:  # a failed task is reported, not fatal
+                failures.append({"task": t.describe(), "seed": t.seed, "params": dict(t.params), "error": val})
             bar.update(1)
     elif todo:
         from dask.distributed import Client, LocalCluster, as_completed
