@@ -276,3 +276,31 @@ def test_thumbnails_carry_the_figures_title_and_link_to_its_anchor(tmp_path):
     assert fig_.title == "Per-step heading error" and fig_.href == "05_demo.html#fig-05_demo_heading"
     html = reporting.build_index(tmp_path).read_text()
     assert "<figcaption>Per-step heading error (05_demo)</figcaption>" in html
+
+
+def test_notebook_markdown_is_read_like_nbformat_executed_copy_first(tmp_path):
+    """The report build reads notebooks' Markdown as JSON: the same sources as nbformat's, list-of-lines sources
+    joined, the executed copy before the paired source, an unreadable file skipped."""
+    import json
+
+    import nbformat
+
+    out, src = tmp_path / "reports", tmp_path / "notebooks"
+    out.mkdir()
+    src.mkdir()
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("x = 1"), nbformat.v4.new_markdown_cell("text\n\n## Where and why\n\nno"),
+                nbformat.v4.new_markdown_cell("## Conclusion\n\nThe **KF** wins.")]
+    nbformat.write(nb, src / "07_demo.ipynb")
+    node = json.loads((src / "07_demo.ipynb").read_text())
+    node["cells"] = [dict(node["cells"][1], source=["# Demo\n", "\n", "Lines joined."])]
+    (out / "07_demo.ipynb").write_text(json.dumps(node))
+    sources = list(reporting._markdown_sources(out, "07_demo", src))
+    assert sources == [c.source for c in nbformat.read(out / "07_demo.ipynb", as_version=4).cells] + [
+        c.source for c in nb.cells if c.cell_type == "markdown"]
+    assert sources[0] == "# Demo\n\nLines joined."
+    assert reporting._notebook_title(out, "07_demo", src) == "Demo"  # the executed copy's heading
+    assert reporting._conclusion(out, "07_demo", src) == "The **KF** wins."  # none there: the source's
+    (out / "07_demo.ipynb").write_text("<<<<<<< merge conflict")
+    assert reporting._notebook_title(out, "07_demo", src) == "Where and why"  # the source's first heading line
+    assert reporting._notebook_title(out, "08_none", src) == "08_none"

@@ -259,19 +259,35 @@ _CONCLUSION_HEADINGS = ("## conclusion", "## where and why")
 def _conclusion(out_dir: Path, stem: str, notebook_dir: Path | None) -> str:
     """The notebook's ``## Conclusion`` (or ``## Where and why ...``) markdown (executed copy first, else the
     paired source), or ``""``."""
-    import nbformat
+    for source in _markdown_sources(out_dir, stem, notebook_dir):
+        if source.lstrip().lower().startswith(_CONCLUSION_HEADINGS):
+            return source.lstrip().split("\n", 1)[1].strip() if "\n" in source.strip() else ""
+    return ""
 
+
+def _markdown_sources(out_dir: Path, stem: str, notebook_dir: Path | None):
+    """The sources of a notebook's Markdown cells, in order: those of the executed copy ``out_dir/<stem>.ipynb``,
+    then those of ``notebook_dir/<stem>.ipynb`` (a missing file, or one that cannot be read as a notebook, gives
+    none), so a caller's first match prefers the executed copy.
+
+    An nbformat-4 file is read as the JSON it is (a cell's ``source`` is a string or a list of lines), not with
+    :func:`nbformat.read`: importing nbformat (jsonschema) and validating every executed notebook, figures
+    included, was most of the report build's time. Other versions go through nbformat's conversion.
+    """
     for path in (out_dir / f"{stem}.ipynb", (notebook_dir / f"{stem}.ipynb") if notebook_dir else None):
         if path is None or not path.exists():
             continue
         try:
-            cells = nbformat.read(path, as_version=4).cells
-        except (OSError, ValueError):
+            node = json.loads(Path(path).read_text(encoding="utf-8"))
+            if not isinstance(node, dict) or node.get("nbformat") != 4:
+                import nbformat
+
+                node = nbformat.read(path, as_version=4)
+            sources = ["".join(c["source"]) if isinstance(c["source"], list) else c["source"]
+                       for c in node["cells"] if c["cell_type"] == "markdown"]
+        except (OSError, ValueError, KeyError, TypeError):
             continue
-        for c in cells:
-            if c.cell_type == "markdown" and c.source.lstrip().lower().startswith(_CONCLUSION_HEADINGS):
-                return c.source.lstrip().split("\n", 1)[1].strip() if "\n" in c.source.strip() else ""
-    return ""
+        yield from sources
 
 
 def png_title(path: str | Path) -> str:
@@ -450,21 +466,10 @@ def how_to_read(seed, fast: bool, n_seeds: int, sweep: bool) -> list[str]:
 
 def _notebook_title(out_dir: Path, stem: str, notebook_dir: Path | None) -> str:
     """The first Markdown heading of a notebook (executed copy, else the source), without its ``#``s."""
-    import nbformat
-
-    for path in (out_dir / f"{stem}.ipynb", (notebook_dir / f"{stem}.ipynb") if notebook_dir else None):
-        if path is None or not path.exists():
-            continue
-        try:
-            cells = nbformat.read(path, as_version=4).cells
-        except (OSError, ValueError):
-            continue
-        for c in cells:
-            if c.cell_type != "markdown":
-                continue
-            for line in c.source.splitlines():
-                if line.startswith("#"):
-                    return line.lstrip("#").strip()
+    for source in _markdown_sources(out_dir, stem, notebook_dir):
+        for line in source.splitlines():
+            if line.startswith("#"):
+                return line.lstrip("#").strip()
     return stem
 
 
