@@ -6,10 +6,13 @@ tests/test_notebooks.py, whose module fixture runs every notebook (and checks th
 from __future__ import annotations
 
 import json
+import os
+import sys
 
 import nbformat
 import pytest
 
+from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.runner import NOTEBOOK_DIR, reproduce
 
 pytestmark = pytest.mark.notebooks
@@ -222,3 +225,32 @@ def test_study_jobs_group_a_study_notebooks_tasks_by_experiment_and_seed():
         assert len({(t.experiment, t.seed) for t in j}) == 1
         pos = [tasks.index(t) for t in j]
         assert pos == sorted(pos)
+
+
+def test_jsonschema_is_imported_without_the_iri_grammars_and_nbformat_still_validates():
+    """In a fresh process: jsonschema without rfc3987_syntax's grammars; nbformat still rejects an invalid
+    notebook; rfc3987_syntax (when installed) imports normally afterwards."""
+    import subprocess
+
+    code = """
+import importlib.util, sys
+from ilocalg.workflow.runner import _import_jsonschema_lean
+_import_jsonschema_lean()
+assert "jsonschema" in sys.modules and "rfc3987_syntax" not in sys.modules
+import nbformat
+nb = nbformat.v4.new_notebook()
+nbformat.validate(nb)
+nb.cells = [{"cell_type": "code", "source": 1}]
+try:
+    nbformat.validate(nb)
+except nbformat.ValidationError:
+    pass
+else:
+    raise SystemExit("an invalid notebook passed")
+if importlib.util.find_spec("rfc3987_syntax") is not None:
+    import rfc3987_syntax  # noqa: F401
+print("ok")
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO_ROOT,
+                       env={**os.environ, "PYTHONPATH": str(REPO_ROOT)})
+    assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr

@@ -84,6 +84,25 @@ def _relative(path: str | Path, start: Path) -> str:
         return str(path)
 
 
+def _import_jsonschema_lean() -> None:
+    """Import jsonschema (nbformat's validator, loaded by papermill) without the optional ``rfc3987_syntax``.
+
+    When ``rfc3987_syntax`` is installed, importing jsonschema compiles its 38 Lark grammars for the ``iri`` and
+    ``iri-reference`` format checkers: about 2.5 of the 3.5 CPU-s that ``import papermill`` costs each process that
+    runs notebooks. nbformat validates notebooks without a format checker, so those checkers are never used
+    here; jsonschema skips them when the import fails. Nothing changes when jsonschema (or rfc3987_syntax) is
+    already imported; afterwards ``rfc3987_syntax`` imports normally.
+    """
+    if "jsonschema" in sys.modules or "rfc3987_syntax" in sys.modules:
+        return
+    sys.modules["rfc3987_syntax"] = None  # type: ignore[assignment]  # "import rfc3987_syntax" raises ImportError
+    try:
+        import jsonschema  # noqa: F401
+    finally:
+        if sys.modules.get("rfc3987_syntax", 0) is None:
+            del sys.modules["rfc3987_syntax"]
+
+
 def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool = True,
                      html: bool = True, record: tuple[str, list[str]] | None = None,
                      study_cache: str | Path | None = None) -> Path:
@@ -93,6 +112,7 @@ def execute_notebook(nb: Path, out_dir: Path, parameters: dict, progress: bool =
     sweep cache (:func:`ilocalg.workflow.sweep.record_runs`). ``study_cache``: the sweep cache in which the
     runner's pool ran a study notebook's tasks (:func:`ilocalg.workflow.studies.run_notebook_tasks` reads them).
     """
+    _import_jsonschema_lean()
     import papermill as pm  # heavy; imported only when notebooks run
 
     from ilocalg.workflow import sweep as sw
