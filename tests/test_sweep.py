@@ -240,3 +240,38 @@ def test_a_batched_experiments_tasks_run_together_with_each_tasks_result_and_fai
     res = sw.sweep(failing, workers=0, cache_dir=None, progress=False)
     assert bt.CALLS == [3]  # the batch raised; its tasks then ran one by one
     assert [f["seed"] for f in res.failures] == [1] and "toy failure at seed 1" in res.failures[0]["error"]
+
+
+@pytest.mark.parametrize("tables", [
+    {"comparison": pd.DataFrame({"paper": ["i-Loc", None], "item": ["Fig 23", 5], "quantity": ["KF", "PTS"],
+                                 "paper_value": [2.82, None], "reproduced_value": [2.9, 3], "unit": ["m", np.nan]}),
+     "other": pd.DataFrame({"x": [1]}), "note": "not a table"},
+    {"comparison": pd.DataFrame({"paper": ["p"], "item": [1.5], "quantity": ["q"], "paper_value": [1],
+                                 "reproduced_value": [np.float32(0.1)]})},
+    {"sweep_kf": pd.DataFrame({"quantity": ["rmse", "mean"], "value": [1.25, np.nan], "unit": ["m", "m"],
+                               "item": ["window_s=5", "window_s=10"]})},
+    {"measures": pd.DataFrame({"quantity": ["a"], "value": [2], "paper": ["x"], "paper_value": [None]})},
+    {"sweep_a": pd.DataFrame({"quantity": ["a"], "value": [1.0], "item": [3]}),
+     "sweep_b": pd.DataFrame({"quantity": ["b"], "value": [2.0], "item": [0.5]})},  # two tables: concatenated
+    {"sweep_empty": pd.DataFrame({"quantity": pd.Series(dtype=object), "value": pd.Series(dtype=float)})},
+], ids=["paper-rows", "paper-one", "sweep", "measures", "two-tables", "empty"])
+def test_task_result_from_one_frame_equals_the_per_table_concatenation(tables):
+    """The one-frame path (``long_columns``, one non-empty sweepable table) gives the frame of the per-table
+    concatenation, dtypes and parquet bytes included; other inputs go the concatenation's way."""
+    import io
+
+    from ilocalg.papers.claims import _tables_to_long, long_columns
+
+    task = sw.SweepTask("demo", (("k", 2), ("mode", "a")), 3)
+    ref = _tables_to_long(tables)
+    for name, value in (("seed", task.seed), ("params", json.dumps(dict(task.params), sort_keys=True)),
+                        ("experiment", task.experiment)):
+        ref.insert(0, name, value)
+    got = sw._task_result(task, tables)
+    assert got.equals(ref) and list(got.dtypes) == list(ref.dtypes) and got.index.equals(ref.index)
+    assert sw.tables_to_long(tables).equals(_tables_to_long(tables))
+    a, b = io.BytesIO(), io.BytesIO()
+    ref.to_parquet(a, index=False)
+    got.to_parquet(b, index=False)
+    assert a.getvalue() == b.getvalue()
+    assert (long_columns(tables) is None) == ("sweep_b" in tables or "sweep_empty" in tables)

@@ -355,6 +355,46 @@ RESULT_COLUMNS = ("table", "paper", "item", "quantity", "unit", "paper_value", "
 
 def tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     """The sweepable values of an experiment's tables, in long format (:data:`RESULT_COLUMNS`)."""
+    columns = long_columns(tables)
+    if columns is not None:
+        return pd.DataFrame(columns)
+    return _tables_to_long(tables)
+
+
+def _long_parts(tables: Mapping[str, pd.DataFrame]) -> list[tuple[str, pd.DataFrame]]:
+    return [(name, df) for name, df in tables.items() if isinstance(df, pd.DataFrame) and (
+        all(c in df.columns for c in PAPER_REF_COLUMNS)
+        or (name.startswith(("sweep_", "measures")) and "value" in df.columns and "quantity" in df.columns))]
+
+
+def long_columns(tables: Mapping[str, pd.DataFrame]) -> dict | None:
+    """The columns of :func:`tables_to_long` (name -> values, :data:`RESULT_COLUMNS` order) without building a
+    DataFrame per table, when exactly one non-empty table is sweepable (every study run and most experiments);
+    else None (:func:`tables_to_long` then concatenates the tables, whose dtypes may promote each other).
+    ``pd.DataFrame(long_columns(t))`` equals ``tables_to_long(t)``, dtypes and index included; a seed sweep builds
+    some 1,000 of these, each a few rows, and the per-table frames were most of their cost."""
+    parts = _long_parts(tables)
+    if len(parts) != 1 or len(parts[0][1]) == 0:
+        return None
+    name, df = parts[0]
+    n = len(df)
+    if all(c in df.columns for c in PAPER_REF_COLUMNS):
+        src = {"paper": df["paper"], "item": df["item"], "quantity": df["quantity"],
+               "unit": df["unit"] if "unit" in df.columns else None, "paper_value": df["paper_value"],
+               "value": df["reproduced_value"]}
+    else:
+        src = {c: df[c] if c in df.columns else None for c in ("paper", "item", "quantity", "unit", "paper_value")}
+        src["value"] = df["value"]
+    out = {"table": [name] * n}
+    for c in ("paper", "item", "quantity", "unit"):
+        out[c] = [""] * n if src[c] is None else ["" if pd.isna(v) else str(v) for v in src[c]]
+    out["paper_value"] = (np.full(n, np.nan) if src["paper_value"] is None
+                          else src["paper_value"].astype(np.float64).to_numpy())
+    out["value"] = src["value"].astype(np.float64).to_numpy()
+    return {c: out[c] for c in RESULT_COLUMNS}
+
+
+def _tables_to_long(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     parts = []
     for name, df in tables.items():
         if not isinstance(df, pd.DataFrame):

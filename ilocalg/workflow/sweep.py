@@ -35,7 +35,7 @@ import pandas as pd
 
 from ilocalg.io.paths import REPO_ROOT
 from ilocalg.papers import clip_interval
-from ilocalg.papers.claims import RESULT_COLUMNS, tables_to_long  # the long format the claims read
+from ilocalg.papers.claims import RESULT_COLUMNS, long_columns, tables_to_long  # the long format the claims read
 
 __all__ = [
     "RESULT_COLUMNS",
@@ -146,6 +146,12 @@ def _experiment(name: str):
 
 
 def _task_result(task: SweepTask, tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
+    columns = long_columns(tables)
+    if columns is not None:  # one frame built, not one per table and column (the same frame)
+        n = len(columns["value"])
+        return pd.DataFrame({"experiment": [task.experiment] * n,
+                             "params": [json.dumps(dict(task.params), sort_keys=True, default=str)] * n,
+                             "seed": np.full(n, task.seed, dtype=np.int64), **columns})
     out = tables_to_long(tables)
     out.insert(0, "seed", task.seed)
     out.insert(0, "params", json.dumps(dict(task.params), sort_keys=True, default=str))
