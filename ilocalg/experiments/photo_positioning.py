@@ -73,8 +73,8 @@ from ilocalg.papers.comparison_iloc_photo import NEAR_COLLINEAR_PAPER, PAPER, fi
 from ilocalg.papers.readings_iloc_photo import GOOD_GUESS_SD_M, SENSITIVITY_GRID
 from ilocalg.papers.readings_iloc_photo import readings as _readings
 from ilocalg.photo import (
-    homography_dlt,
-    homography_pose,
+    homography_dlt_batch,
+    homography_pose_batch,
     square_marker_pose,
     st_error_propagation,
     st_solve_batch,
@@ -471,13 +471,15 @@ def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0
             for name in ("homography", "ippe"):
                 rng_err = np.empty(n)
                 pos_err = np.empty(n)
+                if name == "homography":  # the n views in one batch (each pose that of the view alone)
+                    hp = homography_pose_batch(homography_dlt_batch(XY, img), f_px)
+                    dist, c_plane = hp.distance_m, hp.c_plane_m
+                else:
+                    poses = [square_marker_pose(img[b], side_m, f_px) for b in range(n)]
+                    dist, c_plane = [p.distance_m for p in poses], [p.c_plane_m for p in poses]
                 for b in range(n):
-                    if name == "homography":
-                        pose = homography_pose(homography_dlt(XY, img[b]), f_px)
-                    else:
-                        pose = square_marker_pose(img[b], side_m, f_px)
-                    rng_err[b] = pose.distance_m - np.linalg.norm(c[b] - centre)
-                    cp = pose.c_plane_m  # plane frame: e1 = x, e2 = z, e3 = -y
+                    rng_err[b] = dist[b] - np.linalg.norm(c[b] - centre)
+                    cp = c_plane[b]  # plane frame: e1 = x, e2 = z, e3 = -y
                     pos_err[b] = np.linalg.norm(centre + np.array([cp[0], -cp[2], cp[1]]) - c[b])
                 row[f"{name}_range_mean_error_cm"] = 100 * float(rng_err.mean())
                 row[f"{name}_range_rms_error_cm"] = 100 * float(np.sqrt(np.mean(rng_err ** 2)))
