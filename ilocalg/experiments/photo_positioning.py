@@ -64,6 +64,8 @@ report, National Kaohsiung University of Applied Sciences. Sec. 4, eq. (3)-(5).
 
 from __future__ import annotations
 
+import hashlib
+from collections import OrderedDict
 from itertools import combinations
 
 import numpy as np
@@ -136,6 +138,42 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     return out
 
 
+#: :func:`locate_methods` results of this process by a digest of their inputs (:func:`_locate`): notebook 11's
+#: layout sweep meets run()'s default layout again (the same photos, starts and settings). As many entries as run()
+#: has combination sizes; nothing is kept between processes.
+_LOCATED: OrderedDict = OrderedDict()
+_LOCATED_MAX = 6
+#: the methods :func:`locate_methods` adds with ``others=True``
+_OTHER_METHODS = ("ST_true_orientation", "PnP_SQPnP", "homography")
+
+
+def _locate(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others):
+    """:func:`locate_methods`, reused when the same inputs were located before in this process (an ``others=True``
+    result also serves ``others=False``: the same estimates for the methods both locate, in the same order)."""
+    h = hashlib.blake2b(digest_size=20)
+    for a in (P, U, Tm, Tt, *c0.values()):
+        a = np.ascontiguousarray(a, dtype=np.float64)
+        h.update(repr(a.shape).encode())
+        h.update(a.tobytes())
+    h.update(repr((float(f), tuple(c0), int(va_max_iter), bool(va_free_z))).encode())
+    key = h.digest()
+    hit = _LOCATED.get(key)
+    if hit is None or (others and not hit[0]):
+        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=others)
+        for a in (*est.values(), *st.values()):
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False  # shared by later hits: read only
+        hit = (others, est, st, conv)
+        _LOCATED[key] = hit
+        while len(_LOCATED) > _LOCATED_MAX:
+            _LOCATED.popitem(last=False)
+    _LOCATED.move_to_end(key)
+    _, est, st, conv = hit
+    if not others:
+        est = {name: c for name, c in est.items() if name not in _OTHER_METHODS}
+    return dict(est), dict(st), [dict(c) for c in conv]
+
+
 def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods, others, measures, sim_params,
          sweep: bool = False):
     """The tables of :func:`run` with VA from the starts of ``shown_methods`` only, ``others=False``: without ST with
@@ -165,7 +203,7 @@ def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods
         ctrue = np.repeat(sim.c_m, C, axis=0)
         c0 = {name: np.repeat(c, C, axis=0) for name, c in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m),
                                                            ("VA_truth", sim.c_m)) if name in shown_methods}
-        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=others)
+        est, st, conv = _locate(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others)
         conv_rows += [{"method": c.pop("method"), "k": k, **c} for c in conv]
         if not sweep:  # the combinations' geometry (per_combo)
             cond = st["cond"].reshape(N, C)
