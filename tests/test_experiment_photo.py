@@ -37,6 +37,7 @@ def test_sweep_runs_without_side_studies_give_the_same_results(tables):
     from ilocalg.papers.claims import tables_to_long
     from ilocalg.workflow.manifest import SWEEP_KWARGS
 
+    pp._LOCATED.clear()  # located afresh, not served by the full run's results kept in this process
     lite = pp.run(seed=0, fast=True, **SWEEP_KWARGS["photo_positioning"])
     assert "errors" not in lite and "per_k" not in lite
     assert list(lite) == [name for name in tables if name in lite]
@@ -47,6 +48,7 @@ def test_sweep_runs_without_side_studies_give_the_same_results(tables):
 
 def test_same_seed_same_tables():
     a = pp.run(seed=1, n_photos=1, ks=(2, 7))
+    pp._LOCATED.clear()
     b = pp.run(seed=1, n_photos=1, ks=(2, 7))
     for name in ("per_shot", "per_k", "comparison", "errors"):
         assert a[name].equals(b[name])
@@ -121,3 +123,24 @@ def test_layout_sweep_reports_a_layout_whose_photos_cannot_frame_every_poi():
     a = out["per_layout"][out["per_layout"]["layout"] == "A"]
     assert a["all_pois_framed"].all() and a["overall_mean_cm"].notna().all()
     assert (out["spread"]["n_layouts"] <= 1).all()
+
+
+def test_located_inputs_seen_before_are_reused_with_the_fresh_results(monkeypatch):
+    # the layout sweep meets run()'s default layout again: served from run()'s results (others=True serving
+    # others=False), the sweep's tables equal those located afresh, and a changed input is located again
+    pp._LOCATED.clear()
+    fresh = pp.layout_sweep(seed=2, fast=True, layouts=["A"], ks=(2, 7))
+    pp._LOCATED.clear()
+    pp.run(seed=2, fast=True, ks=(2, 7))
+    calls = []
+    real = pp.locate_methods
+    monkeypatch.setattr(pp, "locate_methods", lambda *a, **k: calls.append(1) or real(*a, **k))
+    reused = pp.layout_sweep(seed=2, fast=True, layouts=["A"], ks=(2, 7))
+    assert calls == []
+    for name in fresh:
+        pd.testing.assert_frame_equal(reused[name], fresh[name], check_exact=True)
+    pp.good_guess_sweep(seed=2, fast=True, sds=(0.123,), ks=(2,))
+    assert len(calls) == 1
+    assert len(pp._LOCATED) <= pp._LOCATED_MAX
+    est = next(iter(pp._LOCATED.values()))[1]
+    assert not next(iter(est.values())).flags.writeable

@@ -226,3 +226,55 @@ def test_measure_command_reports_missing_data_as_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and err.startswith("error: ") and "ilc2020_site1" in err
     assert main(["measure", "--data", str(tmp_path), "--parts", "nonsense"]) == 2
+
+
+def test_forward_diff_jacobian_gives_scipy_default_fits_bit_for_bit():
+    # the fits pass a Jacobian callable with the numbers of least_squares' default '2-point' estimate (steps turned
+    # or shortened at the bounds): every solution, residual vector and evaluation count equals the default's
+    from scipy.optimize import least_squares
+
+    r = np.random.default_rng(11)
+    for trial in range(30):
+        m = r.uniform(-100, -40, int(r.integers(10, 400)))
+        f = np.clip(r.uniform(0.8, 1.0) / (1 + np.exp(-(m + r.uniform(-95, -70)) / r.uniform(1, 6)))
+                    + r.normal(0, 0.05, m.size), 0, 1)
+
+        def res(q, m=m, f=f):
+            return q[2] / (1.0 + np.exp(-(m - q[0]) / q[1])) - f
+
+        lb, ub = [-120, 0.2, 0.3], [-30, 20, 1.0]
+        x0 = [np.median(m) - 5.0, 3.0, 0.95] if trial % 3 else [-120 + 1e-9, 20 - 1e-12, 1.0 - 1e-10]  # at the bounds
+        d = radio._ForwardDiff(res, lb, ub)
+        a = least_squares(res, x0, bounds=(lb, ub))
+        b = least_squares(d.fun, x0, jac=d.jac, bounds=(lb, ub))
+        assert np.array_equal(a.x, b.x) and np.array_equal(a.fun, b.fun) and np.array_equal(a.jac, b.jac)
+        assert a.nfev == b.nfev and a.status == b.status
+        if trial % 3:
+            assert radio.fit_detection(m, f) == {"m50_dbm": float(a.x[0]), "scale_db": float(a.x[1]),
+                                                 "p_max": float(a.x[2])}
+    xy, means = _field(np.random.default_rng(12))
+    for j in range(8):
+        fit = radio.fit_path_loss(xy, means[:, j])
+        ok = np.isfinite(means[:, j])
+        x, y = xy[ok], means[ok, j]
+        top = np.argsort(y)[-5:]
+        w = 10 ** (y[top] / 10.0)
+        c0 = (x[top] * w[:, None]).sum(axis=0) / w.sum()
+        lo = [x[:, 0].min() - 30, x[:, 1].min() - 30, -80.0, 1.0]
+        hi = [x[:, 0].max() + 30, x[:, 1].max() + 30, 0.0, 6.0]
+        q0 = np.clip([c0[0], c0[1], y.max() + 5.0, 2.5], np.add(lo, 1e-6), np.subtract(hi, 1e-6))
+        sol = least_squares(lambda q, x=x, y=y: q[2] - 10.0 * q[3] * np.log10(
+            np.maximum(np.hypot(x[:, 0] - q[0], x[:, 1] - q[1]), 1.0)) - y, q0, bounds=(lo, hi))
+        assert (fit["x_m"], fit["y_m"], fit["p0_dbm"], fit["n"]) == tuple(sol.x)
+        assert np.array_equal(fit["residual_db"], -sol.fun)
+
+
+def test_gait_correlation_arrays_equal_the_dataframe_path():
+    r = np.random.default_rng(13)
+    for n in (3, 5, 17, 120):
+        a = r.uniform(0.4, 2.0, (n, 4))
+        cols = ["A_mps2", "SL_m", "T_s", "speed_mps"]
+        want = mgait.gait_correlations(pd.DataFrame(a, columns=cols))
+        got = mgait.gait_correlation_arrays(*np.ascontiguousarray(a.T))
+        assert list(got) == list(want)
+        assert all(np.array_equal(got[k], want[k], equal_nan=True) for k in want)

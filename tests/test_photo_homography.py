@@ -79,3 +79,41 @@ def test_square_marker_pose_ippe_agrees_noise_free():
     np.testing.assert_allclose(ippe.c_plane_m, hom.c_plane_m, atol=1e-6)
     with pytest.raises(ValueError, match="side_m"):
         square_marker_pose(U, -1.0, F)
+
+
+@pytest.mark.parametrize("n", [4, 5, 7, 9])
+def test_batch_gives_each_item_its_result_alone(n):
+    # a batch of views (shared target points, and one target per view) has, item by item, the bits of the
+    # one-view functions: every step is per item (a sum over the batch axis would move last bits)
+    from ilocalg.photo import homography_dlt_batch, homography_pose_batch
+
+    rng = np.random.default_rng(n)
+    B = 37
+    XY = rng.uniform(-1, 1, (B, n, 2)) * rng.uniform(0.05, 3, (B, 1, 1))
+    img = rng.uniform(-600, 600, (B, n, 2))
+    for plane in (XY[0], XY):
+        H = homography_dlt_batch(plane, img)
+        pose = homography_pose_batch(H, F, 3.0, -2.0)
+        assert H.shape == (B, 3, 3) and pose.distance_m.shape == (B,)
+        for b in range(B):
+            Hb = homography_dlt(plane if plane.ndim == 2 else plane[b], img[b])
+            pb = homography_pose(Hb, F, 3.0, -2.0)
+            assert np.array_equal(H[b], Hb)
+            assert np.array_equal(pose.R[b], pb.R) and np.array_equal(pose.t_m[b], pb.t_m)
+            assert np.array_equal(pose.c_plane_m[b], pb.c_plane_m) and pose.distance_m[b] == pb.distance_m
+        assert np.array_equal(homography_dlt_batch(plane[::-1] if plane.ndim == 3 else plane, img[::-1]), H[::-1])
+
+
+def test_batch_bad_input_raises():
+    from ilocalg.photo import homography_dlt_batch, homography_pose_batch
+
+    line = np.c_[np.arange(5.0), np.zeros(5)]
+    ok = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.2]])
+    with pytest.raises(ValueError, match="degenerate"):
+        homography_dlt_batch(np.stack([ok, line]), np.stack([ok * 100, line * 100]))
+    with pytest.raises(ValueError, match=r"\(B, n, 2\)"):
+        homography_dlt_batch(ok, ok)
+    with pytest.raises(ValueError, match="plane_xy must have shape"):
+        homography_dlt_batch(np.zeros((2, 5, 2)), np.zeros((3, 5, 2)))
+    with pytest.raises(ValueError, match="finite"):
+        homography_pose_batch(np.full((2, 3, 3), np.nan), F)

@@ -64,6 +64,8 @@ report, National Kaohsiung University of Applied Sciences. Sec. 4, eq. (3)-(5).
 
 from __future__ import annotations
 
+import hashlib
+from collections import OrderedDict
 from itertools import combinations
 
 import numpy as np
@@ -73,8 +75,8 @@ from ilocalg.papers.comparison_iloc_photo import NEAR_COLLINEAR_PAPER, PAPER, fi
 from ilocalg.papers.readings_iloc_photo import GOOD_GUESS_SD_M, SENSITIVITY_GRID
 from ilocalg.papers.readings_iloc_photo import readings as _readings
 from ilocalg.photo import (
-    homography_dlt,
-    homography_pose,
+    homography_dlt_batch,
+    homography_pose_batch,
     square_marker_pose,
     st_error_propagation,
     st_solve_batch,
@@ -136,6 +138,42 @@ def run(seed: int = 0, fast: bool = False, n_photos: int | None = None, va_free_
     return out
 
 
+#: :func:`locate_methods` results of this process by a digest of their inputs (:func:`_locate`): notebook 11's
+#: layout sweep meets run()'s default layout again (the same photos, starts and settings). As many entries as run()
+#: has combination sizes; nothing is kept between processes.
+_LOCATED: OrderedDict = OrderedDict()
+_LOCATED_MAX = 6
+#: the methods :func:`locate_methods` adds with ``others=True``
+_OTHER_METHODS = ("ST_true_orientation", "PnP_SQPnP", "homography")
+
+
+def _locate(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others):
+    """:func:`locate_methods`, reused when the same inputs were located before in this process (an ``others=True``
+    result also serves ``others=False``: the same estimates for the methods both locate, in the same order)."""
+    h = hashlib.blake2b(digest_size=20)
+    for a in (P, U, Tm, Tt, *c0.values()):
+        a = np.ascontiguousarray(a, dtype=np.float64)
+        h.update(repr(a.shape).encode())
+        h.update(a.tobytes())
+    h.update(repr((float(f), tuple(c0), int(va_max_iter), bool(va_free_z))).encode())
+    key = h.digest()
+    hit = _LOCATED.get(key)
+    if hit is None or (others and not hit[0]):
+        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=others)
+        for a in (*est.values(), *st.values()):
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False  # shared by later hits: read only
+        hit = (others, est, st, conv)
+        _LOCATED[key] = hit
+        while len(_LOCATED) > _LOCATED_MAX:
+            _LOCATED.popitem(last=False)
+    _LOCATED.move_to_end(key)
+    _, est, st, conv = hit
+    if not others:
+        est = {name: c for name, c in est.items() if name not in _OTHER_METHODS}
+    return dict(est), dict(st), [dict(c) for c in conv]
+
+
 def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods, others, measures, sim_params,
          sweep: bool = False):
     """The tables of :func:`run` with VA from the starts of ``shown_methods`` only, ``others=False``: without ST with
@@ -165,7 +203,7 @@ def _run(seed, fast, n_photos, va_free_z, va_max_iter, ks, layout, shown_methods
         ctrue = np.repeat(sim.c_m, C, axis=0)
         c0 = {name: np.repeat(c, C, axis=0) for name, c in (("VAGIG", sim.c0_good_m), ("VABIG", sim.c0_bad_m),
                                                            ("VA_truth", sim.c_m)) if name in shown_methods}
-        est, st, conv = locate_methods(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others=others)
+        est, st, conv = _locate(P, U, f, Tm, Tt, c0, va_max_iter, va_free_z, others)
         conv_rows += [{"method": c.pop("method"), "k": k, **c} for c in conv]
         if not sweep:  # the combinations' geometry (per_combo)
             cond = st["cond"].reshape(N, C)
@@ -471,13 +509,15 @@ def marker_ranging(seed: int = 0, fast: bool = False, distances_m=(1.0, 2.0, 3.0
             for name in ("homography", "ippe"):
                 rng_err = np.empty(n)
                 pos_err = np.empty(n)
+                if name == "homography":  # the n views in one batch (each pose that of the view alone)
+                    hp = homography_pose_batch(homography_dlt_batch(XY, img), f_px)
+                    dist, c_plane = hp.distance_m, hp.c_plane_m
+                else:
+                    poses = [square_marker_pose(img[b], side_m, f_px) for b in range(n)]
+                    dist, c_plane = [p.distance_m for p in poses], [p.c_plane_m for p in poses]
                 for b in range(n):
-                    if name == "homography":
-                        pose = homography_pose(homography_dlt(XY, img[b]), f_px)
-                    else:
-                        pose = square_marker_pose(img[b], side_m, f_px)
-                    rng_err[b] = pose.distance_m - np.linalg.norm(c[b] - centre)
-                    cp = pose.c_plane_m  # plane frame: e1 = x, e2 = z, e3 = -y
+                    rng_err[b] = dist[b] - np.linalg.norm(c[b] - centre)
+                    cp = c_plane[b]  # plane frame: e1 = x, e2 = z, e3 = -y
                     pos_err[b] = np.linalg.norm(centre + np.array([cp[0], -cp[2], cp[1]]) - c[b])
                 row[f"{name}_range_mean_error_cm"] = 100 * float(rng_err.mean())
                 row[f"{name}_range_rms_error_cm"] = 100 * float(np.sqrt(np.mean(rng_err ** 2)))

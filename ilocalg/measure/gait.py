@@ -31,7 +31,7 @@ from scipy import signal as ss
 from ilocalg.pdr.robust import detect_steps_robust
 
 __all__ = ["lowpass_norm", "step_series", "step_variability", "segment_gait", "gait_correlations",
-           "STEADY_BAND"]
+           "gait_correlation_arrays", "STEADY_BAND"]
 
 #: step periods within this band of the walk's median period count as steady walking
 STEADY_BAND = (0.6, 1.6)
@@ -147,9 +147,14 @@ def segment_gait(acc_mps2, t_s, waypoints_t_s, waypoints_xy_m, min_steps: int = 
 
 def gait_correlations(seg: pd.DataFrame) -> dict:
     """corr(A, SL), corr(T, SL) (Pearson) and the relative residual sd of ``A ~ 1 + SL + speed``."""
-    if len(seg) < 5:
+    return gait_correlation_arrays(*(seg[c].to_numpy() for c in ("A_mps2", "SL_m", "T_s", "speed_mps")))
+
+
+def gait_correlation_arrays(A, SL, T, v) -> dict:
+    """:func:`gait_correlations` of the segments' columns ``A_mps2, SL_m, T_s, speed_mps`` given as arrays (n,)
+    (the same numbers without a DataFrame: a bootstrap calls it once per replicate)."""
+    if len(A) < 5:
         return {"corr_A_SL": np.nan, "corr_T_SL": np.nan, "A_resid_rel": np.nan}
-    A, SL, T, v = (seg[c].to_numpy() for c in ("A_mps2", "SL_m", "T_s", "speed_mps"))
     X = np.column_stack([np.ones_like(SL), SL, v])
     beta, *_ = np.linalg.lstsq(X, A, rcond=None)
     res = A - X @ beta

@@ -32,6 +32,51 @@ __all__ = ["fit_path_loss", "path_loss_per_ap", "place_means", "device_offsets_d
            "detection_curve", "fit_detection", "drift_per_ap_db", "aps_per_scan"]
 
 
+#: scipy's relative step of the forward difference (``jac='2-point'``) for float64: sqrt(machine epsilon)
+_FD_REL_STEP = np.finfo(np.float64).eps ** 0.5
+
+
+class _ForwardDiff:
+    """A residual function with the Jacobian :func:`scipy.optimize.least_squares` estimates by default
+    (``jac='2-point'``: forward differences with steps ``sqrt(eps) * max(1, |x|)``, turned back or shortened at the
+    bounds as scipy's ``_adjust_scheme_to_bounds`` does) as a callable: the same numbers in the same layout, so
+    ``least_squares(d.fun, x0, jac=d.jac, bounds=(lb, ub))`` takes the default's steps bit for bit, without scipy's
+    per-call finite-difference set-up, and reuses the residuals at the point just evaluated (tested against the
+    default)."""
+
+    def __init__(self, fun, lb, ub):
+        self._fun = fun
+        self.lb = np.asarray(lb, dtype=np.float64)
+        self.ub = np.asarray(ub, dtype=np.float64)
+        self._x = self._f = None
+
+    def fun(self, x):
+        f = self._fun(x)
+        self._x, self._f = np.array(x, dtype=np.float64), f
+        return f
+
+    def jac(self, x):
+        x = np.asarray(x, dtype=np.float64)
+        f0 = self._f if self._x is not None and np.array_equal(x, self._x) else self._fun(x)
+        lb, ub = self.lb, self.ub
+        h = _FD_REL_STEP * ((x >= 0).astype(float) * 2 - 1) * np.maximum(1.0, np.abs(x))
+        lower, upper = x - lb, ub - x
+        violated = ((x + h) < lb) | ((x + h) > ub)
+        fitting = np.abs(h) <= np.maximum(lower, upper)
+        h_adj = h.copy()
+        h_adj[violated & fitting] *= -1
+        forward = (upper >= lower) & ~fitting
+        h_adj[forward] = upper[forward]
+        backward = (upper < lower) & ~fitting
+        h_adj[backward] = -lower[backward]
+        jt = np.empty((x.size, np.size(f0)))
+        for i in range(x.size):
+            x1 = x.copy()
+            x1[i] = x[i] + h_adj[i]
+            jt[i] = (np.atleast_1d(self._fun(x1)) - f0) / ((x[i] + h_adj[i]) - x[i])
+        return jt.T
+
+
 def fit_path_loss(xy_m, rssi_dbm, min_points: int = 12) -> dict | None:
     """Fit ``P0 - 10 n log10(max(d, 1))`` with unknown AP position to one AP's readings.
 
@@ -68,7 +113,8 @@ def fit_path_loss(xy_m, rssi_dbm, min_points: int = 12) -> dict | None:
     lo = [xy[:, 0].min() - 30, xy[:, 1].min() - 30, -80.0, 1.0]
     hi = [xy[:, 0].max() + 30, xy[:, 1].max() + 30, 0.0, 6.0]
     q0 = np.clip([c0[0], c0[1], r.max() + 5.0, 2.5], np.add(lo, 1e-6), np.subtract(hi, 1e-6))
-    sol = least_squares(res, q0, bounds=(lo, hi), loss="linear")
+    d = _ForwardDiff(res, lo, hi)  # the default Jacobian's numbers, computed with less overhead
+    sol = least_squares(d.fun, q0, jac=d.jac, bounds=(lo, hi), loss="linear")
     e = -sol.fun  # observed - model
     dof = max(r.size - 4, 1)
     return {"x_m": sol.x[0], "y_m": sol.x[1], "p0_dbm": sol.x[2], "n": sol.x[3],
@@ -217,7 +263,9 @@ def fit_detection(mean_dbm, frac) -> dict:
     def res(q):
         return q[2] / (1.0 + np.exp(-(m - q[0]) / q[1])) - f
 
-    sol = least_squares(res, [np.median(m) - 5.0, 3.0, 0.95], bounds=([-120, 0.2, 0.3], [-30, 20, 1.0]))
+    lb, ub = [-120, 0.2, 0.3], [-30, 20, 1.0]
+    d = _ForwardDiff(res, lb, ub)  # the default Jacobian's numbers, computed with less overhead
+    sol = least_squares(d.fun, [np.median(m) - 5.0, 3.0, 0.95], jac=d.jac, bounds=(lb, ub))
     return {"m50_dbm": float(sol.x[0]), "scale_db": float(sol.x[1]), "p_max": float(sol.x[2])}
 
 

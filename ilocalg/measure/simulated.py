@@ -119,12 +119,10 @@ def gait_measures(walks, route_xy_m, ci: bool = True, only=None, n_boot: int = N
         mis.append(heading.misalignment(h["wdm_rad"], h["dir_rad"], np.zeros(len(h))))
         mags.append(np.linalg.norm(sw.imu[["mag_x_ut", "mag_y_ut", "mag_z_ut"]].to_numpy(), axis=1))
     V = pd.DataFrame(var)
-    cols = ["A_mps2", "SL_m", "T_s", "speed_mps"]
-
     corr_keys = ("corr_A_SL", "corr_T_SL", "A_resid_rel")
 
-    def corr(a):  # the three from one fit per resampled set of segments
-        c = mgait.gait_correlations(pd.DataFrame(a, columns=cols))
+    def corr(a):  # the three from one fit per resampled set of segments (columns as a DataFrame's: contiguous)
+        c = mgait.gait_correlation_arrays(*np.ascontiguousarray(a.T))
         return tuple(c[key] for key in corr_keys)
 
     med = np.median(np.concatenate(mags))

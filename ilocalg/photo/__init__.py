@@ -27,8 +27,10 @@ from ilocalg.photo.camera import (
 from ilocalg.photo.homography import (
     HomographyPose,
     homography_dlt,
+    homography_dlt_batch,
     homography_locate,
     homography_pose,
+    homography_pose_batch,
     wall_plane_coords,
 )
 from ilocalg.photo.pnp import PnPResult, pnp_solve, pnp_solve_batch, square_marker_pose
@@ -66,8 +68,10 @@ __all__ = [
     "thin_lens_image_distance_m",
     "HomographyPose",
     "homography_dlt",
+    "homography_dlt_batch",
     "homography_locate",
     "homography_pose",
+    "homography_pose_batch",
     "wall_plane_coords",
     "PnPResult",
     "pnp_solve",

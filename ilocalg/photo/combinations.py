@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ilocalg.photo.homography import homography_dlt, homography_pose
+from ilocalg.photo.homography import homography_dlt_batch, homography_pose_batch
 from ilocalg.photo.pnp import pnp_solve_batch
 from ilocalg.photo.similar_triangles import st_solve_batch
 from ilocalg.photo.view_angle import measured_view_angles_rad, va_solve_batch
@@ -35,13 +35,9 @@ def horizontal_error_cm(c_est, c_true) -> np.ndarray:
 def wall_homography_batch(pois_m, img_px, f_px) -> np.ndarray:
     """World centres (B, 3) by the homography from PoIs (B, n, 3) on the wall y = 0 (plane axes x and z)."""
     XY = pois_m[..., [0, 2]]
-    out = np.empty((img_px.shape[0], 3))
-    for b in range(img_px.shape[0]):
-        pose = homography_pose(homography_dlt(XY[b], img_px[b]), f_px)
-        # plane frame (e1 = x, e2 = z, e3 = e1 x e2 = -y) -> world
-        cp = pose.c_plane_m
-        out[b] = [cp[0], -cp[2], cp[1]]
-    return out
+    cp = homography_pose_batch(homography_dlt_batch(XY, img_px), f_px).c_plane_m
+    # plane frame (e1 = x, e2 = z, e3 = e1 x e2 = -y) -> world
+    return np.stack([cp[:, 0], -cp[:, 2], cp[:, 1]], axis=1)
 
 
 def on_end_wall(P) -> np.ndarray:

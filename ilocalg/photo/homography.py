@@ -23,14 +23,34 @@ import numpy as np
 
 from ilocalg.photo.camera import intrinsics
 
-__all__ = ["homography_dlt", "HomographyPose", "homography_pose", "homography_locate", "wall_plane_coords"]
+__all__ = ["homography_dlt", "homography_dlt_batch", "HomographyPose", "homography_pose", "homography_pose_batch",
+           "homography_locate", "wall_plane_coords"]
 
 
-def _normaliser(x: np.ndarray) -> np.ndarray:
-    m = x.mean(axis=0)
-    d = np.sqrt(np.sum((x - m) ** 2, axis=1)).mean()
-    s = np.sqrt(2.0) / max(d, 1e-300)
-    return np.array([[s, 0.0, -s * m[0]], [0.0, s, -s * m[1]], [0.0, 0.0, 1.0]])
+def _normalisers(x: np.ndarray) -> np.ndarray:
+    """Hartley's normalising similarities (B, 3, 3) of point sets ``x`` (B, n, 2): centroid to the origin, mean
+    distance sqrt(2)."""
+    m = x.mean(axis=1)
+    d = np.sqrt(np.sum((x - m[:, None, :]) ** 2, axis=2)).mean(axis=1)
+    s = np.sqrt(2.0) / np.maximum(d, 1e-300)
+    T = np.zeros((x.shape[0], 3, 3))
+    T[:, 0, 0] = T[:, 1, 1] = s
+    T[:, 0, 2] = -s * m[:, 0]
+    T[:, 1, 2] = -s * m[:, 1]
+    T[:, 2, 2] = 1.0
+    return T
+
+
+def _norms(x: np.ndarray) -> np.ndarray:
+    """Euclidean (Frobenius) norm of each item of ``x`` (B, ...), each as ``np.linalg.norm`` computes it for one
+    item (the dot product of its contiguous copy with itself: a sum over the batch axis would add in another
+    order)."""
+    flat = np.ascontiguousarray(x.reshape(x.shape[0], -1))
+    return np.sqrt(np.array([v.dot(v) for v in flat]))
+
+
+def _with_ones(x: np.ndarray) -> np.ndarray:
+    return np.concatenate([x, np.ones(x.shape[:-1] + (1,))], axis=-1)
 
 
 def homography_dlt(plane_xy, img_px) -> np.ndarray:
@@ -51,26 +71,46 @@ def homography_dlt(plane_xy, img_px) -> np.ndarray:
     x = np.asarray(img_px, dtype=float)
     if X.ndim != 2 or X.shape[1] != 2 or x.shape != X.shape:
         raise ValueError(f"plane_xy and img_px must both have shape (n, 2), got {X.shape} and {x.shape}")
-    if X.shape[0] < 4:
-        raise ValueError(f"a homography needs at least 4 points, got {X.shape[0]}")
+    return homography_dlt_batch(X, x[None])[0]
+
+
+def homography_dlt_batch(plane_xy, img_px) -> np.ndarray:
+    """:func:`homography_dlt` of a batch: ``H`` (B, 3, 3) for image points ``img_px`` (B, n, 2) of the target
+    points ``plane_xy`` ((n, 2), shared, or (B, n, 2)). Each ``H`` has the bits of :func:`homography_dlt` on
+    that item alone (every step is a per-item LAPACK call or an element-wise operation).
+
+    References
+    ----------
+    Ye and Huang (survey), eq. (3)-(5); Hartley & Zisserman alg. 4.2.
+    """
+    x = np.asarray(img_px, dtype=float)
+    if x.ndim != 3 or x.shape[2] != 2:
+        raise ValueError(f"img_px must have shape (B, n, 2), got {x.shape}")
+    X = np.broadcast_to(np.asarray(plane_xy, dtype=float), x.shape) if np.ndim(plane_xy) == 2 else \
+        np.asarray(plane_xy, dtype=float)
+    if X.shape != x.shape:
+        raise ValueError(f"plane_xy must have shape (n, 2) or {x.shape}, got {np.shape(plane_xy)}")
+    if X.shape[1] < 4:
+        raise ValueError(f"a homography needs at least 4 points, got {X.shape[1]}")
     if not (np.isfinite(X).all() and np.isfinite(x).all()):
         raise ValueError("plane_xy and img_px must be finite")
-    TX, Tx = _normaliser(X), _normaliser(x)
-    Xh = np.column_stack([X, np.ones(len(X))]) @ TX.T
-    xh = np.column_stack([x, np.ones(len(x))]) @ Tx.T
+    B, n = x.shape[:2]
+    TX, Tx = _normalisers(X), _normalisers(x)
+    Xh = _with_ones(X) @ TX.transpose(0, 2, 1)
+    xh = _with_ones(x) @ Tx.transpose(0, 2, 1)
     # two rows per point: [0, -w X, v X] and [w X, 0, -u X], X = (X1, Y1, W1), (u, v, w) its image point
-    u, v, w = xh[:, :1], xh[:, 1:2], xh[:, 2:]
-    A = np.zeros((2 * len(X), 9))
-    A[0::2, 3:6] = -w * Xh
-    A[0::2, 6:] = v * Xh
-    A[1::2, :3] = w * Xh
-    A[1::2, 6:] = -u * Xh
+    u, v, w = xh[..., :1], xh[..., 1:2], xh[..., 2:]
+    A = np.zeros((B, 2 * n, 9))
+    A[:, 0::2, 3:6] = -w * Xh
+    A[:, 0::2, 6:] = v * Xh
+    A[:, 1::2, :3] = w * Xh
+    A[:, 1::2, 6:] = -u * Xh
     _, s, Vt = np.linalg.svd(A)
-    if s.size >= 8 and s[7] < 1e-10 * s[0]:
+    if s.shape[1] >= 8 and np.any(s[:, 7] < 1e-10 * s[:, 0]):
         raise ValueError("degenerate point configuration for a homography (collinear target points?)")
-    Hn = Vt[-1].reshape(3, 3)
+    Hn = Vt[:, -1].reshape(B, 3, 3)
     H = np.linalg.inv(Tx) @ Hn @ TX
-    return H / np.linalg.norm(H)
+    return H / _norms(H)[:, None, None]
 
 
 @dataclass(frozen=True)
@@ -108,17 +148,39 @@ def homography_pose(H, f_px: float, cx_px: float = 0.0, cy_px: float = 0.0) -> H
     H = np.asarray(H, dtype=float)
     if H.shape != (3, 3) or not np.isfinite(H).all():
         raise ValueError(f"H must be a finite 3x3 matrix, got shape {H.shape}")
-    M = np.linalg.solve(intrinsics(f_px, cx_px, cy_px), H)
-    lam = 2.0 / (np.linalg.norm(M[:, 0]) + np.linalg.norm(M[:, 1]))
-    if M[2, 2] * lam < 0:
-        lam = -lam
-    r1, r2, t = lam * M[:, 0], lam * M[:, 1], lam * M[:, 2]
-    r3 = np.array([r1[1] * r2[2] - r1[2] * r2[1], r1[2] * r2[0] - r1[0] * r2[2], r1[0] * r2[1] - r1[1] * r2[0]])
-    Q = np.column_stack([r1, r2, r3])                         # r3 = r1 x r2 (np.cross's products, one call less)
+    p = homography_pose_batch(H[None], f_px, cx_px, cy_px)
+    return HomographyPose(R=p.R[0], t_m=p.t_m[0], c_plane_m=p.c_plane_m[0], distance_m=float(p.distance_m[0]))
+
+
+def homography_pose_batch(H, f_px: float, cx_px: float = 0.0, cy_px: float = 0.0) -> HomographyPose:
+    """:func:`homography_pose` of a batch ``H`` (B, 3, 3): a :class:`HomographyPose` whose fields have a leading
+    batch axis (``R`` (B, 3, 3), ``t_m`` and ``c_plane_m`` (B, 3), ``distance_m`` (B,)), each item with the bits of
+    :func:`homography_pose` on that ``H`` alone.
+
+    References
+    ----------
+    Ye and Huang (survey), eq. (4) and Fig 8; Zhang (2000), sec. 2.2 and appendix C.
+    """
+    H = np.asarray(H, dtype=float)
+    if H.ndim != 3 or H.shape[1:] != (3, 3) or not np.isfinite(H).all():
+        raise ValueError(f"H must be finite 3x3 matrices (B, 3, 3), got shape {H.shape}")
+    B = H.shape[0]
+    M = np.linalg.solve(np.broadcast_to(intrinsics(f_px, cx_px, cy_px), (B, 3, 3)), H)
+    lam = 2.0 / (_norms(M[:, :, 0]) + _norms(M[:, :, 1]))
+    lam = np.where(M[:, 2, 2] * lam < 0, -lam, lam)
+    r1, r2, t = lam[:, None] * M[:, :, 0], lam[:, None] * M[:, :, 1], lam[:, None] * M[:, :, 2]
+    Q = np.empty((B, 3, 3))                                   # [r1 r2 r1 x r2] (np.cross's products, one call less)
+    Q[:, :, 0], Q[:, :, 1] = r1, r2
+    Q[:, 0, 2] = r1[:, 1] * r2[:, 2] - r1[:, 2] * r2[:, 1]
+    Q[:, 1, 2] = r1[:, 2] * r2[:, 0] - r1[:, 0] * r2[:, 2]
+    Q[:, 2, 2] = r1[:, 0] * r2[:, 1] - r1[:, 1] * r2[:, 0]
     U, _, Vt = np.linalg.svd(Q)
-    R = U @ np.diag([1.0, 1.0, np.linalg.det(U @ Vt)]) @ Vt
-    c = -R.T @ t
-    return HomographyPose(R=R, t_m=t, c_plane_m=c, distance_m=float(np.linalg.norm(t)))
+    D = np.zeros((B, 3, 3))
+    D[:, 0, 0] = D[:, 1, 1] = 1.0
+    D[:, 2, 2] = np.linalg.det(U @ Vt)
+    R = U @ D @ Vt
+    c = (-R.transpose(0, 2, 1) @ t[:, :, None])[:, :, 0]
+    return HomographyPose(R=R, t_m=t, c_plane_m=c, distance_m=_norms(t))
 
 
 def wall_plane_coords(pois_m, origin_m, e1, e2) -> np.ndarray:
