@@ -221,16 +221,20 @@ def _sweep_job(task, cache_dir: Path) -> dict:
 
 
 def study_jobs(tasks: list) -> list[list]:
-    """A study notebook's tasks grouped into pool jobs: one job per (experiment, seed), tasks in their order.
+    """A study notebook's tasks grouped into pool jobs: one job per (experiment, seed), tasks in their order; every
+    task of a study that runs several together (:func:`ilocalg.workflow.sweep.batched`, e.g. study_ins_window,
+    whose walks' filters then advance in lockstep) in one job.
 
     The tasks of one seed share what a study caches in its process (the simulated floor and surveys of
     ``study_wifi``, the walks of ``study_pso``), so one process computes them once instead of each pool process
     computing its own copy; and some 50 jobs of a few seconds instead of ~900 of a fraction of one keep the pool's
     per-job cost small while still filling both cores. The results (one cache entry per task) are the same.
     """
+    from ilocalg.workflow import sweep as sw
+
     groups: dict[tuple, list] = {}
     for t in tasks:
-        groups.setdefault((t.experiment, t.seed), []).append(t)
+        groups.setdefault((t.experiment,) if sw.batched(t.experiment) else (t.experiment, t.seed), []).append(t)
     return list(groups.values())
 
 
