@@ -49,18 +49,20 @@ def test_fig19_monotonicity_and_one_row_per_quantity():
 
 
 def test_run_many_gives_each_run_alone():
-    # three runs: two share their walks (same seed and phones, other windows), one has other phones; four walks
-    # per phone with BATCH_WALKS 3 make two batches (3 walks in lockstep, then 1)
+    # three runs: two share their walks (same seed and phones, other windows), one has other phones; five walks
+    # per phone with BATCH_WALKS 3 make two batches (2 walks one by one, then 3 in lockstep)
     runs = [{"seed": 0, "fast": True, "sweep_windows_s": (5.0,), "offset_fracs": (0.0,)},
             {"seed": 0, "fast": True, "sweep_windows_s": (2.0, 30.0), "offset_fracs": (0.25,)},
-            {"seed": 1, "fast": True, "n_seeds": 3, "sweep_windows_s": (5.0,), "offset_fracs": (0.0,),
+            {"seed": 1, "fast": True, "n_seeds": 4, "sweep_windows_s": (5.0,), "offset_fracs": (0.0,),
              "noise_factor": 2.0, "speed_mean_mps": 1.3}]
-    old = ins_online.BATCH_WALKS
+    from ilocalg.ins import pipeline
+
+    old = pipeline.BATCH_WALKS
     try:
-        ins_online.BATCH_WALKS = 3
+        pipeline.BATCH_WALKS = 3
         many = ins_online.run_many(runs)
     finally:
-        ins_online.BATCH_WALKS = old
+        pipeline.BATCH_WALKS = old
     for kw, got in zip(runs, many, strict=True):
         alone = ins_online.run(**kw)
         assert list(got) == list(alone)

@@ -16,7 +16,7 @@ import pandas as pd
 from ilocalg.ins.chain import trajectory_frame
 from ilocalg.ins.evaluate import AXES, window_sweep_tables, window_sweeps
 from ilocalg.ins.paper_values import side_by_side
-from ilocalg.ins.pipeline import run_walks
+from ilocalg.ins.pipeline import run_walks, walk_batches
 from ilocalg.ins.smoother import rts_gains
 from ilocalg.papers.comparison_liao import fig19_monotonicity, online_rows
 from ilocalg.papers.comparison_liao import online_label as _label
@@ -76,17 +76,13 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
                       "rssi_sd_db": rssi_sd_db, "speed_mean_mps": speed_mean_mps}])[0]
 
 
-#: Walks whose filters advance together at most (each keeps its covariance history, ~40 MB for a full walk).
-BATCH_WALKS = 8
-
-
 def run_many(runs) -> list[dict[str, pd.DataFrame]]:
     """:func:`run` with the keywords of each mapping of ``runs``, each result the one :func:`run` gives alone.
 
-    Every run's walks of a phone are filtered together, up to :data:`BATCH_WALKS` at a time
-    (:func:`ilocalg.ins.pipeline.run_walks`: the same numbers as one by one), a walk that two runs share once. The
-    claims' robustness samples (one walk per phone each, fast mode) and the seed sweep run this way
-    (:func:`ilocalg.workflow.sweep.sweep`).
+    Every run's walks of a phone are filtered together, in batches of at most
+    :data:`ilocalg.ins.pipeline.BATCH_WALKS` (:func:`ilocalg.ins.pipeline.run_walks`: the same numbers as one by
+    one), a walk that two runs share once. The claims' robustness samples (one walk per phone each, fast mode) and
+    the seed sweep run this way (:func:`ilocalg.workflow.sweep.sweep`).
     """
     plans = [_plan(**r) for r in runs]
     parts: dict[tuple, tuple] = {}  # (run, phone, simulation seed) -> that walk's rows and frames
@@ -96,14 +92,8 @@ def run_many(runs) -> list[dict[str, pd.DataFrame]]:
             for s in pl["seeds"]:
                 key = (pl["profiles"][name], s, pl["rssi_sd_db"], pl["gait_items"], pl["stairs"])
                 users.setdefault(key, []).append(i)
-        keys = sorted(users, key=lambda k: k[4] != "none")  # same stair handling together (stable)
-        chunks, cur = [], []
-        for key in keys:
-            if cur and (len(cur) == BATCH_WALKS or cur[-1][4] != key[4]):
-                chunks.append(cur)
-                cur = []
-            cur.append(key)
-        chunks += [cur] if cur else []
+        stairs = list(dict.fromkeys(k[4] for k in users))  # one batch holds walks of one stair handling
+        chunks = [c for st in stairs for c in walk_batches([k for k in users if k[4] == st])]
         for chunk in chunks:
             walks = [ins_walk.simulate(route, prof, seed=s, rssi_sd_db=rssi, gait_kw=dict(gait) if gait else None)
                      for prof, s, rssi, gait, _ in chunk]

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.ins.evaluate import window_sweep_tables, window_sweeps
-from ilocalg.ins.pipeline import run_walks
+from ilocalg.ins.pipeline import run_walks, walk_batches
 from ilocalg.ins.smoother import rts_gains
 from ilocalg.sim import ins_walk
 from ilocalg.workflow.studies import select, study_row, study_tasks
@@ -56,13 +56,9 @@ def run(seed: int = 0, fast: bool = False, windows_s=None, offset_fracs=OFFSET_F
     return run_many([{"seed": seed, "fast": fast, "windows_s": windows_s, "offset_fracs": offset_fracs}])[0]
 
 
-#: Walks whose filters advance together at most (each keeps its covariance history, ~40 MB).
-BATCH_WALKS = 8
-
-
 def run_many(runs) -> list[dict[str, pd.DataFrame]]:
     """:func:`run` with the keywords of each mapping of ``runs``, each result the one :func:`run` gives alone: the
-    runs' walks of a phone are filtered together, up to :data:`BATCH_WALKS` at a time
+    runs' walks of a phone are filtered together, in batches of at most :data:`ilocalg.ins.pipeline.BATCH_WALKS`
     (:func:`ilocalg.ins.pipeline.run_walks`: the same numbers as one by one), a walk that two runs share once.
     The study notebook's seeds run this way (:func:`ilocalg.workflow.runner.study_jobs`)."""
     plans = [_plan(**r) for r in runs]
@@ -71,9 +67,7 @@ def run_many(runs) -> list[dict[str, pd.DataFrame]]:
         users: dict[int, list] = {}  # simulation seed -> the runs that score its walk
         for i, pl in enumerate(plans):
             users.setdefault(pl["seed"], []).append(i)
-        seeds = list(users)
-        for c in range(0, len(seeds), BATCH_WALKS):
-            chunk = seeds[c:c + BATCH_WALKS]
+        for chunk in walk_batches(list(users)):
             walks = [ins_walk.simulate(route, profile, seed=s) for s in chunk]
             # both phones alike (Liao 2016, L202); the walks' filters advanced together
             for s, walk, filt in zip(chunk, walks, run_walks(walks, "wvc", use_gcp=True, stairs="none"), strict=True):

@@ -38,7 +38,7 @@ from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm, phone_to_body
 from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
 __all__ = ["PhoneFilterSettings", "body_imu_from_log", "stair_mask", "walk_updates", "walk_filter_args", "run_walk",
-           "run_walks"]
+           "run_walks", "BATCH_WALKS", "walk_batches"]
 
 
 def body_imu_from_log(imu) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -175,3 +175,20 @@ def run_walks(walks, constraint: str = "wvc", use_gcp: bool = True, settings: Ph
     covariance at all (the navigation solution only; such a result cannot be smoothed)."""
     return run_eskf_batch([walk_filter_args(w, constraint, use_gcp, settings, wvc_params, stairs, stair_action,
                                             step_smoothing) for w in walks], keep_covariance=keep_covariance)
+
+
+#: Walks whose filters :func:`run_walks` advances together at most when a caller splits many (each keeps its
+#: covariance history, ~40 MB for a 4000-epoch walk): the six seeds of a phone in a full-mode ins_online run.
+BATCH_WALKS = 6
+
+
+def walk_batches(items: list, max_size: int | None = None) -> list[list]:
+    """``items`` in order, split into the fewest batches of at most ``max_size`` (default :data:`BATCH_WALKS`), of
+    sizes as equal as possible (8 walks: 4 + 4, not 6 + 2, as fewer than 3 filters run one by one)."""
+    max_size = BATCH_WALKS if max_size is None else int(max_size)
+    if max_size < 1:
+        raise ValueError(f"max_size must be >= 1, got {max_size}")
+    items = list(items)
+    k = -(-len(items) // max_size)
+    bounds = [len(items) * i // k for i in range(k + 1)] if k else [0]
+    return [items[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
