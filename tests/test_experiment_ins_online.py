@@ -68,3 +68,20 @@ def test_run_many_gives_each_run_alone():
         assert list(got) == list(alone)
         for name in alone:
             pd.testing.assert_frame_equal(got[name], alone[name], check_exact=True)
+
+
+def test_walks_the_study_left_in_the_run_store_give_the_same_tables(monkeypatch):
+    from ilocalg.experiments import study_ins_window
+    from ilocalg.sim import ins_walk
+    from ilocalg.workflow import runstore
+
+    monkeypatch.delenv(runstore.RUN_STORE_ENV, raising=False)
+    kw = {"seed": 0, "fast": True, "sweep_windows_s": (5.0,), "offset_fracs": (0.5,)}
+    alone = ins_online.run(**kw)
+    with runstore.run_store():
+        study_ins_window.run(seed=0, fast=True, windows_s=(2.0,), offset_fracs=(0.0,))  # simulation seed 0
+        # every walk of the run is read from the store: nothing is simulated
+        monkeypatch.setattr(ins_walk, "simulate", lambda *a, **k: (_ for _ in ()).throw(AssertionError("simulated")))
+        shared = ins_online.run(**kw)
+    for name in alone:
+        pd.testing.assert_frame_equal(shared[name], alone[name], check_exact=True)

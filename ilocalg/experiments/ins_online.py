@@ -16,13 +16,14 @@ import pandas as pd
 from ilocalg.ins.chain import trajectory_frame
 from ilocalg.ins.evaluate import AXES, window_sweep_tables, window_sweeps
 from ilocalg.ins.paper_values import side_by_side
-from ilocalg.ins.pipeline import run_walks, walk_batches
-from ilocalg.ins.smoother import rts_gains
+from ilocalg.ins.pipeline import SMOOTHING_STORE as STORE
+from ilocalg.ins.pipeline import smoothing_inputs
 from ilocalg.papers.comparison_liao import fig19_monotonicity, online_rows
 from ilocalg.papers.comparison_liao import online_label as _label
 from ilocalg.papers.readings_liao import online_readings
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
+from ilocalg.workflow import runstore
 
 __all__ = ["TABLE_WINDOWS_S", "SWEEP_WINDOWS_S", "OFFSET_FRACS", "readings", "run"]
 
@@ -92,23 +93,23 @@ def run_many(runs) -> list[dict[str, pd.DataFrame]]:
             for s in pl["seeds"]:
                 key = (pl["profiles"][name], s, pl["rssi_sd_db"], pl["gait_items"], pl["stairs"])
                 users.setdefault(key, []).append(i)
-        stairs = list(dict.fromkeys(k[4] for k in users))  # one batch holds walks of one stair handling
-        chunks = [c for st in stairs for c in walk_batches([k for k in users if k[4] == st])]
-        for chunk in chunks:
-            walks = [ins_walk.simulate(route, prof, seed=s, rssi_sd_db=rssi, gait_kw=dict(gait) if gait else None)
-                     for prof, s, rssi, gait, _ in chunk]
-            # the walks' filters advanced together (the same numbers as one by one)
-            for key, walk, res in zip(chunk, walks, run_walks(walks, "wvc", use_gcp=True, stairs=chunk[0][4]),
-                                      strict=True):
-                G = rts_gains(res)
+        # the walks' filters advanced together (the same numbers as one by one), a walk of one stair handling per
+        # batch; a walk that study_ins_window filtered earlier in the same reproduce run is read, not recomputed
+        for st in dict.fromkeys(k[4] for k in users):
+            walks = smoothing_inputs(
+                [k for k in users if k[4] == st],
+                lambda k, route=route: ins_walk.simulate(route, k[0], seed=k[1], rssi_sd_db=k[2],
+                                                         gait_kw=dict(k[3]) if k[3] else None),
+                stairs=st, lookup=lambda k, route=route: runstore.get(STORE, (route, *k)))
+            for key, inp in walks:
+                walk, res = inp.walk, inp.result
                 ind = walk.t_s >= walk.t_indoor_s
                 for i in users[key]:
                     pl = plans[i]
                     # every offset's windows smoothed in one pass
                     sweeps = window_sweeps(res, pl["windows"], ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],
-                                           walk.gcp_t_s, gains=G, offset_fracs=pl["offsets"])
+                                           walk.gcp_t_s, gains=inp.gains, offset_fracs=pl["offsets"])
                     parts[(i, phone, key[1])] = _walk_parts(phone, key[1], walk, ind, sweeps, pl)
-            del walks
     return [_tables(pl, [parts[(i, phone, s)] for phone, _, _ in PHONES for s in pl["seeds"]])
             for i, pl in enumerate(plans)]
 

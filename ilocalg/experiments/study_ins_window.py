@@ -21,9 +21,10 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.ins.evaluate import window_sweep_tables, window_sweeps
-from ilocalg.ins.pipeline import run_walks, walk_batches
-from ilocalg.ins.smoother import rts_gains
+from ilocalg.ins.pipeline import SMOOTHING_STORE as STORE
+from ilocalg.ins.pipeline import smoothing_inputs
 from ilocalg.sim import ins_walk
+from ilocalg.workflow import runstore
 from ilocalg.workflow.studies import select, study_row, study_tasks
 
 __all__ = ["run", "run_many", "WINDOWS_S", "GRIDS", "tasks", "findings"]
@@ -67,20 +68,22 @@ def run_many(runs) -> list[dict[str, pd.DataFrame]]:
         users: dict[int, list] = {}  # simulation seed -> the runs that score its walk
         for i, pl in enumerate(plans):
             users.setdefault(pl["seed"], []).append(i)
-        for chunk in walk_batches(list(users)):
-            walks = [ins_walk.simulate(route, profile, seed=s) for s in chunk]
-            # both phones alike (Liao 2016, L202); the walks' filters advanced together
-            for s, walk, filt in zip(chunk, walks, run_walks(walks, "wvc", use_gcp=True, stairs="none"), strict=True):
-                ind = walk.t_s >= walk.t_indoor_s
-                G = rts_gains(filt)
-                for i in users[s]:
-                    pl = plans[i]
-                    # averaged over where the window grid falls; every offset's windows smoothed in one pass
-                    sweeps = window_sweeps(filt, sorted(set(pl["windows"])), ind, walk.pos_true_n_m[ind],
-                                           walk.mat_true_nb[ind], walk.gcp_t_s, gains=G, offset_fracs=pl["offsets"])
-                    parts[(i, phone)] = ([r.sweep.assign(phone=phone) for r in sweeps],
-                                         [r.gcp.assign(phone=phone) for r in sweeps])
-            del walks
+        # both phones alike (Liao 2016, L202); the walks' filters advanced together, and left in the reproduce run's
+        # store for ins_online, whose notebook and seed sweep filter the same walks (seeds 0-11)
+        prof = ins_walk.PROFILES.get(profile, profile)
+        keys = [(prof, s, ins_walk.BLE_RSSI_SD_DB, (), "none") for s in users]
+        for key, inp in smoothing_inputs(keys, lambda k, route=route: ins_walk.simulate(route, k[0], seed=k[1]),
+                                         stairs="none", lookup=lambda k, route=route: runstore.get(STORE, (route, *k)),
+                                         keep=lambda k, v, route=route: runstore.put(STORE, (route, *k), v)):
+            walk, filt = inp.walk, inp.result
+            ind = walk.t_s >= walk.t_indoor_s
+            for i in users[key[1]]:
+                pl = plans[i]
+                # averaged over where the window grid falls; every offset's windows smoothed in one pass
+                sweeps = window_sweeps(filt, sorted(set(pl["windows"])), ind, walk.pos_true_n_m[ind],
+                                       walk.mat_true_nb[ind], walk.gcp_t_s, gains=inp.gains, offset_fracs=pl["offsets"])
+                parts[(i, phone)] = ([r.sweep.assign(phone=phone) for r in sweeps],
+                                     [r.gcp.assign(phone=phone) for r in sweeps])
     return [_table([d for ph, *_ in ins_walk.PHONES for d in parts[(i, ph)][0]],
                    [d for ph, *_ in ins_walk.PHONES for d in parts[(i, ph)][1]]) for i in range(len(plans))]
 

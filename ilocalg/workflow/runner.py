@@ -31,6 +31,7 @@ from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.claims_step import n_samples_for, robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import FIGURE_FORMATS_ENV, build_index, build_readme, write_provenance, write_table
+from ilocalg.workflow.runstore import run_store
 from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
@@ -441,7 +442,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         # one process per core is the parallelism: single-threaded BLAS in the processes and their kernels
         # (as Dask does for its workers), unless the caller set these; the tables are the same bytes
         blas = {k: os.environ.get(k, "1") for k in _BLAS_THREADS}
-        with _environ(**blas), ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
+        # the pool's processes and kernels share one store for this run only (ilocalg.workflow.runstore)
+        with run_store(), _environ(**blas), ProcessPoolExecutor(max_workers=jobs,
+                                                                 mp_context=get_context("spawn")) as pool:
             futs = {}
             for _, _, _, kind, item in jobs_list:
                 if kind == "nb":
