@@ -95,8 +95,9 @@ AXES = POS_AXES + ATT_AXES
 class WindowSweep:
     """Online smoothing of one filtered walk for several window sizes (see :func:`window_sweep`).
 
-    ``solutions``: ``{key: (pos_n_m, mat_nb, latency_s)}`` with keys ``"Filtering"``, every window size
-    (float, s, ascending) and ``"RTS (whole run)"``, in that order; ``stats``: ``{key: error_stats}`` on the
+    ``solutions``: a mapping ``{key: (pos_n_m, mat_nb, latency_s)}`` with keys ``"Filtering"``, every window size
+    (float, s, ascending) and ``"RTS (whole run)"``, in that order (a window's whole solution is formed when first
+    read); ``stats``: ``{key: error_stats}`` on the
     scored epochs; ``sweep``: one row per key and statistic (``window_s`` 0 for the filter, inf for the
     whole-run RTS; ``stat``, ``N``, ``E``, ``H``, ``horizontal`` (RMS rows only), ``latency_mean_s``);
     ``gcp``: one row per window size (``windows_indoor``, ``share_without_gcp``, ``rms_h_with_gcp_m``,
