@@ -46,3 +46,42 @@ def test_fig19_monotonicity_and_one_row_per_quantity():
     cmp = r["comparison"]
     assert not cmp["quantity"].str.contains("Filtering:").any()
     assert cmp["quantity"].is_unique
+
+
+def test_run_many_gives_each_run_alone():
+    # three runs: two share their walks (same seed and phones, other windows), one has other phones; five walks
+    # per phone with BATCH_WALKS 3 make two batches (2 walks one by one, then 3 in lockstep)
+    runs = [{"seed": 0, "fast": True, "sweep_windows_s": (5.0,), "offset_fracs": (0.0,)},
+            {"seed": 0, "fast": True, "sweep_windows_s": (2.0, 30.0), "offset_fracs": (0.25,)},
+            {"seed": 1, "fast": True, "n_seeds": 4, "sweep_windows_s": (5.0,), "offset_fracs": (0.0,),
+             "noise_factor": 2.0, "speed_mean_mps": 1.3}]
+    from ilocalg.ins import pipeline
+
+    old = pipeline.BATCH_WALKS
+    try:
+        pipeline.BATCH_WALKS = 3
+        many = ins_online.run_many(runs)
+    finally:
+        pipeline.BATCH_WALKS = old
+    for kw, got in zip(runs, many, strict=True):
+        alone = ins_online.run(**kw)
+        assert list(got) == list(alone)
+        for name in alone:
+            pd.testing.assert_frame_equal(got[name], alone[name], check_exact=True)
+
+
+def test_walks_the_study_left_in_the_run_store_give_the_same_tables(monkeypatch):
+    from ilocalg.experiments import study_ins_window
+    from ilocalg.sim import ins_walk
+    from ilocalg.workflow import runstore
+
+    monkeypatch.delenv(runstore.RUN_STORE_ENV, raising=False)
+    kw = {"seed": 0, "fast": True, "sweep_windows_s": (5.0,), "offset_fracs": (0.5,)}
+    alone = ins_online.run(**kw)
+    with runstore.run_store():
+        study_ins_window.run(seed=0, fast=True, windows_s=(2.0,), offset_fracs=(0.0,))  # simulation seed 0
+        # every walk of the run is read from the store: nothing is simulated
+        monkeypatch.setattr(ins_walk, "simulate", lambda *a, **k: (_ for _ in ()).throw(AssertionError("simulated")))
+        shared = ins_online.run(**kw)
+    for name in alone:
+        pd.testing.assert_frame_equal(shared[name], alone[name], check_exact=True)

@@ -54,3 +54,14 @@ def test_body_imu_from_a_phone_log():
     assert np.allclose(acc_b, [0.5, 0.0, 9.81]) and np.allclose(gyr_b, [0.0, 0.0, 0.3])
     with pytest.raises(ValueError, match="gyr_x_radps"):
         ins.body_imu_from_log(log.drop(columns=GYR_COLS[0]))
+
+
+def test_walk_batches_split_evenly_in_order():
+    from ilocalg.ins.pipeline import walk_batches
+
+    assert walk_batches(list(range(8)), 6) == [[0, 1, 2, 3], [4, 5, 6, 7]]
+    assert [len(b) for b in walk_batches(list(range(24)), 6)] == [6, 6, 6, 6]
+    assert [len(b) for b in walk_batches(list(range(13)), 6)] == [4, 4, 5]
+    assert walk_batches([1, 2], 6) == [[1, 2]] and walk_batches([], 6) == []
+    with pytest.raises(ValueError, match="max_size"):
+        walk_batches([1], 0)

@@ -213,16 +213,23 @@ def test_batch_jobs_give_a_batched_experiments_tasks_one_job():
 
 
 def test_study_jobs_group_a_study_notebooks_tasks_by_experiment_and_seed():
-    """The pool runs a study notebook's tasks as one job per (experiment, seed): every task once, in its order."""
+    """The pool runs a study notebook's tasks as one job per (experiment, seed), and a study with ``run_many`` as one
+    job: every task once, in its order."""
+    from ilocalg.workflow import sweep as sw
     from ilocalg.workflow.runner import study_jobs
     from ilocalg.workflow.studies import notebook_tasks
 
     tasks = notebook_tasks("15_sweep_studies", 0, True)
     jobs = study_jobs(tasks)
     assert sorted(t.key for j in jobs for t in j) == sorted(t.key for t in tasks)
-    assert len(jobs) == len({(t.experiment, t.seed) for t in tasks})
+    together = {t.experiment for t in tasks if sw.batched(t.experiment)}
+    assert together == {"study_ins_window"}
+    assert len(jobs) == len({(t.experiment, t.seed) for t in tasks if t.experiment not in together}) + len(together)
     for j in jobs:
-        assert len({(t.experiment, t.seed) for t in j}) == 1
+        if j[0].experiment in together:
+            assert {t.experiment for t in j} == {j[0].experiment} and len({t.seed for t in j}) == len(j) > 1
+        else:
+            assert len({(t.experiment, t.seed) for t in j}) == 1
         pos = [tasks.index(t) for t in j]
         assert pos == sorted(pos)
 

@@ -52,3 +52,17 @@ def test_longer_windows_smooth_more_and_control_points_matter(runs):
 def test_bad_windows_are_a_clear_error():
     with pytest.raises(ValueError, match="windows_s"):
         study_ins_window.run(windows_s=(0.0, 5.0))
+
+
+def test_run_many_gives_each_run_alone(runs):
+    # seeds 0, 1 (the fixture's runs) and 2, and seed 0 again with other windows: three walks per phone, their
+    # filters in lockstep
+    other = {"seed": 0, "fast": True, "windows_s": (5.0,), "offset_fracs": (0.5,)}
+    third = {"seed": 2, "fast": True, "windows_s": WINDOWS}
+    many = study_ins_window.run_many([{"seed": 0, "fast": True, "windows_s": WINDOWS}, other,
+                                      {"seed": 1, "fast": True, "windows_s": WINDOWS}, third])
+    pd.testing.assert_frame_equal(many[0]["sweep_ins_window"], runs[0], check_exact=True)
+    pd.testing.assert_frame_equal(many[2]["sweep_ins_window"], runs[1], check_exact=True)
+    for kw, got in ((other, many[1]), (third, many[3])):
+        pd.testing.assert_frame_equal(got["sweep_ins_window"], study_ins_window.run(**kw)["sweep_ins_window"],
+                                      check_exact=True)

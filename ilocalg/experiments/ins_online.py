@@ -16,13 +16,14 @@ import pandas as pd
 from ilocalg.ins.chain import trajectory_frame
 from ilocalg.ins.evaluate import AXES, window_sweep_tables, window_sweeps
 from ilocalg.ins.paper_values import side_by_side
-from ilocalg.ins.pipeline import run_walks
-from ilocalg.ins.smoother import rts_gains
+from ilocalg.ins.pipeline import SMOOTHING_STORE as STORE
+from ilocalg.ins.pipeline import smoothing_inputs
 from ilocalg.papers.comparison_liao import fig19_monotonicity, online_rows
 from ilocalg.papers.comparison_liao import online_label as _label
 from ilocalg.papers.readings_liao import online_readings
 from ilocalg.sim import ins_walk
 from ilocalg.sim.ins_walk import PHONES
+from ilocalg.workflow import runstore
 
 __all__ = ["TABLE_WINDOWS_S", "SWEEP_WINDOWS_S", "OFFSET_FRACS", "readings", "run"]
 
@@ -70,6 +71,54 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
     ``noise_factor``, ``bias_instability_factor``, ``time_jitter_sd_s``, ``rssi_sd_db`` and ``speed_mean_mps``:
     the simulated phones', beacons' and walkers' values the paper does not fix, as in ins_constraints.
     """
+    return run_many([{"seed": seed, "fast": fast, "n_seeds": n_seeds, "sweep_windows_s": sweep_windows_s,
+                      "offset_fracs": offset_fracs, "stairs": stairs, "noise_factor": noise_factor,
+                      "bias_instability_factor": bias_instability_factor, "time_jitter_sd_s": time_jitter_sd_s,
+                      "rssi_sd_db": rssi_sd_db, "speed_mean_mps": speed_mean_mps}])[0]
+
+
+def run_many(runs) -> list[dict[str, pd.DataFrame]]:
+    """:func:`run` with the keywords of each mapping of ``runs``, each result the one :func:`run` gives alone.
+
+    Every run's walks of a phone are filtered together, in batches of at most
+    :data:`ilocalg.ins.pipeline.BATCH_WALKS` (:func:`ilocalg.ins.pipeline.run_walks`: the same numbers as one by
+    one), a walk that two runs share once. The claims' robustness samples (one walk per phone each, fast mode) and
+    the seed sweep run this way (:func:`ilocalg.workflow.sweep.sweep`).
+    """
+    plans = [_plan(**r) for r in runs]
+    parts: dict[tuple, tuple] = {}  # (run, phone, simulation seed) -> that walk's rows and frames
+    for phone, route, name in PHONES:
+        users: dict[tuple, list] = {}  # each walk (simulation and filter settings) -> the runs that score it
+        for i, pl in enumerate(plans):
+            for s in pl["seeds"]:
+                key = (pl["profiles"][name], s, pl["rssi_sd_db"], pl["gait_items"], pl["stairs"])
+                users.setdefault(key, []).append(i)
+        # the walks' filters advanced together (the same numbers as one by one), a walk of one stair handling per
+        # batch; a walk that study_ins_window filtered earlier in the same reproduce run is read, not recomputed
+        for st in dict.fromkeys(k[4] for k in users):
+            walks = smoothing_inputs(
+                [k for k in users if k[4] == st],
+                lambda k, route=route: ins_walk.simulate(route, k[0], seed=k[1], rssi_sd_db=k[2],
+                                                         gait_kw=dict(k[3]) if k[3] else None),
+                stairs=st, lookup=lambda k, route=route: runstore.get(STORE, (route, *k)))
+            for key, inp in walks:
+                walk, res = inp.walk, inp.result
+                ind = walk.t_s >= walk.t_indoor_s
+                for i in users[key]:
+                    pl = plans[i]
+                    # every offset's windows smoothed in one pass
+                    sweeps = window_sweeps(res, pl["windows"], ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],
+                                           walk.gcp_t_s, gains=inp.gains, offset_fracs=pl["offsets"])
+                    parts[(i, phone, key[1])] = _walk_parts(phone, key[1], walk, ind, sweeps, pl)
+    return [_tables(pl, [parts[(i, phone, s)] for phone, _, _ in PHONES for s in pl["seeds"]])
+            for i, pl in enumerate(plans)]
+
+
+def _plan(seed: int = 0, fast: bool = False, n_seeds: int | None = None, sweep_windows_s=SWEEP_WINDOWS_S,
+          offset_fracs=None, stairs: str = "none", noise_factor: float = ins_walk.PHONE_NOISE_FACTOR,
+          bias_instability_factor: float = 1.0, time_jitter_sd_s: float = ins_walk.PHONE_TIME_JITTER_SD_S,
+          rssi_sd_db: float = ins_walk.BLE_RSSI_SD_DB, speed_mean_mps: float = ins_walk.LEVEL_SPEED_MEAN_MPS) -> dict:
+    """What one :func:`run` simulates and scores (its keywords checked)."""
     n_seeds = n_seeds or (1 if fast else 6)
     offsets = tuple(float(f) for f in (offset_fracs if offset_fracs is not None
                                        else (OFFSET_FRACS_FAST if fast else OFFSET_FRACS)))
@@ -77,34 +126,42 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None,
         raise ValueError(f"offset_fracs must be fractions of the window in [0, 1), got {offset_fracs!r}")
     # Window lengths as floats (an int window from a caller or a sweep is the same window).
     windows = sorted({float(w) for w in sweep_windows_s} | {float(w) for w in TABLE_WINDOWS_S})
+    gait = (("speed_mean_mps", speed_mean_mps),) if speed_mean_mps != ins_walk.LEVEL_SPEED_MEAN_MPS else ()
+    # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
+    # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
+    return {"n_seeds": n_seeds, "offsets": offsets, "windows": windows, "stairs": stairs, "gait_items": gait,
+            "rssi_sd_db": rssi_sd_db, "seeds": range(seed * n_seeds, (seed + 1) * n_seeds),
+            "profiles": {name: ins_walk.phone_profile(name, noise_factor, bias_instability_factor, time_jitter_sd_s)
+                         for _, _, name in PHONES}}
+
+
+def _walk_parts(phone: str, s: int, walk, ind, sweeps, pl: dict) -> tuple[list, list, list, list]:
+    """One walk's rows of ``errors_per_seed``, its ``window_sweep`` and ``windows_without_gcp`` frames (one per
+    grid offset) and, for the run's first seed, its ``trajectory`` frame."""
     rows, sweep, gcp_rows, traj = [], [], [], []
-    gait_kw = {"speed_mean_mps": speed_mean_mps} if speed_mean_mps != ins_walk.LEVEL_SPEED_MEAN_MPS else None
-    for phone, route, name in PHONES:
-        profile = ins_walk.phone_profile(name, noise_factor, bias_instability_factor, time_jitter_sd_s)
-        # Disjoint simulation seeds per experiment seed: seed k uses k*n_seeds .. (k+1)*n_seeds - 1, so runs
-        # with different seeds are independent (a sweep over seeds gives honest confidence intervals).
-        seeds = range(seed * n_seeds, (seed + 1) * n_seeds)
-        walks = [ins_walk.simulate(route, profile, seed=s, rssi_sd_db=rssi_sd_db, gait_kw=gait_kw) for s in seeds]
-        # the seeds' filters advanced together (the same numbers as one by one)
-        filters = run_walks(walks, "wvc", use_gcp=True, stairs=stairs)
-        for s, walk, res in zip(seeds, walks, filters, strict=True):
-            G = rts_gains(res)
-            ind = walk.t_s >= walk.t_indoor_s
-            # every offset's windows smoothed in one pass
-            sweeps = window_sweeps(res, windows, ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind], walk.gcp_t_s,
-                                   gains=G, offset_fracs=offsets)
-            for off, ws in zip(offsets, sweeps, strict=True):
-                if s == seed * n_seeds and off == offsets[0]:
-                    sols = {k if k == "Filtering" else _label(k): ws.solutions[k][:2]
-                            for k in ["Filtering", *TABLE_WINDOWS_S]}
-                    traj.append(trajectory_frame(phone, walk, sols, ind, attitude="errors"))
-                for key, st in ws.stats.items():
-                    if not isinstance(key, float) or key in TABLE_WINDOWS_S:
-                        method = _label(key) if isinstance(key, float) else key
-                        rows += [{"phone": phone, "method": method, "seed": s, "offset_frac": off, "stat": k,
-                                  **st[k]} for k in ("max", "rms", "std")]
-                for df, out in ((ws.sweep, sweep), (ws.gcp, gcp_rows)):
-                    out.append(df.assign(phone=phone, seed=s, offset_frac=off))
+    offsets = pl["offsets"]
+    for off, ws in zip(offsets, sweeps, strict=True):
+        if s == pl["seeds"][0] and off == offsets[0]:
+            sols = {k if k == "Filtering" else _label(k): ws.solutions[k][:2] for k in ["Filtering", *TABLE_WINDOWS_S]}
+            traj.append(trajectory_frame(phone, walk, sols, ind, attitude="errors"))
+        for key, st in ws.stats.items():
+            if not isinstance(key, float) or key in TABLE_WINDOWS_S:
+                method = _label(key) if isinstance(key, float) else key
+                rows += [{"phone": phone, "method": method, "seed": s, "offset_frac": off, "stat": k,
+                          **st[k]} for k in ("max", "rms", "std")]
+        for df, out in ((ws.sweep, sweep), (ws.gcp, gcp_rows)):
+            out.append(df.assign(phone=phone, seed=s, offset_frac=off))
+    return rows, sweep, gcp_rows, traj
+
+
+def _tables(pl: dict, parts: list) -> dict[str, pd.DataFrame]:
+    """:func:`run`'s tables from its plan (:func:`_plan`) and its walks' parts (:func:`_walk_parts`), phone by
+    phone and seed by seed."""
+    n_seeds, offsets, stairs = pl["n_seeds"], pl["offsets"], pl["stairs"]
+    rows = [r for p in parts for r in p[0]]
+    sweep = [d for p in parts for d in p[1]]
+    gcp_rows = [d for p in parts for d in p[2]]
+    traj = [d for p in parts for d in p[3]]
     per_run = pd.DataFrame(rows)
     errors = per_run.groupby(["phone", "method", "stat"], sort=False)[list(AXES)].mean().reset_index()
     errors.insert(3, "n_seeds", n_seeds)

@@ -2,7 +2,7 @@
 point (extends Liao et al. 2016, Fig 19 and the explanation of Figs 20-21).
 
 One ``run(seed)`` is one simulated walk per phone (:mod:`ilocalg.sim.ins_walk`), its WVC/ZUPT/GCP
-filter (:func:`ilocalg.ins.pipeline.run_walk`) and the fixed-window online smoother for every window
+filter (:func:`ilocalg.ins.pipeline.run_walks`) and the fixed-window online smoother for every window
 size (:func:`ilocalg.ins.evaluate.window_sweep`, as in the online-smoothing experiment), re-labelled as
 a ``sweep_ins_window`` table, averaged over four offsets of the window grid (0, 1/4, 1/2, 3/4 of the
 window). Scored on the indoor part of the walk.
@@ -21,12 +21,13 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.ins.evaluate import window_sweep_tables, window_sweeps
-from ilocalg.ins.pipeline import run_walk
-from ilocalg.ins.smoother import rts_gains
+from ilocalg.ins.pipeline import SMOOTHING_STORE as STORE
+from ilocalg.ins.pipeline import smoothing_inputs
 from ilocalg.sim import ins_walk
+from ilocalg.workflow import runstore
 from ilocalg.workflow.studies import select, study_row, study_tasks
 
-__all__ = ["run", "WINDOWS_S", "GRIDS", "tasks", "findings"]
+__all__ = ["run", "run_many", "WINDOWS_S", "GRIDS", "tasks", "findings"]
 
 EXPERIMENT = "study_ins_window"
 #: Window sizes of the study (s).
@@ -53,23 +54,53 @@ def run(seed: int = 0, fast: bool = False, windows_s=None, offset_fracs=OFFSET_F
     offset_fracs : sequence of float
         Offsets of the window grid as fractions of the window, in [0, 1); every quantity is their mean.
     """
+    return run_many([{"seed": seed, "fast": fast, "windows_s": windows_s, "offset_fracs": offset_fracs}])[0]
+
+
+def run_many(runs) -> list[dict[str, pd.DataFrame]]:
+    """:func:`run` with the keywords of each mapping of ``runs``, each result the one :func:`run` gives alone: the
+    runs' walks of a phone are filtered together, in batches of at most :data:`ilocalg.ins.pipeline.BATCH_WALKS`
+    (:func:`ilocalg.ins.pipeline.run_walks`: the same numbers as one by one), a walk that two runs share once.
+    The study notebook's seeds run this way (:func:`ilocalg.workflow.runner.study_jobs`)."""
+    plans = [_plan(**r) for r in runs]
+    parts: dict[tuple, tuple] = {}  # (run, phone) -> that walk's window-sweep frames, one per grid offset
+    for phone, route, profile in ins_walk.PHONES:
+        users: dict[int, list] = {}  # simulation seed -> the runs that score its walk
+        for i, pl in enumerate(plans):
+            users.setdefault(pl["seed"], []).append(i)
+        # both phones alike (Liao 2016, L202); the walks' filters advanced together, and left in the reproduce run's
+        # store for ins_online, whose notebook and seed sweep filter the same walks (seeds 0-11)
+        prof = ins_walk.PROFILES.get(profile, profile)
+        keys = [(prof, s, ins_walk.BLE_RSSI_SD_DB, (), "none") for s in users]
+        for key, inp in smoothing_inputs(keys, lambda k, route=route: ins_walk.simulate(route, k[0], seed=k[1]),
+                                         stairs="none", lookup=lambda k, route=route: runstore.get(STORE, (route, *k)),
+                                         keep=lambda k, v, route=route: runstore.put(STORE, (route, *k), v)):
+            walk, filt = inp.walk, inp.result
+            ind = walk.t_s >= walk.t_indoor_s
+            for i in users[key[1]]:
+                pl = plans[i]
+                # averaged over where the window grid falls; every offset's windows smoothed in one pass
+                sweeps = window_sweeps(filt, sorted(set(pl["windows"])), ind, walk.pos_true_n_m[ind],
+                                       walk.mat_true_nb[ind], walk.gcp_t_s, gains=inp.gains, offset_fracs=pl["offsets"])
+                parts[(i, phone)] = ([r.sweep.assign(phone=phone) for r in sweeps],
+                                     [r.gcp.assign(phone=phone) for r in sweeps])
+    return [_table([d for ph, *_ in ins_walk.PHONES for d in parts[(i, ph)][0]],
+                   [d for ph, *_ in ins_walk.PHONES for d in parts[(i, ph)][1]]) for i in range(len(plans))]
+
+
+def _plan(seed: int = 0, fast: bool = False, windows_s=None, offset_fracs=OFFSET_FRACS) -> dict:
+    """One :func:`run`'s keywords, checked."""
     offsets = tuple(float(f) for f in offset_fracs)
     if not offsets or any(not (0.0 <= f < 1.0) for f in offsets):
         raise ValueError(f"offset_fracs must be fractions of the window in [0, 1), got {offset_fracs!r}")
     ws = tuple(float(w) for w in (windows_s if windows_s is not None else (WINDOWS_S_FAST if fast else WINDOWS_S)))
     if not ws or any(not np.isfinite(w) or w <= 0 for w in ws):
         raise ValueError(f"windows_s must be positive finite window sizes in seconds, got {windows_s!r}")
-    sweep, gcp = [], []
-    for phone, route, profile in ins_walk.PHONES:
-        walk = ins_walk.simulate(route, profile, seed=seed)
-        ind = walk.t_s >= walk.t_indoor_s
-        filt = run_walk(walk, "wvc", use_gcp=True, stairs="none")  # both phones alike (Liao 2016, L202)
-        G = rts_gains(filt)
-        # averaged over where the window grid falls; every offset's windows smoothed in one pass
-        for res in window_sweeps(filt, sorted(set(ws)), ind, walk.pos_true_n_m[ind], walk.mat_true_nb[ind],
-                                 walk.gcp_t_s, gains=G, offset_fracs=offsets):
-            sweep.append(res.sweep.assign(phone=phone))
-            gcp.append(res.gcp.assign(phone=phone))
+    return {"seed": int(seed), "windows": ws, "offsets": offsets}
+
+
+def _table(sweep: list, gcp: list) -> dict[str, pd.DataFrame]:
+    """The ``sweep_ins_window`` table of one run from its walks' window-sweep frames."""
     sw, gw = window_sweep_tables(pd.concat(sweep, ignore_index=True), pd.concat(gcp, ignore_index=True))
     sw = sw[sw["stat"] == "rms"]
     gw = gw.set_index(["phone", "window_s"])

@@ -7,12 +7,13 @@ Liao, Chiang, Zhou, Li (2016), Tables 4-11 (N, E, H position and roll, pitch, he
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
-from ilocalg.ins.mechanisation import dcm_to_euler
+from ilocalg.ins.mechanisation import dcm_to_euler, rotvecs_to_dcm
 from ilocalg.units import wrap_angle_rad
 
 __all__ = ["nav_errors", "error_stats", "heading_error_with_lag_deg", "POS_AXES", "ATT_AXES", "AXES", "WindowSweep",
@@ -39,16 +40,31 @@ def _errors(pos, mat_nb, pos_true, euler_true) -> pd.DataFrame:
                          "Roll": da[:, 0], "Pitch": da[:, 1], "Heading": da[:, 2]})
 
 
+def _error_array(pos, euler, pos_true, euler_true) -> np.ndarray:
+    """The values of :func:`_errors` (Euler angles of the estimate given) as the (S, 6) array its
+    ``to_numpy()`` gives: column-major, so that the statistics sum in the same order."""
+    d = pos - pos_true
+    da = np.rad2deg(wrap_angle_rad(euler - euler_true))
+    a = np.empty((6, d.shape[0]))
+    a[0], a[1], a[2] = d[:, 1], d[:, 0], d[:, 2]
+    a[3:] = da.T
+    return a.T
+
+
 def error_stats(err: pd.DataFrame) -> dict[str, dict[str, float]]:
     """``{"max": {axis: ..}, "rms": {..}, "std": {..}}`` over the rows of :func:`nav_errors` output.
 
     Max is the largest absolute error, RMS the root mean square, STD the standard deviation.
     """
-    a = err.to_numpy(dtype=float)
+    return _stats(err.to_numpy(dtype=float), err.columns)
+
+
+def _stats(a: np.ndarray, columns) -> dict[str, dict[str, float]]:
+    """:func:`error_stats` of the array ``err.to_numpy()`` with the column names ``columns``."""
     return {
-        "max": dict(zip(err.columns, np.max(np.abs(a), axis=0), strict=True)),
-        "rms": dict(zip(err.columns, np.sqrt(np.mean(a**2, axis=0)), strict=True)),
-        "std": dict(zip(err.columns, np.std(a, axis=0), strict=True)),
+        "max": dict(zip(columns, np.max(np.abs(a), axis=0), strict=True)),
+        "rms": dict(zip(columns, np.sqrt(np.mean(a**2, axis=0)), strict=True)),
+        "std": dict(zip(columns, np.std(a, axis=0), strict=True)),
     }
 
 
@@ -79,8 +95,9 @@ AXES = POS_AXES + ATT_AXES
 class WindowSweep:
     """Online smoothing of one filtered walk for several window sizes (see :func:`window_sweep`).
 
-    ``solutions``: ``{key: (pos_n_m, mat_nb, latency_s)}`` with keys ``"Filtering"``, every window size
-    (float, s, ascending) and ``"RTS (whole run)"``, in that order; ``stats``: ``{key: error_stats}`` on the
+    ``solutions``: a mapping ``{key: (pos_n_m, mat_nb, latency_s)}`` with keys ``"Filtering"``, every window size
+    (float, s, ascending) and ``"RTS (whole run)"``, in that order (a window's whole solution is formed when first
+    read); ``stats``: ``{key: error_stats}`` on the
     scored epochs; ``sweep``: one row per key and statistic (``window_s`` 0 for the filter, inf for the
     whole-run RTS; ``stat``, ``N``, ``E``, ``H``, ``horizontal`` (RMS rows only), ``latency_mean_s``);
     ``gcp``: one row per window size (``windows_indoor``, ``share_without_gcp``, ``rms_h_with_gcp_m``,
@@ -123,64 +140,116 @@ def window_sweeps(res, windows_s, scored, pos_true_n_m, mat_true_nb, gcp_t_s, ga
 
     Every window of every offset is smoothed in one backward pass
     (:func:`ilocalg.ins.smoother.eskf_rts_smooth_grids`); the filter and the whole-run RTS, which do not depend
-    on the grid, are scored once. The same tables as :func:`window_sweep` offset by offset.
+    on the grid, are scored once. Only the scored epochs of each smoothed solution are formed to score it (every
+    grid at once); a solution's whole run (``solutions[key]``) is formed when it is first read. The same tables
+    as :func:`window_sweep` offset by offset.
     """
-    from ilocalg.ins.smoother import eskf_rts_smooth_grids, rts_gains, window_ends
+    from ilocalg.ins.smoother import _backward, rts_gains, window_ends
 
     G = rts_gains(res) if gains is None else gains
     offsets = [float(f) for f in offset_fracs]
     grids = [(w, f * w) for f in offsets for w in windows_s]
     if whole_run is None:
         grids.append((None, 0.0))
-    smoothed = eskf_rts_smooth_grids(res, grids, gains=G)
-    full = whole_run if whole_run is not None else smoothed[-1]
+    ends = np.array([window_ends(res.t_s, w, o) for w, o in grids])
+    xs, _ = _backward(res, ends, G)
     euler_true = dcm_to_euler(mat_true_nb)
     pos_true = np.asarray(pos_true_n_m, dtype=float)
     gcp_epoch = np.zeros(res.t_s.size, bool)
     gcp_epoch[np.searchsorted(res.t_s, gcp_t_s)] = True
+    scored = np.asarray(scored, dtype=bool)
+    pos_f, mat_f = res.pos_n_m[scored], res.mat_nb[scored]
+    # every grid's smoothed solution at the scored epochs, (S, M, ...): the same element-wise operations and the
+    # same 3 x 3 products as the whole solution (:func:`ilocalg.ins.smoother.eskf_rts_smooth_grids`) at those epochs
+    xs_s = xs[scored]
+    n_s, m = xs_s.shape[:2]
+    pos_g = pos_f[:, None, :] + xs_s[:, :, 0:3]
+    mat_g = np.matmul(rotvecs_to_dcm(xs_s[:, :, 6:9].reshape(n_s * m, 3)).reshape(n_s, m, 3, 3), mat_f[:, None])
+    euler_g = dcm_to_euler(mat_g)
+    t_s = res.t_s
 
-    def score(key, pos, mat, lat):
-        err = _errors(np.asarray(pos[scored], dtype=float), mat[scored], pos_true, euler_true)
-        st = error_stats(err)
+    def latency(e):
+        end_idx = np.flatnonzero(e)
+        return t_s[end_idx[np.searchsorted(end_idx, np.arange(t_s.size), side="left")]] - t_s
+
+    def score(key, pos, euler, lat):
+        a = _error_array(pos, euler, pos_true, euler_true)
+        st = _stats(a, AXES)
         wsec = key if isinstance(key, float) else (0.0 if key == "Filtering" else np.inf)
-        rows = [{"window_s": wsec, "stat": k, **{a: st[k][a] for a in POS_AXES},
+        rows = [{"window_s": wsec, "stat": k, **{ax: st[k][ax] for ax in POS_AXES},
                  "horizontal": float(np.hypot(st[k]["N"], st[k]["E"])) if k == "rms" else np.nan,
                  "latency_mean_s": float(np.mean(lat[scored]))} for k in ("max", "rms", "std")]
-        return err, st, rows
+        return a, st, rows
 
-    fixed = {"Filtering": (res.pos_n_m, res.mat_nb, np.zeros(res.t_s.size)),
-             "RTS (whole run)": (full.pos_n_m, full.mat_nb, full.latency_s)}
-    fixed_scores = {key: score(key, *sol) for key, sol in fixed.items()}
+    def solution(j):
+        def make():
+            from ilocalg.ins.smoother import _smooth_result
+
+            sm = _smooth_result(res, xs[:, j], np.full((t_s.size, xs.shape[2]), np.nan), ends[j])
+            return sm.pos_n_m, sm.mat_nb, sm.latency_s
+        return make
+
+    filt = (res.pos_n_m, res.mat_nb, np.zeros(t_s.size))
+    if whole_run is not None:
+        full_sol = (whole_run.pos_n_m, whole_run.mat_nb, whole_run.latency_s)
+        full_score = score("RTS (whole run)", whole_run.pos_n_m[scored], dcm_to_euler(whole_run.mat_nb[scored]),
+                           whole_run.latency_s)
+    else:
+        full_sol = solution(m - 1)
+        full_score = score("RTS (whole run)", pos_g[:, m - 1], euler_g[:, m - 1], latency(ends[m - 1]))
+    fixed_scores = {"Filtering": score("Filtering", pos_f, dcm_to_euler(mat_f), filt[2]),
+                    "RTS (whole run)": full_score}
     out = []
-    for j, off in enumerate(offsets):
-        sols = {"Filtering": fixed["Filtering"]}
+    for jo in range(len(offsets)):
+        sols = {"Filtering": filt}
+        stats, sweep, gcp_rows = {"Filtering": fixed_scores["Filtering"][1]}, list(fixed_scores["Filtering"][2]), []
         for i, w in enumerate(windows_s):
-            sm = smoothed[j * len(windows_s) + i]
-            sols[w] = (sm.pos_n_m, sm.mat_nb, sm.latency_s)
-        sols["RTS (whole run)"] = fixed["RTS (whole run)"]
-        stats, sweep, gcp_rows = {}, [], []
-        for key, (pos, mat, lat) in sols.items():
-            err, st, rows = fixed_scores[key] if key in fixed_scores else score(key, pos, mat, lat)
-            stats[key] = st
+            j = jo * len(windows_s) + i
+            sols[w] = solution(j)
+            a, st, rows = score(w, pos_g[:, j], euler_g[:, j], latency(ends[j]))
+            stats[w] = st
             sweep += rows
-            if isinstance(key, float):
-                ends = window_ends(res.t_s, key, off * key)
-                win = np.concatenate([[0], np.cumsum(ends[:-1])])
-                has = np.zeros(win.max() + 1, bool)
-                has[win[gcp_epoch]] = True
-                hz = np.hypot(err["N"], err["E"]).to_numpy()
-                wi = win[scored]
-                in_gcp = has[wi]
-                scored_windows = np.unique(wi)
-                gcp_rows.append({
-                    "window_s": key,
-                    "windows_indoor": scored_windows.size,
-                    "share_without_gcp": float(np.mean(~has[scored_windows])),
-                    "rms_h_with_gcp_m": float(np.sqrt(np.mean(hz[in_gcp] ** 2))) if in_gcp.any() else np.nan,
-                    "rms_h_without_gcp_m": (float(np.sqrt(np.mean(hz[~in_gcp] ** 2))) if (~in_gcp).any()
-                                            else np.nan)})
-        out.append(WindowSweep(solutions=sols, stats=stats, sweep=pd.DataFrame(sweep), gcp=pd.DataFrame(gcp_rows)))
+            win = np.concatenate([[0], np.cumsum(ends[j, :-1])])
+            has = np.zeros(win.max() + 1, bool)
+            has[win[gcp_epoch]] = True
+            hz = np.hypot(a[:, 0], a[:, 1])
+            wi = win[scored]
+            in_gcp = has[wi]
+            scored_windows = np.unique(wi)
+            gcp_rows.append({
+                "window_s": w,
+                "windows_indoor": scored_windows.size,
+                "share_without_gcp": float(np.mean(~has[scored_windows])),
+                "rms_h_with_gcp_m": float(np.sqrt(np.mean(hz[in_gcp] ** 2))) if in_gcp.any() else np.nan,
+                "rms_h_without_gcp_m": (float(np.sqrt(np.mean(hz[~in_gcp] ** 2))) if (~in_gcp).any()
+                                        else np.nan)})
+        sols["RTS (whole run)"] = full_sol
+        stats["RTS (whole run)"] = fixed_scores["RTS (whole run)"][1]
+        sweep += fixed_scores["RTS (whole run)"][2]
+        out.append(WindowSweep(solutions=_Solutions(sols), stats=stats, sweep=pd.DataFrame(sweep),
+                               gcp=pd.DataFrame(gcp_rows)))
     return out
+
+
+class _Solutions(Mapping):
+    """``{key: (pos_n_m, mat_nb, latency_s)}`` of :class:`WindowSweep`, in key order; a value given as a function
+    is called when first read (a sweep scores every window at the scored epochs only, and a caller reads the
+    whole solution of a few)."""
+
+    def __init__(self, items: dict):
+        self._d = dict(items)
+
+    def __getitem__(self, key):
+        v = self._d[key]
+        if callable(v):
+            v = self._d[key] = v()
+        return v
+
+    def __iter__(self):
+        return iter(self._d)
+
+    def __len__(self) -> int:
+        return len(self._d)
 
 
 def window_sweep_tables(sweep: pd.DataFrame, gcp: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:

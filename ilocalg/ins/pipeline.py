@@ -12,7 +12,8 @@ Liao, Chiang, Zhou, Li (2016), sec. 3 and 4.1 (Filtering + NHC/ZUPT, + WVC/ZUPT,
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -38,7 +39,8 @@ from ilocalg.ins.mechanisation import coarse_level, euler_to_dcm, phone_to_body
 from ilocalg.io.schema import ACC_COLS, GYR_COLS
 
 __all__ = ["PhoneFilterSettings", "body_imu_from_log", "stair_mask", "walk_updates", "walk_filter_args", "run_walk",
-           "run_walks"]
+           "run_walks", "BATCH_WALKS", "walk_batches", "SmoothingInputs", "smoothing_inputs",
+           "SMOOTHING_STORE"]
 
 
 def body_imu_from_log(imu) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -175,3 +177,74 @@ def run_walks(walks, constraint: str = "wvc", use_gcp: bool = True, settings: Ph
     covariance at all (the navigation solution only; such a result cannot be smoothed)."""
     return run_eskf_batch([walk_filter_args(w, constraint, use_gcp, settings, wvc_params, stairs, stair_action,
                                             step_smoothing) for w in walks], keep_covariance=keep_covariance)
+
+
+#: Walks whose filters :func:`run_walks` advances together at most when a caller splits many (each keeps its
+#: covariance history, ~40 MB for a 4000-epoch walk): the six seeds of a phone in a full-mode ins_online run.
+BATCH_WALKS = 6
+
+
+def walk_batches(items: list, max_size: int | None = None) -> list[list]:
+    """``items`` in order, split into the fewest batches of at most ``max_size`` (default :data:`BATCH_WALKS`), of
+    sizes as equal as possible (8 walks: 4 + 4, not 6 + 2, as fewer than 3 filters run one by one)."""
+    max_size = BATCH_WALKS if max_size is None else int(max_size)
+    if max_size < 1:
+        raise ValueError(f"max_size must be >= 1, got {max_size}")
+    items = list(items)
+    k = -(-len(items) // max_size)
+    bounds = [len(items) * i // k for i in range(k + 1)] if k else [0]
+    return [items[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+
+
+#: Namespace of :class:`SmoothingInputs` in a reproduce run's store (:mod:`ilocalg.workflow.runstore`), keyed by
+#: ``(route, PhoneProfile, simulation seed, rssi_sd_db, gait keyword items, stairs)`` of a walk simulated with
+#: :func:`ilocalg.sim.ins_walk.simulate`'s other defaults and filtered with the default :class:`PhoneFilterSettings`.
+SMOOTHING_STORE = "ins_smoothing_inputs_v1"
+
+
+@dataclass(frozen=True)
+class SmoothingInputs:
+    """What the online smoother and its scoring (:func:`ilocalg.ins.evaluate.window_sweeps`) need of a walk filtered
+    with WVC/ZUPT + control points: ``walk`` (``t_s``, ``t_indoor_s``, ``pos_true_n_m``, ``mat_true_nb``,
+    ``gcp_t_s`` of the walk), ``result`` (the :class:`~ilocalg.ins.eskf.EskfResult` without its covariance
+    histories) and ``gains`` (:func:`ilocalg.ins.smoother.rts_gains`, (N, 21, 21))."""
+
+    walk: SimpleNamespace
+    result: EskfResult
+    gains: np.ndarray
+
+
+def smoothing_inputs(keys, simulate, stairs: str = "none", lookup=None, keep=None):
+    """:class:`SmoothingInputs` of the walks ``simulate(key)`` for each of ``keys``, filtered (``"wvc"``, control
+    points, ``stairs``) in batches (:func:`walk_batches`, :func:`run_walks`). Yields ``(key, inputs)``, in ``keys``
+    order within each batch.
+
+    ``lookup(key)``: inputs computed earlier (e.g. by another process of the same reproduce run), or None; such a
+    key is neither simulated nor filtered. ``keep(key, inputs)``: called with every inputs computed here. Either
+    way the numbers are those of the walk filtered here.
+    """
+    from ilocalg.ins.smoother import rts_gains
+
+    todo = []
+    for key in keys:
+        found = lookup(key) if lookup is not None else None
+        if found is not None:
+            yield key, found
+        else:
+            todo.append(key)
+    for chunk in walk_batches(todo):
+        walks = [simulate(key) for key in chunk]
+        results = run_walks(walks, "wvc", use_gcp=True, stairs=stairs)
+        for j, (key, walk) in enumerate(zip(chunk, walks, strict=True)):
+            res, results[j] = results[j], None
+            n = res.t_s.size
+            inputs = SmoothingInputs(
+                walk=SimpleNamespace(t_s=walk.t_s, t_indoor_s=walk.t_indoor_s, pos_true_n_m=walk.pos_true_n_m,
+                                     mat_true_nb=walk.mat_true_nb, gcp_t_s=walk.gcp_t_s),
+                result=replace(res, P_plus=None, P_minus=None, Phi=None, cp_idx=np.array([0, n - 1]), cp_P=None,
+                               inputs=None),
+                gains=rts_gains(res))
+            del res
+            if keep is not None:
+                keep(key, inputs)
+            yield key, inputs

@@ -129,7 +129,8 @@ def _backward(res: EskfResult, ends: np.ndarray, gains: np.ndarray | None = None
     mm, add = np.matmul, np.add
     Ps = None
     for a, b in reversed(_chunks(res)):
-        stored = gains is not None and res.P_plus is not None
+        # gains given for every epoch are used as they are (also for a result kept without its covariance history)
+        stored = gains is not None and (res.P_plus is not None or len(gains) == n)
         if with_cov or not stored:
             Pp, Pm, Ph = covariance_chunk(res, a, b)
         G = gains[a:b + 1] if stored else _gains(Pp, Pm, Ph)

@@ -31,6 +31,7 @@ from ilocalg.io.paths import REPO_ROOT
 from ilocalg.workflow.claims_step import n_samples_for, robustness_tasks
 from ilocalg.workflow.manifest import COST_S, MANIFEST, experiments_of, swept_experiments
 from ilocalg.workflow.reporting import FIGURE_FORMATS_ENV, build_index, build_readme, write_provenance, write_table
+from ilocalg.workflow.runstore import run_store
 from ilocalg.workflow.studies import NOTEBOOK_STUDIES, notebook_tasks
 
 __all__ = ["NOTEBOOK_DIR", "discover_notebooks", "execute_notebook", "reproduce", "NotebookFailed",
@@ -241,16 +242,20 @@ def _sweep_job(task, cache_dir: Path) -> dict:
 
 
 def study_jobs(tasks: list) -> list[list]:
-    """A study notebook's tasks grouped into pool jobs: one job per (experiment, seed), tasks in their order.
+    """A study notebook's tasks grouped into pool jobs: one job per (experiment, seed), tasks in their order; every
+    task of a study that runs several together (:func:`ilocalg.workflow.sweep.batched`, e.g. study_ins_window,
+    whose walks' filters then advance in lockstep) in one job.
 
     The tasks of one seed share what a study caches in its process (the simulated floor and surveys of
     ``study_wifi``, the walks of ``study_pso``), so one process computes them once instead of each pool process
     computing its own copy; and some 50 jobs of a few seconds instead of ~900 of a fraction of one keep the pool's
     per-job cost small while still filling both cores. The results (one cache entry per task) are the same.
     """
+    from ilocalg.workflow import sweep as sw
+
     groups: dict[tuple, list] = {}
     for t in tasks:
-        groups.setdefault((t.experiment, t.seed), []).append(t)
+        groups.setdefault((t.experiment,) if sw.batched(t.experiment) else (t.experiment, t.seed), []).append(t)
     return list(groups.values())
 
 
@@ -457,7 +462,9 @@ def reproduce(out_dir: str | Path = REPO_ROOT / "reports", fast: bool = False, o
         # one process per core is the parallelism: single-threaded BLAS in the processes and their kernels
         # (as Dask does for its workers), unless the caller set these; the tables are the same bytes
         blas = {k: os.environ.get(k, "1") for k in _BLAS_THREADS}
-        with _environ(**blas), ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
+        # the pool's processes and kernels share one store for this run only (ilocalg.workflow.runstore)
+        with run_store(), _environ(**blas), ProcessPoolExecutor(max_workers=jobs,
+                                                                 mp_context=get_context("spawn")) as pool:
             futs = {}
             for _, _, _, kind, item in jobs_list:
                 if kind == "nb":
