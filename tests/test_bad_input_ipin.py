@@ -277,3 +277,27 @@ def test_fast_path_reads_interleaved_imu_types_like_the_line_parser(turns):
     for k, b in slow[0].items():
         np.testing.assert_array_equal(fast[0][k].lines, b.lines)
         np.testing.assert_array_equal(fast[0][k].num, b.num)
+
+
+@pytest.mark.parametrize("chunk", [7, 64, 1 << 21])
+def test_line_scan_matches_a_plain_count(chunk):
+    """The scan behind both fast paths (line ends, separators per line, bytes below 32) equals a count line by
+    line, including lines that cross a chunk border, chunks without a line end and lines of 256+ separators."""
+    from ilocalg.io import _text
+
+    rng = np.random.default_rng(3)
+    old = _text._CHUNK
+    try:
+        _text._CHUNK = chunk
+        for _ in range(40):
+            body = rng.choice(np.frombuffer(b"ab;;\t\n\r\x0b 1", dtype=np.uint8), rng.integers(1, 400)).tobytes()
+            data = body + b";" * int(rng.integers(0, 2) * 300) + b"\t" * int(rng.integers(0, 2) * 70) + b"\n"
+            arr = np.frombuffer(data, dtype=np.uint8)
+            for sep in (b";", b"\t"):
+                ends, n_sep, n_low = _text._scan_lines(arr, sep[0])
+                lines = data.split(b"\n")[:-1]
+                assert ends.tolist() == [i for i, b in enumerate(data) if b == 10]
+                assert n_sep.tolist() == [ln.count(sep) for ln in lines]
+                assert n_low == sum(b < 32 for b in data)
+    finally:
+        _text._CHUNK = old

@@ -355,30 +355,36 @@ _TYPE_WINDOW = 64
 
 def _scan_lines(arr: np.ndarray, sep_b: int) -> tuple[np.ndarray, np.ndarray, int]:
     """One pass over text ending with ``\\n``, a few megabytes at a time: the position of every ``\\n``,
-    the number of ``sep_b`` bytes on each line, and the number of bytes below 32."""
+    the number of ``sep_b`` bytes on each line, and the number of bytes below 32.
+
+    The separators are counted as bits: each chunk's separator mask is packed into 64-bit words, and a
+    line's count is the difference of the bits set up to its line end and up to the previous one (a
+    running sum per word plus the bits of one partial word), so no sum runs over the bytes themselves."""
     dt = np.int32 if len(arr) < 2**31 - 1 else np.int64
     ends, n_sep = [], []
-    n_low = carry = 0
-    last = -1  # position of the previous \n
+    n_low = 0
+    before = 0  # separators before the current chunk
+    prev = 0  # separators up to the previous line end
     for i in range(0, len(arr), _CHUNK):
         a = arr[i:i + _CHUNK]
         n_low += int(np.count_nonzero(a < 32))
         e = np.flatnonzero(a == 10)
-        hit = (a == sep_b).view(np.uint8)
-        if not len(e):
-            carry += int(np.count_nonzero(hit))
-            continue
-        seg = np.empty(len(e), dtype=np.int64)  # each line's part in this chunk: [seg[k], e[k]]
-        seg[0] = 0
-        seg[1:] = e[:-1] + 1
-        longest = max(i + int(e[0]) - last, int(np.diff(e).max()) if len(e) > 1 else 0)
-        c = np.add.reduceat(hit[:e[-1] + 1], seg, dtype=np.uint8 if longest < 256 else np.int32)  # < 256 hits
-        c = c.astype(np.int32)
-        c[0] += carry
-        carry = int(np.count_nonzero(hit[e[-1] + 1:]))
-        ends.append((e + i).astype(dt))
-        n_sep.append(c)
-        last = i + int(e[-1])
+        bits = np.packbits(a == sep_b, bitorder="little")
+        words = np.zeros(-(-len(bits) // 8), dtype="<u8")
+        words.view(np.uint8)[:len(bits)] = bits
+        cum = np.zeros(len(words) + 1, dtype=np.int64)
+        np.cumsum(np.bitwise_count(words), out=cum[1:])
+        if len(e):
+            w = e >> 6
+            upto = cum[w] + np.bitwise_count(words[w] & ((np.uint64(1) << (e & 63).astype(np.uint64)) - np.uint64(1)))
+            upto += before  # separators before each line end (the \n itself is not one)
+            c = np.empty(len(e), dtype=np.int32)
+            c[0] = upto[0] - prev
+            c[1:] = np.diff(upto)
+            prev = int(upto[-1])
+            ends.append((e + i).astype(dt))
+            n_sep.append(c)
+        before += int(cum[-1])
     return np.concatenate(ends), np.concatenate(n_sep), n_low
 
 
@@ -620,7 +626,10 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None
-    rows = {names[c - 1]: rec[label == c] for c in present.tolist()}  # file order within each type
+    by_label = rec[np.argsort(label, kind="stable")]  # grouped by type, file order within each (a radix sort)
+    at = np.cumsum(n_label)
+    rows = {names[c - 1]: by_label[at[c - 1]:at[c]] for c in present.tolist()}
+    del by_label
     first_of = {t: int(r[0]) for t, r in rows.items()}
     first_of.update({t.decode(): i for t, i in first_other.items()})
     n_of = {t: len(r) for t, r in rows.items()}
@@ -748,12 +757,12 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     parts = [tl.lines[t] - 1 for t in types]
     n_of = [len(p) for p in parts]
     nt = len(types)
-    turn = _turns(parts) if nt > 1 else None
+    turn, merged = _turns(parts) if nt > 1 else (None, None)
     periodic = turn is not None
     if nt == 1:
         rows, dest, code = parts[0], None, np.zeros(n_of[0], dtype=np.intp)
     elif periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
-        rows, dest = np.column_stack([parts[i] for i in turn]).ravel(), None
+        rows, dest = merged, None
         code = np.tile(np.asarray(turn, dtype=np.intp), n_of[0])
     else:
         code = np.repeat(np.arange(nt), n_of)  # each row's index in ``types``
@@ -819,15 +828,16 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     return out
 
 
-def _turns(parts: list) -> list | None:
+def _turns(parts: list) -> tuple[list | None, np.ndarray | None]:
     """The order in which record types take turns line after line (indices into ``parts``, each an increasing
-    array of line indices), or ``None`` when they do not: each type once per turn, always in the same order."""
+    array of line indices) and their lines in that order, or ``(None, None)`` when they do not: each type once
+    per turn, always in the same order."""
     n = len(parts[0])
     if n == 0 or any(len(p) != n for p in parts):
-        return None
+        return None, None
     turn = sorted(range(len(parts)), key=lambda i: int(parts[i][0]))
     merged = np.column_stack([parts[i] for i in turn]).ravel()
-    return turn if bool(np.all(merged[1:] > merged[:-1])) else None
+    return (turn, merged) if bool(np.all(merged[1:] > merged[:-1])) else (None, None)
 
 
 def _no_bool_words(data: bytes, lo, ln, au_line, sep: bytes, num, ints, vectorised: bool) -> bool:
