@@ -122,3 +122,27 @@ def test_ablation_findings_never_count_a_declared_latency_as_offline():
     text = frw.ablation_findings(t)
     assert "best online kf_gain 0.800" in text and "best offline lsq_map 0.600" in text
     assert "kf_gain_lag5s" not in text
+
+
+@pytest.mark.realdata
+def test_a_saved_floor_model_lets_run_read_only_the_scored_walks(shared_data, floor, tmp_path, monkeypatch):
+    """With the floor model saved (every walk's name and walked-path graph in it), run reads only the walks it
+    scores, and its tables are the same, bit for bit, as the run that read the whole floor and built the model."""
+    from ilocalg.io.paths import dataset_path
+    from ilocalg.track import floor as floor_mod
+
+    shared_data(frw.DATASET)
+    kw = dict(seed=0, data_dir=dataset_path(frw.DATASET), cfg=RealWalkConfig(n_particles=100, grid_cell_m=1.0),
+              names=SHORT, select=False, methods=("wifi", "lsq", "lsq_online", "lsq_paths"), cache_dir=tmp_path)
+    first = frw.run(**kw)                       # the whole floor (read by the fixture); the model built and saved
+    frw._FLOORS.clear()
+    floor_mod._LAST_MODEL.clear()
+    read = []
+    real = frw.load_ilc_floor
+    monkeypatch.setattr(frw, "load_ilc_floor", lambda *a, **k: read.append(k.get("names")) or real(*a, **k))
+    again = frw.run(**kw)
+    assert read == [tuple(sorted(SHORT))]
+    for k in ("waypoints", "per_walk", "summary", "tracks", "truth", "sweep_waypoints"):
+        pd.testing.assert_frame_equal(again[k], first[k], check_exact=True)
+    frw._FLOORS.clear()
+    floor_mod._LAST_MODEL.clear()

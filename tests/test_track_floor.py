@@ -258,7 +258,7 @@ def test_the_last_two_floor_models_are_kept(tmp_path, monkeypatch):
         def save(self, folder):
             return folder
 
-    monkeypatch.setattr(floor_mod, "build_floor_model", lambda walks, cfg, progress=None: Fake())
+    monkeypatch.setattr(floor_mod, "build_floor_model", lambda walks, cfg, steps=None, progress=None: Fake())
     files = []
     for name in "abc":
         f = tmp_path / f"{name}.txt"
@@ -272,4 +272,27 @@ def test_the_last_two_floor_models_are_kept(tmp_path, monkeypatch):
     assert floor_mod.cached_floor_model([files[0]], lambda: 1 / 0, tmp_path / "cache")[0] is a
     c, cached = floor_mod.cached_floor_model([files[1]], list, tmp_path / "cache")
     assert c is not b and not cached                                         # rebuilt (a fake has no files)
+    floor_mod._LAST_MODEL.clear()
+
+
+def test_the_floor_model_keeps_its_walks_and_their_walked_path_graph(recs, model, tmp_path):
+    """A scorer of some of a floor's walks reads only those: the model holds every walk's name (in the order
+    given) and the walked-path graph of their waypoints, the same segments as the graph of the walks themselves in
+    the database's frame, read back bit-identical; ``build=False`` only looks."""
+    from ilocalg.track.paths import WalkedPaths
+
+    assert model.names == tuple(r.name for r in recs[1:])
+    want = WalkedPaths.from_recordings(recs[1:], model.db.frame)
+    back = type(model).load(model.save(tmp_path / "m"))
+    for got in (model.walk_paths, back.walk_paths):
+        np.testing.assert_array_equal(got.a_m, want.a_m)
+        np.testing.assert_array_equal(got.b_m, want.b_m)
+        assert list(got.walk) == list(want.walk) and got.walk.dtype == object
+    assert back.names == model.names
+    d = {r.name: r for r in recs[1:4]}
+    assert floor_mod.build_floor_model(d).names == tuple(d)
+    floor_mod._LAST_MODEL.clear()
+    files = [tmp_path / "walks.txt"]
+    files[0].write_text("x")
+    assert floor_mod.cached_floor_model(files, lambda: 1 / 0, tmp_path / "cache", build=False) == (None, False)
     floor_mod._LAST_MODEL.clear()

@@ -125,6 +125,51 @@ def test_gain_stats_recovers_a_known_gain_spread():
         gain_stats(pd.DataFrame(rows[:8]), cal)
 
 
+def _gain_stats_by_groupby(intervals, calibration, min_intervals=4):
+    """gain_stats as it was written before its per-walk loop read numpy arrays: a pandas groupby (reference)."""
+    from ilocalg.track.motion import _walk_gain
+
+    iv = intervals[intervals["n"] > 0]
+    G = calibration.k_weinberg * np.exp(1j * calibration.offset_rad)
+    dev, walk_var, res2, nsum = [], [], 0.0, 0
+    for _, w in iv.groupby("walk", sort=False):
+        if len(w) < min_intervals:
+            continue
+        pred = G * (w["s_re"].to_numpy(dtype=float) + 1j * w["s_im"].to_numpy(dtype=float))
+        true = w["dx_m"].to_numpy(dtype=float) + 1j * w["dy_m"].to_numpy(dtype=float)
+        n = w["n"].to_numpy(dtype=np.int64)
+        g, e, v = _walk_gain(pred, true)
+        if not (np.isfinite(g) and np.isfinite(v)):
+            continue
+        dev.append(abs(g - 1.0) ** 2 / 2.0 - v)
+        res2 += float((np.abs(e) ** 2).sum())
+        nsum += int(n.sum())
+        h = len(w) // 2
+        g1, _, v1 = _walk_gain(pred[:h], true[:h])
+        g2, _, v2 = _walk_gain(pred[h:], true[h:])
+        m = 0.5 * (n[:h].sum() + n[h:].sum())
+        if np.isfinite(g1) and np.isfinite(g2) and np.isfinite(v1) and np.isfinite(v2) and m > 0:
+            walk_var.append((abs(g1 - g2) ** 2 / 2.0 - v1 - v2) / m)
+    return GainStats(max(float(np.mean(dev)), 0.0), max(float(np.mean(walk_var)), 0.0) if walk_var else 0.0,
+                     res2 / (2.0 * nsum), len(dev))
+
+
+def test_gain_stats_equals_the_groupby_reference_bit_for_bit():
+    # walks interleaved, some too short, intervals without steps, a row without a walk name, a zero interval
+    rng = np.random.default_rng(3)
+    n = 400
+    iv = pd.DataFrame({"walk": rng.choice([f"w{i}" for i in range(30)], n).astype(object),
+                       "s_re": rng.normal(0, 3, n), "s_im": rng.normal(0, 3, n), "dx_m": rng.normal(0, 3, n),
+                       "dy_m": rng.normal(0, 3, n), "n": rng.integers(0, 9, n)})
+    iv.loc[5, "walk"] = None
+    iv.loc[7, ["s_re", "s_im"]] = 0.0
+    cal = Calibration(0.93, 0.21, pd.DataFrame())
+    for k in (2, 4, 12):
+        a, b = gain_stats(iv, cal, min_intervals=k), _gain_stats_by_groupby(iv, cal, min_intervals=k)
+        assert [np.float64(x).tobytes() for x in dataclasses.astuple(a)] == \
+            [np.float64(x).tobytes() for x in dataclasses.astuple(b)]
+
+
 def test_kf_gain_needs_the_gain_spread():
     p, _, _ = _walk(0, n=20)
     with pytest.raises(ValueError, match="gain"):

@@ -16,7 +16,6 @@ Chiu (2013) and Luo et al. (2017) for the fusion, as cited in :mod:`ilocalg.trac
 from __future__ import annotations
 
 import dataclasses
-import functools
 from pathlib import Path
 
 import numpy as np
@@ -58,13 +57,14 @@ FLOOR_CACHE = Path.home() / ".cache" / "ilocalg" / "floors"
 PLAIN_WKNN = {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 2.0, "metric": "minkowski"}
 
 
-def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep"):
+def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep", names=None):
     """A floor (traces and map) from ``data_dir`` (None: the toolkit's data folder). ``dataset`` is a data
     set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive
     (``"ilc2020_site1/site1_F1"``); ``relisted_wifi``: the loader's re-listing policy
-    (:func:`ilocalg.io.scans.relisted_readings`).
+    (:func:`ilocalg.io.scans.relisted_readings`); ``names``: only these walks (None: every walk), or the whole
+    floor when it is already read.
 
-    Read once per process for the same files (their paths, sizes and modification times) and policy: a
+    Read once per process for the same files (their paths, sizes and modification times), policy and walks: a
     notebook's own run and its leave-one-walk-out share one reading (a site 1 floor takes about 10 CPU-s).
     The floor returned is shared, so treat it as read-only (the experiment only reads it).
     """
@@ -74,14 +74,25 @@ def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep
         p = p / folder
     files = floor_files(data_dir, dataset)
     stamp = tuple((str(f.resolve()), f.stat().st_size, f.stat().st_mtime_ns) for f in files if f.exists())
-    return _load_floor_once(str(p), floor_name or None, relisted_wifi, stamp)
+    key = (str(p), floor_name or None, relisted_wifi, stamp)
+    if names is not None:
+        names = tuple(sorted(set(names)))
+        if (*key, None) in _FLOORS:
+            names = None                                # the whole floor is read already: it holds them
+    key = (*key, names)
+    fl = _FLOORS.pop(key, None)
+    if fl is None:
+        fl = load_ilc_floor(Path(key[0]), names=names, duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi,
+                            floor_name=key[1])
+        while len(_FLOORS) >= 2:
+            _FLOORS.pop(next(iter(_FLOORS)))
+    _FLOORS[key] = fl                                   # the most recently used, kept longest
+    return fl
 
 
-@functools.lru_cache(maxsize=2)
-def _load_floor_once(root: str, floor_name: str | None, relisted_wifi: str, stamp: tuple):
-    del stamp  # part of the cache key only: changed files are read again
-    return load_ilc_floor(Path(root), duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi,
-                          floor_name=floor_name)
+#: The floors :func:`load_floor` read last in this process ((folder, floor, policy, file stamps, walks or None) ->
+#: floor), least recently used first; two, as a notebook's floor and the other floor of its leave-one-walk-out.
+_FLOORS: dict = {}
 
 
 def run_config(fast: bool = False) -> RealWalkConfig:
@@ -91,14 +102,17 @@ def run_config(fast: bool = False) -> RealWalkConfig:
 
 
 def floor_model(data_dir=None, dataset: str = DATASET, fast: bool = False, relisted_wifi: str = "keep",
-                cfg: RealWalkConfig | None = None, cache_dir=None):
+                cfg: RealWalkConfig | None = None, cache_dir=None, steps: dict | None = None, build: bool = True):
     """The floor model :func:`run` scores the floor's walks with (:func:`ilocalg.track.cached_floor_model`: built
     once and saved in ``cache_dir``, default :data:`FLOOR_CACHE`; the last ones kept in this process), for ``cfg``
     (default :func:`run_config` of ``fast``). Its ``db`` is the floor's fingerprint database, e.g. for
-    :func:`wifi_ablation`."""
+    :func:`wifi_ablation`. ``steps``: the walks' steps with ``cfg`` already computed (name ->
+    :func:`ilocalg.track.walk_steps`), not computed again when the model is built. ``build=False``: None when the
+    model is not saved yet."""
     return cached_floor_model(floor_files(data_dir, dataset),
                               lambda: load_floor(data_dir, dataset, relisted_wifi).traces, cache_dir or FLOOR_CACHE,
-                              cfg or run_config(fast), dataset=dataset, relisted_wifi=relisted_wifi)[0]
+                              cfg or run_config(fast), steps=steps, build=build, dataset=dataset,
+                              relisted_wifi=relisted_wifi)[0]
 
 
 def run(seed: int = 0, fast: bool = False, data_dir=None, floor=None, cfg: RealWalkConfig | None = None,
@@ -153,18 +167,29 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     if not (n_shards >= 1 and 0 <= shard < n_shards and names_every >= 1):
         raise ValueError(f"shard must lie in [0, n_shards), n_shards >= 1; got shard={shard}, n_shards={n_shards}, "
                          f"names_every={names_every}")
-    fl = floor or load_floor(data_dir, dataset, relisted_wifi)
-    all_names = fl.names
+    fl, model = floor, None
+    if floor is None:       # a saved model knows every walk and their walked-path graph: read the scored walks only
+        model = floor_model(data_dir, dataset, relisted_wifi=relisted_wifi, cfg=cfg, cache_dir=cache_dir,
+                            build=False)
+        if model is not None and (model.names is None or model.walk_paths is None):
+            model = None
+    if model is None:
+        fl = fl or load_floor(data_dir, dataset, relisted_wifi)
+    all_names = fl.names if model is None else list(model.names)
     scored = list(names) if names is not None else (all_names[::5] if fast else all_names)
     scored = scored[::names_every][shard::n_shards]
     if not scored:
         raise ValueError(f"{dataset}: shard {shard} of {n_shards} scores no walk (names_every={names_every}, "
                          f"{len(all_names)} walks on the floor{', every 5th in fast mode' if fast else ''}); "
                          f"use fewer shards")
+    if fl is None:
+        fl = load_floor(data_dir, dataset, relisted_wifi, names=scored)
     grid = OccupancyGrid.from_floor_map(fl.floor_map, cfg.grid_cell_m)
     steps = {n: walk_steps(fl.traces[n], cfg) for n in scored}
     if floor is None:
-        model = floor_model(data_dir, dataset, relisted_wifi=relisted_wifi, cfg=cfg, cache_dir=cache_dir)
+        if model is None:   # built now (first use): it takes the scored walks' steps instead of computing them again
+            model = floor_model(data_dir, dataset, relisted_wifi=relisted_wifi, cfg=cfg, cache_dir=cache_dir,
+                                steps=steps)
     else:
         model = build_floor_model(fl.traces, cfg, steps=steps, select=False)     # in memory only: no floor-level choice
     if select:       # every scored walk's nested choice at once (one distance matrix per candidate), kept
@@ -173,8 +198,11 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
         model.loo_fixes(scored, cfg, select=select)     # their nested fix-variance data at once, kept
     plain = dataclasses.replace(cfg, **PLAIN_WKNN)
     # the walked-path graph of the floor's waypoints, built once; each scored walk's graph leaves it out
-    paths = (WalkedPaths.from_recordings(fl.traces, model.db.frame) if any(m in PATH_METHODS for m in methods)
-             else None)
+    # (kept with the floor model: the same segments, and the walks not scored need not be read)
+    paths = None
+    if any(m in PATH_METHODS for m in methods):
+        paths = model.walk_paths if model.walk_paths is not None else WalkedPaths.from_recordings(fl.traces,
+                                                                                                   model.db.frame)
     acc = {v: ([], [], {}) for v in variants}
     for name in scored:
         wm = model.for_walk(name, cfg, select=select)      # the fix-model fields do not enter it

@@ -100,6 +100,13 @@ class FloorModel:
     #: :meth:`~ilocalg.track.paths.WalkedPaths.from_database`): what a walk from outside the floor weights the
     #: graph with, made at build; None: fewer than two walks.
     paths_var_m2: float | None = None
+    #: The floor's walks in the order they were given to :func:`build_floor_model` (a loaded floor's
+    #: :attr:`~ilocalg.io.ilc.IlcFloor.names`), every walk, also those without a database row; None: not stored.
+    names: tuple | None = None
+    #: The walked-path graph of every walk's waypoints in :attr:`db`'s frame
+    #: (:meth:`~ilocalg.track.paths.WalkedPaths.from_recordings`), made at build, so that scoring some of the
+    #: floor's walks needs only those walks' files (``paths.npz``); None: not stored.
+    walk_paths: WalkedPaths | None = None
     _selected: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
     _loo: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
@@ -202,8 +209,8 @@ class FloorModel:
 
     def save(self, folder) -> Path:
         """Write ``database.npz``, ``per_walk.csv``, ``intervals.csv``, ``loo_fixes.npz`` (when
-        :attr:`floor_loo_fixes` is made) and ``selection.json`` (last: the model is complete when it is there)
-        into ``folder``."""
+        :attr:`floor_loo_fixes` is made), ``paths.npz`` (when :attr:`walk_paths` is made) and ``selection.json``
+        (last: the model is complete when it is there) into ``folder``."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         self.db.save(folder / "database.npz")
@@ -214,10 +221,16 @@ class FloorModel:
             with open(folder / "loo_fixes.npz", "wb") as f:
                 np.savez(f, err=np.asarray(fl["err"], dtype=np.float64),
                          features=np.asarray(fl["features"], dtype=np.float64))
+        wp = self.walk_paths
+        if wp is not None:
+            with open(folder / "paths.npz", "wb") as f:
+                np.savez(f, a_m=np.asarray(wp.a_m, dtype=np.float64), b_m=np.asarray(wp.b_m, dtype=np.float64),
+                         walk=np.asarray(wp.walk, dtype=str))
         tmp = folder / "selection.json.tmp"
         tmp.write_text(json.dumps({"version": FLOOR_MODEL_VERSION, "selection": self.selection,
                                    "loo_fixes_key": None if fl is None else fl["key"],
-                                   "paths_var_m2": self.paths_var_m2}))
+                                   "paths_var_m2": self.paths_var_m2,
+                                   "names": None if self.names is None else list(self.names)}))
         os.replace(tmp, folder / "selection.json")      # JSON floats are repr: read back bit-identical
         return folder
 
@@ -251,14 +264,27 @@ class FloorModel:
         if pvar is not None and not (isinstance(pvar, (int, float)) and math.isfinite(pvar) and pvar > 0):
             raise ValueError(f"{folder / 'selection.json'}: paths_var_m2 must be a positive number or null, got "
                              f"{pvar!r}")
-        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl, pvar)
+        wp = None
+        if (folder / "paths.npz").is_file():
+            try:
+                with np.load(folder / "paths.npz", allow_pickle=False) as z:
+                    wp = WalkedPaths(z["a_m"], z["b_m"], z["walk"].astype(object))
+            except (OSError, ValueError, KeyError) as e:
+                raise ValueError(f"{folder / 'paths.npz'}: not a floor model's walked-path graph "
+                                 f"({type(e).__name__}: {e})") from None
+        names = meta.get("names")
+        if names is not None and not (isinstance(names, list) and all(isinstance(n, str) for n in names)):
+            raise ValueError(f"{folder / 'selection.json'}: names must be a list of walk names or null")
+        return cls(WifiDatabase.load(folder / "database.npz"), pw, iv, meta["selection"], fl, pvar,
+                   None if names is None else tuple(names), wp)
 
 
 #: Version of a saved floor model (1: database, calibration rows, step intervals; 2: + the floor-level Wi-Fi
 #: selection, ``selection.json``; 3: + the leave-one-walk-out fixes of that selection, ``loo_fixes.npz``; 4: + the
-#: spread of the walked-path graph, :attr:`FloorModel.paths_var_m2`). Part of :func:`cached_floor_model`'s key,
-#: so an older cache is never read.
-FLOOR_MODEL_VERSION = 4
+#: spread of the walked-path graph, :attr:`FloorModel.paths_var_m2`; 5: + the walks' names and the walked-path graph
+#: of their waypoints, :attr:`FloorModel.names`, :attr:`FloorModel.walk_paths`). Part of :func:`cached_floor_model`'s
+#: key, so an older cache is never read.
+FLOOR_MODEL_VERSION = 5
 
 
 def selection_key(cfg: RealWalkConfig = DEFAULT_CONFIG, candidates=None) -> list:
@@ -292,9 +318,12 @@ def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict |
     """
     items = list(walks.values() if isinstance(walks, dict) else walks)
     recs = [as_recording(w) for w in items]
+    names = tuple(walks) if isinstance(walks, dict) else tuple(r.name for r in recs)
     if not recs:
         raise ValueError("build_floor_model: no walks given")
     frame = common_frame(recs)
+    # the graph of every walk's waypoints, as a scorer of the loaded walks makes it (walks given, the database's frame)
+    wpaths = WalkedPaths.from_recordings(walks, frame)
     recs = [r.in_frame(frame) for r in recs]
     st = dict(steps or {})
     for i, r in enumerate(recs):
@@ -307,7 +336,7 @@ def build_floor_model(walks, cfg: RealWalkConfig = DEFAULT_CONFIG, steps: dict |
     iv = pd.concat([step_intervals(r, st[r.name]) for r in recs], ignore_index=True)
     sel = floor_selection(db, cfg) if select else None
     pvar = WalkedPaths.from_database(db).spread_var_m2() if len(set(db.walk)) >= 2 else None
-    return FloorModel(db, pw, iv, sel, floor_loo_fixes(db, sel, cfg), pvar)
+    return FloorModel(db, pw, iv, sel, floor_loo_fixes(db, sel, cfg), pvar, names, wpaths)
 
 
 def floor_loo_fixes(db: WifiDatabase, selection: dict | None, cfg: RealWalkConfig = DEFAULT_CONFIG) -> dict | None:
@@ -344,11 +373,14 @@ def _model_cfg(cfg: RealWalkConfig) -> dict:
 
 
 def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAULT_CONFIG, progress=None,
-                       **settings) -> tuple[FloorModel, bool]:
+                       steps: dict | None = None, build: bool = True, **settings) -> tuple[FloorModel | None, bool]:
     """The floor model of the walks in ``files`` from ``cache_dir`` or, the first time, built and saved.
 
     ``load_walks()`` returns the walks (called only when building); ``settings`` (e.g. the loader
-    policies) join the files and ``cfg`` in the cache key. Returns ``(model, from_cache)``.
+    policies) join the files and ``cfg`` in the cache key. ``steps``: :func:`ilocalg.track.motion.walk_steps` of
+    some of the walks with ``cfg`` when already computed (name -> steps; :func:`build_floor_model` computes the
+    others). ``build=False``: only look (``(None, False)`` when the model is neither kept nor saved). Returns
+    ``(model, from_cache)``.
 
     The last :data:`KEPT_MODELS` models returned are kept in this process: asked again with the same key (e.g. a
     notebook's run, its leave-one-walk-out and each configuration of an ablation), the same object comes back, with
@@ -367,7 +399,9 @@ def cached_floor_model(files, load_walks, cache_dir, cfg: RealWalkConfig = DEFAU
         except ValueError:
             pass                                    # a stale or partial cache entry: rebuild it
     if model is None:
-        model = build_floor_model(load_walks(), cfg, progress=progress)
+        if not build:
+            return None, False
+        model = build_floor_model(load_walks(), cfg, steps=steps, progress=progress)
         model.save(folder)
     while len(_LAST_MODEL) >= KEPT_MODELS:          # a site 1 floor is about 60 MB in memory
         _LAST_MODEL.pop(next(iter(_LAST_MODEL)))

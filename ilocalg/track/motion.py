@@ -239,22 +239,31 @@ def gain_stats(intervals: pd.DataFrame, calibration: Calibration, min_intervals:
     Umeyama S., IEEE PAMI 13(4) (1991) (the similarity fit, here in complex form); the variance of a
     least-squares coefficient, e.g. Seber & Lee, Linear Regression Analysis, Wiley (2003), sec. 3.
     """
-    iv = intervals[intervals["n"] > 0]
+    n_all = intervals["n"].to_numpy()
+    use = np.flatnonzero(n_all > 0)
     G = calibration.k_weinberg * np.exp(1j * calibration.offset_rad)
     dev, walk_var, res2, nsum = [], [], 0.0, 0
-    for _, w in iv.groupby("walk", sort=False):
-        if len(w) < min_intervals:
+    # the columns read once; each walk's rows (groupby(sort=False)'s groups: walks in order of first row, rows in
+    # table order) taken from them: the same arrays as the walk's own columns, so the same numbers
+    cols = {c: intervals[c].to_numpy(dtype=float)[use] for c in ("s_re", "s_im", "dx_m", "dy_m")}
+    n_use = n_all[use].astype(np.int64)
+    codes, _ = pd.factorize(intervals["walk"].to_numpy()[use])      # a missing name: -1, no group (as groupby)
+    order = np.argsort(codes, kind="stable")
+    order = order[codes[order] >= 0]
+    bounds = np.flatnonzero(np.diff(codes[order])) + 1
+    for rows in np.split(order, bounds) if use.size else []:
+        if rows.size < min_intervals:
             continue
-        pred = G * (w["s_re"].to_numpy(dtype=float) + 1j * w["s_im"].to_numpy(dtype=float))
-        true = w["dx_m"].to_numpy(dtype=float) + 1j * w["dy_m"].to_numpy(dtype=float)
-        n = w["n"].to_numpy(dtype=np.int64)
+        pred = G * (cols["s_re"][rows] + 1j * cols["s_im"][rows])
+        true = cols["dx_m"][rows] + 1j * cols["dy_m"][rows]
+        n = n_use[rows]
         g, e, v = _walk_gain(pred, true)
         if not (np.isfinite(g) and np.isfinite(v)):
             continue
         dev.append(abs(g - 1.0) ** 2 / 2.0 - v)
         res2 += float((np.abs(e) ** 2).sum())
         nsum += int(n.sum())
-        h = len(w) // 2
+        h = rows.size // 2
         g1, _, v1 = _walk_gain(pred[:h], true[:h])
         g2, _, v2 = _walk_gain(pred[h:], true[h:])
         m = 0.5 * (n[:h].sum() + n[h:].sum())
