@@ -67,3 +67,35 @@ def test_run_methods_many_gives_each_walk_the_bits_of_run_methods():
         for m in METHODS:
             assert all(np.array_equal(a, b) for a, b in zip(sol[m], ref[m], strict=True)), m
         assert same_run(r_ref, r) and np.array_equal(r.P_plus, r_ref.P_plus)
+
+
+def test_smoothing_with_shared_gains_has_the_bits_of_a_fresh_smoothing():
+    from ilocalg.ins.chain import run_methods, run_methods_many, smooth_gcp
+    from ilocalg.ins.smoother import eskf_rts_smooth, rts_gains, rts_gains_shared
+    from ilocalg.sim import ins_walk
+
+    walks = [ins_walk.simulate("samsung", "samsung_s5", seed=3)]
+    (sol, r), = run_methods_many(walks, smooth=False)
+    (sol_s, _), = run_methods_many(walks)
+    assert list(sol) == list(METHODS[:3])
+    G = smooth_gcp(sol, r)
+    assert list(sol) == list(METHODS) and np.array_equal(G, rts_gains(r))
+    assert all(np.array_equal(a, b) for a, b in zip(sol[METHODS[3]], sol_s[METHODS[3]], strict=True))
+    # another stair handling resumes from the default filter: the shared beginning's gains are reused
+    ref, _ = run_methods(walks[0], "truth", "drop")
+    got, r_got = run_methods(walks[0], "truth", "drop", nhc=sol[METHODS[0]], prefix=(r,), gains_of=(r, G))
+    for m in METHODS:
+        assert all(np.array_equal(a, b) for a, b in zip(got[m], ref[m], strict=True)), m
+    fresh = rts_gains(r_got)
+    shared = rts_gains_shared(r_got, r, G)
+    assert np.array_equal(shared, fresh)
+    same = int(np.argmin((r_got.P_plus == r.P_plus).reshape(len(G), -1).all(axis=1)))
+    assert 100 < same < len(G) - 100  # a real shared beginning, and a real difference after it
+    # a run sharing nothing (another walk) and the run itself
+    other = run_methods(ins_walk.simulate("samsung", "samsung_s5", seed=4))[1]
+    assert np.array_equal(rts_gains_shared(other, r, G), rts_gains(other))
+    assert np.array_equal(rts_gains_shared(r, r, G), G)
+    sm = eskf_rts_smooth(r_got, with_cov=False, gains=shared)
+    assert np.array_equal(sm.pos_n_m, got[METHODS[3]][0])
+    with pytest.raises(ValueError, match="ref_gains"):
+        rts_gains_shared(r_got, r, G[:-1])

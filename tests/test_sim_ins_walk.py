@@ -67,6 +67,23 @@ def test_gauss_markov_stationary_sd_and_correlation():
     assert r == pytest.approx(np.exp(-1.0), abs=0.05)
 
 
+def test_gauss_markov_has_the_bits_of_the_recursion_on_rows():
+    rng = np.random.default_rng(5)
+    t = np.cumsum(rng.uniform(0.01, 0.1, 500))
+    got = ins_walk.gauss_markov(np.random.default_rng(2), t, 0.3, 50.0, 3)
+    g = np.random.default_rng(2)  # the same draws, the recursion one numpy row at a time
+    a = np.exp(-np.diff(t) / 50.0)
+    w = g.normal(0.0, 1.0, (t.size, 3))
+    w[0] *= 0.3
+    w[1:] *= (0.3 * np.sqrt(1.0 - a * a))[:, None]
+    ref = np.empty_like(w)
+    ref[0] = w[0]
+    for k in range(1, t.size):
+        ref[k] = a[k - 1] * ref[k - 1] + w[k]
+    assert got.shape == (500, 3) and got.flags.c_contiguous and np.array_equal(got, ref)
+    assert ins_walk.gauss_markov(np.random.default_rng(2), t[:1], 0.3, 50.0, 2).shape == (1, 2)
+
+
 def test_route_climbs_to_second_floor_and_returns(walk):
     z = walk.pos_true_n_m[:, 2]
     assert z.max() == pytest.approx(4.0, abs=0.1)
@@ -194,6 +211,32 @@ def test_rssi_control_points_fire_near_the_beacon_once_per_passage():
     trig = ins_walk._rssi_triggers(np.array([0.0, 100.0]), np.array([[-50.0, 0.0, 0.0], [50.0, 0.0, 0.0]]),
                                    np.array([0.0, 0.0, 0.0]), 0.0, 0.0, np.random.default_rng(0))
     assert len(trig) == 1 and 49.0 < trig[0] < 52.0
+    # with scatter: the cycles' mean RSSI as the boolean-mask mean of each cycle's packets (the reference)
+    t = np.linspace(0.0, 200.0, 4001)
+    pos = np.c_[3.0 * np.sin(t / 10.0), np.zeros_like(t), np.zeros_like(t)]
+    for sd in (3.0, 8.0):
+        trig = ins_walk._rssi_triggers(t, pos, np.array([0.0, 0.3, 0.0]), 20.0, sd, np.random.default_rng(7))
+        g = np.random.default_rng(7)
+        n_adv = int(200.0 / ins_walk.BLE_ADV_INTERVAL_S)
+        t_adv = np.cumsum(np.full(n_adv, ins_walk.BLE_ADV_INTERVAL_S) + g.uniform(0, ins_walk.BLE_ADV_DELAY_MAX_S,
+                                                                                  n_adv))
+        noise = g.normal(0.0, sd, n_adv)
+        phase = g.uniform(0.0, ins_walk.BLE_RANGING_CYCLE_S)
+        keep = (t_adv >= 20.0) & (t_adv <= 200.0)
+        t_adv, noise = t_adv[keep], noise[keep]
+        p = np.column_stack([np.interp(t_adv, t, pos[:, j]) for j in range(3)])
+        d = np.maximum(np.linalg.norm(p - np.array([0.0, 0.3, 0.0]), axis=1), 0.1)
+        rssi = ins_walk.BLE_RSSI_1M_DBM - 10 * ins_walk.BLE_PATH_LOSS_EXP * np.log10(d) + noise
+        thr = ins_walk.BLE_RSSI_1M_DBM - 10 * ins_walk.BLE_PATH_LOSS_EXP * np.log10(ins_walk.BLE_IMMEDIATE_M)
+        cyc = np.floor((t_adv - phase) / ins_walk.BLE_RANGING_CYCLE_S).astype(np.int64)
+        ref, armed, last = [], True, None
+        for c in np.unique(cyc):
+            armed = armed or (last is not None and c != last + 1)
+            hit = rssi[cyc == c].mean() >= thr
+            if hit and armed:
+                ref.append(phase + (c + 1) * ins_walk.BLE_RANGING_CYCLE_S)
+            armed, last = not hit, c
+        assert len(ref) >= 2 and trig == ref
     with pytest.raises(ValueError, match="gcp_mode"):
         ins_walk.simulate("samsung", "samsung_s5", seed=0, gcp_mode="gate")
 

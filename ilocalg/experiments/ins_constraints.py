@@ -14,11 +14,20 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.ins import error_stats, eskf_rts_smooth, heading_error_with_lag_deg
-from ilocalg.ins.chain import METHODS, indoor_errors, run_methods, run_methods_many, stats_rows, trajectory_frame
+from ilocalg.ins.chain import (
+    METHODS,
+    indoor_errors,
+    run_methods,
+    run_methods_many,
+    smooth_gcp,
+    stats_rows,
+    trajectory_frame,
+)
 from ilocalg.ins.eskf import run_eskf, run_eskf_batch, same_run
 from ilocalg.ins.evaluate import AXES
 from ilocalg.ins.paper_values import paper_value, side_by_side
 from ilocalg.ins.pipeline import run_walks, stair_mask, walk_filter_args
+from ilocalg.ins.smoother import rts_gains_shared
 from ilocalg.papers.comparison_liao import constraints_rows
 from ilocalg.papers.readings_liao import (
     BIAS_INSTABILITY_FACTORS,
@@ -187,24 +196,26 @@ def _gcp_filter_args(w, rgcp, stairs, stair_action) -> dict:
     return {**walk_filter_args(w, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action), "prefix": (rgcp,)}
 
 
-def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action, r=None):
+def _filter_and_smoothing(w, walk, sol, rgcp, stairs, stair_action, r=None, gains=None):
     """``((METHODS[2], (pos, mat)), (METHODS[3], (pos, mat)))`` of Filtering + WVC/ZUPT + GCP and its smoothing
     on the walk ``w``: those of the default run (``sol``, ``rgcp``) when ``w`` is its walk ``walk``. ``r``: the
-    filter result on ``w`` when already run (:func:`_gcp_filter_args`)."""
+    filter result on ``w`` when already run (:func:`_gcp_filter_args`); ``gains``: the smoother gains of ``rgcp``,
+    reused where ``r`` has its covariances (:func:`ilocalg.ins.smoother.rts_gains_shared`, the same numbers)."""
     if w is walk:
         return (METHODS[2], (rgcp.pos_n_m, rgcp.mat_nb)), (METHODS[3], sol[METHODS[3]])
     if r is None:
         r = run_eskf(**_gcp_filter_args(w, rgcp, stairs, stair_action))
     if same_run(rgcp, r):  # the same fixes as the default walk's (e.g. little RSSI scatter): the same smoothing
         return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], sol[METHODS[3]])
-    sm = eskf_rts_smooth(r, with_cov=False)
+    sm = eskf_rts_smooth(r, with_cov=False, gains=None if gains is None else rts_gains_shared(r, rgcp, gains))
     return (METHODS[2], (r.pos_n_m, r.mat_nb)), (METHODS[3], (sm.pos_n_m, sm.mat_nb))
 
 
 def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_action, sim_kw, fast,
-               reference_grade):
+               reference_grade, gains=None):
     """One seed's rows of the side studies (stair handling, control-point grade, sensor timing, reference
-    IMUs) on the walk ``walk`` of the default run (``sol``: its four methods, ``rgcp``: its GCP filter result):
+    IMUs) on the walk ``walk`` of the default run (``sol``: its four methods, ``rgcp``: its GCP filter result,
+    ``gains``: that filter's smoother gains, reused by the smoothings of filters that share its beginning):
     ``(stair_rows, grade, sens_rows, refg)``. Every other walk is simulated here from the same seed ``s``."""
     stair_rows, grade, sens_rows, refg = [], [], [], []
 
@@ -213,7 +224,8 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
 
     for label, opt, action in STAIR_VARIANTS:
         same = handling(opt, action) == handling(stairs, stair_action)
-        sol_o = sol if same else run_methods(walk, opt, action, nhc=sol[METHODS[0]], prefix=(rgcp,))[0]
+        sol_o = sol if same else run_methods(walk, opt, action, nhc=sol[METHODS[0]], prefix=(rgcp,),
+                                             gains_of=None if gains is None else (rgcp, gains))[0]
         for method, (pos, mat) in sol_o.items():
             st = error_stats(indoor_errors(walk, pos, mat, ind))
             stair_rows += [{"phone": phone, "stairs": label, "method": method, "seed": s, "stat": k,
@@ -242,7 +254,7 @@ def _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs, stair_act
     done = {id(w2): r for w2, r in zip(other, filters, strict=False)}
     for gname, w2 in gcp_variants:
         for method, (pos2, mat2) in _filter_and_smoothing(w2, walk, sol, rgcp, stairs, stair_action,
-                                                          done.get(id(w2))):
+                                                          done.get(id(w2)), gains):
             err = indoor_errors(walk, pos2, mat2, ind)
             k_fix = np.minimum(np.searchsorted(w2.t_s, w2.gcp_t_s), w2.t_s.size - 1)
             fix_err = np.linalg.norm(w2.pos_true_n_m[k_fix, :2] - w2.gcp_pos_n_m[:, :2], axis=1)
@@ -343,7 +355,11 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
         seeds = range(seed * n_seeds, (seed + 1) * n_seeds)
         walks = [ins_walk.simulate(route, profile, seed=s, truth_cache=cache, **sim_kw) for s in seeds]
         # every seed's four methods, each filter advanced together with the other seeds' (the same numbers)
-        for s, walk, (sol, rgcp) in zip(seeds, walks, run_methods_many(walks, stairs, stair_action), strict=True):
+        for s, walk, (sol, rgcp) in zip(seeds, walks, run_methods_many(walks, stairs, stair_action,
+                                                                         smooth=not side_studies), strict=True):
+            # with the side studies, each seed's smoothing here: its gains serve the side studies' smoothings
+            # (rts_gains_shared), one seed's at a time
+            gains = smooth_gcp(sol, rgcp) if side_studies else None
             if at_default and s < seed * n_seeds + n_sens:
                 # its solution only: the filter's covariance histories (shared by the seeds' batch) are not kept
                 reuse[(phone, s)] = (walk, SimpleNamespace(pos_n_m=rgcp.pos_n_m, mat_nb=rgcp.mat_nb))
@@ -355,7 +371,7 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
                 for acc, part in zip((stair_rows, grade, sens_rows, refg),
                                      _side_rows(phone, route, profile, s, walk, sol, rgcp, ind, stairs,
                                                 stair_action, {**sim_kw, "truth_cache": cache}, fast,
-                                                reference_grade), strict=True):
+                                                reference_grade, gains), strict=True):
                     acc += part
             for method in METHODS[2:]:
                 pos, mat = sol[method]
@@ -368,6 +384,8 @@ def run(seed: int = 0, fast: bool = False, n_seeds: int | None = None, time_lags
             stats.append({"phone": phone, "seed": s, **ins_walk.walk_summary(walk)})
             if s == seed * n_seeds:
                 traj.append(trajectory_frame(phone, walk, sol, ind))
+        # the last seed's filter is a view into its batch's covariance histories: not kept past its phone
+        del rgcp, gains
     per_seed = pd.DataFrame(rows)
     errors = (per_seed.groupby(["phone", "method", "stat"], sort=False)[list(AXES)].mean().reset_index())
     errors.insert(3, "n_seeds", n_seeds)

@@ -105,6 +105,7 @@ from ilocalg.ins.smoother import (
     eskf_rts_smooth_grids,
     online_window_smooth,
     rts_gains,
+    rts_gains_shared,
     window_ends,
 )
 
@@ -169,6 +170,7 @@ __all__ = [
     "process_noise_diag",
     "rotvec_to_dcm",
     "rts_gains",
+    "rts_gains_shared",
     "eskf_rts_smooth",
     "eskf_rts_smooth_grids",
     "run_eskf",

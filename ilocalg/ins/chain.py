@@ -23,9 +23,9 @@ from ilocalg.ins.eskf import run_eskf_batch
 from ilocalg.ins.evaluate import error_stats, nav_errors
 from ilocalg.ins.mechanisation import dcm_to_euler
 from ilocalg.ins.pipeline import run_walk, run_walks, walk_filter_args
-from ilocalg.ins.smoother import eskf_rts_smooth
+from ilocalg.ins.smoother import eskf_rts_smooth, rts_gains, rts_gains_shared
 
-__all__ = ["METHODS", "run_methods", "run_methods_many", "indoor_errors", "stats_rows", "gcp_fix_delay_s",
+__all__ = ["METHODS", "run_methods", "run_methods_many", "smooth_gcp", "indoor_errors", "stats_rows", "gcp_fix_delay_s",
            "trajectory_frame"]
 
 #: The four methods of Tables 4-7, in the order of the chain.
@@ -33,13 +33,15 @@ METHODS = ("Filtering + NHC/ZUPT", "Filtering + WVC/ZUPT", "Filtering + WVC/ZUPT
            "Smoothing + WVC/ZUPT + GCP")
 
 
-def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None, prefix=()):
+def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None, prefix=(), gains_of=None):
     """The four methods on one walk: ``({method: (pos, mat)}, gcp_filter_result)``.
 
     ``nhc``: the ``(pos, mat)`` of Filtering + NHC/ZUPT on this walk when already run (it does not depend on the
     stair handling, which only the WVC uses). ``prefix``: earlier filter results on the same IMU log (e.g. the
     default stair handling's), whose shared beginning the filters reuse (:func:`~ilocalg.ins.eskf.run_eskf`); the
-    filter with control points reuses the one without them up to the first control point. The same numbers.
+    filter with control points reuses the one without them up to the first control point. ``gains_of``: ``(ref,
+    rts_gains(ref))`` of such an earlier filter with control points, whose smoother gains the smoothing reuses
+    where the covariances are the same (:func:`~ilocalg.ins.smoother.rts_gains_shared`). The same numbers.
     """
     out = {}
     prefix = list(prefix)
@@ -51,17 +53,18 @@ def run_methods(walk, stairs: str = "none", stair_action: str = "drop", nhc=None
     out[METHODS[1]] = (r.pos_n_m, r.mat_nb)
     r = run_walk(walk, "wvc", use_gcp=True, stairs=stairs, stair_action=stair_action, prefix=[r, *prefix])
     out[METHODS[2]] = (r.pos_n_m, r.mat_nb)
-    s = eskf_rts_smooth(r, with_cov=False)
+    s = eskf_rts_smooth(r, with_cov=False, gains=rts_gains_shared(r, *gains_of) if gains_of else None)
     out[METHODS[3]] = (s.pos_n_m, s.mat_nb)
     return out, r
 
 
 
-def run_methods_many(walks, stairs: str = "none", stair_action: str = "drop"):
+def run_methods_many(walks, stairs: str = "none", stair_action: str = "drop", smooth: bool = True):
     """:func:`run_methods` on several walks, each filter advanced together with the same filter of the other
     walks (:func:`~ilocalg.ins.pipeline.run_walks`; the filter with control points still reuses the one without
     them up to the first control point): the same numbers. Returns one ``({method: (pos, mat)},
-    gcp_filter_result)`` per walk."""
+    gcp_filter_result)`` per walk. ``smooth=False`` leaves the smoothing (the last method) to the caller
+    (:func:`smooth_gcp`, e.g. one walk at a time, to keep only that walk's smoother gains)."""
     walks = list(walks)
     nhc = run_walks(walks, "nhc", use_gcp=False, keep_covariance=False)
     wvc = run_walks(walks, "wvc", use_gcp=False, stairs=stairs, stair_action=stair_action)
@@ -69,10 +72,21 @@ def run_methods_many(walks, stairs: str = "none", stair_action: str = "drop"):
                            "prefix": (r,)} for w, r in zip(walks, wvc, strict=True)])
     out = []
     for a, b, r in zip(nhc, wvc, gcp, strict=True):
-        s = eskf_rts_smooth(r, with_cov=False)
-        out.append(({METHODS[0]: (a.pos_n_m, a.mat_nb), METHODS[1]: (b.pos_n_m, b.mat_nb),
-                     METHODS[2]: (r.pos_n_m, r.mat_nb), METHODS[3]: (s.pos_n_m, s.mat_nb)}, r))
+        sol = {METHODS[0]: (a.pos_n_m, a.mat_nb), METHODS[1]: (b.pos_n_m, b.mat_nb), METHODS[2]: (r.pos_n_m, r.mat_nb)}
+        if smooth:
+            smooth_gcp(sol, r)
+        out.append((sol, r))
     return out
+
+
+def smooth_gcp(sol: dict, r) -> np.ndarray:
+    """Add the last method (the RTS smoothing of the filter with control points ``r``) to ``sol`` (``{method:
+    (pos, mat)}`` of the first three); returns the smoother gains (:func:`~ilocalg.ins.smoother.rts_gains`, e.g.
+    for ``run_methods(gains_of=(r, gains))``)."""
+    G = rts_gains(r)
+    s = eskf_rts_smooth(r, with_cov=False, gains=G)
+    sol[METHODS[3]] = (s.pos_n_m, s.mat_nb)
+    return G
 
 def indoor_errors(walk, pos_n_m, mat_nb, ind=None) -> pd.DataFrame:
     """Per-epoch errors (:func:`ilocalg.ins.evaluate.nav_errors`) of a solution on the walk's indoor part

@@ -31,7 +31,8 @@ import numpy as np
 from ilocalg.ins.eskf import ATT, N_STATES, POS, VEL, EskfResult, covariance_chunk
 from ilocalg.ins.mechanisation import rotvecs_to_dcm
 
-__all__ = ["EskfSmoothResult", "ErrorStateINS", "rts_gains", "eskf_rts_smooth", "eskf_rts_smooth_grids", "window_ends",
+__all__ = ["EskfSmoothResult", "ErrorStateINS", "rts_gains", "rts_gains_shared", "eskf_rts_smooth",
+           "eskf_rts_smooth_grids", "window_ends",
            "online_window_smooth"]
 
 
@@ -73,6 +74,45 @@ def rts_gains(res: EskfResult) -> np.ndarray:
         raise ValueError("rts_gains needs the covariance history: run the filter with keep_covariance=True, or "
                          "call eskf_rts_smooth, which recomputes it chunk by chunk")
     return _gains(res.P_plus, res.P_minus, res.Phi)
+
+
+#: Epochs compared at a time by :func:`rts_gains_shared` while looking for the first difference.
+_SHARED_BLOCK = 256
+
+
+def _leading_same(a: np.ndarray, b: np.ndarray, n: int) -> int:
+    """How many leading epochs (of the first ``n``) hold the same bits in the (N, 21, 21) stacks ``a`` and ``b``
+    (compared a block at a time, stopping at the first block with a difference)."""
+    for i in range(0, n, _SHARED_BLOCK):
+        j = min(i + _SHARED_BLOCK, n)
+        same = (a[i:j] == b[i:j]).reshape(j - i, -1).all(axis=1)
+        if not same.all():
+            return i + int(np.argmin(same))
+    return n
+
+
+def rts_gains_shared(res: EskfResult, ref: EskfResult, ref_gains: np.ndarray) -> np.ndarray:
+    """:func:`rts_gains` of ``res``, the same bits, taking the gains of ``ref`` (``ref_gains = rts_gains(ref)``)
+    over the leading epochs where both runs hold the same covariance history.
+
+    ``G[k]`` reads ``P_plus[k]``, ``P_minus[k+1]`` and ``Phi[k+1]`` only (one solve per matrix), so where these
+    three are bit for bit those of ``ref`` (checked here, e.g. a run that resumed from ``ref`` with ``prefix``:
+    the same filter up to its first other measurement) its gain is ``ref``'s; the rest are solved.
+    """
+    if res.P_plus is None or ref.P_plus is None:
+        raise ValueError("rts_gains_shared needs both runs' covariance histories (keep_covariance=True)")
+    n = min(res.t_s.size, ref.t_s.size) - 1
+    if ref_gains.shape != ref.P_plus.shape:
+        raise ValueError(f"ref_gains must be rts_gains(ref), of shape {ref.P_plus.shape}, got {ref_gains.shape}")
+    k = _leading_same(res.P_plus, ref.P_plus, n)
+    k = _leading_same(res.P_minus[1:], ref.P_minus[1:], k)
+    k = _leading_same(res.Phi[1:], ref.Phi[1:], k)
+    if k == 0:
+        return rts_gains(res)
+    G = np.empty_like(res.P_plus)
+    G[:k] = ref_gains[:k]
+    G[k:] = _gains(res.P_plus[k:], res.P_minus[k:], res.Phi[k:])
+    return G
 
 
 def window_ends(t_s, window_s: float | None, offset_s: float = 0.0) -> np.ndarray:

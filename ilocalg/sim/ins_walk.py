@@ -705,10 +705,13 @@ def _rssi_triggers(t_s: np.ndarray, pos_m: np.ndarray, beacon_m: np.ndarray, t_f
     thr = BLE_RSSI_1M_DBM - 10 * BLE_PATH_LOSS_EXP * np.log10(BLE_IMMEDIATE_M)
     cyc = np.floor((t_adv - phase) / BLE_RANGING_CYCLE_S).astype(np.int64)
     out, armed, last = [], True, None
-    for c in np.unique(cyc):
+    # t_adv increases, so each cycle's packets are one slice (the same values, in the same order, as rssi[cyc == c])
+    cycles, first = np.unique(cyc, return_index=True)
+    bounds = np.append(first, cyc.size).tolist()
+    for i, c in enumerate(cycles):
         if last is not None and c != last + 1:
             armed = True                       # a cycle without packets re-arms
-        hit = rssi[cyc == c].mean() >= thr
+        hit = rssi[bounds[i]:bounds[i + 1]].mean() >= thr
         if hit and armed:
             out.append(phase + (c + 1) * BLE_RANGING_CYCLE_S)
         armed = not hit
@@ -745,8 +748,14 @@ def gauss_markov(rng, t_s, sd, tau_s, n_axes=3) -> np.ndarray:
     w = rng.normal(0.0, 1.0, (t_s.size, n_axes))
     w[0] *= sd
     w[1:] *= (sd * np.sqrt(1.0 - a * a))[:, None]
-    out = np.empty_like(w)
-    out[0] = w[0]
-    for k in range(1, t_s.size):
-        out[k] = a[k - 1] * out[k - 1] + w[k]
-    return out
+    # the recursion per axis on Python floats: the same IEEE products and sums as on numpy rows, without the
+    # per-sample array overhead
+    cols = []
+    for wj in w.T.tolist():
+        b_k = wj[0]
+        col = [b_k]
+        for ak, wk in zip(a.tolist(), wj[1:], strict=True):
+            b_k = ak * b_k + wk
+            col.append(b_k)
+        cols.append(col)
+    return np.array(cols, dtype=float).T.reshape(w.shape).copy()
