@@ -61,10 +61,8 @@ from ilocalg.papers import PAPERS, comparison_table, paper_ref, readings_luo
 from ilocalg.papers.claims import interval
 from ilocalg.papers.luo import PUBLISHED
 from ilocalg.pdr.dead_reckoning import dead_reckon
-from ilocalg.pdr.luo_pdr import eq4_vs_constant_error, luo_pdr, luo_training_spread
+from ilocalg.pdr.luo_pdr import LuoLogs, eq4_vs_constant_error, luo_pdr, luo_training_spread
 from ilocalg.pdr.peak_window import detect_steps_peak_window
-from ilocalg.pdr.signals import acc_from_log
-from ilocalg.pdr.step_length import fit_luo_k, luo_steps
 from ilocalg.sim import gait, iloc_floor, iloc_scenario
 from ilocalg.sim.iloc_scenario import SCAN_LATENCY_S, walk_fixes
 from ilocalg.units import as_rng
@@ -111,6 +109,7 @@ class _Shared:
     def __init__(self):
         self._values: dict = {}
         self._held: list = []
+        self.logs = LuoLogs()  # each log's accelerometer array, steps per detector and headings (any k)
 
     def get(self, objs: tuple, key, compute):
         k = (tuple(id(o) for o in objs), key)
@@ -149,9 +148,9 @@ def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: boo
         return est, float(iloc_floor.standing_fix_variance_m2(scn.floor, est).mean())
 
     def training():
-        k, sig_sl = fit_luo_k([(*acc_from_log(sw.imu), sw.steps["length_m"]) for _, _, sw in scn.train_walks],
-                              detector)
-        return (k, sig_sl, *luo_training_spread([sw for _, _, sw in scn.train_walks], k, detector))
+        walks = [sw for _, _, sw in scn.train_walks]
+        k, sig_sl = shared.logs.fit_k(walks, detector)
+        return (k, sig_sl, *luo_training_spread(walks, k, detector, logs=shared.logs))
 
     est, r_var = shared.get((scn.floor,), "wifi", wifi)
     k, sig_sl, sig_th, step_s, step_m = shared.get((scn.train_walks,), ("training", det), training)
@@ -160,7 +159,8 @@ def _walk_tracks(scn, detector, sigma_theta_rad, adjust_weights, principled: boo
     route = scn.route_xy_m
     tps, ex, nsteps, x0_err, inputs, n_deaf = [], [], [], [], [], 0
     for w_i, w in enumerate(scn.walks):
-        pdr = shared.get((w.imu,), ("pdr", k, det, w.stand_s), lambda w=w: luo_pdr(w.imu, k, detector, w.stand_s))
+        pdr = shared.get((w.imu,), ("pdr", k, det, w.stand_s), lambda w=w: luo_pdr(w.imu, k, detector, w.stand_s,
+                                                                              logs=shared.logs))
         ts, d, th = pdr["state_t_s"], pdr["step_m"], pdr["theta_rad"]
         nsteps.append((d.size, len(w.steps)))
         fx = shared.get((scn.floor, w.scans), "fixes", lambda w=w: walk_fixes(scn, w, est))
@@ -237,10 +237,11 @@ def _claim_measures(seed, tp, pp, summ, n_walkers, n_train, detector) -> list:
     m_train, m_test = m_walkers[:max(2, n_train // 2)], m_walkers[max(2, n_train // 2):]
     det0 = {"rule": "literal", "threshold_mps2": 1.0, **(detector or {})}
     route_walks = [gait.simulate_walk(iloc_floor.route_xy_m(), w, m_rng) for w in m_test]
+    logs = LuoLogs()  # each route walk's accelerometer array once for the five detectors
     for lab, det in (*((f"sliding window {ws:g} s", {**det0, "window_s": ws}) for ws in (0.1, 0.4, 1.2)),
                      ("time window 0.2-2 s", {**det0, "min_dt_s": 0.2, "max_dt_s": 2.0}),
                      ("time window 0.05-5 s", {**det0, "min_dt_s": 0.05, "max_dt_s": 5.0})):
-        n_det = sum(len(luo_steps(*acc_from_log(sw.imu), 1.0, det)) for sw in route_walks)
+        n_det = sum(len(logs.steps(sw.imu, 1.0, det)) for sw in route_walks)
         meas.append({"quantity": "detected / true steps", "item": lab,
                      "value": n_det / sum(len(sw.steps) for sw in route_walks), "unit": "-"})
     tr = [sw for _, _, sw in gait.training_walks(m_train, m_rng)]
