@@ -85,12 +85,19 @@ def calibrated_table(path=CALIBRATED_PATH) -> pd.DataFrame:
 
 def calibrated_row(name: str, path=CALIBRATED_PATH) -> dict:
     """One calibrated parameter's row (``CALIBRATED_COLUMNS``; numbers as floats)."""
-    df = _load(str(path), CALIBRATED_COLUMNS)
+    return dict(_calibrated_row(name, str(path)))
+
+
+@lru_cache(maxsize=256)
+def _calibrated_row(name: str, path: str) -> tuple:
+    """:func:`calibrated_row`'s items, read once per process like the table (:func:`_load`): every simulated walk
+    asks for five of them."""
+    df = _load(path, CALIBRATED_COLUMNS)
     if name not in df.index:
         raise ValueError(f"unknown calibrated parameter {name!r} in {Path(path).name}; known: {sorted(df.index)}")
     r = df.loc[name]
-    return {c: (str(r[c]) if c in ("parameter", "unit", "statistic", "method") else float(r[c]))
-            for c in CALIBRATED_COLUMNS}
+    return tuple((c, str(r[c]) if c in ("parameter", "unit", "statistic", "method") else float(r[c]))
+                 for c in CALIBRATED_COLUMNS)
 
 
 def calibrated(name: str, path=CALIBRATED_PATH) -> float:
