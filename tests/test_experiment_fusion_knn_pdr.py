@@ -171,3 +171,19 @@ def test_seed_table_reads_the_runs_it_is_given(monkeypatch):
     assert calls == [1]
     pd.testing.assert_frame_equal(per2, per, check_exact=True)
     pd.testing.assert_frame_equal(head2, head, check_exact=True)
+
+
+def test_run_without_the_claim_measures_gives_the_same_other_tables(fast_runs):
+    """claim_measures=False (seed_table's runs) leaves out only the extra walkers' rows of ``measures``: every other
+    table, and the rows of ``measures`` computed from the run itself, are the same bytes."""
+    from ilocalg.workflow.manifest import SWEEP_KWARGS
+
+    _, b = fast_runs
+    c = fusion_knn_pdr.run(seed=0, fast=True, claim_measures=False, **SWEEP_KWARGS["fusion_knn_pdr"])
+    assert list(c) == list(b)
+    for name in b:
+        if name != "measures":
+            pd.testing.assert_frame_equal(c[name], b[name], check_exact=True)
+    kept = b["measures"]["quantity"].isin(set(c["measures"]["quantity"]))
+    assert 0 < kept.sum() < len(b["measures"])
+    pd.testing.assert_frame_equal(c["measures"], b["measures"][kept].reset_index(drop=True), check_exact=True)

@@ -187,7 +187,33 @@ def test_clamp_after_the_point_minima_gives_the_bits_of_clamping_every_distance(
     got = est.kneighbors(Q), est.predict(Q)
     assert (got[0][0] >= 0).all() and (got[0][0][:40, 0] < 1e-5).all()  # each scan finds itself (0 within rounding)
     orig = radar._union_sq
-    monkeypatch.setattr(radar, "_union_sq", lambda q, a, ref, clamp=True: orig(q, a, ref, clamp=True))
+    monkeypatch.setattr(radar, "_union_sq", lambda q, a, ref, clamp=True, **kw: orig(q, a, ref, clamp=True, **kw))
     want = est.kneighbors(Q), est.predict(Q)
     for a, b in zip((*got[0], got[1]), (*want[0], want[1]), strict=True):
         assert a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("point_distance", ["min", None])
+@pytest.mark.parametrize("not_heard_dbm", [-100.0, -93.76])  # integer features (float32 path) / float64 path
+def test_kept_distance_buffer_gives_the_bits_of_fresh_arrays(monkeypatch, point_distance, not_heard_dbm):
+    """kneighbors writes each batch's distances into one kept buffer per thread: the same neighbours, distances and
+    positions as fresh arrays, batches of several sizes one after another (the buffer reused and regrown), and two
+    estimators in turn."""
+    from ilocalg.wifi import radar
+
+    rng = np.random.default_rng(3)
+    X = np.round(rng.uniform(-93, -40, (300, 8))) + rng.choice([0.0, 0.25], size=(300, 8))
+    X[rng.random(X.shape) < 0.3] = np.nan
+    X[np.isnan(X).all(axis=1), 0] = -55.0
+    y = np.repeat(rng.uniform(0, 30, (60, 2)), 5, axis=0)
+    Q = np.clip(X[rng.choice(300, 50, replace=False)] + np.round(rng.normal(0, 3, (50, 8))), -93, -30)
+    ests = [SimplifiedRadar(k, 3, not_heard_dbm, point_distance=point_distance).fit(X[:n], y[:n])
+            for k, n in ((3, 300), (5, 200))]
+    monkeypatch.setattr(radar, "_Q_BATCH", 7)  # 8 batches, the last of 1 query
+    got = [(e.kneighbors(q), e.predict(q)) for q in (Q, Q[:3], Q) for e in ests]
+    assert radar._scratch.buf.size >= 7 * 300 * 4
+    monkeypatch.setattr(radar, "_SCRATCH_BYTES", 0)  # every batch into a fresh array
+    want = [(e.kneighbors(q), e.predict(q)) for q in (Q, Q[:3], Q) for e in ests]
+    for (g_nb, g_xy), (w_nb, w_xy) in zip(got, want, strict=True):
+        for a, b in zip((*g_nb, g_xy), (*w_nb, w_xy), strict=True):
+            assert a.tobytes() == b.tobytes()

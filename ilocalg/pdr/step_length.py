@@ -31,6 +31,7 @@ __all__ = [
     "fit_scale",
     "luo_steps",
     "fit_luo_k",
+    "luo_lengths",
     "kim_mean_abs_mps2",
     "fit_step_length_models",
     "step_lengths_m",
@@ -288,11 +289,15 @@ def luo_steps(acc_mps2, t_s, k: float, detector: dict | None = None) -> pd.DataF
     """
     from ilocalg.pdr.peak_window import detect_steps_peak_window
 
-    st = detect_steps_peak_window(acc_mps2, t_s, **(detector or {}))
-    return st.assign(length_m=luo_length_m(st["a_max_mps2"], st["a_min_mps2"], k))
+    return luo_lengths(detect_steps_peak_window(acc_mps2, t_s, **(detector or {})), k)
 
 
-def fit_luo_k(walks, detector: dict | None = None) -> tuple[float, float]:
+def luo_lengths(steps: pd.DataFrame, k: float) -> pd.DataFrame:
+    """The peak-window detector's ``steps`` with eq. (4)'s ``length_m`` added (a new frame; :func:`luo_steps`)."""
+    return steps.assign(length_m=luo_length_m(steps["a_max_mps2"], steps["a_min_mps2"], k))
+
+
+def fit_luo_k(walks, detector: dict | None = None, steps=None) -> tuple[float, float]:
     """``k`` of eq. (4) from walks of known length, and the per-step length error sd.
 
     ``k`` = total true length over total eq. (4) length at ``k = 1``
@@ -305,6 +310,9 @@ def fit_luo_k(walks, detector: dict | None = None) -> tuple[float, float]:
         Training walks: accelerometer log, times and the true length of every step taken.
     detector : dict, optional
         Parameters of the peak-window detector.
+    steps : sequence of DataFrame, optional
+        Each walk's steps already detected, ``luo_steps(acc, t, 1.0, detector)`` (in ``walks``' order; the
+        walks' accelerometer logs are then not read).
 
     Returns
     -------
@@ -317,8 +325,8 @@ def fit_luo_k(walks, detector: dict | None = None) -> tuple[float, float]:
     """
     f_tot, l_tot = 0.0, 0.0
     per_walk = []
-    for acc, t, true_m in walks:
-        st = luo_steps(acc, t, 1.0, detector)
+    for i, (acc, t, true_m) in enumerate(walks):
+        st = luo_steps(acc, t, 1.0, detector) if steps is None else steps[i]
         if not len(st):
             continue
         true_m = np.asarray(true_m, dtype=np.float64)

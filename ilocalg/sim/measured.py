@@ -53,11 +53,17 @@ def table(path=TABLE_PATH) -> pd.DataFrame:
 
 def row(name: str, path=TABLE_PATH) -> dict:
     """One parameter's row: ``{parameter, value, ci_low, ci_high, unit, dataset, method}``."""
-    df = _load(str(path))
+    return dict(_row(name, str(path)))
+
+
+@lru_cache(maxsize=256)
+def _row(name: str, path: str) -> tuple:
+    """:func:`row`'s items, read once per process like the table (:func:`_load`)."""
+    df = _load(path)
     if name not in df.index:
         raise ValueError(f"unknown measured parameter {name!r} in {Path(path).name}; known: {sorted(df.index)}")
     r = df.loc[name]
-    return {c: (float(r[c]) if c in ("value", "ci_low", "ci_high") else str(r[c])) for c in _COLUMNS}
+    return tuple((c, float(r[c]) if c in ("value", "ci_low", "ci_high") else str(r[c])) for c in _COLUMNS)
 
 
 def param(name: str, path=TABLE_PATH) -> float:
@@ -85,12 +91,19 @@ def calibrated_table(path=CALIBRATED_PATH) -> pd.DataFrame:
 
 def calibrated_row(name: str, path=CALIBRATED_PATH) -> dict:
     """One calibrated parameter's row (``CALIBRATED_COLUMNS``; numbers as floats)."""
-    df = _load(str(path), CALIBRATED_COLUMNS)
+    return dict(_calibrated_row(name, str(path)))
+
+
+@lru_cache(maxsize=256)
+def _calibrated_row(name: str, path: str) -> tuple:
+    """:func:`calibrated_row`'s items, read once per process like the table (:func:`_load`): every simulated walk
+    asks for five of them (and two of :func:`row`'s)."""
+    df = _load(path, CALIBRATED_COLUMNS)
     if name not in df.index:
         raise ValueError(f"unknown calibrated parameter {name!r} in {Path(path).name}; known: {sorted(df.index)}")
     r = df.loc[name]
-    return {c: (str(r[c]) if c in ("parameter", "unit", "statistic", "method") else float(r[c]))
-            for c in CALIBRATED_COLUMNS}
+    return tuple((c, str(r[c]) if c in ("parameter", "unit", "statistic", "method") else float(r[c]))
+                 for c in CALIBRATED_COLUMNS)
 
 
 def calibrated(name: str, path=CALIBRATED_PATH) -> float:

@@ -30,6 +30,8 @@ and tracking system", IEEE INFOCOM 2000 (NNSS, N = 3).
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
@@ -56,6 +58,22 @@ _Q_BATCH = 512
 #: it is at most this large (the i-Loc floor: 18 900 scans x 19 APs, 15 MB), so a predict call, down to one query,
 #: does not stack the whole database again; a larger database (UJIIndoorLoc: 415 MB) is stacked per call, slab by slab.
 _STACK_CACHE_BYTES = 64 * 2**20
+#: :meth:`SimplifiedRadar.kneighbors` writes each batch's n_q x n_ref distances into one buffer per thread, kept
+#: between calls when at most this large (the i-Loc floor: 512 x 18 900 float64, 74 MB): a fresh array of that size
+#: is a new memory mapping per batch, whose page faults cost about as much as a fifth of the product itself.
+_SCRATCH_BYTES = 96 * 2**20
+_scratch = threading.local()
+
+
+def _scratch_out(shape: tuple, dtype) -> np.ndarray | None:
+    """A C-contiguous array of ``shape`` and ``dtype`` on this thread's kept buffer (None when too large)."""
+    n = int(np.prod(shape)) * np.dtype(dtype).itemsize
+    if n > _SCRATCH_BYTES:
+        return None
+    buf = getattr(_scratch, "buf", None)
+    if buf is None or buf.size < n:
+        buf = _scratch.buf = np.empty(n, dtype=np.uint8)
+    return buf[:n].view(dtype).reshape(shape)
 
 
 def _stack_query(q: np.ndarray, a: np.ndarray, dtype) -> np.ndarray:
@@ -156,7 +174,7 @@ def union_topk_sq_distances(q_rssi_dbm, ref_rssi_dbm, k_aps: int = 5, not_heard_
     return _union_sq(q, a, _References(r, b))
 
 
-def _union_sq(q, a, ref: _References, clamp: bool = True) -> np.ndarray:
+def _union_sq(q, a, ref: _References, clamp: bool = True, scratch: bool = False) -> np.ndarray:
     """Squared eq. (1) distances as one matrix product per slab of references.
 
     With ``a``, ``b`` the strongest-AP masks of query and reference, the union's indicator is
@@ -165,13 +183,15 @@ def _union_sq(q, a, ref: _References, clamp: bool = True) -> np.ndarray:
     ``br^2``) plus a constant of each side, all in one GEMM. A float64 product may round a true 0 below 0:
     ``clamp`` sets such values to 0 here (a pass over the whole matrix); with ``clamp=False`` the caller does,
     where needed (:meth:`SimplifiedRadar.kneighbors` checks the per-point minima first, which are all >= 0 but
-    for a rare exact match).
+    for a rare exact match). ``scratch``: the result is written into this thread's kept buffer
+    (:func:`_scratch_out`) when it fits, valid until the next such call: for a caller that drops it before.
     """
     k = int(max(a.sum(axis=1).max(initial=0), ref.k))
     dt = _exact_dtype(q, ref, k)
     left = _stack_query(q, a, dt)
     n_ref = ref.r.shape[0]
-    out = np.empty((q.shape[0], n_ref), dtype=dt)
+    out = _scratch_out((q.shape[0], n_ref), dt) if scratch else None
+    out = np.empty((q.shape[0], n_ref), dtype=dt) if out is None else out
     if ref.cached and q.shape[0] > 1:  # the whole factor at hand: one product straight into out (no slab copies;
         np.matmul(left, ref.right(0, n_ref, dt).T, out=out)  # one query keeps the slabs: BLAS's threaded gemv
         # over all references would round differently from the slabs' with 2 threads; the same bits otherwise)
@@ -302,7 +322,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
             q = checked_features(xb, self.not_heard_dbm, dtype=np.float64)
             a = strongest_ap_mask(xb, self.k_aps).astype(np.float64)
             if self._starts is not None:  # one distance per training point: its nearest stored scan
-                d2 = _union_sq(q, a, self._refs, clamp=False)
+                d2 = _union_sq(q, a, self._refs, clamp=False, scratch=True)
                 gmin = np.minimum.reduceat(d2, self._starts, axis=1)
                 if gmin.size and gmin.min() < 0:  # a float64 product rounded a 0 below 0: as _union_sq's clamp
                     np.maximum(d2, 0.0, out=d2)  # (every column is in one point's run, so otherwise none is < 0)
@@ -311,7 +331,7 @@ class SimplifiedRadar(RssiPositionTags, RegressorMixin, BaseEstimator):
                 dd = np.take_along_axis(gmin, gi, axis=1)
                 rows = self._order[self._nearest_scan(d2, gi)]
             else:
-                d2 = _union_sq(q, a, self._refs)
+                d2 = _union_sq(q, a, self._refs, scratch=True)
                 rows = smallest_k(d2, k)
                 dd = np.take_along_axis(d2, rows, axis=1)
             idx[s:s + _Q_BATCH] = rows
