@@ -104,7 +104,7 @@ class CascadeFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def fit(self, X, y):
         """Fit on reference scans ``X`` (n, n_aps; dBm, NaN = not heard) and targets ``y`` (n, 4) or (n, 2)."""
-        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm, copy=False)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row)")
@@ -129,7 +129,8 @@ class CascadeFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     def predict(self, X) -> np.ndarray:
         """(n_q, 4) ``[x_m, y_m, floor, building]`` (or the positions' shape when fitted on positions only)."""
         check_is_fitted(self, "locator_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm,
+                       copy=False)
         if self.n_outputs_ != 4:
             return np.asarray(self.locator_.predict(x), dtype=np.float64)
         df = self.locator_.predict(x)

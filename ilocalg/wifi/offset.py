@@ -140,7 +140,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Fit on reference scans ``X`` (n, n_aps; dBm, NaN = not heard) and ``y`` (n, 4) or (n, 2)."""
         owner = type(self).__name__
-        x = check_rssi(X, "X", owner=owner, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", owner=owner, valid_dbm=self.rssi_range_dbm, copy=False)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row, or positions)")
@@ -173,7 +173,8 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         """:meth:`predict` at each neighbour-weight exponent of ``powers``, from one offset search: the same values
         as ``set_params(weight_power=a).predict(X)`` for each ``a`` (a CV over the exponent shares the search)."""
         check_is_fitted(self, "index_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm,
+                       copy=False)
         pw = [_check_power(a) for a in powers]
         width = self.y_[0].size
 
