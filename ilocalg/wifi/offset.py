@@ -165,6 +165,15 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.n_features_in_ = x.shape[1]
         return self
 
+    def _at_n_neighbors(self, k: int):
+        """This fitted estimator with ``n_neighbors=k``, without refitting (a shallow copy sharing the database: the
+        fit does not depend on K), so a CV over K fits once per fold (:func:`ilocalg.wifi.model_selection.toolkit_cv`).
+        ``k`` must be valid for the fitted set."""
+        import copy
+
+        check_is_fitted(self, "index_")
+        return copy.copy(self).set_params(n_neighbors=k)
+
     def predict(self, X) -> np.ndarray:
         """``[x_m, y_m, floor, building]`` (n_q, 4), or the positions' shape when fitted on positions."""
         return self.predict_weight_powers(X, (self.weight_power,))[0]
