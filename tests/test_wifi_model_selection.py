@@ -280,3 +280,67 @@ def test_ladder_configs_reproduce_each_row_and_the_diagnostic_ranks_them():
         rho = summary.set_index("groups").loc[g, "spearman_all"]
         assert rho == pytest.approx(spearmanr(t["cv_mean_error_m"], t["test_mean_m"])[0])
         np.testing.assert_array_equal(t["test_mean_m"], rows["mean_m"])
+
+
+@pytest.mark.parametrize("kind", ["cascade", "offset"])
+def test_toolkit_cv_one_fit_per_fold_over_k_equals_grid_search(kind):
+    # candidates that differ only in K share one fit per fold (_at_n_neighbors): the same table, bit for bit, as
+    # GridSearchCV fitting every candidate; floors smaller than the largest K are clamped as a fresh fit clamps them
+    from sklearn.model_selection import GridSearchCV
+
+    from ilocalg.metrics import horizontal_error_scorer
+    from ilocalg.wifi import CascadeFingerprint, OffsetFingerprint
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(7)
+    x, xy = _radio(rng, n=200)
+    floor = (xy[:, 0] > 15).astype(int) + (xy[:, 1] > 27).astype(int) * 2   # floor 2 / 3: a few rows only
+    train = FingerprintSet(rssi_dbm=x, ap_ids=tuple(f"a{i}" for i in range(x.shape[1])), x_m=xy[:, 0],
+                           y_m=xy[:, 1], floor=floor, building=(xy[:, 1] > 20).astype(int),
+                           meta=pd.DataFrame({"USERID": np.arange(len(x)) % 3}))
+    if kind == "cascade":
+        est, grid = CascadeFingerprint(p=2), {"representation": ["positive", "powed"], "metric": ["sorensen"],
+                                              "n_neighbors": [3, 8, 12]}
+    else:
+        est, grid = OffsetFingerprint(), {"representation": ["powed"], "shifts_db": [(0.0,), (-2.0, 0.0, 2.0)],
+                                          "n_neighbors": [3, 8]}
+    assert (np.bincount(floor) < 12).any()
+    best, table = ms.toolkit_cv(train, seed=2, max_test=40, estimator=est, grid=grid)
+    cv = ms.group_cv("USERID", 3, 40, 2)
+    gs = GridSearchCV(est, grid, scoring=horizontal_error_scorer(), cv=cv, refit=False)
+    gs.fit(train.rssi_dbm, ms._target(train), groups=train.meta["USERID"].to_numpy())
+    r = gs.cv_results_
+    ref = pd.DataFrame({"groups": "USERID", **{k: [ms._fmt(v) for v in r[f"param_{k}"]] for k in grid},
+                        "cv_mean_error_m": -r["mean_test_score"], "cv_sd_m": r["std_test_score"],
+                        "rank": r["rank_test_score"]}).sort_values("rank", kind="stable").reset_index(drop=True)
+    pd.testing.assert_frame_equal(table, ref, check_exact=True)
+    assert best == gs.best_params_
+    shared = ms._k_shared_grid_search(est, grid, horizontal_error_scorer(), cv, train.rssi_dbm, ms._target(train),
+                                      train.meta["USERID"].to_numpy())
+    assert shared is not None   # the shared path ran (not the GridSearchCV fallback)
+
+
+def test_ensemble_cv_at_several_k_equals_one_call_per_k():
+    # one fit per member and fold for every K (offset and cascade members through _at_n_neighbors, spot members
+    # once for all K): the same tables and cache entries as one ensemble_cv call per K, bit for bit
+    from tests.test_wifi_ensemble import _radio
+
+    rng = np.random.default_rng(5)
+    x, xy = _radio(rng, n=160)
+    xy = np.round(xy / 3.0) * 3.0   # several scans per spot
+    floor = (xy[:, 0] > 15).astype(int)
+    train = FingerprintSet(rssi_dbm=x, ap_ids=tuple(f"a{i}" for i in range(x.shape[1])), x_m=xy[:, 0],
+                           y_m=xy[:, 1], floor=floor, building=np.zeros(len(x), dtype=int),
+                           meta=pd.DataFrame({"PHONEID": np.arange(len(x)) % 4}))
+    base = ms.ensemble_members((-2.0, 0.0, 2.0), three=True)
+    grid = ms.spot_grid(base, fast=True)
+    assert any("spots_" in n for m in grid["est__estimators"] for n, _ in m)
+    cache_many, cache_one = {}, {}
+    many = ms._ensemble_cv_at(train, grid, (3, 6), seed=1, max_test=40, cache=cache_many)
+    for k, (best, table) in zip((3, 6), many, strict=True):
+        ref_best, ref = ms.ensemble_cv(train, grid, k, seed=1, max_test=40, cache=cache_one)
+        pd.testing.assert_frame_equal(table, ref, check_exact=True)
+        assert [n for n, _ in best["est__estimators"]] == [n for n, _ in ref_best["est__estimators"]]
+    assert cache_many.keys() == cache_one.keys()
+    for key, v in cache_one.items():
+        np.testing.assert_array_equal(cache_many[key], v)

@@ -104,7 +104,7 @@ class CascadeFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def fit(self, X, y):
         """Fit on reference scans ``X`` (n, n_aps; dBm, NaN = not heard) and targets ``y`` (n, 4) or (n, 2)."""
-        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm, copy=False)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row)")
@@ -126,10 +126,31 @@ class CascadeFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.n_features_in_ = x.shape[1]
         return self
 
+    def _at_n_neighbors(self, k: int):
+        """This fitted estimator with the position K set to ``k``, without refitting: a shallow copy whose position
+        models (:class:`ilocalg.wifi.KnnFingerprint`, each floor's clamped to its references as ``fit`` clamps them)
+        search ``k`` neighbours. The building and floor classifiers and every database are shared, none depends on
+        K, so the copy predicts what ``clone(self).set_params(n_neighbors=k).fit(...)`` would (a CV over K fits
+        once per fold, :func:`ilocalg.wifi.model_selection.toolkit_cv`). ``k`` must be valid for the fitted set."""
+        import copy
+
+        check_is_fitted(self, "locator_")
+        out = copy.copy(self)
+        out.n_neighbors = k
+        loc = self.locator_
+        if isinstance(loc, KnnFingerprint):
+            out.locator_ = copy.copy(loc).set_params(n_neighbors=k)
+        else:
+            out.locator_ = copy.copy(loc)
+            out.locator_.pos_ = {bf: copy.copy(e).set_params(n_neighbors=min(k, e.y_.shape[0]))
+                                 for bf, e in loc.pos_.items()}
+        return out
+
     def predict(self, X) -> np.ndarray:
         """(n_q, 4) ``[x_m, y_m, floor, building]`` (or the positions' shape when fitted on positions only)."""
         check_is_fitted(self, "locator_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm,
+                       copy=False)
         if self.n_outputs_ != 4:
             return np.asarray(self.locator_.predict(x), dtype=np.float64)
         df = self.locator_.predict(x)

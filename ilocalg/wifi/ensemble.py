@@ -69,7 +69,7 @@ class ApSelector(RssiPositionTags, TransformerMixin, BaseEstimator):
 
     def fit(self, X, y=None):
         """Learn the kept APs from the training scans ``X`` (n, n_aps; dBm, NaN = not heard)."""
-        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None, copy=False)
         keep = ap_keep_mask(x, self.min_count)
         if not keep.any():
             raise ValueError(f"ApSelector: no access point is heard in min_count={self.min_count} training scans")
@@ -80,7 +80,7 @@ class ApSelector(RssiPositionTags, TransformerMixin, BaseEstimator):
     def transform(self, X):
         """The columns of the kept APs (n, keep_.sum())."""
         check_is_fitted(self, "keep_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
         return x[:, self.keep_]
 
     def get_feature_names_out(self, input_features=None):
@@ -160,7 +160,7 @@ class FingerprintEnsemble(RssiPositionTags, RegressorMixin, BaseEstimator):
         for m in members:
             if not (isinstance(m, tuple) and len(m) == 2 and isinstance(m[0], str) and hasattr(m[1], "fit")):
                 raise ValueError(f"estimators must be (name, estimator) pairs, got {m!r}")
-        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None, copy=False)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row, or positions)")
@@ -177,5 +177,5 @@ class FingerprintEnsemble(RssiPositionTags, RegressorMixin, BaseEstimator):
     def predict(self, X) -> np.ndarray:
         """Combined predictions (:func:`combine_predictions`), the shape of the fitted ``y``."""
         check_is_fitted(self, "estimators_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
         return combine_predictions([e.predict(x) for e in self.estimators_])

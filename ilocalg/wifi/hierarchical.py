@@ -68,7 +68,7 @@ def locate_flat(est, X, floor=None, building=None) -> pd.DataFrame:
     if not isinstance(est, (KnnFingerprint, SimplifiedRadar, SimplifiedHorus)):
         raise ValueError(f"locate_flat() supports KnnFingerprint, SimplifiedRadar, SimplifiedHorus; "
                          f"got {type(est).__name__}")
-    x = check_rssi(X, "X", n_aps=est.n_features_in_, owner=type(est).__name__)
+    x = check_rssi(X, "X", n_aps=est.n_features_in_, owner=type(est).__name__, copy=False)
     cols = [X_M, Y_M] + [c for c, v in ((FLOOR, floor), (BUILDING, building)) if v is not None]
     return _with_unlocated(lambda xq: _locate_flat(est, xq, floor, building), x, shares_no_ap(x, est.heard_aps_),
                            cols)
@@ -140,7 +140,7 @@ class HierarchicalLocator:
 
     def fit(self, X, xy, floor, building):
         """Fit on reference scans ``X`` (n, n_aps), positions ``xy`` (n, 2) and labels."""
-        x = check_rssi(X, "X")
+        x = check_rssi(X, "X", copy=False)
         n = x.shape[0]
         xy = np.asarray(xy, dtype=np.float64)
         if xy.shape != (n, 2):
@@ -171,7 +171,7 @@ class HierarchicalLocator:
     def predict(self, X) -> pd.DataFrame:
         """DataFrame with ``x_m``, ``y_m``, ``floor``, ``building`` per query (NaN for a query sharing no
         access point with the training set)."""
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, copy=False)
         return _with_unlocated(self._predict, x, shares_no_ap(x, self.building_clf_.heard_aps_),
                                [X_M, Y_M, FLOOR, BUILDING])
 

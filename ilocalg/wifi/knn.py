@@ -706,7 +706,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def _features(self, X, name="X", n_aps=None, allow_empty_rows=True):
         x = check_rssi(X, name, n_aps=n_aps, allow_empty_rows=allow_empty_rows, owner=type(self).__name__,
-                       valid_dbm=self.rssi_range_dbm)
+                       valid_dbm=self.rssi_range_dbm, copy=False)
         return checked_features(x, self.not_heard_dbm, self.representation, name=name)
 
     def fit(self, X, y):
@@ -717,7 +717,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
             _check_p(self.p)
         if self.weights not in ("uniform", "distance"):
             raise ValueError(f"weights must be 'uniform' or 'distance', got {self.weights!r}")
-        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=self.rssi_range_dbm, copy=False)
         f = checked_features(x, self.not_heard_dbm, self.representation, name="X")
         heard = heard_aps(x, type(self).__name__)
         y = check_positions(y, f.shape[0])
@@ -733,7 +733,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         """(dist, idx) of the nearest references, ascending; ties by training order."""
         check_is_fitted(self, "index_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, allow_empty_rows=False, owner=type(self).__name__,
-                       valid_dbm=self.rssi_range_dbm)
+                       valid_dbm=self.rssi_range_dbm, copy=False)
         check_shared_aps(x, self.heard_aps_, type(self).__name__)
         f = _checked_features(x, self.not_heard_dbm, self.representation)
         k = int(self.n_neighbors if n_neighbors is None else n_neighbors)
@@ -743,7 +743,8 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         """Positions (n_q, 2) (or the shape of the fitted ``y``) of the queries ``X``; NaN for a query
         sharing no access point with the training set."""
         check_is_fitted(self, "index_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm,
+                       copy=False)
 
         def located(xq):
             dist, idx = self.kneighbors(xq)

@@ -286,41 +286,56 @@ def ensemble_cv(train: FingerprintSet, grid: dict, n_neighbors: int, seed: int =
     call on the same training set reuses the members the first one fitted (a member's name must then stand for
     one configuration).
     """
+    return _ensemble_cv_at(train, grid, (n_neighbors,), seed, n_splits, max_test, group, cache)[0]
+
+
+def _ensemble_cv_at(train: FingerprintSet, grid: dict, ks, seed: int = 0, n_splits: int = 3, max_test: int = 300,
+                    group: str = "PHONEID", cache: dict | None = None) -> list[tuple[dict, pd.DataFrame]]:
+    """``[ensemble_cv(train, grid, k, ...) for k in ks]``, each member fitted once per fold for every K
+    (:func:`_fit_members_at`): the same tables and choices, and the same ``cache`` entries."""
     from scipy.stats import rankdata
 
     from ilocalg.metrics import mean_horizontal_error_m
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
 
+    ks = list(ks)
     cands = list(grid["est__estimators"])
     groups = _cv_groups(train, group)
     cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     y = _target(train)
-    scores = np.empty((len(cands), cv.get_n_splits()))
+    scores = np.empty((len(ks), len(cands), cv.get_n_splits()))
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
         aps = ApSelector(1).fit(train.rssi_dbm[tr])
         x_tr, x_te = aps.transform(train.rssi_dbm[tr]), aps.transform(train.rssi_dbm[te])
-        preds, need = {}, {}
+        preds, need = {k: {} for k in ks}, {}
         for members in cands:
             for name, est in members:
-                key = (group, n_splits, max_test, seed, n_neighbors, f, name)
-                if name in preds or name in need:
-                    continue
-                if cache is not None and key in cache:
-                    preds[name] = cache[key]
-                else:
-                    need[name] = est
-        new = fit_members(list(need.items()), x_tr, y[tr], x_te, n_neighbors)
-        preds.update(new)
-        if cache is not None:
-            cache.update({(group, n_splits, max_test, seed, n_neighbors, f, n): v for n, v in new.items()})
-        for c, members in enumerate(cands):
-            scores[c, f] = -mean_horizontal_error_m(y[te], combine_predictions([preds[n] for n, _ in members]))
-    mean = scores.mean(axis=1)
-    rank = rankdata(-mean, method="min").astype(np.int32)
-    table = pd.DataFrame({"groups": group, "estimators": [_fmt(m) for m in cands], "cv_mean_error_m": -mean,
-                          "cv_sd_m": scores.std(axis=1), "rank": rank})
-    return ({"est__estimators": cands[int(np.argmin(rank))]},
-            table.sort_values("rank", kind="stable").reset_index(drop=True))
+                for k in ks:
+                    key = (group, n_splits, max_test, seed, k, f, name)
+                    if name in preds[k] or name in need:
+                        continue
+                    if cache is not None and key in cache:
+                        preds[k][name] = cache[key]
+                    else:
+                        need[name] = est
+        new = _fit_members_at(list(need.items()), x_tr, y[tr], x_te, ks)
+        for k in ks:
+            got = {n: v for n, v in new[k].items() if n not in preds[k]}
+            preds[k].update(got)
+            if cache is not None:
+                cache.update({(group, n_splits, max_test, seed, k, f, n): v for n, v in got.items()})
+            for c, members in enumerate(cands):
+                scores[ks.index(k), c, f] = -mean_horizontal_error_m(
+                    y[te], combine_predictions([preds[k][n] for n, _ in members]))
+    out = []
+    for i in range(len(ks)):
+        mean = scores[i].mean(axis=1)
+        rank = rankdata(-mean, method="min").astype(np.int32)
+        table = pd.DataFrame({"groups": group, "estimators": [_fmt(m) for m in cands], "cv_mean_error_m": -mean,
+                              "cv_sd_m": scores[i].std(axis=1), "rank": rank})
+        out.append(({"est__estimators": cands[int(np.argmin(rank))]},
+                    table.sort_values("rank", kind="stable").reset_index(drop=True)))
+    return out
 
 
 def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, n_splits: int = 3,
@@ -376,34 +391,55 @@ def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n
     (:class:`ilocalg.wifi.SpotAveragedFingerprint`) share one :func:`ilocalg.wifi.spots.spot_fingerprints` of
     ``x_tr`` per ``min_heard_fraction`` (what each one's ``fit`` computes). Names must be distinct.
     """
+    return _fit_members_at(members, x_tr, y_tr, x_te, (n_neighbors,))[n_neighbors]
+
+
+def _fit_members_at(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, ks) -> dict:
+    """``{k: fit_members(members, x_tr, y_tr, x_te, k)}`` for each ``k`` of ``ks``, each member fitted once: a member
+    with ``_at_n_neighbors`` (:class:`ilocalg.wifi.OffsetFingerprint`, :class:`ilocalg.wifi.CascadeFingerprint`:
+    their fit does not depend on K) predicts every K from one fit; a member without an ``n_neighbors`` parameter
+    (a spot-averaged one keeps its own K) predicts once for all K; any other is fitted per K."""
     from sklearn.base import clone
 
     from ilocalg.wifi.spots import SpotAveragedFingerprint, spot_fingerprints
 
+    ks = list(dict.fromkeys(ks))
     groups: dict = {}
     for name, est in members:
         e = clone(est)
-        if n_neighbors is not None and "n_neighbors" in e.get_params():
-            e.set_params(n_neighbors=n_neighbors)
+        has_k = ks[0] is not None and "n_neighbors" in e.get_params()
+        if has_k:
+            e.set_params(n_neighbors=ks[0])
         wk = _weight_power_param(e)
         key = ("alone", name) if wk is None else (type(e).__name__, tuple(sorted(
             (k, repr(v)) for k, v in e.get_params(deep=True).items() if k != wk and not hasattr(v, "get_params"))))
-        groups.setdefault(key, []).append((name, e, wk))
-    out, spots = {}, {}
+        groups.setdefault(key, []).append((name, e, wk, has_k))
+    out: dict = {k: {} for k in ks}
+    spots: dict = {}
     for items in groups.values():
-        name0, e0, wk = items[0]
-        if isinstance(e0, SpotAveragedFingerprint):  # the spot members share one averaging of the same scans
-            frac = float(e0.min_heard_fraction)
-            if frac not in spots:
-                spots[frac] = spot_fingerprints(x_tr, y_tr, frac)
-            e0._fit_spots(*(a.copy() for a in spots[frac]), x_tr.shape[1])
-        else:
-            e0.fit(x_tr, y_tr)
-        if wk is None:
-            out[name0] = e0.predict(x_te)
-            continue
-        powers = [e.get_params(deep=True)[wk] for _, e, _ in items]
-        out.update({n: pr for (n, _, _), pr in zip(items, e0.predict_weight_powers(x_te, powers), strict=True)})
+        name0, e0, wk, has_k = items[0]
+        per_k = has_k and len(ks) > 1 and not (hasattr(e0, "_at_n_neighbors") and all(
+            1 <= int(k) <= x_tr.shape[0] for k in ks))
+        for j, k in enumerate(ks if per_k else ks[:1]):
+            e = clone(e0).set_params(n_neighbors=k) if j else e0
+            if isinstance(e, SpotAveragedFingerprint):  # the spot members share one averaging of the same scans
+                frac = float(e.min_heard_fraction)
+                if frac not in spots:
+                    spots[frac] = spot_fingerprints(x_tr, y_tr, frac)
+                e._fit_spots(*(a.copy() for a in spots[frac]), x_tr.shape[1])
+            else:
+                e.fit(x_tr, y_tr)
+            got = None
+            for kk in ([k] if per_k else ks):
+                if got is None or has_k:  # without an n_neighbors parameter, one prediction stands for every K
+                    view = e._at_n_neighbors(kk) if has_k and not per_k and kk != ks[0] else e
+                    if wk is None:
+                        got = {name0: view.predict(x_te)}
+                    else:
+                        powers = [m.get_params(deep=True)[wk] for _, m, _, _ in items]
+                        got = {n: pr for (n, _, _, _), pr in zip(items, view.predict_weight_powers(x_te, powers),
+                                                                 strict=True)}
+                out[kk].update(got)
     return out
 
 
@@ -563,13 +599,59 @@ def toolkit_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, n_split
     estimator = CascadeFingerprint(p=2) if estimator is None else estimator
     groups = _cv_groups(train, group)
     cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
-    gs = GridSearchCV(estimator, grid, scoring=horizontal_error_scorer(), cv=cv, refit=False)
-    gs.fit(train.rssi_dbm, _target(train), groups=groups)
-    r = gs.cv_results_
+    got = _k_shared_grid_search(estimator, grid, horizontal_error_scorer(), cv, train.rssi_dbm, _target(train), groups)
+    if got is None:
+        gs = GridSearchCV(estimator, grid, scoring=horizontal_error_scorer(), cv=cv, refit=False)
+        gs.fit(train.rssi_dbm, _target(train), groups=groups)
+        got = gs.cv_results_, gs.best_params_
+    r, best = got
     table = pd.DataFrame({"groups": group, **{k.split("__")[-1]: [_fmt(v) for v in r[f"param_{k}"]] for k in grid},
                           "cv_mean_error_m": -r["mean_test_score"], "cv_sd_m": r["std_test_score"],
                           "rank": r["rank_test_score"]})
-    return dict(gs.best_params_), table.sort_values("rank", kind="stable").reset_index(drop=True)
+    return dict(best), table.sort_values("rank", kind="stable").reset_index(drop=True)
+
+
+def _k_shared_grid_search(estimator, grid: dict, scorer, cv, X: np.ndarray, y: np.ndarray, groups):
+    """``GridSearchCV(estimator, grid, scoring=scorer, cv=cv, refit=False).fit(X, y, groups=groups)``'s
+    ``(cv_results_, best_params_)`` (the entries :func:`toolkit_cv` reads: ``param_*``, ``mean_test_score``,
+    ``std_test_score``, ``rank_test_score``, the same values) with one fit per fold for the candidates that differ
+    only in ``n_neighbors``: each is scored on the fitted estimator's ``_at_n_neighbors(k)`` (the fit of
+    :class:`ilocalg.wifi.CascadeFingerprint` and :class:`ilocalg.wifi.OffsetFingerprint` does not depend on K). The
+    same candidates (scikit-learn's ParameterGrid order), folds, scorer and statistics as GridSearchCV's
+    (``_store``: mean and population sd over the folds, rank of the mean, ties to the smallest rank). ``None``
+    (the caller runs GridSearchCV) when the estimator has no ``_at_n_neighbors``, ``grid`` has no ``n_neighbors``,
+    a K is outside a fold's training size, or a fit or score fails (GridSearchCV's own handling then applies)."""
+    from scipy.stats import rankdata
+    from sklearn.base import clone
+    from sklearn.model_selection import ParameterGrid
+
+    if not hasattr(estimator, "_at_n_neighbors") or "n_neighbors" not in grid:
+        return None
+    cands = list(ParameterGrid(grid))
+    splits = list(cv.split(X, y, groups))
+    if any(not 1 <= int(c["n_neighbors"]) <= len(tr) for c in cands for tr, _ in splits):
+        return None
+    shared: dict = {}
+    for i, c in enumerate(cands):
+        shared.setdefault(repr(sorted((k, v) for k, v in c.items() if k != "n_neighbors")), []).append(i)
+    scores = np.empty((len(cands), len(splits)))
+    try:
+        for f, (tr, te) in enumerate(splits):
+            x_tr, y_tr, x_te, y_te = X[tr], y[tr], X[te], y[te]
+            for members in shared.values():
+                est = clone(estimator).set_params(**cands[members[0]]).fit(x_tr, y_tr)
+                for i in members:
+                    scores[i, f] = scorer(est._at_n_neighbors(cands[i]["n_neighbors"]), x_te, y_te)
+    except Exception:  # noqa: BLE001 (GridSearchCV reports it its own way)
+        return None
+    if not np.isfinite(scores).all():
+        return None
+    means = np.average(scores, axis=1)
+    results = {f"param_{k}": [c[k] for c in cands] for k in grid}
+    results.update(mean_test_score=means,
+                   std_test_score=np.sqrt(np.average((scores - means[:, np.newaxis]) ** 2, axis=1)),
+                   rank_test_score=rankdata(-means, method="min").astype(np.int32, copy=False))
+    return results, cands[int(results["rank_test_score"].argmin())]
 
 
 def _fmt(v):
@@ -753,8 +835,9 @@ def headline_cv(train: FingerprintSet, seed: int = 0, fast: bool = False, cache:
     from scipy.stats import rankdata
 
     tables, best = [], None
-    for k in ((5,) if fast else HEADLINE_NEIGHBORS):
-        b, t = ensemble_cv(train, headline_grid(fast), k, seed, max_test=300, group=SPOT_PHONE, cache=cache)
+    ks = (5,) if fast else HEADLINE_NEIGHBORS
+    for k, (b, t) in zip(ks, _ensemble_cv_at(train, headline_grid(fast), ks, seed, max_test=300, group=SPOT_PHONE,
+                                             cache=cache), strict=True):
         tables.append(t.assign(grid="headline candidates", n_neighbors=k))
         score = float(t["cv_mean_error_m"].min())
         if best is None or score < best[0]:

@@ -140,7 +140,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     def fit(self, X, y):
         """Fit on reference scans ``X`` (n, n_aps; dBm, NaN = not heard) and ``y`` (n, 4) or (n, 2)."""
         owner = type(self).__name__
-        x = check_rssi(X, "X", owner=owner, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", owner=owner, valid_dbm=self.rssi_range_dbm, copy=False)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row, or positions)")
@@ -165,6 +165,15 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.n_features_in_ = x.shape[1]
         return self
 
+    def _at_n_neighbors(self, k: int):
+        """This fitted estimator with ``n_neighbors=k``, without refitting (a shallow copy sharing the database: the
+        fit does not depend on K), so a CV over K fits once per fold (:func:`ilocalg.wifi.model_selection.toolkit_cv`).
+        ``k`` must be valid for the fitted set."""
+        import copy
+
+        check_is_fitted(self, "index_")
+        return copy.copy(self).set_params(n_neighbors=k)
+
     def predict(self, X) -> np.ndarray:
         """``[x_m, y_m, floor, building]`` (n_q, 4), or the positions' shape when fitted on positions."""
         return self.predict_weight_powers(X, (self.weight_power,))[0]
@@ -173,7 +182,8 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         """:meth:`predict` at each neighbour-weight exponent of ``powers``, from one offset search: the same values
         as ``set_params(weight_power=a).predict(X)`` for each ``a`` (a CV over the exponent shares the search)."""
         check_is_fitted(self, "index_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=self.rssi_range_dbm,
+                       copy=False)
         pw = [_check_power(a) for a in powers]
         width = self.y_[0].size
 

@@ -64,7 +64,8 @@ RSSI_RANGE_DBM = (FIELD_RANGES[RSSI_DBM].lo, FIELD_RANGES[RSSI_DBM].hi)
 
 
 def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_rows: bool = True,
-               owner: str = "the database", valid_dbm: tuple[float, float] | None = None) -> np.ndarray:
+               owner: str = "the database", valid_dbm: tuple[float, float] | None = None,
+               copy: bool = True) -> np.ndarray:
     """Validate an RSSI matrix and return it as float64.
 
     Parameters
@@ -82,6 +83,9 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
     valid_dbm : (float, float), optional
         Physical range of a heard reading (an estimator's ``rssi_range_dbm``, by default
         :data:`RSSI_RANGE_DBM`); a finite value outside it raises. ``None`` checks no range.
+    copy : bool
+        ``True``: the result is a new array. ``False``: a float64 input is returned itself (no copy of the
+        matrix), for callers that neither keep nor modify it (the estimators' checks on their way to features).
 
     Raises
     ------
@@ -96,7 +100,7 @@ def check_rssi(rssi_dbm, name: str = "X", n_aps: int | None = None, allow_empty_
         raw = np.asarray(rssi_dbm)
         if np.iscomplexobj(raw):
             raise ValueError(f"Complex data not supported: {name} must be real RSSI in dBm")
-        x = raw.astype(np.float64)
+        x = raw.astype(np.float64, copy=bool(copy))
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be a numeric RSSI matrix in dBm: {exc}") from None
     if x.ndim != 2:
@@ -263,7 +267,7 @@ def mean_fingerprints(rssi_dbm, xy, min_heard_fraction: float = 0.5) -> tuple[np
     Bahl & Padmanabhan, RADAR (INFOCOM 2000): the radio map holds the mean signal strength per
     point; i-Loc thesis sec. 3.1 ("build each point's signal model").
     """
-    x = check_rssi(rssi_dbm, "X")
+    x = check_rssi(rssi_dbm, "X", copy=False)  # read only: the sums below make new arrays
     y = np.asarray(xy, dtype=np.float64).reshape(x.shape[0], -1)
     if not 0.0 <= min_heard_fraction <= 1.0:
         raise ValueError(f"min_heard_fraction must be in [0, 1], got {min_heard_fraction}")

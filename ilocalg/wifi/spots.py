@@ -55,7 +55,7 @@ def spot_fingerprints(rssi_dbm, y, min_heard_fraction: float = 0.0) -> tuple[np.
     y_spot : ndarray (n_spots,) or (n_spots, d)
         The spots' targets, in ``y``'s layout.
     """
-    x = check_rssi(rssi_dbm, "X")
+    x = check_rssi(rssi_dbm, "X", copy=False)
     yy = check_positions(y, x.shape[0])
     key = (_digest(x), _digest(yy), float(min_heard_fraction))
     hit = _SPOTS_MEMO.get(key)
@@ -111,7 +111,7 @@ class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def fit(self, X, y):
         """Average ``X`` (n, n_aps; dBm, NaN = not heard) per distinct row of ``y`` and fit the inner estimator."""
-        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", owner=type(self).__name__, valid_dbm=None, copy=False)
         if y is None:
             raise ValueError("this estimator requires y to be passed, but the target y is None "
                              "([x_m, y_m, floor, building] per row, or positions)")
@@ -134,7 +134,7 @@ class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     def predict(self, X) -> np.ndarray:
         """The inner estimator's prediction (the layout of the fitted ``y``)."""
         check_is_fitted(self, "estimator_")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
         return self.estimator_.predict(x)
 
     def predict_weight_powers(self, X, powers) -> list[np.ndarray]:
@@ -143,5 +143,5 @@ class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "estimator_")
         if not hasattr(self.estimator_, "predict_weight_powers"):
             raise ValueError(f"{type(self.estimator_).__name__} has no predict_weight_powers")
-        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None)
+        x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
         return self.estimator_.predict_weight_powers(x, powers)
