@@ -15,6 +15,7 @@ from ilocalg.photo import (
     st_error_propagation,
     st_solve,
     st_solve_batch,
+    st_system,
 )
 
 F = 1045.0
@@ -127,3 +128,95 @@ def test_error_propagation_matches_monte_carlo():
     assert np.sqrt(np.trace(cov_mc)) == pytest.approx(pred["rms_m"][0], rel=0.1)
     # the heading error dominates at this range
     assert np.trace(pred["cov_orientation_m2"][0]) > np.trace(pred["cov_drag_m2"][0])
+
+
+def _svd_reference(P, U, f, T, rank_rtol=1e-9):
+    """st_solve_batch as it was before the closed form: the SVD of st_system's matrix, every photo."""
+    A, b = st_system(P, U, f, T)
+    Uu, s, Vt = np.linalg.svd(A, full_matrices=False)
+    rank = np.sum(s > rank_rtol * s[:, :1], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_s = np.where(s > rank_rtol * s[:, :1], 1.0 / s, 0.0)
+        ub = np.matmul(b[:, None, :], Uu)[:, 0, :] * inv_s
+        c = np.matmul(Vt.transpose(0, 2, 1), ub[..., None])[..., 0]
+        cond = np.where(rank == 3, s[:, 0] / s[:, -1], np.inf)
+    c[rank < 3] = np.nan
+    return {"c_m": c, "rank": rank, "cond": cond, "singular_values": s}
+
+
+def _random_photos(rng, B, n, spread_m, noise_px):
+    """B photos of n PoIs scattered by up to spread_m around a point 3-8 m in front of cameras with random roll."""
+    centre = np.c_[rng.uniform(-1, 1, B), np.zeros(B), rng.uniform(1.0, 2.0, B)]
+    P = centre[:, None, :] + spread_m[:, None, None] * rng.uniform(-1, 1, (B, n, 3))
+    c = np.c_[rng.uniform(-2, 2, B), rng.uniform(4, 8, B), rng.uniform(1.2, 1.7, B)]
+    T = look_at(c, centre, rng.uniform(-0.5, 0.5, B))
+    return P, project(P, c, T, F) + rng.normal(0, noise_px, (B, n, 2)), T
+
+
+@pytest.mark.parametrize("n", [2, 3, 7, 12])
+def test_batch_matches_lstsq_and_svd_on_random_photos(n):
+    rng = np.random.default_rng(n)
+    B = 300
+    P, U, T = _random_photos(rng, B, n, rng.uniform(0.05, 1.0, B), 3.0)
+    out = st_solve_batch(P, U, F, T)
+    ref = _svd_reference(P, U, F, T)
+    assert (out["rank"] == 3).all()
+    A, b = st_system(P, U, F, T)
+    lstsq = np.array([np.linalg.lstsq(A[i], b[i], rcond=None)[0] for i in range(B)])
+    # rounding level: both are backward stable, so they differ by a few eps * cond relative to |c|
+    err = np.linalg.norm(out["c_m"] - lstsq, axis=1) / (np.linalg.norm(lstsq, axis=1) * ref["cond"])
+    assert err.max() < 1e-14
+    np.testing.assert_allclose(out["singular_values"], ref["singular_values"], rtol=1e-13)
+    np.testing.assert_allclose(out["cond"], ref["cond"], rtol=1e-13)
+
+
+def test_batch_near_degenerate_rows_take_the_svd_unchanged():
+    # PoIs spread from 1 m down to 1e-9 m around one point (cond from ~3 to beyond the rank threshold), noise-free
+    # and noisy, mixed with exactly rank-deficient photos (camera on the PoIs' line) in one batch
+    rng = np.random.default_rng(11)
+    B = 400
+    spread = 10.0 ** rng.uniform(-9, 0, B)
+    P, U, T = _random_photos(rng, B, 4, spread, 0.0)
+    U[::2] += rng.normal(0, 1.0, U[::2].shape)
+    Pl = np.array([[0.0, 0.0, 1.5], [0.0, 1.0, 1.5], [0.0, 2.0, 1.5], [0.0, 3.0, 1.5]])
+    cl = np.array([0.0, 5.0, 1.5])
+    Tl = look_at(cl, [0.05, 0.0, 1.45])
+    P[:20], U[:20], T[:20] = Pl, project(Pl, cl, Tl, F), Tl
+    out = st_solve_batch(P, U, F, T)
+    ref = _svd_reference(P, U, F, T)
+    np.testing.assert_array_equal(out["rank"], ref["rank"])
+    assert (out["rank"][:20] == 2).all() and np.isnan(out["c_m"][:20]).all() and np.isinf(out["cond"][:20]).all()
+    assert (ref["rank"] < 3).sum() > 20 and (ref["cond"] > 100).sum() > 100  # the batch does reach degeneracy
+    slow = ref["cond"] > 100
+    for key in ("c_m", "rank", "cond", "singular_values"):  # ill-conditioned and rank-deficient: bit for bit
+        np.testing.assert_array_equal(out[key][slow], ref[key][slow])
+    fast = ~slow
+    np.testing.assert_allclose(out["singular_values"][fast], ref["singular_values"][fast], rtol=1e-12)
+    err = np.linalg.norm(out["c_m"][fast] - ref["c_m"][fast], axis=1)
+    assert (err <= 1e-13 * np.linalg.norm(ref["c_m"][fast], axis=1) * ref["cond"][fast]).all()
+
+
+def test_batch_non_rotation_or_nan_takes_the_svd():
+    rng = np.random.default_rng(5)
+    P, U, T = _random_photos(rng, 50, 5, np.full(50, 0.8), 2.0)
+    Ts = T.copy()
+    Ts[::3] *= 1 + 1e-9  # not a rotation: the closed form's singular values would be off by 1e-9
+    out = st_solve_batch(P, U, F, Ts)
+    ref = _svd_reference(P, U, F, Ts)
+    for key in ("c_m", "cond", "singular_values"):
+        np.testing.assert_array_equal(out[key][::3], ref[key][::3])
+    U[7, 1, 0] = np.nan
+    with pytest.raises(np.linalg.LinAlgError):  # as before: NaN never gives a silent answer
+        st_solve_batch(P, U, F, T)
+
+
+def test_batch_rank_rtol_is_honoured():
+    rng = np.random.default_rng(8)
+    P, U, T = _random_photos(rng, 100, 3, 10.0 ** rng.uniform(-2, 0, 100), 1.0)  # cond 7 to 1600
+    for rtol in (1e-9, 0.02, 0.1):  # a coarse tolerance makes some well-conditioned (cond < 100) photos rank 2
+        out = st_solve_batch(P, U, F, T, rank_rtol=rtol)
+        ref = _svd_reference(P, U, F, T, rank_rtol=rtol)
+        np.testing.assert_array_equal(out["rank"], ref["rank"])
+        np.testing.assert_array_equal(np.isnan(out["c_m"]).all(axis=1), ref["rank"] < 3)
+        assert (ref["rank"] == 3).any()
+    assert (ref["rank"] < 3).sum() > 10
