@@ -89,8 +89,12 @@ def test_a_walk_far_from_every_marked_point_keeps_its_base_estimate():
     xy, on = grid_hmm(far, pdr, n, lat, 9.0, 0.12, 0.1, causal=False)
     np.testing.assert_array_equal(xy, far)
     assert not on.any()
+    # no database walk stands where another stood (a sparse survey): every query keeps its base estimate
+    xy, on = grid_hmm(est, pdr, n, lat, 9.0, 0.12, 1.0, causal=True)
+    np.testing.assert_array_equal(xy, est)
+    assert not on.any()
     with pytest.raises(ValueError, match="off_share"):
-        grid_hmm(est, pdr, n, lat, 9.0, 0.12, 0.0, causal=False)
+        grid_hmm(est, pdr, n, lat, 9.0, 0.12, 1.5, causal=False)
 
 
 def test_survey_points_and_the_share_off_them():

@@ -381,7 +381,8 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
     constrains the particle filter and enables map matching (without it the particle filter runs
     unconstrained). The walked-path graph of :data:`~ilocalg.track.PATH_METHODS` is built from ``db_traces``'
     waypoints (:meth:`~ilocalg.track.paths.WalkedPaths.from_recordings`). A fingerprint walk that is the
-    scored walk (same name, or same sensor content under another name) raises.
+    scored walk (same name, or same sensor content under another name) raises. Their waypoints are also the
+    marked points of :data:`~ilocalg.track.GRID_METHODS`.
     """
     items = list(db_traces.values() if isinstance(db_traces, dict) else db_traces)
     if not items:
@@ -418,7 +419,8 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
         grid = floor_map
     else:
         grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
-    paths = WalkedPaths.from_recordings(recs, frame) if any(m in PATH_METHODS for m in methods) else None
+    paths = (WalkedPaths.from_recordings(recs, frame) if any(m in PATH_METHODS or m in GRID_METHODS for m in methods)
+             else None)
     r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var, gain=gain,
                       paths=paths)
     r["info"]["wifi_config"] = label

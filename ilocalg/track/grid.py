@@ -104,7 +104,8 @@ def grid_hmm(est_xy_m, pdr_xy_m, n_steps, points_m, est_var_m2: float, step_var_
     ``est_xy_m`` (q, 2): the base estimates at the query times (in time order); ``pdr_xy_m`` (q, 2): the PDR track
     (cumulative displacement, any origin) at the same times; ``n_steps`` (q,): the step count at each (fractional);
     ``points_m`` (k, 2): the marked points; ``est_var_m2``: the base estimate's per-axis error variance;
-    ``step_var_m2``: one step's per-axis displacement variance; ``off_share``: the prior of the off state.
+    ``step_var_m2``: one step's per-axis displacement variance; ``off_share``: the prior of the off state (1: no
+    marked point is trusted, every query keeps its base estimate).
     ``causal``: the forward filter's most probable state at each query time (uses the times up to it only); else
     the Viterbi path. Returns ``(positions (q, 2), on_point (q,) bool)``.
 
@@ -120,11 +121,12 @@ def grid_hmm(est_xy_m, pdr_xy_m, n_steps, points_m, est_var_m2: float, step_var_
     if pdr.shape != est.shape or ns.shape != (q,):
         raise ValueError(f"grid_hmm: est_xy_m {est.shape}, pdr_xy_m {pdr.shape} and n_steps {ns.shape} must describe "
                          "the same query times")
-    if not (est_var_m2 > 0 and step_var_m2 > 0 and 0.0 < off_share < 1.0):
-        raise ValueError(f"grid_hmm: est_var_m2 and step_var_m2 must be > 0 and off_share in (0, 1), got "
+    if not (est_var_m2 > 0 and step_var_m2 > 0 and 0.0 <= off_share <= 1.0):
+        raise ValueError(f"grid_hmm: est_var_m2 and step_var_m2 must be > 0 and off_share in [0, 1], got "
                          f"{est_var_m2}, {step_var_m2}, {off_share}")
-    if q == 0:
-        return est.copy(), np.zeros(0, dtype=bool)
+    if q == 0 or off_share >= 1.0:          # no walk stands where another stood: no marked point to trust
+        return est.copy(), np.zeros(q, dtype=bool)
+    off_share = max(off_share, 1e-9)        # every waypoint shared: the off state only where no point is near
     if not np.isfinite(est).all():
         raise ValueError("grid_hmm: the base estimates must be finite at every query time")
     tree = cKDTree(P) if P.shape[0] else None
