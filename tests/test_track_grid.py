@@ -6,8 +6,7 @@ import pytest
 from ilocalg.track._config import CAUSAL_METHODS, GRID_METHODS, METHODS
 from ilocalg.track.grid import bend_track, grid_hmm, off_grid_share, survey_points
 from ilocalg.track.paths import WalkedPaths
-
-from track_sim import SITE1_WALK, site1_floor
+from tests.track_sim import SITE1_WALK, site1_floor
 
 
 def _marked_walk(seed, bias_sd=3.0, noise_sd=1.0, step_sd=0.35):

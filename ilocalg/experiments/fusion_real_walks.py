@@ -43,8 +43,8 @@ from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 from ilocalg.track.paths import WalkedPaths
 
-__all__ = ["DATASET", "load_floor", "run", "run_config", "floor_model", "example", "findings", "leave_one_walk_out",
-           "fix_ablation", "ablation_findings",
+__all__ = ["DATASET", "GRID_METHODS", "load_floor", "run", "run_config", "floor_model", "example", "findings",
+           "leave_one_walk_out", "fix_ablation", "ablation_findings",
            # from ilocalg.track.lowo (the CLI's sweep command calls an experiment's own sweep_summary)
            "sweep_summary", "lowo_findings", "wifi_ablation", "floor_image"]
 
@@ -270,7 +270,8 @@ def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
                   "item": dataset}]
     # the tracks of the best and the worst walk (by the best offline method's walk mean) for the figures
     # (among the track estimators: the grid variants are located at the query times only)
-    off = summ[(summ["latency"] == "whole walk") & (summ["method"] != "wifi") & ~summ["method"].isin(list(GRID_METHODS))]
+    off = summ[(summ["latency"] == "whole walk") & (summ["method"] != "wifi")
+               & ~summ["method"].isin(list(GRID_METHODS))]
     best_m = off.loc[off["mean_error_m"].idxmin(), "method"] if len(off) else "wifi"
     order = pw.sort_values(best_m)["walk"].tolist()
     picks = {"best": order[0], "worst": order[-1]}
@@ -484,10 +485,16 @@ def findings(tables: dict) -> str:
     lat = rest[rest.index.isin(list(LATENCY_METHODS))]
     for label, part, goal in (("offline", off, 0.5), ("online", on, 0.7),
                               ("online with a declared latency (not causal)", lat, 0.7)):
-        if len(part):
-            m = part["mean_error_m"].idxmin()
-            r = part.loc[m]
-            out.append(f"Best {label}: {m}, mean {r['mean_error_m']:.2f} m, p75 (EvAAL) "
+        tracks_only = part[~part.index.isin(list(GRID_METHODS))]
+        for lab, p in ((label, part), (f"{label} track estimator (no query times, no marked points)", tracks_only)):
+            if not len(p) or (p is tracks_only and len(p) == len(part)):
+                continue
+            m = p["mean_error_m"].idxmin()
+            if p is tracks_only and m == part["mean_error_m"].idxmin():
+                continue
+            r = p.loc[m]
+            grid = " (at the query times, on the survey's marked points)" if m in GRID_METHODS else ""
+            out.append(f"Best {lab}: {m}{grid}, mean {r['mean_error_m']:.2f} m, p75 (EvAAL) "
                        f"{r.get('p75_error_m', float('nan')):.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only "
                        f"(goal <= {goal} x: {'met' if r['ratio_to_wifi'] <= goal else 'missed'}).")
     return "\n".join(out)

@@ -30,7 +30,6 @@ from ilocalg.track._config import (
 )
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.estimators import ESTIMATORS, STATES_USED_METHODS, TrackProblem
-from ilocalg.track.grid import bend_track, grid_queries, off_grid_share, survey_points
 from ilocalg.track.fixes import (
     FixVarModel,
     calibrate_fix_var,
@@ -41,6 +40,7 @@ from ilocalg.track.fixes import (
     select_wifi,
     wifi_fixes,
 )
+from ilocalg.track.grid import bend_track, grid_queries, off_grid_share, survey_points
 from ilocalg.track.motion import (
     Calibration,
     GainStats,

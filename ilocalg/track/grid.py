@@ -62,7 +62,8 @@ SAME_POINT_M = 0.1
 
 def survey_points(paths) -> np.ndarray:
     """The distinct waypoints (k, 2) of a walked-path graph built from waypoints
-    (:meth:`ilocalg.track.paths.WalkedPaths.from_recordings`): its segments' ends, each point once (two ends the same to 1 mm are one point; the first kept)."""
+    (:meth:`ilocalg.track.paths.WalkedPaths.from_recordings`): its segments' ends, each point once (two ends the
+    same to 1 mm are one point; the first kept)."""
     pts = np.vstack([np.asarray(paths.a_m, dtype=np.float64).reshape(-1, 2),
                      np.asarray(paths.b_m, dtype=np.float64).reshape(-1, 2)])
     if pts.shape[0] == 0:
