@@ -57,7 +57,7 @@ def test_trace_files_and_no_map(shared_data, tmp_path):
     out = cmd.run(_args(trace=str(files[TRACE]), fingerprints=[str(files[d]) for d in DB[:2]], no_map=True,
                         floor=tmp_path / "nowhere"))
     assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "lsq",
-                                    "lsq_online", "kf_gain", "kf_gain_lag5s", "lsq_paths"}
+                                    "lsq_online", "kf_gain", "kf_gain_lag5s", "lsq_paths", "lsq_grid"}
     assert out["n_fingerprint_walks"] == 2
 
 
@@ -96,7 +96,7 @@ def test_ipin_logfile_scored_against_other_logfiles(ipin_files):
     assert out["trace"] == "sim001" and out["n_fingerprint_walks"] == len(db)
     # no floor map for geographic walks: the map-constrained methods are left out, as for ILC with --no-map
     assert set(out["errors_m"]) == {"pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "lsq",
-                                    "lsq_online", "kf_gain", "kf_gain_lag5s", "lsq_paths"}
+                                    "lsq_online", "kf_gain", "kf_gain_lag5s", "lsq_paths", "lsq_grid"}
     for k, e in out["errors_m"].items():
         assert len(e) == n and all(np.isfinite(e)) and out["mean_m"][k] == pytest.approx(np.mean(e))
     assert out["mean_m"]["kf_rts"] < 10 and out["mean_m"]["wifi"] < 10

@@ -36,15 +36,15 @@ from ilocalg.track import (
     evaluate_walk,
     walk_steps,
 )
-from ilocalg.track._config import PATH_METHODS, latency_of
+from ilocalg.track._config import GRID_METHODS, PATH_METHODS, latency_of
 from ilocalg.track.evaluation import _latest_fix, complete_tracks
 from ilocalg.track.fixes import wifi_fixes, wknn_key
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
 from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
 from ilocalg.track.paths import WalkedPaths
 
-__all__ = ["DATASET", "load_floor", "run", "run_config", "floor_model", "example", "findings", "leave_one_walk_out",
-           "fix_ablation", "ablation_findings",
+__all__ = ["DATASET", "GRID_METHODS", "load_floor", "run", "run_config", "floor_model", "example", "findings",
+           "leave_one_walk_out", "fix_ablation", "ablation_findings",
            # from ilocalg.track.lowo (the CLI's sweep command calls an experiment's own sweep_summary)
            "sweep_summary", "lowo_findings", "wifi_ablation", "floor_image"]
 
@@ -200,7 +200,7 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
     # the walked-path graph of the floor's waypoints, built once; each scored walk's graph leaves it out
     # (kept with the floor model: the same segments, and the walks not scored need not be read)
     paths = None
-    if any(m in PATH_METHODS for m in methods):
+    if any(m in PATH_METHODS or m in GRID_METHODS for m in methods):
         paths = model.walk_paths if model.walk_paths is not None else WalkedPaths.from_recordings(fl.traces,
                                                                                                    model.db.frame)
     acc = {v: ([], [], {}) for v in variants}
@@ -224,7 +224,7 @@ def _run(variants: dict, seed: int = 0, fast: bool = False, data_dir=None, floor
             e["wifi_plain_knn"] = np.hypot(*(_latest_fix(pfx.t_s, pfx.xy_m, e[T_S].to_numpy())
                                              - fl.traces[name].waypoints[[X_M, Y_M]].to_numpy()).T)
             # what the two drawn walks' whole tracks are made from (complete_tracks), once they are known
-            trk[name] = {k: r[k] for k in ("tracks", "state_t_s", "fixes", "problem", "state_floor", "track")}
+            trk[name] = {k: r[k] for k in ("tracks", "state_t_s", "fixes", "problem", "state_floor", "track", "grid")}
             wrows.append(e)
             prow.append({"walk": name, "waypoints": len(e), **{m: float(e[m].mean()) for m in methods},
                          "wifi_config": wm.wifi_config, **r["info"]})
@@ -269,7 +269,9 @@ def _tables(wrows, prow, trk, methods, fl, dataset, relisted_wifi, cfg) -> dict:
                  {"quantity": f"ratio to Wi-Fi only, {m}", "value": row["ratio_to_wifi"], "unit": "1",
                   "item": dataset}]
     # the tracks of the best and the worst walk (by the best offline method's walk mean) for the figures
-    off = summ[(summ["latency"] == "whole walk") & (summ["method"] != "wifi")]
+    # (among the track estimators: the grid variants are located at the query times only)
+    off = summ[(summ["latency"] == "whole walk") & (summ["method"] != "wifi")
+               & ~summ["method"].isin(list(GRID_METHODS))]
     best_m = off.loc[off["mean_error_m"].idxmin(), "method"] if len(off) else "wifi"
     order = pw.sort_values(best_m)["walk"].tolist()
     picks = {"best": order[0], "worst": order[-1]}
@@ -483,10 +485,16 @@ def findings(tables: dict) -> str:
     lat = rest[rest.index.isin(list(LATENCY_METHODS))]
     for label, part, goal in (("offline", off, 0.5), ("online", on, 0.7),
                               ("online with a declared latency (not causal)", lat, 0.7)):
-        if len(part):
-            m = part["mean_error_m"].idxmin()
-            r = part.loc[m]
-            out.append(f"Best {label}: {m}, mean {r['mean_error_m']:.2f} m, p75 (EvAAL) "
+        tracks_only = part[~part.index.isin(list(GRID_METHODS))]
+        for lab, p in ((label, part), (f"{label} track estimator (no query times, no marked points)", tracks_only)):
+            if not len(p) or (p is tracks_only and len(p) == len(part)):
+                continue
+            m = p["mean_error_m"].idxmin()
+            if p is tracks_only and m == part["mean_error_m"].idxmin():
+                continue
+            r = p.loc[m]
+            grid = " (at the query times, on the survey's marked points)" if m in GRID_METHODS else ""
+            out.append(f"Best {lab}: {m}{grid}, mean {r['mean_error_m']:.2f} m, p75 (EvAAL) "
                        f"{r.get('p75_error_m', float('nan')):.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only "
                        f"(goal <= {goal} x: {'met' if r['ratio_to_wifi'] <= goal else 'missed'}).")
     return "\n".join(out)

@@ -76,6 +76,13 @@ The Wi-Fi fix model (:mod:`ilocalg.track.fixes`, :class:`RealWalkConfig` ``fix_v
     :func:`~ilocalg.track.fixes.fix_error_correlation`): a Gauss-Markov bias carried by the ``kf_gain*`` filters as
     two states and by the least squares as unknowns. The map at start-up (``map_start``): the online map variants
     start from the first fix's walkable posterior (:func:`~ilocalg.track.estimators.walkable_posterior`).
+On the survey's marked points, at the query times (:mod:`ilocalg.track.grid`, :data:`GRID_METHODS`)
+    ``lsq_grid``, ``map_align_grid`` (offline) and ``lsq_online_map_grid``, ``kf_gain_map_grid`` (causal): not
+    tracks but positions at the times the walk is asked about (scored: its waypoints' times, given as in the 2021
+    competition), each a database walk's waypoint (where the surveyors stand) decoded by a hidden Markov model over
+    them from the base track and the PDR (Viterbi offline, the forward filter online), or the base's own estimate
+    where no marked point is near or "no marked point" is more probable (always, where the database walks share no
+    waypoint).
 Floor model
     :func:`build_floor_model` / :func:`cached_floor_model` build a floor's database and calibration
     rows once and save them, with the floor-level Wi-Fi configuration (what a walk from outside the floor
@@ -84,8 +91,9 @@ Floor model
 
 Modules: ``database`` (fingerprints, save/load), ``fixes`` (Wi-Fi), ``motion`` (steps, calibration),
 ``estimators`` (least squares, map step), ``online_kf`` (the gain-augmented Kalman filter), ``floor`` (the
-cached floor model), ``paths`` (the walked-path graph of the database walks' waypoints and ``lsq_paths``, the
-least squares pulled towards it), ``evaluation``, ``lowo`` (leave-one-walk-out pooling over floors, the Wi-Fi
+cached floor model), ``grid`` (the survey's marked points and the ``*_grid`` variants), ``paths`` (the
+walked-path graph of the database walks' waypoints and ``lsq_paths``, the least squares pulled towards it),
+``evaluation``, ``lowo`` (leave-one-walk-out pooling over floors, the Wi-Fi
 ablation, a floor's files), ``online_pf`` (a particle filter with ``kf_gain``'s model; tested, not a method).
 Diagnostics of issue 26, no method: ``error_sources`` (oracle ablations: which error source the online tracks
 keep), ``surface`` (the walk placed on its scans' likelihood surface) and ``walk_align`` (its scan sequence
@@ -105,6 +113,7 @@ map-constrained particle filters.
 """
 from ilocalg.track._config import (
     CAUSAL_METHODS,
+    GRID_METHODS,
     LATENCY_METHODS,
     MAP_METHODS,
     METHODS,
@@ -133,6 +142,6 @@ __all__ = ["RealWalkConfig", "METHODS", "WIFI_CANDIDATES", "WalkSteps", "walk_st
            "WifiDatabase", "WifiFixes", "locate_wknn", "wifi_fixes", "calibrate_fix_var", "select_wifi",
            "evaluate_walk", "evaluate_track", "FloorEstimate", "barometric_segments", "estimate_floors",
            "track_table", "error_table", "summary_table", "CAUSAL_METHODS", "LATENCY_METHODS", "MAP_METHODS",
-           "PATH_METHODS", "ESTIMATORS", "Estimator", "TrackProblem",
+           "PATH_METHODS", "GRID_METHODS", "ESTIMATORS", "Estimator", "TrackProblem",
            "FloorModel", "WalkModel", "build_floor_model", "cached_floor_model", "calibrate_step_var",
            "classify_floor"]

@@ -7,18 +7,27 @@ from dataclasses import dataclass
 #: Keys of the scored tracks (the ``evaluate track`` command's ``errors_m`` keys).
 METHODS = ("pdr", "wifi", "kf", "kf_rts", "aligned", "aligned_rot", "aligned_kf_rts", "pf", "pf_smooth", "map_align",
            "map_align_kf_rts", "lsq", "lsq_map", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map",
-           "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s", "lsq_paths")
+           "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s", "lsq_paths",
+           "lsq_grid", "map_align_grid", "lsq_online_map_grid", "kf_gain_map_grid")
 #: The online methods (an estimate at time t uses the walk up to t only); the others use the whole walk. One
 #: exception, shared by all of them and by the Wi-Fi-only track: a time before the walk's first Wi-Fi fix is
 #: known has its estimate once that fix is (the first fix, or the PDR track placed through it).
-CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map")
+CAUSAL_METHODS = ("pdr", "wifi", "kf", "pf", "lsq_online", "lsq_online_map", "kf_gain", "kf_gain_map",
+                  "lsq_online_map_grid", "kf_gain_map_grid")
 #: The methods that need the measured gain spread (:func:`ilocalg.track.motion.gain_stats`).
-GAIN_METHODS = ("kf_gain", "kf_gain_map", "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s")
+GAIN_METHODS = ("kf_gain", "kf_gain_map", "kf_gain_lag5s", "kf_gain_map_lag5s", "kf_gain_map_start5s",
+                "kf_gain_map_grid")
 #: The methods that need the walked-path graph of the database walks (:class:`ilocalg.track.paths.WalkedPaths`).
 PATH_METHODS = ("lsq_paths",)
+#: The variants located at the query times on the survey's marked points (:mod:`ilocalg.track.grid`): method -> its
+#: base track. They use the times the walk is asked about (scored: its waypoints' times) and the database walks'
+#: waypoints (the marked points the surveyors stood on); a query far from every marked point keeps the base's estimate.
+GRID_METHODS = {"lsq_grid": "lsq", "map_align_grid": "map_align", "lsq_online_map_grid": "lsq_online_map",
+                "kf_gain_map_grid": "kf_gain_map"}
 #: The methods that need the floor map.
 MAP_METHODS = ("pf", "pf_smooth", "map_align", "map_align_kf_rts", "lsq_map", "lsq_online_map", "kf_gain_map",
-               "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s")
+               "kf_gain_map_lag5s", "kf_gain_map_start5s", "lsq_online_map_start5s", "map_align_grid",
+               "lsq_online_map_grid", "kf_gain_map_grid")
 #: Online methods with a declared latency (not causal): method -> what waits for how long.
 LATENCY_METHODS = {"kf_gain_lag5s": "every state 5 s", "kf_gain_map_lag5s": "every state 5 s",
                    "kf_gain_map_start5s": "the start-up, until 5 s after the first fix is known",

@@ -23,6 +23,7 @@ from ilocalg.track._config import (
     CAUSAL_METHODS,
     DEFAULT_CONFIG,
     GAIN_METHODS,
+    GRID_METHODS,
     METHODS,
     PATH_METHODS,
     RealWalkConfig,
@@ -39,6 +40,7 @@ from ilocalg.track.fixes import (
     select_wifi,
     wifi_fixes,
 )
+from ilocalg.track.grid import bend_track, grid_queries, off_grid_share, survey_points
 from ilocalg.track.motion import (
     Calibration,
     GainStats,
@@ -64,7 +66,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
                   steps: WalkSteps | None = None, rng=None, methods=METHODS, step_var_m2: float | None = None,
                   gain: GainStats | None = None, fix_var_model: FixVarModel | None = None,
                   paths: WalkedPaths | None = None, loo_fixes: tuple | None = None,
-                  path_var_m2: float | None = None, score_only: bool = False) -> dict:
+                  path_var_m2: float | None = None, score_only: bool = False, survey=None) -> dict:
     """Score every track of :data:`METHODS` at the ground-truth points of ``trace``.
 
     ``db``, ``calibration`` and ``fix_var_m2`` must come from other walks (see :func:`evaluate_track`,
@@ -91,6 +93,10 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     only the states around them (:attr:`~ilocalg.track.estimators.TrackProblem.states_used`), their other states
     NaN in ``tracks``, and ``track`` is None; the errors are the same numbers. :func:`complete_tracks` gives the
     ``track`` table of such a result, every state computed.
+    ``survey``: the walked-path graph of the database walks' *waypoints* whose ends are the marked points the
+    :data:`~ilocalg.track.GRID_METHODS` move a query onto (:mod:`ilocalg.track.grid`; without the scored walk: one
+    that holds it raises); None: ``paths`` when given. Those variants are located at the query times, the walk's
+    ground-truth times, and need such a graph (a database's scan positions are not marked points).
 
     Returns
     -------
@@ -102,7 +108,8 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         :class:`~ilocalg.track.estimators.TrackProblem` the least-squares and ``kf_gain*`` methods solved, or
         None when none was asked for), ``track`` (long
         DataFrame ``t_s, method, x_m, y_m, floor`` of every state, :func:`track_table`; None with ``score_only``),
-        ``state_floor`` (method -> floor estimate per state, empty without floor numbers). ``errors``
+        ``state_floor`` (method -> floor estimate per state, empty without floor numbers), ``grid`` (method of
+        :data:`~ilocalg.track.GRID_METHODS` -> ``(query times, positions, on a marked point)``). ``errors``
         also has ``oracle_shape_m``: a diagnostic (the track fitted onto the walk's own waypoints),
         never a method.
 
@@ -119,6 +126,16 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         rec = rec.in_frame(db.frame)
     if len(rec.truth) < 1:
         raise ValueError(f"{rec.source or rec.name}: no ground-truth point to score")
+    grid_names = [m for m in methods if m in GRID_METHODS]
+    if grid_names:
+        survey = paths if survey is None else survey
+        if survey is None:
+            raise ValueError(f"{grid_names} need the walked-path graph of the database walks' waypoints (survey=)")
+        if rec.name in set(survey.walk):
+            raise ValueError(f"the surveyed points must not include the scored walk {rec.name!r}")
+    scored_methods = tuple(methods)
+    # the grid variants' base tracks are computed too (scored only when asked for)
+    methods = tuple(dict.fromkeys([*methods, *(GRID_METHODS[m] for m in grid_names)]))
     cal = calibration
     fv_note, fix_corr = "isotropic", None
     if (fix_var_model is None and cfg.fix_var == "per_fix") or cfg.fix_corr:
@@ -208,7 +225,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
             raise ValueError(f"the walked-path graph must not include the scored walk {rec.name!r}")
     else:
         paths = None
-    if lsq_names:
+    if lsq_names or grid_names:
         sv = cfg.sigma_sl_m ** 2 if step_var_m2 is None else step_var_m2
         # least squares: each fix constrains the walk where it was when its readings were taken
         t_fix = fx.t_s if fx.t_read_s is None or not cfg.align_fix_time else fx.t_read_s
@@ -222,6 +239,19 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
         for m in lsq_names:
             tracks[m] = ESTIMATORS[m].fn(prob)
         info["step_sd_m"] = float(np.sqrt(sv))
+    grid_out = {}
+    if grid_names:        # located at the query times (the ground-truth times) on the database walks' marked points
+        pts = survey_points(survey)
+        pi = off_grid_share(survey)
+        for m in grid_names:
+            c = m in CAUSAL_METHODS
+            xy, on = grid_queries(prob, tracks[GRID_METHODS[m]], tw, pts, pi, causal=c)
+            grid_out[m] = (tw, xy, on)
+            tracks[m] = bend_track(ts, tracks[GRID_METHODS[m]], tw, xy, causal=c)
+        info["grid_off_share"] = pi
+    for m in set(methods) - set(scored_methods):     # a base computed for a grid variant only: not reported
+        tracks.pop(m, None)
+    methods = scored_methods
     err = {"waypoint": np.arange(len(wp)), "t_s": tw}
     # diagnostic only, not a method: the PDR track rigidly fitted onto this walk's own waypoints (how good
     # the track's shape is; the remaining error of every method is mostly its placement)
@@ -231,7 +261,12 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     else:
         err["oracle_shape_m"] = np.zeros(len(wp))
     for m in methods:
-        est = _latest_fix(fx.t_s, fx.xy_m, tw) if m == "wifi" else _track_at(ts, tracks[m], tw)
+        if m == "wifi":
+            est = _latest_fix(fx.t_s, fx.xy_m, tw)
+        elif m in grid_out:
+            est = grid_out[m][1]
+        else:
+            est = _track_at(ts, tracks[m], tw)
         err[m] = np.hypot(*(est - true).T)
     fe = np.hypot(*(fx.xy_m - fx.true_xy_m).T)
     info["fix_mean_error_m"] = float(np.nanmean(fe)) if np.isfinite(fe).any() else np.nan
@@ -257,6 +292,7 @@ def evaluate_walk(trace, db: WifiDatabase, calibration: Calibration, fix_var_m2:
     # scored only: the long table (every state of every method) is made for the walks drawn, by complete_tracks
     out["track"] = None if score_only else track_table(out, state_floor)
     out["state_floor"] = state_floor
+    out["grid"] = grid_out
     return out
 
 
@@ -273,6 +309,10 @@ def complete_tracks(result: dict) -> pd.DataFrame:
         for m in STATES_USED_METHODS:
             if m in tracks:
                 tracks[m] = ESTIMATORS[m].fn(full)
+        for m, (tq, xy, _) in result.get("grid", {}).items():      # drawn from the whole base track
+            if GRID_METHODS[m] in STATES_USED_METHODS:
+                tracks[m] = bend_track(prob.state_t_s, ESTIMATORS[GRID_METHODS[m]].fn(full), tq, xy,
+                                       causal=m in CAUSAL_METHODS)
     return track_table({**result, "tracks": tracks}, result["state_floor"])
 
 
@@ -341,7 +381,8 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
     constrains the particle filter and enables map matching (without it the particle filter runs
     unconstrained). The walked-path graph of :data:`~ilocalg.track.PATH_METHODS` is built from ``db_traces``'
     waypoints (:meth:`~ilocalg.track.paths.WalkedPaths.from_recordings`). A fingerprint walk that is the
-    scored walk (same name, or same sensor content under another name) raises.
+    scored walk (same name, or same sensor content under another name) raises. Their waypoints are also the
+    marked points of :data:`~ilocalg.track.GRID_METHODS`.
     """
     items = list(db_traces.values() if isinstance(db_traces, dict) else db_traces)
     if not items:
@@ -378,7 +419,8 @@ def evaluate_track(trace, db_traces, floor_map=None, cfg: RealWalkConfig = DEFAU
         grid = floor_map
     else:
         grid = OccupancyGrid.from_floor_map(floor_map, cfg.grid_cell_m)
-    paths = WalkedPaths.from_recordings(recs, frame) if any(m in PATH_METHODS for m in methods) else None
+    paths = (WalkedPaths.from_recordings(recs, frame) if any(m in PATH_METHODS or m in GRID_METHODS for m in methods)
+             else None)
     r = evaluate_walk(rec, db, cal, var, cfg, grid=grid, rng=rng, methods=methods, step_var_m2=step_var, gain=gain,
                       paths=paths)
     r["info"]["wifi_config"] = label

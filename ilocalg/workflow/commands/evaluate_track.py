@@ -76,6 +76,10 @@ METHOD_HELP = {
     "lsq_online_map_start5s": "online after a delayed start: lsq_online_map, the states until 5 s after the "
                               "first fix solved then",
     "lsq_paths": "offline: lsq pulled towards the database walks' paths (their waypoint segments)",
+    "lsq_grid": "offline, at the waypoint times: lsq moved onto the database walks' waypoints (HMM)",
+    "map_align_grid": "offline, at the waypoint times: map_align moved onto the database walks' waypoints",
+    "lsq_online_map_grid": "online, at the waypoint times: lsq_online_map moved onto the database walks' waypoints",
+    "kf_gain_map_grid": "online, at the waypoint times: kf_gain_map moved onto the database walks' waypoints",
 }
 #: Every method's mean error above this (m) prints a warning: the walk is probably not of this floor.
 FAR_OFF_M = 20.0
@@ -250,9 +254,15 @@ def _run(args, floor, st, load_ilc_floor_map, as_recording, METHODS, RealWalkCon
         _check_same_site(rec, wm.db, args.trace)
         st("tracking the walk")
         grid = None if fmap is None else OccupancyGrid.from_floor_map(fmap, cfg.grid_cell_m)
+        from ilocalg.track._config import GRID_METHODS
+
+        # the marked points of the grid variants: the other walks' waypoints, kept with the floor model
+        survey = None if model.walk_paths is None else model.walk_paths.without(trace.name)
+        if survey is None or not len(survey.walk):
+            methods = tuple(m for m in methods if m not in GRID_METHODS)
         r = evaluate_walk(rec, wm.db, wm.calibration, wm.fix_var_m2, wm.cfg, grid=grid, rng=args.seed,
                           methods=methods, step_var_m2=wm.step_var_m2, gain=wm.gain, loo_fixes=wm.loo_fixes,
-                          path_var_m2=wm.path_var_m2)
+                          path_var_m2=wm.path_var_m2, survey=survey)
         r["info"]["wifi_config"] = wm.wifi_config
         r["info"]["database_from_cache"] = cached
         n_db = len(model.walks) - (trace.name in set(model.walks))
