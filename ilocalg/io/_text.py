@@ -590,12 +590,17 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         is_rec &= ~is_head
     if comment:
         is_rec &= first != comment[0]
-    rec = np.flatnonzero(is_rec).astype(ends.dtype)
+    h = int(np.argmax(is_rec))  # the first record (0 if none: then is_rec[0] is False)
+    if is_rec[h] and is_rec[h:].all():  # the usual layout: a header, then records only: views, no gathers
+        rec = None  # line index of record i: h + i
+        rs, stop = starts[h:], ends[h:]
+    else:
+        rec = np.flatnonzero(is_rec).astype(ends.dtype)
+        if not rec.size:
+            return None
+        rs = starts[rec]
+        stop = ends[rec]  # content end (before \r\n)
     del is_rec, first
-    if not rec.size:
-        return None
-    rs = starts[rec]
-    stop = ends[rec]  # content end (before \r\n)
     if n_cr:
         stop = stop - (arr[np.maximum(stop - 1, 0)] == 13)
     nw = -(-max(len(k) + 1 for k in known) // 8)  # words holding the longest known type and its separator
@@ -609,15 +614,16 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         t0 = rs + width + 1
         off = 8 * -(-(width + 1) // 8)  # the first column and its separator, right-aligned in whole words
     names = sorted(known)
-    label = np.empty(len(rec), dtype=np.int8)
-    for i in range(0, len(rec), _ROWS):  # a few thousand records at a time: bounded memory
+    label = np.empty(len(rs), dtype=np.int8)
+    for i in range(0, len(rs), _ROWS):  # a few thousand records at a time: bounded memory
         g = _gather(arr, data, t0[i:i + _ROWS] - off, off + 8 * nw).view("<u8")  # [first column, separator,] type
         if off and (np.any((g[:, off // 8 - 1] >> np.uint64(56)) != sep_b) or _not_digits(g[:, :off // 8], width)):
             return None  # only digits (int64, as int() reads them: no sign, point, exponent or separator)
         label[i:i + _ROWS] = _type_labels(g[:, off // 8:], names, sep)
     del g
     unknown = np.flatnonzero(label == 0)
-    other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], stop[unknown])
+    other, first_other = _count_types(data, arr, sep_b, unknown + h if rec is None else rec[unknown], t0[unknown],
+                                      stop[unknown])
     for t in other:
         ts = t.decode("utf-8", errors="replace")
         if ts.upper() in known or any(d in ts for d in (",", ";", "\t", " ") if d != sep.decode()):
@@ -626,7 +632,8 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None
-    by_label = rec[np.argsort(label, kind="stable")]  # grouped by type, file order within each (a radix sort)
+    by_label = np.argsort(label, kind="stable")  # grouped by type, file order within each (a radix sort)
+    by_label = by_label.astype(ends.dtype) + h if rec is None else rec[by_label]  # as line indices
     at = np.cumsum(n_label)
     rows = {names[c - 1]: by_label[at[c - 1]:at[c]] for c in present.tolist()}
     del by_label
@@ -732,6 +739,8 @@ class Records:
     num: np.ndarray    # (n, len(num)) float64
     ints: list         # one int64 array (n,) per integer field
     strings: list      # one list of str per text field
+    block: np.ndarray | None = None  # types read in turns: the (n, n_types * len(num)) array ``num`` is part of,
+    col: int = 0                     # from its column ``col`` on (columns contiguous)
 
 
 def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), strings=()) -> dict | None:
@@ -739,7 +748,9 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
 
     The lines of all ``types`` are read together, a few megabytes at a time, in file order, and
     each type's rows are written to its own contiguous part of one array (or, when the types take
-    turns in a fixed order, left in file order: each type's rows are every k-th row). ``num``, ``ints`` and
+    turns in a fixed order, one row per turn: each type's fields are their own columns of one array,
+    ``Records.block``, so a caller may use the columns of several types as one table without a copy). ``num``,
+    ``ints`` and
     ``strings`` are field indices (0-based, over the whole line) read as float64, int64 and
     verbatim text (``ints``: a first column that :func:`split_by_type` found to be digits only).
     ``None`` (then the caller parses line by line and names the line) if a line has another number
@@ -760,10 +771,9 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     turn, merged = _turns(parts) if nt > 1 else (None, None)
     periodic = turn is not None
     if nt == 1:
-        rows, dest, code = parts[0], None, np.zeros(n_of[0], dtype=np.intp)
+        rows, dest, code = parts[0], None, None  # every row is of type 0
     elif periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
-        rows, dest = merged, None
-        code = np.tile(np.asarray(turn, dtype=np.intp), n_of[0])
+        rows, dest, code = merged, None, None  # row i is of type turn[i % nt]
     else:
         code = np.repeat(np.arange(nt), n_of)  # each row's index in ``types``
         cat = np.concatenate(parts)
@@ -773,22 +783,25 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     n = len(rows)
     if np.any(tl.n_sep[rows] != n_sep):
         return None
-    lo = tl.starts[rows]
-    hi = tl.ends[rows] + 1
-    cum = np.cumsum(hi - lo)  # selected bytes up to the end of each line: pieces of about _PIECE of them
-    cuts = np.unique(np.searchsorted(cum, np.arange(_PIECE, int(cum[-1]), _PIECE), side="right"))
-    bounds = [0] + [int(c) for c in cuts if 0 < c < n] + [n]
-    del cum
+    run_first, run_last, run_lo, run_hi, bounds = _runs(tl, rows)
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
     dtype = {names[j]: (str if j in strings else np.int64 if j in ints else np.float64) for j in use}
-    out_num = np.empty((n, len(num)), dtype=np.float64, order="F")  # columns contiguous
-    out_int = [np.empty(n, dtype=np.int64) for _ in ints]
-    out_str = [np.empty(n, dtype=object) for _ in strings]
+    nn = len(num)
+    if periodic:  # one row per turn, each type's fields in its own columns (in the order of ``types``)
+        m = n // nt
+        out_num = np.empty((m, nt * nn), dtype=np.float64, order="F")  # columns contiguous
+        out_int = [np.empty((m, nt), dtype=np.int64, order="F") for _ in ints]
+        out_str = [np.empty((m, nt), dtype=object, order="F") for _ in strings]
+    else:
+        out_num = np.empty((n, nn), dtype=np.float64, order="F")  # columns contiguous
+        out_int = [np.empty(n, dtype=np.int64) for _ in ints]
+        out_str = [np.empty(n, dtype=object) for _ in strings]
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        plo, phi = lo[a:b], hi[a:b]
-        brk = np.flatnonzero(plo[1:] != phi[:-1])  # runs of adjacent lines are read as one range
-        source = _LineReader(tl.data, plo[np.append(0, brk + 1)], phi[np.append(brk, b - a - 1)])
+        k0, k1 = int(np.searchsorted(run_last, a)), int(np.searchsorted(run_first, b))  # the runs of rows a..b-1
+        rlo, rhi = run_lo[k0:k1].copy(), run_hi[k0:k1].copy()
+        rlo[0], rhi[-1] = tl.starts[rows[a]], tl.ends[rows[b - 1]] + 1
+        source = _LineReader(tl.data, rlo, rhi)
         # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
         try:
             df = pd.read_csv(source, sep=sep, header=None, names=names, usecols=[names[j] for j in use], dtype=dtype,
@@ -809,23 +822,62 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
         if any(np.all((x == 0) | (x == 1)) for x in maybe01):
             au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
-            if not _no_bool_words(tl.data, plo, phi - plo, au[code[a:b]], sep.encode(), num, ints, not strings):
+            plo, phi = tl.starts[rows[a:b]], tl.ends[rows[a:b]] + 1
+            pcode = (code[a:b] if code is not None else np.asarray(turn)[np.arange(a, b) % nt] if periodic
+                     else np.zeros(b - a, dtype=np.intp))
+            if not _no_bool_words(tl.data, plo, phi - plo, au[pcode], sep.encode(), num, ints, not strings):
                 return None
-        d = slice(a, b) if dest is None else dest[a:b]
-        for k, x in enumerate(cols):
-            out_num[d, k] = x
-        for k, x in zip(out_int, iv, strict=True):
-            k[d] = x
-        for k, j in zip(out_str, strings, strict=True):
-            k[d] = df[names[j]].to_numpy(dtype=object)
-        del df, cols, iv
+        sv = [df[names[j]].to_numpy(dtype=object) for j in strings]
+        if periodic:  # row r of the file order is turn r // nt of type turn[r % nt]
+            for p, ti in enumerate(turn):
+                r = a + (p - a) % nt  # the first row of phase p in this piece
+                if r >= b:
+                    continue
+                e = slice(r // nt, r // nt + len(range(r, b, nt)))
+                for k, x in enumerate(cols):
+                    out_num[e, ti * nn + k] = x[r - a::nt]
+                for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
+                    o[e, ti] = x[r - a::nt]
+        else:
+            d = slice(a, b) if dest is None else dest[a:b]
+            for k, x in enumerate(cols):
+                out_num[d, k] = x
+            for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
+                o[d] = x
+        del df, cols, iv, sv
     out = {}
     o = 0
     for i, (t, m) in enumerate(zip(types, n_of, strict=True)):
-        sel = slice(code[:nt].tolist().index(i), None, nt) if periodic else slice(o, o + m)
-        out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int], strings=[x[sel].tolist() for x in out_str])
+        if periodic:
+            out[t] = Records(num=out_num[:, i * nn:(i + 1) * nn], ints=[x[:, i] for x in out_int],
+                             strings=[x[:, i].tolist() for x in out_str], block=out_num, col=i * nn)
+        else:
+            sel = slice(o, o + m)
+            out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int],
+                             strings=[x[sel].tolist() for x in out_str])
         o += m
     return out
+
+
+def _runs(tl: TypedLines, rows: np.ndarray):
+    """The runs of consecutive file lines among ``rows`` (increasing line indices) and the pieces to parse.
+
+    Returns the index (into ``rows``) of each run's first and last line, the byte range
+    ``[run_lo, run_hi)`` of each run, and ``bounds``: row indices cutting ``rows`` into pieces of about
+    ``_PIECE`` bytes (computed per run, so no array over every row is made)."""
+    n = len(rows)
+    brk = np.flatnonzero(np.diff(rows) != 1)
+    run_first = np.append(0, brk + 1)
+    run_last = np.append(brk, n - 1)
+    run_lo = tl.starts[rows[run_first]]
+    run_hi = tl.ends[rows[run_last]] + 1
+    cum = np.cumsum(run_hi - run_lo)  # selected bytes up to the end of each run
+    target = np.arange(_PIECE, int(cum[-1]), _PIECE)
+    j = np.searchsorted(cum, target, side="right")  # the run holding selected byte ``target``
+    pos = run_hi[j] - (cum[j] - target)  # that byte in the file
+    cuts = run_first[j] + (np.searchsorted(tl.ends, pos) - rows[run_first[j]])  # its line, as an index into rows
+    bounds = [0] + [int(c) for c in np.unique(cuts) if 0 < c < n] + [n]
+    return run_first, run_last, run_lo, run_hi, bounds
 
 
 def _turns(parts: list) -> tuple[list | None, np.ndarray | None]:

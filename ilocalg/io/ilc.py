@@ -265,6 +265,8 @@ class _Block:
     num: np.ndarray
     ssid: list | None = None
     bssid: list | None = None
+    block: np.ndarray | None = None  # records read in turns with other types: the array ``num`` is columns of
+    col: int = 0                     # (from column ``col`` on), see :func:`ilocalg.io._text.read_records`
 
 
 #: Values (0-based, after time and type) converted per record type, and their names.
@@ -289,7 +291,7 @@ def _blocks_fast(data: bytes, is_ascii: bool | None = None) -> tuple[dict, dict,
         if got is None:
             return None
         for t, r in got.items():
-            out[t] = _Block(tl.lines[t], r.ints[0], r.num, *r.strings)
+            out[t] = _Block(tl.lines[t], r.ints[0], r.num, *r.strings, block=r.block, col=r.col)
     return out, tl.counts, tl.header
 
 
@@ -392,11 +394,20 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     if ref is None:
         imu = pd.DataFrame({}, index=pd.Index([], dtype=np.float64, name=T_S))
     else:
-        data = {}
-        for rtype, v in imu_parts.items():
-            for j, c in enumerate(_SENSORS[rtype]):
-                data[c] = v[:, j]
-        imu = pd.DataFrame(data, index=pd.Index(ref[1] * 1e-3, name=T_S))
+        cols = [c for rtype in imu_parts for c in _SENSORS[rtype]]
+        index = pd.Index(ref[1] * 1e-3, name=T_S)
+        blks = [by_type[rtype] for rtype in imu_parts]
+        c0 = blks[0].col
+        if blks[0].block is not None and all(b.block is blks[0].block and b.col == c0 + 3 * k
+                                             for k, b in enumerate(blks)):
+            # the sensors were read in turns into adjacent columns of one array: a view, not a copy
+            imu = pd.DataFrame(blks[0].block[:, c0:c0 + 3 * len(blks)], columns=cols, index=index, copy=False)
+        else:
+            data = {}
+            for rtype, v in imu_parts.items():
+                for j, c in enumerate(_SENSORS[rtype]):
+                    data[c] = v[:, j]
+            imu = pd.DataFrame(data, index=index)
         check_imu(imu, source)
 
     if "TYPE_ROTATION_VECTOR" in by_type:
