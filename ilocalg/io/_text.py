@@ -355,7 +355,7 @@ _TYPE_WINDOW = 64
 
 def _scan_lines(arr: np.ndarray, sep_b: int) -> tuple[np.ndarray, np.ndarray, int]:
     """One pass over text ending with ``\\n``, a few megabytes at a time: the position of every ``\\n``,
-    the number of ``sep_b`` bytes on each line, and the number of bytes below 32.
+    the number of ``sep_b`` bytes on each line, and the number of bytes up to 32 (controls and spaces).
 
     The separators are counted as bits: each chunk's separator mask is packed into 64-bit words, and a
     line's count is the difference of the bits set up to its line end and up to the previous one (a
@@ -367,7 +367,7 @@ def _scan_lines(arr: np.ndarray, sep_b: int) -> tuple[np.ndarray, np.ndarray, in
     prev = 0  # separators up to the previous line end
     for i in range(0, len(arr), _CHUNK):
         a = arr[i:i + _CHUNK]
-        n_low += int(np.count_nonzero(a < 32))
+        n_low += int(np.count_nonzero(a <= 32))
         e = np.flatnonzero(a == 10)
         bits = np.packbits(a == sep_b, bitorder="little")
         words = np.zeros(-(-len(bits) // 8), dtype="<u8")
@@ -551,9 +551,12 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    ends, n_sep, n_low = _scan_lines(arr, sep_b)
+    ends, n_sep, n_le32 = _scan_lines(arr, sep_b)
     n_tab = int(n_sep.sum()) if sep_b == 9 else 0
     n_cr = 0
+    plain = n_le32 == len(ends) + n_tab  # no space, no control byte but line ends and separating tabs
+    n_low = n_le32 if plain else n_le32 - sum(int(np.count_nonzero(arr[i:i + _CHUNK] == 32))
+                                              for i in range(0, len(arr), _CHUNK))
     if n_low != len(ends) + n_tab:  # bytes below 32 other than line ends and separating tabs: looked at
         if sep_b != 9 and b"\t" in data:
             return None  # a tab is a space to str.strip
@@ -571,7 +574,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
     sp = []
-    k = data.find(b" ")
+    k = -1 if plain else data.find(b" ")
     while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one
         sp.append(k)
         k = data.find(b" ", k + 1)
@@ -628,7 +631,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         ts = t.decode("utf-8", errors="replace")
         if ts.upper() in known or any(d in ts for d in (",", ";", "\t", " ") if d != sep.decode()):
             return None
-    n_label = np.bincount(label, minlength=len(names) + 1)
+    n_label = np.array([np.count_nonzero(label == c) for c in range(len(names) + 1)])  # (no int8 -> intp copy)
     present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None

@@ -99,6 +99,7 @@ from ilocalg.io.scans import RELISTED_WIFI_POLICIES, merge_relisted_wifi, relist
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
+    FIELD_RANGES,
     FREQ_MHZ,
     GYR_COLS,
     MAG_COLS,
@@ -369,7 +370,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
         t = _times_ms(blk.t_ms, linenos, source)
         _check_increasing(t, linenos, source, rtype)
         check_range(v, _RANGE[rtype], source, linenos, ("3 (x)", "4 (y)", "5 (z)"))
-        if t.size:
+        span = FIELD_RANGES["elapsed_s"]  # times increase (checked above): the first is 0, the last the largest
+        if t.size and not span.lo <= 0.0 <= (t[-1] - t[0]) * 1e-3 <= span.hi:
             check_range((t - t[0]) * 1e-3, "elapsed_s", source, linenos, "1 (Unix time, since the first record)")
         return linenos, t, v.reshape(-1, 3)
 
@@ -439,9 +441,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     check_range(num[:, 1], FREQ_MHZ, source, linenos, "6 (frequency)")
     check_range(num[:, 2], "unix_time_ms", source, linenos, "7 (last seen timestamp)")
     bssid = blk.bssid
-    empty_b = [i for i, b in enumerate(bssid) if not b]
-    if empty_b:
-        fail(source, linenos[empty_b[0]], "TYPE_WIFI column 4 (bssid) is empty")
+    if not all(bssid):
+        fail(source, linenos[next(i for i, b in enumerate(bssid) if not b)], "TYPE_WIFI column 4 (bssid) is empty")
     scan_id = np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64) if t.size else t
     wifi = pd.DataFrame({
         T_S: t * 1e-3,
