@@ -700,6 +700,7 @@ class _LineReader(io.RawIOBase):
 
     def __init__(self, data: bytes, lo: np.ndarray, hi: np.ndarray):
         self._data = data
+        self._mv = memoryview(data)  # slices of it are joined without a copy of their own
         self._lo, self._hi = lo.tolist(), hi.tolist()
         self._cum = np.cumsum(hi - lo)  # bytes up to the end of each range
         self._k = 0
@@ -720,9 +721,10 @@ class _LineReader(io.RawIOBase):
             if self._at == hi[k]:
                 self._next(k + 1)
             return out
-        parts = [self._data[self._at:hi[k]]]
+        mv = self._mv
+        parts = [mv[self._at:hi[k]]]
         j = int(np.searchsorted(self._cum, self._cum[k] + size - len(parts[0]), side="right"))  # whole ranges
-        parts += [self._data[a:b] for a, b in zip(lo[k + 1:j], hi[k + 1:j], strict=True)]
+        parts += [mv[a:b] for a, b in zip(lo[k + 1:j], hi[k + 1:j], strict=True)]
         self._next(j)
         return b"".join(parts)
 
@@ -789,7 +791,7 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     run_first, run_last, run_lo, run_hi, bounds = _runs(tl, rows)
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
-    dtype = {names[j]: (str if j in strings else np.int64 if j in ints else np.float64) for j in use}
+    dtype = {names[j]: (object if j in strings else np.int64 if j in ints else np.float64) for j in use}
     nn = len(num)
     if periodic:  # one row per turn, each type's fields in its own columns (in the order of ``types``)
         m = n // nt
