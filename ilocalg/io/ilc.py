@@ -95,7 +95,7 @@ from ilocalg.io._text import (
     split_by_type,
     to_float,
 )
-from ilocalg.io.scans import RELISTED_WIFI_POLICIES, merge_relisted_wifi, relisted_readings, scan_matrix
+from ilocalg.io.scans import RELISTED_WIFI_POLICIES, relisted_readings, scan_matrix
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
@@ -469,7 +469,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
             keep = np.zeros(len(wifi), dtype=bool)
             keep[order[first]] = True
     n_dropped = int((~keep).sum())
-    wifi = wifi[keep].reset_index(drop=True)
+    if n_dropped:
+        wifi = wifi[keep].reset_index(drop=True)
     n_relisted = 0
     if len(wifi) and relisted_wifi != "keep":          # re-listed cached readings (ilocalg.io.scans)
         rel = relisted_readings(wifi)
@@ -479,7 +480,9 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
                  f"of the previous scan (same RSSI, last seen within 1 ms; {int(rel.sum())} such lines); pass "
                  "relisted_wifi='merge' to merge them into their first listing (counted) or 'keep' to take them as "
                  "new readings")
-        wifi, n_relisted = merge_relisted_wifi(wifi)
+        n_relisted = int(rel.sum())  # merge_relisted_wifi(wifi), with the re-listings found above
+        if n_relisted:
+            wifi = wifi[~rel].reset_index(drop=True)
     if len(wifi):
         check_wifi_scans(wifi, source)
 
