@@ -454,17 +454,15 @@ def _words(kb: bytes, nw: int) -> tuple[list, list]:
             [(1 << (8 * len(p))) - 1 for p in parts])
 
 
-def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
-    """Code (1-based index into ``names``) of each record's type, 0 for another type.
+_LABEL_TABLES: dict = {}
 
-    ``type_words`` holds each record's first bytes from its type on, as 64-bit words (past its
-    line end: the next line's bytes, or zeros at the end of the data). A record is of type ``name``
-    when it starts with ``name`` and ``sep`` (which hold no line end, so a match lies within the line).
-    The first word picks one candidate type per record through a perfect hash of the known types'
-    first words (a multiply and a shift), so each further word costs one compare per record
-    whatever the number of types.
-    """
-    nw = type_words.shape[1]
+
+def _label_tables(names: tuple, sep: bytes, nw: int):
+    """The known types as words and masks, and the perfect hash of their first words (or None), for
+    :func:`_type_labels` (made once per set of types)."""
+    got = _LABEL_TABLES.get((names, sep, nw))
+    if got is not None:
+        return got
     kbs = [n.encode() + sep for n in names]
     keys = np.zeros((len(kbs) + 1, nw), dtype=np.uint64)
     masks = np.zeros((len(kbs) + 1, nw), dtype=np.uint64)
@@ -472,6 +470,7 @@ def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
         k, m = _words(kb, nw)
         keys[c], masks[c] = k, m
     first = {int(k) for k in keys[1:, 0]}
+    hashed = None
     if len({int(m) for m in masks[1:, 0]}) == 1 and len(first) == len(kbs):
         for bits in range(max(1, (len(kbs) - 1).bit_length()), 9):
             for mult in (0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9, 0xD6E8FEB86659FD93):
@@ -486,14 +485,35 @@ def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
         if bits:
             table = np.zeros(1 << bits, dtype=np.intp)
             table[slot] = np.arange(1, len(kbs) + 1)
+            hashed = (table, mult, bits)
             keys, masks = keys.T.copy(), masks.T.copy()  # one small table per word
-            head = type_words[:, 0] & masks[0, 1]
-            code = table[(head * np.uint64(mult)) >> np.uint64(64 - bits)]
-            ok = keys[0][code] == head
-            for w in range(1, nw):
-                ok &= (type_words[:, w] & masks[w][code]) == keys[w][code]
-            code[~ok] = 0
-            return code.astype(np.int8)
+    got = (kbs, keys, masks, hashed)
+    if len(_LABEL_TABLES) < 64:
+        _LABEL_TABLES[(names, sep, nw)] = got
+    return got
+
+
+def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
+    """Code (1-based index into ``names``) of each record's type, 0 for another type.
+
+    ``type_words`` holds each record's first bytes from its type on, as 64-bit words (past its
+    line end: the next line's bytes, or zeros at the end of the data). A record is of type ``name``
+    when it starts with ``name`` and ``sep`` (which hold no line end, so a match lies within the line).
+    The first word picks one candidate type per record through a perfect hash of the known types'
+    first words (a multiply and a shift), so each further word costs one compare per record
+    whatever the number of types.
+    """
+    nw = type_words.shape[1]
+    kbs, keys, masks, hashed = _label_tables(tuple(names), sep, nw)
+    if hashed is not None:
+        table, mult, bits = hashed
+        head = type_words[:, 0] & masks[0, 1]
+        code = table[(head * np.uint64(mult)) >> np.uint64(64 - bits)]
+        ok = keys[0][code] == head
+        for w in range(1, nw):
+            ok &= (type_words[:, w] & masks[w][code]) == keys[w][code]
+        code[~ok] = 0
+        return code.astype(np.int8)
     label = np.zeros(len(type_words), dtype=np.int8)  # types of several first-word lengths: one type at a time
     for c, kb in enumerate(kbs, start=1):
         cand = np.flatnonzero((type_words[:, 0] & masks[c, 0]) == keys[c, 0])
@@ -586,44 +606,70 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
         del sp, nxt, prv
-    first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
-    is_rec = (first != 10) & (first != 13)
-    is_head = is_rec & (first == header[0]) if header else None
-    if header:
-        is_rec &= ~is_head
-    if comment:
-        is_rec &= first != comment[0]
-    h = int(np.argmax(is_rec))  # the first record (0 if none: then is_rec[0] is False)
-    if is_rec[h] and is_rec[h:].all():  # the usual layout: a header, then records only: views, no gathers
-        rec = None  # line index of record i: h + i
-        rs, stop = starts[h:], ends[h:]
-    else:
-        rec = np.flatnonzero(is_rec).astype(ends.dtype)
-        if not rec.size:
-            return None
-        rs = starts[rec]
-        stop = ends[rec]  # content end (before \r\n)
-    del is_rec, first
-    if n_cr:
-        stop = stop - (arr[np.maximum(stop - 1, 0)] == 13)
     nw = -(-max(len(k) + 1 for k in known) // 8)  # words holding the longest known type and its separator
-    off = 0
-    if type_col == 0:
-        t0 = rs
-    else:
-        width = data.find(sep, int(rs[0])) - int(rs[0])
-        if width <= 0 or width > 18 or np.any(stop - rs <= width):
-            return None
-        t0 = rs + width + 1
-        off = 8 * -(-(width + 1) // 8)  # the first column and its separator, right-aligned in whole words
     names = sorted(known)
-    label = np.empty(len(rs), dtype=np.int8)
-    for i in range(0, len(rs), _ROWS):  # a few thousand records at a time: bounded memory
-        g = _gather(arr, data, t0[i:i + _ROWS] - off, off + 8 * nw).view("<u8")  # [first column, separator,] type
-        if off and (np.any((g[:, off // 8 - 1] >> np.uint64(56)) != sep_b) or _not_digits(g[:, :off // 8], width)):
-            return None  # only digits (int64, as int() reads them: no sign, point, exponent or separator)
-        label[i:i + _ROWS] = _type_labels(g[:, off // 8:], names, sep)
-    del g
+
+    def label_records(rec, h, t_end):
+        """Line starts, content ends, type starts and type codes of the records ``rec`` (lines ``h..t_end-1``
+        when ``rec`` is None), or None when a record's first column is not digits."""
+        rs, stop = (starts[h:t_end], ends[h:t_end]) if rec is None else (starts[rec], ends[rec])
+        if n_cr:
+            stop = stop - (arr[np.maximum(stop - 1, 0)] == 13)  # content end (before \r\n)
+        off = width = 0
+        if type_col == 0:
+            t0 = rs
+        else:
+            width = data.find(sep, int(rs[0])) - int(rs[0])
+            if width <= 0 or width > 18 or np.any(stop - rs <= width):
+                return None
+            t0 = rs + width + 1
+            off = 8 * -(-(width + 1) // 8)  # the first column and its separator, right-aligned in whole words
+        label = np.empty(len(rs), dtype=np.int8)
+        for i in range(0, len(rs), _ROWS):  # a few thousand records at a time: bounded memory
+            g = _gather(arr, data, t0[i:i + _ROWS] - off, off + 8 * nw).view("<u8")  # [first column, sep,] type
+            if off and (np.any((g[:, off // 8 - 1] >> np.uint64(56)) != sep_b) or _not_digits(g[:, :off // 8], width)):
+                return None  # only digits (int64, as int() reads them: no sign, point, exponent or separator)
+            label[i:i + _ROWS] = _type_labels(g[:, off // 8:], names, sep)
+        return rs, stop, t0, label
+
+    n_lines = len(starts)
+    found = None
+    if type_col == 1:
+        # every record's first column is checked to be digits (so it starts with no blank, header or comment
+        # byte): a header and a trailer found line by line from either end are the only lines to leave out,
+        # unless that check fails (then the lines are sorted out below, one first byte per line)
+        not_rec = {10, 13, *header[:1], *comment[:1]}
+        h, t_end = 0, n_lines
+        while h < t_end and int(arr[starts[h]]) in not_rec:
+            h += 1
+        while t_end > h and int(arr[starts[t_end - 1]]) in not_rec:
+            t_end -= 1
+        if h < t_end:
+            rec = None
+            found = label_records(None, h, t_end)
+            hl = [i for i in (*range(h), *range(t_end, n_lines)) if header and arr[starts[i]] == header[0]]
+    if found is None:
+        first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
+        is_rec = (first != 10) & (first != 13)
+        is_head = is_rec & (first == header[0]) if header else None
+        if header:
+            is_rec &= ~is_head
+        if comment:
+            is_rec &= first != comment[0]
+        h = int(np.argmax(is_rec))  # the first record (0 if none: then is_rec[0] is False)
+        t_end = n_lines - int(np.argmax(is_rec[::-1]))
+        if is_rec[h] and is_rec[h:t_end].all():  # the usual layout: a header, records, a trailer: views, no gathers
+            rec = None  # line index of record i: h + i
+        else:
+            rec = np.flatnonzero(is_rec).astype(ends.dtype)
+            if not rec.size:
+                return None
+        hl = np.flatnonzero(is_head).tolist() if header else []
+        del is_rec, first, is_head
+        found = label_records(rec, h, t_end)
+        if found is None:
+            return None
+    rs, stop, t0, label = found
     unknown = np.flatnonzero(label == 0)
     other, first_other = _count_types(data, arr, sep_b, unknown + h if rec is None else rec[unknown], t0[unknown],
                                       stop[unknown])
@@ -645,11 +691,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     n_of = {t: len(r) for t, r in rows.items()}
     n_of.update({t.decode(): n for t, n in other.items()})
     counts = {t: n_of[t] for t in sorted(first_of, key=first_of.get)}
-    head_lines = []
-    if header:
-        hl = np.flatnonzero(is_head)
-        head_lines = [data[a:b].decode("utf-8").rstrip("\r") for a, b in zip(starts[hl].tolist(), ends[hl].tolist(),
-                                                                             strict=True)]
+    head_lines = [data[int(starts[i]):int(ends[i])].decode("utf-8").rstrip("\r") for i in hl]
     return TypedLines(lines={t: r + 1 for t, r in rows.items()}, counts=counts, header=head_lines, data=data,
                       starts=starts, ends=ends, n_sep=n_sep)
 
