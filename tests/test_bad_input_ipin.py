@@ -281,7 +281,7 @@ def test_fast_path_reads_interleaved_imu_types_like_the_line_parser(turns):
 
 @pytest.mark.parametrize("chunk", [7, 64, 1 << 21])
 def test_line_scan_matches_a_plain_count(chunk):
-    """The scan behind both fast paths (line ends, separators per line, bytes below 32) equals a count line by
+    """The scan behind both fast paths (line ends, separators per line, bytes up to 32) equals a count line by
     line, including lines that cross a chunk border, chunks without a line end and lines of 256+ separators."""
     from ilocalg.io import _text
 
@@ -294,10 +294,10 @@ def test_line_scan_matches_a_plain_count(chunk):
             data = body + b";" * int(rng.integers(0, 2) * 300) + b"\t" * int(rng.integers(0, 2) * 70) + b"\n"
             arr = np.frombuffer(data, dtype=np.uint8)
             for sep in (b";", b"\t"):
-                ends, n_sep, n_low = _text._scan_lines(arr, sep[0])
+                ends, n_sep, n_le32 = _text._scan_lines(arr, sep[0])
                 lines = data.split(b"\n")[:-1]
                 assert ends.tolist() == [i for i, b in enumerate(data) if b == 10]
                 assert n_sep.tolist() == [ln.count(sep) for ln in lines]
-                assert n_low == sum(b < 32 for b in data)
+                assert n_le32 == sum(b <= 32 for b in data)  # controls and spaces
     finally:
         _text._CHUNK = old

@@ -355,7 +355,7 @@ _TYPE_WINDOW = 64
 
 def _scan_lines(arr: np.ndarray, sep_b: int) -> tuple[np.ndarray, np.ndarray, int]:
     """One pass over text ending with ``\\n``, a few megabytes at a time: the position of every ``\\n``,
-    the number of ``sep_b`` bytes on each line, and the number of bytes below 32.
+    the number of ``sep_b`` bytes on each line, and the number of bytes up to 32 (controls and spaces).
 
     The separators are counted as bits: each chunk's separator mask is packed into 64-bit words, and a
     line's count is the difference of the bits set up to its line end and up to the previous one (a
@@ -367,7 +367,7 @@ def _scan_lines(arr: np.ndarray, sep_b: int) -> tuple[np.ndarray, np.ndarray, in
     prev = 0  # separators up to the previous line end
     for i in range(0, len(arr), _CHUNK):
         a = arr[i:i + _CHUNK]
-        n_low += int(np.count_nonzero(a < 32))
+        n_low += int(np.count_nonzero(a <= 32))
         e = np.flatnonzero(a == 10)
         bits = np.packbits(a == sep_b, bitorder="little")
         words = np.zeros(-(-len(bits) // 8), dtype="<u8")
@@ -454,17 +454,15 @@ def _words(kb: bytes, nw: int) -> tuple[list, list]:
             [(1 << (8 * len(p))) - 1 for p in parts])
 
 
-def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
-    """Code (1-based index into ``names``) of each record's type, 0 for another type.
+_LABEL_TABLES: dict = {}
 
-    ``type_words`` holds each record's first bytes from its type on, as 64-bit words (past its
-    line end: the next line's bytes, or zeros at the end of the data). A record is of type ``name``
-    when it starts with ``name`` and ``sep`` (which hold no line end, so a match lies within the line).
-    The first word picks one candidate type per record through a perfect hash of the known types'
-    first words (a multiply and a shift), so each further word costs one compare per record
-    whatever the number of types.
-    """
-    nw = type_words.shape[1]
+
+def _label_tables(names: tuple, sep: bytes, nw: int):
+    """The known types as words and masks, and the perfect hash of their first words (or None), for
+    :func:`_type_labels` (made once per set of types)."""
+    got = _LABEL_TABLES.get((names, sep, nw))
+    if got is not None:
+        return got
     kbs = [n.encode() + sep for n in names]
     keys = np.zeros((len(kbs) + 1, nw), dtype=np.uint64)
     masks = np.zeros((len(kbs) + 1, nw), dtype=np.uint64)
@@ -472,6 +470,7 @@ def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
         k, m = _words(kb, nw)
         keys[c], masks[c] = k, m
     first = {int(k) for k in keys[1:, 0]}
+    hashed = None
     if len({int(m) for m in masks[1:, 0]}) == 1 and len(first) == len(kbs):
         for bits in range(max(1, (len(kbs) - 1).bit_length()), 9):
             for mult in (0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9, 0xD6E8FEB86659FD93):
@@ -486,14 +485,35 @@ def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
         if bits:
             table = np.zeros(1 << bits, dtype=np.intp)
             table[slot] = np.arange(1, len(kbs) + 1)
+            hashed = (table, mult, bits)
             keys, masks = keys.T.copy(), masks.T.copy()  # one small table per word
-            head = type_words[:, 0] & masks[0, 1]
-            code = table[(head * np.uint64(mult)) >> np.uint64(64 - bits)]
-            ok = keys[0][code] == head
-            for w in range(1, nw):
-                ok &= (type_words[:, w] & masks[w][code]) == keys[w][code]
-            code[~ok] = 0
-            return code.astype(np.int8)
+    got = (kbs, keys, masks, hashed)
+    if len(_LABEL_TABLES) < 64:
+        _LABEL_TABLES[(names, sep, nw)] = got
+    return got
+
+
+def _type_labels(type_words: np.ndarray, names: list, sep: bytes) -> np.ndarray:
+    """Code (1-based index into ``names``) of each record's type, 0 for another type.
+
+    ``type_words`` holds each record's first bytes from its type on, as 64-bit words (past its
+    line end: the next line's bytes, or zeros at the end of the data). A record is of type ``name``
+    when it starts with ``name`` and ``sep`` (which hold no line end, so a match lies within the line).
+    The first word picks one candidate type per record through a perfect hash of the known types'
+    first words (a multiply and a shift), so each further word costs one compare per record
+    whatever the number of types.
+    """
+    nw = type_words.shape[1]
+    kbs, keys, masks, hashed = _label_tables(tuple(names), sep, nw)
+    if hashed is not None:
+        table, mult, bits = hashed
+        head = type_words[:, 0] & masks[0, 1]
+        code = table[(head * np.uint64(mult)) >> np.uint64(64 - bits)]
+        ok = keys[0][code] == head
+        for w in range(1, nw):
+            ok &= (type_words[:, w] & masks[w][code]) == keys[w][code]
+        code[~ok] = 0
+        return code.astype(np.int8)
     label = np.zeros(len(type_words), dtype=np.int8)  # types of several first-word lengths: one type at a time
     for c, kb in enumerate(kbs, start=1):
         cand = np.flatnonzero((type_words[:, 0] & masks[c, 0]) == keys[c, 0])
@@ -551,9 +571,12 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         return None
     arr = np.frombuffer(data, dtype=np.uint8)
     sep_b = sep[0]
-    ends, n_sep, n_low = _scan_lines(arr, sep_b)
+    ends, n_sep, n_le32 = _scan_lines(arr, sep_b)
     n_tab = int(n_sep.sum()) if sep_b == 9 else 0
     n_cr = 0
+    plain = n_le32 == len(ends) + n_tab  # no space, no control byte but line ends and separating tabs
+    n_low = n_le32 if plain else n_le32 - sum(int(np.count_nonzero(arr[i:i + _CHUNK] == 32))
+                                              for i in range(0, len(arr), _CHUNK))
     if n_low != len(ends) + n_tab:  # bytes below 32 other than line ends and separating tabs: looked at
         if sep_b != 9 and b"\t" in data:
             return None  # a tab is a space to str.strip
@@ -571,7 +594,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
     sp = []
-    k = data.find(b" ")
+    k = -1 if plain else data.find(b" ")
     while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one
         sp.append(k)
         k = data.find(b" ", k + 1)
@@ -583,50 +606,83 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
         del sp, nxt, prv
-    first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
-    is_rec = (first != 10) & (first != 13)
-    is_head = is_rec & (first == header[0]) if header else None
-    if header:
-        is_rec &= ~is_head
-    if comment:
-        is_rec &= first != comment[0]
-    rec = np.flatnonzero(is_rec).astype(ends.dtype)
-    del is_rec, first
-    if not rec.size:
-        return None
-    rs = starts[rec]
-    stop = ends[rec]  # content end (before \r\n)
-    if n_cr:
-        stop = stop - (arr[np.maximum(stop - 1, 0)] == 13)
     nw = -(-max(len(k) + 1 for k in known) // 8)  # words holding the longest known type and its separator
-    off = 0
-    if type_col == 0:
-        t0 = rs
-    else:
-        width = data.find(sep, int(rs[0])) - int(rs[0])
-        if width <= 0 or width > 18 or np.any(stop - rs <= width):
-            return None
-        t0 = rs + width + 1
-        off = 8 * -(-(width + 1) // 8)  # the first column and its separator, right-aligned in whole words
     names = sorted(known)
-    label = np.empty(len(rec), dtype=np.int8)
-    for i in range(0, len(rec), _ROWS):  # a few thousand records at a time: bounded memory
-        g = _gather(arr, data, t0[i:i + _ROWS] - off, off + 8 * nw).view("<u8")  # [first column, separator,] type
-        if off and (np.any((g[:, off // 8 - 1] >> np.uint64(56)) != sep_b) or _not_digits(g[:, :off // 8], width)):
-            return None  # only digits (int64, as int() reads them: no sign, point, exponent or separator)
-        label[i:i + _ROWS] = _type_labels(g[:, off // 8:], names, sep)
-    del g
+
+    def label_records(rec, h, t_end):
+        """Line starts, content ends, type starts and type codes of the records ``rec`` (lines ``h..t_end-1``
+        when ``rec`` is None), or None when a record's first column is not digits."""
+        rs, stop = (starts[h:t_end], ends[h:t_end]) if rec is None else (starts[rec], ends[rec])
+        if n_cr:
+            stop = stop - (arr[np.maximum(stop - 1, 0)] == 13)  # content end (before \r\n)
+        off = width = 0
+        if type_col == 0:
+            t0 = rs
+        else:
+            width = data.find(sep, int(rs[0])) - int(rs[0])
+            if width <= 0 or width > 18 or np.any(stop - rs <= width):
+                return None
+            t0 = rs + width + 1
+            off = 8 * -(-(width + 1) // 8)  # the first column and its separator, right-aligned in whole words
+        label = np.empty(len(rs), dtype=np.int8)
+        for i in range(0, len(rs), _ROWS):  # a few thousand records at a time: bounded memory
+            g = _gather(arr, data, t0[i:i + _ROWS] - off, off + 8 * nw).view("<u8")  # [first column, sep,] type
+            if off and (np.any((g[:, off // 8 - 1] >> np.uint64(56)) != sep_b) or _not_digits(g[:, :off // 8], width)):
+                return None  # only digits (int64, as int() reads them: no sign, point, exponent or separator)
+            label[i:i + _ROWS] = _type_labels(g[:, off // 8:], names, sep)
+        return rs, stop, t0, label
+
+    n_lines = len(starts)
+    found = None
+    if type_col == 1:
+        # every record's first column is checked to be digits (so it starts with no blank, header or comment
+        # byte): a header and a trailer found line by line from either end are the only lines to leave out,
+        # unless that check fails (then the lines are sorted out below, one first byte per line)
+        not_rec = {10, 13, *header[:1], *comment[:1]}
+        h, t_end = 0, n_lines
+        while h < t_end and int(arr[starts[h]]) in not_rec:
+            h += 1
+        while t_end > h and int(arr[starts[t_end - 1]]) in not_rec:
+            t_end -= 1
+        if h < t_end:
+            rec = None
+            found = label_records(None, h, t_end)
+            hl = [i for i in (*range(h), *range(t_end, n_lines)) if header and arr[starts[i]] == header[0]]
+    if found is None:
+        first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
+        is_rec = (first != 10) & (first != 13)
+        is_head = is_rec & (first == header[0]) if header else None
+        if header:
+            is_rec &= ~is_head
+        if comment:
+            is_rec &= first != comment[0]
+        h = int(np.argmax(is_rec))  # the first record (0 if none: then is_rec[0] is False)
+        t_end = n_lines - int(np.argmax(is_rec[::-1]))
+        if is_rec[h] and is_rec[h:t_end].all():  # the usual layout: a header, records, a trailer: views, no gathers
+            rec = None  # line index of record i: h + i
+        else:
+            rec = np.flatnonzero(is_rec).astype(ends.dtype)
+            if not rec.size:
+                return None
+        hl = np.flatnonzero(is_head).tolist() if header else []
+        del is_rec, first, is_head
+        found = label_records(rec, h, t_end)
+        if found is None:
+            return None
+    rs, stop, t0, label = found
     unknown = np.flatnonzero(label == 0)
-    other, first_other = _count_types(data, arr, sep_b, rec[unknown], t0[unknown], stop[unknown])
+    other, first_other = _count_types(data, arr, sep_b, unknown + h if rec is None else rec[unknown], t0[unknown],
+                                      stop[unknown])
     for t in other:
         ts = t.decode("utf-8", errors="replace")
         if ts.upper() in known or any(d in ts for d in (",", ";", "\t", " ") if d != sep.decode()):
             return None
-    n_label = np.bincount(label, minlength=len(names) + 1)
+    n_label = np.array([np.count_nonzero(label == c) for c in range(len(names) + 1)])  # (no int8 -> intp copy)
     present = np.flatnonzero(n_label[1:]) + 1
     if not present.size:
         return None
-    by_label = rec[np.argsort(label, kind="stable")]  # grouped by type, file order within each (a radix sort)
+    by_label = np.argsort(label, kind="stable")  # grouped by type, file order within each (a radix sort)
+    by_label = by_label.astype(ends.dtype) + h if rec is None else rec[by_label]  # as line indices
     at = np.cumsum(n_label)
     rows = {names[c - 1]: by_label[at[c - 1]:at[c]] for c in present.tolist()}
     del by_label
@@ -635,11 +691,7 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     n_of = {t: len(r) for t, r in rows.items()}
     n_of.update({t.decode(): n for t, n in other.items()})
     counts = {t: n_of[t] for t in sorted(first_of, key=first_of.get)}
-    head_lines = []
-    if header:
-        hl = np.flatnonzero(is_head)
-        head_lines = [data[a:b].decode("utf-8").rstrip("\r") for a, b in zip(starts[hl].tolist(), ends[hl].tolist(),
-                                                                             strict=True)]
+    head_lines = [data[int(starts[i]):int(ends[i])].decode("utf-8").rstrip("\r") for i in hl]
     return TypedLines(lines={t: r + 1 for t, r in rows.items()}, counts=counts, header=head_lines, data=data,
                       starts=starts, ends=ends, n_sep=n_sep)
 
@@ -690,6 +742,7 @@ class _LineReader(io.RawIOBase):
 
     def __init__(self, data: bytes, lo: np.ndarray, hi: np.ndarray):
         self._data = data
+        self._mv = memoryview(data)  # slices of it are joined without a copy of their own
         self._lo, self._hi = lo.tolist(), hi.tolist()
         self._cum = np.cumsum(hi - lo)  # bytes up to the end of each range
         self._k = 0
@@ -710,9 +763,10 @@ class _LineReader(io.RawIOBase):
             if self._at == hi[k]:
                 self._next(k + 1)
             return out
-        parts = [self._data[self._at:hi[k]]]
+        mv = self._mv
+        parts = [mv[self._at:hi[k]]]
         j = int(np.searchsorted(self._cum, self._cum[k] + size - len(parts[0]), side="right"))  # whole ranges
-        parts += [self._data[a:b] for a, b in zip(lo[k + 1:j], hi[k + 1:j], strict=True)]
+        parts += [mv[a:b] for a, b in zip(lo[k + 1:j], hi[k + 1:j], strict=True)]
         self._next(j)
         return b"".join(parts)
 
@@ -732,6 +786,8 @@ class Records:
     num: np.ndarray    # (n, len(num)) float64
     ints: list         # one int64 array (n,) per integer field
     strings: list      # one list of str per text field
+    block: np.ndarray | None = None  # types read in turns: the (n, n_types * len(num)) array ``num`` is part of,
+    col: int = 0                     # from its column ``col`` on (columns contiguous)
 
 
 def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), strings=()) -> dict | None:
@@ -739,7 +795,9 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
 
     The lines of all ``types`` are read together, a few megabytes at a time, in file order, and
     each type's rows are written to its own contiguous part of one array (or, when the types take
-    turns in a fixed order, left in file order: each type's rows are every k-th row). ``num``, ``ints`` and
+    turns in a fixed order, one row per turn: each type's fields are their own columns of one array,
+    ``Records.block``, so a caller may use the columns of several types as one table without a copy). ``num``,
+    ``ints`` and
     ``strings`` are field indices (0-based, over the whole line) read as float64, int64 and
     verbatim text (``ints``: a first column that :func:`split_by_type` found to be digits only).
     ``None`` (then the caller parses line by line and names the line) if a line has another number
@@ -760,10 +818,9 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     turn, merged = _turns(parts) if nt > 1 else (None, None)
     periodic = turn is not None
     if nt == 1:
-        rows, dest, code = parts[0], None, np.zeros(n_of[0], dtype=np.intp)
+        rows, dest, code = parts[0], None, None  # every row is of type 0
     elif periodic:  # the types take turns in a fixed order: each type's rows are every k-th row, no reordering
-        rows, dest = merged, None
-        code = np.tile(np.asarray(turn, dtype=np.intp), n_of[0])
+        rows, dest, code = merged, None, None  # row i is of type turn[i % nt]
     else:
         code = np.repeat(np.arange(nt), n_of)  # each row's index in ``types``
         cat = np.concatenate(parts)
@@ -773,22 +830,25 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     n = len(rows)
     if np.any(tl.n_sep[rows] != n_sep):
         return None
-    lo = tl.starts[rows]
-    hi = tl.ends[rows] + 1
-    cum = np.cumsum(hi - lo)  # selected bytes up to the end of each line: pieces of about _PIECE of them
-    cuts = np.unique(np.searchsorted(cum, np.arange(_PIECE, int(cum[-1]), _PIECE), side="right"))
-    bounds = [0] + [int(c) for c in cuts if 0 < c < n] + [n]
-    del cum
+    run_first, run_last, run_lo, run_hi, bounds = _runs(tl, rows)
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
-    dtype = {names[j]: (str if j in strings else np.int64 if j in ints else np.float64) for j in use}
-    out_num = np.empty((n, len(num)), dtype=np.float64, order="F")  # columns contiguous
-    out_int = [np.empty(n, dtype=np.int64) for _ in ints]
-    out_str = [np.empty(n, dtype=object) for _ in strings]
+    dtype = {names[j]: (object if j in strings else np.int64 if j in ints else np.float64) for j in use}
+    nn = len(num)
+    if periodic:  # one row per turn, each type's fields in its own columns (in the order of ``types``)
+        m = n // nt
+        out_num = np.empty((m, nt * nn), dtype=np.float64, order="F")  # columns contiguous
+        out_int = [np.empty((m, nt), dtype=np.int64, order="F") for _ in ints]
+        out_str = [np.empty((m, nt), dtype=object, order="F") for _ in strings]
+    else:
+        out_num = np.empty((n, nn), dtype=np.float64, order="F")  # columns contiguous
+        out_int = [np.empty(n, dtype=np.int64) for _ in ints]
+        out_str = [np.empty(n, dtype=object) for _ in strings]
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        plo, phi = lo[a:b], hi[a:b]
-        brk = np.flatnonzero(plo[1:] != phi[:-1])  # runs of adjacent lines are read as one range
-        source = _LineReader(tl.data, plo[np.append(0, brk + 1)], phi[np.append(brk, b - a - 1)])
+        k0, k1 = int(np.searchsorted(run_last, a)), int(np.searchsorted(run_first, b))  # the runs of rows a..b-1
+        rlo, rhi = run_lo[k0:k1].copy(), run_hi[k0:k1].copy()
+        rlo[0], rhi[-1] = tl.starts[rows[a]], tl.ends[rows[b - 1]] + 1
+        source = _LineReader(tl.data, rlo, rhi)
         # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
         try:
             df = pd.read_csv(source, sep=sep, header=None, names=names, usecols=[names[j] for j in use], dtype=dtype,
@@ -809,23 +869,62 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
         if any(np.all((x == 0) | (x == 1)) for x in maybe01):
             au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
-            if not _no_bool_words(tl.data, plo, phi - plo, au[code[a:b]], sep.encode(), num, ints, not strings):
+            plo, phi = tl.starts[rows[a:b]], tl.ends[rows[a:b]] + 1
+            pcode = (code[a:b] if code is not None else np.asarray(turn)[np.arange(a, b) % nt] if periodic
+                     else np.zeros(b - a, dtype=np.intp))
+            if not _no_bool_words(tl.data, plo, phi - plo, au[pcode], sep.encode(), num, ints, not strings):
                 return None
-        d = slice(a, b) if dest is None else dest[a:b]
-        for k, x in enumerate(cols):
-            out_num[d, k] = x
-        for k, x in zip(out_int, iv, strict=True):
-            k[d] = x
-        for k, j in zip(out_str, strings, strict=True):
-            k[d] = df[names[j]].to_numpy(dtype=object)
-        del df, cols, iv
+        sv = [df[names[j]].to_numpy(dtype=object) for j in strings]
+        if periodic:  # row r of the file order is turn r // nt of type turn[r % nt]
+            for p, ti in enumerate(turn):
+                r = a + (p - a) % nt  # the first row of phase p in this piece
+                if r >= b:
+                    continue
+                e = slice(r // nt, r // nt + len(range(r, b, nt)))
+                for k, x in enumerate(cols):
+                    out_num[e, ti * nn + k] = x[r - a::nt]
+                for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
+                    o[e, ti] = x[r - a::nt]
+        else:
+            d = slice(a, b) if dest is None else dest[a:b]
+            for k, x in enumerate(cols):
+                out_num[d, k] = x
+            for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
+                o[d] = x
+        del df, cols, iv, sv
     out = {}
     o = 0
     for i, (t, m) in enumerate(zip(types, n_of, strict=True)):
-        sel = slice(code[:nt].tolist().index(i), None, nt) if periodic else slice(o, o + m)
-        out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int], strings=[x[sel].tolist() for x in out_str])
+        if periodic:
+            out[t] = Records(num=out_num[:, i * nn:(i + 1) * nn], ints=[x[:, i] for x in out_int],
+                             strings=[x[:, i].tolist() for x in out_str], block=out_num, col=i * nn)
+        else:
+            sel = slice(o, o + m)
+            out[t] = Records(num=out_num[sel], ints=[x[sel] for x in out_int],
+                             strings=[x[sel].tolist() for x in out_str])
         o += m
     return out
+
+
+def _runs(tl: TypedLines, rows: np.ndarray):
+    """The runs of consecutive file lines among ``rows`` (increasing line indices) and the pieces to parse.
+
+    Returns the index (into ``rows``) of each run's first and last line, the byte range
+    ``[run_lo, run_hi)`` of each run, and ``bounds``: row indices cutting ``rows`` into pieces of about
+    ``_PIECE`` bytes (computed per run, so no array over every row is made)."""
+    n = len(rows)
+    brk = np.flatnonzero(np.diff(rows) != 1)
+    run_first = np.append(0, brk + 1)
+    run_last = np.append(brk, n - 1)
+    run_lo = tl.starts[rows[run_first]]
+    run_hi = tl.ends[rows[run_last]] + 1
+    cum = np.cumsum(run_hi - run_lo)  # selected bytes up to the end of each run
+    target = np.arange(_PIECE, int(cum[-1]), _PIECE)
+    j = np.searchsorted(cum, target, side="right")  # the run holding selected byte ``target``
+    pos = run_hi[j] - (cum[j] - target)  # that byte in the file
+    cuts = run_first[j] + (np.searchsorted(tl.ends, pos) - rows[run_first[j]])  # its line, as an index into rows
+    bounds = [0] + [int(c) for c in np.unique(cuts) if 0 < c < n] + [n]
+    return run_first, run_last, run_lo, run_hi, bounds
 
 
 def _turns(parts: list) -> tuple[list | None, np.ndarray | None]:

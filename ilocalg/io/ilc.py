@@ -95,10 +95,11 @@ from ilocalg.io._text import (
     split_by_type,
     to_float,
 )
-from ilocalg.io.scans import RELISTED_WIFI_POLICIES, merge_relisted_wifi, relisted_readings, scan_matrix
+from ilocalg.io.scans import RELISTED_WIFI_POLICIES, relisted_readings, scan_matrix
 from ilocalg.io.schema import (
     ACC_COLS,
     BSSID,
+    FIELD_RANGES,
     FREQ_MHZ,
     GYR_COLS,
     MAG_COLS,
@@ -265,6 +266,8 @@ class _Block:
     num: np.ndarray
     ssid: list | None = None
     bssid: list | None = None
+    block: np.ndarray | None = None  # records read in turns with other types: the array ``num`` is columns of
+    col: int = 0                     # (from column ``col`` on), see :func:`ilocalg.io._text.read_records`
 
 
 #: Values (0-based, after time and type) converted per record type, and their names.
@@ -289,7 +292,7 @@ def _blocks_fast(data: bytes, is_ascii: bool | None = None) -> tuple[dict, dict,
         if got is None:
             return None
         for t, r in got.items():
-            out[t] = _Block(tl.lines[t], r.ints[0], r.num, *r.strings)
+            out[t] = _Block(tl.lines[t], r.ints[0], r.num, *r.strings, block=r.block, col=r.col)
     return out, tl.counts, tl.header
 
 
@@ -367,7 +370,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
         t = _times_ms(blk.t_ms, linenos, source)
         _check_increasing(t, linenos, source, rtype)
         check_range(v, _RANGE[rtype], source, linenos, ("3 (x)", "4 (y)", "5 (z)"))
-        if t.size:
+        span = FIELD_RANGES["elapsed_s"]  # times increase (checked above): the first is 0, the last the largest
+        if t.size and not span.lo <= 0.0 <= (t[-1] - t[0]) * 1e-3 <= span.hi:
             check_range((t - t[0]) * 1e-3, "elapsed_s", source, linenos, "1 (Unix time, since the first record)")
         return linenos, t, v.reshape(-1, 3)
 
@@ -392,11 +396,20 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     if ref is None:
         imu = pd.DataFrame({}, index=pd.Index([], dtype=np.float64, name=T_S))
     else:
-        data = {}
-        for rtype, v in imu_parts.items():
-            for j, c in enumerate(_SENSORS[rtype]):
-                data[c] = v[:, j]
-        imu = pd.DataFrame(data, index=pd.Index(ref[1] * 1e-3, name=T_S))
+        cols = [c for rtype in imu_parts for c in _SENSORS[rtype]]
+        index = pd.Index(ref[1] * 1e-3, name=T_S)
+        blks = [by_type[rtype] for rtype in imu_parts]
+        c0 = blks[0].col
+        if blks[0].block is not None and all(b.block is blks[0].block and b.col == c0 + 3 * k
+                                             for k, b in enumerate(blks)):
+            # the sensors were read in turns into adjacent columns of one array: a view, not a copy
+            imu = pd.DataFrame(blks[0].block[:, c0:c0 + 3 * len(blks)], columns=cols, index=index, copy=False)
+        else:
+            data = {}
+            for rtype, v in imu_parts.items():
+                for j, c in enumerate(_SENSORS[rtype]):
+                    data[c] = v[:, j]
+            imu = pd.DataFrame(data, index=index)
         check_imu(imu, source)
 
     if "TYPE_ROTATION_VECTOR" in by_type:
@@ -428,9 +441,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
     check_range(num[:, 1], FREQ_MHZ, source, linenos, "6 (frequency)")
     check_range(num[:, 2], "unix_time_ms", source, linenos, "7 (last seen timestamp)")
     bssid = blk.bssid
-    empty_b = [i for i, b in enumerate(bssid) if not b]
-    if empty_b:
-        fail(source, linenos[empty_b[0]], "TYPE_WIFI column 4 (bssid) is empty")
+    if not all(bssid):
+        fail(source, linenos[next(i for i, b in enumerate(bssid) if not b)], "TYPE_WIFI column 4 (bssid) is empty")
     scan_id = np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64) if t.size else t
     wifi = pd.DataFrame({
         T_S: t * 1e-3,
@@ -457,7 +469,8 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
             keep = np.zeros(len(wifi), dtype=bool)
             keep[order[first]] = True
     n_dropped = int((~keep).sum())
-    wifi = wifi[keep].reset_index(drop=True)
+    if n_dropped:
+        wifi = wifi[keep].reset_index(drop=True)
     n_relisted = 0
     if len(wifi) and relisted_wifi != "keep":          # re-listed cached readings (ilocalg.io.scans)
         rel = relisted_readings(wifi)
@@ -467,7 +480,9 @@ def parse_ilc_trace(text: str | bytes, source: str = "<string>", duplicate_bssid
                  f"of the previous scan (same RSSI, last seen within 1 ms; {int(rel.sum())} such lines); pass "
                  "relisted_wifi='merge' to merge them into their first listing (counted) or 'keep' to take them as "
                  "new readings")
-        wifi, n_relisted = merge_relisted_wifi(wifi)
+        n_relisted = int(rel.sum())  # merge_relisted_wifi(wifi), with the re-listings found above
+        if n_relisted:
+            wifi = wifi[~rel].reset_index(drop=True)
     if len(wifi):
         check_wifi_scans(wifi, source)
 
