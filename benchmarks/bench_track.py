@@ -112,10 +112,13 @@ def test_floor_model_cached(benchmark, floor_100):
     cpu_build = best_cpu_s(lambda: build_floor_model(db).save(cache / "m"), repeat=1)
 
     def one_walk():
-        m = FloorModel.load(cache / "m").for_walk(scored.name)
+        model = FloorModel.load(cache / "m")
+        m = model.for_walk(scored.name)
+        # the model's walked-path graph of the database walks' waypoints (the scored walk is not among them), as
+        # notebook 09 and `evaluate track` hand it over: lsq_paths and the grid variants use it
         return track.evaluate_walk(scored, m.db, m.calibration, m.fix_var_m2, m.cfg, methods=NO_PF,
                                    step_var_m2=m.step_var_m2, gain=m.gain, loo_fixes=m.loo_fixes,
-                                   path_var_m2=m.path_var_m2)
+                                   path_var_m2=m.path_var_m2, paths=model.walk_paths)
 
     benchmark.pedantic(one_walk, rounds=1, iterations=1)
     t_cached = best_time_s(one_walk, repeat=2)
@@ -161,7 +164,7 @@ def test_site1_floor_real(benchmark):
         m = model.for_walk(name, cfg)
         return track.evaluate_walk(fl.traces[name], m.db, m.calibration, m.fix_var_m2, m.cfg, grid=grid, rng=0,
                                    step_var_m2=m.step_var_m2, gain=m.gain, loo_fixes=m.loo_fixes,
-                                   path_var_m2=m.path_var_m2)
+                                   path_var_m2=m.path_var_m2, paths=model.walk_paths)
 
     benchmark.pedantic(one_walk, rounds=1, iterations=1)
     benchmark.extra_info.update({
