@@ -106,6 +106,34 @@ def test_survey_points_and_the_share_off_them():
     assert off_grid_share(g, tol_m=0.01) == pytest.approx(2 / 8)
 
 
+def _off_share_per_walk(paths, tol_m):
+    """The definition, walk by walk: each walk's distinct points against a tree of the other walks' points."""
+    from scipy.spatial import cKDTree
+
+    pts, walk = np.vstack([paths.a_m, paths.b_m]), np.concatenate([paths.walk, paths.walk])
+    r, n_off, n = np.round(pts, 3), 0, 0
+    for w in dict.fromkeys(walk):
+        own = np.unique(r[walk == w], axis=0)
+        n_off += int((cKDTree(r[walk != w]).query(own)[0] > tol_m).sum())
+        n += own.shape[0]
+    return n_off / n
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_off_grid_share_equals_the_per_walk_definition(seed):
+    # points on a 0.05 m lattice (many shared, many exactly 0.1 m apart: the tolerance's edge) and some off it
+    rng = np.random.default_rng(seed)
+    polys = {}
+    for w in range(int(rng.integers(2, 12))):
+        p = rng.integers(0, 8, size=(int(rng.integers(2, 9)), 2)) * 0.05
+        off = rng.random(len(p)) < 0.3
+        p[off] += rng.normal(0.0, 0.07, size=(int(off.sum()), 2))
+        polys[f"w{w}"] = (p + 100.0 * seed).tolist()
+    g = WalkedPaths.from_polylines(polys)
+    for tol in (0.05, 0.1, 0.15, 1.0):
+        assert off_grid_share(WalkedPaths.from_polylines(polys), tol) == _off_share_per_walk(g, tol)
+
+
 def test_grid_methods_are_registered_with_their_bases():
     for m, base in GRID_METHODS.items():
         assert m in METHODS and base in METHODS

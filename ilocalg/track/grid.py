@@ -92,17 +92,26 @@ def off_grid_share(paths, tol_m: float = SAME_POINT_M) -> float:
         return memo[key]
     pts = np.vstack([paths.a_m, paths.b_m])
     walk = np.concatenate([paths.walk, paths.walk])
-    names = list(dict.fromkeys(walk))
+    names, wid = np.unique(walk, return_inverse=True)
     if len(names) < 2:
         raise ValueError("the share of waypoints off the marked points needs at least two walks")
     r = np.round(pts, 3)
-    n_off = n = 0
-    for w in names:
-        own = np.unique(r[walk == w], axis=0)
-        other = r[walk != w]
-        d = cKDTree(other).query(own)[0]
-        n_off += int((d > tol_m).sum())
-        n += own.shape[0]
+    # A walk's point at a location is off when no other walk has a point within tol_m of it, i.e. when the walks at
+    # the locations within tol_m (itself included) are that walk alone: a property of the location. So: the distinct
+    # locations, the distinct walks at each, and the pairs of locations within tol_m (the candidates from a slightly
+    # larger radius, then the distance as cKDTree.query computes it, compared as d <= tol_m).
+    loc_xy, loc = np.unique(r, axis=0, return_inverse=True)
+    lw = np.unique(np.column_stack([loc, wid]), axis=0)  # (location, walk), each once
+    n_walks = np.bincount(lw[:, 0], minlength=loc_xy.shape[0])
+    walk1 = np.full(loc_xy.shape[0], -1, dtype=np.int64)
+    walk1[lw[:, 0]] = lw[:, 1]  # the walk of a one-walk location
+    pairs = cKDTree(loc_xy).query_pairs(tol_m * (1.0 + 1e-6) + 1e-12, output_type="ndarray").reshape(-1, 2)
+    pairs = pairs[np.sqrt(((loc_xy[pairs[:, 0]] - loc_xy[pairs[:, 1]]) ** 2).sum(axis=1)) <= tol_m]
+    ia, ib = np.concatenate([pairs[:, 0], pairs[:, 1]]), np.concatenate([pairs[:, 1], pairs[:, 0]])
+    shared = n_walks >= 2
+    shared[ia[(n_walks[ib] >= 2) | (walk1[ib] != walk1[ia])]] = True
+    n = int(n_walks.sum())
+    n_off = int(n_walks[~shared].sum())
     out = float(n_off / n)
     if memo is not None:
         memo[key] = out
