@@ -41,7 +41,7 @@ FAST = False
 OUT_DIR = None
 DATA_DIR = None
 DATASET = "ilc2020_site1/site1_F1"
-LOWO_EVERY = 25
+LOWO_EVERY = 1
 ABLATION_EVERY = 10
 
 # %%

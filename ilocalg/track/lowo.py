@@ -28,7 +28,7 @@ from ilocalg.io._text import ArchiveReader
 from ilocalg.io.ilc import _read_members, _resolve_root
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.scans import merge_relisted_wifi
-from ilocalg.track._config import CAUSAL_METHODS, LATENCY_METHODS, METHODS, RealWalkConfig, latency_of
+from ilocalg.track._config import CAUSAL_METHODS, GRID_METHODS, LATENCY_METHODS, METHODS, RealWalkConfig, latency_of
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_features_shared
 
@@ -92,10 +92,15 @@ def lowo_findings(summary: pd.DataFrame) -> str:
         for label, sel in (("offline", ~g["online"] & ~lat), ("online", g["online"]),
                            ("online with a declared latency (not causal)", lat)):
             p = g[sel & ~g.index.isin(["wifi", "wifi_plain_knn"])]
-            if len(p):
-                b = p["mean_m"].idxmin()
-                r = p.loc[b]
-                out.append(f"  best {label}: {b}, mean {r['mean_m']:.2f} m, median {r['median_m']:.2f} m, p75 "
+            tracks_only = p[~p.index.isin(list(GRID_METHODS))]
+            best = None
+            for lab, q in ((label, p), (f"{label} track estimator (no query times, no marked points)", tracks_only)):
+                if not len(q) or (q is tracks_only and q["mean_m"].idxmin() == best):
+                    continue
+                b = best = q["mean_m"].idxmin()
+                r = q.loc[b]
+                grid = " (at the query times, on the survey's marked points)" if b in GRID_METHODS else ""
+                out.append(f"  best {lab}: {b}{grid}, mean {r['mean_m']:.2f} m, median {r['median_m']:.2f} m, p75 "
                            f"{r['p75_m']:.2f} m, {r['ratio_to_wifi']:.2f} x Wi-Fi only (goal <= {r['goal']} x: "
                            f"{'met' if r['meets_goal'] else 'missed'}).")
     return "\n".join(out)
