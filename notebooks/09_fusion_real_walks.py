@@ -112,7 +112,8 @@ if HAVE_DATA:
     display(tables["per_walk"].round(2))  # noqa: F821
 
 # %%
-shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align", "lsq", "lsq_online", "kf_gain"]
+shown = ["wifi", "pdr", "kf", "kf_rts", "pf_smooth", "map_align", "lsq", "lsq_online", "kf_gain",
+         "map_align_grid", "kf_gain_map_grid"]  # the last two: at the waypoint times, on the marked points
 if HAVE_DATA:
     with ilocviz.style():
         fig, ax = plt.subplots(figsize=(8, 5))
