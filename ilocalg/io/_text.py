@@ -830,7 +830,7 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     n = len(rows)
     if np.any(tl.n_sep[rows] != n_sep):
         return None
-    run_first, run_last, run_lo, run_hi, bounds = _runs(tl, rows)
+    _, _, run_lo, run_hi, bounds = _runs(tl, rows)
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
     dtype = {names[j]: (object if j in strings else np.int64 if j in ints else np.float64) for j in use}
@@ -844,54 +844,56 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         out_num = np.empty((n, nn), dtype=np.float64, order="F")  # columns contiguous
         out_int = [np.empty(n, dtype=np.int64) for _ in ints]
         out_str = [np.empty(n, dtype=object) for _ in strings]
-    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        k0, k1 = int(np.searchsorted(run_last, a)), int(np.searchsorted(run_first, b))  # the runs of rows a..b-1
-        rlo, rhi = run_lo[k0:k1].copy(), run_hi[k0:k1].copy()
-        rlo[0], rhi[-1] = tl.starts[rows[a]], tl.ends[rows[b - 1]] + 1
-        source = _LineReader(tl.data, rlo, rhi)
-        # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
-        try:
-            df = pd.read_csv(source, sep=sep, header=None, names=names, usecols=[names[j] for j in use], dtype=dtype,
-                             quoting=csv.QUOTE_NONE, na_filter=False, engine="c", skip_blank_lines=False,
-                             index_col=False, low_memory=False)  # an empty numeric cell fails the parse
-        except (ValueError, TypeError, pd.errors.ParserError):
-            return None
-        if len(df) != b - a:
-            return None
-        cols = [df[names[j]].to_numpy(dtype=np.float64) for j in num]
-        iv = [df[names[j]].to_numpy(dtype=np.int64) for j in ints]
-        lims = [(x.min(), x.max()) for x in cols]  # NaN if a cell is NaN
-        if not all(np.isfinite(m) and np.isfinite(x) for m, x in lims):
-            return None
-        # pandas reads a column made only of true/false words (any case) as 1/0 (float() and int() refuse
-        # them): a column whose values are all 0 or 1 has its lines checked
-        maybe01 = [x for x, (m, mx) in zip(cols, lims, strict=True) if m >= 0 and mx <= 1]
-        maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
-        if any(np.all((x == 0) | (x == 1)) for x in maybe01):
-            au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
-            plo, phi = tl.starts[rows[a:b]], tl.ends[rows[a:b]] + 1
-            pcode = (code[a:b] if code is not None else np.asarray(turn)[np.arange(a, b) % nt] if periodic
-                     else np.zeros(b - a, dtype=np.intp))
-            if not _no_bool_words(tl.data, plo, phi - plo, au[pcode], sep.encode(), num, ints, not strings):
+    # one parser over all the selected lines, read a piece at a time: its buffers are reused from piece to piece
+    # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
+    try:
+        reader = pd.read_csv(_LineReader(tl.data, run_lo, run_hi), sep=sep, header=None, names=names,
+                             usecols=[names[j] for j in use], dtype=dtype, quoting=csv.QUOTE_NONE, na_filter=False,
+                             engine="c", skip_blank_lines=False, index_col=False, low_memory=False, iterator=True)
+    except (ValueError, TypeError, pd.errors.ParserError):
+        return None
+    with reader:  # closes the parser's handles
+        for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+            try:
+                df = reader.get_chunk(b - a)  # an empty numeric cell fails the parse
+            except (ValueError, TypeError, pd.errors.ParserError, StopIteration):
                 return None
-        sv = [df[names[j]].to_numpy(dtype=object) for j in strings]
-        if periodic:  # row r of the file order is turn r // nt of type turn[r % nt]
-            for p, ti in enumerate(turn):
-                r = a + (p - a) % nt  # the first row of phase p in this piece
-                if r >= b:
-                    continue
-                e = slice(r // nt, r // nt + len(range(r, b, nt)))
+            if len(df) != b - a:
+                return None
+            cols = [df[names[j]].to_numpy(dtype=np.float64) for j in num]
+            iv = [df[names[j]].to_numpy(dtype=np.int64) for j in ints]
+            lims = [(x.min(), x.max()) for x in cols]  # NaN if a cell is NaN
+            if not all(np.isfinite(m) and np.isfinite(x) for m, x in lims):
+                return None
+            # pandas reads a column made only of true/false words (any case) as 1/0 (float() and int() refuse
+            # them): a column whose values are all 0 or 1 has its lines checked
+            maybe01 = [x for x, (m, mx) in zip(cols, lims, strict=True) if m >= 0 and mx <= 1]
+            maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
+            if any(np.all((x == 0) | (x == 1)) for x in maybe01):
+                au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
+                plo, phi = tl.starts[rows[a:b]], tl.ends[rows[a:b]] + 1
+                pcode = (code[a:b] if code is not None else np.asarray(turn)[np.arange(a, b) % nt] if periodic
+                         else np.zeros(b - a, dtype=np.intp))
+                if not _no_bool_words(tl.data, plo, phi - plo, au[pcode], sep.encode(), num, ints, not strings):
+                    return None
+            sv = [df[names[j]].to_numpy(dtype=object) for j in strings]
+            if periodic:  # row r of the file order is turn r // nt of type turn[r % nt]
+                for p, ti in enumerate(turn):
+                    r = a + (p - a) % nt  # the first row of phase p in this piece
+                    if r >= b:
+                        continue
+                    e = slice(r // nt, r // nt + len(range(r, b, nt)))
+                    for k, x in enumerate(cols):
+                        out_num[e, ti * nn + k] = x[r - a::nt]
+                    for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
+                        o[e, ti] = x[r - a::nt]
+            else:
+                d = slice(a, b) if dest is None else dest[a:b]
                 for k, x in enumerate(cols):
-                    out_num[e, ti * nn + k] = x[r - a::nt]
+                    out_num[d, k] = x
                 for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
-                    o[e, ti] = x[r - a::nt]
-        else:
-            d = slice(a, b) if dest is None else dest[a:b]
-            for k, x in enumerate(cols):
-                out_num[d, k] = x
-            for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
-                o[d] = x
-        del df, cols, iv, sv
+                    o[d] = x
+            del df, cols, iv, sv
     out = {}
     o = 0
     for i, (t, m) in enumerate(zip(types, n_of, strict=True)):
