@@ -345,8 +345,10 @@ _NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
 
 
 _CHUNK = 1 << 21
-#: Bytes of selected lines parsed per ``read_csv`` call by :func:`read_records` (bounded memory).
-_PIECE = 1 << 22
+#: Bytes of selected lines parsed per piece by :func:`read_records` (bounded memory; 2 MB pieces leave the
+#: parser buffers small enough to be reused from the heap; with 4 MB ones a `bench_io` IPIN load often faulted in
+#: 35-45 MB of fresh pages).
+_PIECE = 1 << 21
 #: Records whose first bytes are gathered at a time to find their types.
 _ROWS = 1 << 16
 #: Bytes gathered from the start of each line of an unknown record type to find its type.
@@ -575,8 +577,14 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     n_tab = int(n_sep.sum()) if sep_b == 9 else 0
     n_cr = 0
     plain = n_le32 == len(ends) + n_tab  # no space, no control byte but line ends and separating tabs
-    n_low = n_le32 if plain else n_le32 - sum(int(np.count_nonzero(arr[i:i + _CHUNK] == 32))
-                                              for i in range(0, len(arr), _CHUNK))
+    sp = []
+    k = -1 if plain else data.find(b" ")
+    while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one, and so counted
+        sp.append(k)
+        k = data.find(b" ", k + 1)
+    if sp:
+        sp = np.array(sp, dtype=np.int64) if k < 0 else byte_positions(arr, 32)
+    n_low = n_le32 - len(sp)
     if n_low != len(ends) + n_tab:  # bytes below 32 other than line ends and separating tabs: looked at
         if sep_b != 9 and b"\t" in data:
             return None  # a tab is a space to str.strip
@@ -593,19 +601,14 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     starts[1:] = ends[:-1] + 1
     if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
-    sp = []
-    k = -1 if plain else data.find(b" ")
-    while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one
-        sp.append(k)
-        k = data.find(b" ", k + 1)
-    if sp:
-        sp = np.array(sp, dtype=np.int64) if k < 0 else byte_positions(arr, 32)
+    if len(sp):
         nxt, prv = arr[np.minimum(sp + 1, len(arr) - 1)], arr[np.maximum(sp - 1, 0)]
         if np.any(sp == 0) or np.any(prv == 10) or np.any((nxt == 10) | (nxt == 13)):
             return None
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
-        del sp, nxt, prv
+        del nxt, prv
+    del sp
     nw = -(-max(len(k) + 1 for k in known) // 8)  # words holding the longest known type and its separator
     names = sorted(known)
 
@@ -634,11 +637,12 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
 
     n_lines = len(starts)
     found = None
-    if type_col == 1:
-        # every record's first column is checked to be digits (so it starts with no blank, header or comment
-        # byte): a header and a trailer found line by line from either end are the only lines to leave out,
-        # unless that check fails (then the lines are sorted out below, one first byte per line)
-        not_rec = {10, 13, *header[:1], *comment[:1]}
+    not_rec = {10, 13, *header[:1], *comment[:1]}  # first bytes of blank, header and comment lines
+    if type_col == 1 or not any(ord(t[0]) in not_rec for t in known):
+        # a header and a trailer found line by line from either end are the only lines to leave out when every
+        # line between them is a record: type_col 1, every record's first column is checked to be digits (so it
+        # starts with no blank, header or comment byte); type_col 0, a line of a known type is a record and
+        # the others' first bytes are checked; otherwise the lines are sorted out below, one first byte per line
         h, t_end = 0, n_lines
         while h < t_end and int(arr[starts[h]]) in not_rec:
             h += 1
@@ -647,6 +651,10 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         if h < t_end:
             rec = None
             found = label_records(None, h, t_end)
+            if found is not None and type_col == 0:
+                first = arr[starts[h:t_end][found[3] == 0]]  # the first bytes of lines of other types
+                if np.isin(first, np.array(sorted(not_rec), dtype=np.uint8)).any():
+                    found = None
             hl = [i for i in (*range(h), *range(t_end, n_lines)) if header and arr[starts[i]] == header[0]]
     if found is None:
         first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
