@@ -345,9 +345,8 @@ _NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
 
 
 _CHUNK = 1 << 21
-#: Bytes of selected lines parsed per piece by :func:`read_records` (bounded memory; 2 MB pieces leave the
-#: parser buffers small enough to be reused from the heap; with 4 MB ones a `bench_io` IPIN load often faulted in
-#: 35-45 MB of fresh pages).
+#: Bytes of selected lines parsed per piece by :func:`read_records` (bounded memory; with 4 MB pieces a
+#: `bench_io` IPIN load often faulted in 35-45 MB of fresh pages for the parser's buffers, with 2 MB ones rarely).
 _PIECE = 1 << 21
 #: Records whose first bytes are gathered at a time to find their types.
 _ROWS = 1 << 16
