@@ -345,8 +345,9 @@ _NON_ASCII_SPECIAL = (b"\xc2\x85", b"\xc2\xa0", b"\xe2\x80", b"\xe3\x80\x80")
 
 
 _CHUNK = 1 << 21
-#: Bytes of selected lines parsed per ``read_csv`` call by :func:`read_records` (bounded memory).
-_PIECE = 1 << 22
+#: Bytes of selected lines parsed per piece by :func:`read_records` (bounded memory; with 4 MB pieces a
+#: `bench_io` IPIN load often faulted in 35-45 MB of fresh pages for the parser's buffers, with 2 MB ones rarely).
+_PIECE = 1 << 21
 #: Records whose first bytes are gathered at a time to find their types.
 _ROWS = 1 << 16
 #: Bytes gathered from the start of each line of an unknown record type to find its type.
@@ -575,8 +576,14 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     n_tab = int(n_sep.sum()) if sep_b == 9 else 0
     n_cr = 0
     plain = n_le32 == len(ends) + n_tab  # no space, no control byte but line ends and separating tabs
-    n_low = n_le32 if plain else n_le32 - sum(int(np.count_nonzero(arr[i:i + _CHUNK] == 32))
-                                              for i in range(0, len(arr), _CHUNK))
+    sp = []
+    k = -1 if plain else data.find(b" ")
+    while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one, and so counted
+        sp.append(k)
+        k = data.find(b" ", k + 1)
+    if sp:
+        sp = np.array(sp, dtype=np.int64) if k < 0 else byte_positions(arr, 32)
+    n_low = n_le32 - len(sp)
     if n_low != len(ends) + n_tab:  # bytes below 32 other than line ends and separating tabs: looked at
         if sep_b != 9 and b"\t" in data:
             return None  # a tab is a space to str.strip
@@ -593,19 +600,14 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
     starts[1:] = ends[:-1] + 1
     if not (data.isascii() if is_ascii is None else is_ascii) and any(b in data for b in _NON_ASCII_SPECIAL):
         return None
-    sp = []
-    k = -1 if plain else data.find(b" ")
-    while k >= 0 and len(sp) < 256:  # few spaces (a header line): found one by one
-        sp.append(k)
-        k = data.find(b" ", k + 1)
-    if sp:
-        sp = np.array(sp, dtype=np.int64) if k < 0 else byte_positions(arr, 32)
+    if len(sp):
         nxt, prv = arr[np.minimum(sp + 1, len(arr) - 1)], arr[np.maximum(sp - 1, 0)]
         if np.any(sp == 0) or np.any(prv == 10) or np.any((nxt == 10) | (nxt == 13)):
             return None
         if not spaces_ok and (np.any(nxt == sep_b) or np.any(prv == sep_b)):
             return None
-        del sp, nxt, prv
+        del nxt, prv
+    del sp
     nw = -(-max(len(k) + 1 for k in known) // 8)  # words holding the longest known type and its separator
     names = sorted(known)
 
@@ -634,11 +636,12 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
 
     n_lines = len(starts)
     found = None
-    if type_col == 1:
-        # every record's first column is checked to be digits (so it starts with no blank, header or comment
-        # byte): a header and a trailer found line by line from either end are the only lines to leave out,
-        # unless that check fails (then the lines are sorted out below, one first byte per line)
-        not_rec = {10, 13, *header[:1], *comment[:1]}
+    not_rec = {10, 13, *header[:1], *comment[:1]}  # first bytes of blank, header and comment lines
+    if type_col == 1 or not any(ord(t[0]) in not_rec for t in known):
+        # a header and a trailer found line by line from either end are the only lines to leave out when every
+        # line between them is a record: type_col 1, every record's first column is checked to be digits (so it
+        # starts with no blank, header or comment byte); type_col 0, a line of a known type is a record and
+        # the others' first bytes are checked; otherwise the lines are sorted out below, one first byte per line
         h, t_end = 0, n_lines
         while h < t_end and int(arr[starts[h]]) in not_rec:
             h += 1
@@ -647,6 +650,10 @@ def split_by_type(data: bytes, sep: bytes, type_col: int, known: dict, comment: 
         if h < t_end:
             rec = None
             found = label_records(None, h, t_end)
+            if found is not None and type_col == 0:
+                first = arr[starts[h:t_end][found[3] == 0]]  # the first bytes of lines of other types
+                if np.isin(first, np.array(sorted(not_rec), dtype=np.uint8)).any():
+                    found = None
             hl = [i for i in (*range(h), *range(t_end, n_lines)) if header and arr[starts[i]] == header[0]]
     if found is None:
         first = arr[starts]  # a blank line's first byte is its \n (or the \r of \r\n)
@@ -830,7 +837,7 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
     n = len(rows)
     if np.any(tl.n_sep[rows] != n_sep):
         return None
-    run_first, run_last, run_lo, run_hi, bounds = _runs(tl, rows)
+    _, _, run_lo, run_hi, bounds = _runs(tl, rows)
     names = [f"c{j}" for j in range(n_sep + 1)]
     use = sorted([*num, *ints, *strings])
     dtype = {names[j]: (object if j in strings else np.int64 if j in ints else np.float64) for j in use}
@@ -844,54 +851,56 @@ def read_records(tl: TypedLines, types, sep: str, n_sep: int, num, ints=(), stri
         out_num = np.empty((n, nn), dtype=np.float64, order="F")  # columns contiguous
         out_int = [np.empty(n, dtype=np.int64) for _ in ints]
         out_str = [np.empty(n, dtype=object) for _ in strings]
-    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        k0, k1 = int(np.searchsorted(run_last, a)), int(np.searchsorted(run_first, b))  # the runs of rows a..b-1
-        rlo, rhi = run_lo[k0:k1].copy(), run_hi[k0:k1].copy()
-        rlo[0], rhi[-1] = tl.starts[rows[a]], tl.ends[rows[b - 1]] + 1
-        source = _LineReader(tl.data, rlo, rhi)
-        # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
-        try:
-            df = pd.read_csv(source, sep=sep, header=None, names=names, usecols=[names[j] for j in use], dtype=dtype,
-                             quoting=csv.QUOTE_NONE, na_filter=False, engine="c", skip_blank_lines=False,
-                             index_col=False, low_memory=False)  # an empty numeric cell fails the parse
-        except (ValueError, TypeError, pd.errors.ParserError):
-            return None
-        if len(df) != b - a:
-            return None
-        cols = [df[names[j]].to_numpy(dtype=np.float64) for j in num]
-        iv = [df[names[j]].to_numpy(dtype=np.int64) for j in ints]
-        lims = [(x.min(), x.max()) for x in cols]  # NaN if a cell is NaN
-        if not all(np.isfinite(m) and np.isfinite(x) for m, x in lims):
-            return None
-        # pandas reads a column made only of true/false words (any case) as 1/0 (float() and int() refuse
-        # them): a column whose values are all 0 or 1 has its lines checked
-        maybe01 = [x for x, (m, mx) in zip(cols, lims, strict=True) if m >= 0 and mx <= 1]
-        maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
-        if any(np.all((x == 0) | (x == 1)) for x in maybe01):
-            au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
-            plo, phi = tl.starts[rows[a:b]], tl.ends[rows[a:b]] + 1
-            pcode = (code[a:b] if code is not None else np.asarray(turn)[np.arange(a, b) % nt] if periodic
-                     else np.zeros(b - a, dtype=np.intp))
-            if not _no_bool_words(tl.data, plo, phi - plo, au[pcode], sep.encode(), num, ints, not strings):
+    # one parser over all the selected lines, read a piece at a time: its buffers are reused from piece to piece
+    # low_memory=False: one type inference over each column of the piece, not per chunk; no NA words
+    try:
+        reader = pd.read_csv(_LineReader(tl.data, run_lo, run_hi), sep=sep, header=None, names=names,
+                             usecols=[names[j] for j in use], dtype=dtype, quoting=csv.QUOTE_NONE, na_filter=False,
+                             engine="c", skip_blank_lines=False, index_col=False, low_memory=False, iterator=True)
+    except (ValueError, TypeError, pd.errors.ParserError):
+        return None
+    with reader:  # closes the parser's handles
+        for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+            try:
+                df = reader.get_chunk(b - a)  # an empty numeric cell fails the parse
+            except (ValueError, TypeError, pd.errors.ParserError, StopIteration):
                 return None
-        sv = [df[names[j]].to_numpy(dtype=object) for j in strings]
-        if periodic:  # row r of the file order is turn r // nt of type turn[r % nt]
-            for p, ti in enumerate(turn):
-                r = a + (p - a) % nt  # the first row of phase p in this piece
-                if r >= b:
-                    continue
-                e = slice(r // nt, r // nt + len(range(r, b, nt)))
+            if len(df) != b - a:
+                return None
+            cols = [df[names[j]].to_numpy(dtype=np.float64) for j in num]
+            iv = [df[names[j]].to_numpy(dtype=np.int64) for j in ints]
+            lims = [(x.min(), x.max()) for x in cols]  # NaN if a cell is NaN
+            if not all(np.isfinite(m) and np.isfinite(x) for m, x in lims):
+                return None
+            # pandas reads a column made only of true/false words (any case) as 1/0 (float() and int() refuse
+            # them): a column whose values are all 0 or 1 has its lines checked
+            maybe01 = [x for x, (m, mx) in zip(cols, lims, strict=True) if m >= 0 and mx <= 1]
+            maybe01 += [x for x in iv if x.min() >= 0 and x.max() <= 1]
+            if any(np.all((x == 0) | (x == 1)) for x in maybe01):
+                au = np.array([sum(c in b"au" for c in t.lower().encode()) for t in types])  # letters a/u of each type
+                plo, phi = tl.starts[rows[a:b]], tl.ends[rows[a:b]] + 1
+                pcode = (code[a:b] if code is not None else np.asarray(turn)[np.arange(a, b) % nt] if periodic
+                         else np.zeros(b - a, dtype=np.intp))
+                if not _no_bool_words(tl.data, plo, phi - plo, au[pcode], sep.encode(), num, ints, not strings):
+                    return None
+            sv = [df[names[j]].to_numpy(dtype=object) for j in strings]
+            if periodic:  # row r of the file order is turn r // nt of type turn[r % nt]
+                for p, ti in enumerate(turn):
+                    r = a + (p - a) % nt  # the first row of phase p in this piece
+                    if r >= b:
+                        continue
+                    e = slice(r // nt, r // nt + len(range(r, b, nt)))
+                    for k, x in enumerate(cols):
+                        out_num[e, ti * nn + k] = x[r - a::nt]
+                    for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
+                        o[e, ti] = x[r - a::nt]
+            else:
+                d = slice(a, b) if dest is None else dest[a:b]
                 for k, x in enumerate(cols):
-                    out_num[e, ti * nn + k] = x[r - a::nt]
+                    out_num[d, k] = x
                 for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
-                    o[e, ti] = x[r - a::nt]
-        else:
-            d = slice(a, b) if dest is None else dest[a:b]
-            for k, x in enumerate(cols):
-                out_num[d, k] = x
-            for o, x in zip([*out_int, *out_str], [*iv, *sv], strict=True):
-                o[d] = x
-        del df, cols, iv, sv
+                    o[d] = x
+            del df, cols, iv, sv
     out = {}
     o = 0
     for i, (t, m) in enumerate(zip(types, n_of, strict=True)):

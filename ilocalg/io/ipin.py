@@ -259,9 +259,8 @@ def parse_ipin_logfile(text: str | bytes, source: str = "<string>", time: str = 
         check_range(v[:, 2], FREQ_MHZ, source, linenos, "6 (Frequency)")
         check_range(v[:, 3], RSSI_DBM, source, linenos, "7 (RSS)")
         _increasing(t, linenos, source, "WIFI", strict=False)
-        empty = [i for i, b in enumerate(bssid) if not b]
-        if empty:
-            fail(source, linenos[empty[0]], "WIFI field 5 (MAC_BSSID) is empty")
+        if not all(bssid):
+            fail(source, linenos[next(i for i, b in enumerate(bssid) if not b)], "WIFI field 5 (MAC_BSSID) is empty")
         wifi = pd.DataFrame({
             T_S: t,
             SCAN_ID: np.concatenate([[0], np.cumsum(np.diff(t) > 0)]).astype(np.int64),
