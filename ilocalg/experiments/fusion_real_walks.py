@@ -448,8 +448,10 @@ def _readings(relisted_wifi: str, pf_recovery: str | None = "augmented") -> pd.D
                 f"database walks' waypoints farther than {grid_mod.SAME_POINT_M:g} m from every other database "
                 "walk's; Viterbi (offline), the forward filter's most probable state (online)",
                 "variances and prior measured on the database walks; "
-                f"{grid_mod.SAME_POINT_M:g} m: 89 % (F1) / 88 % (F2) of site1 waypoints lie within it of another "
-                f"walk's; {grid_mod.N_SD:g} sd as the map start-up's, not tuned; Kaggle Indoor Location & "
+                f"{grid_mod.SAME_POINT_M:g} m: a marked point's waypoints coincide on site 1 (as many lie within "
+                "0.1 m of another walk's as within 1 m), the share beyond it measured per scored walk (per_walk "
+                f"column grid_off_share); {grid_mod.N_SD:g} sd as the map start-up's, not tuned; Kaggle Indoor "
+                "Location & "
                 "Navigation (2021) 'snap to grid'; Newson & Krumm (2009)"),
         reading("kf_gain_lag5s: fixed-lag smoother", "Liao et al. 2016, L169, L481",
                 "online smoothing over fixed time windows; windows best larger than 5 s, not beyond 20 s",
