@@ -257,25 +257,30 @@ def test_ladder_configs_reproduce_each_row_and_the_diagnostic_ranks_them():
     # diagnostic scores those configurations under both CVs and rank-correlates them with the test errors
     from scipy.stats import spearmanr
 
-    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions, wants_devices
 
     train, _ = _spot_train(seed=7, n_spots=60, per_spot=6, n_phones=6)
     train.meta["USERID"] = train.meta["PHONEID"]
     test, _ = _spot_train(seed=8, n_spots=20, per_spot=3, n_phones=6)
+    for s in (train, test):   # scan times: the device-calibration row needs them
+        s.meta["TIMESTAMP"] = np.random.default_rng(len(s.meta)).permutation(len(s.meta))
     lad = ms.toolkit_ladder(train, test, seed=0, fast=True)
     rows = lad["toolkit_ladder"].set_index("method")
-    assert [n for n, _, _ in lad["configs"]] == list(rows.index) and len(rows) == 13
+    assert [n for n, _, _ in lad["configs"]] == list(rows.index) and len(rows) == 14
+    assert "device calibration" in set(lad["toolkit_cv"]["grid"])
     y = np.column_stack([train.xy_m, train.floor, train.building])
+    meta = {"devices": test.meta["PHONEID"].to_numpy(), "times": test.meta["TIMESTAMP"].to_numpy()}
     for name, members, aps in lad["configs"]:
         x_tr, x_te = train.rssi_dbm, test.rssi_dbm
         if aps:
             sel = ApSelector(1).fit(x_tr)
             x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
-        pr = combine_predictions([e.fit(x_tr, y).predict(x_te) for _, e in members])
+        pr = combine_predictions([e.fit(x_tr, y).predict(x_te, **(meta if wants_devices(e) else {}))
+                                  for _, e in members])
         err = np.hypot(pr[:, 0] - test.x_m, pr[:, 1] - test.y_m)
         assert np.nanmean(err) == pytest.approx(rows.loc[name, "mean_m"], rel=1e-6), name
     long, summary = ms.ladder_cv_diagnostic(train, lad, seed=0)
-    assert list(summary["groups"]) == ["PHONEID", ms.SPOT_PHONE] and (summary["n_rows"] == 13).all()
+    assert list(summary["groups"]) == ["PHONEID", ms.SPOT_PHONE] and (summary["n_rows"] == 14).all()
     for g, t in long.groupby("groups"):
         rho = summary.set_index("groups").loc[g, "spearman_all"]
         assert rho == pytest.approx(spearmanr(t["cv_mean_error_m"], t["test_mean_m"])[0])

@@ -25,7 +25,7 @@ from ilocalg.wifi.evaluate import evaluate_method
 from ilocalg.wifi.hierarchical import HierarchicalLocator, locate_flat
 from ilocalg.wifi.horus import SimplifiedHorus, fit_horus, horus_predict_index, horus_scores
 from ilocalg.wifi.knn import KnnFingerprint, build_index, knn_predict, knn_search, neighbour_weights, vote
-from ilocalg.wifi.offset import OffsetFingerprint, offset_search
+from ilocalg.wifi.offset import OffsetFingerprint, device_shift_choice, offset_search
 from ilocalg.wifi.preprocessing import (
     REPRESENTATIONS,
     check_positions,
@@ -46,6 +46,7 @@ __all__ = [
     "CascadeFingerprint",
     "OffsetFingerprint",
     "offset_search",
+    "device_shift_choice",
     "ApSelector",
     "FingerprintEnsemble",
     "combine_predictions",

@@ -35,7 +35,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from ilocalg.wifi.preprocessing import RssiPositionTags, check_rssi
 
-__all__ = ["ap_keep_mask", "ApSelector", "combine_predictions", "FingerprintEnsemble"]
+__all__ = ["ap_keep_mask", "ApSelector", "combine_predictions", "FingerprintEnsemble", "wants_devices"]
 
 
 def ap_keep_mask(x_dbm: np.ndarray, min_count: int = 1) -> np.ndarray:
@@ -174,8 +174,18 @@ class FingerprintEnsemble(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.n_features_in_ = x.shape[1]
         return self
 
-    def predict(self, X) -> np.ndarray:
-        """Combined predictions (:func:`combine_predictions`), the shape of the fitted ``y``."""
+    def predict(self, X, devices=None, times=None) -> np.ndarray:
+        """Combined predictions (:func:`combine_predictions`), the shape of the fitted ``y``. ``devices`` and
+        ``times`` (each scan's phone and time) go to the members that calibrate per device
+        (:func:`wants_devices`)."""
         check_is_fitted(self, "estimators_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
-        return combine_predictions([e.predict(x) for e in self.estimators_])
+        meta = {"devices": devices, "times": times}
+        return combine_predictions([e.predict(x, **meta) if wants_devices(e) else e.predict(x)
+                                    for e in self.estimators_])
+
+
+def wants_devices(est) -> bool:
+    """Whether ``est`` (or an estimator inside it) calibrates per device (``device_calibration=True``, as
+    :class:`ilocalg.wifi.OffsetFingerprint`): its ``predict`` then needs each scan's ``devices`` and ``times``."""
+    return any(k.split("__")[-1] == "device_calibration" and v is True for k, v in est.get_params(deep=True).items())

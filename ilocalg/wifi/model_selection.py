@@ -61,6 +61,8 @@ __all__ = [
     "fit_members",
     "rows_cv",
     "ladder_cv_diagnostic",
+    "with_device_calibration",
+    "device_calibration_cv",
 ]
 
 
@@ -318,7 +320,7 @@ def _ensemble_cv_at(train: FingerprintSet, grid: dict, ks, seed: int = 0, n_spli
                         preds[k][name] = cache[key]
                     else:
                         need[name] = est
-        new = _fit_members_at(list(need.items()), x_tr, y[tr], x_te, ks)
+        new = _fit_members_at(list(need.items()), x_tr, y[tr], x_te, ks, _query_meta(train, te))
         for k in ks:
             got = {n: v for n, v in new[k].items() if n not in preds[k]}
             preds[k].update(got)
@@ -366,7 +368,8 @@ def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, 
                 sel = ApSelector(1).fit(x_tr)
                 x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
             need = {n: e for _, members, a in rows if bool(a) == aps for n, e in members}
-            preds.update({(n, aps): v for n, v in fit_members(list(need.items()), x_tr, y[tr], x_te, None).items()})
+            preds.update({(n, aps): v for n, v in fit_members(list(need.items()), x_tr, y[tr], x_te, None,
+                                                               _query_meta(train, te)).items()})
         for r, (_, members, aps) in enumerate(rows):
             scores[r, f] = mean_horizontal_error_m(y[te], combine_predictions([preds[(n, bool(aps))]
                                                                                 for n, _ in members]))
@@ -381,7 +384,8 @@ def _weight_power_param(est) -> str | None:
     return keys[0] if len(keys) == 1 and hasattr(est, "predict_weight_powers") else None
 
 
-def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n_neighbors: int | None) -> dict:
+def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n_neighbors: int | None,
+                meta: dict | None = None) -> dict:
     """``{name: prediction on x_te}`` of each ``(name, estimator)`` (cloned, ``n_neighbors`` set where it has such a
     parameter, as :class:`ilocalg.wifi.FingerprintEnsemble` does) fitted on ``(x_tr, y_tr)``.
 
@@ -389,18 +393,31 @@ def fit_members(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, n
     ``weight_power``, also inside :class:`ilocalg.wifi.SpotAveragedFingerprint`) share one fit and one neighbour
     search (``predict_weight_powers``): the same values as fitting each alone. Spot-averaged members
     (:class:`ilocalg.wifi.SpotAveragedFingerprint`) share one :func:`ilocalg.wifi.spots.spot_fingerprints` of
-    ``x_tr`` per ``min_heard_fraction`` (what each one's ``fit`` computes). Names must be distinct.
+    ``x_tr`` per ``min_heard_fraction`` (what each one's ``fit`` computes). Names must be distinct. ``meta``
+    (``{"devices": ..., "times": ...}`` of the rows of ``x_te``) goes to the members that calibrate per device
+    (:func:`ilocalg.wifi.ensemble.wants_devices`).
     """
-    return _fit_members_at(members, x_tr, y_tr, x_te, (n_neighbors,))[n_neighbors]
+    return _fit_members_at(members, x_tr, y_tr, x_te, (n_neighbors,), meta)[n_neighbors]
 
 
-def _fit_members_at(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, ks) -> dict:
+def _query_meta(s: FingerprintSet, rows=None) -> dict:
+    """Each scan's phone and time (UJIIndoorLoc's PHONEID and TIMESTAMP) for device-calibrated members, or ``{}``
+    when the set has no such columns."""
+    if s.meta is None or not {"PHONEID", "TIMESTAMP"} <= set(s.meta.columns):
+        return {}
+    rows = slice(None) if rows is None else rows
+    return {"devices": s.meta["PHONEID"].to_numpy()[rows], "times": s.meta["TIMESTAMP"].to_numpy()[rows]}
+
+
+def _fit_members_at(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarray, ks, meta: dict | None = None
+                    ) -> dict:
     """``{k: fit_members(members, x_tr, y_tr, x_te, k)}`` for each ``k`` of ``ks``, each member fitted once: a member
     with ``_at_n_neighbors`` (:class:`ilocalg.wifi.OffsetFingerprint`, :class:`ilocalg.wifi.CascadeFingerprint`:
     their fit does not depend on K) predicts every K from one fit; a member without an ``n_neighbors`` parameter
     (a spot-averaged one keeps its own K) predicts once for all K; any other is fitted per K."""
     from sklearn.base import clone
 
+    from ilocalg.wifi.ensemble import wants_devices
     from ilocalg.wifi.spots import SpotAveragedFingerprint, spot_fingerprints
 
     ks = list(dict.fromkeys(ks))
@@ -430,14 +447,15 @@ def _fit_members_at(members, x_tr: np.ndarray, y_tr: np.ndarray, x_te: np.ndarra
             else:
                 e.fit(x_tr, y_tr)
             got = None
+            kw = dict(meta or {}) if wants_devices(e) else {}
             for kk in ([k] if per_k else ks):
                 if got is None or has_k:  # without an n_neighbors parameter, one prediction stands for every K
                     view = e._at_n_neighbors(kk) if has_k and not per_k and kk != ks[0] else e
                     if wk is None:
-                        got = {name0: view.predict(x_te)}
+                        got = {name0: view.predict(x_te, **kw)}
                     else:
                         powers = [m.get_params(deep=True)[wk] for _, m, _, _ in items]
-                        got = {n: pr for (n, _, _, _), pr in zip(items, view.predict_weight_powers(x_te, powers),
+                        got = {n: pr for (n, _, _, _), pr in zip(items, view.predict_weight_powers(x_te, powers, **kw),
                                                                  strict=True)}
                 out[kk].update(got)
     return out
@@ -674,7 +692,8 @@ def bootstrap_mean_ci(e: np.ndarray, seed: int, n_boot: int = 1000) -> tuple[flo
 
 def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, fast: bool = False,
                    cv_groups: tuple[str, ...] = ("USERID",), offset: bool = True, ensemble: bool = True,
-                   offset_range: bool = True, spots: bool = True, headline: bool = True) -> dict:
+                   offset_range: bool = True, spots: bool = True, headline: bool = True,
+                   device_calibration: bool = True) -> dict:
     """What each toolkit step buys, fitted on training only and scored on validation.
 
     Rows (each adds one step to the previous): flat WKNN K=5 (Euclidean, dBm); building -> floor ->
@@ -714,8 +733,15 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
     spots and with phones its training part never saw, at places the rest of the survey covers), the CV that mimics
     a later campaign at free positions. Its CV rows carry ``groups = "spot x PHONEID"``, ``grid = "headline
     candidates"`` and their K; ``rank`` is over both K.
+
+    With ``device_calibration`` (and ``headline``), one more row, the last and the headline: the headline's members
+    with or without the per-device calibration of their offset searches (:func:`device_calibration_cv`; each scan's
+    shift pooled over its phone's scans so far, :func:`ilocalg.wifi.offset.device_shift_choice`), the choice made by
+    the same spot x PHONEID CV (test phones unseen, their scans in time order). Its CV rows carry ``grid = "device
+    calibration"``. Only when both sets have the PHONEID and TIMESTAMP meta columns.
     """
     from ilocalg.wifi.cascade import CascadeFingerprint
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
     from ilocalg.wifi.offset import OffsetFingerprint
 
     cvs = [toolkit_cv(train, seed, fast, group=g) for g in cv_groups]
@@ -777,7 +803,49 @@ def toolkit_ladder(train: FingerprintSet, test: FingerprintSet, seed: int = 0, f
             res_by[name] = res = _prediction_result(pr, test)
             rows.append(_ladder_row(name, res, test, seed, par))
             configs.append((name, [(f"{n}@K{k}", _with_k(e, k)) for n, e in members], True))
+        if top is not None and device_calibration and _query_meta(train) and _query_meta(test):
+            k_top, members = top
+            on, dc_table = device_calibration_cv(train, [(n, _with_k(e, k_top)) for n, e in members], seed)
+            cv_table = pd.concat([cv_table, dc_table], ignore_index=True)
+            use = with_device_calibration(members) if on else members
+            aps = ApSelector(1).fit(train.rssi_dbm)
+            got = fit_members(use, aps.transform(train.rssi_dbm), _target(train), aps.transform(test.rssi_dbm),
+                              k_top, _query_meta(test))
+            name = ("toolkit: + per-device calibration from the phone's own earlier scans (on / off by spot x "
+                    "PHONEID CV)")
+            res_by[name] = res = _prediction_result(combine_predictions([got[n] for n, _ in use]), test)
+            rows.append(_ladder_row(name, res, test, seed, f"device_calibration={'on' if on else 'off'}, "
+                                    f"n_neighbors={k_top}, min_count=1, members={_fmt(use)}"))
+            configs.append((name, [(f"{n}@K{k_top}", _with_k(e, k_top)) for n, e in use], True))
     return {"toolkit_ladder": pd.DataFrame(rows), "toolkit_cv": cv_table, "results": res_by, "configs": configs}
+
+
+def with_device_calibration(members) -> list:
+    """``members`` with every offset search calibrated per device (``device_calibration=True`` where an estimator,
+    or the estimator inside it, has that parameter; those members' names gain ``_dev``); the others unchanged."""
+    from sklearn.base import clone
+
+    out = []
+    for n, e in members:
+        keys = [k for k in e.get_params(deep=True) if k.split("__")[-1] == "device_calibration"]
+        out.append((f"{n}_dev", clone(e).set_params(**dict.fromkeys(keys, True))) if keys else (n, e))
+    return out
+
+
+def device_calibration_cv(train: FingerprintSet, members, seed: int = 0, n_splits: int = 3, max_test: int = 300
+                          ) -> tuple[bool, pd.DataFrame]:
+    """Whether per-device calibration (:func:`with_device_calibration`) lowers the spot x PHONEID CV error of the
+    ensemble ``members`` (each with its own K): :func:`rows_cv` of the members as they are and calibrated, on the
+    same folds (each fold's test phones unseen in its training part; each test scan calibrated from its phone's
+    test scans up to its time). Returns the choice (True when the calibrated CV mean error is smaller) and the CV
+    table (``grid = "device calibration"``, ``device_calibration``, ``rank``)."""
+    dev = with_device_calibration(members)
+    t = rows_cv(train, [("off", members, True), ("on", dev, True)], SPOT_PHONE, seed, n_splits, max_test)
+    t = t.rename(columns={"row": "device_calibration"}).assign(grid="device calibration", estimators=[
+        _fmt(members), _fmt(dev)])
+    t["rank"] = t["cv_mean_error_m"].rank(method="min").astype(np.int32)
+    on = bool(t["cv_mean_error_m"].iloc[1] < t["cv_mean_error_m"].iloc[0])
+    return on, t.sort_values("rank", kind="stable").reset_index(drop=True)
 
 
 def _with_k(est, k: int):

@@ -9,6 +9,14 @@ of a small grid (``shifts_db``), search the database at each shift, and keep the
 learned from the queries). This is the "offset search" form of the unsupervised device calibration
 of Tsui et al. (2009): the offset is the one that minimises the fingerprint distance.
 
+With ``device_calibration=True`` the offset is the phone's, not the scan's: the shift whose criterion
+summed over the same device's scans up to and including the query (time order) is smallest
+(:func:`device_shift_choice`). The first scan of a phone gets the per-query search; every later scan
+pools what the phone has heard so far, as a phone calibrating itself in use would (Tsui et al. 2009
+learn the mapping from the device's own unlabelled scans over time). Causal: no later scan and no
+position is used. Needs each query's device and time at ``predict`` (UJIIndoorLoc: PHONEID,
+TIMESTAMP).
+
 Maths in :func:`offset_search` (pure, over a fitted :class:`~ilocalg.wifi.knn.InvertedIndex`);
 :class:`OffsetFingerprint` is the scikit-learn regressor around it. Target layout as
 :class:`ilocalg.wifi.CascadeFingerprint`: ``[x_m, y_m, floor, building]`` (n, 4), floor and building
@@ -38,15 +46,41 @@ from ilocalg.wifi.preprocessing import (
     checked_features,
     heard_aps,
     predict_located,
+    shares_no_ap,
     to_features,
 )
 
-__all__ = ["offset_search", "OffsetFingerprint"]
+__all__ = ["offset_search", "device_shift_choice", "OffsetFingerprint"]
+
+
+def device_shift_choice(criterion: np.ndarray, devices, times) -> np.ndarray:
+    """Per query, the index of the shift a self-calibrating phone uses (causal per-device calibration).
+
+    ``criterion`` (n_q, n_shifts): each query's offset-search criterion at each shift (mean distance to its K
+    nearest references). For each device, queries are taken in time order (ties: row order); a query's choice is
+    the shift minimising the criterion summed over its device's queries up to and including itself (ties: the
+    earlier shift). A device's first query therefore gets its own best shift (:func:`offset_search`).
+    """
+    c = np.asarray(criterion, dtype=np.float64)
+    dev = np.asarray(devices).ravel()
+    t = np.asarray(times, dtype=np.float64).ravel()
+    if c.ndim != 2 or dev.size != c.shape[0] or t.size != c.shape[0]:
+        raise ValueError(f"devices and times need one entry per query ({c.shape[0]}), got {dev.size} and {t.size}")
+    if not np.isfinite(t).all():
+        bad = int(np.flatnonzero(~np.isfinite(t))[0])
+        raise ValueError(f"times must be finite, got {t[bad]} at query {bad}")
+    order = np.lexsort((np.arange(t.size), t))
+    _, inv = np.unique(dev[order], return_inverse=True)
+    out = np.empty(c.shape[0], dtype=np.int64)
+    for g in range(int(inv.max()) + 1 if inv.size else 0):
+        rows = order[inv.reshape(-1) == g]
+        out[rows] = np.cumsum(c[rows], axis=0).argmin(axis=1)
+    return out
 
 
 def offset_search(x_dbm: np.ndarray, index: InvertedIndex, k: int, shifts_db, not_heard_dbm: float = -104.0,
                   representation: str = "powed", metric: str = "sorensen", p: int = 2,
-                  ceiling_dbm: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                  ceiling_dbm: float = 0.0, devices=None, times=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Nearest references of each query at its best RSSI shift.
 
     Parameters
@@ -62,6 +96,9 @@ def offset_search(x_dbm: np.ndarray, index: InvertedIndex, k: int, shifts_db, no
         ``[not_heard_dbm, ceiling_dbm]`` (a reading pushed to the floor counts as "not heard").
     not_heard_dbm, representation, metric, p
         As :class:`ilocalg.wifi.KnnFingerprint`.
+    devices, times : array_like (n_q,), optional
+        Each query's device and time: the shift is then the device's (:func:`device_shift_choice`), not the
+        query's own.
 
     Returns
     -------
@@ -74,6 +111,17 @@ def offset_search(x_dbm: np.ndarray, index: InvertedIndex, k: int, shifts_db, no
     shifts = np.asarray(list(shifts_db), dtype=np.float64).ravel()
     if shifts.size == 0 or not np.isfinite(shifts).all():
         raise ValueError(f"shifts_db must be a non-empty sequence of finite dB values, got {shifts_db!r}")
+    if devices is not None:
+        crit, ds, js = [], [], []
+        for s in shifts:
+            f = to_features(np.clip(x_dbm + s, not_heard_dbm, ceiling_dbm), not_heard_dbm, representation)
+            d, i = knn_search(f, index, k, p=p, metric=metric)
+            crit.append(d.mean(axis=1))
+            ds.append(d)
+            js.append(i)
+        ch = device_shift_choice(np.column_stack(crit), devices, times)
+        rows = np.arange(ch.size)
+        return np.stack(ds)[ch, rows], np.stack(js)[ch, rows], shifts[ch]
     best = None
     for s in shifts:
         xs = np.clip(x_dbm + s, not_heard_dbm, ceiling_dbm)
@@ -107,6 +155,9 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     weight_power : float
         Exponent of the neighbour weights 1/d**weight_power (1: scikit-learn's "distance"; 2: the i-Loc
         thesis eq. (2)); the floor and building votes use the same weights.
+    device_calibration : bool
+        The shift of each query is its phone's, pooled over the phone's scans so far
+        (:func:`device_shift_choice`); ``predict`` then needs ``devices`` and ``times``.
 
     Attributes
     ----------
@@ -124,7 +175,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
 
     def __init__(self, n_neighbors=8, shifts_db=(-4.0, -3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0),
                  representation="powed", metric="sorensen", p=2, not_heard_dbm=-104.0,
-                 rssi_range_dbm=RSSI_RANGE_DBM, weight_power=1.0):
+                 rssi_range_dbm=RSSI_RANGE_DBM, weight_power=1.0, device_calibration=False):
         self.n_neighbors = n_neighbors
         self.shifts_db = shifts_db
         self.representation = representation
@@ -133,6 +184,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.not_heard_dbm = not_heard_dbm
         self.rssi_range_dbm = rssi_range_dbm
         self.weight_power = weight_power
+        self.device_calibration = device_calibration
 
     def _ceiling(self):
         return np.inf if self.rssi_range_dbm is None else float(self.rssi_range_dbm[1])
@@ -174,11 +226,14 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         check_is_fitted(self, "index_")
         return copy.copy(self).set_params(n_neighbors=k)
 
-    def predict(self, X) -> np.ndarray:
-        """``[x_m, y_m, floor, building]`` (n_q, 4), or the positions' shape when fitted on positions."""
-        return self.predict_weight_powers(X, (self.weight_power,))[0]
+    def predict(self, X, devices=None, times=None) -> np.ndarray:
+        """``[x_m, y_m, floor, building]`` (n_q, 4), or the positions' shape when fitted on positions.
 
-    def predict_weight_powers(self, X, powers) -> list[np.ndarray]:
+        ``devices`` and ``times`` (one per row of ``X``): each scan's phone and time, required with
+        ``device_calibration`` and ignored without it."""
+        return self.predict_weight_powers(X, (self.weight_power,), devices, times)[0]
+
+    def predict_weight_powers(self, X, powers, devices=None, times=None) -> list[np.ndarray]:
         """:meth:`predict` at each neighbour-weight exponent of ``powers``, from one offset search: the same values
         as ``set_params(weight_power=a).predict(X)`` for each ``a`` (a CV over the exponent shares the search)."""
         check_is_fitted(self, "index_")
@@ -186,10 +241,21 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
                        copy=False)
         pw = [_check_power(a) for a in powers]
         width = self.y_[0].size
+        meta = {}
+        if self.device_calibration:
+            if devices is None or times is None:
+                raise ValueError(f"{type(self).__name__}(device_calibration=True) needs each scan's devices= and "
+                                 "times= at predict")
+            dev, tm = np.asarray(devices).ravel(), np.asarray(times, dtype=np.float64).ravel()
+            if dev.size != x.shape[0] or tm.size != x.shape[0]:
+                raise ValueError(f"devices and times need one entry per row of X ({x.shape[0]}), got {dev.size} "
+                                 f"and {tm.size}")
+            ok = ~shares_no_ap(x, self.heard_aps_)
+            meta = {"devices": dev[ok], "times": tm[ok]}
 
         def located(xq):
             d, i, s = offset_search(xq, self.index_, int(self.n_neighbors), self.shifts_db, self.not_heard_dbm,
-                                    self.representation, self.metric, self.p, self._ceiling())
+                                    self.representation, self.metric, self.p, self._ceiling(), **meta)
             cols = []
             for a in pw:
                 w = neighbour_weights(d, "distance", a)

@@ -131,17 +131,18 @@ class SpotAveragedFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         self.n_features_in_ = int(n_features)
         return self
 
-    def predict(self, X) -> np.ndarray:
-        """The inner estimator's prediction (the layout of the fitted ``y``)."""
+    def predict(self, X, **meta) -> np.ndarray:
+        """The inner estimator's prediction (the layout of the fitted ``y``); ``meta`` (each scan's ``devices`` and
+        ``times``, for a device-calibrated inner estimator) is passed on."""
         check_is_fitted(self, "estimator_")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
-        return self.estimator_.predict(x)
+        return self.estimator_.predict(x, **meta)
 
-    def predict_weight_powers(self, X, powers) -> list[np.ndarray]:
+    def predict_weight_powers(self, X, powers, **meta) -> list[np.ndarray]:
         """The inner estimator's ``predict_weight_powers`` (one neighbour search for several exponents); a
         ValueError when the inner estimator has none."""
         check_is_fitted(self, "estimator_")
         if not hasattr(self.estimator_, "predict_weight_powers"):
             raise ValueError(f"{type(self.estimator_).__name__} has no predict_weight_powers")
         x = check_rssi(X, "X", n_aps=self.n_features_in_, owner=type(self).__name__, valid_dbm=None, copy=False)
-        return self.estimator_.predict_weight_powers(x, powers)
+        return self.estimator_.predict_weight_powers(x, powers, **meta)
