@@ -153,6 +153,14 @@ if tables is not None:
 # With `CV_DIAGNOSTIC = True`, every ladder row is also scored under both CVs (`toolkit_cv_diagnostic`) and each
 # CV's rank correlation with the validation errors is shown (`toolkit_cv_agreement`): a diagnostic of the CVs,
 # used to choose nothing.
+#
+# The last row asks whether the phone, not the scan, should carry the offset: with per-device calibration
+# (`OffsetFingerprint(device_calibration=True)`, Tsui et al. 2009's calibration from the phone's own unlabelled
+# scans) each scan's shift is the one that fits its phone's scans so far best (PHONEID and TIMESTAMP; a phone's
+# first scan gets the per-query search). The same spot x PHONEID CV, whose test phones are unseen and whose test
+# scans are calibrated in time order, decides on or off for the headline's members
+# (`model_selection.device_calibration_cv`; its CV rows have `grid = "device calibration"`). When the CV says off
+# the row repeats the one above it.
 
 # %%
 if tables is not None and "toolkit_ladder" in tables:
@@ -174,6 +182,8 @@ if tables is not None and "toolkit_ladder" in tables:
         for r in tables["toolkit_cv"].dropna(subset=["estimators"]).itertuples():
             if r.groups != "PHONEID" and r.rank > 5:
                 continue  # the spot x PHONEID CV's many candidates: its first five ranks (all in toolkit_cv)
+            if getattr(r, "grid", None) == "device calibration":
+                continue  # printed below
             grid = f" [{r.grid}]" if isinstance(getattr(r, "grid", None), str) else ""
             cv_name = "GroupKFold(PHONEID)" if r.groups == "PHONEID" else f"{r.groups}"
             k = f", K={r.n_neighbors:g}" if r.groups != "PHONEID" else ""
@@ -184,13 +194,23 @@ if tables is not None and "toolkit_ladder" in tables:
     rng_row = "toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV"
     spot_row = ("toolkit: + spot-averaged fingerprints (raw + averaged members), spot K and weight exponent by "
                 "GroupKFold(PHONEID) CV")
+    head_row = ("toolkit: members, offset range, spots, weight exponent and K by spot x PHONEID CV (test spots and "
+                "phones unseen)")
+    if "grid" in tables["toolkit_cv"]:
+        for r in tables["toolkit_cv"].query("grid == 'device calibration'").itertuples():
+            print(f"spot x PHONEID CV on training [device calibration {r.device_calibration}]: "
+                  f"{r.cv_mean_error_m:.2f} m "
+                  f"(rank {r.rank})")
     for new_row, old_row, what in ((rng_row, ens, "offset range x members"),
                                    (spot_row, rng_row, "spots x weight exponent"),
-                                   (t["method"], spot_row, "headline candidates, spot x PHONEID CV")):
+                                   (head_row, spot_row, "headline candidates, spot x PHONEID CV"),
+                                   (t["method"], head_row, "device calibration, spot x PHONEID CV")):
         if new_row in lad.index and old_row in lad.index and new_row != old_row:
             n, o = lad.loc[new_row], lad.loc[old_row]
             print(f"the CV grid '{what}' chose {n['params']}; on validation it scores {n['mean_m']:.2f} m against "
-                  f"{o['mean_m']:.2f} m for the row before it ({'better' if n['mean_m'] < o['mean_m'] else 'worse'})")
+                  f"{o['mean_m']:.2f} m for the row before it ("
+                  + ("the same" if n["mean_m"] == o["mean_m"] else "better" if n["mean_m"] < o["mean_m"] else "worse")
+                  + ")")
     if "toolkit_cv_diagnostic" in tables:
         report.table(tables["toolkit_cv_diagnostic"], "toolkit_cv_diagnostic")
         report.table(tables["toolkit_cv_agreement"], "toolkit_cv_agreement")
@@ -203,6 +223,29 @@ if tables is not None and "toolkit_ladder" in tables:
           f"p75 {t['p75_m']:.2f} m, floor {t['floor_hit_rate']:.1%}, building {t['building_hit_rate']:.2%} "
           f"-> goal (mean < 6.0 m, floor >= 95 %, building 100 %) {'met' if goal else 'NOT met'}; "
           "EvAAL 2015 winner (private test set): 6.20 m, floor 93.7 %")
+
+# %% [markdown]
+# ## Where the headline's error comes from
+# The headline row's validation error by group of scans (`ilocalg.wifi.evaluate.error_budget`, a diagnostic that
+# fits and chooses nothing): floor hits and misses; scans whose phone the survey used or never saw (also weighted
+# floor by floor, since phones walked different areas); how far the scan's true position is from the nearest
+# training reference on its floor; the largest errors. The two bounds come from positions alone: the error of
+# always picking the nearest training reference, and of averaging the 3 nearest (what a perfect radio match
+# would still cost).
+
+# %%
+if tables is not None and "toolkit_error_budget" in tables:
+    report.table(tables["toolkit_error_budget"], "toolkit_error_budget")
+    with ilocviz.style():
+        budget = tables["toolkit_error_budget"]
+        fig, ax = plt.subplots(figsize=(9, 0.42 * len(budget) + 1.5))
+        ilocviz.wifi.method_bars(budget, ax=ax, columns=("mean_error_m",), label_col="group", horizontal=True,
+                                 reference=(wifi_ujiindoorloc.PAPER_UJI["paper_evaal_winner_mean_m"],
+                                            "EvAAL 2015 winner, mean (paper value)"))
+        ax.set_title("headline row on validation: mean 2-D error by group of scans")
+        ilocviz.savefig(fig, "02_wifi_ujiindoorloc_error_budget", OUT_DIR)
+    for line in wifi_ujiindoorloc.budget_findings(tables["toolkit_error_budget"]):
+        print(line)
 
 # %% [markdown]
 # ## Conclusion

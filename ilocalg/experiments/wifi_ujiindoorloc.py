@@ -33,6 +33,7 @@ from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import load_ujiindoorloc
 from ilocalg.papers import paper_ref
 from ilocalg.wifi import ESTIMATORS, evaluate_method
+from ilocalg.wifi.evaluate import error_budget
 from ilocalg.wifi.knn import shared_searches
 from ilocalg.wifi.model_selection import (
     best_search,
@@ -42,7 +43,8 @@ from ilocalg.wifi.model_selection import (
     toolkit_ladder,
 )
 
-__all__ = ["PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "campaign_shift", "find_files", "load", "run"]
+__all__ = [
+    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "budget_findings", "campaign_shift", "find_files", "load", "run"]
 
 # Settings from the paper
 # -----------------------
@@ -104,6 +106,11 @@ TOOLKIT_READINGS = (
      "part never saw, at places the rest of the survey covers; it chooses the headline row among headline_grid's "
      "candidates, fixed beforehand (headline_cv). The time gap (access points changed) has no counterpart "
      "inside the training campaign"),
+    ("per-device calibration from the phone's own scans", "Tsui et al. 2009 (Mobile Netw. Appl. 14)",
+     "a new phone's RSS mapping is learned without labels from the scans the phone collects in use",
+     "OffsetFingerprint(device_calibration=True): each scan's shift minimises the search criterion summed over "
+     "its phone's scans up to its own time (PHONEID, TIMESTAMP; causal, no position used); on / off for the "
+     "headline's members by the spot x PHONEID CV (device_calibration_cv)"),
 )
 
 
@@ -184,7 +191,8 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
     toolkit : bool
         Add the toolkit ladder (:func:`ilocalg.wifi.model_selection.toolkit_ladder`): rows
         ``toolkit: ...`` in ``methods`` and ``errors``, tables ``toolkit_ladder``, ``toolkit_cv``,
-        ``toolkit_readings`` (:data:`TOOLKIT_READINGS`) and ``measures``.
+        ``toolkit_readings`` (:data:`TOOLKIT_READINGS`), ``toolkit_error_budget`` (the headline row's error by
+        group of validation scans, :func:`ilocalg.wifi.evaluate.error_budget`) and ``measures``.
     cv_diagnostic : bool
         With ``toolkit``, also score every ladder row under the GroupKFold(PHONEID) and spot x PHONEID CVs
         (:func:`ilocalg.wifi.model_selection.ladder_cv_diagnostic`; a diagnostic of the CVs, used to choose
@@ -281,6 +289,7 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_
         tk = lad.iloc[-1]
         tables["toolkit_ladder"] = lad
         tables["toolkit_cv"] = ladder["toolkit_cv"]
+        tables["toolkit_error_budget"] = error_budget(train, test, ladder["results"][tk["method"]])
         tables["toolkit_readings"] = pd.DataFrame(list(TOOLKIT_READINGS),
                                                   columns=["step", "source", "source_says", "code_does"])
         tables["paper_vs_reproduced"] = pd.concat([tables["paper_vs_reproduced"], pd.DataFrame([
@@ -305,3 +314,37 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_
     if search if search is not None else not fast:
         tables["best_search"] = best_search(train, test, seed)
     return tables
+
+
+def budget_findings(budget: pd.DataFrame) -> list[str]:
+    """Sentences generated from ``toolkit_error_budget`` (:func:`ilocalg.wifi.evaluate.error_budget`)."""
+    b = budget.set_index("group")
+    out = []
+    allr = b.loc["all located scans"]
+    hit, miss = b.loc["floor hit"], b.loc["floor missed"]
+    out.append(f"floor misses: {miss['share_of_scans']:.1%} of the scans, {miss['share_of_total_error']:.1%} of the "
+               f"total error (mean {miss['mean_error_m']:.2f} m against {hit['mean_error_m']:.2f} m on the right "
+               "floor)")
+    if "phone not seen in training" in b.index:
+        s, u = b.loc["phone seen in training"], b.loc["phone not seen in training"]
+        sw = b.loc["phone seen, floor-weighted (floors with both)", "mean_error_m"]
+        uw = b.loc["phone not seen, floor-weighted (floors with both)", "mean_error_m"]
+        n_all, n_u = allr["n"], u["n"]
+        what_if = (allr["mean_error_m"] * n_all - u["mean_error_m"] * n_u + sw * n_u) / n_all
+        out.append(f"phones the survey never used: {u['share_of_scans']:.1%} of the scans, mean "
+                   f"{u['mean_error_m']:.2f} m "
+                   f"against {s['mean_error_m']:.2f} m for its phones ({uw:.2f} against {sw:.2f} m weighted floor by "
+                   f"floor); were the unseen phones' scans as good as the seen phones' on the same floors, the mean "
+                   f"would be about {what_if:.2f} m (a what-if, not a result)")
+    near = b.loc["nearest training reference < 2 m"]
+    bound = b.loc["bound: nearest training reference", "mean_error_m"]
+    bound3 = b.loc["bound: mean of the 3 nearest references", "mean_error_m"]
+    out.append(f"coverage: {near['share_of_scans']:.1%} of the scans lie within 2 m of a training reference on their "
+               f"floor and still err by {near['mean_error_m']:.2f} m on average; always picking the nearest "
+               f"reference would err by {bound:.2f} m, averaging the 3 nearest by {bound3:.2f} m"
+               + (", so most of the error is the radio match, not the survey's coverage"
+                  if near["mean_error_m"] > 2 * bound3 else ""))
+    far = b.loc[[g for g in b.index if g.startswith("error >")][0]]
+    out.append(f"the largest errors ({far.name}): {far['share_of_scans']:.1%} of the scans carry "
+               f"{far['share_of_total_error']:.1%} of the total error")
+    return out
