@@ -1,6 +1,6 @@
 # Two commands do all set-up on a fresh machine (see README.md):
 #   make reproduce   -> every notebook on the embedded simulated data, written to reports/
-#   make test        -> unit tests + every notebook in fast mode + lint
+#   make test        -> unit tests + every notebook in fast mode + every bench once at its smoke size + lint
 PY ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 BIN := $(VENV)/bin

@@ -16,11 +16,12 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from conftest import size
 
 from ilocalg import fusion as fu
 
-N_WALKS = 128
-N_STEPS = 300
+N_WALKS = size(128, 8)  # smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py): the small size
+N_STEPS = size(300, 60)
 TARGET_SPEEDUP = 10.0
 
 

@@ -31,12 +31,12 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import best_cpu_s, best_time_s
+from conftest import best_cpu_s, best_time_s, size
 from filterpy.kalman import KalmanFilter
 
 from ilocalg import ins
 
-DURATION_S = 60.0
+DURATION_S = size(60.0, 5.0)  # smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py): the small size
 RATE_HZ = 100.0
 #: Real-time factor (log duration / CPU time) that filter + RTS must reach on the 100 Hz scenario.
 REALTIME_FACTOR_GOAL = 10.0
@@ -151,7 +151,7 @@ def test_eskf_memory_long_walk(benchmark, keep):
     The history run needs about 3 x 441 x 8 B = 10.6 kB per epoch for P+, P- and Phi plus the gains; the
     checkpoint run stores O(N) arrays. 1e6 epochs scale linearly (see the module docstring).
     """
-    n = 200_000 if not keep else 50_000
+    n = size(200_000, 4_000) if not keep else size(50_000, 1_000)
     r = benchmark.pedantic(memory_in_subprocess, args=(n, keep, True), rounds=1, iterations=1)
     if r is None:  # --benchmark-disable runs the function but may not hand back its result
         r = memory_in_subprocess(n, keep, True)

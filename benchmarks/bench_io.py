@@ -18,14 +18,16 @@ import tracemalloc
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import size
 
 from ilocalg.io.ilc import load_ilc_trace
 from ilocalg.io.ipin import load_ipin_logfile
 from ilocalg.io.oxford import load_oxford_step_counter
 from ilocalg.io.ujiindoorloc import WAP_COLUMNS, load_ujiindoorloc
 
-#: Target size of every generated file, megabytes (kept small: the benchmark machine is shared).
-SIZE_MB = float(os.environ.get("ILOC_BENCH_IO_MB", "30"))
+#: Target size of every generated file, megabytes (kept small: the benchmark machine is shared); ``$ILOC_BENCH_IO_MB``,
+#: else 30, or 0.5 in a smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py).
+SIZE_MB = float(os.environ.get("ILOC_BENCH_IO_MB") or size(30.0, 0.5))
 RESULTS: list[dict] = []
 
 

@@ -12,13 +12,14 @@ import time
 
 import numpy as np
 import pytest
+from conftest import size
 from scipy import signal as ss
 
 from ilocalg.pdr.peak_window import detect_steps_peak_window
 from ilocalg.pdr.robust import detect_steps_robust, lowpass_magnitude
 from ilocalg.pdr.sam import SAM_RANGES_PAPER, detect_steps_sam
 
-N = 2_000_000
+N = size(2_000_000, 100_000)  # smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py): the small size
 RATE = 100.0
 
 

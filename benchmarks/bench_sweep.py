@@ -31,12 +31,14 @@ import resource
 import time
 
 import pandas as pd
+from conftest import size
 
 from ilocalg.workflow.sweep import make_tasks, sweep
 
-N_WALKS = 1000
-N_STEPS = 2000
-N_BLOCKS = 10
+# smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py): both clusters, a few short walks in two blocks
+N_WALKS = size(1000, 4)
+N_STEPS = size(2000, 100)
+N_BLOCKS = size(10, 2)
 TARGET_RATIO = 0.55
 EXPERIMENT = "study_kf_noise"
 

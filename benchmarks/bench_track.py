@@ -21,19 +21,24 @@ import time
 
 import pandas as pd
 import pytest
-from conftest import best_cpu_s, best_time_s
+from conftest import best_cpu_s, best_time_s, size
 
 from ilocalg import track
 from ilocalg.io import load_ipin_logfile, load_recording, write_ipin_logfile
 from ilocalg.sim import walk_recordings as wr
 
 NO_PF = tuple(m for m in track.METHODS if m not in track.MAP_METHODS)
+# smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py): shorter walks, a few walks per database and floor
+LONG_NODES = size(175, 30)
+N_DB_WALKS = size(50, 5)
+N_FLOOR_WALKS = size(100, 5)
+N_REAL_WALKS = size(None, 6)  # the real floor's first walks (None: all of them)
 
 
 @pytest.fixture(scope="module")
 def long_logfile(tmp_path_factory):
     b = wr.simulate_building(0)
-    rec = wr.simulate_recording(b, 1, n_nodes=175, name="long")
+    rec = wr.simulate_recording(b, 1, n_nodes=LONG_NODES, name="long")
     path = write_ipin_logfile(rec, tmp_path_factory.mktemp("ipin") / "long.txt")
     return rec, path
 
@@ -62,7 +67,7 @@ def test_ipin_load_4min(benchmark, long_logfile):
 @pytest.fixture(scope="module")
 def walks_51():
     t0 = time.perf_counter()
-    _, recs = wr.simulate_recordings(51, seed=2, n_nodes=40)
+    _, recs = wr.simulate_recordings(N_DB_WALKS + 1, seed=2, n_nodes=40)
     return recs, time.perf_counter() - t0
 
 
@@ -100,7 +105,7 @@ def test_pipeline_50_walk_database(benchmark, walks_51, select):
 
 @pytest.fixture(scope="module")
 def floor_100(tmp_path_factory):
-    _, recs = wr.simulate_recordings(101, seed=3, n_nodes=40)
+    _, recs = wr.simulate_recordings(N_FLOOR_WALKS + 1, seed=3, n_nodes=40)
     return recs[0], recs[1:], tmp_path_factory.mktemp("floorcache")
 
 
@@ -144,13 +149,16 @@ def test_site1_floor_real(benchmark):
     walk with every method (particle filter, map matching and the map step included) against it, CPU time."""
     from ilocalg.experiments import fusion_real_walks as frw
     from ilocalg.fusion.particle_filter import OccupancyGrid
+    from ilocalg.io.ilc import list_ilc_traces
     from ilocalg.io.paths import data_dir
     from ilocalg.track.floor import build_floor_model
 
     if not (data_dir() / "ilc2020_site1").exists():
         pytest.skip("ilc2020_site1 not in the shared data folder")
+    folder, _, floor = frw.SITE1[0].partition("/")
+    names = None if N_REAL_WALKS is None else list_ilc_traces(data_dir() / folder, floor)[:N_REAL_WALKS]
     t0 = time.process_time()
-    fl = frw.load_floor(dataset=frw.SITE1[0])
+    fl = frw.load_floor(dataset=frw.SITE1[0], names=names)
     cpu_parse = time.process_time() - t0
     name = fl.names[5]
     cfg = track.RealWalkConfig()

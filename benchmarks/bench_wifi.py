@@ -21,13 +21,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import best_time_s
+from conftest import best_time_s, size
 from sklearn.neighbors import NearestNeighbors
 
 from ilocalg.io.paths import dataset_path
 from ilocalg.wifi import KnnFingerprint, SimplifiedHorus
 
 K = 5
+#: About this many references and queries (None: all); a smoke run (ILOC_BENCH_SMOKE=1, benchmarks/conftest.py)
+#: takes every k-th row (the first rows are one building: some queries would share no access point with them).
+N_REFS = size(None, 2000)
+N_QUERIES = size(None, 100)
 
 
 def _synthetic(rng, n, n_aps=520, heard=18):
@@ -56,7 +60,11 @@ def _data():
 
 @pytest.fixture(scope="module")
 def data():
-    return _data()
+    X, y, Q, source = _data()
+    if N_REFS is None:
+        return X, y, Q, source
+    r, q = slice(None, None, max(1, len(X) // N_REFS)), slice(None, None, max(1, len(Q) // N_QUERIES))
+    return X[r], y[r], Q[q], source
 
 
 def _gemm(X, Q, shared_only=False):

@@ -6,6 +6,13 @@ at the end of the session, to ``$ILOC_BENCH_RESULTS`` (default ``.benchmarks/res
 test's id (``bench_wifi.py::test_knn_euclidean``), where :mod:`gate` compares them with
 ``benchmarks/goals.toml``. Works with and without ``--benchmark-disable`` (``extra_info`` exists either
 way; nothing here reads pytest-benchmark's own statistics, which a disabled run does not have).
+
+Smoke run: with ``ILOC_BENCH_SMOKE=1`` every bench runs at a small problem size (:func:`size`), so that the
+test suite can run them all in seconds (``tests/test_bench_smoke.py``, with ``--benchmark-disable``) and find a
+bench that no longer runs or no longer records a goal's measure. Its numbers measure nothing: they are written
+to ``.benchmarks/results-smoke.json`` unless ``$ILOC_BENCH_RESULTS`` says otherwise, each test's entry is
+marked ``smoke_run``, and :mod:`gate` refuses such an entry as a measure. Without the variable (``make bench``)
+every size is the full one.
 """
 
 from __future__ import annotations
@@ -19,6 +26,11 @@ from pathlib import Path
 import pytest
 
 RESULTS_ENV = "ILOC_BENCH_RESULTS"
+SMOKE_ENV = "ILOC_BENCH_SMOKE"
+#: Whether this is a smoke run (``ILOC_BENCH_SMOKE`` set to anything but empty or ``0``).
+SMOKE = os.environ.get(SMOKE_ENV, "").strip() not in ("", "0")
+#: The key that marks a smoke run's entries in the results file (:mod:`gate` refuses them as measures).
+SMOKE_KEY = "smoke_run"
 _RESULTS: dict[str, dict[str, float]] = {}
 
 
@@ -29,6 +41,11 @@ def _best(fn, repeat: int, clock) -> float:
         fn()
         best = min(best, clock() - t0)
     return best
+
+
+def size(full, smoke):
+    """A bench's problem size: ``full`` in a real run (``make bench``), ``smoke`` when :data:`SMOKE` is set."""
+    return smoke if SMOKE else full
 
 
 def best_time_s(fn, repeat: int = 5) -> float:
@@ -43,8 +60,10 @@ def best_cpu_s(fn, repeat: int = 3) -> float:
 
 
 def results_path() -> Path:
-    """Where the session's measures are written (``$ILOC_BENCH_RESULTS`` or ``.benchmarks/results.json``)."""
-    return Path(os.environ.get(RESULTS_ENV) or Path(__file__).resolve().parents[1] / ".benchmarks" / "results.json")
+    """Where the session's measures are written (``$ILOC_BENCH_RESULTS``, else ``.benchmarks/results.json``, or
+    ``.benchmarks/results-smoke.json`` in a smoke run)."""
+    name = "results-smoke.json" if SMOKE else "results.json"
+    return Path(os.environ.get(RESULTS_ENV) or Path(__file__).resolve().parents[1] / ".benchmarks" / name)
 
 
 def _test_id(node) -> str:
@@ -77,6 +96,6 @@ def pytest_sessionfinish(session, exitstatus):
         old = json.loads(path.read_text())
     except (OSError, ValueError):
         old = {}
-    old.update({k: v for k, v in _RESULTS.items() if v})
+    old.update({k: {**v, SMOKE_KEY: 1.0} if SMOKE else v for k, v in _RESULTS.items() if v})
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(old, indent=1, sort_keys=True) + "\n")

@@ -86,3 +86,22 @@ def test_the_projects_goals_name_benches_that_exist(gate):
         assert g["measure"] in src or "bench_record" in src, g  # the bench records that measure
     files = {g["bench"].split("::")[0] for g in goals}
     assert files == {p.name for p in BENCH.glob("bench_*.py")}, "every bench declares a goal"
+
+
+def test_structure_only_checks_that_each_measure_was_recorded_not_its_value(gate, tmp_path, capsys):
+    # values that miss both goals: the structure check compares none
+    results = {"bench_x.py::test_a": {"speedup": 0.1, "smoke_run": 1.0}, "bench_x.py::test_b": {"ratio": 99.0}}
+    assert gate.main(["--structure-only", *_files(tmp_path, GOALS, results)]) == 0
+    assert "2 of 2 goals' measures recorded (values not compared)" in capsys.readouterr().out
+    results["bench_x.py::test_b"] = {"ratio_renamed": 1.0}  # the bench ran but no longer records the goal's key
+    assert gate.main(["--structure-only", *_files(tmp_path, GOALS, results)]) == 1
+    out = capsys.readouterr().out
+    assert re.search(r"bench_x.py::test_b\s+ratio\s+MISSING", out) and "MISSING: 1" in out
+    del results["bench_x.py::test_a"]  # a bench that did not run (or failed before recording)
+    assert gate.main(["--structure-only", *_files(tmp_path, GOALS, results)]) == 1
+
+
+def test_a_smoke_runs_numbers_are_no_measure(gate, tmp_path, capsys):
+    results = {"bench_x.py::test_a": {"speedup": 12.0, "smoke_run": 1.0}, "bench_x.py::test_b": {"ratio": 1.5}}
+    assert gate.main(_files(tmp_path, GOALS, results)) == 1
+    assert re.search(r"bench_x.py::test_a\s+speedup\s+smoke run\s+>= 10\s+NO", capsys.readouterr().out)
