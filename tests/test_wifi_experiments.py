@@ -40,7 +40,7 @@ def test_ujiindoorloc_fast_run(shared_data):
     assert (m["n"] == 256).all()
     assert m.loc["best (union top-5 APs, N=12)", "mean_m"] < m.loc["KNN K=5 (Euclidean)", "mean_m"]
     lad = t["toolkit_ladder"]
-    assert len(lad) == 13 and lad["method"].str.startswith("toolkit: ").all()
+    assert len(lad) == 14 and lad["method"].str.startswith("toolkit: ").all()
     assert set(lad["method"]) <= set(m.index)                          # the literal rows stay, toolkit rows added
     assert ((lad["mean_ci95_lo_m"] <= lad["mean_m"]) & (lad["mean_m"] <= lad["mean_ci95_hi_m"])).all()
     assert set(t["toolkit_cv"]["groups"]) == {"USERID", "PHONEID", "spot x PHONEID"}
@@ -50,12 +50,22 @@ def test_ujiindoorloc_fast_run(shared_data):
     assert (off["grid"] == "offset range x members").sum() == 2     # then offset range x members (fast: two)
     assert (off["grid"] == "spots x weight exponent").sum() == 3    # then spots (fast: none, K = 1, K = 2)
     sp = off[off["grid"] == "spots x weight exponent"]
-    assert f"members={sp['estimators'].iloc[0]}," in lad["params"].iloc[-2]   # the spot row: the spot CV's first rank
-    hl = t["toolkit_cv"].query("groups == 'spot x PHONEID'")
-    assert (hl["grid"] == "headline candidates").all() and len(hl) == 6 and (hl["n_neighbors"] == 5).all()
+    assert f"members={sp['estimators'].iloc[0]}," in lad["params"].iloc[-3]   # the spot row: the spot CV's first rank
+    cv_sp = t["toolkit_cv"].query("groups == 'spot x PHONEID'")
+    assert set(cv_sp["grid"]) == {"headline candidates", "device calibration"}
+    hl = cv_sp[cv_sp["grid"] == "headline candidates"]
+    assert len(hl) == 6 and (hl["n_neighbors"] == 5).all()
     assert hl["rank"].iloc[0] == 1 and hl["cv_mean_error_m"].is_monotonic_increasing
-    assert f"members={hl['estimators'].iloc[0]}," in lad["params"].iloc[-1]   # the last row: the new CV's first rank
+    assert f"members={hl['estimators'].iloc[0]}," in lad["params"].iloc[-2]   # the spot x PHONEID CV's first rank
+    dc = cv_sp[cv_sp["grid"] == "device calibration"]        # then calibration on / off for those members
+    assert sorted(dc["device_calibration"]) == ["off", "on"] and dc["rank"].iloc[0] == 1
+    assert lad["params"].iloc[-1].startswith(f"device_calibration={dc['device_calibration'].iloc[0]},")
+    assert lad["params"].iloc[-1].endswith(f"members={dc['estimators'].iloc[0]}")
     assert lad["method"].iloc[-1] == t["measures"]["item"].iloc[0]   # the headline is the CV-chosen last row
+    b = t["toolkit_error_budget"].set_index("group")                # the headline's error budget
+    assert b.loc["all located scans", "mean_error_m"] == pytest.approx(lad["mean_m"].iloc[-1])
+    assert b.loc["floor hit", "share_of_total_error"] + b.loc["floor missed", "share_of_total_error"] == (
+        pytest.approx(1.0))
     c = t["campaigns"].set_index("quantity")
     assert c.loc["scans", "validation"] == 256 and c.loc["users (USERID; 0 = not recorded)", "validation"] == 1
     assert 0.5 < c.loc["share of scans with a phone not in training", "validation"] < 1  # 9 of 11 phones are new
