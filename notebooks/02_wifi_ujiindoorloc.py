@@ -285,7 +285,11 @@ if tables is not None and "toolkit_error_budget" in tables:
 #   (CV on training only, not in the tables), members on the averaged fingerprints alone scored worse than the raw
 #   members, and restricting each member's neighbours to the voted floor did too; beside the raw members the
 #   averaged ones add a second, less noisy opinion.
-# * The last row, the headline, is chosen by the spot x PHONEID CV among candidates fixed beforehand; the line
+# * The row after the spot row is chosen by the spot x PHONEID CV among candidates fixed beforehand; the line
 #   printed under the ladder compares it with the spot row on validation. Whether that CV ranks the ladder's rows
 #   as validation does is what `CV_DIAGNOSTIC = True` measures: neither CV sees the four months between the
-#   campaigns, in which access points were added and removed.
+#   campaigns, in which access points were added and removed. The last row, the headline, keeps that row's
+#   members and lets the same CV switch the per-device calibration on or off; the lines printed under the ladder
+#   give both CV errors and the choice.
+# * The error budget's printed lines say where the headline's error comes from; they are computed from the
+#   validation errors and choose nothing.
