@@ -42,3 +42,13 @@ def test_unlocated_scans_are_left_out():
     test = _set([[0, 0], [10, 0]], [0, 0], [1, 1])
     b = error_budget(train, test, {"error_m": np.array([np.nan, 4.0]), "floor": np.array([0, 0])}).set_index("group")
     assert b.loc["all located scans", "n"] == 1 and b.loc["all located scans", "mean_error_m"] == 4.0
+
+
+def test_nearest_same_floor_stays_on_the_floor_and_pads():
+    from ilocalg.wifi.evaluate import nearest_same_floor
+
+    ref = np.array([[0, 0, 0, 0], [5, 0, 0, 0], [1, 0, 1, 0]], dtype=float)
+    q = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 2, 0]], dtype=float)
+    d, i = nearest_same_floor(ref, q, 2)
+    np.testing.assert_allclose(d, [[1, 4], [1, np.inf], [np.inf, np.inf]])
+    np.testing.assert_array_equal(i, [[0, 1], [2, -1], [-1, -1]])   # floor 1 has one reference, floor 2 none

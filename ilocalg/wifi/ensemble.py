@@ -188,4 +188,10 @@ class FingerprintEnsemble(RssiPositionTags, RegressorMixin, BaseEstimator):
 def wants_devices(est) -> bool:
     """Whether ``est`` (or an estimator inside it) calibrates per device (``device_calibration=True``, as
     :class:`ilocalg.wifi.OffsetFingerprint`): its ``predict`` then needs each scan's ``devices`` and ``times``."""
-    return any(k.split("__")[-1] == "device_calibration" and v is True for k, v in est.get_params(deep=True).items())
+    params = est.get_params(deep=True)
+    return any(params[k] is True for k in device_calibration_keys(est))
+
+
+def device_calibration_keys(est) -> list[str]:
+    """The ``device_calibration`` parameters of ``est`` and of the estimators inside it (``get_params`` keys)."""
+    return [k for k in est.get_params(deep=True) if k.split("__")[-1] == "device_calibration"]

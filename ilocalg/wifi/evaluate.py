@@ -21,7 +21,7 @@ from ilocalg.wifi.hierarchical import HierarchicalLocator, locate_flat
 from ilocalg.wifi.horus import SimplifiedHorus
 from ilocalg.wifi.registry import DEFAULT_NOT_HEARD_DBM, ESTIMATORS, make_estimator
 
-__all__ = ["EVALUATE_METHODS", "evaluate_method", "error_budget"]
+__all__ = ["EVALUATE_METHODS", "evaluate_method", "nearest_same_floor", "error_budget"]
 
 #: Methods :func:`evaluate_method` accepts: every registered estimator, and ``"hierarchical"``.
 EVALUATE_METHODS = (*ESTIMATORS, "hierarchical")
@@ -78,6 +78,31 @@ def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k:
     }
 
 
+def nearest_same_floor(ref, query, k: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """The ``k`` nearest ``ref`` positions of each ``query`` position on the same floor and building.
+
+    ``ref`` (n_ref, 2 or 4) and ``query`` (n_q, 2 or 4): ``x_m, y_m`` and, where present, floor and building
+    (columns 2-3). Returns the distances (m) and the rows of ``ref`` (n_q, k), nearest first; ``inf`` and ``-1``
+    beyond the references of the query's floor (all of them on a floor without any).
+    """
+    from scipy.spatial import cKDTree
+
+    ref, query = np.asarray(ref, dtype=np.float64), np.asarray(query, dtype=np.float64)
+    key_r = ref[:, 2:4] if ref.shape[1] >= 4 else np.zeros((len(ref), 0))
+    key_q = query[:, 2:4] if query.shape[1] >= 4 else np.zeros((len(query), 0))
+    dist = np.full((len(query), k), np.inf)
+    idx = np.full((len(query), k), -1, dtype=np.int64)
+    for key in np.unique(key_q, axis=0):
+        mq = (key_q == key).all(axis=1)
+        rows = np.flatnonzero((key_r == key).all(axis=1))
+        if rows.size:
+            kk = min(k, rows.size)
+            d, i = cKDTree(ref[rows, :2]).query(query[mq, :2], k=kk)
+            dist[mq, :kk] = d.reshape(-1, kk)
+            idx[mq, :kk] = rows[i.reshape(-1, kk)]
+    return dist, idx
+
+
 def error_budget(train: FingerprintSet, test: FingerprintSet, result: dict, far_m: float = 15.0) -> pd.DataFrame:
     """Where a result's 2-D error comes from: its mean error over groups of test scans (a diagnostic; it fits and
     chooses nothing).
@@ -94,24 +119,16 @@ def error_budget(train: FingerprintSet, test: FingerprintSet, result: dict, far_
     per group: ``group``, ``n``, ``share_of_scans``, ``mean_error_m``, ``share_of_total_error`` (NaN for the
     bounds and the weighted rows).
     """
-    from scipy.spatial import cKDTree
-
     e = np.asarray(result["error_m"], dtype=np.float64)
     ok = np.isfinite(e)
-    ref = pd.DataFrame({"x": train.x_m, "y": train.y_m, "bf": train.building * 100 + train.floor}).drop_duplicates()
+    ref = np.unique(np.column_stack([train.xy_m, train.floor, train.building]), axis=0)
+    q = np.column_stack([test.xy_m, test.floor, test.building])
     tbf = test.building * 100 + test.floor
-    d1 = np.full(test.n_samples, np.nan)
-    d3 = np.full(test.n_samples, np.nan)
-    for bf, g in ref.groupby("bf"):
-        m = tbf == bf
-        if not m.any():
-            continue
-        pts = g[["x", "y"]].to_numpy()
-        q = np.column_stack([test.x_m[m], test.y_m[m]])
-        dd, ii = cKDTree(pts).query(q, min(3, len(pts)))
-        dd, ii = np.atleast_2d(dd.T).T, np.atleast_2d(ii.T).T
-        d1[m] = dd[:, 0]
-        d3[m] = np.hypot(*(pts[ii].mean(axis=1) - q).T)
+    dist, idx = nearest_same_floor(ref, q, 3)
+    d1 = np.where(np.isfinite(dist[:, 0]), dist[:, 0], np.nan)      # NaN: no training reference on the floor
+    used = idx >= 0
+    mean_xy = (ref[np.maximum(idx, 0), :2] * used[..., None]).sum(axis=1) / np.maximum(used.sum(axis=1), 1)[:, None]
+    d3 = np.where(used[:, 0], np.hypot(*(mean_xy - q[:, :2]).T), np.nan)
     total = e[ok].sum()
     rows = []
 

@@ -27,7 +27,7 @@ import pandas as pd
 from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import WEAKEST_DBM, ground_scale
 from ilocalg.metrics import hit_rate
-from ilocalg.wifi.evaluate import evaluate_method
+from ilocalg.wifi.evaluate import evaluate_method, nearest_same_floor
 from ilocalg.wifi.hierarchical import locate_flat
 from ilocalg.wifi.knn import KnnFingerprint, neighbour_weights, smallest_k, vote
 from ilocalg.wifi.radar import union_topk_sq_distances
@@ -559,19 +559,8 @@ def _nearest_reference_m(ref: np.ndarray, query: np.ndarray, exclude_self: bool 
     """Distance (m) from each ``query`` row's position (columns 0-1) to the nearest ``ref`` position on the same
     floor and building (columns 2-3, where present); inf where that floor has no reference. ``exclude_self``: the
     nearest *other* reference (``query`` rows are distinct rows of ``ref``)."""
-    from scipy.spatial import cKDTree
-
-    key_r = ref[:, 2:4] if ref.shape[1] >= 4 else np.zeros((len(ref), 0))
-    key_q = query[:, 2:4] if query.shape[1] >= 4 else np.zeros((len(query), 0))
-    out = np.full(len(query), np.inf)
-    for key in np.unique(key_q, axis=0):
-        mq = (key_q == key).all(axis=1)
-        mr = (key_r == key).all(axis=1)
-        k = 2 if exclude_self else 1
-        if mr.sum() >= k:
-            d = cKDTree(ref[mr, :2]).query(query[mq, :2], k=k)[0]
-            out[mq] = d[:, 1] if exclude_self else d
-    return out
+    k = 2 if exclude_self else 1
+    return nearest_same_floor(ref, query, k)[0][:, k - 1]
 
 
 def group_cv(kind: str, n_splits: int = 3, max_test: int = 300, seed: int = 0):
@@ -825,9 +814,11 @@ def with_device_calibration(members) -> list:
     or the estimator inside it, has that parameter; those members' names gain ``_dev``); the others unchanged."""
     from sklearn.base import clone
 
+    from ilocalg.wifi.ensemble import device_calibration_keys
+
     out = []
     for n, e in members:
-        keys = [k for k in e.get_params(deep=True) if k.split("__")[-1] == "device_calibration"]
+        keys = device_calibration_keys(e)
         out.append((f"{n}_dev", clone(e).set_params(**dict.fromkeys(keys, True))) if keys else (n, e))
     return out
 
