@@ -223,6 +223,13 @@ if tables is not None and "toolkit_ladder" in tables:
           f"p75 {t['p75_m']:.2f} m, floor {t['floor_hit_rate']:.1%}, building {t['building_hit_rate']:.2%} "
           f"-> goal (mean < 6.0 m, floor >= 95 %, building 100 %) {'met' if goal else 'NOT met'}; "
           "EvAAL 2015 winner (private test set): 6.20 m, floor 93.7 %")
+if tables is not None and "toolkit_cli" in tables:
+    report.table(tables["toolkit_cli"], "toolkit_cli")
+    c = tables["toolkit_cli"].iloc[0]
+    print(f"`{c['command']}` " + ("runs this headline row (same members and K)" if c["same"] else
+                                 f"does NOT run this row: it builds {c['command_members']} at K="
+                                 f"{c['command_n_neighbors']}, the CV chose {c['ladder_members']} at K="
+                                 f"{c['ladder_n_neighbors']} (update TOOLKIT_HEADLINE)"))
 
 # %% [markdown]
 # ## Where the headline's error comes from

@@ -66,6 +66,9 @@ def test_ujiindoorloc_fast_run(shared_data):
     assert b.loc["all located scans", "mean_error_m"] == pytest.approx(lad["mean_m"].iloc[-1])
     assert b.loc["floor hit", "share_of_total_error"] + b.loc["floor missed", "share_of_total_error"] == (
         pytest.approx(1.0))
+    cli = t["toolkit_cli"].iloc[0]                                   # does --method toolkit run the headline?
+    assert cli["ladder_row"] == lad["method"].iloc[-1] and cli["ladder_n_neighbors"] == "5"
+    assert not cli["same"]                                  # fast mode's grids cannot choose the full-mode headline
     c = t["campaigns"].set_index("quantity")
     assert c.loc["scans", "validation"] == 256 and c.loc["users (USERID; 0 = not recorded)", "validation"] == 1
     assert 0.5 < c.loc["share of scans with a phone not in training", "validation"] < 1  # 9 of 11 phones are new
@@ -87,6 +90,31 @@ def test_cli_gives_the_independent_k5_figure(shared_data):
     assert r["floor_hit_rate"] == pytest.approx(0.9028, abs=1e-4)
     assert r["building_hit_rate"] == pytest.approx(0.9973, abs=1e-4)
     assert r["n"] == 1111 and r["n_no_shared_ap"] == 0
+
+
+@pytest.mark.realdata
+def test_cli_toolkit_is_the_ladder_headline(shared_data):
+    """``--method toolkit`` (a Pipeline, fitted and predicted as a whole) gives what the ladder's code path gives for
+    the same members (each fitted apart by fit_members, shared searches, then combined)."""
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+    from ilocalg.wifi.model_selection import TOOLKIT_HEADLINE, _target, fit_members, headline_members
+
+    d = shared_data("ujiindoorloc")
+    out = subprocess.run([sys.executable, "-m", "ilocalg", "evaluate", "wifi", "--train",
+                          str(d / "trainingData.csv.gz"), "--test", str(d / "validationData.csv.gz"),
+                          "--method", "toolkit"], capture_output=True, text=True, check=True, timeout=300)
+    r = json.loads(out.stdout)
+    tr, te = wifi_ujiindoorloc.load(d.parent)
+    aps = ApSelector(1).fit(tr.rssi_dbm)
+    got = fit_members(headline_members(), aps.transform(tr.rssi_dbm), _target(tr), aps.transform(te.rssi_dbm),
+                      TOOLKIT_HEADLINE["n_neighbors"])
+    pr = combine_predictions([got[n] for n in TOOLKIT_HEADLINE["members"]])
+    e = np.hypot(pr[:, 0] - te.x_m, pr[:, 1] - te.y_m)
+    assert r["n"] == np.isfinite(e).sum() == 1111
+    assert r["mean_error_m"] == pytest.approx(np.nanmean(e), rel=1e-9)
+    assert r["floor_hit_rate"] == pytest.approx(np.mean(pr[:, 2] == te.floor), abs=1e-12)
+    assert r["building_hit_rate"] == pytest.approx(np.mean(pr[:, 3] == te.building), abs=1e-12)
+    assert r["mean_error_m"] < 7.0          # the toolkit beats every literal method of notebook 02 (best: 7.24 m)
 
 
 def test_cli_bad_input(tmp_path):

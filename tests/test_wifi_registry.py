@@ -10,7 +10,7 @@ from ilocalg.wifi.registry import PAPER_ESTIMATORS, paper_estimators, register_e
 
 
 def test_registry_names_and_types():
-    assert list(ESTIMATORS) == ["radar", "horus", "knn", "wknn", "best"]
+    assert list(ESTIMATORS) == ["radar", "horus", "knn", "wknn", "best", "toolkit"]
     types = {"radar": SimplifiedRadar, "horus": SimplifiedHorus, "knn": KnnFingerprint, "wknn": KnnFingerprint,
              "best": SimplifiedRadar}
     for name, cls in types.items():
@@ -20,6 +20,24 @@ def test_registry_names_and_types():
     assert make_estimator("knn", 3, "manhattan").get_params()["p"] == 1
     assert make_estimator("wknn").get_params()["weights"] == "distance"
     assert make_estimator("best").get_params()["n_neighbors"] == 12
+
+
+def test_toolkit_is_the_headline_configuration():
+    from ilocalg.wifi.model_selection import TOOLKIT_HEADLINE, headline_members
+
+    est = make_estimator("toolkit", not_heard_dbm=-100.0)
+    members = est.get_params()["est__estimators"]
+    assert [n for n, _ in members] == list(TOOLKIT_HEADLINE["members"])
+    assert est.get_params()["est__n_neighbors"] == TOOLKIT_HEADLINE["n_neighbors"] == 8
+    assert make_estimator("toolkit", 5).get_params()["est__n_neighbors"] == 5
+    for (_, e), (_, ref) in zip(members, headline_members(), strict=True):   # the grid's members, floor changed
+        p, q = e.get_params(), ref.get_params()
+        plain = {k for k in p if not hasattr(p[k], "get_params")}                 # not the inner estimator object
+        assert {k for k in plain if p[k] != q[k]} == {k for k in plain if k.split("__")[-1] == "not_heard_dbm"}
+        assert all(v == -100.0 for k, v in p.items() if k.split("__")[-1] == "not_heard_dbm")
+    clone(est)
+    with pytest.raises(ValueError, match="not a member of headline_grid"):
+        headline_members(("offset_powed", "no_such_member"))
 
 
 def test_paper_estimators_are_the_papers_configurations():
@@ -49,7 +67,7 @@ def _set(rng, n, centres):
                           ap_ids=tuple(f"ap{i}" for i in range(centres.shape[0])))
 
 
-@pytest.mark.parametrize("method", ["radar", "horus", "knn", "wknn", "best", "hierarchical"])
+@pytest.mark.parametrize("method", ["radar", "horus", "knn", "wknn", "best", "toolkit", "hierarchical"])
 def test_evaluate_method_locates_a_synthetic_floor(method):
     rng = np.random.default_rng(0)
     aps = rng.uniform(0, 20, (8, 2))

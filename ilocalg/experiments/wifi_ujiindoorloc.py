@@ -36,6 +36,7 @@ from ilocalg.wifi import ESTIMATORS, evaluate_method
 from ilocalg.wifi.evaluate import error_budget
 from ilocalg.wifi.knn import shared_searches
 from ilocalg.wifi.model_selection import (
+    TOOLKIT_HEADLINE,
     best_search,
     ladder_cv_diagnostic,
     metrics_row,
@@ -44,7 +45,8 @@ from ilocalg.wifi.model_selection import (
 )
 
 __all__ = [
-    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "budget_findings", "campaign_shift", "find_files", "load", "run"]
+    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "budget_findings", "campaign_shift", "cli_headline", "find_files",
+    "load", "run"]
 
 # Settings from the paper
 # -----------------------
@@ -192,7 +194,8 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
         Add the toolkit ladder (:func:`ilocalg.wifi.model_selection.toolkit_ladder`): rows
         ``toolkit: ...`` in ``methods`` and ``errors``, tables ``toolkit_ladder``, ``toolkit_cv``,
         ``toolkit_readings`` (:data:`TOOLKIT_READINGS`), ``toolkit_error_budget`` (the headline row's error by
-        group of validation scans, :func:`ilocalg.wifi.evaluate.error_budget`) and ``measures``.
+        group of validation scans, :func:`ilocalg.wifi.evaluate.error_budget`), ``toolkit_cli`` (whether
+        ``evaluate wifi --method toolkit`` runs the headline row, :func:`cli_headline`) and ``measures``.
     cv_diagnostic : bool
         With ``toolkit``, also score every ladder row under the GroupKFold(PHONEID) and spot x PHONEID CVs
         (:func:`ilocalg.wifi.model_selection.ladder_cv_diagnostic`; a diagnostic of the CVs, used to choose
@@ -290,6 +293,7 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_
         tables["toolkit_ladder"] = lad
         tables["toolkit_cv"] = ladder["toolkit_cv"]
         tables["toolkit_error_budget"] = error_budget(train, test, ladder["results"][tk["method"]])
+        tables["toolkit_cli"] = cli_headline(ladder)
         tables["toolkit_readings"] = pd.DataFrame(list(TOOLKIT_READINGS),
                                                   columns=["step", "source", "source_says", "code_does"])
         tables["paper_vs_reproduced"] = pd.concat([tables["paper_vs_reproduced"], pd.DataFrame([
@@ -314,6 +318,22 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_
     if search if search is not None else not fast:
         tables["best_search"] = best_search(train, test, seed)
     return tables
+
+
+def cli_headline(ladder: dict) -> pd.DataFrame:
+    """Whether ``python -m ilocalg evaluate wifi --method toolkit`` runs the ladder's headline: the last row's members
+    and K (as :func:`ilocalg.wifi.model_selection.toolkit_ladder` fitted them) beside
+    :data:`ilocalg.wifi.model_selection.TOOLKIT_HEADLINE` (what the command builds). One row; ``same`` False when
+    the CV's choice has moved away from the command's configuration (fast mode's smaller grids, a changed grid)."""
+    method, members, _ = ladder["configs"][-1]
+    names, ks = zip(*(m.rsplit("@K", 1) for m, _ in members), strict=True)
+    k = sorted({int(v) for v in ks})
+    return pd.DataFrame([{
+        "command": "python -m ilocalg evaluate wifi --train TRAIN --test TEST --method toolkit",
+        "ladder_row": method, "ladder_n_neighbors": ", ".join(map(str, k)), "ladder_members": " + ".join(names),
+        "command_n_neighbors": str(TOOLKIT_HEADLINE["n_neighbors"]),
+        "command_members": " + ".join(TOOLKIT_HEADLINE["members"]),
+        "same": tuple(names) == tuple(TOOLKIT_HEADLINE["members"]) and k == [TOOLKIT_HEADLINE["n_neighbors"]]}])
 
 
 def budget_findings(budget: pd.DataFrame) -> list[str]:

@@ -36,7 +36,8 @@ def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k:
     train, test : FingerprintSet
     method : str
         A key of :data:`ilocalg.wifi.registry.ESTIMATORS` (flat search; floor and building by the
-        neighbours' vote, :func:`ilocalg.wifi.locate_flat`) or ``"hierarchical"`` (KNN building
+        neighbours' vote, :func:`ilocalg.wifi.locate_flat`; ``"toolkit"`` votes them itself,
+        :func:`ilocalg.wifi.model_selection.toolkit_estimator`) or ``"hierarchical"`` (KNN building
         vote -> KNN floor vote inside the building -> KNN position inside the floor,
         :class:`ilocalg.wifi.HierarchicalLocator`).
     k, metric, not_heard_dbm
@@ -57,6 +58,13 @@ def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k:
         t1 = time.perf_counter()
         df = loc.predict(test.rssi_dbm)
         t2 = time.perf_counter()
+    elif method == "toolkit":  # a cascade-style regressor: fitted on, and predicting, [x, y, floor, building]
+        est = make_estimator(method, k, metric, not_heard_dbm).fit(
+            train.rssi_dbm, np.column_stack([train.xy_m, train.floor, train.building]).astype(np.float64))
+        t1 = time.perf_counter()
+        pr = est.predict(test.rssi_dbm)
+        t2 = time.perf_counter()
+        df = pd.DataFrame(pr, columns=["x_m", "y_m", "floor", "building"])
     else:
         est = make_estimator(method, k, metric, not_heard_dbm)
         if isinstance(est, SimplifiedHorus):

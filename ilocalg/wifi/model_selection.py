@@ -58,6 +58,9 @@ __all__ = [
     "HEADLINE_NEIGHBORS",
     "headline_grid",
     "headline_cv",
+    "TOOLKIT_HEADLINE",
+    "headline_members",
+    "toolkit_estimator",
     "fit_members",
     "rows_cv",
     "ladder_cv_diagnostic",
@@ -263,6 +266,36 @@ def headline_grid(fast: bool = False) -> dict:
                 seen.add(key)
                 cands.append(members)
     return {"est__estimators": cands}
+
+
+#: The headline row of notebook 02 as the spot x PHONEID CV chose it on UJIIndoorLoc's training set
+#: (:func:`headline_cv`, then :func:`device_calibration_cv`: off): K and the member names of :func:`headline_grid`.
+#: What ``python -m ilocalg evaluate wifi --method toolkit`` runs (:func:`toolkit_estimator`);
+#: :mod:`ilocalg.experiments.wifi_ujiindoorloc` reports whether the ladder's choice still equals it.
+TOOLKIT_HEADLINE = {"n_neighbors": 8, "members": ("offset_powed_2sd_w4", "cascade_powed", "offset_exponential_2sd_w4",
+                                                  "spots_offset_powed_2sd_k1_w4", "spots_offset_exponential_2sd_k1_w4")}
+
+
+def headline_members(names=TOOLKIT_HEADLINE["members"]) -> list:
+    """``[(name, unfitted estimator), ...]`` of the :func:`headline_grid` members called ``names`` (in that order)."""
+    by_name = {n: e for members in headline_grid()["est__estimators"] for n, e in members}
+    unknown = [n for n in names if n not in by_name]
+    if unknown:
+        raise ValueError(f"not a member of headline_grid(): {unknown}; known: {sorted(by_name)}")
+    return [(n, by_name[n]) for n in names]
+
+
+def toolkit_estimator(n_neighbors: int | None = None, not_heard_dbm: float | None = None):
+    """The toolkit's UJIIndoorLoc headline as one unfitted estimator: :func:`ensemble_pipeline` of
+    :data:`TOOLKIT_HEADLINE`'s members at its K (``n_neighbors`` overrides it; the spot-averaged members keep their
+    own K), fitted on ``[x_m, y_m, floor, building]`` and predicting that layout. ``not_heard_dbm`` (None: the
+    members' -104 dBm) is set on every member. Its settings were chosen on UJIIndoorLoc (the offset-search range
+    from that set's measured per-phone offset sd); on another site they are a starting point, not a choice."""
+    members = headline_members()
+    if not_heard_dbm is not None:
+        members = [(n, e.set_params(**{k: float(not_heard_dbm) for k in e.get_params(deep=True)
+                                       if k.split("__")[-1] == "not_heard_dbm"})) for n, e in members]
+    return ensemble_pipeline(TOOLKIT_HEADLINE["n_neighbors"] if n_neighbors is None else int(n_neighbors), members)
 
 
 def ensemble_pipeline(n_neighbors: int = 5, estimators=None, min_count: int = 1):

@@ -105,6 +105,18 @@ def _best(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
                            not_heard_dbm=not_heard_dbm, point_distance=None)
 
 
+@register_estimator("toolkit")
+def _toolkit(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
+    """The toolkit's UJIIndoorLoc headline (:func:`ilocalg.wifi.model_selection.toolkit_estimator`: offset searches,
+    cascade and spot-averaged members, Sorensen distances), ``k`` neighbours per member (default 8). Fitted on
+    ``[x_m, y_m, floor, building]``; it votes floor and building itself. ``metric`` is not used (its members
+    fix their own distance)."""
+    from ilocalg.wifi.model_selection import toolkit_estimator
+
+    _p(metric)
+    return toolkit_estimator(k, not_heard_dbm)
+
+
 def make_estimator(name: str, k: int | None = None, metric: str = "euclidean",
                    not_heard_dbm: float = DEFAULT_NOT_HEARD_DBM):
     """An unfitted estimator from the factory registered as ``name``."""

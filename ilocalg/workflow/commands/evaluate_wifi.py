@@ -11,6 +11,10 @@ Example (gives the independent reference figure for UJIIndoorLoc k=5 Euclidean, 
     python -m ilocalg evaluate wifi --train trainingData.csv.gz --test validationData.csv.gz \\
         --format ujiindoorloc --method knn --k 5 --metric euclidean --json
 
+``--method toolkit`` runs the toolkit's UJIIndoorLoc headline (notebook 02's last ladder row, chosen by CV on the
+training set only; :func:`ilocalg.wifi.model_selection.toolkit_estimator`): on the same pair it gives that row's
+figures.
+
 JSON keys (a public contract): mean_error_m, median_error_m, p75_error_m, p95_error_m,
 floor_hit_rate, building_hit_rate (fractions), n, n_no_shared_ap. Errors are 2-D, in the data set's
 metres (projected Web-Mercator metres for UJIIndoorLoc). A test scan sharing no access point with the
@@ -24,10 +28,10 @@ from __future__ import annotations
 import numpy as np
 
 NAME = "wifi"
-HELP = "Wi-Fi fingerprinting (RADAR, Horus, KNN, WKNN, best) on a train/test fingerprint pair"
+HELP = "Wi-Fi fingerprinting (RADAR, Horus, KNN, WKNN, best, toolkit) on a train/test fingerprint pair"
 
 #: The registered estimators (:data:`ilocalg.wifi.ESTIMATORS`); kept literal so ``--help`` needs no import.
-METHODS = ("radar", "horus", "knn", "wknn", "best")
+METHODS = ("radar", "horus", "knn", "wknn", "best", "toolkit")
 FORMATS = ("ujiindoorloc", "csv")
 
 
@@ -39,9 +43,10 @@ def add_arguments(parser) -> None:
                              "per access point, empty = not heard)")
     parser.add_argument("--method", default="knn", choices=METHODS, help="positioning method")
     parser.add_argument("--k", type=int, default=None,
-                        help="knn/wknn/best: neighbours K (default 5); radar/horus: strongest APs k (default 5)")
+                        help="knn/wknn: neighbours K (default 5); best: K (default 12); toolkit: each member's K "
+                             "(default 8); radar/horus: strongest APs k (default 5)")
     parser.add_argument("--metric", default="euclidean", choices=("manhattan", "euclidean"),
-                        help="knn/wknn distance (default euclidean)")
+                        help="knn/wknn distance (default euclidean; toolkit's members fix their own)")
     parser.add_argument("--not-heard-dbm", type=float, default=-104.0,
                         help="RSSI substituted for 'not heard' (default -104, UJIIndoorLoc's weakest)")
 
@@ -99,9 +104,11 @@ def run(args) -> dict:
     if train.ap_ids != test.ap_ids:
         raise ValueError(f"--train and --test have different access-point columns ({args.train}, {args.test})")
     _check_references_hear(train, args.train)
-    need = int(getattr(make_estimator(args.method, args.k, args.metric, args.not_heard_dbm), "n_neighbors", 1))
+    est = make_estimator(args.method, args.k, args.metric, args.not_heard_dbm)
+    need = int(est.get_params().get("n_neighbors", est.get_params().get("est__n_neighbors", 1)))
     if train.n_samples < need:
-        hint = f"pass --k {train.n_samples} or less, or " if args.method in ("knn", "wknn", "best") else ""
+        hint = (f"pass --k {train.n_samples} or less, or " if args.method in ("knn", "wknn", "best", "toolkit")
+                else "")
         raise ValueError(f"{args.train}: {train.n_samples} training rows, fewer than the {need} neighbours "
                          f"--method {args.method} averages; {hint}give more training rows")
     labelled = {f: getattr(train, f) is not None and getattr(test, f) is not None for f in ("floor", "building")}
