@@ -69,7 +69,9 @@ def start_cluster(n_workers: int):
     from dask.distributed import Client, LocalCluster
 
     t0 = time.perf_counter()
-    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+    # dashboard_address ":0": a free port, as the sweep workflow; None still binds the scheduler's HTTP server to
+    # the default 8787 and warns when another process holds it
+    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR)
     client = Client(cluster)
     client.wait_for_workers(n_workers, timeout=120)
