@@ -323,7 +323,7 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_
 def cli_headline(ladder: dict) -> pd.DataFrame:
     """Whether ``python -m ilocalg evaluate wifi --method toolkit`` runs the ladder's headline: the last row's members
     and K (as :func:`ilocalg.wifi.model_selection.toolkit_ladder` fitted them) beside
-    :data:`ilocalg.wifi.model_selection.TOOLKIT_HEADLINE` (what the command builds). One row; ``same`` False when
+    :data:`ilocalg.wifi.candidates.TOOLKIT_HEADLINE` (what the command builds). One row; ``same`` False when
     the CV's choice has moved away from the command's configuration (fast mode's smaller grids, a changed grid)."""
     method, members, _ = ladder["configs"][-1]
     names, ks = zip(*(m.rsplit("@K", 1) for m, _ in members), strict=True)

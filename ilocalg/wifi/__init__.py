@@ -12,7 +12,8 @@ Modules: :mod:`~ilocalg.wifi.preprocessing` (validation, representations), :mod:
 position WKNN estimator), :mod:`~ilocalg.wifi.offset` (WKNN with a per-query device offset search),
 :mod:`~ilocalg.wifi.ensemble` (AP selection, an averaging ensemble of estimators),
 :mod:`~ilocalg.wifi.spots` (an estimator fitted on the per-spot mean fingerprints),
-:mod:`~ilocalg.wifi.survey` (the README's survey CSV layout),
+:mod:`~ilocalg.wifi.survey` (the README's survey CSV layout), :mod:`~ilocalg.wifi.candidates` (the toolkit's
+candidate configurations and its UJIIndoorLoc headline estimator),
 :mod:`~ilocalg.wifi.registry` (the one registry of estimator
 factories, name -> factory, used by experiments and the command line), :mod:`~ilocalg.wifi.evaluate`
 (fit a registered method on one fingerprint set, locate another), :mod:`~ilocalg.wifi.model_selection`

@@ -37,7 +37,7 @@ def evaluate_method(train: FingerprintSet, test: FingerprintSet, method: str, k:
     method : str
         A key of :data:`ilocalg.wifi.registry.ESTIMATORS` (flat search; floor and building by the
         neighbours' vote, :func:`ilocalg.wifi.locate_flat`; ``"toolkit"`` votes them itself,
-        :func:`ilocalg.wifi.model_selection.toolkit_estimator`) or ``"hierarchical"`` (KNN building
+        :func:`ilocalg.wifi.candidates.toolkit_estimator`) or ``"hierarchical"`` (KNN building
         vote -> KNN floor vote inside the building -> KNN position inside the floor,
         :class:`ilocalg.wifi.HierarchicalLocator`).
     k, metric, not_heard_dbm

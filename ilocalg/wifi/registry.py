@@ -107,11 +107,11 @@ def _best(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
 
 @register_estimator("toolkit")
 def _toolkit(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
-    """The toolkit's UJIIndoorLoc headline (:func:`ilocalg.wifi.model_selection.toolkit_estimator`: offset searches,
+    """The toolkit's UJIIndoorLoc headline (:func:`ilocalg.wifi.candidates.toolkit_estimator`: offset searches,
     cascade and spot-averaged members, Sorensen distances), ``k`` neighbours per member (default 8). Fitted on
     ``[x_m, y_m, floor, building]``; it votes floor and building itself. ``metric`` is not used (its members
     fix their own distance)."""
-    from ilocalg.wifi.model_selection import toolkit_estimator
+    from ilocalg.wifi.candidates import toolkit_estimator
 
     _p(metric)
     return toolkit_estimator(k, not_heard_dbm)

@@ -12,7 +12,7 @@ Example (gives the independent reference figure for UJIIndoorLoc k=5 Euclidean, 
         --format ujiindoorloc --method knn --k 5 --metric euclidean --json
 
 ``--method toolkit`` runs the toolkit's UJIIndoorLoc headline (notebook 02's last ladder row, chosen by CV on the
-training set only; :func:`ilocalg.wifi.model_selection.toolkit_estimator`): on the same pair it gives that row's
+training set only; :func:`ilocalg.wifi.candidates.toolkit_estimator`): on the same pair it gives that row's
 figures.
 
 JSON keys (a public contract): mean_error_m, median_error_m, p75_error_m, p95_error_m,
