@@ -33,10 +33,10 @@ from ilocalg.io.schema import FingerprintSet
 from ilocalg.io.ujiindoorloc import load_ujiindoorloc
 from ilocalg.papers import paper_ref
 from ilocalg.wifi import ESTIMATORS, evaluate_method
+from ilocalg.wifi.candidates import TOOLKIT_HEADLINE
 from ilocalg.wifi.evaluate import error_budget
 from ilocalg.wifi.knn import shared_searches
 from ilocalg.wifi.model_selection import (
-    TOOLKIT_HEADLINE,
     best_search,
     ladder_cv_diagnostic,
     metrics_row,
