@@ -6,7 +6,8 @@ import numpy as np
 
 from ilocviz.core import error_cdf, new_axes
 
-__all__ = ["k_study", "error_cdfs", "floor_map", "method_bars", "rssi_distribution"]
+__all__ = ["k_study", "error_cdfs", "floor_map", "method_bars", "grouped_mean_bars", "ratio_intervals",
+           "rssi_distribution"]
 
 
 def k_study(df, ax=None, quantities=("median_m", "p80_m", "mean_m")):
@@ -98,6 +99,45 @@ def method_bars(df, ax=None, columns=("mean_m", "median_m", "p75_m"), label_col=
     if reference is not None:
         value, label = reference
         (ax.axvline if horizontal else ax.axhline)(float(value), color="k", ls="--", lw=1.0, label=label)
+    ax.legend(loc="best")
+    return ax
+
+
+def grouped_mean_bars(df, ax=None, group_col="floor", method_col="method", value_col="mean_m",
+                      lo_col="mean_ci95_lo_m", hi_col="mean_ci95_hi_m"):
+    """Mean 2-D error (m) per group (e.g. a floor) and method, side by side, each bar labelled with its value and
+    with its interval as an error bar (``lo_col`` / ``hi_col``)."""
+    ax = new_axes(ax)
+    groups = list(dict.fromkeys(df[group_col]))
+    methods = list(dict.fromkeys(df[method_col]))
+    w = 0.8 / len(methods)
+    x = np.arange(len(groups))
+    for i, m in enumerate(methods):
+        d = df[df[method_col] == m].set_index(group_col).reindex(groups)
+        v = d[value_col].to_numpy(dtype=float)
+        err = np.vstack([v - d[lo_col].to_numpy(dtype=float), d[hi_col].to_numpy(dtype=float) - v])
+        bars = ax.bar(x + (i - (len(methods) - 1) / 2) * w, v, width=w, yerr=err, capsize=3, label=m)
+        ax.bar_label(bars, labels=[f"{b:.1f}" for b in v], padding=2, fontsize="small")
+    ax.set_xticks(x)
+    ax.set_xticklabels(groups)
+    ax.set_ylabel("mean 2-D error [m]")
+    ax.legend(loc="upper left", fontsize="small")
+    return ax
+
+
+def ratio_intervals(df, ax=None, label_col="floor", value_col="ratio", lo_col="ci95_lo", hi_col="ci95_hi",
+                    xlabel="ratio of mean errors [-]"):
+    """One point per row (``label_col``) at ``value_col`` with its interval, and a dashed line at 1 (no change)."""
+    ax = new_axes(ax)
+    y = np.arange(len(df))
+    v = df[value_col].to_numpy(dtype=float)
+    err = np.vstack([v - df[lo_col].to_numpy(dtype=float), df[hi_col].to_numpy(dtype=float) - v])
+    ax.errorbar(v, y, xerr=err, fmt="o", capsize=3, color="k")
+    ax.axvline(1.0, color="0.4", ls="--", lw=1.0, label="no change")
+    ax.set_yticks(y)
+    ax.set_yticklabels(df[label_col])
+    ax.invert_yaxis()
+    ax.set_xlabel(xlabel)
     ax.legend(loc="best")
     return ax
 

@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt
 
 import ilocviz
 import ilocviz.wifi
-from ilocalg.experiments import wifi_ujiindoorloc
+from ilocalg.experiments import wifi_transfer, wifi_ujiindoorloc
 from ilocalg.workflow.reporting import Report
 
 report = Report(OUT_DIR, "02_wifi_ujiindoorloc")
@@ -252,6 +252,36 @@ if tables is not None and "toolkit_error_budget" in tables:
         ax.set_title("headline row on validation: mean 2-D error by group of scans")
         ilocviz.savefig(fig, "02_wifi_ujiindoorloc_error_budget", OUT_DIR)
     for line in wifi_ujiindoorloc.budget_findings(tables["toolkit_error_budget"]):
+        print(line)
+
+# %% [markdown]
+# ## The headline on another site: the ILC 2.0 walks
+# Does a configuration chosen on UJIIndoorLoc alone carry over? The headline (`evaluate wifi --method toolkit`),
+# unchanged, fitted on the Wi-Fi scans of the ILC 2.0 walks (site 1's two floors, about 100 walks each; site 2's
+# fourth floor, 19 walks; other buildings, phones and years), beside the plain WKNN the track pipeline (notebook 09)
+# takes as its Wi-Fi reference. Whole walks are held out (5-fold GroupKFold by walk); the interval of each mean and
+# of the ratio comes from resampling walks (`ilocalg.experiments.wifi_transfer`). Nothing is chosen on these walks.
+# No paper reports this comparison.
+
+# %%
+transfer = wifi_transfer.run(seed=SEED, fast=FAST, data_dir=DATA_DIR)
+if transfer is None:
+    print("ILC 2.0 walks not found (expected <DATA_DIR>/ilc2020_site1 and ilc2020_site2_F4; see the README's "
+          "'Real data' section). Skipping.")
+else:
+    report.table(transfer["transfer"], "transfer")
+    report.table(transfer["transfer_ratio"], "transfer_ratio")
+    report.table(transfer["readings"], "transfer_readings")
+    with ilocviz.style():
+        fig, (ax, ax_r) = plt.subplots(1, 2, figsize=(13, 4.5), gridspec_kw={"width_ratios": [1.6, 1]},
+                                       layout="constrained")
+        ilocviz.wifi.grouped_mean_bars(transfer["transfer"], ax=ax)
+        ax.set_title("mean error per floor, walks held out (95 % interval)")
+        ilocviz.wifi.ratio_intervals(transfer["transfer_ratio"], ax=ax_r, value_col="ratio_toolkit_over_wknn",
+                                     xlabel="toolkit mean error / WKNN mean error [-]")
+        ax_r.set_title("ratio (95 % interval, walks resampled)")
+        ilocviz.savefig(fig, "02_wifi_ujiindoorloc_transfer", OUT_DIR)
+    for line in wifi_transfer.findings(transfer):
         print(line)
 
 # %% [markdown]

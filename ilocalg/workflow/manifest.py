@@ -21,7 +21,7 @@ __all__ = ["MANIFEST", "SWEEP_KWARGS", "COST_S", "experiments_of", "swept_experi
 MANIFEST: dict[str, dict[str, bool]] = {
     "00_data_tour": {"data_tour": False},  # no comparison rows
     "01_wifi_radar_horus_knn": {"wifi_iloc": True},
-    "02_wifi_ujiindoorloc": {"wifi_ujiindoorloc": False},  # real recordings
+    "02_wifi_ujiindoorloc": {"wifi_ujiindoorloc": False, "wifi_transfer": False},  # real recordings
     "03_pdr_step_features": {"pdr_step_features": True},
     "04_pdr_step_length": {"pdr_step_length": True},
     # pso_k_factor: only its compass filter study here; swept with notebook 10
@@ -66,7 +66,7 @@ SWEEP_KWARGS: dict[str, dict] = {
 COST_S: dict[str, float] = {
     "00_data_tour": 42,
     "01_wifi_radar_horus_knn": 27,
-    "02_wifi_ujiindoorloc": 89,
+    "02_wifi_ujiindoorloc": 120,
     "03_pdr_step_features": 12,
     "04_pdr_step_length": 15,
     "05_pdr_heading_trajectory": 13,
