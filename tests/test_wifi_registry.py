@@ -23,7 +23,7 @@ def test_registry_names_and_types():
 
 
 def test_toolkit_is_the_headline_configuration():
-    from ilocalg.wifi.model_selection import TOOLKIT_HEADLINE, headline_members
+    from ilocalg.wifi.candidates import TOOLKIT_HEADLINE, headline_members
 
     est = make_estimator("toolkit", not_heard_dbm=-100.0)
     members = est.get_params()["est__estimators"]
