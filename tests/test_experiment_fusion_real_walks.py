@@ -138,8 +138,10 @@ def test_a_saved_floor_model_lets_run_read_only_the_scored_walks(shared_data, fl
     frw._FLOORS.clear()
     floor_mod._LAST_MODEL.clear()
     read = []
-    real = frw.load_ilc_floor
-    monkeypatch.setattr(frw, "load_ilc_floor", lambda *a, **k: read.append(k.get("names")) or real(*a, **k))
+    from ilocalg.track import lowo
+
+    real = lowo.load_ilc_floor                  # the reader load_floor (ilocalg.track.lowo) calls
+    monkeypatch.setattr(lowo, "load_ilc_floor", lambda *a, **k: read.append(k.get("names")) or real(*a, **k))
     again = frw.run(**kw)
     assert read == [tuple(sorted(SHORT))]
     for k in ("waypoints", "per_walk", "summary", "tracks", "truth", "sweep_waypoints"):

@@ -22,8 +22,6 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.fusion.particle_filter import OccupancyGrid
-from ilocalg.io.ilc import load_ilc_floor
-from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.schema import T_S, X_M, Y_M
 from ilocalg.papers import reading, readings_table
 from ilocalg.track import (
@@ -41,7 +39,17 @@ from ilocalg.track._config import GRID_METHODS, PATH_METHODS, latency_of
 from ilocalg.track.evaluation import _latest_fix, complete_tracks
 from ilocalg.track.fixes import wifi_fixes, wknn_key
 from ilocalg.track.floor import NOT_IN_FLOOR_MODEL, cached_floor_model
-from ilocalg.track.lowo import floor_files, floor_image, lowo_findings, sweep_summary, wifi_ablation
+from ilocalg.track.lowo import (  # noqa: F401 (load_floor, DATASET, PLAIN_WKNN, _FLOORS: re-exported)
+    _FLOORS,
+    DATASET,
+    PLAIN_WKNN,
+    floor_files,
+    floor_image,
+    load_floor,
+    lowo_findings,
+    sweep_summary,
+    wifi_ablation,
+)
 from ilocalg.track.paths import WalkedPaths
 
 __all__ = ["DATASET", "GRID_METHODS", "load_floor", "run", "run_config", "floor_model", "example", "findings",
@@ -49,53 +57,10 @@ __all__ = ["DATASET", "GRID_METHODS", "load_floor", "run", "run_config", "floor_
            # from ilocalg.track.lowo (the CLI's sweep command calls an experiment's own sweep_summary)
            "sweep_summary", "lowo_findings", "wifi_ablation", "floor_image"]
 
-DATASET = "ilc2020_site2_F4"
 #: The two densely surveyed floors of site 1 (about 100 walks each).
 SITE1 = ("ilc2020_site1/site1_F1", "ilc2020_site1/site1_F2")
 #: Where :func:`run` keeps each floor's database and calibration rows (built once, then read).
 FLOOR_CACHE = Path.home() / ".cache" / "ilocalg" / "floors"
-#: The plain Wi-Fi reference the Wi-Fi-only row must be at least as accurate as (issue 26).
-PLAIN_WKNN = {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 2.0, "metric": "minkowski"}
-
-
-def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep", names=None):
-    """A floor (traces and map) from ``data_dir`` (None: the toolkit's data folder). ``dataset`` is a data
-    set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive
-    (``"ilc2020_site1/site1_F1"``); ``relisted_wifi``: the loader's re-listing policy
-    (:func:`ilocalg.io.scans.relisted_readings`); ``names``: only these walks (None: every walk), or the whole
-    floor when it is already read.
-
-    Read once per process for the same files (their paths, sizes and modification times), policy and walks: a
-    notebook's own run and its leave-one-walk-out share one reading (a site 1 floor takes about 10 CPU-s).
-    The floor returned is shared, so treat it as read-only (the experiment only reads it).
-    """
-    p = Path(default_data_dir() if data_dir is None else data_dir)
-    folder, _, floor_name = dataset.partition("/")
-    if (p / folder).exists():
-        p = p / folder
-    files = floor_files(data_dir, dataset)
-    stamp = tuple((str(f.resolve()), f.stat().st_size, f.stat().st_mtime_ns) for f in files if f.exists())
-    key = (str(p), floor_name or None, relisted_wifi, stamp)
-    if names is not None:
-        names = tuple(sorted(set(names)))
-        if (*key, None) in _FLOORS:
-            names = None                                # the whole floor is read already: it holds them
-    key = (*key, names)
-    fl = _FLOORS.pop(key, None)
-    if fl is None:
-        fl = load_ilc_floor(Path(key[0]), names=names, duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi,
-                            floor_name=key[1])
-        while len(_FLOORS) >= 2:
-            _FLOORS.pop(next(iter(_FLOORS)))
-    _FLOORS[key] = fl                                   # the most recently used, kept longest
-    return fl
-
-
-#: The floors :func:`load_floor` read last in this process ((folder, floor, policy, file stamps, walks or None) ->
-#: floor), least recently used first; two, as a notebook's floor and the other floor of its leave-one-walk-out.
-_FLOORS: dict = {}
-
-
 def run_config(fast: bool = False) -> RealWalkConfig:
     """The configuration :func:`run` uses by default: 1000 particles and a 0.5 m map raster (``fast``: 300 and
     1 m)."""

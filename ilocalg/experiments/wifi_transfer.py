@@ -3,7 +3,7 @@
 The headline configuration (:func:`ilocalg.wifi.candidates.toolkit_estimator`, ``evaluate wifi --method toolkit``)
 was chosen by cross-validation on UJIIndoorLoc's training set alone. Here it is fitted, unchanged, on another
 site's scans, beside the plain WKNN the track pipeline takes as its Wi-Fi reference
-(:data:`ilocalg.experiments.fusion_real_walks.PLAIN_WKNN`: K = 5, Euclidean on dBm, 1/d weights, readings at
+(:data:`ilocalg.track.lowo.PLAIN_WKNN`: K = 5, Euclidean on dBm, 1/d weights, readings at
 most 2 s old). Nothing is chosen here, on these walks or any other.
 
 Protocol: per floor, every scan of every walk (its readings at most ``max_age_s`` old; a scan left with none is
@@ -45,8 +45,8 @@ METHODS = ("WKNN K=5 (Euclidean, dBm; the track pipeline's plain reference)",
 def floor_scans(data_dir, dataset: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(rssi_dbm (n, n_aps), xy_m (n, 2), walk (n,))`` of every scan of a floor hearing at least one access point
     within :data:`MAX_AGE_S` (:meth:`ilocalg.track.WifiDatabase.from_traces`), positioned on its walk's truth."""
-    from ilocalg.experiments.fusion_real_walks import load_floor
     from ilocalg.track.database import WifiDatabase
+    from ilocalg.track.lowo import load_floor
 
     fl = load_floor(data_dir, dataset)
     db = WifiDatabase.from_traces([fl.traces[n] for n in fl.names], max_age_s=MAX_AGE_S)
@@ -59,7 +59,7 @@ def cross_validate(x: np.ndarray, xy: np.ndarray, walk: np.ndarray, n_folds: int
     its walk (GroupKFold by walk; access points heard in the fold's training part)."""
     from sklearn.model_selection import GroupKFold
 
-    from ilocalg.experiments.fusion_real_walks import PLAIN_WKNN
+    from ilocalg.track.lowo import PLAIN_WKNN
     from ilocalg.wifi.candidates import toolkit_estimator
     from ilocalg.wifi.ensemble import ApSelector
     from ilocalg.wifi.knn import KnnFingerprint
@@ -106,7 +106,7 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None) -
                 "radio map is fitted to these walks", "notebook 02, wifi.candidates.TOOLKIT_HEADLINE"),
         reading("plain reference", "", "silent",
                 "KnnFingerprint K=5, Euclidean (p=2), 1/d weights, not heard = -100 dBm",
-                "fusion_real_walks.PLAIN_WKNN, the track pipeline's Wi-Fi reference"),
+                "track.lowo.PLAIN_WKNN, the track pipeline's Wi-Fi reference"),
         reading("reading age", "", "silent", f"readings older than {MAX_AGE_S:g} s left out of a scan",
                 "PLAIN_WKNN's max_age_s"),
         reading("folds", "", "silent",

@@ -7,8 +7,9 @@ by waypoint; split into shards, a sweep's long ``sweep_waypoints`` rows (``quant
 by :func:`sweep_summary`, and :func:`lowo_findings` states the result in sentences.
 :func:`wifi_ablation` scores each Wi-Fi configuration of :data:`ilocalg.track.WIFI_CANDIDATES` on the
 floor's database scans (each walk against the others). :func:`floor_files` (the floor model's cache key)
-and :func:`floor_image` find a data set's floor in the data folder: ``dataset`` is a data set folder
-(``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive.
+and :func:`floor_image` find a data set's floor in the data folder, :func:`load_floor` reads it (once per
+process): ``dataset`` is a data set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a
+several-floor archive. :data:`PLAIN_WKNN` is the plain Wi-Fi reference of the real-walk experiments.
 
 References
 ----------
@@ -25,14 +26,59 @@ import numpy as np
 import pandas as pd
 
 from ilocalg.io._text import ArchiveReader
-from ilocalg.io.ilc import _read_members, _resolve_root
+from ilocalg.io.ilc import _read_members, _resolve_root, load_ilc_floor
 from ilocalg.io.paths import data_dir as default_data_dir
 from ilocalg.io.scans import merge_relisted_wifi
 from ilocalg.track._config import CAUSAL_METHODS, GRID_METHODS, LATENCY_METHODS, METHODS, RealWalkConfig, latency_of
 from ilocalg.track.database import WifiDatabase
 from ilocalg.track.fixes import WIFI_CANDIDATES, loo_fix_features_shared
 
-__all__ = ["sweep_summary", "lowo_findings", "wifi_ablation", "floor_files", "floor_image"]
+__all__ = ["sweep_summary", "lowo_findings", "wifi_ablation", "floor_files", "floor_image", "load_floor",
+           "DATASET", "PLAIN_WKNN"]
+
+
+#: The real-walk experiments' default floor (site 2's fourth floor, 19 walks).
+DATASET = "ilc2020_site2_F4"
+#: The plain Wi-Fi reference the Wi-Fi-only row must be at least as accurate as (issue 26).
+PLAIN_WKNN = {"k_neighbors": 5, "p": 2, "weights": "distance", "max_age_s": 2.0, "metric": "minkowski"}
+
+
+def load_floor(data_dir=None, dataset: str = DATASET, relisted_wifi: str = "keep", names=None):
+    """A floor (traces and map) from ``data_dir`` (None: the toolkit's data folder). ``dataset`` is a data
+    set folder (``"ilc2020_site2_F4"``) or ``"folder/floor"`` for one floor of a several-floor archive
+    (``"ilc2020_site1/site1_F1"``); ``relisted_wifi``: the loader's re-listing policy
+    (:func:`ilocalg.io.scans.relisted_readings`); ``names``: only these walks (None: every walk), or the whole
+    floor when it is already read.
+
+    Read once per process for the same files (their paths, sizes and modification times), policy and walks: a
+    notebook's own run and its leave-one-walk-out share one reading (a site 1 floor takes about 10 CPU-s).
+    The floor returned is shared, so treat it as read-only (the experiment only reads it).
+    """
+    p = Path(default_data_dir() if data_dir is None else data_dir)
+    folder, _, floor_name = dataset.partition("/")
+    if (p / folder).exists():
+        p = p / folder
+    files = floor_files(data_dir, dataset)
+    stamp = tuple((str(f.resolve()), f.stat().st_size, f.stat().st_mtime_ns) for f in files if f.exists())
+    key = (str(p), floor_name or None, relisted_wifi, stamp)
+    if names is not None:
+        names = tuple(sorted(set(names)))
+        if (*key, None) in _FLOORS:
+            names = None                                # the whole floor is read already: it holds them
+    key = (*key, names)
+    fl = _FLOORS.pop(key, None)
+    if fl is None:
+        fl = load_ilc_floor(Path(key[0]), names=names, duplicate_bssid="keep_latest", relisted_wifi=relisted_wifi,
+                            floor_name=key[1])
+        while len(_FLOORS) >= 2:
+            _FLOORS.pop(next(iter(_FLOORS)))
+    _FLOORS[key] = fl                                   # the most recently used, kept longest
+    return fl
+
+
+#: The floors :func:`load_floor` read last in this process ((folder, floor, policy, file stamps, walks or None) ->
+#: floor), least recently used first; two, as a notebook's floor and the other floor of its leave-one-walk-out.
+_FLOORS: dict = {}
 
 
 def sweep_summary(results: pd.DataFrame) -> dict[str, pd.DataFrame]:

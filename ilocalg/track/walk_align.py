@@ -20,10 +20,10 @@ walk's mean error vector's length is its persistent part):
 
 ``python -m ilocalg`` has no command for it; the numbers come from :func:`align_table` (``scan_summary``)::
 
-    from ilocalg.experiments.fusion_real_walks import load_floor, FLOOR_CACHE
+    from ilocalg.experiments.fusion_real_walks import FLOOR_CACHE
     from ilocalg.track import RealWalkConfig
     from ilocalg.track.floor import cached_floor_model
-    from ilocalg.track.lowo import floor_files
+    from ilocalg.track.lowo import floor_files, load_floor
     from ilocalg.track.walk_align import align_table, scan_summary
     ds = "ilc2020_site1/site1_F1"; fl = load_floor(None, ds, "keep"); cfg = RealWalkConfig()
     model, _ = cached_floor_model(floor_files(None, ds), lambda: fl.traces, FLOOR_CACHE, cfg, dataset=ds,

@@ -7,12 +7,8 @@ wifi --method toolkit``). Unfitted estimators only: nothing here scores or choos
 :mod:`ilocalg.wifi.model_selection`), so the estimator registry can build the headline without importing the
 model selection.
 
-References
-----------
-Torres-Sospedra, J. et al. (2015). Comprehensive analysis of distance and similarity measures for
-Wi-Fi fingerprinting indoor positioning systems. Expert Systems with Applications 42(23).
-Tsui, A. W., Chuang, Y.-H., Chu, H.-H. (2009). Unsupervised learning for solving RSS hardware variance
-problem in WiFi localization. Mobile Networks and Applications 14(5).
+The representations and the Sorensen distance follow Torres-Sospedra et al. (2015), the offset search Tsui et al.
+(2009); full references in :mod:`ilocalg.wifi.offset` and :mod:`ilocalg.wifi.model_selection`.
 """
 
 from __future__ import annotations
