@@ -100,3 +100,19 @@ def test_csv_survey_bad_cells_name_line_and_column(tmp_path, capsys):
     q.write_text("x_m,y_m,B0\n1,2,-60\n")
     assert _err(capsys, ["evaluate", "wifi", "--train", test, "--test", str(q), "--format", "csv"]) == \
         f"error: {q}: no access-point column in common with {test}"
+
+
+def test_csv_survey_lines_with_another_field_count_are_refused(tmp_path, capsys):
+    """A cut or shortened line would otherwise read as access points not heard; blank lines stay accepted."""
+    test = _survey(tmp_path / "test.csv", n_points=5)
+    p = tmp_path / "bad.csv"
+    argv = ["evaluate", "wifi", "--train", str(p), "--test", test, "--format", "csv"]
+    p.write_text("x_m,y_m,AP0,AP1\n1,2,-60,-70\n3,4,-6")                       # the last line cut
+    assert _err(capsys, argv) == f"error: {p}: line 3: truncated line: 3 fields, expected 4 (the header's)"
+    p.write_text("x_m,y_m,AP0,AP1\r\n1,2,-60\r\n3,4,-65,-70\r\n")                 # a short line inside, CRLF
+    assert _err(capsys, argv) == f"error: {p}: line 2: truncated line: 3 fields, expected 4 (the header's)"
+    p.write_text('x_m,y_m,"AP,0",AP1\n1,2,-60,-70\n3,4,-65,-70,-80\n')           # quoted header, a field too many
+    assert _err(capsys, argv) == f"error: {p}: line 3: too many fields: 5 fields, expected 4 (the header's)"
+    p.write_text("x_m,y_m,AP0,AP1\n1,2,-60,-70\n\n3,4,-65,\n\n")                 # blank lines; an empty cell
+    s = read_survey_csv(p)
+    assert s.n_samples == 2 and np.isnan(s.rssi_dbm[1, 1])

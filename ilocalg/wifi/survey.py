@@ -11,11 +11,14 @@ line 1) and the column, e.g. ``survey.csv: line 7, column AP3: value 12 is outsi
 
 from __future__ import annotations
 
+import csv
+import io
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from ilocalg.io._text import byte_positions, count_per_line
 from ilocalg.io.schema import RSSI_DBM, FingerprintSet, check_range
 
 __all__ = ["SURVEY_POSITION_COLUMNS", "SURVEY_LABEL_COLUMNS", "read_survey_csv"]
@@ -44,6 +47,34 @@ def _numeric(df: pd.DataFrame, col: str, source: str, allow_empty: bool) -> np.n
     return v
 
 
+def _check_field_counts(data: bytes, source: str) -> None:
+    """Refuse a line with another number of fields than the header (a cut or shortened line would otherwise read
+    as access points not heard), naming the first. Blank lines are skipped, as the CSV reader does."""
+    if not data.strip():
+        return  # an empty file: the CSV reader names it
+    if b'"' in data:  # quoted fields may hold commas: count with the csv module
+        rows = csv.reader(io.StringIO(data.decode("utf-8-sig", errors="replace")))
+        counts = [(i + 1, len(r)) for i, r in enumerate(rows) if r]
+        lines, n = np.array([c[0] for c in counts]), np.array([c[1] for c in counts])
+    else:
+        arr = np.frombuffer(data, dtype=np.uint8)
+        starts = np.concatenate([[0], byte_positions(arr, 10) + 1])
+        starts = starts[starts < arr.size]
+        n = count_per_line(arr, 44, starts) + 1
+        ends = np.append(starts[1:] - 1, arr.size - (arr[-1] == 10))   # each line's end (its \n, or the file's)
+        length = ends - starts - (arr[np.maximum(ends - 1, 0)] == 13)  # bytes before any \r\n
+        keep = length > 0
+        lines, n = np.arange(1, starts.size + 1)[keep], n[keep]
+    if n.size == 0:
+        return
+    bad = np.flatnonzero(n != n[0])
+    if bad.size:
+        i = int(bad[0])
+        what = "truncated line" if n[i] < n[0] else "too many fields"
+        raise ValueError(f"{source}: line {int(lines[i])}: {what}: {int(n[i])} fields, expected {int(n[0])} "
+                         "(the header's)")
+
+
 def read_survey_csv(path) -> FingerprintSet:
     """Read a survey CSV (see the module docstring) as a :class:`ilocalg.io.schema.FingerprintSet`.
 
@@ -59,15 +90,18 @@ def read_survey_csv(path) -> FingerprintSet:
     Raises
     ------
     ValueError
-        Missing file, missing ``x_m``/``y_m`` column, no access-point column, no scan, a cell that is
-        not a number, an empty position or label, an RSSI outside the schema range.
+        Missing file, missing ``x_m``/``y_m`` column, no access-point column, no scan, a line with more or fewer
+        fields than the header, a cell that is not a number, an empty position or label, an RSSI outside the schema
+        range.
     """
     p = Path(path)
     source = str(path)
     if not p.is_file():
         raise ValueError(f"{source}: no such file")
+    data = p.read_bytes()
+    _check_field_counts(data, source)
     try:
-        df = pd.read_csv(p, dtype=str, keep_default_na=False, na_values=[""])
+        df = pd.read_csv(io.BytesIO(data), dtype=str, keep_default_na=False, na_values=[""])
     except pd.errors.EmptyDataError:
         raise ValueError(f"{source}: line 1: empty file, expected a header with x_m, y_m and access-point "
                          "columns") from None
