@@ -6,7 +6,7 @@ site's scans, beside the plain WKNN the track pipeline takes as its Wi-Fi refere
 (:data:`ilocalg.track.lowo.PLAIN_WKNN`: K = 5, Euclidean on dBm, 1/d weights, readings at
 most 2 s old). Nothing is chosen here, on these walks or any other.
 
-Protocol: per floor, every scan of every walk (its readings at most ``max_age_s`` old; a scan left with none is
+Protocol: per floor, every scan of every walk (its readings at most :data:`MAX_AGE_S` old; a scan left with none is
 dropped) positioned on the walk's ground truth (:class:`ilocalg.track.WifiDatabase`); 5-fold GroupKFold by walk
 (whole walks held out: a phone and a day the fold's training part never saw); the access points heard in the
 fold's training part. Floor and building are one label each (the floor's walks), so only the 2-D error counts.
