@@ -7,7 +7,7 @@ import numpy as np
 from ilocviz.core import new_axes
 
 __all__ = ["step_detections", "feature_cdfs", "wave", "length_boxes", "step_headings", "accuracy_bars",
-           "free_walk_distances"]
+           "free_walk_distances", "paired_accuracy"]
 
 
 def feature_cdfs(features, names, ranges=None, ax=None, unit: str = ""):
@@ -105,6 +105,25 @@ def accuracy_bars(summary, ax=None, goal: float | None = None):
     ax.set_ylabel("Step-count accuracy [%]")
     ax.set_ylim(max(0.0, float(summary["min_accuracy"].min()) * 100 - 5), 100.5)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)  # beside the bars, not over them
+    return ax
+
+
+def paired_accuracy(base, others: dict, ax=None, base_label: str = "as logged", goal: float | None = None):
+    """Per recording, step-count accuracy (fractions, drawn in percent) of other versions of each log (``others``:
+    ``{label: accuracies}``, one marker each) against ``base``, with the line of no change and the goal's floor."""
+    ax = new_axes(ax)
+    b = np.asarray(base, dtype=float) * 100
+    lo = min([b.min()] + [float(np.min(v)) * 100 for v in others.values()]) - 0.5
+    for (label, v), marker in zip(others.items(), ("o", "x", "s", "^"), strict=False):
+        ax.scatter(b, np.asarray(v, dtype=float) * 100, marker=marker, alpha=0.7, label=label)
+    ax.plot([lo, 100.2], [lo, 100.2], color="0.6", lw=0.8, ls="--", label="no change")
+    if goal is not None:
+        ax.axhline(goal * 100, color="k", lw=0.8, ls=":", label=f"goal floor {goal * 100:g} %")
+        ax.axvline(goal * 100, color="k", lw=0.8, ls=":")
+    ax.set(xlim=(lo, 100.2), ylim=(lo, 100.2), xlabel=f"accuracy, {base_label} [%]",
+           ylabel="accuracy, decimated [%]")
+    ax.set_aspect("equal")
+    ax.legend(loc="lower right")
     return ax
 
 

@@ -41,3 +41,4 @@ def test_cited_lines_of_the_data_set_say_what_the_readings_quote(shared_data):
     assert f"{E.OXFORD_MEDIAN_PAPER * 100:.1f} % median" in span(cited["reference values"])
     assert "1 - |counted - true| / true" in span(cited["accuracy measure"])
     assert "heel pressure sensors" in span(cited["ground truth"]) and "0->1 transition" in span(cited["ground truth"])
+    assert "fastest rate" in span(cited["sampling-rate check"]) and "Samsung" in span(cited["sampling-rate check"])

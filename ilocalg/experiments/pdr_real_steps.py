@@ -36,6 +36,7 @@ from ilocalg.papers import PAPERS, paper_ref, reading, readings_table
 from ilocalg.pdr.robust import ROBUST_DEFAULTS
 from ilocalg.pdr.step_evaluate import (
     DETECTORS,
+    LOW_RATE_HZ,
     ONSET_GRID,
     RATE_HZ,
     SAM_RATE_HZ,
@@ -45,6 +46,7 @@ from ilocalg.pdr.step_evaluate import (
     error_causes,
     loro_cv,
     prepare,
+    rate_robustness,
     score_detector,
     split_summary,
     step_diagnosis,
@@ -53,7 +55,8 @@ from ilocalg.pdr.step_evaluate import (
 )
 
 __all__ = ["run", "load", "missing_table", "headline", "truth_headline", "gate_headline", "cause_headline",
-           "causes_by_split", "worst", "readings", "GOAL_MEAN", "GOAL_MIN", "MATCH_TOL_S",
+           "causes_by_split", "rate_summary", "rate_headline", "worst", "readings", "GOAL_MEAN", "GOAL_MIN",
+           "MATCH_TOL_S",
            # re-exported from ilocalg.pdr.step_evaluate for the notebook
            "Prepared", "prepare", "DETECTORS", "accuracy", "loro_cv", "step_diagnosis", "diagnosis_window",
            "truth_artefacts"]
@@ -112,7 +115,9 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
         errors per cause), ``onset_sweep`` (the same for the gait-onset ratio ``min_onset_ratio``), ``robust_errors``
         (every missed and extra step of the robust detector against the bounce-merged truth, with its cause,
         :func:`ilocalg.pdr.step_evaluate.error_causes`), ``robust_error_causes`` (their counts per recording),
-        ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``comparison``, ``readings`` (:func:`readings`).
+        ``robust_error_causes_by_split`` (:func:`causes_by_split`), ``rate_robustness`` (the robust detector on each
+        recording as logged and decimated to about 100 Hz, :func:`ilocalg.pdr.step_evaluate.rate_robustness`),
+        ``rate_robustness_summary`` (:func:`rate_summary`), ``comparison``, ``readings`` (:func:`readings`).
     """
     recs = recordings if recordings is not None else load(data_dir)
     if fast:
@@ -162,6 +167,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
     by_pos_diag = by_pos_diag.agg(["mean", "min", "max"])
     by_pos_diag.columns = [f"{a}_{b}" for a, b in by_pos_diag.columns]
     errors, causes = error_causes(prep, recs, tol_s=MATCH_TOL_S)
+    rates = rate_robustness(recs)
     return {"per_recording": per, "summary": summary, "per_position": by_pos, "per_phone": by_phone,
             "robust_errors": errors, "robust_error_causes": causes,
             "robust_error_causes_by_split": causes_by_split(causes),
@@ -170,6 +176,7 @@ def run(seed: int = 0, fast: bool = False, data_dir=None, recordings: list[Oxfor
             "walk_gate_sweep": walk_gate_sweep(prep, recs, tol_s=MATCH_TOL_S),
             "onset_sweep": walk_gate_sweep(prep, recs, ONSET_GRID, "min_onset_ratio", tol_s=MATCH_TOL_S),
             "choices": pd.concat(choices, ignore_index=True), "grid": pd.DataFrame(grid_rows),
+            "rate_robustness": rates, "rate_robustness_summary": rate_summary(rates, seed),
             "comparison": pd.DataFrame(comp), "readings": readings(fast)}
 
 
@@ -204,6 +211,13 @@ def readings(fast: bool = False) -> pd.DataFrame:
         reading("sampling", _SOURCE + "L8-9", "each phone at its fastest rate (~221-405 Hz, the Nexus 5 varies)",
                 f"linear resampling of the 3-axis log to {RATE_HZ:g} Hz ({SAM_RATE_HZ:g} Hz for SAM, whose X1 "
                 "feature scales with the rate)", "one parameter set for every phone; no value from the data set"),
+        reading("sampling-rate check", _SOURCE + "L8-9", "each phone at its fastest rate (~221-405 Hz, the Nexus 5 "
+                "varies)",
+                "the robust detector (defaults) on each log as recorded and decimated by the whole factor nearest its "
+                f"rate over {LOW_RATE_HZ:g} Hz, every factor-th sample and after scipy.signal.decimate's anti-alias "
+                "low-pass; published truth; nothing chosen from it (tables rate_robustness, rate_robustness_summary)",
+                f"{LOW_RATE_HZ:g} Hz: the lowest rate in the set (the Samsung_Jamie logs, measured) and the detectors' "
+                "common rate"),
         reading("parameter choice", "", "silent (the data set is for optimising a detector's parameters)",
                 "leave-one-recording-out: each recording scored with the grid point best on the other recordings"
                 + (" (fast: every third recording)" if fast else ""),
@@ -252,6 +266,42 @@ def readings(fast: bool = False) -> pd.DataFrame:
 def missing_table(path) -> pd.DataFrame:
     """The one-row table a notebook writes when the data set is absent."""
     return pd.DataFrame([{"dataset": "oxford_step_counter", "path": str(path), "present": False}])
+
+
+#: The logs :func:`rate_summary` compares (label, column of ``rate_robustness``).
+_RATE_LOGS = (("as logged", "accuracy_as_logged"), ("decimated to ~100 Hz", "accuracy_decimated"),
+              ("decimated to ~100 Hz, anti-aliased", "accuracy_decimated_anti_alias"))
+
+
+def rate_summary(rates: pd.DataFrame, seed: int = 0) -> pd.DataFrame:
+    """Per log (as logged, decimated, decimated with an anti-alias filter) and half (development, held out, all):
+    mean accuracy with a bootstrap interval, median, worst, recordings below the goal's floor
+    (:func:`ilocalg.pdr.step_evaluate.split_summary`; its ``truth`` column named ``log`` here: the published truth
+    throughout), and ``n_changed`` (recordings whose count differs from the count as logged)."""
+    out = split_summary(rates, columns=_RATE_LOGS, goal_min=GOAL_MIN, seed=seed).rename(columns={"truth": "log"})
+    dev = rates["development"].to_numpy(dtype=bool)
+    masks = {"development": dev, "held out": ~dev, "all": np.ones(dev.size, dtype=bool)}
+    col = {label: c.replace("accuracy_", "counted_") for label, c in _RATE_LOGS}
+    out["n_changed"] = [int((rates.loc[masks[r["recordings"]], col[r["log"]]]
+                             != rates.loc[masks[r["recordings"]], "counted_as_logged"]).sum())
+                        for _, r in out.iterrows()]
+    return out
+
+
+def rate_headline(tables: dict) -> str:
+    """One sentence per decimated log: all recordings' mean and worst accuracy against the logs as recorded."""
+    t = tables["rate_robustness_summary"]
+    t = t[t["recordings"] == "all"].set_index("log")
+    base = t.loc[_RATE_LOGS[0][0]]
+    rates = tables["rate_robustness"]
+    out = [f"as logged ({rates['rate_hz'].min():.0f}-{rates['rate_hz'].max():.0f} Hz): mean "
+           f"{base['mean_accuracy']:.2%}, worst {base['min_accuracy']:.2%}"]
+    for label, _ in _RATE_LOGS[1:]:
+        r = t.loc[label]
+        change = 100 * (r["mean_accuracy"] - base["mean_accuracy"])
+        out.append(f"{label}: mean {r['mean_accuracy']:.2%} ({change:+.2f} points), "
+                   f"worst {r['min_accuracy']:.2%}, {int(r['n_changed'])} of {int(r['n'])} counts changed")
+    return "; ".join(out)
 
 
 def worst(tables: dict, n: int = 5) -> pd.DataFrame:

@@ -41,7 +41,8 @@ from ilocalg.pdr.signals import resample_uniform
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
            "truth_artefacts", "is_development", "split_summary", "NAC_GRID", "ONSET_GRID", "OWN_CAUSES",
-           "walk_gate_sweep", "error_causes"]
+           "walk_gate_sweep", "error_causes", "LOW_RATE_HZ", "decimate_recording",
+           "rate_robustness"]
 
 RATE_HZ = DETECTOR_RATE_HZ["robust"]
 SAM_RATE_HZ = DETECTOR_RATE_HZ["sam"]
@@ -298,6 +299,63 @@ def split_summary(diag: pd.DataFrame, columns=(("published", "accuracy"),
             rows.append({"truth": truth, "recordings": name, "n": int(a.size), "mean_accuracy": float(a.mean()),
                          "ci_low": est.ci_low, "ci_high": est.ci_high, "median_accuracy": float(np.median(a)),
                          "min_accuracy": float(a.min()), f"n_below_{goal_min:.0%}": int((a < goal_min).sum())})
+    return pd.DataFrame(rows)
+
+
+#: The rate :func:`rate_robustness` decimates to, Hz: the lowest rate in the Oxford optimisation set (its two
+#: Samsung_Jamie recordings, 100.0 Hz) and the detectors' common rate (:data:`RATE_HZ`).
+LOW_RATE_HZ = 100.0
+
+
+def decimate_recording(rec, factor: int, anti_alias: bool = True):
+    """``rec`` (an :class:`ilocalg.io.oxford.OxfordRecording`) as a phone sampling ``factor`` times slower would
+    have logged it: every ``factor``-th sample, after :func:`scipy.signal.decimate`'s zero-phase order-8 Chebyshev
+    type I low-pass at 0.8 of the new Nyquist frequency when ``anti_alias`` (a sensor's own filter at a lower output
+    rate), or as they are otherwise (aliasing kept). The truth is unchanged. The filter assumes uniform sampling;
+    on a log whose spacing varies it is applied sample by sample all the same."""
+    import dataclasses
+
+    from scipy import signal as ss
+
+    if int(factor) != factor or factor < 1:
+        raise ValueError(f"factor must be a whole number >= 1, got {factor}")
+    factor = int(factor)
+    if factor == 1:
+        return rec
+    imu = rec.imu
+    if anti_alias:
+        cols = list(ACC_COLS)
+        a = ss.decimate(imu[cols].to_numpy(dtype=np.float64), factor, axis=0, zero_phase=True)
+        out = pd.DataFrame(a, index=imu.index[::factor][:a.shape[0]], columns=cols)
+    else:
+        out = imu.iloc[::factor]
+    return dataclasses.replace(rec, imu=out)
+
+
+def rate_robustness(recordings, params: dict | None = None, rate_hz: float = LOW_RATE_HZ) -> pd.DataFrame:
+    """The robust detector (``params``: :data:`ilocalg.pdr.robust.ROBUST_DEFAULTS`) on each recording as logged
+    and decimated to about ``rate_hz`` (by the whole factor nearest its median rate over ``rate_hz``,
+    :func:`decimate_recording`) with and without an anti-alias filter: the step count and the accuracy against
+    the published truth of each. A check of the detector's one parameter set for phones sampling at 100-400 Hz
+    (:mod:`ilocalg.pdr.robust`, step 1): nothing is chosen from it. One row per recording: ``recording``,
+    ``development`` (:func:`is_development`), ``rate_hz`` (median rate as logged), ``factor``, ``rate_decimated_hz``,
+    ``true_steps``, ``counted_<as logged|decimated|decimated_anti_alias>`` and ``accuracy_<...>``.
+    """
+    from ilocalg.pdr.robust import ROBUST_DEFAULTS
+
+    par = {k: v for k, v in (ROBUST_DEFAULTS if params is None else params).items() if k != "rate_hz"}
+    rows = []
+    for rec in recordings:
+        rate = 1.0 / float(np.median(np.diff(rec.imu.index.to_numpy())))
+        k = max(int(round(rate / rate_hz)), 1)
+        row = {"recording": rec.name, "development": is_development(rec.name), "rate_hz": rate, "factor": k,
+               "rate_decimated_hz": rate / k, "true_steps": rec.true_steps}
+        for name, r in (("as_logged", rec), ("decimated", decimate_recording(rec, k, anti_alias=False)),
+                        ("decimated_anti_alias", decimate_recording(rec, k, anti_alias=True))):
+            n = count_steps(prepare(r), "robust", par)
+            row[f"counted_{name}"] = n
+            row[f"accuracy_{name}"] = float(accuracy(n, rec.true_steps))
+        rows.append(row)
     return pd.DataFrame(rows)
 
 
