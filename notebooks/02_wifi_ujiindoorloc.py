@@ -146,9 +146,11 @@ if tables is not None:
 # *and* phone (one phone group in three) its training part never saw, at places the rest of the survey covers
 # (within the survey's own spot spacing, its 90th percentile, of a remaining reference). It chooses among
 # `model_selection.headline_grid`'s candidates, fixed before any of its scores: the union of the ensemble,
-# offset-range and spot CVs' candidates (members, search range, spot members and K, weight exponent) at K = 5 or 8
-# (`headline_cv`; its CV rows have `groups = "spot x PHONEID"`, `grid = "headline candidates"`). No validation
-# score entered the choice; it is the toolkit's headline row. What training cannot show is the time gap: access
+# offset-range and spot CVs' candidates (members, search range, spot members and K, weight exponent) at K = 5 or 8,
+# each also with a rank-based member beside them (`candidates.rank_member`: each heard AP's rank in its scan, after
+# Machaj et al. 2011, which no phone's offset or gain moves; the error budget below puts most of the error on phones
+# the survey never used) (`headline_cv`; its CV rows have `groups = "spot x PHONEID"`, `grid = "headline
+# candidates"`). No validation score entered the choice; it is the toolkit's headline row. What training cannot show is the time gap: access
 # points changed between the campaigns (the `campaigns` table), and no fold of a three-week survey sees that.
 # With `CV_DIAGNOSTIC = True`, every ladder row is also scored under both CVs (`toolkit_cv_diagnostic`) and each
 # CV's rank correlation with the validation errors is shown (`toolkit_cv_agreement`): a diagnostic of the CVs,

@@ -54,7 +54,8 @@ def test_ujiindoorloc_fast_run(shared_data):
     cv_sp = t["toolkit_cv"].query("groups == 'spot x PHONEID'")
     assert set(cv_sp["grid"]) == {"headline candidates", "device calibration"}
     hl = cv_sp[cv_sp["grid"] == "headline candidates"]
-    assert len(hl) == 6 and (hl["n_neighbors"] == 5).all()
+    assert len(hl) == 12 and (hl["n_neighbors"] == 5).all()          # 6 candidates, each with and without rank
+    assert hl["estimators"].str.endswith(" + rank_sorensen").sum() == 6
     assert hl["rank"].iloc[0] == 1 and hl["cv_mean_error_m"].is_monotonic_increasing
     assert f"members={hl['estimators'].iloc[0]}," in lad["params"].iloc[-2]   # the spot x PHONEID CV's first rank
     dc = cv_sp[cv_sp["grid"] == "device calibration"]        # then calibration on / off for those members

@@ -100,7 +100,8 @@ def test_check_estimator():
 
     from tests.test_wifi_knn import EXPECTED_FAILED
 
-    for kw in (dict(representation="positive", metric="minkowski"), dict(representation="powed", metric="sorensen")):
+    for kw in (dict(representation="positive", metric="minkowski"), dict(representation="powed", metric="sorensen"),
+               dict(representation="rank", metric="sorensen")):
         check_estimator(OffsetFingerprint(n_neighbors=3, shifts_db=(-1.0, 0.0, 1.0), not_heard_dbm=-100.0,
                                           rssi_range_dbm=None, **kw), expected_failed_checks=EXPECTED_FAILED)
 

@@ -193,3 +193,37 @@ def test_strongest_ap_mask_is_a_stable_argsorts_first_k():
             want = np.zeros(x.shape, dtype=bool)
             np.put_along_axis(want, np.argsort(-key, axis=1, kind="stable")[:, :k], True, axis=1)
             np.testing.assert_array_equal(strongest_ap_mask(x, k), want & ~np.isnan(x))
+
+
+def test_rank_representation_agrees_with_scipy_rankdata_per_scan():
+    from scipy.stats import rankdata
+
+    from ilocalg.wifi.preprocessing import to_features
+
+    rng = np.random.default_rng(4)
+    x = np.where(rng.random((300, 40)) < 0.3, np.round(rng.normal(-75, 12, (300, 40))).clip(-104, -20), np.nan)
+    x[5] = np.nan                                   # a scan hearing nothing
+    x[6, :3] = -104.0                               # readings at the floor are not heard
+    f = to_features(x, -104.0, "rank", dtype=np.float64)
+    for i in range(x.shape[0]):
+        heard = x[i] > -104.0
+        want = np.zeros(x.shape[1])
+        if heard.any():
+            want[heard] = rankdata(x[i, heard], method="average") / heard.sum()    # ties (whole dB) averaged
+        np.testing.assert_allclose(f[i], want, rtol=0, atol=1e-12)
+    assert (f[5] == 0).all() and (f[6, :3] == 0).all()
+    busy = (x > -104).any(axis=1)
+    assert f.max() <= 1.0 and (f[busy].max(axis=1) > 0.5).all()  # the strongest AP of a scan: 1 unless tied
+
+
+def test_rank_member_is_blind_to_a_phones_offset_and_gain():
+    from ilocalg.wifi.candidates import rank_member
+
+    rng = np.random.default_rng(5)
+    x = np.where(rng.random((80, 12)) < 0.5, rng.normal(-70, 10, (80, 12)).clip(-100, -30), np.nan)
+    y = np.column_stack([rng.uniform(0, 40, 80), rng.uniform(0, 40, 80), rng.integers(0, 3, 80), np.zeros(80)])
+    name, est = rank_member(4.0)
+    assert name == "rank_sorensen_w4" and rank_member(1.0)[0] == "rank_sorensen"
+    est.fit(x, y)
+    q = x[:20]
+    np.testing.assert_allclose(est.predict(0.9 * q - 5.0), est.predict(q), rtol=0, atol=1e-9)   # -100..-30 stays heard

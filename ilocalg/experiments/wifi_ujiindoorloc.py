@@ -113,6 +113,11 @@ TOOLKIT_READINGS = (
      "OffsetFingerprint(device_calibration=True): each scan's shift minimises the search criterion summed over "
      "its phone's scans up to its own time (PHONEID, TIMESTAMP; causal, no position used); on / off for the "
      "headline's members by the spot x PHONEID CV (device_calibration_cv)"),
+    ("rank-based fingerprints", "Machaj, Brida & Piche 2011 (IPIN 2011)",
+     "a fingerprint as the order of the APs by signal strength, robust to the differences between phones",
+     "representation='rank' (each heard AP's rank in its scan over the number heard; the scaling is the toolkit's), "
+     "WKNN with the Sorensen distance, no offset search (rank_member); each headline candidate with and without it "
+     "(headline_grid), chosen by the spot x PHONEID CV"),
 )
 
 

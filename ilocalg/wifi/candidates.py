@@ -23,6 +23,7 @@ __all__ = [
     "SPOT_NEIGHBORS",
     "spot_grid",
     "HEADLINE_NEIGHBORS",
+    "rank_member",
     "headline_grid",
     "TOOLKIT_HEADLINE",
     "headline_members",
@@ -127,14 +128,27 @@ def spot_grid(base: list, fast: bool = False) -> dict:
 HEADLINE_NEIGHBORS = (5, 8)
 
 
+def rank_member(weight_power: float = 1.0) -> tuple:
+    """``(name, estimator)`` of the rank member: WKNN on the ``"rank"`` representation (each heard AP's rank in its
+    scan over the number heard; :mod:`ilocalg.wifi.preprocessing`, after Machaj et al. 2011) with the Sorensen
+    distance, neighbour weights 1/d**``weight_power``. No offset search: ranks are the same for any increasing map
+    of a phone's readings. Named ``rank_sorensen`` (``_w<a>`` where the exponent is not 1)."""
+    from ilocalg.wifi.offset import OffsetFingerprint
+
+    name = "rank_sorensen" + ("" if weight_power == 1 else f"_w{weight_power:g}")
+    return name, OffsetFingerprint(shifts_db=(0.0,), representation="rank", metric="sorensen",
+                                   weight_power=float(weight_power))
+
+
 def headline_grid(fast: bool = False) -> dict:
     """Candidates of the headline row (``{"est__estimators": [members, ...]}``), chosen by the spot x PHONEID CV
     (:class:`~ilocalg.wifi.model_selection.SpotPhoneKFold`) on training, at each K of :data:`HEADLINE_NEIGHBORS`:
     every member set of :func:`offset_range_grid` (search range +-1 or +-2 sd, three member sets), each crossed with
     :func:`spot_grid` (the weight exponent; raw members alone or raw + spot-averaged at each spot K). The union of
     the candidates the GroupKFold(PHONEID) CVs of the ensemble, offset-range and spot rows chose among, whatever those
-    CVs chose, fixed before any score of this CV was seen. Member names stand for one configuration. Fast mode: the
-    fast grids.
+    CVs chose, fixed before any score of this CV was seen; and each of those with the rank member
+    (:func:`rank_member`, at the candidate's weight exponent) added: a member that no phone's offset or gain moves,
+    for the phones the survey never used. Member names stand for one configuration. Fast mode: the fast grids.
     """
     cands, seen = [], set()
     for base in offset_range_grid(fast)["est__estimators"]:
@@ -143,7 +157,11 @@ def headline_grid(fast: bool = False) -> dict:
             if key not in seen:
                 seen.add(key)
                 cands.append(members)
-    return {"est__estimators": cands}
+    ranked = []
+    for members in cands:
+        power = next(e.get_params()["weight_power"] for _, e in members if "weight_power" in e.get_params())
+        ranked.append(members + [rank_member(power)])
+    return {"est__estimators": cands + ranked}
 
 
 #: The headline row of notebook 02 as the spot x PHONEID CV chose it on UJIIndoorLoc's training set
@@ -152,7 +170,8 @@ def headline_grid(fast: bool = False) -> dict:
 #: What ``python -m ilocalg evaluate wifi --method toolkit`` runs (:func:`toolkit_estimator`);
 #: :mod:`ilocalg.experiments.wifi_ujiindoorloc` reports whether the ladder's choice still equals it.
 TOOLKIT_HEADLINE = {"n_neighbors": 8, "members": ("offset_powed_2sd_w4", "cascade_powed", "offset_exponential_2sd_w4",
-                                                  "spots_offset_powed_2sd_k1_w4", "spots_offset_exponential_2sd_k1_w4")}
+                                                  "spots_offset_powed_2sd_k1_w4", "spots_offset_exponential_2sd_k1_w4",
+                                                  "rank_sorensen_w4")}
 
 
 def headline_members(names=TOOLKIT_HEADLINE["members"]) -> list:

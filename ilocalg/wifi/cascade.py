@@ -64,7 +64,7 @@ class CascadeFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
     p : {1, 2}
         Minkowski exponent (ignored for ``metric="sorensen"``).
     metric : {"minkowski", "sorensen"}
-    representation : {"positive", "exponential", "powed"}
+    representation : {"positive", "exponential", "powed", "rank"}
     not_heard_dbm : float
         RSSI substituted for "not heard".
     rssi_range_dbm : (float, float) or None

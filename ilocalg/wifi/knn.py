@@ -671,7 +671,7 @@ class KnnFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         Physical range of a heard reading, dBm (default :data:`ilocalg.wifi.preprocessing.RSSI_RANGE_DBM`,
         the loaders' range); a value outside it raises a ValueError naming its row and column. ``None``
         accepts any finite value (e.g. for scikit-learn's estimator checks on random data).
-    representation : {"positive", "exponential", "powed"}
+    representation : {"positive", "exponential", "powed", "rank"}
         Feature representation (``positive`` = plain dBm with NaN filled; distance-equivalent).
     kernel : {"sparse", "dense"}
         Distance kernel (same result; see the module docstring).

@@ -145,7 +145,7 @@ class OffsetFingerprint(RssiPositionTags, RegressorMixin, BaseEstimator):
         K of the WKNN (1/d weights) and of the floor / building votes.
     shifts_db : tuple of float
         Candidate offsets, dB (``(0,)``: plain WKNN).
-    representation : {"positive", "exponential", "powed"}
+    representation : {"positive", "exponential", "powed", "rank"}
     metric : {"minkowski", "sorensen"}
     p : {1, 2}
         Minkowski exponent (ignored for Sorensen).

@@ -12,6 +12,9 @@ most scans):
 ``"positive"``     ``rssi - not_heard_dbm``                          (dB above the floor)
 ``"exponential"``  ``exp(pos / alpha) / exp(-not_heard_dbm / alpha)``  with ``alpha = 24``
 ``"powed"``        ``(pos / -not_heard_dbm) ** beta``                 with ``beta = e``
+``"rank"``         each heard reading's rank in its scan (weakest 1 ... strongest n, ties averaged) over n,
+                   the number of APs the scan hears above ``not_heard_dbm``: the same features for any
+                   increasing map of a phone's readings (an offset, a gain), so a phone's calibration drops out
 
 No shared access point
 ----------------------
@@ -30,6 +33,10 @@ Torres-Sospedra J., Montoliu R., Trilles S., Belmonte O., Huerta J., "Comprehens
 distance and similarity measures for Wi-Fi fingerprinting indoor positioning systems", Expert
 Systems with Applications 42 (2015) 9263-9278, sec. 3 (positive, exponential, powed data
 representations; alpha = 24, beta = e).
+Machaj J., Brida P., Piche R., "Rank based fingerprinting algorithm for indoor positioning", IPIN 2011
+(fingerprints as the order of the APs by signal strength, robust to the differences between phones). The
+``"rank"`` representation's scaling by the number of heard APs (so that a scan hearing many APs and one
+hearing few are on one scale) is the toolkit's.
 """
 
 from __future__ import annotations
@@ -55,7 +62,7 @@ __all__ = [
     "predict_located",
 ]
 
-REPRESENTATIONS = ("positive", "exponential", "powed")
+REPRESENTATIONS = ("positive", "exponential", "powed", "rank")
 
 
 #: Physical range of a heard Wi-Fi reading, dBm: the loaders' range (:data:`ilocalg.io.schema.FIELD_RANGES`),
@@ -156,7 +163,7 @@ def to_features(rssi_dbm, not_heard_dbm: float = -104.0, representation: str = "
     not_heard_dbm : float
         RSSI substituted for NaN; every heard reading must be >= it (a weaker reading would
         become negative; it raises rather than being clipped).
-    representation : {"positive", "exponential", "powed"}
+    representation : {"positive", "exponential", "powed", "rank"}
     alpha, beta : float
         Parameters of the exponential and powed representations.
     dtype : numpy dtype
@@ -200,12 +207,32 @@ def checked_features(x: np.ndarray, not_heard_dbm: float = -104.0, representatio
     v = x[heard] - floor  # finite (x >= floor, x finite), unless it overflows
     if v.size and not np.isfinite(v.max()):
         v = np.nan_to_num(v)  # an overflow to inf: nan_to_num's largest float, as before
+    if representation == "rank":
+        return _heard_ranks(x, heard, dtype)
     f = np.zeros(x.shape, dtype=dtype)
     if representation == "positive":
         f[heard] = v
     else:
         f[heard] = (np.exp(v / alpha) / np.exp(-floor / alpha) if representation == "exponential"
                     else (v / -floor) ** beta)
+    return f
+
+
+def _heard_ranks(x: np.ndarray, heard: np.ndarray, dtype) -> np.ndarray:
+    """The ``"rank"`` features: rank of each ``heard`` reading of ``x`` in its row (weakest 1, ties averaged) over
+    the row's number of heard readings; 0 elsewhere. Works on the heard readings alone (a scan hears a few of many
+    APs): sorted by row, then value, each one's place in its row, averaged over a run of equal values."""
+    f = np.zeros(x.shape, dtype=dtype)
+    r, c = np.nonzero(heard)
+    if r.size == 0:
+        return f
+    v = x[r, c]
+    order = np.lexsort((v, r))
+    r, c, v = r[order], c[order], v[order]
+    place = np.arange(r.size) - np.searchsorted(r, r, side="left") + 1.0       # 1 ... n within each row
+    run = np.cumsum(np.r_[True, (r[1:] != r[:-1]) | (v[1:] != v[:-1])]) - 1     # runs of equal values
+    mean_place = np.bincount(run, place) / np.bincount(run)
+    f[r, c] = mean_place[run] / np.bincount(r, minlength=x.shape[0])[r]
     return f
 
 
