@@ -150,8 +150,9 @@ if tables is not None:
 # each also with a rank-based member beside them (`candidates.rank_member`: each heard AP's rank in its scan, after
 # Machaj et al. 2011, which no phone's offset or gain moves; the error budget below puts most of the error on phones
 # the survey never used) (`headline_cv`; its CV rows have `groups = "spot x PHONEID"`, `grid = "headline
-# candidates"`). No validation score entered the choice; it is the toolkit's headline row. What training cannot show is the time gap: access
-# points changed between the campaigns (the `campaigns` table), and no fold of a three-week survey sees that.
+# candidates"`). No validation score entered the choice; it is the toolkit's headline row. What training cannot
+# show is the time gap: access points changed between the campaigns (the `campaigns` table), and no fold of a
+# three-week survey sees that.
 # With `CV_DIAGNOSTIC = True`, every ladder row is also scored under both CVs (`toolkit_cv_diagnostic`) and each
 # CV's rank correlation with the validation errors is shown (`toolkit_cv_agreement`): a diagnostic of the CVs,
 # used to choose nothing.

@@ -146,8 +146,9 @@ if HAVE_DATA:
 # ## One parameter set for phones sampling at 100-400 Hz
 # The recordings were logged at each phone's fastest rate (about 100-406 Hz), and the detector resamples every log to
 # 100 Hz before filtering (`ilocalg.pdr.robust`, step 1). A phone that logs at 100 Hz, the lowest rate in this set
-# (the two Samsung_Jamie recordings), sees the same walk through its own sampling: does the count hold? Each recording logged faster is decimated here by the whole factor nearest its rate over 100 Hz (2 for
-# the Samsung and Nexus logs, 4 for the Pixel ones; `ilocalg.pdr.step_evaluate.rate_robustness`): once by keeping
+# (the two Samsung_Jamie recordings), sees the same walk through its own sampling: does the count hold? Each
+# recording logged faster is decimated here by the whole factor nearest its rate over 100 Hz (2 for the Samsung and
+# Nexus logs, 4 for the Pixel ones; `ilocalg.pdr.step_evaluate.rate_robustness`): once by keeping
 # every factor-th sample (aliasing kept, the worst case) and once after `scipy.signal.decimate`'s anti-alias
 # low-pass (what a sensor's own filter at a lower output rate does). The detector keeps its defaults and the truth
 # is the published one; nothing is chosen from this check.
