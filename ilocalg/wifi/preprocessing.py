@@ -204,11 +204,11 @@ def checked_features(x: np.ndarray, not_heard_dbm: float = -104.0, representatio
     if representation == "powed" and floor >= 0:
         raise ValueError("the powed representation needs not_heard_dbm < 0")
     heard = x > floor
+    if representation == "rank":
+        return _heard_ranks(x, heard, dtype)
     v = x[heard] - floor  # finite (x >= floor, x finite), unless it overflows
     if v.size and not np.isfinite(v.max()):
         v = np.nan_to_num(v)  # an overflow to inf: nan_to_num's largest float, as before
-    if representation == "rank":
-        return _heard_ranks(x, heard, dtype)
     f = np.zeros(x.shape, dtype=dtype)
     if representation == "positive":
         f[heard] = v
