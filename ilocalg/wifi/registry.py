@@ -108,7 +108,7 @@ def _best(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
 @register_estimator("toolkit")
 def _toolkit(k=None, metric="euclidean", not_heard_dbm=DEFAULT_NOT_HEARD_DBM):
     """The toolkit's UJIIndoorLoc headline (:func:`ilocalg.wifi.candidates.toolkit_estimator`: offset searches,
-    cascade and spot-averaged members, Sorensen distances), ``k`` neighbours per member (default 8). Fitted on
+    cascade, spot-averaged and rank members, Sorensen distances), ``k`` neighbours per member (default 8). Fitted on
     ``[x_m, y_m, floor, building]``; it votes floor and building itself. ``metric`` is not used (its members
     fix their own distance)."""
     from ilocalg.wifi.candidates import toolkit_estimator
