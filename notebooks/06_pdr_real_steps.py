@@ -143,15 +143,16 @@ if HAVE_DATA:
     display(tables["robust_diagnosis"][cols].sort_values("accuracy_bounces_merged").head(10))  # noqa: F821
 
 # %% [markdown]
-# ## One parameter set for phones sampling at 100-400 Hz
-# The recordings were logged at each phone's fastest rate (about 100-406 Hz), and the detector resamples every log to
-# 100 Hz before filtering (`ilocalg.pdr.robust`, step 1). A phone that logs at 100 Hz, the lowest rate in this set
-# (the two Samsung_Jamie recordings), sees the same walk through its own sampling: does the count hold? Each
-# recording logged faster is decimated here by the whole factor nearest its rate over 100 Hz (2 for the Samsung and
-# Nexus logs, 4 for the Pixel ones; `ilocalg.pdr.step_evaluate.rate_robustness`): once by keeping
-# every factor-th sample (aliasing kept, the worst case) and once after `scipy.signal.decimate`'s anti-alias
-# low-pass (what a sensor's own filter at a lower output rate does). The detector keeps its defaults and the truth
-# is the published one; nothing is chosen from this check.
+# ## One parameter set for every phone's sampling rate
+# The recordings were logged at each phone's fastest rate, and the detector resamples every log to one common rate
+# before filtering (`ilocalg.pdr.robust`, step 1; `ilocalg.pdr.step_evaluate.RATE_HZ`). Would a phone that logs at
+# that rate itself, as the slowest logs of this set do (the two Samsung_Jamie recordings;
+# `ilocalg.pdr.step_evaluate.LOW_RATE_HZ`), count the same walks the same? Each recording logged faster is
+# decimated here by the whole factor nearest its rate over that rate (`ilocalg.pdr.step_evaluate.rate_robustness`,
+# the table's `factor` column): once by keeping every factor-th sample (aliasing kept, the worst case) and once after
+# `scipy.signal.decimate`'s anti-alias low-pass (what a sensor's own filter at a lower output rate does). The
+# detector keeps its defaults and the truth is the published one; nothing is chosen from this check. The line under
+# the table gives the range of rates as logged.
 
 # %%
 if HAVE_DATA:
