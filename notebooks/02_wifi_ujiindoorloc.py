@@ -200,6 +200,11 @@ if tables is not None and "toolkit_ladder" in tables:
     head_row = ("toolkit: members, offset range, spots, weight exponent and K by spot x PHONEID CV (test spots and "
                 "phones unseen)")
     if "grid" in tables["toolkit_cv"]:
+        hl = tables["toolkit_cv"].query("grid == 'headline candidates'")
+        ranked = hl["estimators"].str.contains("rank_sorensen", regex=False)
+        if ranked.any() and (~ranked).any():
+            print(f"spot x PHONEID CV on training: best headline candidate with the rank member "
+                  f"{hl[ranked]['cv_mean_error_m'].min():.2f} m, without {hl[~ranked]['cv_mean_error_m'].min():.2f} m")
         for r in tables["toolkit_cv"].query("grid == 'device calibration'").itertuples():
             print(f"spot x PHONEID CV on training [device calibration {r.device_calibration}]: "
                   f"{r.cv_mean_error_m:.2f} m "
