@@ -197,8 +197,8 @@ if tables is not None and "toolkit_ladder" in tables:
     rng_row = "toolkit: offset range (1 or 2 sd) and members by GroupKFold(PHONEID) CV, K of the offset-search CV"
     spot_row = ("toolkit: + spot-averaged fingerprints (raw + averaged members), spot K and weight exponent by "
                 "GroupKFold(PHONEID) CV")
-    head_row = ("toolkit: members, offset range, spots, weight exponent and K by spot x PHONEID CV (test spots and "
-                "phones unseen)")
+    head_row = ("toolkit: members (a rank member or not), offset range, spots, weight exponent and K by spot x "
+                "PHONEID CV (test spots and phones unseen)")
     if "grid" in tables["toolkit_cv"]:
         hl = tables["toolkit_cv"].query("grid == 'headline candidates'")
         ranked = hl["estimators"].str.contains("rank_sorensen", regex=False)

@@ -849,8 +849,8 @@ def _ensemble_rows(train: FingerprintSet, test: FingerprintSet, k_cv: int, chose
         wp = next((e.get_params()["weight_power"] for _, e in members if "weight_power" in e.get_params()), 1.0)
         sh_top = sorted({tuple(e.get_params()["shifts_db"]) for _, e in members if "shifts_db" in e.get_params()}
                         - {(0.0,)}, key=len)      # the searches' ranges (a member without a search, as ranks, has 0)
-        yield ("toolkit: members, offset range, spots, weight exponent and K by spot x PHONEID CV (test spots and "
-               "phones unseen)",
+        yield ("toolkit: members (a rank member or not), offset range, spots, weight exponent and K by spot x PHONEID "
+               "CV (test spots and phones unseen)",
                combine_predictions([member(n, e, k_top) for n, e in members]),
                f"n_neighbors={k_top}, min_count=1, members={_fmt(members)}, weight_power={wp:g}"
                + "".join(f", shifts_db={_fmt(v)}" for v in sh_top), k_top, members)
