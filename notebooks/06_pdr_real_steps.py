@@ -167,7 +167,7 @@ if HAVE_DATA:
                                     {"every factor-th sample": rates["accuracy_decimated"],
                                      "anti-aliased": rates["accuracy_decimated_anti_alias"]},
                                     ax=ax, goal=pdr_real_steps.GOAL_MIN)
-        ax.set_title("robust detector, per recording: logged vs ~100 Hz")
+        ax.set_title(f"robust detector, per recording: logged vs ~{pdr_real_steps.LOW_RATE_HZ:g} Hz")
         fig.tight_layout()
         ilocviz.savefig(fig, "06_pdr_real_steps_rate", OUT_DIR)
 
