@@ -36,7 +36,7 @@ from ilocalg.pdr.sam import (
     range_bounds,
     sam_waves,
 )
-from ilocalg.pdr.signals import resample_uniform
+from ilocalg.pdr.signals import resample_uniform, sample_rate_hz
 
 __all__ = ["RATE_HZ", "SAM_RATE_HZ", "Prepared", "prepare", "accuracy", "DETECTORS", "detector_params",
            "count_steps", "loro_cv", "sam_loro_scores", "score_detector", "step_diagnosis", "diagnosis_window",
@@ -346,7 +346,7 @@ def rate_robustness(recordings, params: dict | None = None, rate_hz: float = LOW
     par = {k: v for k, v in (ROBUST_DEFAULTS if params is None else params).items() if k != "rate_hz"}
     rows = []
     for rec in recordings:
-        rate = 1.0 / float(np.median(np.diff(rec.imu.index.to_numpy())))
+        rate = sample_rate_hz(rec.imu.index.to_numpy())
         k = max(int(round(rate / rate_hz)), 1)
         row = {"recording": rec.name, "development": is_development(rec.name), "rate_hz": rate, "factor": k,
                "rate_decimated_hz": rate / k, "true_steps": rec.true_steps}
