@@ -7,7 +7,7 @@ import numpy as np
 from ilocviz.core import error_cdf, new_axes
 
 __all__ = ["k_study", "error_cdfs", "floor_map", "method_bars", "grouped_mean_bars", "ratio_intervals",
-           "rssi_distribution"]
+           "ap_loss_curves", "rssi_distribution"]
 
 
 def k_study(df, ax=None, quantities=("median_m", "p80_m", "mean_m")):
@@ -139,6 +139,30 @@ def ratio_intervals(df, ax=None, label_col="floor", value_col="ratio", lo_col="c
     ax.invert_yaxis()
     ax.set_xlabel(xlabel)
     ax.legend(loc="best")
+    return ax
+
+
+def ap_loss_curves(df, ax=None, ax_increase=None, x_col="fraction_aps_gone", label_col="label"):
+    """CV mean error (``cv_mean_error_m``, on ``ax``) and its paired increase with a 95 % interval
+    (``increase_m``, ``increase_ci95_lo_m`` / ``increase_ci95_hi_m``, on ``ax_increase`` when given) against the
+    share of APs gone (``x_col``, plotted in %), one curve per ``label_col``."""
+    ax = new_axes(ax)
+    for lab, d in df.groupby(label_col, sort=False):
+        d = d.sort_values(x_col)
+        x = 100.0 * d[x_col].to_numpy(dtype=float)
+        ax.plot(x, d["cv_mean_error_m"].to_numpy(dtype=float), marker="o", ms=4, label=lab)
+        if ax_increase is not None:
+            v = d["increase_m"].to_numpy(dtype=float)
+            err = np.vstack([v - d["increase_ci95_lo_m"].to_numpy(dtype=float),
+                             d["increase_ci95_hi_m"].to_numpy(dtype=float) - v])
+            ax_increase.errorbar(x, v, yerr=err, marker="o", ms=4, capsize=3, label=lab)
+    ax.set_xlabel("APs gone at query time [% of the survey's APs]")
+    ax.set_ylabel("CV mean 2-D error [m]")
+    ax.legend(loc="upper left", fontsize="small")
+    if ax_increase is not None:
+        ax_increase.axhline(0.0, color="0.4", ls="--", lw=1.0)
+        ax_increase.set_xlabel("APs gone at query time [% of the survey's APs]")
+        ax_increase.set_ylabel("increase of the CV mean error [m]")
     return ax
 
 

@@ -263,6 +263,28 @@ if tables is not None and "toolkit_error_budget" in tables:
         print(line)
 
 # %% [markdown]
+# ## When access points are gone by the time a phone asks
+# The CVs above score scans from the same three-week survey as the radio map, so every AP the map holds is still
+# there. The validation campaign came months later, and it never hears some of the training APs (table
+# `campaigns`). A robustness check, not a choice: three ladder rows (the flat WKNN, the Sorensen row and the
+# headline) under the spot x PHONEID CV, with a random share of the APs removed from the queries only
+# (`ilocalg.experiments.wifi_ujiindoorloc.ap_loss`; the sweep's top is the measured share of training APs the
+# validation set never hears). Left: CV mean error; right: its increase over the same folds with every AP, with a
+# 95 % interval over the folds of two seeds.
+
+# %%
+if tables is not None and "toolkit_ap_loss" in tables:
+    report.table(tables["toolkit_ap_loss"], "toolkit_ap_loss")
+    with ilocviz.style():
+        fig, (ax, ax_i) = plt.subplots(1, 2, figsize=(13, 4.5), layout="constrained")
+        ilocviz.wifi.ap_loss_curves(tables["toolkit_ap_loss"], ax=ax, ax_increase=ax_i)
+        ax.set_title("spot x PHONEID CV with APs gone at query time")
+        ax_i.set_title("increase over the same folds (95 % interval)")
+        ilocviz.savefig(fig, "02_wifi_ujiindoorloc_ap_loss", OUT_DIR)
+    for line in wifi_ujiindoorloc.ap_loss_findings(tables["toolkit_ap_loss"], tables.get("toolkit_ladder")):
+        print(line)
+
+# %% [markdown]
 # ## The headline on another site: the ILC 2.0 walks
 # Does a configuration chosen on UJIIndoorLoc alone carry over? The headline (`evaluate wifi --method toolkit`),
 # unchanged, fitted on the Wi-Fi scans of the ILC 2.0 walks (site 1's two floors, about 100 walks each; site 2's

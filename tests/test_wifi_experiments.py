@@ -70,6 +70,11 @@ def test_ujiindoorloc_fast_run(shared_data):
     cli = t["toolkit_cli"].iloc[0]                                   # does --method toolkit run the headline?
     assert cli["ladder_row"] == lad["method"].iloc[-1] and cli["ladder_n_neighbors"] == "5"
     assert not cli["same"]                                  # fast mode's grids cannot choose the full-mode headline
+    al = t["toolkit_ap_loss"]                                  # three rows with APs gone (fast: 0 and 20 %)
+    assert list(al["label"]) == list(wifi_ujiindoorloc.AP_LOSS_LABELS) * 2
+    assert list(al["row"].iloc[:3]) == [lad["method"].iloc[0], "toolkit: + Sorensen distance", lad["method"].iloc[-1]]
+    assert (al.query("fraction_aps_gone == 0.2")["increase_m"] > 0).all()   # losing APs costs every row
+    assert len(wifi_ujiindoorloc.ap_loss_findings(al, lad)) == 4
     c = t["campaigns"].set_index("quantity")
     assert c.loc["scans", "validation"] == 256 and c.loc["users (USERID; 0 = not recorded)", "validation"] == 1
     assert 0.5 < c.loc["share of scans with a phone not in training", "validation"] < 1  # 9 of 11 phones are new

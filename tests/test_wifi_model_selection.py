@@ -349,3 +349,47 @@ def test_ensemble_cv_at_several_k_equals_one_call_per_k():
     assert cache_many.keys() == cache_one.keys()
     for key, v in cache_one.items():
         np.testing.assert_array_equal(cache_many[key], v)
+
+
+def test_drop_aps_removes_whole_columns_from_the_queries_only():
+    rng = np.random.default_rng(0)
+    x = rng.uniform(-90, -30, (50, 200))
+    x[rng.random(x.shape) < 0.3] = np.nan
+    out, gone = ms.drop_aps(x, 0.25, np.random.default_rng(3))
+    assert out is not x and np.isnan(out[:, gone]).all()
+    np.testing.assert_array_equal(out[:, ~gone], x[:, ~gone])            # the other APs untouched, NaN kept
+    assert 0.15 < gone.mean() < 0.35
+    # the same generator state draws nested sets: a larger share loses the smaller one's APs and more
+    _, more = ms.drop_aps(x, 0.5, np.random.default_rng(3))
+    assert (more | ~gone).all() and more.sum() > gone.sum()
+    _, none = ms.drop_aps(x, 0.0, np.random.default_rng(3))
+    assert not none.any()
+    for bad in (-0.1, 1.0):
+        with pytest.raises(ValueError, match="drop_ap_fraction"):
+            ms.drop_aps(x, bad, np.random.default_rng(0))
+
+
+def test_ap_loss_cv_is_paired_against_rows_cv_and_losing_aps_costs():
+    # fraction 0 is rows_cv itself; with APs gone from the queries every row's CV error grows, and each increase is
+    # the mean of the paired (same fold) differences
+    from ilocalg.wifi.knn import KnnFingerprint
+    from ilocalg.wifi.offset import OffsetFingerprint
+
+    train, _ = _spot_train(n_spots=60, n_phones=6)
+    rows = [("wknn", [("wknn", KnnFingerprint(3, p=2, weights="distance"))], False),
+            ("off", [("off", OffsetFingerprint(3, (-2.0, 0.0, 2.0), "powed", "sorensen"))], True)]
+    t = ms.ap_loss_cv(train, rows, fractions=(0.5,), seeds=(0, 1), max_test=30)
+    assert list(t["fraction_aps_gone"]) == [0.0, 0.0, 0.5, 0.5] and (t["n_folds"] == 6).all()
+    base = pd.concat([ms.rows_cv(train, rows, ms.SPOT_PHONE, s, max_test=30) for s in (0, 1)])
+    at0 = t[t["fraction_aps_gone"] == 0.0].set_index("row")
+    for r in ("wknn", "off"):
+        assert at0.loc[r, "cv_mean_error_m"] == pytest.approx(base[base["row"] == r]["cv_mean_error_m"].mean())
+        assert at0.loc[r, "increase_m"] == 0.0
+    half = t[t["fraction_aps_gone"] == 0.5].set_index("row")
+    assert (half["increase_m"] > 0).all()
+    np.testing.assert_allclose(half["cv_mean_error_m"] - at0["cv_mean_error_m"], half["increase_m"], rtol=1e-12)
+    assert (half["increase_ci95_lo_m"] <= half["increase_m"]).all()
+    assert (half["increase_m"] <= half["increase_ci95_hi_m"]).all()
+    assert half.loc["wknn", "ratio_to_first_row"] == 1.0
+    with pytest.raises(ValueError, match="drop_ap_fraction"):
+        ms.rows_cv(train, rows, drop_ap_fraction=1.0)

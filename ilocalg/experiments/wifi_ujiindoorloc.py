@@ -37,6 +37,7 @@ from ilocalg.wifi.candidates import TOOLKIT_HEADLINE
 from ilocalg.wifi.evaluate import error_budget
 from ilocalg.wifi.knn import shared_searches
 from ilocalg.wifi.model_selection import (
+    ap_loss_cv,
     best_search,
     ladder_cv_diagnostic,
     metrics_row,
@@ -45,7 +46,8 @@ from ilocalg.wifi.model_selection import (
 )
 
 __all__ = [
-    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "budget_findings", "campaign_shift", "cli_headline", "find_files",
+    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "AP_LOSS_FRACTIONS", "AP_LOSS_LABELS", "ap_loss", "ap_loss_findings",
+    "ap_loss_fractions", "budget_findings", "campaign_shift", "cli_headline", "find_files",
     "load", "run"]
 
 # Settings from the paper
@@ -118,6 +120,12 @@ TOOLKIT_READINGS = (
      "representation='rank' (each heard AP's rank in its scan over the number heard; the scaling is the toolkit's), "
      "WKNN with the Sorensen distance, no offset search (rank_member); each headline candidate with and without it "
      "(headline_grid), chosen by the spot x PHONEID CV"),
+    ("APs gone by query time (a robustness check)", "campaigns table (training and validation columns heard)",
+     "the CVs assume every AP of the survey still there; the validation campaign, months later, never hears "
+     "some of the training APs",
+     "ap_loss: three ladder rows under the spot x PHONEID CV with a random share of the APs removed from the "
+     "queries only (0, 0.1, 0.2 and the measured share of training APs the validation never hears); chooses "
+     "nothing"),
 )
 
 
@@ -200,7 +208,8 @@ def run(seed: int = 0, fast: bool = False, data_dir: str | Path | None = None, s
         ``toolkit: ...`` in ``methods`` and ``errors``, tables ``toolkit_ladder``, ``toolkit_cv``,
         ``toolkit_readings`` (:data:`TOOLKIT_READINGS`), ``toolkit_error_budget`` (the headline row's error by
         group of validation scans, :func:`ilocalg.wifi.evaluate.error_budget`), ``toolkit_cli`` (whether
-        ``evaluate wifi --method toolkit`` runs the headline row, :func:`cli_headline`) and ``measures``.
+        ``evaluate wifi --method toolkit`` runs the headline row, :func:`cli_headline`), ``toolkit_ap_loss`` (three
+        rows' CV error with APs gone at query time, :func:`ap_loss`) and ``measures``.
     cv_diagnostic : bool
         With ``toolkit``, also score every ladder row under the GroupKFold(PHONEID) and spot x PHONEID CVs
         (:func:`ilocalg.wifi.model_selection.ladder_cv_diagnostic`; a diagnostic of the CVs, used to choose
@@ -318,11 +327,75 @@ def _run(data, seed, fast, search, fast_train_rows, fast_test_rows, toolkit, cv_
             {"quantity": "toolkit_building_hit_rate", "value": tk["building_hit_rate"], "unit": "fraction",
              "item": tk["method"]},
         ])
+    if ladder is not None:
+        tables["toolkit_ap_loss"] = ap_loss(train, test, ladder, fast)
     if ladder is not None and cv_diagnostic:
         tables["toolkit_cv_diagnostic"], tables["toolkit_cv_agreement"] = ladder_cv_diagnostic(train, ladder, seed)
     if search if search is not None else not fast:
         tables["best_search"] = best_search(train, test, seed)
     return tables
+
+
+#: Fractions of the survey's access points gone by query time that :func:`ap_loss` sweeps (the measured top of the
+#: range, the share of training APs the validation campaign never hears, is added to them).
+AP_LOSS_FRACTIONS = (0.0, 0.1, 0.2)
+#: Short names of the three rows :func:`ap_loss` scores (column ``label``).
+AP_LOSS_LABELS = ("flat WKNN (dBm, Euclidean)", "+ Sorensen distance (powed)", "headline (last ladder row)")
+
+
+def ap_loss_fractions(train: FingerprintSet, test: FingerprintSet) -> list[float]:
+    """:data:`AP_LOSS_FRACTIONS` and, as the top of the sweep, the share of the APs heard in ``train`` that ``test``
+    never hears (measured from which columns each set hears, neither labels nor positions: as :func:`campaign_shift`
+    counts them)."""
+    ever_t, ever_v = np.isfinite(train.rssi_dbm).any(axis=0), np.isfinite(test.rssi_dbm).any(axis=0)
+    top = float((ever_t & ~ever_v).sum() / max(int(ever_t.sum()), 1))
+    return sorted({*AP_LOSS_FRACTIONS, round(top, 3)})
+
+
+def ap_loss(train: FingerprintSet, test: FingerprintSet, ladder: dict, fast: bool = False) -> pd.DataFrame:
+    """The spot x PHONEID CV error of three ladder rows (the flat WKNN, the Sorensen row and the headline, the last
+    row) with a share of the APs gone at query time (:func:`ilocalg.wifi.model_selection.ap_loss_cv`, over
+    :func:`ap_loss_fractions`; seeds 0 and 1). A robustness check of an assumption the CVs make (the survey's APs
+    all still there when the phone asks); it chooses nothing. Fast mode: fractions 0 and 0.2, seed 0."""
+    configs = ladder["configs"]
+    names = [n for n, _, _ in configs]
+    pick = [configs[0], configs[names.index("toolkit: + Sorensen distance")], configs[-1]]
+    if fast:
+        out = ap_loss_cv(train, pick, (0.0, 0.2), (0,))
+    else:
+        out = ap_loss_cv(train, pick, ap_loss_fractions(train, test), (0, 1))
+    labels = dict(zip([n for n, _, _ in pick], AP_LOSS_LABELS, strict=True))
+    out.insert(1, "label", out["row"].map(labels))
+    return out
+
+
+def ap_loss_findings(table: pd.DataFrame, ladder: pd.DataFrame | None = None) -> list[str]:
+    """Sentences generated from ``toolkit_ap_loss`` (:func:`ap_loss`) and, when given, ``toolkit_ladder`` (the same
+    rows' validation errors, for the ratio of the headline to the flat WKNN)."""
+    top = table["fraction_aps_gone"].max()
+    lab = dict(zip(table["row"], table["label"], strict=False))
+    rows = list(dict.fromkeys(table["row"]))
+    at = table[table["fraction_aps_gone"] == top].set_index("row")
+    at0 = table[table["fraction_aps_gone"] == 0.0].set_index("row")
+    out = []
+    for r in rows:
+        out.append(f"{lab[r]}: CV error {at0.loc[r, 'cv_mean_error_m']:.2f} m with every AP, "
+                   f"{at.loc[r, 'cv_mean_error_m']:.2f} m with {top:.1%} of them gone "
+                   f"({at.loc[r, 'increase_m']:+.2f} m, 95 % interval {at.loc[r, 'increase_ci95_lo_m']:.2f} to "
+                   f"{at.loc[r, 'increase_ci95_hi_m']:.2f} over {int(at.loc[r, 'n_folds'])} folds)")
+    head = rows[-1]
+    ratios = table[table["row"] == head].set_index("fraction_aps_gone")["ratio_to_first_row"]
+    line = ("headline / flat WKNN, CV error: " + ", ".join(f"{v:.2f} with {f:.1%} gone" for f, v in ratios.items()))
+    if ladder is not None:
+        m = ladder.set_index("method")["mean_m"]
+        if head in m.index and rows[0] in m.index:
+            val = m.loc[head] / m.loc[rows[0]]
+            near = min(ratios.index, key=lambda f: abs(ratios.loc[f] - val))
+            line += (f"; on validation {val:.2f}, nearest the CV ratio with {near:.1%} of the APs gone"
+                     + (" (no sign on validation of the flat WKNN's larger loss when APs are gone)"
+                        if near == 0.0 else ""))
+    out.append(line)
+    return out
 
 
 def cli_headline(ladder: dict) -> pd.DataFrame:

@@ -79,6 +79,8 @@ __all__ = [
     "toolkit_estimator",
     "fit_members",
     "rows_cv",
+    "drop_aps",
+    "ap_loss_cv",
     "ladder_cv_diagnostic",
     "with_device_calibration",
     "device_calibration_cv",
@@ -236,7 +238,7 @@ def _ensemble_cv_at(train: FingerprintSet, grid: dict, ks, seed: int = 0, n_spli
 
 
 def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, n_splits: int = 3,
-            max_test: int = 300) -> pd.DataFrame:
+            max_test: int = 300, drop_ap_fraction: float = 0.0) -> pd.DataFrame:
     """CV mean error of fixed configurations (no choice): each row's estimator fitted on every fold's training part.
 
     ``rows``: ``(name, members, aps)`` with ``members`` a list of ``(member name, estimator)`` (one member: that
@@ -244,21 +246,52 @@ def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, 
     :class:`ilocalg.wifi.FingerprintEnsemble`; each member keeps its own K) and ``aps`` whether
     :class:`ilocalg.wifi.ApSelector` (``min_count=1``) comes first. A member name must stand for one configuration
     (members of the same name are fitted once per fold and AP setting). Folds as :func:`ensemble_cv` with the same
-    ``group``, ``n_splits``, ``max_test`` and ``seed``. Returns one row per configuration: ``groups``, ``row``,
+    ``group``, ``n_splits``, ``max_test`` and ``seed``. ``drop_ap_fraction``: the share of access points gone by
+    the time of the queries (:func:`drop_aps`; 0: none). Returns one row per configuration: ``groups``, ``row``,
     ``cv_mean_error_m``, ``cv_sd_m`` (over folds).
     """
+    rows = list(rows)
+    scores = _rows_cv_scores(train, rows, group, seed, n_splits, max_test, drop_ap_fraction)
+    return pd.DataFrame({"groups": group, "row": [n for n, _, _ in rows], "cv_mean_error_m": scores.mean(axis=1),
+                         "cv_sd_m": scores.std(axis=1)})
+
+
+def drop_aps(x_query: np.ndarray, fraction: float, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Queries as if a random ``fraction`` of the access points had been removed after the survey.
+
+    Each column (access point) is gone with probability ``fraction``, drawn from ``rng``; a gone AP's readings
+    become NaN (not heard) in every query. Returns the new query matrix and the boolean mask of the gone columns.
+    The survey (training) side is left as it was: its scans still hear those APs, as a radio map that has aged.
+    """
+    if not 0.0 <= fraction < 1.0:
+        raise ValueError(f"drop_ap_fraction must lie in [0, 1), got {fraction}")
+    gone = rng.random(x_query.shape[1]) < fraction
+    out = np.array(x_query, dtype=np.float64, copy=True)
+    out[:, gone] = np.nan
+    return out, gone
+
+
+def _rows_cv_scores(train: FingerprintSet, rows, group: str, seed: int, n_splits: int, max_test: int,
+                    drop_ap_fraction: float = 0.0) -> np.ndarray:
+    """:func:`rows_cv`'s mean error per row and fold, shape ``(len(rows), n_folds)``. The APs gone in fold ``f``
+    (:func:`drop_aps`) are drawn from ``default_rng((seed, f))``, the same for every row and for every fraction's
+    uniform draws (a larger fraction loses the smaller one's APs and more)."""
     from ilocalg.metrics import mean_horizontal_error_m
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions
 
-    rows = list(rows)
+    if not 0.0 <= drop_ap_fraction < 1.0:
+        raise ValueError(f"drop_ap_fraction must lie in [0, 1), got {drop_ap_fraction}")
     groups = _cv_groups(train, group)
     cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     y = _target(train)
     scores = np.empty((len(rows), cv.get_n_splits()))
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
+        x_query = train.rssi_dbm[te]
+        if drop_ap_fraction > 0:
+            x_query, _ = drop_aps(x_query, drop_ap_fraction, np.random.default_rng((seed, f)))
         preds = {}
         for aps in sorted({bool(a) for _, _, a in rows}):
-            x_tr, x_te = train.rssi_dbm[tr], train.rssi_dbm[te]
+            x_tr, x_te = train.rssi_dbm[tr], x_query
             if aps:
                 sel = ApSelector(1).fit(x_tr)
                 x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
@@ -268,8 +301,44 @@ def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, 
         for r, (_, members, aps) in enumerate(rows):
             scores[r, f] = mean_horizontal_error_m(y[te], combine_predictions([preds[(n, bool(aps))]
                                                                                 for n, _ in members]))
-    return pd.DataFrame({"groups": group, "row": [n for n, _, _ in rows], "cv_mean_error_m": scores.mean(axis=1),
-                         "cv_sd_m": scores.std(axis=1)})
+    return scores
+
+
+def ap_loss_cv(train: FingerprintSet, rows, fractions=(0.0, 0.1, 0.2, 0.33), seeds=(0, 1),
+               group: str | None = None, max_test: int = 300) -> pd.DataFrame:
+    """How each fixed configuration's CV error grows when access points are gone by the time of the queries.
+
+    A robustness check of the CV's silent assumption that the survey's APs are all still there (a diagnostic: it
+    chooses nothing). For each fraction of ``fractions`` (:func:`drop_aps`, query side only) and each seed, every
+    row of ``rows`` (as :func:`rows_cv`) is scored on the same folds. Returns one row per fraction and
+    configuration: ``fraction_aps_gone``, ``row``, ``cv_mean_error_m`` (over seeds and folds), ``increase_m``
+    (paired against the same folds with no AP gone) and ``increase_sd_m`` (its standard deviation over the
+    seeds' and folds' paired differences) with a 95 % Student-t interval over them (``increase_ci95_lo_m``,
+    ``increase_ci95_hi_m``; the folds of one seed share training scans, so it is indicative), ``ratio_to_first_row``
+    (the row's CV error over the first row's at the same fraction), ``n_folds``. ``group``: the CV kind
+    (:func:`group_cv`; default :data:`SPOT_PHONE`).
+    """
+    from scipy.stats import t as student_t
+
+    group = SPOT_PHONE if group is None else group
+    rows = list(rows)
+    fractions = [float(f) for f in fractions]
+    if 0.0 not in fractions:
+        fractions = [0.0] + fractions
+    per = {fr: np.concatenate([_rows_cv_scores(train, rows, group, s, 3, max_test, fr) for s in seeds], axis=1)
+           for fr in fractions}
+    out = []
+    for fr in fractions:
+        d = per[fr] - per[0.0]
+        half = student_t.ppf(0.975, d.shape[1] - 1) * d.std(axis=1, ddof=1) / np.sqrt(d.shape[1])
+        for r, (name, _, _) in enumerate(rows):
+            out.append({"fraction_aps_gone": fr, "row": name, "cv_mean_error_m": float(per[fr][r].mean()),
+                        "increase_m": float(d[r].mean()), "increase_sd_m": float(d[r].std(ddof=1)),
+                        "increase_ci95_lo_m": float(d[r].mean() - half[r]),
+                        "increase_ci95_hi_m": float(d[r].mean() + half[r]),
+                        "ratio_to_first_row": float(per[fr][r].mean() / per[fr][0].mean()),
+                        "n_folds": int(per[fr].shape[1])})
+    return pd.DataFrame(out)
 
 
 def _weight_power_param(est) -> str | None:
