@@ -304,7 +304,7 @@ def _rows_cv_scores(train: FingerprintSet, rows, group: str, seed: int, n_splits
     return scores
 
 
-def ap_loss_cv(train: FingerprintSet, rows, fractions=(0.0, 0.1, 0.2, 0.33), seeds=(0, 1),
+def ap_loss_cv(train: FingerprintSet, rows, fractions=(0.0, 0.1, 0.2), seeds=(0, 1),
                group: str | None = None, max_test: int = 300) -> pd.DataFrame:
     """How each fixed configuration's CV error grows when access points are gone by the time of the queries.
 
