@@ -46,9 +46,9 @@ from ilocalg.wifi.model_selection import (
 )
 
 __all__ = [
-    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "AP_LOSS_FRACTIONS", "AP_LOSS_LABELS", "ap_loss", "ap_loss_findings",
-    "ap_loss_fractions", "budget_findings", "campaign_shift", "cli_headline", "find_files",
-    "load", "run"]
+    "PAPER_UJI", "METHODS", "TOOLKIT_READINGS", "AP_LOSS_FRACTIONS", "AP_LOSS_LABELS", "ap_loss",
+    "ap_loss_findings", "ap_loss_fractions", "budget_findings", "campaign_shift", "cli_headline",
+    "find_files", "load", "run"]
 
 # Settings from the paper
 # -----------------------
@@ -355,8 +355,9 @@ def ap_loss_fractions(train: FingerprintSet, test: FingerprintSet) -> list[float
 def ap_loss(train: FingerprintSet, test: FingerprintSet, ladder: dict, fast: bool = False) -> pd.DataFrame:
     """The spot x PHONEID CV error of three ladder rows (the flat WKNN, the Sorensen row and the headline, the last
     row) with a share of the APs gone at query time (:func:`ilocalg.wifi.model_selection.ap_loss_cv`, over
-    :func:`ap_loss_fractions`; seeds 0 and 1). A robustness check of an assumption the CVs make (the survey's APs
-    all still there when the phone asks); it chooses nothing. Fast mode: fractions 0 and 0.2, seed 0."""
+    :func:`ap_loss_fractions`; seeds 0 and 1, at most 300 test scans a fold). A robustness
+    check of an assumption the CVs make (the survey's APs all still there when the phone asks); it chooses nothing.
+    Fast mode: fractions 0 and 0.2, seed 0."""
     configs = ladder["configs"]
     names = [n for n, _, _ in configs]
     pick = [configs[0], configs[names.index("toolkit: + Sorensen distance")], configs[-1]]

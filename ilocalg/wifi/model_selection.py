@@ -251,7 +251,7 @@ def rows_cv(train: FingerprintSet, rows, group: str = "PHONEID", seed: int = 0, 
     ``cv_mean_error_m``, ``cv_sd_m`` (over folds).
     """
     rows = list(rows)
-    scores = _rows_cv_scores(train, rows, group, seed, n_splits, max_test, drop_ap_fraction)
+    scores = _rows_cv_scores(train, rows, group, seed, n_splits, max_test, (drop_ap_fraction,))[0]
     return pd.DataFrame({"groups": group, "row": [n for n, _, _ in rows], "cv_mean_error_m": scores.mean(axis=1),
                          "cv_sd_m": scores.std(axis=1)})
 
@@ -272,35 +272,49 @@ def drop_aps(x_query: np.ndarray, fraction: float, rng: np.random.Generator) -> 
 
 
 def _rows_cv_scores(train: FingerprintSet, rows, group: str, seed: int, n_splits: int, max_test: int,
-                    drop_ap_fraction: float = 0.0) -> np.ndarray:
-    """:func:`rows_cv`'s mean error per row and fold, shape ``(len(rows), n_folds)``. The APs gone in fold ``f``
-    (:func:`drop_aps`) are drawn from ``default_rng((seed, f))``, the same for every row and for every fraction's
-    uniform draws (a larger fraction loses the smaller one's APs and more)."""
+                    fractions=(0.0,)) -> np.ndarray:
+    """:func:`rows_cv`'s mean error per share of APs gone, row and fold, shape ``(len(fractions), len(rows),
+    n_folds)``. The APs gone in fold ``f`` (:func:`drop_aps`) are drawn from ``default_rng((seed, f))``, the same for
+    every row and, draw for draw, for every share (a larger share loses the smaller one's APs and more). Each
+    member is fitted once per fold and AP setting and predicts the queries of every share at once, unless it
+    calibrates per device (its phones' scans in time order; then once per share): the same values as one
+    :func:`rows_cv` per share."""
     from ilocalg.metrics import mean_horizontal_error_m
-    from ilocalg.wifi.ensemble import ApSelector, combine_predictions
+    from ilocalg.wifi.ensemble import ApSelector, combine_predictions, wants_devices
 
-    if not 0.0 <= drop_ap_fraction < 1.0:
-        raise ValueError(f"drop_ap_fraction must lie in [0, 1), got {drop_ap_fraction}")
+    fractions = [float(fr) for fr in fractions]
+    for fr in fractions:
+        if not 0.0 <= fr < 1.0:
+            raise ValueError(f"drop_ap_fraction must lie in [0, 1), got {fr}")
     groups = _cv_groups(train, group)
     cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     y = _target(train)
-    scores = np.empty((len(rows), cv.get_n_splits()))
+    scores = np.empty((len(fractions), len(rows), cv.get_n_splits()))
     for f, (tr, te) in enumerate(cv.split(train.rssi_dbm, y, groups)):
-        x_query = train.rssi_dbm[te]
-        if drop_ap_fraction > 0:
-            x_query, _ = drop_aps(x_query, drop_ap_fraction, np.random.default_rng((seed, f)))
-        preds = {}
+        x_q = train.rssi_dbm[te]
+        queries = [x_q if fr == 0 else drop_aps(x_q, fr, np.random.default_rng((seed, f)))[0] for fr in fractions]
+        preds: list[dict] = [{} for _ in fractions]
         for aps in sorted({bool(a) for _, _, a in rows}):
-            x_tr, x_te = train.rssi_dbm[tr], x_query
+            x_tr, xs = train.rssi_dbm[tr], queries
             if aps:
                 sel = ApSelector(1).fit(x_tr)
-                x_tr, x_te = sel.transform(x_tr), sel.transform(x_te)
+                x_tr, xs = sel.transform(x_tr), [sel.transform(q) for q in xs]
             need = {n: e for _, members, a in rows if bool(a) == aps for n, e in members}
-            preds.update({(n, aps): v for n, v in fit_members(list(need.items()), x_tr, y[tr], x_te, None,
-                                                               _query_meta(train, te)).items()})
-        for r, (_, members, aps) in enumerate(rows):
-            scores[r, f] = mean_horizontal_error_m(y[te], combine_predictions([preds[(n, bool(aps))]
-                                                                                for n, _ in members]))
+            alone = {n: e for n, e in need.items() if wants_devices(e)}
+            shared = [(n, e) for n, e in need.items() if n not in alone]
+            if shared:
+                got = fit_members(shared, x_tr, y[tr], np.vstack(xs), None)
+                for n, v in got.items():
+                    for q, part in enumerate(np.split(v, len(xs))):
+                        preds[q][(n, aps)] = part
+            for q, x_te in enumerate(xs):
+                if alone:
+                    preds[q].update({(n, aps): v for n, v in fit_members(list(alone.items()), x_tr, y[tr], x_te,
+                                                                          None, _query_meta(train, te)).items()})
+        for q in range(len(fractions)):
+            for r, (_, members, aps) in enumerate(rows):
+                scores[q, r, f] = mean_horizontal_error_m(y[te], combine_predictions([preds[q][(n, bool(aps))]
+                                                                                      for n, _ in members]))
     return scores
 
 
@@ -325,8 +339,8 @@ def ap_loss_cv(train: FingerprintSet, rows, fractions=(0.0, 0.1, 0.2), seeds=(0,
     fractions = [float(f) for f in fractions]
     if 0.0 not in fractions:
         fractions = [0.0] + fractions
-    per = {fr: np.concatenate([_rows_cv_scores(train, rows, group, s, 3, max_test, fr) for s in seeds], axis=1)
-           for fr in fractions}
+    got = np.concatenate([_rows_cv_scores(train, rows, group, s, 3, max_test, fractions) for s in seeds], axis=2)
+    per = dict(zip(fractions, got, strict=True))
     out = []
     for fr in fractions:
         d = per[fr] - per[0.0]
