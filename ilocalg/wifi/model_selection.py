@@ -283,9 +283,6 @@ def _rows_cv_scores(train: FingerprintSet, rows, group: str, seed: int, n_splits
     from ilocalg.wifi.ensemble import ApSelector, combine_predictions, wants_devices
 
     fractions = [float(fr) for fr in fractions]
-    for fr in fractions:
-        if not 0.0 <= fr < 1.0:
-            raise ValueError(f"drop_ap_fraction must lie in [0, 1), got {fr}")
     groups = _cv_groups(train, group)
     cv = group_cv(group, min(n_splits, len(np.unique(groups))), max_test, seed)
     y = _target(train)
